@@ -1,0 +1,36 @@
+#!/usr/bin/env bash
+# Makes sure this machine can run relief: the Vulkan loader, lavapipe (Mesa's software Vulkan
+# driver, used when there is no GPU) and the Khronos validation layer. Installs them through apt
+# when missing and running as root; otherwise prints the exact install line and fails.
+set -euo pipefail
+
+packages=(libvulkan1 mesa-vulkan-drivers vulkan-validationlayers)
+
+missing=()
+have_loader() { ldconfig -p 2>/dev/null | grep -q 'libvulkan\.so\.1'; }
+have_icd() { ls /usr/share/vulkan/icd.d/*.json /etc/vulkan/icd.d/*.json >/dev/null 2>&1; }
+have_layer() { ls /usr/share/vulkan/explicit_layer.d/VkLayer_khronos_validation.json >/dev/null 2>&1; }
+have_loader || missing+=(libvulkan1)
+have_icd || missing+=(mesa-vulkan-drivers)
+have_layer || missing+=(vulkan-validationlayers)
+
+if ((${#missing[@]} > 0)); then
+    if ! command -v apt-get >/dev/null 2>&1; then
+        echo "relief setup: missing ${missing[*]}; install the Vulkan loader, a driver (Mesa lavapipe) and the validation layer with your package manager" >&2
+        exit 1
+    fi
+    if [[ $(id -u) -ne 0 ]]; then
+        echo "relief setup: missing ${missing[*]}. Install them with:" >&2
+        echo "  sudo apt-get update && sudo apt-get install -y ${packages[*]}" >&2
+        exit 1
+    fi
+    echo "relief setup: installing ${missing[*]}" >&2
+    export DEBIAN_FRONTEND=noninteractive
+    apt-get update -qq
+    apt-get install -y -qq --no-install-recommends "${packages[@]}" >/dev/null
+fi
+
+if ! command -v cargo >/dev/null 2>&1; then
+    echo "relief setup: cargo not found; install Rust from https://rustup.rs" >&2
+    exit 1
+fi

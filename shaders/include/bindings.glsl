@@ -1,0 +1,24 @@
+// The one descriptor layout every surface variant shares, so methods compare like with like.
+#ifndef BINDINGS_GLSL
+#define BINDINGS_GLSL
+
+layout(set = 0, binding = 0, std140) uniform Frame {
+    mat4 view_proj;
+    vec4 eye;          // xyz: camera position (world)
+    vec4 light_dir;    // xyz: direction toward the light (world), w: 1 if the light is on
+    vec4 light_color;  // rgb: radiance times intensity
+    vec4 ambient;      // rgb: ambient radiance
+    vec4 height_info;  // x: width, y: height, z: mip levels, w: unused
+} frame;
+
+// The height field and its max pyramid in one mip-chained image, read two ways.
+layout(set = 0, binding = 1) uniform sampler2D height_point;   // nearest, nearest mip
+layout(set = 0, binding = 2) uniform sampler2D height_linear;  // bilinear
+
+layout(push_constant, std430) uniform Draw {
+    mat4 model;
+    vec4 base_color;
+    vec4 material;     // x: depth scale (uv units, 0 = no relief), y: roughness, z: metallic
+} draw;
+
+#endif

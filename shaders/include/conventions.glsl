@@ -1,0 +1,46 @@
+// Units and types every method shares (DESIGN.md section 2).
+// Texture space: u, v in [0,1]; depth z grows downward from the top plane (z = 0, height 1) to the
+// bottom plane (z = depth_scale, height 0), in the same units as u.
+#ifndef CONVENTIONS_GLSL
+#define CONVENTIONS_GLSL
+
+// A ray entering the top plane at (origin, 0) going along dir (dir.z > 0), parameterised by
+// depth: p(z) = origin + z * dir.xy / dir.z.
+struct Ray {
+    vec2 origin;
+    vec3 dir;
+    float depth_scale;
+};
+
+// A method's answer: the depth z of its hit on the ray, and how hard it worked.
+struct Hit {
+    float z;
+    uint steps;
+    bool capped;
+};
+
+// Iteration cap and refinement steps: specialization constants, so each pipeline is tuned without
+// recompiling SPIR-V. Defaults suit the renderer; the bench sweeps them.
+layout(constant_id = 0) const uint BUDGET_MAX_STEPS = 32;
+layout(constant_id = 1) const uint BUDGET_REFINE_STEPS = 5;
+
+struct Budget {
+    uint max_steps;
+    uint refine_steps;
+};
+
+Budget default_budget() {
+    return Budget(BUDGET_MAX_STEPS, BUDGET_REFINE_STEPS);
+}
+
+// Vertical rays (dir.xy = 0) are fine; dir.z is kept away from 0 by the caller (ray_from_view).
+vec2 ray_delta(Ray ray) {
+    return ray.depth_scale * ray.dir.xy / ray.dir.z;
+}
+
+// The uv where the ray reaches depth z.
+vec2 ray_uv(Ray ray, float z) {
+    return ray.origin + (z / ray.dir.z) * ray.dir.xy;
+}
+
+#endif

@@ -1,0 +1,57 @@
+//! `relief maps`: the max pyramid of a height map, built on the GPU, one 16-bit PNG per level.
+
+use std::path::PathBuf;
+
+use anyhow::Context as _;
+use clap::Args;
+use relief::heightfield::{Heightfield, MaxPyramid};
+use relief::render::{build_pyramid_on_gpu, HeightFormat};
+
+use super::heightmap_args::HeightmapArgs;
+
+#[derive(Args)]
+pub struct MapsArgs {
+    #[command(flatten)]
+    heights: HeightmapArgs,
+    /// Folder for level_00.png, level_01.png, ...
+    #[arg(long)]
+    out: PathBuf,
+    /// Pick the Vulkan device whose name contains this text.
+    #[arg(long, value_name = "SUBSTRING")]
+    device: Option<String>,
+}
+
+pub fn run(args: &MapsArgs) -> anyhow::Result<()> {
+    let (hf, source) = args
+        .heights
+        .load()?
+        .ok_or_else(|| anyhow::anyhow!("give a height map: --heightmap FILE or --field NAME"))?;
+    let ctx = super::open_device(args.device.as_deref(), false)?;
+    hf.check_max_dimension(ctx.info().max_image_dimension_2d, &source)?;
+    let (levels, gpu_ms) = build_pyramid_on_gpu(&ctx, &hf, HeightFormat::R16Unorm)?;
+    // The GPU pyramid is checked against the CPU builder on the same 16-bit values.
+    let cpu = MaxPyramid::build(&hf.quantized_unorm16());
+    let mismatched = levels
+        .iter()
+        .zip(cpu.levels())
+        .filter(|(gpu, cpu)| gpu.as_slice() != cpu.data.as_slice())
+        .count();
+    std::fs::create_dir_all(&args.out)
+        .with_context(|| format!("creating {}", args.out.display()))?;
+    for (k, (data, level)) in levels.into_iter().zip(cpu.levels()).enumerate() {
+        let path = args.out.join(format!("level_{k:02}.png"));
+        Heightfield::new(level.width, level.height, data)?.save_png16(&path)?;
+        println!(
+            "level {k:2}: {:>5}x{:<5} {}",
+            level.width,
+            level.height,
+            path.display()
+        );
+    }
+    super::check_validation(&ctx)?;
+    println!("pyramid build: {gpu_ms:.3} ms GPU ({source})");
+    if mismatched > 0 {
+        anyhow::bail!("{mismatched} GPU pyramid level(s) differ from the CPU builder");
+    }
+    Ok(())
+}

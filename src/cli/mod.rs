@@ -1,0 +1,97 @@
+//! Argument parsing (clap), logging, and the mapping of failures to exit codes: 0 success,
+//! 1 failure, 2 bad usage (clap), 77 no Vulkan device (with the install line).
+
+mod devices;
+mod heightmap_args;
+mod logger;
+mod maps;
+mod render;
+
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+use relief::vk::{Context, ContextOptions, VkError};
+
+/// Exit code when no Vulkan device (or loader) exists, as automake's "skipped".
+pub const EXIT_NO_DEVICE: u8 = 77;
+
+#[derive(Parser)]
+#[command(
+    name = "relief",
+    version,
+    about = "Per-pixel displacement mapping on Vulkan: render, measure, compare"
+)]
+struct Cli {
+    /// More log output (-v info, -vv debug).
+    #[arg(short, long, action = clap::ArgAction::Count, global = true)]
+    verbose: u8,
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// List the Vulkan devices relief can use, best first.
+    Devices(devices::DevicesArgs),
+    /// Render a glTF scene (or the built-in default scene) to a PNG, offscreen.
+    Render(render::RenderArgs),
+    /// Build a height map's max pyramid on the GPU and write every level as a PNG.
+    Maps(maps::MapsArgs),
+}
+
+/// Runs the tool and turns any error into one line on stderr and an exit code.
+pub fn run() -> ExitCode {
+    let cli = Cli::parse();
+    logger::init(cli.verbose);
+    let result = match cli.command {
+        Command::Devices(args) => devices::run(&args),
+        Command::Render(args) => render::run(&args),
+        Command::Maps(args) => maps::run(&args),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(err) => {
+            eprintln!("relief: error: {err:#}");
+            let no_device = err.chain().any(|e| {
+                matches!(
+                    e.downcast_ref::<VkError>(),
+                    Some(VkError::NoDevice | VkError::Loader(_))
+                )
+            });
+            ExitCode::from(if no_device { EXIT_NO_DEVICE } else { 1 })
+        }
+    }
+}
+
+/// Creates the device context for `--device`, printing which device was chosen to stderr.
+pub fn open_device(filter: Option<&str>, quiet: bool) -> anyhow::Result<std::sync::Arc<Context>> {
+    let options = ContextOptions {
+        device_filter: filter.map(str::to_owned),
+        validation: None,
+    };
+    let ctx = Context::new(&options)?;
+    if !quiet {
+        let i = ctx.info();
+        eprintln!(
+            "device: {} ({}; Vulkan {}; validation {})",
+            i.name,
+            i.driver.trim(),
+            i.api,
+            if ctx.validation_enabled() {
+                "on"
+            } else {
+                "off"
+            }
+        );
+    }
+    Ok(ctx)
+}
+
+/// Fails if the validation layer reported errors while the command ran.
+pub fn check_validation(ctx: &Context) -> anyhow::Result<()> {
+    let errors = ctx.messages().errors();
+    if errors > 0 {
+        anyhow::bail!("the Vulkan validation layer reported {errors} error(s); see the log above");
+    }
+    Ok(())
+}

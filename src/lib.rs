@@ -1,0 +1,13 @@
+//! relief: a low-level Vulkan renderer for per-pixel displacement mapping.
+//!
+//! Layers, data flowing one way: [`heightfield`] (CPU height fields, pyramids, the exact
+//! reference) and [`scene`] (glTF to plain data) know nothing of Vulkan; [`vk`] knows nothing of
+//! relief; [`render`] joins them.
+#![deny(unsafe_op_in_unsafe_fn)]
+
+pub mod heightfield;
+pub mod method;
+pub mod render;
+pub mod scene;
+pub mod shaders;
+pub mod vk;

@@ -1,0 +1,123 @@
+//! The displacement methods relief implements: one table holding each method's stable id, name,
+//! source paper, the maps it needs and its default budget. Adding a method is one GLSL file in
+//! `shaders/methods/` plus one row here.
+
+use std::fmt;
+use std::str::FromStr;
+
+use serde::Serialize;
+
+/// A precomputed map a method reads besides the height field.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum MapKind {
+    /// The max pyramid in the height image's mip chain.
+    MaxPyramid,
+}
+
+/// Iteration cap and refinement steps (specialization constants 0 and 1 of every method).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+pub struct Budget {
+    pub max_steps: u32,
+    pub refine_steps: u32,
+}
+
+/// One row of the method table.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct MethodInfo {
+    pub id: &'static str,
+    pub name: &'static str,
+    pub paper: &'static str,
+    pub needs: &'static [MapKind],
+    pub default_budget: Budget,
+}
+
+const METHODS: &[MethodInfo] = &[MethodInfo {
+    id: "pom",
+    name: "parallax occlusion mapping with linear-approximation refinement",
+    paper: "Tatarchuk 2006 (paper 001, Listing 1.1)",
+    needs: &[],
+    default_budget: Budget {
+        max_steps: 32,
+        refine_steps: 0,
+    },
+}];
+
+/// A displacement method, by its stable id.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct Method(usize);
+
+impl Method {
+    /// Parallax occlusion mapping, the renderer's default.
+    pub const POM: Method = Method(0);
+
+    /// Every method, in table order.
+    pub fn all() -> impl Iterator<Item = Method> {
+        (0..METHODS.len()).map(Method)
+    }
+
+    /// The method's table row.
+    pub fn info(self) -> &'static MethodInfo {
+        &METHODS[self.0]
+    }
+
+    /// The stable id (`pom`, `qdm`, ...).
+    pub fn id(self) -> &'static str {
+        self.info().id
+    }
+
+    /// The key of its surface shader variant.
+    pub fn surface_shader_key(self) -> String {
+        format!("surface.frag:{}", self.id())
+    }
+}
+
+impl fmt::Display for Method {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.id())
+    }
+}
+
+/// An id that names no method.
+#[derive(Debug, thiserror::Error)]
+#[error("unknown method {given:?}; known methods: {known}")]
+pub struct UnknownMethod {
+    given: String,
+    known: String,
+}
+
+impl FromStr for Method {
+    type Err = UnknownMethod;
+
+    fn from_str(s: &str) -> Result<Method, UnknownMethod> {
+        Method::all()
+            .find(|m| m.id() == s)
+            .ok_or_else(|| UnknownMethod {
+                given: s.to_owned(),
+                known: Method::all().map(|m| m.id()).collect::<Vec<_>>().join(", "),
+            })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ids_round_trip_and_have_shaders() {
+        for m in Method::all() {
+            assert_eq!(m.id().parse::<Method>().expect("own id parses"), m);
+            assert!(
+                crate::shaders::spirv(&m.surface_shader_key()).is_some(),
+                "{m} has a surface shader"
+            );
+        }
+        let err = "nope"
+            .parse::<Method>()
+            .expect_err("unknown id is rejected");
+        assert!(
+            err.to_string().contains("pom"),
+            "the error lists the known ids: {err}"
+        );
+    }
+}

@@ -1,0 +1,146 @@
+//! The height field on the GPU: one image holding level 0 and the max pyramid in its mip chain,
+//! read through a point sampler (nearest texel, nearest mip: the pyramid's boxes) and a linear
+//! sampler (the bilinear surface).
+
+use std::sync::Arc;
+
+use ash::vk;
+
+use crate::heightfield::{mip_level_count, Heightfield};
+use crate::vk::{upload_mips, Context, Image, ImageDesc, Sampler, VkError, VkResult};
+
+/// How heights are stored on the GPU.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum HeightFormat {
+    /// 16-bit unsigned normalised: 1/65535 steps, half the memory of R32F.
+    R16Unorm,
+    /// 32-bit float.
+    R32Float,
+}
+
+impl HeightFormat {
+    /// The Vulkan format.
+    pub fn vk(self) -> vk::Format {
+        match self {
+            HeightFormat::R16Unorm => vk::Format::R16_UNORM,
+            HeightFormat::R32Float => vk::Format::R32_SFLOAT,
+        }
+    }
+
+    /// The key suffix of the pyramid shader variant for this format.
+    pub fn shader_suffix(self) -> &'static str {
+        match self {
+            HeightFormat::R16Unorm => "r16",
+            HeightFormat::R32Float => "r32f",
+        }
+    }
+
+    /// The stored bytes of `hf` at level 0.
+    pub fn encode(self, values: &[f32]) -> Vec<u8> {
+        match self {
+            HeightFormat::R16Unorm => values
+                .iter()
+                .flat_map(|&h| ((h.clamp(0.0, 1.0) * 65535.0).round() as u16).to_ne_bytes())
+                .collect(),
+            HeightFormat::R32Float => bytemuck::cast_slice(values).to_vec(),
+        }
+    }
+
+    /// Heights back from stored bytes.
+    pub fn decode(self, bytes: &[u8]) -> Vec<f32> {
+        match self {
+            HeightFormat::R16Unorm => bytes
+                .chunks_exact(2)
+                .map(|c| f32::from(u16::from_ne_bytes([c[0], c[1]])) / 65535.0)
+                .collect(),
+            HeightFormat::R32Float => bytes
+                .chunks_exact(4)
+                .map(|c| f32::from_ne_bytes([c[0], c[1], c[2], c[3]]))
+                .collect(),
+        }
+    }
+}
+
+/// Texture addressing of the height field (DESIGN.md section 2).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Addressing {
+    Repeat,
+    Clamp,
+}
+
+impl Addressing {
+    fn vk(self) -> vk::SamplerAddressMode {
+        match self {
+            Addressing::Repeat => vk::SamplerAddressMode::REPEAT,
+            Addressing::Clamp => vk::SamplerAddressMode::CLAMP_TO_EDGE,
+        }
+    }
+}
+
+/// The height image (level 0 uploaded, pyramid levels to be built) and its two samplers.
+pub struct GpuHeightfield {
+    pub image: Image,
+    pub point: Sampler,
+    pub linear: Sampler,
+    pub format: HeightFormat,
+}
+
+impl GpuHeightfield {
+    /// Uploads `hf` as level 0 of a full mip chain, leaving the image in `GENERAL` layout for the
+    /// pyramid pass. Checks that the device can store, sample and filter `format`.
+    pub fn upload(
+        ctx: &Arc<Context>,
+        hf: &Heightfield,
+        format: HeightFormat,
+        address: Addressing,
+    ) -> VkResult<GpuHeightfield> {
+        let needed = vk::FormatFeatureFlags::STORAGE_IMAGE
+            | vk::FormatFeatureFlags::SAMPLED_IMAGE
+            | vk::FormatFeatureFlags::SAMPLED_IMAGE_FILTER_LINEAR
+            | vk::FormatFeatureFlags::TRANSFER_DST;
+        if !ctx.format_features(format.vk()).contains(needed)
+            || (format == HeightFormat::R16Unorm && !ctx.info().storage_r16)
+        {
+            return Err(VkError::Unsupported(format!(
+                "{format:?} height images (storage, sampling and linear filtering)"
+            )));
+        }
+        let desc = ImageDesc {
+            width: hf.width(),
+            height: hf.height(),
+            format: format.vk(),
+            mip_levels: mip_level_count(hf.width(), hf.height()),
+            usage: vk::ImageUsageFlags::STORAGE
+                | vk::ImageUsageFlags::SAMPLED
+                | vk::ImageUsageFlags::TRANSFER_DST
+                | vk::ImageUsageFlags::TRANSFER_SRC,
+            aspect: vk::ImageAspectFlags::COLOR,
+        };
+        let image = Image::new(ctx, desc, "height field")?;
+        let level0 = format.encode(hf.data());
+        upload_mips(ctx, &image, &[&level0], vk::ImageLayout::GENERAL)?;
+        Ok(GpuHeightfield {
+            image,
+            point: Sampler::new(
+                ctx,
+                vk::Filter::NEAREST,
+                address.vk(),
+                "height point sampler",
+            )?,
+            linear: Sampler::new(
+                ctx,
+                vk::Filter::LINEAR,
+                address.vk(),
+                "height linear sampler",
+            )?,
+            format,
+        })
+    }
+
+    /// Number of mip levels (level 0 plus the pyramid).
+    pub fn levels(&self) -> u32 {
+        self.image.desc().mip_levels
+    }
+}

@@ -1,0 +1,12 @@
+//! The frame: joins height fields and scenes with the Vulkan layer. Uploads, the pyramid pass,
+//! the surface pass, timestamps around each, and readback to an image.
+
+mod frame;
+mod gpu_heightfield;
+mod pyramid_pass;
+mod surface_pass;
+
+pub use frame::{render, Frame, PassTiming, RenderOptions};
+pub use gpu_heightfield::{Addressing, GpuHeightfield, HeightFormat};
+pub use pyramid_pass::{build_pyramid_on_gpu, PyramidJob, PyramidPass};
+pub use surface_pass::{COLOR_FORMAT, DEPTH_FORMAT};

@@ -1,0 +1,165 @@
+//! The GPU max-pyramid builder: one compute dispatch per level, each reading the level below
+//! through a storage view and writing its own, with a barrier between levels. Same rule as the
+//! CPU builder (`heightfield::pyramid`), so the two are compared texel for texel in tests.
+
+use std::sync::Arc;
+
+use ash::vk;
+
+use super::gpu_heightfield::GpuHeightfield;
+use crate::shaders;
+use crate::vk::{
+    compute_pipeline, memory_barrier, transition_images, Bind, Context, DescriptorLayout,
+    DescriptorPool, ImageTransition, ImageView, Pipeline, SpecConstants, VkError, VkResult,
+};
+
+const GROUP: u32 = 8;
+
+/// The compute pipeline that builds one pyramid level from the one below.
+pub struct PyramidPass {
+    ctx: Arc<Context>,
+    layout: DescriptorLayout,
+    pipeline: Pipeline,
+}
+
+/// Per-height-field resources of one build: a view per level and a set per dispatch. Keep it
+/// alive until the command buffer that uses it has finished.
+pub struct PyramidJob {
+    _views: Vec<ImageView>,
+    _pool: DescriptorPool,
+    sets: Vec<vk::DescriptorSet>,
+}
+
+impl PyramidPass {
+    /// Creates the pipeline for heights stored as `suffix` ("r16" or "r32f").
+    pub fn new(ctx: &Arc<Context>, suffix: &str) -> VkResult<PyramidPass> {
+        let key = format!("pyramid.comp:{suffix}");
+        let spirv =
+            shaders::spirv(&key).ok_or_else(|| VkError::Invalid(format!("no shader {key}")))?;
+        let layout = DescriptorLayout::new(
+            ctx,
+            &[
+                (0, vk::DescriptorType::STORAGE_IMAGE),
+                (1, vk::DescriptorType::STORAGE_IMAGE),
+            ],
+            vk::ShaderStageFlags::COMPUTE,
+            "pyramid layout",
+        )?;
+        let pipeline = compute_pipeline(
+            ctx,
+            spirv,
+            &[layout.raw()],
+            0,
+            &SpecConstants::default(),
+            "pyramid",
+        )?;
+        Ok(PyramidPass {
+            ctx: ctx.clone(),
+            layout,
+            pipeline,
+        })
+    }
+
+    /// Makes the views and descriptor sets to build `hf`'s pyramid.
+    pub fn prepare(&self, hf: &GpuHeightfield) -> VkResult<PyramidJob> {
+        let levels = hf.levels();
+        let views = (0..levels)
+            .map(|l| hf.image.level_view(l))
+            .collect::<VkResult<Vec<_>>>()?;
+        let dispatches = levels.saturating_sub(1).max(1);
+        let pool = DescriptorPool::new(&self.ctx, dispatches, 2 * dispatches, "pyramid sets")?;
+        let sets = views
+            .windows(2)
+            .map(|pair| {
+                pool.allocate(
+                    &self.layout,
+                    &[
+                        Bind::StorageImage(0, pair[0].raw()),
+                        Bind::StorageImage(1, pair[1].raw()),
+                    ],
+                )
+            })
+            .collect::<VkResult<Vec<_>>>()?;
+        Ok(PyramidJob {
+            _views: views,
+            _pool: pool,
+            sets,
+        })
+    }
+
+    /// Records the build. The image must be in `GENERAL` with level 0 written; it ends in
+    /// `SHADER_READ_ONLY_OPTIMAL`, ready for the surface pass.
+    pub fn record(&self, cmd: vk::CommandBuffer, hf: &GpuHeightfield, job: &PyramidJob) {
+        let device = self.ctx.device();
+        let write = (
+            vk::PipelineStageFlags2::COMPUTE_SHADER,
+            vk::AccessFlags2::SHADER_STORAGE_WRITE,
+        );
+        let read = (
+            vk::PipelineStageFlags2::COMPUTE_SHADER,
+            vk::AccessFlags2::SHADER_STORAGE_READ,
+        );
+        for (k, &set) in job.sets.iter().enumerate() {
+            let (w, h) = hf.image.level_extent(k as u32 + 1);
+            self.pipeline.bind(cmd, Some(set));
+            // SAFETY: `cmd` is recording; the bound set covers both images the shader touches.
+            unsafe { device.cmd_dispatch(cmd, w.div_ceil(GROUP), h.div_ceil(GROUP), 1) };
+            memory_barrier(device, cmd, write, read);
+        }
+        transition_images(
+            device,
+            cmd,
+            &[ImageTransition {
+                image: hf.image.raw(),
+                aspect: vk::ImageAspectFlags::COLOR,
+                base_mip: 0,
+                mip_count: hf.levels(),
+                old: vk::ImageLayout::GENERAL,
+                new: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+                src: (
+                    vk::PipelineStageFlags2::COMPUTE_SHADER | vk::PipelineStageFlags2::COPY,
+                    vk::AccessFlags2::SHADER_STORAGE_WRITE | vk::AccessFlags2::TRANSFER_WRITE,
+                ),
+                dst: (
+                    vk::PipelineStageFlags2::FRAGMENT_SHADER
+                        | vk::PipelineStageFlags2::COMPUTE_SHADER
+                        | vk::PipelineStageFlags2::COPY,
+                    vk::AccessFlags2::SHADER_SAMPLED_READ | vk::AccessFlags2::TRANSFER_READ,
+                ),
+            }],
+        );
+    }
+}
+
+/// Uploads `hf`, builds its pyramid on the GPU and reads every level back (level 0 first),
+/// with the build's GPU time in ms. Used by `relief maps` and the CPU-equals-GPU tests.
+pub fn build_pyramid_on_gpu(
+    ctx: &Arc<Context>,
+    hf: &crate::heightfield::Heightfield,
+    format: super::HeightFormat,
+) -> VkResult<(Vec<Vec<f32>>, f64)> {
+    let gpu = GpuHeightfield::upload(ctx, hf, format, super::Addressing::Clamp)?;
+    let pass = PyramidPass::new(ctx, format.shader_suffix())?;
+    let job = pass.prepare(&gpu)?;
+    let timestamps = crate::vk::TimestampPool::new(ctx, 2, "pyramid timestamps")?;
+    let all = vk::PipelineStageFlags2::ALL_COMMANDS;
+    ctx.one_shot(|cmd| {
+        timestamps.write(cmd, all, 0)?;
+        pass.record(cmd, &gpu, &job);
+        timestamps.write(cmd, all, 1)?;
+        Ok(())
+    })?;
+    let ticks = timestamps.read_ticks(2)?;
+    let levels = (0..gpu.levels())
+        .map(|l| {
+            crate::vk::read_mip(
+                ctx,
+                &gpu.image,
+                l,
+                vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+            )
+            .map(|bytes| format.decode(&bytes))
+        })
+        .collect::<VkResult<Vec<_>>>()?;
+    Ok((levels, timestamps.ticks_to_ms(ticks[0], ticks[1])))
+}

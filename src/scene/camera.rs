@@ -1,0 +1,82 @@
+//! Cameras: perspective or orthographic, with a default framing of a scene's bounds.
+
+use glam::{Mat4, Vec3};
+
+/// A camera placed in the world.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Camera {
+    pub view: Mat4,
+    pub projection: Projection,
+}
+
+/// How the camera projects.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Projection {
+    /// Vertical field of view in radians; `aspect` of `None` follows the image.
+    Perspective {
+        yfov: f32,
+        aspect: Option<f32>,
+        znear: f32,
+        zfar: f32,
+    },
+    /// Half extents of the view volume.
+    Orthographic {
+        xmag: f32,
+        ymag: f32,
+        znear: f32,
+        zfar: f32,
+    },
+}
+
+impl Camera {
+    /// A perspective camera at `eye` looking at `target`, +y up.
+    pub fn look_at(eye: Vec3, target: Vec3, yfov: f32, znear: f32, zfar: f32) -> Camera {
+        Camera {
+            view: Mat4::look_at_rh(eye, target, Vec3::Y),
+            projection: Projection::Perspective {
+                yfov,
+                aspect: None,
+                znear,
+                zfar,
+            },
+        }
+    }
+
+    /// A camera that sees the whole box `lo..hi` from above and to the front.
+    pub fn framing(lo: Vec3, hi: Vec3) -> Camera {
+        let center = (lo + hi) * 0.5;
+        let radius = ((hi - lo).length() * 0.5).max(1e-3);
+        let yfov = 45f32.to_radians();
+        let distance = radius / (yfov * 0.5).sin();
+        let dir = Vec3::new(0.35, 0.55, 1.0).normalize();
+        let eye = center + dir * distance;
+        Camera::look_at(eye, center, yfov, distance * 0.01, distance + radius * 2.0)
+    }
+
+    /// Camera position in world space.
+    pub fn eye(&self) -> Vec3 {
+        self.view.inverse().transform_point3(Vec3::ZERO)
+    }
+
+    /// Projection times view for an image of `aspect` (width / height), in Vulkan clip space
+    /// (y down, depth 0..1).
+    pub fn view_projection(&self, aspect: f32) -> Mat4 {
+        let proj = match self.projection {
+            Projection::Perspective {
+                yfov,
+                aspect: fixed,
+                znear,
+                zfar,
+            } => Mat4::perspective_rh(yfov, fixed.unwrap_or(aspect), znear, zfar),
+            Projection::Orthographic {
+                xmag,
+                ymag,
+                znear,
+                zfar,
+            } => Mat4::orthographic_rh(-xmag, xmag, -ymag, ymag, znear, zfar),
+        };
+        // glTF and glam use y up; Vulkan's framebuffer y points down.
+        let flip = Mat4::from_scale(Vec3::new(1.0, -1.0, 1.0));
+        flip * proj * self.view
+    }
+}

@@ -1,0 +1,150 @@
+//! Procedural meshes with correct uvs and tangents: quads and boxes built from planar faces.
+
+use glam::{Mat4, Vec3};
+
+use super::{Mesh, Vertex};
+
+/// One planar rectangle: centre, outward normal, the +u and +v directions with half extents,
+/// and how many times the texture repeats across it.
+struct Face {
+    center: Vec3,
+    normal: Vec3,
+    u_dir: Vec3,
+    v_dir: Vec3,
+    half: (f32, f32),
+    uv_repeat: (f32, f32),
+}
+
+fn push_face(face: &Face, vertices: &mut Vec<Vertex>, indices: &mut Vec<u32>) {
+    let base = vertices.len() as u32;
+    let sign = if face.normal.cross(face.u_dir).dot(face.v_dir) >= 0.0 {
+        1.0
+    } else {
+        -1.0
+    };
+    for (su, sv) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
+        let p = face.center + face.u_dir * (su * face.half.0) + face.v_dir * (sv * face.half.1);
+        vertices.push(Vertex {
+            position: p.into(),
+            normal: face.normal.into(),
+            uv: [
+                (su + 1.0) * 0.5 * face.uv_repeat.0,
+                (sv + 1.0) * 0.5 * face.uv_repeat.1,
+            ],
+            tangent: [face.u_dir.x, face.u_dir.y, face.u_dir.z, sign],
+        });
+    }
+    // Counter-clockwise seen from the side the normal points to.
+    let ccw = face.u_dir.cross(face.v_dir).dot(face.normal) > 0.0;
+    let order: [u32; 6] = if ccw {
+        [0, 1, 2, 0, 2, 3]
+    } else {
+        [0, 2, 1, 0, 3, 2]
+    };
+    indices.extend(order.iter().map(|k| base + k));
+}
+
+/// A `width` x `depth` quad in the XZ plane facing +Y; u runs along +x, v along +z, and the
+/// texture repeats `uv_repeat` times across it.
+pub fn quad_mesh(name: &str, width: f32, depth: f32, uv_repeat: f32, material: usize) -> Mesh {
+    let mut vertices = Vec::new();
+    let mut indices = Vec::new();
+    let face = Face {
+        center: Vec3::ZERO,
+        normal: Vec3::Y,
+        u_dir: Vec3::X,
+        v_dir: Vec3::Z,
+        half: (width * 0.5, depth * 0.5),
+        uv_repeat: (uv_repeat, uv_repeat),
+    };
+    push_face(&face, &mut vertices, &mut indices);
+    Mesh {
+        name: name.into(),
+        vertices,
+        indices,
+        material,
+        transform: Mat4::IDENTITY,
+    }
+}
+
+/// An axis-aligned box centred at the origin with half extents `half`; each face maps the whole
+/// texture once per world unit.
+pub fn box_mesh(name: &str, half: Vec3, material: usize) -> Mesh {
+    let mut vertices = Vec::new();
+    let mut indices = Vec::new();
+    let axes = [
+        (Vec3::X, Vec3::Z, Vec3::Y, half.z, half.y, half.x),
+        (Vec3::Y, Vec3::X, Vec3::Z, half.x, half.z, half.y),
+        (Vec3::Z, Vec3::X, Vec3::Y, half.x, half.y, half.z),
+    ];
+    for (n, u, v, hu, hv, hn) in axes {
+        for s in [1.0f32, -1.0] {
+            let face = Face {
+                center: n * (s * hn),
+                normal: n * s,
+                u_dir: u * s,
+                v_dir: v,
+                half: (hu, hv),
+                uv_repeat: (2.0 * hu, 2.0 * hv),
+            };
+            push_face(&face, &mut vertices, &mut indices);
+        }
+    }
+    Mesh {
+        name: name.into(),
+        vertices,
+        indices,
+        material,
+        transform: Mat4::IDENTITY,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn check_winding_and_tangents(mesh: &Mesh) {
+        for tri in mesh.indices.chunks(3) {
+            let [a, b, c] = [0, 1, 2].map(|k| mesh.vertices[tri[k] as usize]);
+            let (pa, pb, pc) = (
+                Vec3::from(a.position),
+                Vec3::from(b.position),
+                Vec3::from(c.position),
+            );
+            let geometric = (pb - pa).cross(pc - pa);
+            assert!(
+                geometric.dot(Vec3::from(a.normal)) > 0.0,
+                "{}: triangle winds CCW around its normal",
+                mesh.name
+            );
+            // The tangent frame must agree with the uv gradient: +u along tangent, +v along bitangent.
+            let (ua, ub, uc) = (a.uv, b.uv, c.uv);
+            let (e1, e2) = (pb - pa, pc - pa);
+            let (du1, dv1, du2, dv2) = (ub[0] - ua[0], ub[1] - ua[1], uc[0] - ua[0], uc[1] - ua[1]);
+            let det = du1 * dv2 - du2 * dv1;
+            let dpdu = (e1 * dv2 - e2 * dv1) / det;
+            let dpdv = (e2 * du1 - e1 * du2) / det;
+            let t = Vec3::new(a.tangent[0], a.tangent[1], a.tangent[2]);
+            let bitangent = Vec3::from(a.normal).cross(t) * a.tangent[3];
+            assert!(
+                dpdu.normalize().dot(t) > 0.99,
+                "{}: tangent follows +u",
+                mesh.name
+            );
+            assert!(
+                dpdv.normalize().dot(bitangent) > 0.99,
+                "{}: bitangent follows +v",
+                mesh.name
+            );
+        }
+    }
+
+    #[test]
+    fn quad_and_box_are_consistent() {
+        check_winding_and_tangents(&quad_mesh("quad", 2.0, 1.0, 3.0, 0));
+        let b = box_mesh("box", Vec3::new(1.0, 0.5, 0.25), 0);
+        assert_eq!(b.vertices.len(), 24);
+        assert_eq!(b.indices.len(), 36);
+        check_winding_and_tangents(&b);
+    }
+}

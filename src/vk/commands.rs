@@ -1,0 +1,126 @@
+//! One-shot command submission and the barriers relief records: record, submit, wait on a fence.
+
+use ash::vk;
+
+use super::context::Context;
+use super::error::{Named, VkError, VkResult};
+
+impl Context {
+    /// Records commands with `record`, submits them on the queue and waits until they finish.
+    pub fn one_shot<R>(
+        &self,
+        record: impl FnOnce(vk::CommandBuffer) -> VkResult<R>,
+    ) -> VkResult<R> {
+        let device = self.device();
+        let pool = *self
+            .command_pool()
+            .lock()
+            .map_err(|_| VkError::Invalid("command pool lock poisoned".into()))?;
+        let alloc = vk::CommandBufferAllocateInfo::default()
+            .command_pool(pool)
+            .level(vk::CommandBufferLevel::PRIMARY)
+            .command_buffer_count(1);
+        // SAFETY: valid pool on this device.
+        let cmd = unsafe { device.allocate_command_buffers(&alloc) }
+            .named("vkAllocateCommandBuffers")?[0];
+        let result = self.record_and_submit(cmd, record);
+        // SAFETY: the submission has completed or never happened; the buffer is not in use.
+        unsafe { device.free_command_buffers(pool, &[cmd]) };
+        result
+    }
+
+    fn record_and_submit<R>(
+        &self,
+        cmd: vk::CommandBuffer,
+        record: impl FnOnce(vk::CommandBuffer) -> VkResult<R>,
+    ) -> VkResult<R> {
+        let device = self.device();
+        let begin = vk::CommandBufferBeginInfo::default()
+            .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
+        // SAFETY: freshly allocated command buffer.
+        unsafe { device.begin_command_buffer(cmd, &begin) }.named("vkBeginCommandBuffer")?;
+        let value = record(cmd)?;
+        // SAFETY: recording was begun above.
+        unsafe { device.end_command_buffer(cmd) }.named("vkEndCommandBuffer")?;
+        // SAFETY: valid device.
+        let fence = unsafe { device.create_fence(&vk::FenceCreateInfo::default(), None) }
+            .named("vkCreateFence")?;
+        let cmds = [cmd];
+        let submit = vk::SubmitInfo::default().command_buffers(&cmds);
+        let waited = self
+            .queue()
+            .lock()
+            .map_err(|_| VkError::Invalid("queue lock poisoned".into()))
+            .and_then(|queue| {
+                // SAFETY: the command buffer is fully recorded; the queue is externally synchronised
+                // by the lock.
+                unsafe { device.queue_submit(*queue, &[submit], fence) }.named("vkQueueSubmit")
+            })
+            .and_then(|_| {
+                // SAFETY: the fence belongs to this device.
+                unsafe { device.wait_for_fences(&[fence], true, u64::MAX) }.named("vkWaitForFences")
+            });
+        // SAFETY: the fence is signalled or was never submitted.
+        unsafe { device.destroy_fence(fence, None) };
+        waited.map(|_| value)
+    }
+}
+
+/// One image layout transition over a range of mip levels (colour aspect unless `aspect` says).
+#[derive(Debug, Clone, Copy)]
+pub struct ImageTransition {
+    pub image: vk::Image,
+    pub aspect: vk::ImageAspectFlags,
+    pub base_mip: u32,
+    pub mip_count: u32,
+    pub old: vk::ImageLayout,
+    pub new: vk::ImageLayout,
+    pub src: (vk::PipelineStageFlags2, vk::AccessFlags2),
+    pub dst: (vk::PipelineStageFlags2, vk::AccessFlags2),
+}
+
+/// Records a set of image transitions as one synchronization2 barrier.
+pub fn transition_images(device: &ash::Device, cmd: vk::CommandBuffer, list: &[ImageTransition]) {
+    let barriers: Vec<_> = list
+        .iter()
+        .map(|t| {
+            vk::ImageMemoryBarrier2::default()
+                .image(t.image)
+                .old_layout(t.old)
+                .new_layout(t.new)
+                .src_stage_mask(t.src.0)
+                .src_access_mask(t.src.1)
+                .dst_stage_mask(t.dst.0)
+                .dst_access_mask(t.dst.1)
+                .src_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+                .dst_queue_family_index(vk::QUEUE_FAMILY_IGNORED)
+                .subresource_range(
+                    vk::ImageSubresourceRange::default()
+                        .aspect_mask(t.aspect)
+                        .base_mip_level(t.base_mip)
+                        .level_count(t.mip_count)
+                        .layer_count(1),
+                )
+        })
+        .collect();
+    let dep = vk::DependencyInfo::default().image_memory_barriers(&barriers);
+    // SAFETY: `cmd` is recording; the barriers reference images owned by the caller.
+    unsafe { device.cmd_pipeline_barrier2(cmd, &dep) };
+}
+
+/// Records a global memory barrier (e.g. between timed repeats or compute passes).
+pub fn memory_barrier(
+    device: &ash::Device,
+    cmd: vk::CommandBuffer,
+    src: (vk::PipelineStageFlags2, vk::AccessFlags2),
+    dst: (vk::PipelineStageFlags2, vk::AccessFlags2),
+) {
+    let barrier = [vk::MemoryBarrier2::default()
+        .src_stage_mask(src.0)
+        .src_access_mask(src.1)
+        .dst_stage_mask(dst.0)
+        .dst_access_mask(dst.1)];
+    let dep = vk::DependencyInfo::default().memory_barriers(&barrier);
+    // SAFETY: `cmd` is recording.
+    unsafe { device.cmd_pipeline_barrier2(cmd, &dep) };
+}

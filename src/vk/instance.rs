@@ -1,0 +1,216 @@
+//! The Vulkan instance: loader, optional Khronos validation, and a debug messenger that counts what
+//! the validation layer reports, so tests can demand zero errors at teardown.
+
+use std::ffi::{c_void, CStr};
+use std::sync::atomic::{AtomicU32, Ordering};
+use std::sync::Mutex;
+
+use ash::{ext, vk};
+
+use super::error::{Named, VkError, VkResult};
+
+const VALIDATION_LAYER: &CStr = c"VK_LAYER_KHRONOS_validation";
+/// How many validation messages are kept verbatim for reports; the rest are only counted.
+const KEPT_MESSAGES: usize = 16;
+
+/// Whether to enable the validation layer, from `RELIEF_VALIDATION` or the build profile.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Validation {
+    /// On if the layer is installed (debug builds and tests).
+    IfInstalled,
+    /// Required: fail if the layer is missing.
+    Required,
+    /// Off.
+    Off,
+}
+
+impl Validation {
+    /// `RELIEF_VALIDATION=0|1` wins; otherwise debug builds validate when the layer is installed.
+    pub fn from_env() -> Self {
+        match std::env::var("RELIEF_VALIDATION").as_deref() {
+            Ok("0") => Validation::Off,
+            Ok("1") => Validation::Required,
+            _ if cfg!(debug_assertions) => Validation::IfInstalled,
+            _ => Validation::Off,
+        }
+    }
+}
+
+/// Counts of validation messages by severity, plus the first few error texts.
+#[derive(Debug, Default)]
+pub struct MessageCounts {
+    errors: AtomicU32,
+    warnings: AtomicU32,
+    kept: Mutex<Vec<String>>,
+}
+
+impl MessageCounts {
+    /// Number of validation errors reported so far.
+    pub fn errors(&self) -> u32 {
+        self.errors.load(Ordering::Relaxed)
+    }
+
+    /// Number of validation warnings reported so far.
+    pub fn warnings(&self) -> u32 {
+        self.warnings.load(Ordering::Relaxed)
+    }
+
+    /// The first error and warning messages, verbatim.
+    pub fn kept_messages(&self) -> Vec<String> {
+        self.kept.lock().map(|k| k.clone()).unwrap_or_default()
+    }
+
+    fn record(&self, severity: vk::DebugUtilsMessageSeverityFlagsEXT, text: &str) {
+        let counter = if severity.contains(vk::DebugUtilsMessageSeverityFlagsEXT::ERROR) {
+            log::error!("vulkan: {text}");
+            &self.errors
+        } else if severity.contains(vk::DebugUtilsMessageSeverityFlagsEXT::WARNING) {
+            log::warn!("vulkan: {text}");
+            &self.warnings
+        } else {
+            log::debug!("vulkan: {text}");
+            return;
+        };
+        counter.fetch_add(1, Ordering::Relaxed);
+        if let Ok(mut kept) = self.kept.lock() {
+            if kept.len() < KEPT_MESSAGES {
+                kept.push(text.to_owned());
+            }
+        }
+    }
+}
+
+/// The instance and what hangs off it; destroyed by [`super::Context`] in its written-out order.
+pub(crate) struct InstanceParts {
+    /// Keeps the loader library loaded for as long as the instance lives.
+    pub _entry: ash::Entry,
+    pub instance: ash::Instance,
+    pub debug_utils: Option<(ext::debug_utils::Instance, vk::DebugUtilsMessengerEXT)>,
+    pub validation_enabled: bool,
+}
+
+/// Loads Vulkan and creates the instance. `counts` must outlive the messenger: the context owns both.
+pub(crate) fn create_instance(
+    validation: Validation,
+    counts: &MessageCounts,
+) -> VkResult<InstanceParts> {
+    // SAFETY: loading the system loader library runs its initialisers; nothing else is shared yet.
+    let entry = unsafe { ash::Entry::load() }.map_err(|e| VkError::Loader(e.to_string()))?;
+    let validation_enabled = match validation {
+        Validation::Off => false,
+        Validation::IfInstalled => layer_installed(&entry)?,
+        Validation::Required if layer_installed(&entry)? => true,
+        Validation::Required => {
+            return Err(VkError::Unsupported(
+                "the Khronos validation layer (RELIEF_VALIDATION=1); install it with: \
+                 sudo apt-get install vulkan-validationlayers"
+                    .into(),
+            ))
+        }
+    };
+    let debug_utils_present = extension_present(&entry, ext::debug_utils::NAME)?;
+
+    let app = vk::ApplicationInfo::default()
+        .application_name(c"relief")
+        .engine_name(c"relief")
+        .api_version(vk::API_VERSION_1_3);
+    let layers = if validation_enabled {
+        vec![VALIDATION_LAYER.as_ptr()]
+    } else {
+        vec![]
+    };
+    let extensions = if debug_utils_present {
+        vec![ext::debug_utils::NAME.as_ptr()]
+    } else {
+        vec![]
+    };
+    let info = vk::InstanceCreateInfo::default()
+        .application_info(&app)
+        .enabled_layer_names(&layers)
+        .enabled_extension_names(&extensions);
+    // SAFETY: the create info and the arrays it points to live until the call returns.
+    let instance = unsafe { entry.create_instance(&info, None) }.named("vkCreateInstance")?;
+
+    let debug_utils = if debug_utils_present {
+        match create_messenger(&entry, &instance, counts) {
+            Ok(pair) => Some(pair),
+            Err(e) => {
+                // SAFETY: nothing was created from the instance yet.
+                unsafe { instance.destroy_instance(None) };
+                return Err(e);
+            }
+        }
+    } else {
+        None
+    };
+    Ok(InstanceParts {
+        _entry: entry,
+        instance,
+        debug_utils,
+        validation_enabled,
+    })
+}
+
+fn layer_installed(entry: &ash::Entry) -> VkResult<bool> {
+    // SAFETY: plain enumeration on a loaded entry.
+    let layers = unsafe { entry.enumerate_instance_layer_properties() }
+        .named("vkEnumerateInstanceLayerProperties")?;
+    Ok(layers
+        .iter()
+        .any(|l| l.layer_name_as_c_str().is_ok_and(|n| n == VALIDATION_LAYER)))
+}
+
+fn extension_present(entry: &ash::Entry, name: &CStr) -> VkResult<bool> {
+    // SAFETY: plain enumeration on a loaded entry.
+    let exts = unsafe { entry.enumerate_instance_extension_properties(None) }
+        .named("vkEnumerateInstanceExtensionProperties")?;
+    Ok(exts
+        .iter()
+        .any(|e| e.extension_name_as_c_str().is_ok_and(|n| n == name)))
+}
+
+fn create_messenger(
+    entry: &ash::Entry,
+    instance: &ash::Instance,
+    counts: &MessageCounts,
+) -> VkResult<(ext::debug_utils::Instance, vk::DebugUtilsMessengerEXT)> {
+    let loader = ext::debug_utils::Instance::new(entry, instance);
+    let info = vk::DebugUtilsMessengerCreateInfoEXT::default()
+        .message_severity(
+            vk::DebugUtilsMessageSeverityFlagsEXT::ERROR
+                | vk::DebugUtilsMessageSeverityFlagsEXT::WARNING
+                | vk::DebugUtilsMessageSeverityFlagsEXT::INFO,
+        )
+        .message_type(
+            vk::DebugUtilsMessageTypeFlagsEXT::GENERAL
+                | vk::DebugUtilsMessageTypeFlagsEXT::VALIDATION
+                | vk::DebugUtilsMessageTypeFlagsEXT::PERFORMANCE,
+        )
+        .pfn_user_callback(Some(on_message))
+        .user_data(counts as *const MessageCounts as *mut c_void);
+    // SAFETY: `counts` is owned (boxed) by the context and outlives the messenger, which the
+    // context destroys before dropping it.
+    let messenger = unsafe { loader.create_debug_utils_messenger(&info, None) }
+        .named("vkCreateDebugUtilsMessengerEXT")?;
+    Ok((loader, messenger))
+}
+
+unsafe extern "system" fn on_message(
+    severity: vk::DebugUtilsMessageSeverityFlagsEXT,
+    _types: vk::DebugUtilsMessageTypeFlagsEXT,
+    data: *const vk::DebugUtilsMessengerCallbackDataEXT<'_>,
+    user: *mut c_void,
+) -> vk::Bool32 {
+    if data.is_null() || user.is_null() {
+        return vk::FALSE;
+    }
+    // SAFETY: the layer passes a valid callback-data struct for the duration of the call, and
+    // `user` is the `MessageCounts` registered in `create_messenger`, alive while the messenger is.
+    let (data, counts) = unsafe { (&*data, &*(user as *const MessageCounts)) };
+    // SAFETY: p_message is a NUL-terminated string when non-null, valid during the callback.
+    let text = unsafe { data.message_as_c_str() }
+        .map(|m| m.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    counts.record(severity, &text);
+    vk::FALSE
+}

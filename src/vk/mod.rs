@@ -1,0 +1,32 @@
+//! Vulkan only: instance and validation, device choice, memory, buffers, images, samplers,
+//! pipelines, descriptors, timestamps and transfers. Knows nothing of height fields or scenes.
+//!
+//! Ownership: every object holds an `Arc<Context>`; the context is destroyed last, in the one
+//! order written out in its `Drop`.
+
+mod buffer;
+mod commands;
+mod context;
+mod descriptors;
+mod error;
+mod image;
+mod instance;
+mod physical;
+mod pipeline;
+mod query;
+mod transfer;
+
+pub use buffer::Buffer;
+pub use commands::{memory_barrier, transition_images, ImageTransition};
+pub use context::{Context, ContextOptions};
+pub use descriptors::{write_set, Bind, DescriptorLayout, DescriptorPool};
+pub use error::{VkError, VkResult};
+pub use image::{Image, ImageDesc, ImageView, Sampler};
+pub use instance::{MessageCounts, Validation};
+pub use physical::{list_devices, DeviceInfo};
+pub use pipeline::{compute_pipeline, graphics_pipeline, GraphicsDesc, Pipeline, SpecConstants};
+pub use query::TimestampPool;
+pub use transfer::{read_mip, texel_size, upload_mips};
+
+pub use ash::vk as raw;
+pub use gpu_allocator::MemoryLocation;

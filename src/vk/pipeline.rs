@@ -1,0 +1,294 @@
+//! Shader modules, pipeline layouts, and compute and graphics pipelines (dynamic rendering), with
+//! specialization constants for the numbers a shader variant is tuned by.
+
+use std::sync::Arc;
+
+use ash::vk;
+
+use super::context::Context;
+use super::error::{Named, VkResult};
+
+/// Specialization constants, in constant-id order as pushed.
+#[derive(Debug, Clone, Default)]
+pub struct SpecConstants {
+    entries: Vec<vk::SpecializationMapEntry>,
+    data: Vec<u8>,
+}
+
+impl SpecConstants {
+    /// Sets constant `id` to a 32-bit unsigned value.
+    pub fn u32(mut self, id: u32, value: u32) -> Self {
+        self.push(id, &value.to_ne_bytes());
+        self
+    }
+
+    /// Sets constant `id` to a 32-bit float.
+    pub fn f32(mut self, id: u32, value: f32) -> Self {
+        self.push(id, &value.to_ne_bytes());
+        self
+    }
+
+    fn push(&mut self, id: u32, bytes: &[u8; 4]) {
+        self.entries.push(vk::SpecializationMapEntry {
+            constant_id: id,
+            offset: self.data.len() as u32,
+            size: 4,
+        });
+        self.data.extend_from_slice(bytes);
+    }
+
+    fn info(&self) -> vk::SpecializationInfo<'_> {
+        vk::SpecializationInfo::default()
+            .map_entries(&self.entries)
+            .data(&self.data)
+    }
+}
+
+/// A pipeline with its layout; both destroyed on drop.
+pub struct Pipeline {
+    ctx: Arc<Context>,
+    raw: vk::Pipeline,
+    layout: vk::PipelineLayout,
+    bind_point: vk::PipelineBindPoint,
+}
+
+impl Pipeline {
+    /// The raw pipeline.
+    pub fn raw(&self) -> vk::Pipeline {
+        self.raw
+    }
+
+    /// The pipeline layout.
+    pub fn layout(&self) -> vk::PipelineLayout {
+        self.layout
+    }
+
+    /// Binds the pipeline and, if given, descriptor set 0.
+    pub fn bind(&self, cmd: vk::CommandBuffer, set: Option<vk::DescriptorSet>) {
+        let device = self.ctx.device();
+        // SAFETY: `cmd` is recording on this device; the set matches the layout.
+        unsafe {
+            device.cmd_bind_pipeline(cmd, self.bind_point, self.raw);
+            if let Some(set) = set {
+                device.cmd_bind_descriptor_sets(cmd, self.bind_point, self.layout, 0, &[set], &[]);
+            }
+        }
+    }
+
+    /// Pushes `bytes` as push constants visible to every stage of the layout.
+    pub fn push(&self, cmd: vk::CommandBuffer, bytes: &[u8]) {
+        // SAFETY: the layout declares a push range at least this large for ALL stages.
+        unsafe {
+            self.ctx.device().cmd_push_constants(
+                cmd,
+                self.layout,
+                vk::ShaderStageFlags::ALL,
+                0,
+                bytes,
+            )
+        };
+    }
+}
+
+impl Drop for Pipeline {
+    fn drop(&mut self) {
+        // SAFETY: no pending GPU work uses the pipeline once its owner drops it.
+        unsafe {
+            self.ctx.device().destroy_pipeline(self.raw, None);
+            self.ctx.device().destroy_pipeline_layout(self.layout, None);
+        }
+    }
+}
+
+/// A shader module that lives only while pipelines are being created from it.
+struct Module<'a> {
+    device: &'a ash::Device,
+    raw: vk::ShaderModule,
+}
+
+impl<'a> Module<'a> {
+    fn new(ctx: &'a Context, spirv: &[u32], name: &str) -> VkResult<Self> {
+        let info = vk::ShaderModuleCreateInfo::default().code(spirv);
+        // SAFETY: `spirv` is a complete module produced by glslang at build time.
+        let raw = unsafe { ctx.device().create_shader_module(&info, None) }
+            .named("vkCreateShaderModule")?;
+        ctx.set_name(raw, name);
+        Ok(Module {
+            device: ctx.device(),
+            raw,
+        })
+    }
+}
+
+impl Drop for Module<'_> {
+    fn drop(&mut self) {
+        // SAFETY: pipelines created from the module no longer need it.
+        unsafe { self.device.destroy_shader_module(self.raw, None) };
+    }
+}
+
+fn create_layout(
+    ctx: &Context,
+    set_layouts: &[vk::DescriptorSetLayout],
+    push_bytes: u32,
+    name: &str,
+) -> VkResult<vk::PipelineLayout> {
+    let ranges = [vk::PushConstantRange {
+        stage_flags: vk::ShaderStageFlags::ALL,
+        offset: 0,
+        size: push_bytes,
+    }];
+    let ranges: &[_] = if push_bytes > 0 { &ranges } else { &[] };
+    let info = vk::PipelineLayoutCreateInfo::default()
+        .set_layouts(set_layouts)
+        .push_constant_ranges(ranges);
+    // SAFETY: valid device and create info.
+    let layout = unsafe { ctx.device().create_pipeline_layout(&info, None) }
+        .named("vkCreatePipelineLayout")?;
+    ctx.set_name(layout, &format!("{name} layout"));
+    Ok(layout)
+}
+
+/// Creates a compute pipeline from one SPIR-V module with entry point `main`.
+pub fn compute_pipeline(
+    ctx: &Arc<Context>,
+    spirv: &[u32],
+    set_layouts: &[vk::DescriptorSetLayout],
+    push_bytes: u32,
+    spec: &SpecConstants,
+    name: &str,
+) -> VkResult<Pipeline> {
+    let module = Module::new(ctx, spirv, name)?;
+    let layout = create_layout(ctx, set_layouts, push_bytes, name)?;
+    let spec_info = spec.info();
+    let stage = vk::PipelineShaderStageCreateInfo::default()
+        .stage(vk::ShaderStageFlags::COMPUTE)
+        .module(module.raw)
+        .name(c"main")
+        .specialization_info(&spec_info);
+    let info = vk::ComputePipelineCreateInfo::default()
+        .stage(stage)
+        .layout(layout);
+    // SAFETY: module, layout and specialization data outlive the call.
+    let created = unsafe {
+        ctx.device()
+            .create_compute_pipelines(vk::PipelineCache::null(), &[info], None)
+    };
+    finish(ctx, created, layout, vk::PipelineBindPoint::COMPUTE, name)
+}
+
+fn finish(
+    ctx: &Arc<Context>,
+    created: Result<Vec<vk::Pipeline>, (Vec<vk::Pipeline>, vk::Result)>,
+    layout: vk::PipelineLayout,
+    bind_point: vk::PipelineBindPoint,
+    name: &str,
+) -> VkResult<Pipeline> {
+    match created {
+        Ok(list) => {
+            ctx.set_name(list[0], name);
+            Ok(Pipeline {
+                ctx: ctx.clone(),
+                raw: list[0],
+                layout,
+                bind_point,
+            })
+        }
+        Err((_, result)) => {
+            // SAFETY: the layout is unused since no pipeline was created.
+            unsafe { ctx.device().destroy_pipeline_layout(layout, None) };
+            Err(result).named("vkCreate*Pipelines")
+        }
+    }
+}
+
+/// Everything a graphics pipeline of relief varies in.
+pub struct GraphicsDesc<'a> {
+    pub vertex: &'a [u32],
+    pub fragment: &'a [u32],
+    pub fragment_spec: &'a SpecConstants,
+    pub vertex_stride: u32,
+    pub attributes: &'a [vk::VertexInputAttributeDescription],
+    pub color_format: vk::Format,
+    pub depth_format: vk::Format,
+    pub cull: vk::CullModeFlags,
+    pub set_layouts: &'a [vk::DescriptorSetLayout],
+    pub push_bytes: u32,
+}
+
+/// Creates a triangle-list graphics pipeline for dynamic rendering with one colour and one depth
+/// attachment; viewport and scissor are dynamic.
+pub fn graphics_pipeline(
+    ctx: &Arc<Context>,
+    desc: &GraphicsDesc,
+    name: &str,
+) -> VkResult<Pipeline> {
+    let vs = Module::new(ctx, desc.vertex, &format!("{name} vs"))?;
+    let fs = Module::new(ctx, desc.fragment, &format!("{name} fs"))?;
+    let layout = create_layout(ctx, desc.set_layouts, desc.push_bytes, name)?;
+    let spec = desc.fragment_spec.info();
+    let stages = [
+        vk::PipelineShaderStageCreateInfo::default()
+            .stage(vk::ShaderStageFlags::VERTEX)
+            .module(vs.raw)
+            .name(c"main"),
+        vk::PipelineShaderStageCreateInfo::default()
+            .stage(vk::ShaderStageFlags::FRAGMENT)
+            .module(fs.raw)
+            .name(c"main")
+            .specialization_info(&spec),
+    ];
+    let bindings = [vk::VertexInputBindingDescription {
+        binding: 0,
+        stride: desc.vertex_stride,
+        input_rate: vk::VertexInputRate::VERTEX,
+    }];
+    let vertex_input = vk::PipelineVertexInputStateCreateInfo::default()
+        .vertex_binding_descriptions(&bindings)
+        .vertex_attribute_descriptions(desc.attributes);
+    let assembly = vk::PipelineInputAssemblyStateCreateInfo::default()
+        .topology(vk::PrimitiveTopology::TRIANGLE_LIST);
+    let viewport = vk::PipelineViewportStateCreateInfo::default()
+        .viewport_count(1)
+        .scissor_count(1);
+    let raster = vk::PipelineRasterizationStateCreateInfo::default()
+        .polygon_mode(vk::PolygonMode::FILL)
+        .cull_mode(desc.cull)
+        // Counter-clockwise as in glTF: the projection's y flip and Vulkan's y-down framebuffer
+        // cancel, so winding seen on screen is unchanged.
+        .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
+        .line_width(1.0);
+    let multisample = vk::PipelineMultisampleStateCreateInfo::default()
+        .rasterization_samples(vk::SampleCountFlags::TYPE_1);
+    let depth = vk::PipelineDepthStencilStateCreateInfo::default()
+        .depth_test_enable(true)
+        .depth_write_enable(true)
+        .depth_compare_op(vk::CompareOp::LESS_OR_EQUAL);
+    let blend_attachments = [vk::PipelineColorBlendAttachmentState::default()
+        .color_write_mask(vk::ColorComponentFlags::RGBA)];
+    let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachments);
+    let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
+    let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
+    let color_formats = [desc.color_format];
+    let mut rendering = vk::PipelineRenderingCreateInfo::default()
+        .color_attachment_formats(&color_formats)
+        .depth_attachment_format(desc.depth_format);
+    let info = vk::GraphicsPipelineCreateInfo::default()
+        .stages(&stages)
+        .vertex_input_state(&vertex_input)
+        .input_assembly_state(&assembly)
+        .viewport_state(&viewport)
+        .rasterization_state(&raster)
+        .multisample_state(&multisample)
+        .depth_stencil_state(&depth)
+        .color_blend_state(&blend)
+        .dynamic_state(&dynamic)
+        .layout(layout)
+        .push_next(&mut rendering);
+    // SAFETY: every struct referenced by `info` lives until the call returns.
+    let created = unsafe {
+        ctx.device()
+            .create_graphics_pipelines(vk::PipelineCache::null(), &[info], None)
+    };
+    finish(ctx, created, layout, vk::PipelineBindPoint::GRAPHICS, name)
+}

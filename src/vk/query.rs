@@ -1,0 +1,124 @@
+//! GPU timestamps: a query pool that checks the device supports them, masks the values to the
+//! valid bits and converts ticks to milliseconds with `timestampPeriod`.
+
+use std::sync::Arc;
+
+use ash::vk;
+
+use super::context::Context;
+use super::error::{Named, VkError, VkResult};
+
+/// A pool of `capacity` timestamp queries, reset from the host before each use.
+pub struct TimestampPool {
+    ctx: Arc<Context>,
+    raw: vk::QueryPool,
+    capacity: u32,
+    mask: u64,
+    period_ns: f64,
+}
+
+impl TimestampPool {
+    /// Creates the pool, or says why the device cannot time passes.
+    pub fn new(ctx: &Arc<Context>, capacity: u32, name: &str) -> VkResult<TimestampPool> {
+        let info = ctx.info();
+        let bits = info.timestamp_valid_bits;
+        if bits == 0 || info.timestamp_period_ns <= 0.0 {
+            return Err(VkError::Unsupported(format!(
+                "timestamps on its queue (timestampValidBits = {bits}, timestampPeriod = {})",
+                info.timestamp_period_ns
+            )));
+        }
+        let mask = if bits >= 64 {
+            u64::MAX
+        } else {
+            (1u64 << bits) - 1
+        };
+        let create = vk::QueryPoolCreateInfo::default()
+            .query_type(vk::QueryType::TIMESTAMP)
+            .query_count(capacity);
+        // SAFETY: valid device and create info.
+        let raw =
+            unsafe { ctx.device().create_query_pool(&create, None) }.named("vkCreateQueryPool")?;
+        ctx.set_name(raw, name);
+        // SAFETY: hostQueryReset is enabled at device creation; the pool is unused.
+        unsafe { ctx.device().reset_query_pool(raw, 0, capacity) };
+        Ok(TimestampPool {
+            ctx: ctx.clone(),
+            raw,
+            capacity,
+            mask,
+            period_ns: f64::from(info.timestamp_period_ns),
+        })
+    }
+
+    /// How many timestamps the pool holds.
+    pub fn capacity(&self) -> u32 {
+        self.capacity
+    }
+
+    /// Nanoseconds per tick.
+    pub fn period_ns(&self) -> f64 {
+        self.period_ns
+    }
+
+    /// Resets every query; call when no submitted work uses the pool.
+    pub fn reset(&self) {
+        // SAFETY: hostQueryReset is enabled; no pending work uses the pool.
+        unsafe {
+            self.ctx
+                .device()
+                .reset_query_pool(self.raw, 0, self.capacity)
+        };
+    }
+
+    /// Records a timestamp into `index` once all earlier work has passed `stage`.
+    pub fn write(
+        &self,
+        cmd: vk::CommandBuffer,
+        stage: vk::PipelineStageFlags2,
+        index: u32,
+    ) -> VkResult<()> {
+        if index >= self.capacity {
+            return Err(VkError::Invalid(format!(
+                "timestamp {index} of {}",
+                self.capacity
+            )));
+        }
+        // SAFETY: `cmd` is recording; the query was reset since its last use.
+        unsafe {
+            self.ctx
+                .device()
+                .cmd_write_timestamp2(cmd, stage, self.raw, index)
+        };
+        Ok(())
+    }
+
+    /// Reads the first `count` raw timestamps (masked to the valid bits), waiting for them.
+    pub fn read_ticks(&self, count: u32) -> VkResult<Vec<u64>> {
+        let mut ticks = vec![0u64; count as usize];
+        // SAFETY: `ticks` has room for `count` 64-bit results.
+        unsafe {
+            self.ctx.device().get_query_pool_results(
+                self.raw,
+                0,
+                &mut ticks,
+                vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WAIT,
+            )
+        }
+        .named("vkGetQueryPoolResults")?;
+        Ok(ticks.into_iter().map(|t| t & self.mask).collect())
+    }
+
+    /// Milliseconds between two raw ticks (handles a wrap of the valid bits).
+    pub fn ticks_to_ms(&self, start: u64, end: u64) -> f64 {
+        let delta = end.wrapping_sub(start) & self.mask;
+        delta as f64 * self.period_ns * 1e-6
+    }
+}
+
+impl Drop for TimestampPool {
+    fn drop(&mut self) {
+        // SAFETY: no pending GPU work writes the pool once its owner drops it.
+        unsafe { self.ctx.device().destroy_query_pool(self.raw, None) };
+    }
+}

@@ -1,0 +1,158 @@
+//! Moving pixels between host and GPU: mip-chain uploads through one staging buffer, and readback
+//! of one mip level into host memory. Images end in the layout the caller names.
+
+use std::sync::Arc;
+
+use ash::vk;
+use gpu_allocator::MemoryLocation;
+
+use super::buffer::Buffer;
+use super::commands::{transition_images, ImageTransition};
+use super::context::Context;
+use super::error::{VkError, VkResult};
+use super::image::Image;
+
+/// Bytes per texel of the formats relief moves between host and GPU.
+pub fn texel_size(format: vk::Format) -> VkResult<usize> {
+    Ok(match format {
+        vk::Format::R8_UNORM => 1,
+        vk::Format::R16_UNORM | vk::Format::R16_SFLOAT => 2,
+        vk::Format::R32_SFLOAT
+        | vk::Format::R8G8B8A8_UNORM
+        | vk::Format::R8G8B8A8_SRGB
+        | vk::Format::B8G8R8A8_SRGB => 4,
+        vk::Format::R16G16B16A16_SFLOAT => 8,
+        vk::Format::R32G32B32A32_SFLOAT => 16,
+        other => {
+            return Err(VkError::Invalid(format!(
+                "no host transfer for format {other:?}"
+            )))
+        }
+    })
+}
+
+fn all_mips(image: &Image, old: vk::ImageLayout, new: vk::ImageLayout) -> ImageTransition {
+    ImageTransition {
+        image: image.raw(),
+        aspect: image.desc().aspect,
+        base_mip: 0,
+        mip_count: image.desc().mip_levels,
+        old,
+        new,
+        src: (
+            vk::PipelineStageFlags2::ALL_COMMANDS,
+            vk::AccessFlags2::MEMORY_WRITE,
+        ),
+        dst: (
+            vk::PipelineStageFlags2::ALL_COMMANDS,
+            vk::AccessFlags2::MEMORY_READ | vk::AccessFlags2::MEMORY_WRITE,
+        ),
+    }
+}
+
+/// Uploads `levels[k]` (tightly packed rows) into mip `k` and leaves the whole image in `final_layout`.
+pub fn upload_mips(
+    ctx: &Arc<Context>,
+    image: &Image,
+    levels: &[&[u8]],
+    final_layout: vk::ImageLayout,
+) -> VkResult<()> {
+    let texel = texel_size(image.desc().format)?;
+    let mut offsets = Vec::with_capacity(levels.len());
+    let mut total = 0usize;
+    for (k, bytes) in levels.iter().enumerate() {
+        let (w, h) = image.level_extent(k as u32);
+        if bytes.len() != w as usize * h as usize * texel {
+            return Err(VkError::Invalid(format!(
+                "mip {k} of {:?}: {} bytes for {w}x{h}",
+                image.name(),
+                bytes.len()
+            )));
+        }
+        offsets.push(total);
+        total = (total + bytes.len()).next_multiple_of(16);
+    }
+    let mut staging = Buffer::new(
+        ctx,
+        total.max(16) as u64,
+        vk::BufferUsageFlags::TRANSFER_SRC,
+        MemoryLocation::CpuToGpu,
+        &format!("{} staging", image.name()),
+    )?;
+    for (bytes, &offset) in levels.iter().zip(&offsets) {
+        staging.write(offset, bytes)?;
+    }
+    let regions: Vec<_> = offsets
+        .iter()
+        .enumerate()
+        .map(|(k, &offset)| {
+            let (w, h) = image.level_extent(k as u32);
+            vk::BufferImageCopy::default()
+                .buffer_offset(offset as u64)
+                .image_subresource(layers(image, k as u32))
+                .image_extent(vk::Extent3D {
+                    width: w,
+                    height: h,
+                    depth: 1,
+                })
+        })
+        .collect();
+    let device = ctx.device();
+    ctx.one_shot(|cmd| {
+        let dst = vk::ImageLayout::TRANSFER_DST_OPTIMAL;
+        transition_images(
+            device,
+            cmd,
+            &[all_mips(image, vk::ImageLayout::UNDEFINED, dst)],
+        );
+        // SAFETY: regions lie within the staging buffer and the image's levels.
+        unsafe { device.cmd_copy_buffer_to_image(cmd, staging.raw(), image.raw(), dst, &regions) };
+        transition_images(device, cmd, &[all_mips(image, dst, final_layout)]);
+        Ok(())
+    })
+}
+
+fn layers(image: &Image, level: u32) -> vk::ImageSubresourceLayers {
+    vk::ImageSubresourceLayers::default()
+        .aspect_mask(image.desc().aspect)
+        .mip_level(level)
+        .layer_count(1)
+}
+
+/// Reads mip `level` back as tightly packed rows. The image must be in `layout`, and stays in it.
+pub fn read_mip(
+    ctx: &Arc<Context>,
+    image: &Image,
+    level: u32,
+    layout: vk::ImageLayout,
+) -> VkResult<Vec<u8>> {
+    let texel = texel_size(image.desc().format)?;
+    let (w, h) = image.level_extent(level);
+    let size = (w as usize * h as usize * texel) as u64;
+    let readback = Buffer::new(
+        ctx,
+        size,
+        vk::BufferUsageFlags::TRANSFER_DST,
+        MemoryLocation::GpuToCpu,
+        &format!("{} readback", image.name()),
+    )?;
+    let device = ctx.device();
+    let src = vk::ImageLayout::TRANSFER_SRC_OPTIMAL;
+    ctx.one_shot(|cmd| {
+        transition_images(device, cmd, &[all_mips(image, layout, src)]);
+        let region = vk::BufferImageCopy::default()
+            .image_subresource(layers(image, level))
+            .image_extent(vk::Extent3D {
+                width: w,
+                height: h,
+                depth: 1,
+            });
+        // SAFETY: the region lies within the image level and the buffer.
+        unsafe {
+            device.cmd_copy_image_to_buffer(cmd, image.raw(), src, readback.raw(), &[region])
+        };
+        transition_images(device, cmd, &[all_mips(image, src, layout)]);
+        Ok(())
+    })?;
+    Ok(readback.mapped()?.to_vec())
+}
