@@ -103,6 +103,14 @@ impl Heightfield {
             origin: origin.clone(),
             error,
         })?;
+        // A zero-byte file is the empty image users actually produce (a failed export).
+        if bytes.is_empty() {
+            return Err(HeightfieldError::Empty {
+                origin,
+                width: 0,
+                height: 0,
+            });
+        }
         let img =
             image::load_from_memory_with_format(&bytes, ImageFormat::Png).map_err(|error| {
                 HeightfieldError::Decode {

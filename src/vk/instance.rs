@@ -129,7 +129,11 @@ pub(crate) fn create_instance(
         .enabled_layer_names(&layers)
         .enabled_extension_names(&extensions);
     // SAFETY: the create info and the arrays it points to live until the call returns.
-    let instance = unsafe { entry.create_instance(&info, None) }.named("vkCreateInstance")?;
+    let instance = match unsafe { entry.create_instance(&info, None) } {
+        // The loader's answer when it finds no driver at all: that is "no device", not a bug.
+        Err(vk::Result::ERROR_INCOMPATIBLE_DRIVER) => return Err(VkError::NoDevice),
+        other => other.named("vkCreateInstance")?,
+    };
 
     let debug_utils = if debug_utils_present {
         match create_messenger(&entry, &instance, counts) {

@@ -1,0 +1,140 @@
+//! Bad input through the binary: one clear error line naming the file, a non-zero exit, no panic.
+
+mod common;
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+fn relief(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_relief"))
+        .args(args)
+        .output()
+        .expect("binary runs")
+}
+
+fn stderr(out: &Output) -> String {
+    String::from_utf8_lossy(&out.stderr).into_owned()
+}
+
+/// The run failed with exit 1, one `relief: error:` line that names `needle`, and no panic.
+fn assert_clean_failure(out: &Output, needle: &str) {
+    let err = stderr(out);
+    assert_eq!(
+        out.status.code(),
+        Some(1),
+        "exit code 1 expected; stderr:\n{err}"
+    );
+    assert!(!err.contains("panicked"), "must not panic:\n{err}");
+    let lines: Vec<&str> = err
+        .lines()
+        .filter(|l| l.starts_with("relief: error:"))
+        .collect();
+    assert_eq!(lines.len(), 1, "exactly one error line expected:\n{err}");
+    assert!(
+        lines[0].contains(needle),
+        "the error names {needle:?}: {}",
+        lines[0]
+    );
+}
+
+fn render_with(map: &Path) -> Output {
+    let out = map.with_extension("out.png");
+    relief(&[
+        "render",
+        "--heightmap",
+        map.to_str().expect("utf-8 path"),
+        "--out",
+        out.to_str().expect("utf-8"),
+    ])
+}
+
+#[test]
+fn missing_height_map() {
+    let dir = common::scratch_dir("missing");
+    let map = dir.join("no-such-map.png");
+    let out = render_with(&map);
+    assert_clean_failure(&out, "no-such-map.png");
+    assert!(stderr(&out).contains("cannot read"), "{}", stderr(&out));
+}
+
+#[test]
+fn not_an_image() {
+    let dir = common::scratch_dir("not-image");
+    let map = dir.join("notes.png");
+    std::fs::write(&map, "these are words, not pixels\n").expect("write");
+    let out = render_with(&map);
+    assert_clean_failure(&out, "notes.png");
+    assert!(
+        stderr(&out).contains("not a decodable image"),
+        "{}",
+        stderr(&out)
+    );
+}
+
+#[test]
+fn empty_image() {
+    let dir = common::scratch_dir("empty");
+    let map = dir.join("empty.png");
+    std::fs::write(&map, b"").expect("write");
+    let out = render_with(&map);
+    assert_clean_failure(&out, "empty.png");
+    assert!(stderr(&out).contains("empty"), "{}", stderr(&out));
+}
+
+#[test]
+fn zero_depth_scale() {
+    let out = relief(&["render", "--depth-scale", "0", "--out", "/dev/null"]);
+    assert_clean_failure(&out, "--depth-scale");
+}
+
+#[test]
+fn unknown_method() {
+    let out = relief(&["render", "--method", "warp", "--out", "/dev/null"]);
+    assert_clean_failure(&out, "warp");
+}
+
+#[test]
+fn map_larger_than_the_device_allows() {
+    if common::device("map_larger_than_the_device_allows").is_none() {
+        return;
+    }
+    let listed = relief(&["devices", "--json"]);
+    assert!(
+        listed.status.success(),
+        "devices --json: {}",
+        stderr(&listed)
+    );
+    let devices: serde_json::Value = serde_json::from_slice(&listed.stdout).expect("JSON list");
+    let limit = devices[0]["max_image_dimension_2d"]
+        .as_u64()
+        .expect("limit") as u32;
+    let dir = common::scratch_dir("too-large");
+    let map = dir.join("too-wide.png");
+    image::GrayImage::new(limit + 1, 1)
+        .save(&map)
+        .expect("write PNG");
+    let out = render_with(&map);
+    assert_clean_failure(&out, "too-wide.png");
+    assert!(
+        stderr(&out).contains(&format!("maximum image dimension {limit}")),
+        "{}",
+        stderr(&out)
+    );
+}
+
+#[test]
+fn no_vulkan_driver_exits_77_with_install_line() {
+    let out = Command::new(env!("CARGO_BIN_EXE_relief"))
+        .args(["devices"])
+        .env("VK_DRIVER_FILES", "/nonexistent/icd.json")
+        .env("VK_ICD_FILENAMES", "/nonexistent/icd.json")
+        .output()
+        .expect("binary runs");
+    let err = stderr(&out);
+    assert_eq!(out.status.code(), Some(77), "stderr:\n{err}");
+    assert!(
+        err.contains("apt-get install"),
+        "says how to install a device:\n{err}"
+    );
+    assert!(!err.contains("panicked"));
+}

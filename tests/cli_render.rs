@@ -1,0 +1,76 @@
+//! The binary's happy paths: render the default scene with --json, and write pyramid levels.
+
+mod common;
+
+use std::process::Command;
+
+fn relief(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_relief"))
+        .args(args)
+        .output()
+        .expect("binary runs")
+}
+
+#[test]
+fn render_default_scene_reports_passes() {
+    if common::device("render_default_scene_reports_passes").is_none() {
+        return;
+    }
+    let dir = common::scratch_dir("render-json");
+    let out = dir.join("frame.png");
+    let run = relief(&[
+        "render",
+        "--out",
+        out.to_str().expect("utf-8"),
+        "--width",
+        "96",
+        "--height",
+        "64",
+        "--json",
+    ]);
+    let err = String::from_utf8_lossy(&run.stderr);
+    assert!(run.status.success(), "render failed:\n{err}");
+    let report: serde_json::Value = serde_json::from_slice(&run.stdout).expect("one JSON object");
+    assert!(report["device"]["name"]
+        .as_str()
+        .is_some_and(|n| !n.is_empty()));
+    let passes = report["passes"].as_array().expect("passes");
+    let names: Vec<&str> = passes.iter().filter_map(|p| p["pass"].as_str()).collect();
+    assert_eq!(names, ["pyramid", "surface"]);
+    assert!(
+        passes
+            .iter()
+            .all(|p| p["gpu_ms"].as_f64().is_some_and(|ms| ms > 0.0)),
+        "{passes:?}"
+    );
+    let png = image::open(&out).expect("PNG written").to_rgba8();
+    assert_eq!(png.dimensions(), (96, 64));
+}
+
+#[test]
+fn maps_writes_every_pyramid_level() {
+    if common::device("maps_writes_every_pyramid_level").is_none() {
+        return;
+    }
+    let dir = common::scratch_dir("maps");
+    let run = relief(&[
+        "maps",
+        "--field",
+        "fbm",
+        "--size",
+        "37",
+        "--out",
+        dir.to_str().expect("utf-8"),
+    ]);
+    assert!(
+        run.status.success(),
+        "maps failed:\n{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    // 37 -> 18 -> 9 -> 4 -> 2 -> 1: six levels, each a PNG of the right size.
+    for (k, side) in [37u32, 18, 9, 4, 2, 1].into_iter().enumerate() {
+        let level = image::open(dir.join(format!("level_{k:02}.png"))).expect("level written");
+        assert_eq!((level.width(), level.height()), (side, side), "level {k}");
+    }
+    assert!(!dir.join("level_06.png").exists());
+}
