@@ -8,8 +8,8 @@ packages=(libvulkan1 mesa-vulkan-drivers vulkan-validationlayers)
 
 missing=()
 have_loader() { ldconfig -p 2>/dev/null | grep -q 'libvulkan\.so\.1'; }
-have_icd() { ls /usr/share/vulkan/icd.d/*.json /etc/vulkan/icd.d/*.json >/dev/null 2>&1; }
-have_layer() { ls /usr/share/vulkan/explicit_layer.d/VkLayer_khronos_validation.json >/dev/null 2>&1; }
+have_icd() { compgen -G '/usr/share/vulkan/icd.d/*.json' >/dev/null || compgen -G '/etc/vulkan/icd.d/*.json' >/dev/null; }
+have_layer() { [[ -e /usr/share/vulkan/explicit_layer.d/VkLayer_khronos_validation.json ]]; }
 have_loader || missing+=(libvulkan1)
 have_icd || missing+=(mesa-vulkan-drivers)
 have_layer || missing+=(vulkan-validationlayers)

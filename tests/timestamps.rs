@@ -24,7 +24,10 @@ fn timestamps_are_monotonic_with_positive_period() {
     for pair in ticks.windows(2) {
         assert!(pair[1] >= pair[0], "timestamps go backwards: {ticks:?}");
         let ms = pool.ticks_to_ms(pair[0], pair[1]);
-        assert!((0.0..10_000.0).contains(&ms), "implausible interval {ms} ms");
+        assert!(
+            (0.0..10_000.0).contains(&ms),
+            "implausible interval {ms} ms"
+        );
     }
     assert!(
         pool.write(vk::CommandBuffer::null(), all, 4).is_err(),

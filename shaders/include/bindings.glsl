@@ -1,4 +1,5 @@
-// The one descriptor layout every surface variant shares, so methods compare like with like.
+// The descriptor bindings every pass that traces shares (surface and trace), so methods compare
+// like with like. Push constants belong to each entry point.
 #ifndef BINDINGS_GLSL
 #define BINDINGS_GLSL
 
@@ -15,10 +16,5 @@ layout(set = 0, binding = 0, std140) uniform Frame {
 layout(set = 0, binding = 1) uniform sampler2D height_point;   // nearest, nearest mip
 layout(set = 0, binding = 2) uniform sampler2D height_linear;  // bilinear
 
-layout(push_constant, std430) uniform Draw {
-    mat4 model;
-    vec4 base_color;
-    vec4 material;     // x: depth scale (uv units, 0 = no relief), y: roughness, z: metallic
-} draw;
 
 #endif

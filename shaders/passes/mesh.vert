@@ -3,6 +3,7 @@
 #extension GL_GOOGLE_include_directive : require
 #include "conventions.glsl"
 #include "bindings.glsl"
+#include "draw.glsl"
 
 layout(location = 0) in vec3 in_position;
 layout(location = 1) in vec3 in_normal;

@@ -6,6 +6,7 @@
 #include "conventions.glsl"
 #include "numeric.glsl"
 #include "bindings.glsl"
+#include "draw.glsl"
 #include "heightfield.glsl"
 #include "lighting.glsl"
 #include "method.glsl"
