@@ -5,6 +5,7 @@
 //! relief; [`render`] joins them.
 #![deny(unsafe_op_in_unsafe_fn)]
 
+pub mod bench;
 pub mod heightfield;
 pub mod method;
 pub mod render;

@@ -5,7 +5,9 @@ mod devices;
 mod heightmap_args;
 mod logger;
 mod maps;
+mod methods;
 mod render;
+mod trace;
 
 use std::process::ExitCode;
 
@@ -37,6 +39,10 @@ enum Command {
     Render(render::RenderArgs),
     /// Build a height map's max pyramid on the GPU and write every level as a PNG.
     Maps(maps::MapsArgs),
+    /// List the displacement methods (ids are stable).
+    Methods(methods::MethodsArgs),
+    /// Trace parallel rays on the GPU with one method and measure them against the exact reference.
+    Trace(trace::TraceArgs),
 }
 
 /// Runs the tool and turns any error into one line on stderr and an exit code.
@@ -47,6 +53,8 @@ pub fn run() -> ExitCode {
         Command::Devices(args) => devices::run(&args),
         Command::Render(args) => render::run(&args),
         Command::Maps(args) => maps::run(&args),
+        Command::Methods(args) => methods::run(&args),
+        Command::Trace(args) => trace::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -32,16 +32,76 @@ pub struct MethodInfo {
     pub default_budget: Budget,
 }
 
-const METHODS: &[MethodInfo] = &[MethodInfo {
-    id: "pom",
-    name: "parallax occlusion mapping with linear-approximation refinement",
-    paper: "Tatarchuk 2006 (paper 001, Listing 1.1)",
-    needs: &[],
-    default_budget: Budget {
-        max_steps: 32,
-        refine_steps: 0,
+const METHODS: &[MethodInfo] = &[
+    MethodInfo {
+        id: "parallax",
+        name: "parallax mapping with offset limiting",
+        paper: "Welsh 2004 (cited in papers 000, 001)",
+        needs: &[],
+        default_budget: Budget {
+            max_steps: 1,
+            refine_steps: 0,
+        },
     },
-}];
+    MethodInfo {
+        id: "steep",
+        name: "steep parallax mapping",
+        paper: "McGuire 2005 (papers 000, 003)",
+        needs: &[],
+        default_budget: Budget {
+            max_steps: 32,
+            refine_steps: 0,
+        },
+    },
+    MethodInfo {
+        id: "relief",
+        name: "relief mapping: linear search + binary search",
+        paper: "Policarpo et al. 2005 (paper 001 section 1.3.1)",
+        needs: &[],
+        // Bevy's defaults: 16 linear steps, 5 binary steps.
+        default_budget: Budget {
+            max_steps: 16,
+            refine_steps: 5,
+        },
+    },
+    MethodInfo {
+        id: "pom",
+        name: "parallax occlusion mapping with linear-approximation refinement",
+        paper: "Tatarchuk 2006 (paper 001, Listing 1.1)",
+        needs: &[],
+        default_budget: Budget {
+            max_steps: 32,
+            refine_steps: 0,
+        },
+    },
+];
+
+const fn same_id(a: &str, b: &str) -> bool {
+    let (a, b) = (a.as_bytes(), b.as_bytes());
+    if a.len() != b.len() {
+        return false;
+    }
+    let mut i = 0;
+    while i < a.len() {
+        if a[i] != b[i] {
+            return false;
+        }
+        i += 1;
+    }
+    true
+}
+
+/// The table row of `id`, checked at compile time for the named constants below.
+const fn index_of(id: &str) -> usize {
+    let mut i = 0;
+    while i < METHODS.len() {
+        if same_id(METHODS[i].id, id) {
+            return i;
+        }
+        i += 1;
+    }
+    panic!("no such method id in the table")
+}
 
 /// A displacement method, by its stable id.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -49,7 +109,7 @@ pub struct Method(usize);
 
 impl Method {
     /// Parallax occlusion mapping, the renderer's default.
-    pub const POM: Method = Method(0);
+    pub const POM: Method = Method(index_of("pom"));
 
     /// Every method, in table order.
     pub fn all() -> impl Iterator<Item = Method> {

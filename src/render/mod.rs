@@ -5,8 +5,10 @@ mod frame;
 mod gpu_heightfield;
 mod pyramid_pass;
 mod surface_pass;
+mod trace_pass;
 
 pub use frame::{render, Frame, PassTiming, RenderOptions};
 pub use gpu_heightfield::{Addressing, GpuHeightfield, HeightFormat};
 pub use pyramid_pass::{build_pyramid_on_gpu, PyramidJob, PyramidPass};
-pub use surface_pass::{COLOR_FORMAT, DEPTH_FORMAT};
+pub use surface_pass::{FrameUniforms, COLOR_FORMAT, DEPTH_FORMAT};
+pub use trace_pass::{trace_on_gpu, TraceOutput, TraceRequest};

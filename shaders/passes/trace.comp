@@ -1,0 +1,43 @@
+#version 460
+// The trace pass: one parallel ray per grid cell, entering at the cell centre, traced with the
+// method this variant was compiled with; writes what `relief trace` dumps and the method's
+// iteration count. Same bindings as the surface pass, so the work per ray is the same.
+#extension GL_GOOGLE_include_directive : require
+#include "conventions.glsl"
+#include "numeric.glsl"
+#include "bindings.glsl"
+#include "heightfield.glsl"
+#include "method.glsl"
+
+layout(local_size_x = 8, local_size_y = 8) in;
+
+// One record per ray: u0 v0 dx dy dz u_hit v_hit z_hit (DESIGN.md section 3).
+layout(set = 0, binding = 4, std430) writeonly buffer Hits { float hits[]; };
+// Per ray: steps used, and 1 if the method hit its iteration cap.
+layout(set = 0, binding = 5, std430) writeonly buffer Steps { uvec2 steps[]; };
+
+layout(push_constant, std430) uniform TraceParams {
+    vec4 dir;      // xyz: ray direction (dz > 0), w: depth scale
+    uvec4 grid;    // x: columns, y: rows
+} params;
+
+void main() {
+    uvec2 cell = gl_GlobalInvocationID.xy;
+    if (any(greaterThanEqual(cell, params.grid.xy))) {
+        return;
+    }
+    vec2 origin = (vec2(cell) + 0.5) / vec2(params.grid.xy);
+    Ray ray = Ray(origin, params.dir.xyz, params.dir.w);
+    Hit hit = METHOD_TRACE(ray, default_budget());
+    vec2 uv = ray_uv(ray, hit.z);
+    uint k = cell.y * params.grid.x + cell.x;
+    hits[8u * k + 0u] = origin.x;
+    hits[8u * k + 1u] = origin.y;
+    hits[8u * k + 2u] = ray.dir.x;
+    hits[8u * k + 3u] = ray.dir.y;
+    hits[8u * k + 4u] = ray.dir.z;
+    hits[8u * k + 5u] = uv.x;
+    hits[8u * k + 6u] = uv.y;
+    hits[8u * k + 7u] = hit.z;
+    steps[k] = uvec2(hit.steps, hit.capped ? 1u : 0u);
+}

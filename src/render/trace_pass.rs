@@ -1,0 +1,155 @@
+//! The trace pass: parallel rays over a grid, traced on the GPU by one method's compute variant,
+//! with the hits and per-ray iteration counts read back. Feeds `relief trace` and `relief bench`.
+
+use std::sync::Arc;
+
+use ash::vk;
+
+use super::gpu_heightfield::{Addressing, GpuHeightfield, HeightFormat};
+use super::pyramid_pass::PyramidPass;
+use super::surface_pass::FrameUniforms;
+use crate::heightfield::Heightfield;
+use crate::method::{Budget, Method};
+use crate::shaders;
+use crate::vk::{
+    compute_pipeline, Bind, Buffer, Context, DescriptorLayout, DescriptorPool, MemoryLocation,
+    SpecConstants, TimestampPool, VkError, VkResult,
+};
+
+const GROUP: u32 = 8;
+
+/// One sweep of parallel rays.
+#[derive(Debug, Clone, Copy)]
+pub struct TraceRequest {
+    pub method: Method,
+    /// Ray direction, dz > 0 (DESIGN.md section 2).
+    pub dir: [f32; 3],
+    pub depth_scale: f32,
+    /// Columns and rows of the ray grid; ray (c, r) enters at ((c+0.5)/cols, (r+0.5)/rows).
+    pub grid: (u32, u32),
+    pub budget: Budget,
+    pub address: Addressing,
+    pub format: HeightFormat,
+}
+
+/// What the GPU traced: per ray `u0 v0 dx dy dz u_hit v_hit z_hit`, and `(steps, capped)`.
+#[derive(Debug, Clone)]
+pub struct TraceOutput {
+    pub hits: Vec<[f32; 8]>,
+    pub steps: Vec<[u32; 2]>,
+    /// GPU time of the trace dispatch alone.
+    pub gpu_ms: f64,
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct TraceParams {
+    dir: [f32; 4],
+    grid: [u32; 4],
+}
+
+/// Traces `req` over `hf` on the GPU.
+pub fn trace_on_gpu(
+    ctx: &Arc<Context>,
+    hf: &Heightfield,
+    req: &TraceRequest,
+) -> VkResult<TraceOutput> {
+    let (cols, rows) = req.grid;
+    if cols == 0 || rows == 0 {
+        return Err(VkError::Invalid(format!("ray grid {cols}x{rows}")));
+    }
+    let count = cols as u64 * rows as u64;
+    let key = format!("trace.comp:{}", req.method.id());
+    let spirv = shaders::spirv(&key)
+        .ok_or_else(|| VkError::Invalid(format!("no compiled shader {key}")))?;
+    let heights = GpuHeightfield::upload(ctx, hf, req.format, req.address)?;
+    let pyramid = PyramidPass::new(ctx, req.format.shader_suffix())?;
+    let job = pyramid.prepare(&heights)?;
+    let mut uniforms: FrameUniforms = bytemuck::Zeroable::zeroed();
+    uniforms.height_info = [
+        hf.width() as f32,
+        hf.height() as f32,
+        heights.levels() as f32,
+        0.0,
+    ];
+    let ubo = Buffer::with_data(
+        ctx,
+        bytemuck::bytes_of(&uniforms),
+        vk::BufferUsageFlags::UNIFORM_BUFFER,
+        "trace uniforms",
+    )?;
+    let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
+    let hits = Buffer::new(
+        ctx,
+        count * 32,
+        storage,
+        MemoryLocation::GpuToCpu,
+        "trace hits",
+    )?;
+    let steps = Buffer::new(
+        ctx,
+        count * 8,
+        storage,
+        MemoryLocation::GpuToCpu,
+        "trace steps",
+    )?;
+    let layout = DescriptorLayout::new(
+        ctx,
+        &[
+            (0, vk::DescriptorType::UNIFORM_BUFFER),
+            (1, vk::DescriptorType::COMBINED_IMAGE_SAMPLER),
+            (2, vk::DescriptorType::COMBINED_IMAGE_SAMPLER),
+            (4, vk::DescriptorType::STORAGE_BUFFER),
+            (5, vk::DescriptorType::STORAGE_BUFFER),
+        ],
+        vk::ShaderStageFlags::COMPUTE,
+        "trace layout",
+    )?;
+    let pool = DescriptorPool::new(ctx, 1, 2, "trace sets")?;
+    let set = pool.allocate(
+        &layout,
+        &[
+            Bind::Uniform(0, ubo.raw()),
+            Bind::Texture(1, heights.image.view(), heights.point.raw()),
+            Bind::Texture(2, heights.image.view(), heights.linear.raw()),
+            Bind::Storage(4, hits.raw()),
+            Bind::Storage(5, steps.raw()),
+        ],
+    )?;
+    let spec = SpecConstants::default()
+        .u32(0, req.budget.max_steps)
+        .u32(1, req.budget.refine_steps);
+    let params = TraceParams {
+        dir: [req.dir[0], req.dir[1], req.dir[2], req.depth_scale],
+        grid: [cols, rows, 0, 0],
+    };
+    let pipeline = compute_pipeline(
+        ctx,
+        spirv,
+        &[layout.raw()],
+        std::mem::size_of::<TraceParams>() as u32,
+        &spec,
+        &key,
+    )?;
+    let timestamps = TimestampPool::new(ctx, 2, "trace timestamps")?;
+    let all = vk::PipelineStageFlags2::ALL_COMMANDS;
+    ctx.one_shot(|cmd| {
+        pyramid.record(cmd, &heights, &job);
+        timestamps.write(cmd, all, 0)?;
+        pipeline.bind(cmd, Some(set));
+        pipeline.push(cmd, bytemuck::bytes_of(&params));
+        // SAFETY: `cmd` is recording; the set binds every resource the shader reads or writes.
+        unsafe {
+            ctx.device()
+                .cmd_dispatch(cmd, cols.div_ceil(GROUP), rows.div_ceil(GROUP), 1)
+        };
+        timestamps.write(cmd, all, 1)?;
+        Ok(())
+    })?;
+    let ticks = timestamps.read_ticks(2)?;
+    Ok(TraceOutput {
+        hits: bytemuck::pod_collect_to_vec(hits.mapped()?),
+        steps: bytemuck::pod_collect_to_vec(steps.mapped()?),
+        gpu_ms: timestamps.ticks_to_ms(ticks[0], ticks[1]),
+    })
+}
