@@ -39,7 +39,7 @@ mod tests {
     #[test]
     fn header_is_aligned_and_data_follows() {
         let path = std::env::temp_dir().join(format!("relief-npy-{}.npy", std::process::id()));
-        super::write_npy_f32(&path, &[2, 3, 8], &vec![1.5f32; 48]).expect("writes");
+        super::write_npy_f32(&path, &[2, 3, 8], &[1.5f32; 48]).expect("writes");
         let bytes = std::fs::read(&path).expect("reads");
         let _ = std::fs::remove_file(&path);
         assert_eq!(&bytes[..8], b"\x93NUMPY\x01\x00");
