@@ -3,15 +3,20 @@
 mod common;
 
 use relief::heightfield::{Generator, Heightfield, MaxPyramid};
-use relief::render::{build_pyramid_on_gpu, HeightFormat};
+use relief::render::{build_pyramid_on_gpu, Addressing, HeightFormat};
 
-fn check(ctx: &std::sync::Arc<relief::vk::Context>, hf: &Heightfield, format: HeightFormat) {
-    let (gpu, ms) = build_pyramid_on_gpu(ctx, hf, format).expect("GPU pyramid builds");
+fn check(
+    ctx: &std::sync::Arc<relief::vk::Context>,
+    hf: &Heightfield,
+    format: HeightFormat,
+    address: Addressing,
+) {
+    let (gpu, ms) = build_pyramid_on_gpu(ctx, hf, format, address).expect("GPU pyramid builds");
     let stored = match format {
         HeightFormat::R16Unorm => hf.quantized_unorm16(),
         HeightFormat::R32Float => hf.clone(),
     };
-    let cpu = MaxPyramid::build(&stored);
+    let cpu = MaxPyramid::build_bilinear_bound(&stored, address == Addressing::Repeat);
     assert_eq!(
         gpu.len() as u32,
         cpu.level_count(),
@@ -46,13 +51,15 @@ fn gpu_pyramid_equals_cpu_pyramid() {
         .enumerate()
     {
         let hf = Generator::Noise.generate(w, h, 7 + k as u64);
-        check(&ctx, &hf, HeightFormat::R16Unorm);
+        check(&ctx, &hf, HeightFormat::R16Unorm, Addressing::Clamp);
+        check(&ctx, &hf, HeightFormat::R16Unorm, Addressing::Repeat);
     }
     for (w, h) in [(3, 5), (257, 129)] {
         check(
             &ctx,
             &Generator::Fbm.generate(w, h, 3),
             HeightFormat::R32Float,
+            Addressing::Repeat,
         );
     }
     common::assert_no_validation_errors(&ctx);

@@ -1,6 +1,7 @@
 #version 460
 // One level of the conservative max pyramid: each coarse texel takes the max of every texel of
-// the finer level that it overlaps in uv, so odd sizes stay conservative. Must match
+// the finer level that it overlaps in uv (widened by a texel for level 1), so odd sizes and the
+// bilinear surface stay bounded. Must match
 // heightfield::pyramid::covered_range: coarse i over fine length F and coarse length C covers
 // fine texels floor(i*F/C) .. ceil((i+1)*F/C) - 1.
 // HEIGHT_FORMAT (r16 or r32f) is set per variant by build.rs.
@@ -8,6 +9,21 @@ layout(local_size_x = 8, local_size_y = 8) in;
 
 layout(set = 0, binding = 0, HEIGHT_FORMAT) uniform readonly image2D fine;
 layout(set = 0, binding = 1, HEIGHT_FORMAT) uniform writeonly image2D coarse;
+
+// x: 1 when building level 1 from the map (widen each range by a texel on both sides, so the
+// node bounds the bilinear surface: heightfield::pyramid::build_bilinear_bound), y: 1 to wrap
+// the widened range around the map (repeat addressing), 0 to clamp it.
+layout(push_constant, std430) uniform Params {
+    uvec4 flags;
+} params;
+
+// k lies at most one texel outside [0, len); GLSL leaves % of negatives undefined, so wrap by hand.
+int fine_index(int k, int len) {
+    if (params.flags.y != 0u) {
+        return k < 0 ? k + len : (k >= len ? k - len : k);
+    }
+    return clamp(k, 0, len - 1);
+}
 
 uvec2 covered_first(uvec2 i, uvec2 fine_len, uvec2 coarse_len) {
     return (i * fine_len) / coarse_len;
@@ -24,12 +40,14 @@ void main() {
     if (any(greaterThanEqual(i, coarse_len))) {
         return;
     }
-    uvec2 first = covered_first(i, fine_len, coarse_len);
-    uvec2 last = covered_last(i, fine_len, coarse_len);
+    int margin = params.flags.x != 0u ? 1 : 0;
+    ivec2 first = ivec2(covered_first(i, fine_len, coarse_len)) - margin;
+    ivec2 last = ivec2(covered_last(i, fine_len, coarse_len)) + margin;
+    ivec2 len = ivec2(fine_len);
     float h = 0.0;
-    for (uint y = first.y; y <= last.y; ++y) {
-        for (uint x = first.x; x <= last.x; ++x) {
-            h = max(h, imageLoad(fine, ivec2(x, y)).r);
+    for (int y = first.y; y <= last.y; ++y) {
+        for (int x = first.x; x <= last.x; ++x) {
+            h = max(h, imageLoad(fine, ivec2(fine_index(x, len.x), fine_index(y, len.y))).r);
         }
     }
     imageStore(coarse, ivec2(i), vec4(h));

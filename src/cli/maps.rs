@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use anyhow::Context as _;
 use clap::Args;
 use relief::heightfield::{Heightfield, MaxPyramid};
-use relief::render::{build_pyramid_on_gpu, HeightFormat};
+use relief::render::{build_pyramid_on_gpu, Addressing, HeightFormat};
 
 use super::heightmap_args::HeightmapArgs;
 
@@ -28,9 +28,10 @@ pub fn run(args: &MapsArgs) -> anyhow::Result<()> {
         .ok_or_else(|| anyhow::anyhow!("give a height map: --heightmap FILE or --field NAME"))?;
     let ctx = super::open_device(args.device.as_deref(), false)?;
     hf.check_max_dimension(ctx.info().max_image_dimension_2d, &source)?;
-    let (levels, gpu_ms) = build_pyramid_on_gpu(&ctx, &hf, HeightFormat::R16Unorm)?;
+    let (levels, gpu_ms) =
+        build_pyramid_on_gpu(&ctx, &hf, HeightFormat::R16Unorm, Addressing::Clamp)?;
     // The GPU pyramid is checked against the CPU builder on the same 16-bit values.
-    let cpu = MaxPyramid::build(&hf.quantized_unorm16());
+    let cpu = MaxPyramid::build_bilinear_bound(&hf.quantized_unorm16(), false);
     let mismatched = levels
         .iter()
         .zip(cpu.levels())

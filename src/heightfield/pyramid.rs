@@ -89,6 +89,31 @@ impl MaxPyramid {
         MaxPyramid { levels }
     }
 
+    /// The pyramid the hierarchical methods traverse: level 0 is the map itself, and level 1
+    /// takes the max over every texel its cell overlaps *and their neighbours* (one texel wider on
+    /// each side, wrapping when `wrap`, else clamped), then levels 2.. as in [`MaxPyramid::build`].
+    /// The bilinear surface over a cell interpolates texel centres up to half a texel outside it,
+    /// so without that margin a node could sit below the bilinear surface near its edges; with
+    /// it every node from level 1 up bounds the bilinear surface (and the box surface) from above.
+    pub fn build_bilinear_bound(hf: &Heightfield, wrap: bool) -> MaxPyramid {
+        let count = mip_level_count(hf.width(), hf.height()) as usize;
+        let base = PyramidLevel {
+            width: hf.width(),
+            height: hf.height(),
+            data: hf.data().to_vec(),
+        };
+        let mut levels = Vec::with_capacity(count);
+        if count > 1 {
+            levels.push(reduce(&dilate(&base, wrap)));
+        }
+        while levels.len() + 1 < count {
+            let coarser = reduce(&levels[levels.len() - 1]);
+            levels.push(coarser);
+        }
+        levels.insert(0, base);
+        MaxPyramid { levels }
+    }
+
     /// All levels, finest (level 0, the map itself) first.
     pub fn levels(&self) -> &[PyramidLevel] {
         &self.levels
@@ -102,6 +127,36 @@ impl MaxPyramid {
     /// Number of levels: `mip_level_count(width, height)` of the source map.
     pub fn level_count(&self) -> u32 {
         self.levels.len() as u32
+    }
+}
+
+/// Each texel replaced by the max of its 3x3 neighbourhood (wrapping or clamping at the borders).
+fn dilate(level: &PyramidLevel, wrap: bool) -> PyramidLevel {
+    let (w, h) = (level.width as i64, level.height as i64);
+    let index = |k: i64, n: i64| {
+        if wrap {
+            k.rem_euclid(n)
+        } else {
+            k.clamp(0, n - 1)
+        }
+    };
+    let mut data = Vec::with_capacity(level.data.len());
+    for j in 0..h {
+        for i in 0..w {
+            let mut m = f32::MIN;
+            for dj in -1..=1 {
+                for di in -1..=1 {
+                    let k = index(j + dj, h) * w + index(i + di, w);
+                    m = m.max(level.data[k as usize]);
+                }
+            }
+            data.push(m);
+        }
+    }
+    PyramidLevel {
+        width: level.width,
+        height: level.height,
+        data,
     }
 }
 
@@ -226,6 +281,49 @@ mod tests {
         assert_eq!((top.width, top.height), (1, 1));
         let global = hf.data().iter().fold(f32::MIN, |m, &v| m.max(v));
         assert_eq!(top.data[0], global);
+    }
+
+    #[test]
+    fn bilinear_bound_levels_bound_the_bilinear_surface() {
+        use crate::heightfield::reference::{surface_depth, Address, SurfaceModel};
+        for (w, h, wrap) in [
+            (13, 7, true),
+            (16, 16, false),
+            (5, 3, true),
+            (33, 17, false),
+        ] {
+            let hf = random_field(w, h, 7 + u64::from(w));
+            let pyr = MaxPyramid::build_bilinear_bound(&hf, wrap);
+            assert_eq!(pyr.level(0).data, hf.data(), "level 0 is the map itself");
+            let address = if wrap {
+                Address::Repeat
+            } else {
+                Address::Clamp
+            };
+            for level in pyr.levels().iter().skip(1) {
+                for j in 0..level.height {
+                    for i in 0..level.width {
+                        // Sample the cell densely, edges included.
+                        for sj in 0..=8 {
+                            for si in 0..=8 {
+                                let u =
+                                    (f64::from(i) + f64::from(si) / 8.0) / f64::from(level.width);
+                                let v =
+                                    (f64::from(j) + f64::from(sj) / 8.0) / f64::from(level.height);
+                                let d =
+                                    surface_depth(&hf, u, v, 1.0, SurfaceModel::Bilinear, address);
+                                let surface = 1.0 - d;
+                                assert!(
+                                    f64::from(level.get(i, j)) >= surface - 1e-6,
+                                    "{w}x{h} level {}x{} node ({i},{j}) {} below bilinear {surface} at ({u},{v})",
+                                    level.width, level.height, level.get(i, j)
+                                );
+                            }
+                        }
+                    }
+                }
+            }
+        }
     }
 
     #[test]

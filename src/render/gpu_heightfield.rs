@@ -85,6 +85,7 @@ pub struct GpuHeightfield {
     pub point: Sampler,
     pub linear: Sampler,
     pub format: HeightFormat,
+    pub address: Addressing,
 }
 
 impl GpuHeightfield {
@@ -136,6 +137,7 @@ impl GpuHeightfield {
                 "height linear sampler",
             )?,
             format,
+            address,
         })
     }
 

@@ -1,6 +1,7 @@
 //! The GPU max-pyramid builder: one compute dispatch per level, each reading the level below
 //! through a storage view and writing its own, with a barrier between levels. Same rule as the
-//! CPU builder (`heightfield::pyramid`), so the two are compared texel for texel in tests.
+//! CPU builder (`MaxPyramid::build_bilinear_bound`), so the two are compared texel for texel in
+//! tests.
 
 use std::sync::Arc;
 
@@ -49,7 +50,7 @@ impl PyramidPass {
             ctx,
             spirv,
             &[layout.raw()],
-            0,
+            16,
             &SpecConstants::default(),
             "pyramid",
         )?;
@@ -102,6 +103,10 @@ impl PyramidPass {
         for (k, &set) in job.sets.iter().enumerate() {
             let (w, h) = hf.image.level_extent(k as u32 + 1);
             self.pipeline.bind(cmd, Some(set));
+            let widen = u32::from(k == 0);
+            let wrap = u32::from(hf.address == super::Addressing::Repeat);
+            self.pipeline
+                .push(cmd, bytemuck::bytes_of(&[widen, wrap, 0u32, 0u32]));
             // SAFETY: `cmd` is recording; the bound set covers both images the shader touches.
             unsafe { device.cmd_dispatch(cmd, w.div_ceil(GROUP), h.div_ceil(GROUP), 1) };
             memory_barrier(device, cmd, write, read);
@@ -137,8 +142,9 @@ pub fn build_pyramid_on_gpu(
     ctx: &Arc<Context>,
     hf: &crate::heightfield::Heightfield,
     format: super::HeightFormat,
+    address: super::Addressing,
 ) -> VkResult<(Vec<Vec<f32>>, f64)> {
-    let gpu = GpuHeightfield::upload(ctx, hf, format, super::Addressing::Clamp)?;
+    let gpu = GpuHeightfield::upload(ctx, hf, format, address)?;
     let pass = PyramidPass::new(ctx, format.shader_suffix())?;
     let job = pass.prepare(&gpu)?;
     let timestamps = crate::vk::TimestampPool::new(ctx, 2, "pyramid timestamps")?;

@@ -50,6 +50,7 @@ pub struct Pipeline {
     raw: vk::Pipeline,
     layout: vk::PipelineLayout,
     bind_point: vk::PipelineBindPoint,
+    push_stages: vk::ShaderStageFlags,
 }
 
 impl Pipeline {
@@ -75,17 +76,13 @@ impl Pipeline {
         }
     }
 
-    /// Pushes `bytes` as push constants visible to every stage of the layout.
+    /// Pushes `bytes` as push constants visible to every stage of the pipeline.
     pub fn push(&self, cmd: vk::CommandBuffer, bytes: &[u8]) {
-        // SAFETY: the layout declares a push range at least this large for ALL stages.
+        // SAFETY: the layout declares a push range at least this large for these stages.
         unsafe {
-            self.ctx.device().cmd_push_constants(
-                cmd,
-                self.layout,
-                vk::ShaderStageFlags::ALL,
-                0,
-                bytes,
-            )
+            self.ctx
+                .device()
+                .cmd_push_constants(cmd, self.layout, self.push_stages, 0, bytes)
         };
     }
 }
@@ -131,10 +128,12 @@ fn create_layout(
     ctx: &Context,
     set_layouts: &[vk::DescriptorSetLayout],
     push_bytes: u32,
+    push_stages: vk::ShaderStageFlags,
     name: &str,
 ) -> VkResult<vk::PipelineLayout> {
+    // The range names exactly the stages the pipeline has, so pushes and layouts agree.
     let ranges = [vk::PushConstantRange {
-        stage_flags: vk::ShaderStageFlags::ALL,
+        stage_flags: push_stages,
         offset: 0,
         size: push_bytes,
     }];
@@ -159,7 +158,8 @@ pub fn compute_pipeline(
     name: &str,
 ) -> VkResult<Pipeline> {
     let module = Module::new(ctx, spirv, name)?;
-    let layout = create_layout(ctx, set_layouts, push_bytes, name)?;
+    let stages = vk::ShaderStageFlags::COMPUTE;
+    let layout = create_layout(ctx, set_layouts, push_bytes, stages, name)?;
     let spec_info = spec.info();
     let stage = vk::PipelineShaderStageCreateInfo::default()
         .stage(vk::ShaderStageFlags::COMPUTE)
@@ -174,13 +174,19 @@ pub fn compute_pipeline(
         ctx.device()
             .create_compute_pipelines(vk::PipelineCache::null(), &[info], None)
     };
-    finish(ctx, created, layout, vk::PipelineBindPoint::COMPUTE, name)
+    finish(
+        ctx,
+        created,
+        (layout, stages),
+        vk::PipelineBindPoint::COMPUTE,
+        name,
+    )
 }
 
 fn finish(
     ctx: &Arc<Context>,
     created: Result<Vec<vk::Pipeline>, (Vec<vk::Pipeline>, vk::Result)>,
-    layout: vk::PipelineLayout,
+    (layout, push_stages): (vk::PipelineLayout, vk::ShaderStageFlags),
     bind_point: vk::PipelineBindPoint,
     name: &str,
 ) -> VkResult<Pipeline> {
@@ -192,6 +198,7 @@ fn finish(
                 raw: list[0],
                 layout,
                 bind_point,
+                push_stages,
             })
         }
         Err((_, result)) => {
@@ -225,7 +232,8 @@ pub fn graphics_pipeline(
 ) -> VkResult<Pipeline> {
     let vs = Module::new(ctx, desc.vertex, &format!("{name} vs"))?;
     let fs = Module::new(ctx, desc.fragment, &format!("{name} fs"))?;
-    let layout = create_layout(ctx, desc.set_layouts, desc.push_bytes, name)?;
+    let push_stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
+    let layout = create_layout(ctx, desc.set_layouts, desc.push_bytes, push_stages, name)?;
     let spec = desc.fragment_spec.info();
     let stages = [
         vk::PipelineShaderStageCreateInfo::default()
@@ -290,5 +298,11 @@ pub fn graphics_pipeline(
         ctx.device()
             .create_graphics_pipelines(vk::PipelineCache::null(), &[info], None)
     };
-    finish(ctx, created, layout, vk::PipelineBindPoint::GRAPHICS, name)
+    finish(
+        ctx,
+        created,
+        (layout, push_stages),
+        vk::PipelineBindPoint::GRAPHICS,
+        name,
+    )
 }
