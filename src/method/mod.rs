@@ -74,6 +74,36 @@ const METHODS: &[MethodInfo] = &[
             refine_steps: 0,
         },
     },
+    MethodInfo {
+        id: "qrm",
+        name: "quadtree relief mapping (Algorithm 1: quadrant trick, half-texel delta)",
+        paper: "Schroders & van Gulik 2006 (paper 000)",
+        needs: &[MapKind::MaxPyramid],
+        default_budget: Budget {
+            max_steps: 128,
+            refine_steps: 0,
+        },
+    },
+    MethodInfo {
+        id: "pdm",
+        name: "pyramidal displacement mapping: node crossing, linear-filtering refinement",
+        paper: "Oh et al. 2006, Ki & Oh (paper 003)",
+        needs: &[MapKind::MaxPyramid],
+        default_budget: Budget {
+            max_steps: 128,
+            refine_steps: 0,
+        },
+    },
+    MethodInfo {
+        id: "qdm",
+        name: "quadtree displacement mapping: one-level ascent on crossing, linear refinement",
+        paper: "Drobot 2010 (paper 001, Listing 1.3)",
+        needs: &[MapKind::MaxPyramid],
+        default_budget: Budget {
+            max_steps: 128,
+            refine_steps: 0,
+        },
+    },
 ];
 
 const fn same_id(a: &str, b: &str) -> bool {

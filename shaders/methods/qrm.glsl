@@ -1,0 +1,41 @@
+// Quadtree relief mapping (Schroders & van Gulik 2006; paper 000, Algorithm 1 findIntersect):
+// descend from the root; in each node the cursor moves to the nearer of the node's plane and
+// the node boundary ahead (the quadrant trick: floor(cursor * n + quadrant)) plus `delta`, half
+// a texel of the full map; it never moves back and never ascends; when the plane lies inside the
+// node the search descends. The paper's last level bounds the box surface; relief's leaf is the
+// bilinear-bounding level 1, stepped through by the same delta against the bilinear surface, and
+// the first point found below it is the hit (no refinement, as in the paper).
+#include "pyramid.glsl"
+
+Hit trace_qrm(Ray ray, Budget budget) {
+    float s = ray.depth_scale;
+    vec2 slope = ray_slope(ray);
+    vec2 quadrant = step(0.0, slope);
+    float delta = depth_per_texels(ray, 0.5);
+    int leaf = pyramid_leaf();
+    int level = pyramid_top();
+    float cursor = 0.0;
+    for (uint i = 0u; i < budget.max_steps; ++i) {
+        vec2 uv = ray_uv(ray, cursor);
+        float t = node_depth(uv, level, s);
+        vec2 size = level_size(level);
+        vec2 bound = floor(uv * size + quadrant) / size;
+        vec2 tb = vec2(
+            slope.x == 0.0 ? 3.0e38 : (bound.x - ray.origin.x) / slope.x,
+            slope.y == 0.0 ? 3.0e38 : (bound.y - ray.origin.y) / slope.y);
+        float tmin = min(tb.x, tb.y);
+        if (level > leaf || t >= tmin + delta) {
+            cursor = min(max(cursor, min(t, tmin + delta)), s);
+            if (t < tmin + delta) {
+                level -= 1;
+            }
+            continue;
+        }
+        float hit;
+        if (leaf_search(ray, max(cursor, t), min(tmin, s), delta, false, hit)) {
+            return Hit(hit, i + 1u, false);
+        }
+        cursor = min(tmin + delta, s);
+    }
+    return Hit(cursor, budget.max_steps, true);
+}
