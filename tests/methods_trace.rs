@@ -1,0 +1,193 @@
+//! Every method traced ray by ray on the GPU against the exact reference: 64x64 parallel rays on
+//! three synthetic fields at grazing (5 deg), middle (30 deg) and steep (75 deg) views. No NaN
+//! anywhere; each method's mean error and gross rate stay within the bounds stated below, which
+//! are its measured values on lavapipe with headroom. Fixed-step methods state their gross errors
+//! rather than hide them.
+
+mod common;
+
+use relief::bench::{ray_direction, trace_stats, TraceStats};
+use relief::heightfield::reference::Address;
+use relief::heightfield::Generator;
+use relief::method::{Budget, Method};
+use relief::render::{trace_on_gpu, Addressing, HeightFormat, TraceRequest};
+
+const FIELDS: [Generator; 3] = [Generator::Fbm, Generator::Bricks, Generator::Step];
+const ANGLES: [f64; 3] = [5.0, 30.0, 75.0];
+const SIZE: u32 = 128;
+const DEPTH_SCALE: f32 = 0.1;
+
+/// Stated bounds per view angle (5, 30, 75 degrees): (max mean error in texels, max gross rate),
+/// the worst of the three fields measured on lavapipe (Mesa 22.3.6) with about 30% headroom.
+/// At 75 degrees every method, POM included, misses by ~2.2 texels on one column of rays (1/64)
+/// at the cliffs of `step` and `bricks`: a disagreement with the reference still to be explained.
+struct Bounds {
+    method: &'static str,
+    per_angle: [(f64, f64); 3],
+}
+
+const BOUNDS: &[Bounds] = &[
+    Bounds {
+        method: "parallax",
+        per_angle: [(50.0, 1.0), (6.0, 1.0), (0.4, 0.1)],
+    },
+    Bounds {
+        method: "steep",
+        per_angle: [(5.0, 0.9), (0.5, 0.01), (0.1, 0.02)],
+    },
+    Bounds {
+        method: "relief",
+        per_angle: [(4.0, 0.3), (0.1, 0.01), (0.06, 0.025)],
+    },
+    Bounds {
+        method: "pom",
+        per_angle: [(3.0, 0.6), (0.07, 0.01), (0.03, 0.025)],
+    },
+    Bounds {
+        method: "qrm",
+        per_angle: [(0.8, 0.05), (0.4, 0.005), (0.6, 0.025)],
+    },
+    Bounds {
+        method: "pdm",
+        per_angle: [(0.5, 0.04), (0.04, 0.005), (0.07, 0.025)],
+    },
+    Bounds {
+        method: "qdm",
+        per_angle: [(1.3, 0.15), (0.1, 0.005), (0.08, 0.025)],
+    },
+];
+
+fn trace_one(
+    ctx: &std::sync::Arc<relief::vk::Context>,
+    method: Method,
+    field: Generator,
+    angle: f64,
+) -> TraceStats {
+    let hf = field.generate(SIZE, SIZE, 11).quantized_unorm16();
+    let dir = ray_direction(angle, 30.0);
+    let req = TraceRequest {
+        method,
+        dir: dir.map(|x| x as f32),
+        depth_scale: DEPTH_SCALE,
+        grid: (64, 64),
+        budget: method.info().default_budget,
+        address: Addressing::Repeat,
+        format: HeightFormat::R16Unorm,
+    };
+    let out = trace_on_gpu(ctx, &hf, &req).expect("trace runs");
+    trace_stats(
+        &hf,
+        &out.hits,
+        &out.steps,
+        f64::from(DEPTH_SCALE),
+        Address::Repeat,
+    )
+}
+
+fn check_method(id: &str) {
+    let Some(ctx) = common::device(id) else {
+        return;
+    };
+    let method: Method = id.parse().expect("known id");
+    let bounds = BOUNDS
+        .iter()
+        .find(|b| b.method == id)
+        .expect("every method states its bounds");
+    let mut failures = Vec::new();
+    for (k, &angle) in ANGLES.iter().enumerate() {
+        let (max_mean, max_gross) = bounds.per_angle[k];
+        for field in FIELDS {
+            let s = trace_one(&ctx, method, field, angle);
+            eprintln!(
+                "{id:9} {:7} {angle:4} deg: mean {:.4} p99 {:.3} max {:.2} gross {:.4} capped {:.4} steps {:.1}/{}",
+                field.name(), s.error_texels.mean, s.error_texels.p99, s.error_texels.max,
+                s.gross_rate, s.capped_rate, s.steps.mean, s.steps.max
+            );
+            if s.nan_pixels > 0 {
+                failures.push(format!(
+                    "{} at {angle} deg: {} NaN hits",
+                    field.name(),
+                    s.nan_pixels
+                ));
+            }
+            if s.error_texels.mean > max_mean || s.gross_rate > max_gross {
+                failures.push(format!(
+                    "{} at {angle} deg: mean error {:.4} (bound {max_mean}), gross rate {:.4} (bound {max_gross})",
+                    field.name(), s.error_texels.mean, s.gross_rate
+                ));
+            }
+        }
+    }
+    common::assert_no_validation_errors(&ctx);
+    assert!(failures.is_empty(), "{id}:\n{}", failures.join("\n"));
+}
+
+#[test]
+fn every_method_states_bounds() {
+    for m in Method::all() {
+        assert!(
+            BOUNDS.iter().any(|b| b.method == m.id()),
+            "{m} has no stated bounds"
+        );
+    }
+}
+
+macro_rules! method_tests {
+    ($($name:ident => $id:literal),* $(,)?) => {
+        $(#[test] fn $name() { check_method($id); })*
+    };
+}
+
+method_tests! {
+    parallax => "parallax",
+    steep => "steep",
+    relief => "relief",
+    pom => "pom",
+    qrm => "qrm",
+    pdm => "pdm",
+    qdm => "qdm",
+}
+
+#[test]
+fn budgets_are_honoured() {
+    // A one-step budget must cap the hierarchical methods rather than loop on.
+    let Some(ctx) = common::device("budgets_are_honoured") else {
+        return;
+    };
+    let hf = Generator::Fbm.generate(SIZE, SIZE, 3).quantized_unorm16();
+    for id in ["qdm", "pdm", "qrm"] {
+        let method: Method = id.parse().expect("known id");
+        let req = TraceRequest {
+            method,
+            dir: ray_direction(20.0, 10.0).map(|x| x as f32),
+            depth_scale: DEPTH_SCALE,
+            grid: (16, 16),
+            budget: Budget {
+                max_steps: 1,
+                refine_steps: 0,
+            },
+            address: Addressing::Repeat,
+            format: HeightFormat::R16Unorm,
+        };
+        let out = trace_on_gpu(&ctx, &hf, &req).expect("trace runs");
+        let s = trace_stats(
+            &hf,
+            &out.hits,
+            &out.steps,
+            f64::from(DEPTH_SCALE),
+            Address::Repeat,
+        );
+        assert!(
+            s.capped_rate > 0.9,
+            "{id} with one step: capped rate {}",
+            s.capped_rate
+        );
+        assert!(
+            s.steps.max <= 1,
+            "{id} used {} steps with a budget of 1",
+            s.steps.max
+        );
+        assert_eq!(s.nan_pixels, 0);
+    }
+    common::assert_no_validation_errors(&ctx);
+}
