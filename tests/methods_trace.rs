@@ -19,8 +19,10 @@ const DEPTH_SCALE: f32 = 0.1;
 
 /// Stated bounds per view angle (5, 30, 75 degrees): (max mean error in texels, max gross rate),
 /// the worst of the three fields measured on lavapipe (Mesa 22.3.6) with about 30% headroom.
-/// At 75 degrees every method, POM included, misses by ~2.2 texels on one column of rays (1/64)
-/// at the cliffs of `step` and `bricks`: a disagreement with the reference still to be explained.
+/// At 75 degrees the sampling methods miss by ~2.2 texels on one column of rays (1/64) at the
+/// cliffs of `step` and `bricks`: those rays clip the plateau's edge, inside the solid for a
+/// tenth of a texel where the bilinear ramp falls away faster than the ray descends. The exact
+/// reference counts that first contact; no method that samples the surface at steps sees it.
 struct Bounds {
     method: &'static str,
     per_angle: [(f64, f64); 3],
