@@ -9,7 +9,7 @@ layout(set = 0, binding = 0, std140) uniform Frame {
     vec4 light_dir;    // xyz: direction toward the light (world), w: 1 if the light is on
     vec4 light_color;  // rgb: radiance times intensity
     vec4 ambient;      // rgb: ambient radiance
-    vec4 height_info;  // x: width, y: height, z: mip levels, w: unused
+    vec4 height_info;  // x: width, y: height, z: mip levels, w: 1 for repeat addressing, 0 clamp
 } frame;
 
 // The height field and its max pyramid in one mip-chained image, read two ways.

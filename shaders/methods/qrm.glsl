@@ -17,8 +17,8 @@ Hit trace_qrm(Ray ray, Budget budget) {
     float cursor = 0.0;
     for (uint i = 0u; i < budget.max_steps; ++i) {
         vec2 uv = ray_uv(ray, cursor);
-        float t = node_depth(uv, level, s);
         vec2 size = level_size(level);
+        float t = node_depth(uv, level, s);
         vec2 bound = floor(uv * size + quadrant) / size;
         vec2 tb = vec2(
             slope.x == 0.0 ? 3.0e38 : (bound.x - ray.origin.x) / slope.x,

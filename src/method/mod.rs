@@ -104,6 +104,16 @@ const METHODS: &[MethodInfo] = &[
             refine_steps: 0,
         },
     },
+    MethodInfo {
+        id: "maxmip",
+        name: "maximum-mipmap traversal with exact ray/bilinear-patch intersection at the leaf",
+        paper: "Tevs, Ihrke, Seidel 2008 (beyond the papers)",
+        needs: &[MapKind::MaxPyramid],
+        default_budget: Budget {
+            max_steps: 128,
+            refine_steps: 0,
+        },
+    },
 ];
 
 const fn same_id(a: &str, b: &str) -> bool {

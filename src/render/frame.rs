@@ -61,7 +61,7 @@ pub struct Frame {
 const CLEAR: [f32; 4] = [0.015, 0.02, 0.03, 1.0];
 const AMBIENT: [f32; 4] = [0.09, 0.1, 0.12, 0.0];
 
-fn uniforms(scene: &Scene, heights: &Heightfield, levels: u32, aspect: f32) -> FrameUniforms {
+fn uniforms(scene: &Scene, heights: &GpuHeightfield, aspect: f32) -> FrameUniforms {
     let camera = scene.camera.unwrap_or_else(|| match scene.bounds() {
         Some((lo, hi)) => Camera::framing(lo, hi),
         None => Camera::look_at(Vec3::new(0.0, 1.0, 3.0), Vec3::ZERO, 0.8, 0.1, 100.0),
@@ -78,12 +78,7 @@ fn uniforms(scene: &Scene, heights: &Heightfield, levels: u32, aspect: f32) -> F
         light_dir: [light.direction.x, light.direction.y, light.direction.z, 1.0],
         light_color: [light.color.x, light.color.y, light.color.z, 0.0],
         ambient: AMBIENT,
-        height_info: [
-            heights.width() as f32,
-            heights.height() as f32,
-            levels as f32,
-            0.0,
-        ],
+        height_info: heights.shader_info(),
     }
 }
 
@@ -127,7 +122,7 @@ pub fn render(
     let pyramid = PyramidPass::new(ctx, opts.height_format.shader_suffix())?;
     let job = pyramid.prepare(&gpu_heights)?;
     let aspect = opts.width as f32 / opts.height as f32;
-    let ubo = uniforms(scene, heights, gpu_heights.levels(), aspect);
+    let ubo = uniforms(scene, &gpu_heights, aspect);
     let surface = SurfacePass::new(ctx, scene, &gpu_heights, &ubo)?;
     let color = target(ctx, opts, false)?;
     let depth = target(ctx, opts, true)?;

@@ -141,6 +141,17 @@ impl GpuHeightfield {
         })
     }
 
+    /// `height_info` of the shaders' frame uniforms: width, height, mip levels, 1 for repeat.
+    pub fn shader_info(&self) -> [f32; 4] {
+        let d = self.image.desc();
+        let repeat = if self.address == Addressing::Repeat {
+            1.0
+        } else {
+            0.0
+        };
+        [d.width as f32, d.height as f32, d.mip_levels as f32, repeat]
+    }
+
     /// Number of mip levels (level 0 plus the pyramid).
     pub fn levels(&self) -> u32 {
         self.image.desc().mip_levels

@@ -66,12 +66,7 @@ pub fn trace_on_gpu(
     let pyramid = PyramidPass::new(ctx, req.format.shader_suffix())?;
     let job = pyramid.prepare(&heights)?;
     let mut uniforms: FrameUniforms = bytemuck::Zeroable::zeroed();
-    uniforms.height_info = [
-        hf.width() as f32,
-        hf.height() as f32,
-        heights.levels() as f32,
-        0.0,
-    ];
+    uniforms.height_info = heights.shader_info();
     let ubo = Buffer::with_data(
         ctx,
         bytemuck::bytes_of(&uniforms),
