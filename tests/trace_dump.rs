@@ -1,0 +1,114 @@
+//! `relief trace` prints error statistics that agree with an independent recomputation from its
+//! own `.npy` dump: the dump is parsed here, each ray re-traced with the reference, and the
+//! statistics recomputed by this file's own code.
+
+mod common;
+
+use std::process::Command;
+
+use relief::heightfield::reference::{trace, Address, RefRay, SurfaceModel};
+use relief::heightfield::Generator;
+
+/// Parses a little-endian float32 `.npy` file: (shape, values).
+fn read_npy(bytes: &[u8]) -> (Vec<usize>, Vec<f32>) {
+    assert_eq!(&bytes[..6], b"\x93NUMPY", "npy magic");
+    let header_len = u16::from_le_bytes([bytes[8], bytes[9]]) as usize;
+    let header = std::str::from_utf8(&bytes[10..10 + header_len]).expect("ascii header");
+    assert!(header.contains("'descr': '<f4'"), "{header}");
+    let inside = header
+        .split("'shape': (")
+        .nth(1)
+        .and_then(|t| t.split(')').next())
+        .expect("shape");
+    let shape: Vec<usize> = inside
+        .split(',')
+        .filter_map(|d| d.trim().parse().ok())
+        .collect();
+    let values = bytes[10 + header_len..]
+        .chunks_exact(4)
+        .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+        .collect();
+    (shape, values)
+}
+
+#[test]
+fn printed_errors_match_the_dump() {
+    if common::device("printed_errors_match_the_dump").is_none() {
+        return;
+    }
+    let dir = common::scratch_dir("trace-dump");
+    let dump = dir.join("hits.npy");
+    let (size, seed, depth) = (64u32, 5u64, 0.08f64);
+    let out = Command::new(env!("CARGO_BIN_EXE_relief"))
+        .args([
+            "trace",
+            "--field",
+            "fbm",
+            "--size",
+            &size.to_string(),
+            "--seed",
+            &seed.to_string(),
+        ])
+        .args([
+            "--method",
+            "pom",
+            "--angle",
+            "20",
+            "--azimuth",
+            "40",
+            "--depth-scale",
+            "0.08",
+        ])
+        .args(["--grid", "24x16", "--dump", dump.to_str().expect("utf-8")])
+        .output()
+        .expect("binary runs");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let printed: serde_json::Value = serde_json::from_slice(&out.stdout).expect("one JSON line");
+    let (shape, values) = read_npy(&std::fs::read(&dump).expect("dump written"));
+    assert_eq!(shape, [16, 24, 8]);
+
+    let hf = Generator::Fbm
+        .generate(size, size, seed)
+        .quantized_unorm16();
+    let s = f64::from(depth as f32);
+    let mut errors: Vec<f64> = values
+        .chunks_exact(8)
+        .map(|r| {
+            let r: Vec<f64> = r.iter().map(|&v| f64::from(v)).collect();
+            let ray = RefRay {
+                u0: r[0],
+                v0: r[1],
+                dx: r[2],
+                dy: r[3],
+                dz: r[4],
+            };
+            let exact = trace(&hf, &ray, s, SurfaceModel::Bilinear, Address::Repeat);
+            // The dumped hit uv, not the z, so the uv columns are checked too.
+            let (du, dv) = (r[5] - exact.u, r[6] - exact.v);
+            (du * f64::from(size)).hypot(dv * f64::from(size))
+        })
+        .collect();
+    let mean = errors.iter().sum::<f64>() / errors.len() as f64;
+    errors.sort_by(f64::total_cmp);
+    let max = errors[errors.len() - 1];
+    let gross = errors.iter().filter(|&&e| e > 1.0).count() as f64 / errors.len() as f64;
+
+    let close = |a: f64, b: f64| (a - b).abs() <= 1e-3 + 1e-3 * b.abs();
+    let p_mean = printed["error_texels"]["mean"].as_f64().expect("mean");
+    let p_max = printed["error_texels"]["max"].as_f64().expect("max");
+    let p_gross = printed["gross_rate"].as_f64().expect("gross");
+    assert!(
+        close(p_mean, mean),
+        "printed mean {p_mean}, recomputed {mean}"
+    );
+    assert!(close(p_max, max), "printed max {p_max}, recomputed {max}");
+    assert!(
+        close(p_gross, gross),
+        "printed gross {p_gross}, recomputed {gross}"
+    );
+    assert_eq!(printed["nan_pixels"], 0);
+}
