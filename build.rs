@@ -89,10 +89,15 @@ fn variants(root: &Path) -> Vec<Variant> {
                 defines,
                 method_file,
             };
-        if base == "surface.frag" || base == "trace.comp" {
+        if matches!(base.as_str(), "surface.frag" | "trace.comp" | "bench.frag") {
             for m in &methods {
                 let id = m.file_stem().and_then(|s| s.to_str()).unwrap_or_default();
-                let defines = vec![("METHOD_TRACE".into(), format!("trace_{id}"))];
+                let mut defines = vec![("METHOD_TRACE".into(), format!("trace_{id}"))];
+                // Only methods that read a precomputed map get binding 3 (bindings.glsl).
+                let source = std::fs::read_to_string(m).unwrap_or_default();
+                if source.contains("method_map") {
+                    defines.push(("USES_METHOD_MAP".into(), "1".into()));
+                }
                 out.push(plain(format!("{base}:{id}"), defines, Some(m.clone())));
             }
         } else if base == "pyramid.comp" {

@@ -9,7 +9,7 @@ mod common;
 use relief::bench::{ray_direction, trace_stats, TraceStats};
 use relief::heightfield::reference::Address;
 use relief::heightfield::Generator;
-use relief::method::{Budget, Method};
+use relief::method::{build_method_map, Budget, Method};
 use relief::render::{trace_on_gpu, Addressing, HeightFormat, TraceRequest};
 
 const FIELDS: [Generator; 3] = [Generator::Fbm, Generator::Bricks, Generator::Step];
@@ -72,6 +72,7 @@ fn trace_one(
 ) -> TraceStats {
     let hf = field.generate(SIZE, SIZE, 11).quantized_unorm16();
     let dir = ray_direction(angle, 30.0);
+    let map = build_method_map(method, &hf, Address::Repeat);
     let req = TraceRequest {
         method,
         dir: dir.map(|x| x as f32),
@@ -80,6 +81,7 @@ fn trace_one(
         budget: method.info().default_budget,
         address: Addressing::Repeat,
         format: HeightFormat::R16Unorm,
+        map: map.as_ref().map(|(data, _)| data),
     };
     let out = trace_on_gpu(ctx, &hf, &req).expect("trace runs");
     trace_stats(
@@ -165,6 +167,7 @@ fn budgets_are_honoured() {
     let hf = Generator::Fbm.generate(SIZE, SIZE, 3).quantized_unorm16();
     for id in ["qdm", "pdm", "qrm", "maxmip"] {
         let method: Method = id.parse().expect("known id");
+        let map = build_method_map(method, &hf, Address::Repeat);
         let req = TraceRequest {
             method,
             dir: ray_direction(20.0, 10.0).map(|x| x as f32),
@@ -176,6 +179,7 @@ fn budgets_are_honoured() {
             },
             address: Addressing::Repeat,
             format: HeightFormat::R16Unorm,
+            map: map.as_ref().map(|(data, _)| data),
         };
         let out = trace_on_gpu(&ctx, &hf, &req).expect("trace runs");
         let s = trace_stats(

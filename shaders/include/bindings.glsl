@@ -16,5 +16,11 @@ layout(set = 0, binding = 0, std140) uniform Frame {
 layout(set = 0, binding = 1) uniform sampler2D height_point;   // nearest, nearest mip
 layout(set = 0, binding = 2) uniform sampler2D height_linear;  // bilinear
 
+#ifdef USES_METHOD_MAP
+// The method's precomputed map (cone ratios, quadric coefficients), one texel per height texel,
+// read by integer texel. build.rs defines USES_METHOD_MAP for methods that mention it.
+layout(set = 0, binding = 3) uniform sampler2D method_map;
+#endif
+
 
 #endif

@@ -7,7 +7,7 @@ use anyhow::Context as _;
 use clap::Args;
 use relief::bench::{ray_direction, trace_stats, write_npy_f32};
 use relief::heightfield::reference::Address;
-use relief::method::{Budget, Method};
+use relief::method::{build_method_map, Budget, Method};
 use relief::render::{trace_on_gpu, Addressing, HeightFormat, TraceRequest};
 use serde_json::json;
 
@@ -100,6 +100,7 @@ pub fn run(args: &TraceArgs) -> anyhow::Result<()> {
         AddressArg::Clamp => (Addressing::Clamp, Address::Clamp),
     };
     let d = ray_direction(args.angle, args.azimuth);
+    let map = build_method_map(method, &stored, ref_address);
     let req = TraceRequest {
         method,
         dir: d.map(|x| x as f32),
@@ -108,6 +109,7 @@ pub fn run(args: &TraceArgs) -> anyhow::Result<()> {
         budget,
         address,
         format,
+        map: map.as_ref().map(|(data, _)| data),
     };
     let out = trace_on_gpu(&ctx, &stored, &req).context("tracing on the GPU")?;
     super::check_validation(&ctx)?;

@@ -2,6 +2,10 @@
 //! source paper, the maps it needs and its default budget. Adding a method is one GLSL file in
 //! `shaders/methods/` plus one row here.
 
+mod maps;
+
+pub use maps::build_method_map;
+
 use std::fmt;
 use std::str::FromStr;
 

@@ -5,9 +5,9 @@ use std::sync::Arc;
 
 use ash::vk;
 
-use super::gpu_heightfield::{Addressing, GpuHeightfield, HeightFormat};
-use super::pyramid_pass::PyramidPass;
-use super::surface_pass::FrameUniforms;
+use super::gpu_heightfield::{Addressing, HeightFormat};
+use super::height_resources::HeightResources;
+use super::method_map::MapData;
 use crate::heightfield::Heightfield;
 use crate::method::{Budget, Method};
 use crate::shaders;
@@ -20,7 +20,7 @@ const GROUP: u32 = 8;
 
 /// One sweep of parallel rays.
 #[derive(Debug, Clone, Copy)]
-pub struct TraceRequest {
+pub struct TraceRequest<'a> {
     pub method: Method,
     /// Ray direction, dz > 0 (DESIGN.md section 2).
     pub dir: [f32; 3],
@@ -30,6 +30,8 @@ pub struct TraceRequest {
     pub budget: Budget,
     pub address: Addressing,
     pub format: HeightFormat,
+    /// The method's precomputed map, when it reads one (`Method::info().needs`).
+    pub map: Option<&'a MapData>,
 }
 
 /// What the GPU traced: per ray `u0 v0 dx dy dz u_hit v_hit z_hit`, and `(steps, capped)`.
@@ -62,16 +64,13 @@ pub fn trace_on_gpu(
     let key = format!("trace.comp:{}", req.method.id());
     let spirv = shaders::spirv(&key)
         .ok_or_else(|| VkError::Invalid(format!("no compiled shader {key}")))?;
-    let heights = GpuHeightfield::upload(ctx, hf, req.format, req.address)?;
-    let pyramid = PyramidPass::new(ctx, req.format.shader_suffix())?;
-    let job = pyramid.prepare(&heights)?;
-    let mut uniforms: FrameUniforms = bytemuck::Zeroable::zeroed();
-    uniforms.height_info = heights.shader_info();
-    let ubo = Buffer::with_data(
+    let res = HeightResources::new(
         ctx,
-        bytemuck::bytes_of(&uniforms),
-        vk::BufferUsageFlags::UNIFORM_BUFFER,
-        "trace uniforms",
+        hf,
+        req.format,
+        req.address,
+        req.map,
+        bytemuck::Zeroable::zeroed(),
     )?;
     let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
     let hits = Buffer::new(
@@ -88,29 +87,21 @@ pub fn trace_on_gpu(
         MemoryLocation::GpuToCpu,
         "trace steps",
     )?;
+    let mut bindings = res.layout_bindings();
+    bindings.extend([
+        (4, vk::DescriptorType::STORAGE_BUFFER),
+        (5, vk::DescriptorType::STORAGE_BUFFER),
+    ]);
     let layout = DescriptorLayout::new(
         ctx,
-        &[
-            (0, vk::DescriptorType::UNIFORM_BUFFER),
-            (1, vk::DescriptorType::COMBINED_IMAGE_SAMPLER),
-            (2, vk::DescriptorType::COMBINED_IMAGE_SAMPLER),
-            (4, vk::DescriptorType::STORAGE_BUFFER),
-            (5, vk::DescriptorType::STORAGE_BUFFER),
-        ],
+        &bindings,
         vk::ShaderStageFlags::COMPUTE,
         "trace layout",
     )?;
     let pool = DescriptorPool::new(ctx, 1, 2, "trace sets")?;
-    let set = pool.allocate(
-        &layout,
-        &[
-            Bind::Uniform(0, ubo.raw()),
-            Bind::Texture(1, heights.image.view(), heights.point.raw()),
-            Bind::Texture(2, heights.image.view(), heights.linear.raw()),
-            Bind::Storage(4, hits.raw()),
-            Bind::Storage(5, steps.raw()),
-        ],
-    )?;
+    let mut binds = res.binds();
+    binds.extend([Bind::Storage(4, hits.raw()), Bind::Storage(5, steps.raw())]);
+    let set = pool.allocate(&layout, &binds)?;
     let spec = SpecConstants::default()
         .u32(0, req.budget.max_steps)
         .u32(1, req.budget.refine_steps);
@@ -118,18 +109,12 @@ pub fn trace_on_gpu(
         dir: [req.dir[0], req.dir[1], req.dir[2], req.depth_scale],
         grid: [cols, rows, 0, 0],
     };
-    let pipeline = compute_pipeline(
-        ctx,
-        spirv,
-        &[layout.raw()],
-        std::mem::size_of::<TraceParams>() as u32,
-        &spec,
-        &key,
-    )?;
+    let push = std::mem::size_of::<TraceParams>() as u32;
+    let pipeline = compute_pipeline(ctx, spirv, &[layout.raw()], push, &spec, &key)?;
     let timestamps = TimestampPool::new(ctx, 2, "trace timestamps")?;
     let all = vk::PipelineStageFlags2::ALL_COMMANDS;
     ctx.one_shot(|cmd| {
-        pyramid.record(cmd, &heights, &job);
+        res.record_pyramid(cmd);
         timestamps.write(cmd, all, 0)?;
         pipeline.bind(cmd, Some(set));
         pipeline.push(cmd, bytemuck::bytes_of(&params));

@@ -214,9 +214,11 @@ pub struct GraphicsDesc<'a> {
     pub vertex: &'a [u32],
     pub fragment: &'a [u32],
     pub fragment_spec: &'a SpecConstants,
+    /// 0 for a pass whose vertex shader makes its own vertices.
     pub vertex_stride: u32,
     pub attributes: &'a [vk::VertexInputAttributeDescription],
     pub color_format: vk::Format,
+    /// `UNDEFINED` for a pass without depth.
     pub depth_format: vk::Format,
     pub cull: vk::CullModeFlags,
     pub set_layouts: &'a [vk::DescriptorSetLayout],
@@ -251,8 +253,14 @@ pub fn graphics_pipeline(
         stride: desc.vertex_stride,
         input_rate: vk::VertexInputRate::VERTEX,
     }];
+    // A stride of 0 means the vertex shader makes its own vertices (full-screen passes).
+    let bindings: &[_] = if desc.vertex_stride == 0 {
+        &[]
+    } else {
+        &bindings
+    };
     let vertex_input = vk::PipelineVertexInputStateCreateInfo::default()
-        .vertex_binding_descriptions(&bindings)
+        .vertex_binding_descriptions(bindings)
         .vertex_attribute_descriptions(desc.attributes);
     let assembly = vk::PipelineInputAssemblyStateCreateInfo::default()
         .topology(vk::PrimitiveTopology::TRIANGLE_LIST);
@@ -268,9 +276,10 @@ pub fn graphics_pipeline(
         .line_width(1.0);
     let multisample = vk::PipelineMultisampleStateCreateInfo::default()
         .rasterization_samples(vk::SampleCountFlags::TYPE_1);
+    let has_depth = desc.depth_format != vk::Format::UNDEFINED;
     let depth = vk::PipelineDepthStencilStateCreateInfo::default()
-        .depth_test_enable(true)
-        .depth_write_enable(true)
+        .depth_test_enable(has_depth)
+        .depth_write_enable(has_depth)
         .depth_compare_op(vk::CompareOp::LESS_OR_EQUAL);
     let blend_attachments = [vk::PipelineColorBlendAttachmentState::default()
         .color_write_mask(vk::ColorComponentFlags::RGBA)];

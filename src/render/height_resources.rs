@@ -1,0 +1,89 @@
+//! What every pass that traces rays binds: the height image with its pyramid (built on the GPU),
+//! the frame uniforms' height info, and the method's precomputed map when it has one. Bindings
+//! 0..=3 of `shaders/include/bindings.glsl`.
+
+use std::sync::Arc;
+
+use ash::vk;
+
+use super::gpu_heightfield::{Addressing, GpuHeightfield, HeightFormat};
+use super::method_map::{GpuMethodMap, MapData};
+use super::pyramid_pass::{PyramidJob, PyramidPass};
+use super::surface_pass::FrameUniforms;
+use crate::heightfield::Heightfield;
+use crate::vk::{Bind, Buffer, Context, VkResult};
+
+/// Uploaded heights, their pyramid pass, uniforms and the optional method map.
+pub struct HeightResources {
+    pub heights: GpuHeightfield,
+    pyramid: PyramidPass,
+    job: PyramidJob,
+    uniforms: Buffer,
+    map: Option<GpuMethodMap>,
+}
+
+impl HeightResources {
+    /// Uploads `hf` (and `map`), prepares the pyramid build and the uniforms in `frame`, whose
+    /// `height_info` is filled in here.
+    pub fn new(
+        ctx: &Arc<Context>,
+        hf: &Heightfield,
+        format: HeightFormat,
+        address: Addressing,
+        map: Option<&MapData>,
+        mut frame: FrameUniforms,
+    ) -> VkResult<HeightResources> {
+        let heights = GpuHeightfield::upload(ctx, hf, format, address)?;
+        let pyramid = PyramidPass::new(ctx, format.shader_suffix())?;
+        let job = pyramid.prepare(&heights)?;
+        frame.height_info = heights.shader_info();
+        let uniforms = Buffer::with_data(
+            ctx,
+            bytemuck::bytes_of(&frame),
+            vk::BufferUsageFlags::UNIFORM_BUFFER,
+            "frame uniforms",
+        )?;
+        let map = map
+            .map(|m| GpuMethodMap::upload(ctx, m, address, "method map"))
+            .transpose()?;
+        Ok(HeightResources {
+            heights,
+            pyramid,
+            job,
+            uniforms,
+            map,
+        })
+    }
+
+    /// The descriptor types of bindings 0..=3 (3 only with a map).
+    pub fn layout_bindings(&self) -> Vec<(u32, vk::DescriptorType)> {
+        let mut list = vec![
+            (0, vk::DescriptorType::UNIFORM_BUFFER),
+            (1, vk::DescriptorType::COMBINED_IMAGE_SAMPLER),
+            (2, vk::DescriptorType::COMBINED_IMAGE_SAMPLER),
+        ];
+        if self.map.is_some() {
+            list.push((3, vk::DescriptorType::COMBINED_IMAGE_SAMPLER));
+        }
+        list
+    }
+
+    /// The resources for bindings 0..=3.
+    pub fn binds(&self) -> Vec<Bind> {
+        let view = self.heights.image.view();
+        let mut list = vec![
+            Bind::Uniform(0, self.uniforms.raw()),
+            Bind::Texture(1, view, self.heights.point.raw()),
+            Bind::Texture(2, view, self.heights.linear.raw()),
+        ];
+        if let Some(map) = &self.map {
+            list.push(Bind::Texture(3, map.image.view(), map.sampler.raw()));
+        }
+        list
+    }
+
+    /// Records the pyramid build; afterwards the height image is ready for sampling.
+    pub fn record_pyramid(&self, cmd: vk::CommandBuffer) {
+        self.pyramid.record(cmd, &self.heights, &self.job);
+    }
+}

@@ -1,0 +1,70 @@
+//! The precomputed map a method reads besides the height pyramid (cone ratios, quadric
+//! coefficients): one float texel per height texel, uploaded once and read by integer texel
+//! through binding 3.
+
+use std::sync::Arc;
+
+use ash::vk;
+
+use super::gpu_heightfield::Addressing;
+use crate::vk::{upload_mips, Context, Image, ImageDesc, Sampler, VkError, VkResult};
+
+/// A map on the CPU: `channels` (1 or 4) floats per texel, rows of `width` texels.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MapData {
+    pub width: u32,
+    pub height: u32,
+    pub channels: u32,
+    pub texels: Vec<f32>,
+}
+
+/// A map on the GPU, with the nearest sampler its binding uses.
+pub struct GpuMethodMap {
+    pub image: Image,
+    pub sampler: Sampler,
+}
+
+impl GpuMethodMap {
+    /// Uploads `data` as R32 or RGBA32 float, ready for sampling.
+    pub fn upload(
+        ctx: &Arc<Context>,
+        data: &MapData,
+        address: Addressing,
+        name: &str,
+    ) -> VkResult<GpuMethodMap> {
+        let format = match data.channels {
+            1 => vk::Format::R32_SFLOAT,
+            4 => vk::Format::R32G32B32A32_SFLOAT,
+            n => return Err(VkError::Invalid(format!("map {name:?} with {n} channels"))),
+        };
+        let expected = data.width as usize * data.height as usize * data.channels as usize;
+        if data.texels.len() != expected {
+            return Err(VkError::Invalid(format!(
+                "map {name:?}: {} floats for {expected}",
+                data.texels.len()
+            )));
+        }
+        let desc = ImageDesc {
+            width: data.width,
+            height: data.height,
+            format,
+            mip_levels: 1,
+            usage: vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_DST,
+            aspect: vk::ImageAspectFlags::COLOR,
+        };
+        let image = Image::new(ctx, desc, name)?;
+        let bytes: &[u8] = bytemuck::cast_slice(&data.texels);
+        upload_mips(
+            ctx,
+            &image,
+            &[bytes],
+            vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+        )?;
+        let mode = match address {
+            Addressing::Repeat => vk::SamplerAddressMode::REPEAT,
+            Addressing::Clamp => vk::SamplerAddressMode::CLAMP_TO_EDGE,
+        };
+        let sampler = Sampler::new(ctx, vk::Filter::NEAREST, mode, &format!("{name} sampler"))?;
+        Ok(GpuMethodMap { image, sampler })
+    }
+}
