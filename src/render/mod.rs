@@ -1,6 +1,7 @@
 //! The frame: joins height fields and scenes with the Vulkan layer. Uploads, the pyramid pass,
 //! the surface pass, timestamps around each, and readback to an image.
 
+mod bench_pass;
 mod frame;
 mod gpu_heightfield;
 mod height_resources;
@@ -9,6 +10,7 @@ mod pyramid_pass;
 mod surface_pass;
 mod trace_pass;
 
+pub use bench_pass::{time_method, BenchRequest, BenchTiming};
 pub use frame::{render, Frame, PassTiming, RenderOptions};
 pub use gpu_heightfield::{Addressing, GpuHeightfield, HeightFormat};
 pub use height_resources::HeightResources;
