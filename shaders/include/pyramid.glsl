@@ -155,6 +155,10 @@ Hit pyramid_trace(Ray ray, Budget budget, int ascent, int leaf_mode) {
     float push = depth_per_texels(ray, CROSSING_TEXELS);
     float spacing = depth_per_texels(ray, leaf_mode == 0 ? 1.0 : 0.5);
     for (uint i = 0u; i < budget.max_steps; ++i) {
+        // At the bottom plane every ray is at or below the surface (a flat 0 field, depth 0).
+        if (z >= s) {
+            return Hit(s, i, false);
+        }
         vec2 size = level_size(level);
         vec2 cell = floor(ray_uv(ray, z) * size);
         float exit_z = cell_exit_depth(ray, cell, size);

@@ -16,6 +16,9 @@ Hit trace_qrm(Ray ray, Budget budget) {
     int level = pyramid_top();
     float cursor = 0.0;
     for (uint i = 0u; i < budget.max_steps; ++i) {
+        if (cursor >= s) {
+            return Hit(s, i, false);
+        }
         vec2 uv = ray_uv(ray, cursor);
         vec2 size = level_size(level);
         float t = node_depth(uv, level, s);

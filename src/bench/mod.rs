@@ -2,7 +2,18 @@
 //! and the files the tools write (`.npy` dumps).
 
 mod npy;
+mod report;
+mod results;
+mod runner;
+mod stability;
+mod svg;
+mod sweep;
 mod trace_stats;
 
 pub use npy::write_npy_f32;
-pub use trace_stats::{ray_direction, trace_stats, Spread, TraceStats};
+pub use report::render_report;
+pub use results::{BenchDevice, BenchResults, GpuMs, MapBuild, Run, StabilityCell};
+pub use runner::{plan_jobs, Job, Runner, Section};
+pub use stability::{run_stiff_case, stiff_cases, StiffCase};
+pub use sweep::{is_fixed_step, FieldSource, SweepConfig};
+pub use trace_stats::{ray_direction, trace_stats, Spread, StepStats, TraceStats};

@@ -1,6 +1,7 @@
 //! Argument parsing (clap), logging, and the mapping of failures to exit codes: 0 success,
 //! 1 failure, 2 bad usage (clap), 77 no Vulkan device (with the install line).
 
+mod bench;
 mod devices;
 mod heightmap_args;
 mod logger;
@@ -33,6 +34,8 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
+    /// Time every method and measure its error against the exact reference; write a report.
+    Bench(bench::BenchArgs),
     /// List the Vulkan devices relief can use, best first.
     Devices(devices::DevicesArgs),
     /// Render a glTF scene (or the built-in default scene) to a PNG, offscreen.
@@ -50,6 +53,7 @@ pub fn run() -> ExitCode {
     let cli = Cli::parse();
     logger::init(cli.verbose);
     let result = match cli.command {
+        Command::Bench(args) => bench::run(&args),
         Command::Devices(args) => devices::run(&args),
         Command::Render(args) => render::run(&args),
         Command::Maps(args) => maps::run(&args),

@@ -19,6 +19,15 @@ pub enum MapKind {
     MaxPyramid,
 }
 
+impl MapKind {
+    /// The name reports use.
+    pub fn name(self) -> &'static str {
+        match self {
+            MapKind::MaxPyramid => "max_pyramid",
+        }
+    }
+}
+
 /// Iteration cap and refinement steps (specialization constants 0 and 1 of every method).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 pub struct Budget {

@@ -1,0 +1,413 @@
+//! `report.md` and the SVG plots, from the measured results alone: error against run time with
+//! the Pareto front per view, scaling with map size, POM against QDM over depth scales, quadric
+//! against cone stepping, and the stability matrix.
+
+use std::collections::BTreeSet;
+use std::fmt::Write as _;
+
+use super::results::{BenchResults, Run, StabilityCell};
+use super::runner::Section;
+use super::svg::{Plot, Series};
+
+/// The report's Markdown and its plots as (file name, SVG).
+pub fn render_report(results: &BenchResults) -> (String, Vec<(String, String)>) {
+    let mut md = String::new();
+    let d = &results.device;
+    let _ = writeln!(md, "# relief bench\n");
+    let _ = writeln!(
+        md,
+        "Device: **{}** ({}; Vulkan {}; timestamp period {} ns).  ",
+        d.name, d.driver, d.api, d.timestamp_period
+    );
+    let _ = writeln!(md, "Command: `{}`\n", results.command);
+    let _ = writeln!(
+        md,
+        "Error is the uv distance in texels between each method's hit and the exact first hit of the bilinear \
+         surface (DESIGN.md section 2), over a grid of parallel rays; gross = more than one texel off. GPU time \
+         is the median of the timed full-screen frames.\n"
+    );
+    error_vs_time(&mut md, results);
+    scaling(&mut md, results);
+    depth_scale(&mut md, results);
+    cone_vs_quadric(&mut md, results);
+    maps(&mut md, results);
+    stability(&mut md, &results.stability);
+    (md, plots(results))
+}
+
+fn runs(results: &BenchResults, section: Section) -> impl Iterator<Item = &Run> {
+    results.runs.iter().filter(move |r| r.section == section)
+}
+
+fn budget_label(r: &Run) -> String {
+    if r.budget.refine_steps > 0 {
+        format!("{}+{}", r.budget.max_steps, r.budget.refine_steps)
+    } else {
+        r.budget.max_steps.to_string()
+    }
+}
+
+/// Runs not dominated in (GPU ms, mean error) by another run of the same group.
+fn pareto(group: &[&Run]) -> Vec<bool> {
+    group
+        .iter()
+        .map(|a| {
+            !group.iter().any(|b| {
+                let no_worse = b.gpu_ms.median <= a.gpu_ms.median
+                    && b.error_texels.mean <= a.error_texels.mean;
+                let better =
+                    b.gpu_ms.median < a.gpu_ms.median || b.error_texels.mean < a.error_texels.mean;
+                no_worse && better
+            })
+        })
+        .collect()
+}
+
+fn error_vs_time(md: &mut String, results: &BenchResults) {
+    let _ = writeln!(md, "## 1. Error against run time\n");
+    let _ = writeln!(md, "Per height field and view elevation; **bold** rows are on the Pareto front (no other run is both faster and more accurate).\n");
+    let keys: BTreeSet<(String, u64)> = runs(results, Section::ErrorVsTime)
+        .map(|r| (r.heightfield.clone(), r.angle_deg.to_bits()))
+        .collect();
+    for (field, angle_bits) in keys {
+        let angle = f64::from_bits(angle_bits);
+        let mut group: Vec<&Run> = runs(results, Section::ErrorVsTime)
+            .filter(|r| r.heightfield == field && r.angle_deg == angle)
+            .collect();
+        // Table order: methods as listed by `relief methods`, budgets ascending.
+        let order = |r: &Run| {
+            crate::method::Method::all()
+                .position(|m| m.id() == r.method)
+                .unwrap_or(usize::MAX)
+        };
+        group.sort_by_key(|r| (order(r), r.budget.max_steps));
+        let Some(first) = group.first() else { continue };
+        let _ = writeln!(
+            md,
+            "### {field} {}x{}, view {angle} deg, depth scale {}\n",
+            first.size[0], first.size[1], first.depth_scale
+        );
+        let _ = writeln!(
+            md,
+            "| method | budget | error mean | p99 | max | gross | capped | steps | GPU ms |"
+        );
+        let _ = writeln!(md, "|---|---|---|---|---|---|---|---|---|");
+        for (r, front) in group.iter().zip(pareto(&group)) {
+            let b = if front { "**" } else { "" };
+            let _ = writeln!(
+                md,
+                "| {b}{}{b} | {} | {b}{:.4}{b} | {:.3} | {:.2} | {:.2}% | {:.2}% | {:.1} | {b}{:.3}{b} |",
+                r.method,
+                budget_label(r),
+                r.error_texels.mean,
+                r.error_texels.p99,
+                r.error_texels.max,
+                100.0 * r.gross_rate,
+                100.0 * r.capped_rate,
+                r.steps.mean,
+                r.gpu_ms.median
+            );
+        }
+        md.push('\n');
+    }
+}
+
+/// Default-budget runs at 30 degrees across map sizes, from the scaling and main sections.
+fn scaling_runs(results: &BenchResults) -> Vec<&Run> {
+    let field = runs(results, Section::Scaling)
+        .next()
+        .map(|r| r.heightfield.clone());
+    let mut list: Vec<&Run> = results
+        .runs
+        .iter()
+        .filter(|r| Some(&r.heightfield) == field.as_ref() && r.angle_deg == 30.0)
+        .filter(|r| {
+            r.section == Section::Scaling
+                || (r.section == Section::ErrorVsTime && is_default_budget(r))
+        })
+        .collect();
+    list.sort_by_key(|r| (r.method.clone(), r.size[0]));
+    list
+}
+
+fn is_default_budget(r: &Run) -> bool {
+    r.method
+        .parse::<crate::method::Method>()
+        .is_ok_and(|m| m.info().default_budget == r.budget)
+}
+
+fn scaling(md: &mut String, results: &BenchResults) {
+    let list = scaling_runs(results);
+    if list.is_empty() {
+        return;
+    }
+    let sizes: BTreeSet<u32> = list.iter().map(|r| r.size[0]).collect();
+    let _ = writeln!(md, "## 2. Scaling with map size\n");
+    let _ = writeln!(md, "GPU ms at 30 deg with default budgets (mean error in brackets); the last column is the largest size's time over the smallest's (paper 000, Table 1: about 1.5x for quadtree methods from 256^2 to 2048^2).\n");
+    let head: Vec<String> = sizes.iter().map(|s| format!("{s}^2")).collect();
+    let _ = writeln!(md, "| method | {} | growth |", head.join(" | "));
+    let _ = writeln!(md, "|---|{}---|", "---|".repeat(sizes.len()));
+    let methods: BTreeSet<&str> = list.iter().map(|r| r.method.as_str()).collect();
+    for m in methods {
+        let row: Vec<Option<&&Run>> = sizes
+            .iter()
+            .map(|s| list.iter().find(|r| r.method == m && r.size[0] == *s))
+            .collect();
+        let cells: Vec<String> = row
+            .iter()
+            .map(|r| {
+                r.map_or("-".into(), |r| {
+                    format!("{:.3} ({:.3})", r.gpu_ms.median, r.error_texels.mean)
+                })
+            })
+            .collect();
+        let times: Vec<f64> = row.iter().flatten().map(|r| r.gpu_ms.median).collect();
+        let growth = match (times.first(), times.last()) {
+            (Some(&a), Some(&b)) if a > 0.0 => format!("{:.2}x", b / a),
+            _ => "-".into(),
+        };
+        let _ = writeln!(md, "| {m} | {} | {growth} |", cells.join(" | "));
+    }
+    md.push('\n');
+}
+
+fn depth_scale(md: &mut String, results: &BenchResults) {
+    let base = runs(results, Section::ErrorVsTime).filter(|r| r.angle_deg == 30.0);
+    let mut list: Vec<&Run> = runs(results, Section::DepthScale)
+        .chain(base)
+        .filter(|r| r.method == "pom" || r.method == "qdm")
+        .collect();
+    if !list.iter().any(|r| r.section == Section::DepthScale) {
+        return;
+    }
+    let field = runs(results, Section::DepthScale)
+        .next()
+        .map(|r| r.heightfield.clone());
+    list.retain(|r| Some(&r.heightfield) == field.as_ref());
+    let scales: BTreeSet<u64> = list.iter().map(|r| r.depth_scale.to_bits()).collect();
+    let _ = writeln!(md, "## 3. Depth scale: POM against QDM at matched error\n");
+    let _ = writeln!(md, "At 30 deg. For each depth scale, QDM at its default budget, and the cheapest POM budget whose mean error is no worse (or POM's most accurate budget when none is); the shape of paper 001, Tables 1.3 and 1.4.\n");
+    let _ = writeln!(
+        md,
+        "| depth scale | QDM ms | QDM error | POM budget | POM ms | POM error | POM / QDM time |"
+    );
+    let _ = writeln!(md, "|---|---|---|---|---|---|---|");
+    for bits in scales {
+        let s = f64::from_bits(bits);
+        let at: Vec<&&Run> = list.iter().filter(|r| r.depth_scale == s).collect();
+        let Some(qdm) = at
+            .iter()
+            .find(|r| r.method == "qdm" && is_default_budget(r))
+        else {
+            continue;
+        };
+        let mut pom: Vec<&&&Run> = at.iter().filter(|r| r.method == "pom").collect();
+        pom.sort_by(|a, b| a.gpu_ms.median.total_cmp(&b.gpu_ms.median));
+        let matched = pom
+            .iter()
+            .find(|r| r.error_texels.mean <= qdm.error_texels.mean)
+            .or_else(|| {
+                pom.iter()
+                    .min_by(|a, b| a.error_texels.mean.total_cmp(&b.error_texels.mean))
+            });
+        let Some(p) = matched else { continue };
+        let _ = writeln!(
+            md,
+            "| {s} | {:.3} | {:.4} | {} | {:.3} | {:.4} | {:.2}x |",
+            qdm.gpu_ms.median,
+            qdm.error_texels.mean,
+            budget_label(p),
+            p.gpu_ms.median,
+            p.error_texels.mean,
+            p.gpu_ms.median / qdm.gpu_ms.median.max(1e-9)
+        );
+    }
+    md.push('\n');
+}
+
+fn cone_vs_quadric(md: &mut String, results: &BenchResults) {
+    let ids = ["csm", "rcsm", "quadric"];
+    let list: Vec<&Run> = runs(results, Section::ErrorVsTime)
+        .filter(|r| ids.contains(&r.method.as_str()) && is_default_budget(r))
+        .collect();
+    if list.is_empty() {
+        return;
+    }
+    let field = list[0].heightfield.clone();
+    let _ = writeln!(md, "## 4. Quadric against cone stepping\n");
+    let _ = writeln!(
+        md,
+        "Mean steps and GPU ms by view angle on {field} (paper 004, Figure 10 and Table 1).\n"
+    );
+    let _ = writeln!(
+        md,
+        "| angle | {} |",
+        ids.map(|m| format!("{m} steps | {m} ms")).join(" | ")
+    );
+    let _ = writeln!(md, "|---|{}", "---|".repeat(2 * ids.len()));
+    let angles: BTreeSet<u64> = list.iter().map(|r| r.angle_deg.to_bits()).collect();
+    for bits in angles {
+        let a = f64::from_bits(bits);
+        let cells: Vec<String> = ids
+            .iter()
+            .map(|m| {
+                list.iter()
+                    .find(|r| r.method == *m && r.angle_deg == a && r.heightfield == field)
+                    .map_or("- | -".into(), |r| {
+                        format!("{:.1} | {:.3}", r.steps.mean, r.gpu_ms.median)
+                    })
+            })
+            .collect();
+        let _ = writeln!(md, "| {a} | {} |", cells.join(" | "));
+    }
+    md.push('\n');
+}
+
+fn maps(md: &mut String, results: &BenchResults) {
+    if results.maps.is_empty() {
+        return;
+    }
+    let _ = writeln!(md, "## Map build times\n");
+    let _ = writeln!(md, "| map | height field | size | built on | ms |");
+    let _ = writeln!(md, "|---|---|---|---|---|");
+    for m in &results.maps {
+        let _ = writeln!(
+            md,
+            "| {} | {} | {}x{} | {} | {:.2} |",
+            m.kind, m.heightfield, m.size[0], m.size[1], m.on, m.ms
+        );
+    }
+    md.push('\n');
+}
+
+fn stability(md: &mut String, cells: &[StabilityCell]) {
+    if cells.is_empty() {
+        return;
+    }
+    let methods: Vec<&str> =
+        cells
+            .iter()
+            .map(|c| c.method.as_str())
+            .fold(Vec::new(), |mut v, m| {
+                if !v.contains(&m) {
+                    v.push(m);
+                }
+                v
+            });
+    let cases: Vec<&str> = cells
+        .iter()
+        .map(|c| c.case.as_str())
+        .fold(Vec::new(), |mut v, c| {
+            if !v.contains(&c) {
+                v.push(c);
+            }
+            v
+        });
+    let _ = writeln!(md, "## 5. Stability matrix\n");
+    let _ = writeln!(md, "Each cell: gross rate and worst error in texels over 32x32 rays at default budgets; `NaN n` and `capped x%` when they happen; `FAILED` with the reason below the table when the case could not run.\n");
+    let _ = writeln!(md, "| case | {} |", methods.join(" | "));
+    let _ = writeln!(md, "|---|{}", "---|".repeat(methods.len()));
+    let mut failures = Vec::new();
+    for case in &cases {
+        let row: Vec<String> = methods
+            .iter()
+            .map(
+                |m| match cells.iter().find(|c| c.case == *case && c.method == *m) {
+                    None => "-".into(),
+                    Some(c) => stability_cell(c, &mut failures),
+                },
+            )
+            .collect();
+        let _ = writeln!(md, "| {case} | {} |", row.join(" | "));
+    }
+    for f in failures {
+        let _ = writeln!(md, "- {f}");
+    }
+    md.push('\n');
+}
+
+fn stability_cell(c: &StabilityCell, failures: &mut Vec<String>) -> String {
+    if let Some(why) = &c.failed {
+        failures.push(format!("{} on {}: {why}", c.method, c.case));
+        return "FAILED".into();
+    }
+    let mut text = format!("{:.1}% / {:.2}", 100.0 * c.gross_rate, c.max_error_texels);
+    if c.capped_rate > 0.0 {
+        let _ = write!(text, ", capped {:.1}%", 100.0 * c.capped_rate);
+    }
+    if c.nan_pixels > 0 {
+        let _ = write!(text, ", **NaN {}**", c.nan_pixels);
+    }
+    text
+}
+
+fn plots(results: &BenchResults) -> Vec<(String, String)> {
+    let main: Vec<&Run> = runs(results, Section::ErrorVsTime).collect();
+    let field = main
+        .first()
+        .map(|r| r.heightfield.clone())
+        .unwrap_or_default();
+    let methods: BTreeSet<&str> = results.runs.iter().map(|r| r.method.as_str()).collect();
+    let series = |f: &dyn Fn(&str) -> Vec<(f64, f64)>| -> Vec<Series> {
+        methods
+            .iter()
+            .map(|m| Series {
+                name: (*m).to_owned(),
+                points: f(m),
+            })
+            .filter(|s| !s.points.is_empty())
+            .collect()
+    };
+    // The view closest to 30 degrees, the middle view of the papers' comparisons.
+    let middle = main
+        .iter()
+        .map(|r| r.angle_deg)
+        .min_by(|a, b| (a - 30.0).abs().total_cmp(&(b - 30.0).abs()))
+        .unwrap_or(30.0);
+    let error_vs_ms = Plot {
+        title: format!("Error against GPU time, {field}, {middle} deg"),
+        x_label: "GPU ms".into(),
+        y_label: "mean error (texels)".into(),
+        log_x: true,
+        log_y: true,
+        series: series(&|m| {
+            main.iter()
+                .filter(|r| r.method == m && r.heightfield == field && r.angle_deg == 30.0)
+                .map(|r| (r.gpu_ms.median, r.error_texels.mean))
+                .collect()
+        }),
+    };
+    let scaling = scaling_runs(results);
+    let ms_vs_size = Plot {
+        title: "GPU time against map size, 30 deg".into(),
+        x_label: "map side (texels)".into(),
+        y_label: "GPU ms".into(),
+        log_x: true,
+        log_y: true,
+        series: series(&|m| {
+            scaling
+                .iter()
+                .filter(|r| r.method == m)
+                .map(|r| (f64::from(r.size[0]), r.gpu_ms.median))
+                .collect()
+        }),
+    };
+    let steps_vs_angle = Plot {
+        title: format!("Mean steps against view angle, {field}"),
+        x_label: "view elevation (deg)".into(),
+        y_label: "mean steps".into(),
+        log_x: false,
+        log_y: false,
+        series: series(&|m| {
+            main.iter()
+                .filter(|r| r.method == m && r.heightfield == field && is_default_budget(r))
+                .map(|r| (r.angle_deg, r.steps.mean))
+                .collect()
+        }),
+    };
+    vec![
+        ("error_vs_ms.svg".into(), error_vs_ms.to_svg()),
+        ("ms_vs_size.svg".into(), ms_vs_size.to_svg()),
+        ("steps_vs_angle.svg".into(), steps_vs_angle.to_svg()),
+    ]
+}

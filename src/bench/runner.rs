@@ -1,0 +1,285 @@
+//! Runs a sweep: for each configuration, the GPU time of the full-screen pass and the error of
+//! the same method traced against the exact reference; plus map build times. Height fields and
+//! method maps are built once per field and size and reused.
+
+use std::collections::HashMap;
+use std::sync::Arc;
+use std::time::Instant;
+
+use anyhow::Context as _;
+
+use super::results::{GpuMs, MapBuild, Run};
+use super::sweep::{FieldSource, SweepConfig};
+use super::trace_stats::{ray_direction, trace_stats};
+use crate::heightfield::reference::Address;
+use crate::heightfield::{Heightfield, LoadOptions};
+use crate::method::{build_method_map, Budget, Method};
+use crate::render::{
+    build_pyramid_on_gpu, time_method, trace_on_gpu, Addressing, BenchRequest, HeightFormat,
+    MapData, TraceRequest,
+};
+use crate::vk::Context;
+
+/// Which part of the report a run belongs to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Section {
+    ErrorVsTime,
+    Scaling,
+    DepthScale,
+}
+
+/// One configuration to measure.
+#[derive(Debug, Clone)]
+pub struct Job {
+    pub section: Section,
+    pub field: FieldSource,
+    pub size: u32,
+    pub method: Method,
+    pub budget: Budget,
+    pub angle: f64,
+    pub azimuth: f64,
+    pub depth_scale: f64,
+}
+
+/// Every job of `cfg`'s sweep, in run order.
+pub fn plan_jobs(cfg: &SweepConfig) -> Vec<Job> {
+    let base =
+        |section, field: &FieldSource, size, method: Method, budget, angle, depth_scale| Job {
+            section,
+            field: field.clone(),
+            size,
+            method,
+            budget,
+            angle,
+            azimuth: cfg.azimuths.first().copied().unwrap_or(0.0),
+            depth_scale,
+        };
+    let mut jobs = Vec::new();
+    let (size, depth) = (cfg.main_size(), cfg.main_depth_scale());
+    for field in &cfg.fields {
+        for &method in &cfg.methods {
+            for budget in cfg.budgets_for(method) {
+                for &angle in &cfg.angles {
+                    for &azimuth in &cfg.azimuths {
+                        let mut job = base(
+                            Section::ErrorVsTime,
+                            field,
+                            size,
+                            method,
+                            budget,
+                            angle,
+                            depth,
+                        );
+                        job.azimuth = azimuth;
+                        jobs.push(job);
+                    }
+                }
+            }
+        }
+    }
+    let first = cfg
+        .fields
+        .first()
+        .cloned()
+        .unwrap_or(FieldSource::Synthetic(crate::heightfield::Generator::Fbm));
+    let middle = 30.0;
+    for &method in &cfg.methods {
+        let budget = method.info().default_budget;
+        for &s in cfg.sizes.iter().skip(1) {
+            jobs.push(base(
+                Section::Scaling,
+                &first,
+                s,
+                method,
+                budget,
+                middle,
+                depth,
+            ));
+        }
+        if matches!(method.id(), "pom" | "qdm") {
+            for &d in cfg.depth_scales.iter().skip(1) {
+                for b in cfg.budgets_for(method) {
+                    jobs.push(base(
+                        Section::DepthScale,
+                        &first,
+                        size,
+                        method,
+                        b,
+                        middle,
+                        d,
+                    ));
+                }
+            }
+        }
+    }
+    jobs
+}
+
+/// Measures jobs on one device, caching height fields and maps between them.
+pub struct Runner {
+    ctx: Arc<Context>,
+    cfg: SweepConfig,
+    fields: HashMap<(String, u32), Arc<Heightfield>>,
+    maps: HashMap<(String, u32, Method), Option<Arc<MapData>>>,
+    pub map_builds: Vec<MapBuild>,
+}
+
+impl Runner {
+    pub fn new(ctx: Arc<Context>, cfg: SweepConfig) -> Runner {
+        Runner {
+            ctx,
+            cfg,
+            fields: HashMap::new(),
+            maps: HashMap::new(),
+            map_builds: Vec::new(),
+        }
+    }
+
+    fn addressing(&self) -> Addressing {
+        match self.cfg.address {
+            Address::Repeat => Addressing::Repeat,
+            Address::Clamp => Addressing::Clamp,
+        }
+    }
+
+    /// The height field of `field` at `size`, as the GPU stores it (so the reference sees the same).
+    pub fn field(&mut self, field: &FieldSource, size: u32) -> anyhow::Result<Arc<Heightfield>> {
+        let key = (field.name(), size);
+        if let Some(hf) = self.fields.get(&key) {
+            return Ok(hf.clone());
+        }
+        let raw = match field {
+            FieldSource::Synthetic(g) => g.generate(size, size, self.cfg.seed),
+            FieldSource::File(path) => Heightfield::load_png(path, &LoadOptions::default())?,
+        };
+        raw.check_max_dimension(self.ctx.info().max_image_dimension_2d, &key.0)?;
+        let stored = match self.cfg.format {
+            HeightFormat::R16Unorm => raw.quantized_unorm16(),
+            HeightFormat::R32Float => raw,
+        };
+        let (_, gpu_ms) =
+            build_pyramid_on_gpu(&self.ctx, &stored, self.cfg.format, self.addressing())
+                .with_context(|| format!("building the pyramid of {}", key.0))?;
+        self.map_builds.push(MapBuild {
+            kind: "max_pyramid".into(),
+            heightfield: key.0.clone(),
+            size: [stored.width(), stored.height()],
+            ms: gpu_ms,
+            on: "gpu",
+        });
+        let hf = Arc::new(stored);
+        self.fields.insert(key, hf.clone());
+        Ok(hf)
+    }
+
+    fn map(
+        &mut self,
+        field: &FieldSource,
+        size: u32,
+        method: Method,
+        hf: &Heightfield,
+    ) -> Option<Arc<MapData>> {
+        let key = (field.name(), size, method);
+        if let Some(m) = self.maps.get(&key) {
+            return m.clone();
+        }
+        let built = build_method_map(method, hf, self.cfg.address).map(|(data, took)| {
+            let kind = method
+                .info()
+                .needs
+                .last()
+                .map(|k| k.name())
+                .unwrap_or_default()
+                .to_owned();
+            self.map_builds.push(MapBuild {
+                kind,
+                heightfield: field.name(),
+                size: [hf.width(), hf.height()],
+                ms: took.as_secs_f64() * 1e3,
+                on: "cpu",
+            });
+            Arc::new(data)
+        });
+        self.maps.insert(key, built.clone());
+        built
+    }
+
+    /// Times and measures one job.
+    pub fn measure(&mut self, job: &Job) -> anyhow::Result<Run> {
+        let hf = self.field(&job.field, job.size)?;
+        let map = self.map(&job.field, job.size, job.method, &hf);
+        let dir = ray_direction(job.angle, job.azimuth).map(|x| x as f32);
+        let depth_scale = job.depth_scale as f32;
+        let started = Instant::now();
+        let timing = time_method(
+            &self.ctx,
+            &hf,
+            &BenchRequest {
+                method: job.method,
+                dir,
+                depth_scale,
+                resolution: self.cfg.resolution,
+                budget: job.budget,
+                address: self.addressing(),
+                format: self.cfg.format,
+                map: map.as_deref(),
+                warmup: self.cfg.warmup,
+                frames: self.cfg.frames,
+            },
+        )?;
+        let cpu_ms = started.elapsed().as_secs_f64() * 1e3;
+        let traced = trace_on_gpu(
+            &self.ctx,
+            &hf,
+            &TraceRequest {
+                method: job.method,
+                dir,
+                depth_scale,
+                grid: self.cfg.error_grid,
+                budget: job.budget,
+                address: self.addressing(),
+                format: self.cfg.format,
+                map: map.as_deref(),
+            },
+        )?;
+        let stats = trace_stats(
+            &hf,
+            &traced.hits,
+            &traced.steps,
+            f64::from(depth_scale),
+            self.cfg.address,
+        );
+        Ok(Run {
+            section: job.section,
+            method: job.method.id().to_owned(),
+            heightfield: job.field.name(),
+            size: [hf.width(), hf.height()],
+            depth_scale: job.depth_scale,
+            angle_deg: job.angle,
+            azimuth_deg: job.azimuth,
+            address: self.cfg.address.to_string(),
+            budget: job.budget,
+            gpu_ms: GpuMs::of(&timing.frame_ms),
+            frames: self.cfg.frames,
+            resolution: [self.cfg.resolution.0, self.cfg.resolution.1],
+            cpu_ms,
+            error_texels: stats.error_texels,
+            depth_error_texels: stats.depth_error_texels,
+            gross_rate: stats.gross_rate,
+            capped_rate: stats.capped_rate,
+            nan_pixels: stats.nan_pixels,
+            steps: stats.steps,
+        })
+    }
+
+    /// The device context.
+    pub fn ctx(&self) -> &Arc<Context> {
+        &self.ctx
+    }
+
+    /// The sweep being run.
+    pub fn config(&self) -> &SweepConfig {
+        &self.cfg
+    }
+}

@@ -1,0 +1,135 @@
+//! The stiff and extreme cases every method must survive (issue: stability matrix): grazing and
+//! vertical views, zero and huge depth scales, tiny and huge maps, degenerate fields, both
+//! storage formats and both addressing modes. Each is traced against the reference; the matrix
+//! records NaN hits, capped and gross rates and the worst error, or why the case failed.
+
+use std::sync::Arc;
+
+use super::results::StabilityCell;
+use super::trace_stats::{ray_direction, trace_stats};
+use crate::heightfield::reference::Address;
+use crate::heightfield::Generator;
+use crate::method::{build_method_map, Method};
+use crate::render::{trace_on_gpu, Addressing, HeightFormat, TraceRequest};
+use crate::vk::Context;
+
+/// One named stiff case.
+#[derive(Debug, Clone)]
+pub struct StiffCase {
+    pub name: String,
+    pub field: Generator,
+    pub size: (u32, u32),
+    pub angle: f64,
+    pub depth_scale: f64,
+    pub format: HeightFormat,
+    pub address: Address,
+}
+
+const RAYS: (u32, u32) = (32, 32);
+
+fn case(name: &str, field: Generator, size: (u32, u32), angle: f64, depth_scale: f64) -> StiffCase {
+    StiffCase {
+        name: name.to_owned(),
+        field,
+        size,
+        angle,
+        depth_scale,
+        format: HeightFormat::R16Unorm,
+        address: Address::Repeat,
+    }
+}
+
+/// The cases, in matrix order. `largest` is the biggest map side to try (8192, or what fits).
+pub fn stiff_cases(largest: u32) -> Vec<StiffCase> {
+    let fbm = Generator::Fbm;
+    let mut cases = vec![
+        case("view 0.5 deg", fbm, (128, 128), 0.5, 0.1),
+        case("view 1 deg", fbm, (128, 128), 1.0, 0.1),
+        case("view 89.9 deg", fbm, (128, 128), 89.9, 0.1),
+        case("view 90 deg (vertical)", fbm, (128, 128), 90.0, 0.1),
+        case("depth 0", fbm, (128, 128), 30.0, 0.0),
+        case("depth 1e-4", fbm, (128, 128), 30.0, 1e-4),
+        case("depth 5", fbm, (128, 128), 30.0, 5.0),
+        case("depth 50", fbm, (128, 128), 30.0, 50.0),
+        case("map 1x1", fbm, (1, 1), 30.0, 0.1),
+        case("map 2x2", fbm, (2, 2), 30.0, 0.1),
+        case("map 3x5", fbm, (3, 5), 30.0, 0.1),
+        case(
+            &format!("map {largest}^2"),
+            fbm,
+            (largest, largest),
+            30.0,
+            0.1,
+        ),
+        case("flat0", Generator::Flat0, (128, 128), 30.0, 0.1),
+        case("flat1", Generator::Flat1, (128, 128), 30.0, 0.1),
+        case(
+            "checker (one texel)",
+            Generator::Checker,
+            (128, 128),
+            30.0,
+            0.1,
+        ),
+        case("isolated spikes", Generator::Spikes, (128, 128), 30.0, 0.1),
+        case("step cliff", Generator::Step, (128, 128), 30.0, 0.1),
+        case("white noise", Generator::Noise, (128, 128), 30.0, 0.1),
+    ];
+    let mut r32 = case("R32F storage", fbm, (128, 128), 30.0, 0.1);
+    r32.format = HeightFormat::R32Float;
+    let mut clamp = case("clamp addressing", fbm, (128, 128), 30.0, 0.1);
+    clamp.address = Address::Clamp;
+    cases.extend([r32, clamp]);
+    cases
+}
+
+/// Traces `method` on `case` and summarises what went wrong, if anything.
+pub fn run_stiff_case(ctx: &Arc<Context>, case: &StiffCase, method: Method) -> StabilityCell {
+    let cell = |failed: Option<String>| StabilityCell {
+        method: method.id().to_owned(),
+        case: case.name.clone(),
+        nan_pixels: 0,
+        capped_rate: 0.0,
+        gross_rate: 0.0,
+        max_error_texels: 0.0,
+        failed,
+    };
+    let raw = case.field.generate(case.size.0, case.size.1, 1);
+    let hf = match case.format {
+        HeightFormat::R16Unorm => raw.quantized_unorm16(),
+        HeightFormat::R32Float => raw,
+    };
+    let map = build_method_map(method, &hf, case.address);
+    let address = match case.address {
+        Address::Repeat => Addressing::Repeat,
+        Address::Clamp => Addressing::Clamp,
+    };
+    let req = TraceRequest {
+        method,
+        dir: ray_direction(case.angle, 30.0).map(|x| x as f32),
+        depth_scale: case.depth_scale as f32,
+        grid: RAYS,
+        budget: method.info().default_budget,
+        address,
+        format: case.format,
+        map: map.as_ref().map(|(m, _)| m),
+    };
+    match trace_on_gpu(ctx, &hf, &req) {
+        Err(e) => cell(Some(e.to_string())),
+        Ok(out) => {
+            let s = trace_stats(
+                &hf,
+                &out.hits,
+                &out.steps,
+                f64::from(req.depth_scale),
+                case.address,
+            );
+            StabilityCell {
+                nan_pixels: s.nan_pixels,
+                capped_rate: s.capped_rate,
+                gross_rate: s.gross_rate,
+                max_error_texels: s.error_texels.max,
+                ..cell(None)
+            }
+        }
+    }
+}

@@ -1,0 +1,135 @@
+//! What `relief bench` measures: the sections of the sweep (error against run time, scaling with
+//! map size, depth scale), each a small grid over the options, with defaults for a meaningful
+//! full sweep and a `--quick` one small enough for CI on lavapipe.
+
+use std::path::PathBuf;
+
+use crate::heightfield::reference::Address;
+use crate::heightfield::Generator;
+use crate::method::{Budget, Method};
+use crate::render::HeightFormat;
+
+/// Where a height field comes from.
+#[derive(Debug, Clone, PartialEq)]
+pub enum FieldSource {
+    Synthetic(Generator),
+    File(PathBuf),
+}
+
+impl FieldSource {
+    /// The name reports use.
+    pub fn name(&self) -> String {
+        match self {
+            FieldSource::Synthetic(g) => g.name().to_owned(),
+            FieldSource::File(p) => p
+                .file_name()
+                .map(|n| n.to_string_lossy().into_owned())
+                .unwrap_or_default(),
+        }
+    }
+}
+
+/// Every option of a bench run.
+#[derive(Debug, Clone)]
+pub struct SweepConfig {
+    pub methods: Vec<Method>,
+    pub fields: Vec<FieldSource>,
+    /// Map sides for the scaling section; the first is the size of every other section.
+    pub sizes: Vec<u32>,
+    pub angles: Vec<f64>,
+    pub azimuths: Vec<f64>,
+    /// The first is the depth scale of every section but the depth-scale one.
+    pub depth_scales: Vec<f64>,
+    /// Iteration caps tried on the fixed-step methods besides their default budget.
+    pub budgets: Vec<u32>,
+    pub resolution: (u32, u32),
+    pub frames: u32,
+    pub warmup: u32,
+    /// Rays per configuration for the error measurement.
+    pub error_grid: (u32, u32),
+    pub address: Address,
+    pub format: HeightFormat,
+    pub seed: u64,
+    /// Run the stability matrix (stiff and extreme cases) too.
+    pub stability: bool,
+    /// The small CI variant: fewer and smaller cases.
+    pub quick: bool,
+}
+
+/// Methods whose cost is a fixed number of steps, so a larger budget buys accuracy.
+pub fn is_fixed_step(method: Method) -> bool {
+    matches!(method.id(), "steep" | "relief" | "pom")
+}
+
+impl SweepConfig {
+    /// The full default sweep.
+    pub fn full() -> SweepConfig {
+        SweepConfig {
+            methods: Method::all().collect(),
+            fields: vec![
+                FieldSource::Synthetic(Generator::Fbm),
+                FieldSource::Synthetic(Generator::Bricks),
+            ],
+            sizes: vec![1024, 256, 512, 2048, 4096],
+            angles: vec![5.0, 15.0, 30.0, 45.0, 60.0, 75.0, 90.0],
+            azimuths: vec![30.0],
+            depth_scales: vec![0.1, 0.02, 0.05, 0.2, 0.5],
+            // POM's quality tiers in engines (o3de: 16, 32, 64, 128 steps).
+            budgets: vec![16, 32, 64, 128],
+            resolution: (1024, 1024),
+            frames: 10,
+            warmup: 2,
+            error_grid: (128, 128),
+            address: Address::Repeat,
+            format: HeightFormat::R16Unorm,
+            seed: 1,
+            stability: true,
+            quick: false,
+        }
+    }
+
+    /// The CI sweep: every method, tiny maps and images, a few views.
+    pub fn quick() -> SweepConfig {
+        SweepConfig {
+            fields: vec![FieldSource::Synthetic(Generator::Fbm)],
+            sizes: vec![128, 64, 256],
+            angles: vec![10.0, 30.0, 90.0],
+            depth_scales: vec![0.1, 0.5],
+            budgets: vec![16, 64],
+            resolution: (128, 128),
+            frames: 3,
+            warmup: 1,
+            error_grid: (32, 32),
+            quick: true,
+            ..SweepConfig::full()
+        }
+    }
+
+    /// Budgets to run `method` with: its default, and for fixed-step methods each listed cap.
+    pub fn budgets_for(&self, method: Method) -> Vec<Budget> {
+        let default = method.info().default_budget;
+        let mut list = vec![default];
+        if is_fixed_step(method) {
+            for &steps in &self.budgets {
+                let b = Budget {
+                    max_steps: steps,
+                    ..default
+                };
+                if !list.contains(&b) {
+                    list.push(b);
+                }
+            }
+        }
+        list
+    }
+
+    /// The map side of every section but scaling.
+    pub fn main_size(&self) -> u32 {
+        self.sizes.first().copied().unwrap_or(256)
+    }
+
+    /// The depth scale of every section but the depth-scale one.
+    pub fn main_depth_scale(&self) -> f64 {
+        self.depth_scales.first().copied().unwrap_or(0.1)
+    }
+}

@@ -1,0 +1,252 @@
+//! `relief bench`: every method's error against its GPU time on one device, how cost grows with
+//! map size and depth scale, and the stability matrix; writes results.json, report.md and plots.
+
+use std::path::PathBuf;
+
+use anyhow::Context as _;
+use clap::Args;
+use indicatif::{ProgressBar, ProgressStyle};
+use relief::bench::{
+    plan_jobs, render_report, run_stiff_case, stiff_cases, BenchResults, FieldSource, Runner,
+    SweepConfig,
+};
+use relief::heightfield::reference::Address;
+use relief::heightfield::Generator;
+use relief::method::Method;
+use relief::render::HeightFormat;
+
+use super::render::{AddressArg, FormatArg};
+
+#[derive(Args)]
+pub struct BenchArgs {
+    /// Folder for results.json, report.md and the SVG plots.
+    #[arg(long)]
+    out: PathBuf,
+    /// Small sweep for CI (a few minutes on lavapipe).
+    #[arg(long)]
+    quick: bool,
+    /// Method ids, comma-separated (default: all).
+    #[arg(long, value_delimiter = ',')]
+    methods: Vec<String>,
+    /// Synthetic fields, comma-separated (default fbm,bricks; quick: fbm).
+    #[arg(long, value_delimiter = ',')]
+    fields: Vec<Generator>,
+    /// A real height map to add (repeatable).
+    #[arg(long)]
+    heightmap: Vec<PathBuf>,
+    /// Map sides; the first is used by every section, all of them by the scaling section.
+    #[arg(long, value_delimiter = ',')]
+    sizes: Vec<u32>,
+    /// View elevations in degrees.
+    #[arg(long, value_delimiter = ',')]
+    angles: Vec<f64>,
+    /// Azimuths in degrees.
+    #[arg(long, value_delimiter = ',')]
+    azimuths: Vec<f64>,
+    /// Depth scales; the first is used by every section, all of them by the depth-scale one.
+    #[arg(long, value_delimiter = ',')]
+    depth_scales: Vec<f64>,
+    /// Iteration caps tried on fixed-step methods (steep, relief, pom) besides their defaults.
+    #[arg(long, value_delimiter = ',')]
+    budgets: Vec<u32>,
+    /// Size of the timed full-screen pass, WxH.
+    #[arg(long)]
+    resolution: Option<String>,
+    /// Timed frames per configuration.
+    #[arg(long)]
+    frames: Option<u32>,
+    /// Skip the stability matrix.
+    #[arg(long)]
+    no_stability: bool,
+    #[arg(long, value_enum, default_value = "repeat")]
+    address: AddressArg,
+    #[arg(long, value_enum, default_value = "r16")]
+    height_format: FormatArg,
+    /// Print results.json to stdout and no progress.
+    #[arg(long)]
+    json: bool,
+    #[arg(long, value_name = "SUBSTRING")]
+    device: Option<String>,
+}
+
+fn parse_resolution(text: &str) -> anyhow::Result<(u32, u32)> {
+    match text
+        .split_once('x')
+        .map(|(w, h)| (w.parse::<u32>(), h.parse::<u32>()))
+    {
+        Some((Ok(w), Ok(h))) if (1..=16384).contains(&w) && (1..=16384).contains(&h) => Ok((w, h)),
+        _ => anyhow::bail!("--resolution must be WxH within 1..=16384, got {text:?}"),
+    }
+}
+
+fn config(args: &BenchArgs) -> anyhow::Result<SweepConfig> {
+    let mut cfg = if args.quick {
+        SweepConfig::quick()
+    } else {
+        SweepConfig::full()
+    };
+    if !args.methods.is_empty() {
+        cfg.methods = args
+            .methods
+            .iter()
+            .map(|m| m.parse::<Method>())
+            .collect::<Result<_, _>>()?;
+    }
+    if !args.fields.is_empty() {
+        cfg.fields = args
+            .fields
+            .iter()
+            .map(|g| FieldSource::Synthetic(*g))
+            .collect();
+    }
+    cfg.fields
+        .extend(args.heightmap.iter().cloned().map(FieldSource::File));
+    let set = |dst: &mut Vec<f64>, src: &[f64]| {
+        if !src.is_empty() {
+            *dst = src.to_vec()
+        }
+    };
+    set(&mut cfg.angles, &args.angles);
+    set(&mut cfg.azimuths, &args.azimuths);
+    set(&mut cfg.depth_scales, &args.depth_scales);
+    if !args.sizes.is_empty() {
+        cfg.sizes = args.sizes.clone();
+    }
+    if !args.budgets.is_empty() {
+        cfg.budgets = args.budgets.clone();
+    }
+    if let Some(r) = &args.resolution {
+        cfg.resolution = parse_resolution(r)?;
+    }
+    cfg.frames = args.frames.unwrap_or(cfg.frames).max(1);
+    cfg.stability &= !args.no_stability;
+    cfg.address = match args.address {
+        AddressArg::Repeat => Address::Repeat,
+        AddressArg::Clamp => Address::Clamp,
+    };
+    cfg.format = match args.height_format {
+        FormatArg::R16 => HeightFormat::R16Unorm,
+        FormatArg::R32f => HeightFormat::R32Float,
+    };
+    validate(&cfg)?;
+    Ok(cfg)
+}
+
+fn validate(cfg: &SweepConfig) -> anyhow::Result<()> {
+    if let Some(a) = cfg.angles.iter().find(|a| !(**a > 0.0 && **a <= 90.0)) {
+        anyhow::bail!("--angles must lie in (0, 90] degrees, got {a}");
+    }
+    if let Some(s) = cfg
+        .depth_scales
+        .iter()
+        .find(|s| !(s.is_finite() && **s > 0.0))
+    {
+        anyhow::bail!("--depth-scales must be finite and above 0, got {s}");
+    }
+    if let Some(s) = cfg.sizes.iter().find(|s| **s == 0 || **s > 16384) {
+        anyhow::bail!("--sizes must lie in 1..=16384, got {s}");
+    }
+    if cfg.methods.is_empty()
+        || cfg.fields.is_empty()
+        || cfg.angles.is_empty()
+        || cfg.azimuths.is_empty()
+    {
+        anyhow::bail!("nothing to measure: give at least one method, field, angle and azimuth");
+    }
+    Ok(())
+}
+
+fn progress(total: usize, quiet: bool) -> ProgressBar {
+    if quiet {
+        return ProgressBar::hidden();
+    }
+    let bar = ProgressBar::new(total as u64);
+    let style = ProgressStyle::with_template("{elapsed_precise} [{bar:30}] {pos}/{len} {msg}")
+        .map(|s| s.progress_chars("=> "))
+        .unwrap_or_else(|_| ProgressStyle::default_bar());
+    bar.set_style(style);
+    bar
+}
+
+pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
+    let cfg = config(args)?;
+    let ctx = super::open_device(args.device.as_deref(), args.json)?;
+    let jobs = plan_jobs(&cfg);
+    let largest = if cfg.quick {
+        1024
+    } else {
+        8192.min(ctx.info().max_image_dimension_2d)
+    };
+    let cases = if cfg.stability {
+        stiff_cases(largest)
+    } else {
+        Vec::new()
+    };
+    let bar = progress(jobs.len() + cases.len() * cfg.methods.len(), args.json);
+    let mut runner = Runner::new(ctx.clone(), cfg.clone());
+    let mut runs = Vec::with_capacity(jobs.len());
+    for job in &jobs {
+        bar.set_message(format!(
+            "{} {} {}^2 {} deg",
+            job.method,
+            job.field.name(),
+            job.size,
+            job.angle
+        ));
+        let run = runner.measure(job).with_context(|| {
+            format!(
+                "measuring {} on {} at {} deg",
+                job.method,
+                job.field.name(),
+                job.angle
+            )
+        })?;
+        runs.push(run);
+        bar.inc(1);
+    }
+    let mut stability = Vec::new();
+    for case in &cases {
+        for &method in &cfg.methods {
+            bar.set_message(format!("stability: {method} on {}", case.name));
+            stability.push(run_stiff_case(&ctx, case, method));
+            bar.inc(1);
+        }
+    }
+    bar.finish_and_clear();
+    super::check_validation(&ctx)?;
+    let results = BenchResults {
+        device: ctx.info().into(),
+        command: std::env::args().collect::<Vec<_>>().join(" "),
+        runs,
+        maps: runner.map_builds,
+        stability,
+    };
+    write_outputs(&args.out, &results, args.json)
+}
+
+fn write_outputs(out: &std::path::Path, results: &BenchResults, json: bool) -> anyhow::Result<()> {
+    std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
+    let text = serde_json::to_string_pretty(results)?;
+    let write = |name: &str, body: &str| {
+        let path = out.join(name);
+        std::fs::write(&path, body).with_context(|| format!("writing {}", path.display()))
+    };
+    write("results.json", &text)?;
+    let (report, plots) = render_report(results);
+    write("report.md", &report)?;
+    for (name, svg) in &plots {
+        write(name, svg)?;
+    }
+    if json {
+        println!("{text}");
+    } else {
+        eprintln!(
+            "wrote {} runs and {} stability cells to {}/results.json, report.md and {} plots",
+            results.runs.len(),
+            results.stability.len(),
+            out.display(),
+            plots.len()
+        );
+    }
+    Ok(())
+}

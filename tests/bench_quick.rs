@@ -1,0 +1,85 @@
+//! `relief bench --quick` (the CI sweep) covers every method, writes the report and plots, and
+//! no run anywhere, the stability matrix included, produces a NaN hit.
+
+mod common;
+
+use std::process::Command;
+
+use relief::method::Method;
+
+#[test]
+fn quick_bench_covers_every_method_without_nan() {
+    if common::device("quick_bench_covers_every_method_without_nan").is_none() {
+        return;
+    }
+    let out = common::scratch_dir("bench-quick");
+    let run = Command::new(env!("CARGO_BIN_EXE_relief"))
+        .args(["bench", "--quick", "--out", out.to_str().expect("utf-8")])
+        .output()
+        .expect("binary runs");
+    assert!(
+        run.status.success(),
+        "bench failed:\n{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let results: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("results.json")).expect("results.json"))
+            .expect("JSON");
+    let runs = results["runs"].as_array().expect("runs");
+    for m in Method::all() {
+        assert!(
+            runs.iter().any(|r| r["method"] == m.id()),
+            "{m} missing from results.json"
+        );
+    }
+    for r in runs {
+        assert_eq!(r["nan_pixels"], 0, "NaN in {r}");
+        let ms = r["gpu_ms"]["median"].as_f64().expect("gpu ms");
+        assert!(ms > 0.0 && ms.is_finite(), "implausible GPU time in {r}");
+        for key in [
+            "method",
+            "heightfield",
+            "size",
+            "depth_scale",
+            "angle_deg",
+            "azimuth_deg",
+            "address",
+            "budget",
+            "frames",
+            "error_texels",
+            "gross_rate",
+            "capped_rate",
+            "steps",
+        ] {
+            assert!(!r[key].is_null(), "run lacks {key}: {r}");
+        }
+    }
+    let stability = results["stability"].as_array().expect("stability");
+    assert!(
+        stability.len() >= 20 * Method::all().count(),
+        "every stiff case for every method"
+    );
+    for cell in stability {
+        assert_eq!(cell["nan_pixels"], 0, "NaN in stability cell {cell}");
+        assert!(cell["failed"].is_null(), "stiff case failed: {cell}");
+    }
+    assert!(results["device"]["name"]
+        .as_str()
+        .is_some_and(|n| !n.is_empty()));
+    let report = std::fs::read_to_string(out.join("report.md")).expect("report.md");
+    for heading in [
+        "## 1. Error against run time",
+        "## 2. Scaling with map size",
+        "## 3. Depth scale",
+        "## 5. Stability matrix",
+    ] {
+        assert!(report.contains(heading), "report lacks {heading:?}");
+    }
+    for plot in ["error_vs_ms.svg", "ms_vs_size.svg", "steps_vs_angle.svg"] {
+        let svg = std::fs::read_to_string(out.join(plot)).expect("plot written");
+        assert!(
+            svg.starts_with("<svg") && svg.contains("<polyline"),
+            "{plot} has data"
+        );
+    }
+}
