@@ -49,14 +49,33 @@ vec2 ray_slope(Ray ray) {
     return ray.dir.xy / ray.dir.z;
 }
 
-// Depth at which the ray leaves the cell `cell` of a grid of `size` cells (per axis: the boundary
-// ahead of the ray). Axes the ray does not move along never end the cell.
-float cell_exit_depth(Ray ray, vec2 cell, vec2 size) {
+// Per axis, the depth at which the ray reaches the next line of a grid of `size` cells ahead of
+// depth z_now; the lines sit at (k + offset) / size (offset 0: texel edges, 0.5: texel centres).
+// `cell` is the cell holding the ray at z_now. A ray exactly on a line it is leaving (an xy
+// component of zero or 1e-16 keeps it there) gets the line after. Axes the ray does not move
+// along never end a cell.
+vec2 next_line_depths(Ray ray, vec2 cell, vec2 size, float offset, float z_now) {
     vec2 slope = ray_slope(ray);
-    vec2 boundary = (cell + step(0.0, slope)) / size;
-    vec2 z = vec2(
-        slope.x == 0.0 ? 3.0e38 : (boundary.x - ray.origin.x) / slope.x,
-        slope.y == 0.0 ? 3.0e38 : (boundary.y - ray.origin.y) / slope.y);
+    vec2 ahead = step(0.0, slope);
+    vec2 z = vec2(3.0e38);
+    for (int axis = 0; axis < 2; ++axis) {
+        if (slope[axis] == 0.0) {
+            continue;
+        }
+        float line = (cell[axis] + ahead[axis] + offset) / size[axis];
+        float depth = (line - ray.origin[axis]) / slope[axis];
+        if (depth <= z_now) {
+            line += sign(slope[axis]) / size[axis];
+            depth = (line - ray.origin[axis]) / slope[axis];
+        }
+        z[axis] = depth;
+    }
+    return z;
+}
+
+// Depth at which the ray, at depth z_now in cell `cell`, leaves it.
+float cell_exit_depth(Ray ray, vec2 cell, vec2 size, float z_now) {
+    vec2 z = next_line_depths(ray, cell, size, 0.0, z_now);
     return min(z.x, z.y);
 }
 
@@ -114,10 +133,8 @@ bool leaf_exact(Ray ray, float z0, float z1, out float hit) {
         vec2 g = ray_uv(ray, z) * size - 0.5;
         vec2 cell = floor(ray_uv(ray, min(z + nudge, z1)) * size - 0.5);
         vec2 f0 = g - cell;
-        vec2 boundary = (cell + step(0.0, slope) + 0.5) / size;
-        float z_exit = min(z1, min(
-            slope.x == 0.0 ? 3.0e38 : (boundary.x - ray.origin.x) / slope.x,
-            slope.y == 0.0 ? 3.0e38 : (boundary.y - ray.origin.y) / slope.y));
+        vec2 lines = next_line_depths(ray, cell, size, 0.5, z);
+        float z_exit = min(z1, min(lines.x, lines.y));
         float h00 = texelFetch(height_point, address_cell(cell, size), 0).r;
         float h10 = texelFetch(height_point, address_cell(cell + vec2(1.0, 0.0), size), 0).r;
         float h01 = texelFetch(height_point, address_cell(cell + vec2(0.0, 1.0), size), 0).r;
@@ -161,7 +178,7 @@ Hit pyramid_trace(Ray ray, Budget budget, int ascent, int leaf_mode) {
         }
         vec2 size = level_size(level);
         vec2 cell = floor(ray_uv(ray, z) * size);
-        float exit_z = cell_exit_depth(ray, cell, size);
+        float exit_z = cell_exit_depth(ray, cell, size, z);
         float d = node_depth_cell(cell, level, s);
         bool crossing = d > z && d >= exit_z;
         if (d > z && !crossing) {

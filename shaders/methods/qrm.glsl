@@ -9,8 +9,7 @@
 
 Hit trace_qrm(Ray ray, Budget budget) {
     float s = ray.depth_scale;
-    vec2 slope = ray_slope(ray);
-    vec2 quadrant = step(0.0, slope);
+    vec2 quadrant = step(0.0, ray_slope(ray));
     float delta = depth_per_texels(ray, 0.5);
     int leaf = pyramid_leaf();
     int level = pyramid_top();
@@ -22,10 +21,9 @@ Hit trace_qrm(Ray ray, Budget budget) {
         vec2 uv = ray_uv(ray, cursor);
         vec2 size = level_size(level);
         float t = node_depth(uv, level, s);
-        vec2 bound = floor(uv * size + quadrant) / size;
-        vec2 tb = vec2(
-            slope.x == 0.0 ? 3.0e38 : (bound.x - ray.origin.x) / slope.x,
-            slope.y == 0.0 ? 3.0e38 : (bound.y - ray.origin.y) / slope.y);
+        // The quadrant trick: floor(cursor * n + quadrant) is the cell edge ahead on each axis.
+        vec2 cell = floor(uv * size + quadrant) - quadrant;
+        vec2 tb = next_line_depths(ray, cell, size, 0.0, cursor);
         float tmin = min(tb.x, tb.y);
         if (level > leaf || t >= tmin + delta) {
             cursor = min(max(cursor, min(t, tmin + delta)), s);
