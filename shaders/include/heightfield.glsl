@@ -6,6 +6,26 @@ vec2 height_size() {
     return frame.height_info.xy;
 }
 
+// The texel of a level holding cell `cell` (which may lie outside the map), by the addressing.
+ivec2 address_cell(vec2 cell, vec2 size) {
+    vec2 t = frame.height_info.w > 0.5 ? cell - size * floor(cell / size) : clamp(cell, vec2(0.0), size - 1.0);
+    return ivec2(t);
+}
+
+// Bilinear height at uv computed from the four texels around it in full float precision,
+// unlike the filtering hardware, which weighs with a few bits of sub-texel precision.
+float height_bilinear_exact(vec2 uv) {
+    vec2 size = height_size();
+    vec2 g = uv * size - 0.5;
+    vec2 cell = floor(g);
+    vec2 f = g - cell;
+    float h00 = texelFetch(height_point, address_cell(cell, size), 0).r;
+    float h10 = texelFetch(height_point, address_cell(cell + vec2(1.0, 0.0), size), 0).r;
+    float h01 = texelFetch(height_point, address_cell(cell + vec2(0.0, 1.0), size), 0).r;
+    float h11 = texelFetch(height_point, address_cell(cell + vec2(1.0), size), 0).r;
+    return mix(mix(h00, h10, f.x), mix(h01, h11, f.x), f.y);
+}
+
 // Bilinear height at uv (level 0): the true surface.
 float height_bilinear(vec2 uv) {
     return textureLod(height_linear, uv, 0.0).r;

@@ -25,12 +25,6 @@ vec2 level_size(int level) {
     return max(floor(height_size() / exp2(float(level))), vec2(1.0));
 }
 
-// The texel of a level holding cell `cell` (which may lie outside the map), by the addressing.
-ivec2 address_cell(vec2 cell, vec2 size) {
-    vec2 t = frame.height_info.w > 0.5 ? cell - size * floor(cell / size) : clamp(cell, vec2(0.0), size - 1.0);
-    return ivec2(t);
-}
-
 // Depth of the top plane of node `cell` at `level`. Fetched by integer texel, not through the
 // sampler: a sampler resolves coordinates to its sub-texel precision (8 bits on most GPUs), so
 // just past a coarse node's boundary it may still return the node the ray has left.

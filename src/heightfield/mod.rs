@@ -10,8 +10,10 @@
 pub mod error;
 pub mod load;
 pub mod pyramid;
+pub mod quadric_map;
 pub mod reference;
 mod rng;
+pub mod stable_quadratic;
 pub mod synthetic;
 
 pub use error::HeightfieldError;

@@ -4,6 +4,7 @@
 use std::time::{Duration, Instant};
 
 use super::{MapKind, Method};
+use crate::heightfield::quadric_map::QuadricMap;
 use crate::heightfield::reference::Address;
 use crate::heightfield::Heightfield;
 use crate::render::MapData;
@@ -25,8 +26,17 @@ pub fn build_method_map(
     Some((data, started.elapsed()))
 }
 
-fn build(kind: MapKind, _hf: &Heightfield, _address: Address) -> Option<MapData> {
+fn build(kind: MapKind, hf: &Heightfield, address: Address) -> Option<MapData> {
     match kind {
         MapKind::MaxPyramid => None,
+        MapKind::Quadric => {
+            let map = QuadricMap::build(hf, address);
+            Some(MapData {
+                width: map.width,
+                height: map.height,
+                channels: 4,
+                texels: map.texels.iter().flatten().copied().collect(),
+            })
+        }
     }
 }

@@ -17,6 +17,8 @@ use serde::Serialize;
 pub enum MapKind {
     /// The max pyramid in the height image's mip chain.
     MaxPyramid,
+    /// Per texel a, b, c and height of an unbounding cone + revolved parabola (paper 004).
+    Quadric,
 }
 
 impl MapKind {
@@ -24,6 +26,7 @@ impl MapKind {
     pub fn name(self) -> &'static str {
         match self {
             MapKind::MaxPyramid => "max_pyramid",
+            MapKind::Quadric => "quadric_map",
         }
     }
 }
@@ -125,6 +128,16 @@ const METHODS: &[MethodInfo] = &[
         default_budget: Budget {
             max_steps: 128,
             refine_steps: 0,
+        },
+    },
+    MethodInfo {
+        id: "quadric",
+        name: "quadratic displacement maps: cone + revolved parabola per texel, stable solver",
+        paper: "Kiglics, Valasek, Balint, Ban (paper 004, Algorithms 1 and 2)",
+        needs: &[MapKind::Quadric],
+        default_budget: Budget {
+            max_steps: 256,
+            refine_steps: 8,
         },
     },
 ];
