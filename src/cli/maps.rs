@@ -1,10 +1,15 @@
-//! `relief maps`: the max pyramid of a height map, built on the GPU, one 16-bit PNG per level.
+//! `relief maps`: the max pyramid of a height map, built on the GPU, one 16-bit PNG per level;
+//! with `--method`, also that method's precomputed map (cone ratios, quadric coefficients) as
+//! `map.npy`, with its build time.
 
 use std::path::PathBuf;
 
 use anyhow::Context as _;
 use clap::Args;
+use relief::bench::write_npy_f32;
+use relief::heightfield::reference::Address;
 use relief::heightfield::{Heightfield, MaxPyramid};
+use relief::method::{build_method_map, Method};
 use relief::render::{build_pyramid_on_gpu, Addressing, HeightFormat};
 
 use super::heightmap_args::HeightmapArgs;
@@ -16,9 +21,38 @@ pub struct MapsArgs {
     /// Folder for level_00.png, level_01.png, ...
     #[arg(long)]
     out: PathBuf,
+    /// Also build this method's precomputed map (see `relief methods --json`, `needs`).
+    #[arg(long, value_name = "ID")]
+    method: Option<String>,
     /// Pick the Vulkan device whose name contains this text.
     #[arg(long, value_name = "SUBSTRING")]
     device: Option<String>,
+}
+
+fn write_method_map(id: &str, hf: &Heightfield, out: &std::path::Path) -> anyhow::Result<()> {
+    let method: Method = id.parse()?;
+    let Some((map, took)) = build_method_map(method, &hf.quantized_unorm16(), Address::Repeat)
+    else {
+        println!("{method} reads no map besides the pyramid");
+        return Ok(());
+    };
+    let path = out.join("map.npy");
+    let shape = [
+        map.height as usize,
+        map.width as usize,
+        map.channels as usize,
+    ];
+    write_npy_f32(&path, &shape, &map.texels)
+        .with_context(|| format!("writing {}", path.display()))?;
+    println!(
+        "{method} map: {}x{} x {} channels, built on the CPU in {:.1} ms -> {}",
+        map.width,
+        map.height,
+        map.channels,
+        took.as_secs_f64() * 1e3,
+        path.display()
+    );
+    Ok(())
 }
 
 pub fn run(args: &MapsArgs) -> anyhow::Result<()> {
@@ -51,6 +85,9 @@ pub fn run(args: &MapsArgs) -> anyhow::Result<()> {
     }
     super::check_validation(&ctx)?;
     println!("pyramid build: {gpu_ms:.3} ms GPU ({source})");
+    if let Some(id) = &args.method {
+        write_method_map(id, &hf, &args.out)?;
+    }
     if mismatched > 0 {
         anyhow::bail!("{mismatched} GPU pyramid level(s) differ from the CPU builder");
     }
