@@ -94,8 +94,7 @@ fn variants(root: &Path) -> Vec<Variant> {
                 let id = m.file_stem().and_then(|s| s.to_str()).unwrap_or_default();
                 let mut defines = vec![("METHOD_TRACE".into(), format!("trace_{id}"))];
                 // Only methods that read a precomputed map get binding 3 (bindings.glsl).
-                let source = std::fs::read_to_string(m).unwrap_or_default();
-                if source.contains("method_map") {
+                if reads_method_map(root, m) {
                     defines.push(("USES_METHOD_MAP".into(), "1".into()));
                 }
                 out.push(plain(format!("{base}:{id}"), defines, Some(m.clone())));
@@ -110,6 +109,18 @@ fn variants(root: &Path) -> Vec<Variant> {
         }
     }
     out
+}
+
+/// Whether a method file, or an include it names, reads binding 3.
+fn reads_method_map(root: &Path, method: &Path) -> bool {
+    let source = std::fs::read_to_string(method).unwrap_or_default();
+    let included = source.lines().filter_map(|l| {
+        let name = l.trim().strip_prefix("#include")?.trim().trim_matches('"');
+        std::fs::read_to_string(root.join("include").join(name)).ok()
+    });
+    std::iter::once(source.clone())
+        .chain(included)
+        .any(|text| text.contains("method_map"))
 }
 
 fn compile(compiler: &Compiler, root: &Path, v: &Variant) -> Result<Vec<u32>, String> {

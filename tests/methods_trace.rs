@@ -57,6 +57,16 @@ const BOUNDS: &[Bounds] = &[
         method: "qdm",
         per_angle: [(0.7, 0.07), (0.09, 0.002), (0.08, 0.025)],
     },
+    // Cone maps bound the box surface, so grazing rays that clip a texel top the bilinear
+    // surface passes under are gross misses against the bilinear reference.
+    Bounds {
+        method: "csm",
+        per_angle: [(1.6, 0.2), (0.55, 0.045), (0.17, 0.035)],
+    },
+    Bounds {
+        method: "rcsm",
+        per_angle: [(1.6, 0.2), (0.55, 0.045), (0.17, 0.035)],
+    },
     Bounds {
         method: "quadric",
         per_angle: [(0.15, 0.012), (0.005, 0.0005), (0.001, 0.0)],
@@ -162,6 +172,8 @@ method_tests! {
     qdm => "qdm",
     maxmip => "maxmip",
     quadric => "quadric",
+    csm => "csm",
+    rcsm => "rcsm",
 }
 
 #[test]

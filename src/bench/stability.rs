@@ -26,6 +26,8 @@ pub struct StiffCase {
 }
 
 const RAYS: (u32, u32) = (32, 32);
+/// Largest map whose CPU-built method maps (cone, quadric) the matrix builds.
+const CPU_MAP_TEXELS: u64 = 2048 * 2048;
 
 fn case(name: &str, field: Generator, size: (u32, u32), angle: f64, depth_scale: f64) -> StiffCase {
     StiffCase {
@@ -93,6 +95,18 @@ pub fn run_stiff_case(ctx: &Arc<Context>, case: &StiffCase, method: Method) -> S
         max_error_texels: 0.0,
         failed,
     };
+    let texels = u64::from(case.size.0) * u64::from(case.size.1);
+    let cpu_map = method
+        .info()
+        .needs
+        .iter()
+        .any(|k| *k != crate::method::MapKind::MaxPyramid);
+    if cpu_map && texels > CPU_MAP_TEXELS {
+        return cell(Some(format!(
+            "its CPU-built map is not built above {}^2 texels (minutes to hours on 2 cores; see the map build times)",
+            (CPU_MAP_TEXELS as f64).sqrt()
+        )));
+    }
     let raw = case.field.generate(case.size.0, case.size.1, 1);
     let hf = match case.format {
         HeightFormat::R16Unorm => raw.quantized_unorm16(),

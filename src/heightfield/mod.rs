@@ -7,6 +7,7 @@
 //! Invariant of [`Heightfield`]: `width >= 1`, `height >= 1`, `data.len() == width * height` and every value is
 //! finite and within [0, 1]. Every constructor checks it, so code that holds a `Heightfield` never re-checks.
 
+pub mod cone_map;
 pub mod error;
 pub mod load;
 pub mod pyramid;

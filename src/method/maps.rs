@@ -4,6 +4,7 @@
 use std::time::{Duration, Instant};
 
 use super::{MapKind, Method};
+use crate::heightfield::cone_map::{ConeKind, ConeMap};
 use crate::heightfield::quadric_map::QuadricMap;
 use crate::heightfield::reference::Address;
 use crate::heightfield::Heightfield;
@@ -29,6 +30,20 @@ pub fn build_method_map(
 fn build(kind: MapKind, hf: &Heightfield, address: Address) -> Option<MapData> {
     match kind {
         MapKind::MaxPyramid => None,
+        MapKind::ConservativeCone | MapKind::RelaxedCone => {
+            let cone = if kind == MapKind::RelaxedCone {
+                ConeKind::Relaxed
+            } else {
+                ConeKind::Conservative
+            };
+            let map = ConeMap::build(hf, cone, address);
+            Some(MapData {
+                width: map.width,
+                height: map.height,
+                channels: 1,
+                texels: map.ratio,
+            })
+        }
         MapKind::Quadric => {
             let map = QuadricMap::build(hf, address);
             Some(MapData {

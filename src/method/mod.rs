@@ -19,6 +19,10 @@ pub enum MapKind {
     MaxPyramid,
     /// Per texel a, b, c and height of an unbounding cone + revolved parabola (paper 004).
     Quadric,
+    /// Per texel the ratio of the widest cone the box surface stays outside of.
+    ConservativeCone,
+    /// Per texel the ratio of the widest cone a ray enters the box surface through at most once.
+    RelaxedCone,
 }
 
 impl MapKind {
@@ -27,6 +31,8 @@ impl MapKind {
         match self {
             MapKind::MaxPyramid => "max_pyramid",
             MapKind::Quadric => "quadric_map",
+            MapKind::ConservativeCone => "cone_map",
+            MapKind::RelaxedCone => "relaxed_cone_map",
         }
     }
 }
@@ -88,6 +94,26 @@ const METHODS: &[MethodInfo] = &[
         default_budget: Budget {
             max_steps: 32,
             refine_steps: 0,
+        },
+    },
+    MethodInfo {
+        id: "csm",
+        name: "cone step mapping on a conservative cone map",
+        paper: "Dummer 2006 (papers 001, 004)",
+        needs: &[MapKind::ConservativeCone],
+        default_budget: Budget {
+            max_steps: 256,
+            refine_steps: 0,
+        },
+    },
+    MethodInfo {
+        id: "rcsm",
+        name: "relaxed cone stepping + binary refinement on a relaxed cone map",
+        paper: "Policarpo & Oliveira 2007 (papers 001, 004)",
+        needs: &[MapKind::RelaxedCone],
+        default_budget: Budget {
+            max_steps: 256,
+            refine_steps: 8,
         },
     },
     MethodInfo {

@@ -1,0 +1,106 @@
+// Cone stepping over texel boxes (the nearest surface model), shared by cone step mapping and
+// relaxed cone stepping. method_map holds one ratio per texel: radius in uv per unit of normalised
+// height of the widest cone, apexed at the texel's surface, that the surface stays outside of
+// (conservative), or that a ray leaving it enters the solid at most once through (relaxed); see
+// heightfield::cone_map. Each iteration takes the longer of the cone step (less the ray's offset
+// from the texel centre, since the apex sits there) and the step to the cell's exit or floor.
+#ifndef CONE_GLSL
+#define CONE_GLSL
+#include "pyramid.glsl"
+
+// Clamp addressing merges everything outside the map into one cell per side (-1 and n).
+vec2 cone_cell_at(Ray ray, float z, vec2 size) {
+    vec2 cell = floor(ray_uv(ray, z) * size);
+    return frame.height_info.w > 0.5 ? cell : clamp(cell, vec2(-1.0), size);
+}
+
+bvec2 cone_outside(vec2 cell, vec2 size) {
+    bool clamped = frame.height_info.w < 0.5;
+    return bvec2(clamped && (cell.x < 0.0 || cell.x >= size.x), clamped && (cell.y < 0.0 || cell.y >= size.y));
+}
+
+float cone_floor(vec2 cell, vec2 size, float s) {
+    return s * (1.0 - texelFetch(height_point, address_cell(cell, size), 0).r);
+}
+
+// Depths at which the ray leaves `cell` along u and v (never before z); a merged outside cell
+// never ends in the outward direction.
+vec2 cone_exits(Ray ray, vec2 cell, vec2 size, float z) {
+    vec2 slope = ray_slope(ray);
+    bvec2 out_cell = cone_outside(cell, size);
+    vec2 result = vec2(3.0e38);
+    for (int axis = 0; axis < 2; ++axis) {
+        if (slope[axis] == 0.0) {
+            continue;
+        }
+        float lo = cell[axis] / size[axis];
+        float hi = (cell[axis] + 1.0) / size[axis];
+        if (out_cell[axis]) {
+            if ((cell[axis] < 0.0) == (slope[axis] < 0.0)) {
+                continue;
+            }
+            lo = 1.0;
+            hi = 0.0;
+        }
+        float bound = slope[axis] > 0.0 ? hi : lo;
+        result[axis] = max((bound - ray.origin[axis]) / slope[axis], z);
+    }
+    return result;
+}
+
+float cone_step(Ray ray, vec2 cell, vec2 size, float z, float floor_z, bool relaxed) {
+    bvec2 out_cell = cone_outside(cell, size);
+    if (relaxed && any(out_cell)) {
+        return 0.0;
+    }
+    float c = texelFetch(method_map, address_cell(cell, size), 0).r;
+    vec2 offset = ray_uv(ray, z) - (cell + 0.5) / size;
+    offset = mix(offset, vec2(0.0), vec2(out_cell));
+    float s = ray.depth_scale;
+    float num = c * (floor_z - z) - s * length(offset);
+    float den = length(ray_slope(ray)) * s + c;
+    return num > 0.0 && den > 0.0 ? num / den : 0.0;
+}
+
+Hit cone_trace(Ray ray, Budget budget, bool relaxed) {
+    float s = ray.depth_scale;
+    vec2 size = height_size();
+    vec2 slope = ray_slope(ray);
+    float z = 0.0;
+    float z_before = 0.0;
+    vec2 cell = cone_cell_at(ray, z, size);
+    for (uint i = 0u; i < budget.max_steps; ++i) {
+        float floor_z = cone_floor(cell, size, s);
+        if (z >= floor_z) {
+            if (relaxed) {
+                // Binary search over the last step: the ray entered the solid once within it.
+                float lo = z_before;
+                for (uint k = 0u; k < budget.refine_steps; ++k) {
+                    float mid = 0.5 * (lo + z);
+                    if (mid >= cone_floor(cone_cell_at(ray, mid, size), size, s)) {
+                        z = mid;
+                    } else {
+                        lo = mid;
+                    }
+                }
+            }
+            return Hit(z, i + 1u, false);
+        }
+        z_before = z;
+        float cone_z = z + cone_step(ray, cell, size, z, floor_z, relaxed);
+        vec2 exits = cone_exits(ray, cell, size, z);
+        float exit_z = min(exits.x, exits.y);
+        if (cone_z > min(exit_z, floor_z)) {
+            z = min(cone_z, floor_z);
+            cell = cone_cell_at(ray, z, size);
+        } else if (floor_z <= exit_z) {
+            z = floor_z;
+        } else {
+            z = exit_z;
+            cell += mix(vec2(0.0), sign(slope), vec2(lessThanEqual(exits, vec2(exit_z))));
+        }
+    }
+    return Hit(z, budget.max_steps, true);
+}
+
+#endif

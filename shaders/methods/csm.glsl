@@ -1,0 +1,9 @@
+// Cone step mapping (Dummer 2006; papers 001 and 004) on a conservative cone map built by a
+// pruned search over the max pyramid instead of the O(N^4) brute force: the ray advances to the
+// edge of each texel's cone, which the surface stays outside of, so it never passes the first
+// hit of the box surface; the hit is exact for that surface.
+#include "cone.glsl"
+
+Hit trace_csm(Ray ray, Budget budget) {
+    return cone_trace(ray, budget, false);
+}
