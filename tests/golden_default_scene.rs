@@ -108,3 +108,34 @@ fn relief_changes_the_image() {
     );
     common::assert_no_validation_errors(&ctx);
 }
+
+#[test]
+fn every_method_renders_the_default_scene() {
+    // Each method's surface pipeline builds with its maps bound, and its relief stays close to
+    // POM's picture (same surface, different tracer).
+    let Some(ctx) = common::device("every_method_renders_the_default_scene") else {
+        return;
+    };
+    let opts = RenderOptions {
+        width: 96,
+        height: 54,
+        ..RenderOptions::default()
+    };
+    let hf = default_heightfield();
+    let pom = render(&ctx, &default_scene(Method::POM), &hf, &opts).expect("renders");
+    for method in Method::all() {
+        let frame = render(&ctx, &default_scene(method), &hf, &opts).expect("renders");
+        let (mean, _, _) = compare(&frame.rgba, &pom.rgba);
+        let bound = if method.id() == "parallax" { 12.0 } else { 6.0 };
+        assert!(
+            mean < bound,
+            "{method} differs from POM by {mean:.2} on average"
+        );
+        assert_eq!(
+            frame.pipelines.len(),
+            1,
+            "{method}: one method, all single-sided: one pipeline"
+        );
+    }
+    common::assert_no_validation_errors(&ctx);
+}

@@ -8,14 +8,17 @@ use ash::vk;
 use glam::Vec3;
 use serde::Serialize;
 
-use super::gpu_heightfield::{Addressing, GpuHeightfield, HeightFormat};
-use super::pyramid_pass::PyramidPass;
+use super::gpu_heightfield::{Addressing, HeightFormat};
+use super::height_resources::HeightResources;
+use super::method_map::MapData;
 use super::surface_pass::{FrameUniforms, SurfacePass, COLOR_FORMAT, DEPTH_FORMAT};
+use crate::heightfield::reference::Address;
 use crate::heightfield::Heightfield;
+use crate::method::{build_method_map, MapKind};
 use crate::scene::{Camera, Light, Scene};
 use crate::vk::{
     read_mip, transition_images, Context, Image, ImageDesc, ImageTransition, TimestampPool,
-    VkResult,
+    VkError, VkResult,
 };
 
 /// What to render.
@@ -61,7 +64,7 @@ pub struct Frame {
 const CLEAR: [f32; 4] = [0.015, 0.02, 0.03, 1.0];
 const AMBIENT: [f32; 4] = [0.09, 0.1, 0.12, 0.0];
 
-fn uniforms(scene: &Scene, heights: &GpuHeightfield, aspect: f32) -> FrameUniforms {
+fn uniforms(scene: &Scene, aspect: f32) -> FrameUniforms {
     let camera = scene.camera.unwrap_or_else(|| match scene.bounds() {
         Some((lo, hi)) => Camera::framing(lo, hi),
         None => Camera::look_at(Vec3::new(0.0, 1.0, 3.0), Vec3::ZERO, 0.8, 0.1, 100.0),
@@ -78,7 +81,8 @@ fn uniforms(scene: &Scene, heights: &GpuHeightfield, aspect: f32) -> FrameUnifor
         light_dir: [light.direction.x, light.direction.y, light.direction.z, 1.0],
         light_color: [light.color.x, light.color.y, light.color.z, 0.0],
         ambient: AMBIENT,
-        height_info: heights.shader_info(),
+        // Filled in by HeightResources.
+        height_info: [0.0; 4],
     }
 }
 
@@ -109,6 +113,35 @@ fn target(ctx: &Arc<Context>, opts: &RenderOptions, depth: bool) -> VkResult<Ima
     Image::new(ctx, desc, name)
 }
 
+/// The precomputed map the scene's relief methods read, built on the CPU. One kind per frame:
+/// materials whose methods need different maps would need a set per material.
+fn frame_map(
+    scene: &Scene,
+    stored: &Heightfield,
+    address: Addressing,
+) -> VkResult<Option<MapData>> {
+    let reference_address = match address {
+        Addressing::Repeat => Address::Repeat,
+        Addressing::Clamp => Address::Clamp,
+    };
+    let mut kinds: Vec<_> = scene
+        .materials
+        .iter()
+        .filter_map(|m| m.relief.map(|r| r.method))
+        .filter(|m| m.info().needs.iter().any(|k| *k != MapKind::MaxPyramid))
+        .collect();
+    kinds.dedup();
+    match kinds.as_slice() {
+        [] => Ok(None),
+        [method] => Ok(build_method_map(*method, stored, reference_address).map(|(data, _)| data)),
+        many => Err(VkError::Invalid(format!(
+            "materials use {} methods with precomputed maps ({}); relief renders one such method per frame",
+            many.len(),
+            many.iter().map(|m| m.id()).collect::<Vec<_>>().join(", ")
+        ))),
+    }
+}
+
 /// Renders `scene`, displacing its relief materials with `heights`.
 pub fn render(
     ctx: &Arc<Context>,
@@ -116,14 +149,23 @@ pub fn render(
     heights: &Heightfield,
     opts: &RenderOptions,
 ) -> VkResult<Frame> {
-    let started = Instant::now();
-    let gpu_heights = GpuHeightfield::upload(ctx, heights, opts.height_format, opts.address)?;
-    let upload_ms = started.elapsed().as_secs_f64() * 1e3;
-    let pyramid = PyramidPass::new(ctx, opts.height_format.shader_suffix())?;
-    let job = pyramid.prepare(&gpu_heights)?;
+    let stored = match opts.height_format {
+        HeightFormat::R16Unorm => heights.quantized_unorm16(),
+        HeightFormat::R32Float => heights.clone(),
+    };
+    let map = frame_map(scene, &stored, opts.address)?;
     let aspect = opts.width as f32 / opts.height as f32;
-    let ubo = uniforms(scene, &gpu_heights, aspect);
-    let surface = SurfacePass::new(ctx, scene, &gpu_heights, &ubo)?;
+    let started = Instant::now();
+    let res = HeightResources::new(
+        ctx,
+        &stored,
+        opts.height_format,
+        opts.address,
+        map.as_ref(),
+        uniforms(scene, aspect),
+    )?;
+    let upload_ms = started.elapsed().as_secs_f64() * 1e3;
+    let surface = SurfacePass::new(ctx, scene, &res)?;
     let color = target(ctx, opts, false)?;
     let depth = target(ctx, opts, true)?;
     let timestamps = TimestampPool::new(ctx, 4, "frame timestamps")?;
@@ -131,7 +173,7 @@ pub fn render(
     let all = vk::PipelineStageFlags2::ALL_COMMANDS;
     ctx.one_shot(|cmd| {
         timestamps.write(cmd, all, 0)?;
-        pyramid.record(cmd, &gpu_heights, &job);
+        res.record_pyramid(cmd);
         timestamps.write(cmd, all, 1)?;
         begin_targets(device, cmd, &color, &depth, opts);
         surface.record_draws(device, cmd);

@@ -7,13 +7,13 @@ use std::sync::Arc;
 use ash::vk;
 use glam::Mat4;
 
-use super::gpu_heightfield::GpuHeightfield;
+use super::height_resources::HeightResources;
 use crate::method::Method;
 use crate::scene::{Scene, Vertex};
 use crate::shaders;
 use crate::vk::{
-    graphics_pipeline, Bind, Buffer, Context, DescriptorLayout, DescriptorPool, GraphicsDesc,
-    Pipeline, SpecConstants, VkError, VkResult,
+    graphics_pipeline, Buffer, Context, DescriptorLayout, DescriptorPool, GraphicsDesc, Pipeline,
+    SpecConstants, VkError, VkResult,
 };
 
 /// Colour target format: sRGB, so the hardware encodes the shader's linear output.
@@ -56,7 +56,6 @@ struct MeshBuffers {
 pub struct SurfacePass {
     _layout: DescriptorLayout,
     _pool: DescriptorPool,
-    _uniforms: Buffer,
     set: vk::DescriptorSet,
     pipelines: BTreeMap<(String, bool), Pipeline>,
     meshes: Vec<MeshBuffers>,
@@ -69,38 +68,11 @@ fn pipeline_key(key: &(Method, bool)) -> (String, bool) {
 impl SurfacePass {
     /// Uploads the scene's meshes and builds the pipelines its materials use (plain materials
     /// share the first relief method's pipeline, with relief switched off by depth scale 0).
-    pub fn new(
-        ctx: &Arc<Context>,
-        scene: &Scene,
-        heights: &GpuHeightfield,
-        uniforms: &FrameUniforms,
-    ) -> VkResult<SurfacePass> {
+    pub fn new(ctx: &Arc<Context>, scene: &Scene, res: &HeightResources) -> VkResult<SurfacePass> {
         let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
-        let layout = DescriptorLayout::new(
-            ctx,
-            &[
-                (0, vk::DescriptorType::UNIFORM_BUFFER),
-                (1, vk::DescriptorType::COMBINED_IMAGE_SAMPLER),
-                (2, vk::DescriptorType::COMBINED_IMAGE_SAMPLER),
-            ],
-            stages,
-            "surface layout",
-        )?;
+        let layout = DescriptorLayout::new(ctx, &res.layout_bindings(), stages, "surface layout")?;
         let pool = DescriptorPool::new(ctx, 1, 2, "surface sets")?;
-        let ubo = Buffer::with_data(
-            ctx,
-            bytemuck::bytes_of(uniforms),
-            vk::BufferUsageFlags::UNIFORM_BUFFER,
-            "frame uniforms",
-        )?;
-        let set = pool.allocate(
-            &layout,
-            &[
-                Bind::Uniform(0, ubo.raw()),
-                Bind::Texture(1, heights.image.view(), heights.point.raw()),
-                Bind::Texture(2, heights.image.view(), heights.linear.raw()),
-            ],
-        )?;
+        let set = pool.allocate(&layout, &res.binds())?;
         let fallback = scene
             .materials
             .iter()
@@ -122,7 +94,6 @@ impl SurfacePass {
         Ok(SurfacePass {
             _layout: layout,
             _pool: pool,
-            _uniforms: ubo,
             set,
             pipelines,
             meshes,
