@@ -5,7 +5,9 @@ use std::path::PathBuf;
 
 use anyhow::Context as _;
 use clap::Args;
-use indicatif::{ProgressBar, ProgressStyle};
+use std::io::IsTerminal;
+
+use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use relief::bench::{
     plan_jobs, render_report, run_stiff_case, stiff_cases, BenchResults, FieldSource, Runner,
     SweepConfig,
@@ -156,9 +158,15 @@ fn validate(cfg: &SweepConfig) -> anyhow::Result<()> {
     Ok(())
 }
 
+/// A progress bar on a terminal; one plain line per step when stderr is a log file, so runs
+/// piped to a file still show how far they are; nothing with --json.
 fn progress(total: usize, quiet: bool) -> ProgressBar {
     if quiet {
         return ProgressBar::hidden();
+    }
+    if !std::io::stderr().is_terminal() {
+        let bar = ProgressBar::with_draw_target(Some(total as u64), ProgressDrawTarget::hidden());
+        return bar;
     }
     let bar = ProgressBar::new(total as u64);
     let style = ProgressStyle::with_template("{elapsed_precise} [{bar:30}] {pos}/{len} {msg}")
@@ -166,6 +174,17 @@ fn progress(total: usize, quiet: bool) -> ProgressBar {
         .unwrap_or_else(|_| ProgressStyle::default_bar());
     bar.set_style(style);
     bar
+}
+
+fn note(bar: &ProgressBar, what: &str, quiet: bool) {
+    if !quiet && !std::io::stderr().is_terminal() {
+        eprintln!(
+            "[{}/{}] {what}",
+            bar.position() + 1,
+            bar.length().unwrap_or(0)
+        );
+    }
+    bar.set_message(what.to_owned());
 }
 
 pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
@@ -186,13 +205,14 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     let mut runner = Runner::new(ctx.clone(), cfg.clone());
     let mut runs = Vec::with_capacity(jobs.len());
     for job in &jobs {
-        bar.set_message(format!(
+        let what = format!(
             "{} {} {}^2 {} deg",
             job.method,
             job.field.name(),
             job.size,
             job.angle
-        ));
+        );
+        note(&bar, &what, args.json);
         let run = runner.measure(job).with_context(|| {
             format!(
                 "measuring {} on {} at {} deg",
@@ -207,7 +227,11 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     let mut stability = Vec::new();
     for case in &cases {
         for &method in &cfg.methods {
-            bar.set_message(format!("stability: {method} on {}", case.name));
+            note(
+                &bar,
+                &format!("stability: {method} on {}", case.name),
+                args.json,
+            );
             stability.push(run_stiff_case(&ctx, case, method));
             bar.inc(1);
         }
