@@ -89,7 +89,7 @@ fn variants(root: &Path) -> Vec<Variant> {
                 defines,
                 method_file,
             };
-        if matches!(base.as_str(), "surface.frag" | "trace.comp" | "bench.frag") {
+        if matches!(base.as_str(), "surface.frag" | "trace.comp") {
             for m in &methods {
                 let id = m.file_stem().and_then(|s| s.to_str()).unwrap_or_default();
                 let mut defines = vec![("METHOD_TRACE".into(), format!("trace_{id}"))];

@@ -130,7 +130,7 @@ pub fn run(args: &TraceArgs) -> anyhow::Result<()> {
         "method": method.id(), "heightmap": source, "size": [hf.width(), hf.height()],
         "angle_deg": args.angle, "azimuth_deg": args.azimuth, "depth_scale": args.depth_scale,
         "address": ref_address.to_string(), "grid": [grid.0, grid.1], "budget": budget,
-        "gpu_ms": out.gpu_ms, "device": ctx.info().name,
+        "gpu_ms": out.frame_ms[0], "device": ctx.info().name,
         "error_texels": stats.error_texels, "depth_error_texels": stats.depth_error_texels,
         "gross_rate": stats.gross_rate, "capped_rate": stats.capped_rate,
         "nan_pixels": stats.nan_pixels, "steps": stats.steps,

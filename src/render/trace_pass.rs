@@ -12,8 +12,8 @@ use crate::heightfield::Heightfield;
 use crate::method::{Budget, Method};
 use crate::shaders;
 use crate::vk::{
-    compute_pipeline, Bind, Buffer, Context, DescriptorLayout, DescriptorPool, MemoryLocation,
-    SpecConstants, TimestampPool, VkError, VkResult,
+    compute_pipeline, memory_barrier, Bind, Buffer, Context, DescriptorLayout, DescriptorPool,
+    MemoryLocation, SpecConstants, TimestampPool, VkError, VkResult,
 };
 
 const GROUP: u32 = 8;
@@ -39,8 +39,12 @@ pub struct TraceRequest<'a> {
 pub struct TraceOutput {
     pub hits: Vec<[f32; 8]>,
     pub steps: Vec<[u32; 2]>,
-    /// GPU time of the trace dispatch alone.
-    pub gpu_ms: f64,
+    /// GPU time of each timed dispatch, in order.
+    pub frame_ms: Vec<f64>,
+}
+
+fn all_stages() -> vk::PipelineStageFlags2 {
+    vk::PipelineStageFlags2::ALL_COMMANDS
 }
 
 #[repr(C)]
@@ -50,12 +54,27 @@ struct TraceParams {
     grid: [u32; 4],
 }
 
-/// Traces `req` over `hf` on the GPU.
+/// Traces `req` over `hf` on the GPU once.
 pub fn trace_on_gpu(
     ctx: &Arc<Context>,
     hf: &Heightfield,
     req: &TraceRequest,
 ) -> VkResult<TraceOutput> {
+    trace_repeated(ctx, hf, req, 0, 1)
+}
+
+/// Traces `req` `warmup + frames` times in one submission, a full barrier between dispatches,
+/// timing the last `frames`; the output holds the last dispatch's hits.
+pub fn trace_repeated(
+    ctx: &Arc<Context>,
+    hf: &Heightfield,
+    req: &TraceRequest,
+    warmup: u32,
+    frames: u32,
+) -> VkResult<TraceOutput> {
+    if frames == 0 {
+        return Err(VkError::Invalid("a trace of zero frames".into()));
+    }
     let (cols, rows) = req.grid;
     if cols == 0 || rows == 0 {
         return Err(VkError::Invalid(format!("ray grid {cols}x{rows}")));
@@ -111,25 +130,40 @@ pub fn trace_on_gpu(
     };
     let push = std::mem::size_of::<TraceParams>() as u32;
     let pipeline = compute_pipeline(ctx, spirv, &[layout.raw()], push, &spec, &key)?;
-    let timestamps = TimestampPool::new(ctx, 2, "trace timestamps")?;
+    let timestamps = TimestampPool::new(ctx, 2 * frames, "trace timestamps")?;
+    let full = (
+        all_stages(),
+        vk::AccessFlags2::MEMORY_READ | vk::AccessFlags2::MEMORY_WRITE,
+    );
     let all = vk::PipelineStageFlags2::ALL_COMMANDS;
     ctx.one_shot(|cmd| {
         res.record_pyramid(cmd);
-        timestamps.write(cmd, all, 0)?;
         pipeline.bind(cmd, Some(set));
         pipeline.push(cmd, bytemuck::bytes_of(&params));
-        // SAFETY: `cmd` is recording; the set binds every resource the shader reads or writes.
-        unsafe {
-            ctx.device()
-                .cmd_dispatch(cmd, cols.div_ceil(GROUP), rows.div_ceil(GROUP), 1)
-        };
-        timestamps.write(cmd, all, 1)?;
+        for frame in 0..warmup + frames {
+            let timed = frame.checked_sub(warmup);
+            if let Some(k) = timed {
+                timestamps.write(cmd, all, 2 * k)?;
+            }
+            // SAFETY: `cmd` is recording; the set binds every resource the shader touches.
+            unsafe {
+                ctx.device()
+                    .cmd_dispatch(cmd, cols.div_ceil(GROUP), rows.div_ceil(GROUP), 1)
+            };
+            if let Some(k) = timed {
+                timestamps.write(cmd, all, 2 * k + 1)?;
+            }
+            memory_barrier(ctx.device(), cmd, full, full);
+        }
         Ok(())
     })?;
-    let ticks = timestamps.read_ticks(2)?;
+    let ticks = timestamps.read_ticks(2 * frames)?;
     Ok(TraceOutput {
         hits: bytemuck::pod_collect_to_vec(hits.mapped()?),
         steps: bytemuck::pod_collect_to_vec(steps.mapped()?),
-        gpu_ms: timestamps.ticks_to_ms(ticks[0], ticks[1]),
+        frame_ms: ticks
+            .chunks_exact(2)
+            .map(|t| timestamps.ticks_to_ms(t[0], t[1]))
+            .collect(),
     })
 }
