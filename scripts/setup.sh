@@ -9,7 +9,10 @@ packages=(libvulkan1 mesa-vulkan-drivers vulkan-validationlayers)
 missing=()
 # grep without -q reads all of ldconfig's output: with pipefail, -q's early exit would SIGPIPE
 # ldconfig and make the check fail.
-have_loader() { ldconfig -p 2>/dev/null | grep 'libvulkan\.so\.1' >/dev/null; }
+have_loader() {
+    compgen -G '/usr/lib/*/libvulkan.so.1' >/dev/null || compgen -G '/usr/lib/libvulkan.so.1' >/dev/null ||
+        /sbin/ldconfig -p 2>/dev/null | grep 'libvulkan\.so\.1' >/dev/null
+}
 have_icd() { compgen -G '/usr/share/vulkan/icd.d/*.json' >/dev/null || compgen -G '/etc/vulkan/icd.d/*.json' >/dev/null; }
 have_layer() { [[ -e /usr/share/vulkan/explicit_layer.d/VkLayer_khronos_validation.json ]]; }
 have_loader || missing+=(libvulkan1)
