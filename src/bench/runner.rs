@@ -211,38 +211,28 @@ impl Runner {
         let map = self.map(&job.field, job.size, job.method, &hf);
         let dir = ray_direction(job.angle, job.azimuth).map(|x| x as f32);
         let depth_scale = job.depth_scale as f32;
+        let trace = TraceRequest {
+            method: job.method,
+            dir,
+            depth_scale,
+            grid: self.cfg.error_grid,
+            budget: job.budget,
+            address: self.addressing(),
+            format: self.cfg.format,
+            map: map.as_deref(),
+        };
         let started = Instant::now();
-        let timing = time_method(
-            &self.ctx,
-            &hf,
-            &BenchRequest {
-                method: job.method,
-                dir,
-                depth_scale,
-                resolution: self.cfg.resolution,
-                budget: job.budget,
-                address: self.addressing(),
-                format: self.cfg.format,
-                map: map.as_deref(),
-                warmup: self.cfg.warmup,
-                frames: self.cfg.frames,
+        let timed = BenchRequest {
+            trace: TraceRequest {
+                grid: self.cfg.resolution,
+                ..trace
             },
-        )?;
+            warmup: self.cfg.warmup,
+            frames: self.cfg.frames,
+        };
+        let timing = time_method(&self.ctx, &hf, &timed)?;
         let cpu_ms = started.elapsed().as_secs_f64() * 1e3;
-        let traced = trace_on_gpu(
-            &self.ctx,
-            &hf,
-            &TraceRequest {
-                method: job.method,
-                dir,
-                depth_scale,
-                grid: self.cfg.error_grid,
-                budget: job.budget,
-                address: self.addressing(),
-                format: self.cfg.format,
-                map: map.as_deref(),
-            },
-        )?;
+        let traced = trace_on_gpu(&self.ctx, &hf, &trace)?;
         let stats = trace_stats(
             &hf,
             &traced.hits,

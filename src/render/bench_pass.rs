@@ -9,24 +9,14 @@
 
 use std::sync::Arc;
 
-use super::gpu_heightfield::{Addressing, HeightFormat};
-use super::method_map::MapData;
 use super::trace_pass::{trace_repeated, TraceRequest};
 use crate::heightfield::Heightfield;
-use crate::method::{Budget, Method};
 use crate::vk::{Context, VkError, VkResult};
 
-/// One timed configuration.
+/// One timed configuration: the rays (`trace.grid` is the resolution) and how often to run them.
 #[derive(Debug, Clone, Copy)]
 pub struct BenchRequest<'a> {
-    pub method: Method,
-    pub dir: [f32; 3],
-    pub depth_scale: f32,
-    pub resolution: (u32, u32),
-    pub budget: Budget,
-    pub address: Addressing,
-    pub format: HeightFormat,
-    pub map: Option<&'a MapData>,
+    pub trace: TraceRequest<'a>,
     pub warmup: u32,
     pub frames: u32,
 }
@@ -37,30 +27,20 @@ pub struct BenchTiming {
     pub frame_ms: Vec<f64>,
 }
 
-/// Times `req.frames` frames of `req.method` over `hf`.
+/// Times `req.frames` frames of `req.trace` over `hf`.
 pub fn time_method(
     ctx: &Arc<Context>,
     hf: &Heightfield,
     req: &BenchRequest<'_>,
 ) -> VkResult<BenchTiming> {
-    let (w, h) = req.resolution;
+    let (w, h) = req.trace.grid;
     if req.frames == 0 || w == 0 || h == 0 {
         return Err(VkError::Invalid(format!(
             "bench of {} frames at {w}x{h}",
             req.frames
         )));
     }
-    let trace = TraceRequest {
-        method: req.method,
-        dir: req.dir,
-        depth_scale: req.depth_scale,
-        grid: req.resolution,
-        budget: req.budget,
-        address: req.address,
-        format: req.format,
-        map: req.map,
-    };
-    let out = trace_repeated(ctx, hf, &trace, req.warmup, req.frames)?;
+    let out = trace_repeated(ctx, hf, &req.trace, req.warmup, req.frames)?;
     Ok(BenchTiming {
         frame_ms: out.frame_ms,
     })
