@@ -284,25 +284,8 @@ fn stability(md: &mut String, cells: &[StabilityCell]) {
     if cells.is_empty() {
         return;
     }
-    let methods: Vec<&str> =
-        cells
-            .iter()
-            .map(|c| c.method.as_str())
-            .fold(Vec::new(), |mut v, m| {
-                if !v.contains(&m) {
-                    v.push(m);
-                }
-                v
-            });
-    let cases: Vec<&str> = cells
-        .iter()
-        .map(|c| c.case.as_str())
-        .fold(Vec::new(), |mut v, c| {
-            if !v.contains(&c) {
-                v.push(c);
-            }
-            v
-        });
+    let methods = unique_in_order(cells.iter().map(|c| c.method.as_str()));
+    let cases = unique_in_order(cells.iter().map(|c| c.case.as_str()));
     let _ = writeln!(md, "## 5. Stability matrix\n");
     let _ = writeln!(md, "Each cell: gross rate and worst error in texels over 32x32 rays at default budgets; `NaN n` and `capped x%` when they happen; `FAILED` with the reason below the table when the case could not run.\n");
     let _ = writeln!(md, "| case | {} |", methods.join(" | "));
@@ -324,6 +307,16 @@ fn stability(md: &mut String, cells: &[StabilityCell]) {
         let _ = writeln!(md, "- {f}");
     }
     md.push('\n');
+}
+
+/// The distinct items, in order of first appearance.
+fn unique_in_order<'a>(items: impl Iterator<Item = &'a str>) -> Vec<&'a str> {
+    items.fold(Vec::new(), |mut seen, item| {
+        if !seen.contains(&item) {
+            seen.push(item);
+        }
+        seen
+    })
 }
 
 fn stability_cell(c: &StabilityCell, failures: &mut Vec<String>) -> String {
@@ -371,10 +364,13 @@ fn plots(results: &BenchResults) -> Vec<(String, String)> {
         log_x: true,
         log_y: true,
         series: series(&|m| {
-            main.iter()
-                .filter(|r| r.method == m && r.heightfield == field && r.angle_deg == 30.0)
+            let mut points: Vec<(f64, f64)> = main
+                .iter()
+                .filter(|r| r.method == m && r.heightfield == field && r.angle_deg == middle)
                 .map(|r| (r.gpu_ms.median, r.error_texels.mean))
-                .collect()
+                .collect();
+            points.sort_by(|a, b| a.0.total_cmp(&b.0));
+            points
         }),
     };
     let scaling = scaling_runs(results);
