@@ -3,7 +3,7 @@
 //! shader's file:line and glslang's message.
 //!
 //! Variants: `passes/surface.frag` once per method file in `shaders/methods/` (the method is
-//! reached through the virtual include "method.glsl"), `passes/pyramid.comp` once per storage
+//! reached through the virtual include "method.glsl") and once plain (no relief), `passes/pyramid.comp` once per storage
 //! format; every other file under `passes/` once.
 
 use std::fmt::Write as _;
@@ -89,6 +89,11 @@ fn variants(root: &Path) -> Vec<Variant> {
                 defines,
                 method_file,
             };
+        if base == "surface.frag" {
+            // Surfaces without relief: no method, no height bindings, early depth testing.
+            let defines = vec![("PLAIN_SURFACE".into(), "1".into())];
+            out.push(plain(format!("{base}:plain"), defines, None));
+        }
         if matches!(base.as_str(), "surface.frag" | "trace.comp") {
             for m in &methods {
                 let id = m.file_stem().and_then(|s| s.to_str()).unwrap_or_default();

@@ -3,15 +3,26 @@
 #ifndef BINDINGS_GLSL
 #define BINDINGS_GLSL
 
+// A punctual light; mirrors `LightUniform` in src/render/frame_uniforms.rs.
+struct LightData {
+    vec4 position;   // xyz: world position (point, spot); w: kind, 0 directional, 1 point, 2 spot
+    vec4 direction;  // xyz: direction the light travels (directional, spot); w: range, 0 = none
+    vec4 color;      // rgb: colour times intensity; w: 1 if relief traces shadow rays toward it
+    vec4 cone;       // x: cos of the outer cone angle, y: cos of the inner (spot)
+};
+
+const int MAX_LIGHTS = 8;
+
 layout(set = 0, binding = 0, std140) uniform Frame {
     mat4 view_proj;
     vec4 eye;          // xyz: camera position (world)
-    vec4 light_dir;    // xyz: direction toward the light (world), w: 1 if the light is on
-    vec4 light_color;  // rgb: radiance times intensity
     vec4 ambient;      // rgb: ambient radiance
     vec4 height_info;  // x: width, y: height, z: mip levels, w: 1 for repeat addressing, 0 clamp
+    ivec4 counts;      // x: lights in use
+    LightData lights[MAX_LIGHTS];
 } frame;
 
+#ifndef PLAIN_SURFACE
 // The height field and its max pyramid in one mip-chained image, read two ways.
 layout(set = 0, binding = 1) uniform sampler2D height_point;   // nearest, nearest mip
 layout(set = 0, binding = 2) uniform sampler2D height_linear;  // bilinear
@@ -21,6 +32,6 @@ layout(set = 0, binding = 2) uniform sampler2D height_linear;  // bilinear
 // read by integer texel. build.rs defines USES_METHOD_MAP for methods that mention it.
 layout(set = 0, binding = 3) uniform sampler2D method_map;
 #endif
-
+#endif
 
 #endif

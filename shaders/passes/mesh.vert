@@ -1,19 +1,23 @@
 #version 460
 // Transforms a mesh vertex to clip space and hands the fragment shader its world-space frame.
 #extension GL_GOOGLE_include_directive : require
-#include "conventions.glsl"
+#define PLAIN_SURFACE
 #include "bindings.glsl"
 #include "draw.glsl"
 
 layout(location = 0) in vec3 in_position;
 layout(location = 1) in vec3 in_normal;
-layout(location = 2) in vec2 in_uv;
-layout(location = 3) in vec4 in_tangent;  // xyz: tangent, w: bitangent sign
+layout(location = 2) in vec2 in_uv0;
+layout(location = 3) in vec2 in_uv1;
+layout(location = 4) in vec4 in_tangent;  // xyz: tangent, w: bitangent sign
+layout(location = 5) in vec4 in_color;
 
 layout(location = 0) out vec3 out_world;
 layout(location = 1) out vec3 out_normal;
-layout(location = 2) out vec2 out_uv;
-layout(location = 3) out vec4 out_tangent;
+layout(location = 2) out vec2 out_uv0;
+layout(location = 3) out vec2 out_uv1;
+layout(location = 4) out vec4 out_tangent;
+layout(location = 5) out vec4 out_color;
 
 void main() {
     vec4 world = draw.model * vec4(in_position, 1.0);
@@ -21,7 +25,9 @@ void main() {
     mat3 normal_matrix = transpose(inverse(mat3(draw.model)));
     out_world = world.xyz;
     out_normal = normal_matrix * in_normal;
-    out_uv = in_uv;
+    out_uv0 = in_uv0;
+    out_uv1 = in_uv1;
     out_tangent = vec4(mat3(draw.model) * in_tangent.xyz, in_tangent.w);
+    out_color = in_color;
     gl_Position = frame.view_proj * world;
 }

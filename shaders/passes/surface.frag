@@ -1,79 +1,148 @@
 #version 460
-// The surface pass: builds the view ray in texture space, traces it with the method this variant
-// was compiled with (build.rs maps "method.glsl" to shaders/methods/<id>.glsl), shades the hit
-// with the height field's normal, and writes the displaced point's depth.
+// The surface pass: glTF metallic-roughness shading of a mesh, displaced per pixel. Relief
+// variants (build.rs maps "method.glsl" to shaders/methods/<id>.glsl) build the view ray in the
+// height map's texture space, trace it, move every texture lookup to the hit, shade with the
+// height field's normal (or the normal map) and write the displaced point's depth; with
+// SELF_SHADOW they also trace toward each shadow-casting light. The plain variant
+// (PLAIN_SURFACE) does none of that and keeps early depth testing.
 #extension GL_GOOGLE_include_directive : require
 #include "conventions.glsl"
 #include "numeric.glsl"
 #include "bindings.glsl"
 #include "draw.glsl"
-#include "heightfield.glsl"
 #include "lighting.glsl"
+#include "punctual.glsl"
+#ifndef PLAIN_SURFACE
+#include "heightfield.glsl"
+#include "relief_frame.glsl"
 #include "method.glsl"
+#endif
 
 layout(location = 0) in vec3 in_world;
 layout(location = 1) in vec3 in_normal;
-layout(location = 2) in vec2 in_uv;
-layout(location = 3) in vec4 in_tangent;
+layout(location = 2) in vec2 in_uv0;
+layout(location = 3) in vec2 in_uv1;
+layout(location = 4) in vec4 in_tangent;
+layout(location = 5) in vec4 in_color;
 
 layout(location = 0) out vec4 out_color;
 
-// Smallest dir.z of a view ray: below this (about 0.06 degrees) the ray is treated as this steep,
-// so grazing views stay finite instead of producing inf offsets.
+// Self-shadow rays toward lights that cast shadows; off unless the scene has such a light.
+layout(constant_id = 8) const bool SELF_SHADOW = false;
+
+// Smallest dir.z of a ray per unit of its xy length (about 0.06 degrees): grazing views stay
+// finite instead of producing inf offsets.
 const float MIN_DIR_Z = 1e-3;
 
-// World-space lengths of one uv unit along u and v, from screen-space derivatives.
-vec2 world_per_uv() {
-    vec3 dpx = dFdx(in_world), dpy = dFdy(in_world);
-    vec2 dux = dFdx(in_uv), duy = dFdy(in_uv);
-    float det = dux.x * duy.y - dux.y * duy.x;
-    if (abs(det) < 1e-20) {
-        return vec2(1.0);
-    }
-    vec3 dpdu = (dpx * duy.y - dpy * dux.y) / det;
-    vec3 dpdv = (dpy * dux.x - dpx * duy.x) / det;
-    return max(vec2(length(dpdu), length(dpdv)), vec2(1e-12));
+// Fraction of the depth scale a shadow ray's blocker must sit above the shaded point, so a
+// method's own error on the lit surface does not shadow it.
+const float SHADOW_BIAS = 0.03;
+
+vec3 tangent_frame_normal(vec3 n, vec2 uv0, vec2 uv1) {
+    vec3 t = normalize(in_tangent.xyz - n * dot(n, in_tangent.xyz));
+    vec3 b = cross(n, t) * (in_tangent.w < 0.0 ? -1.0 : 1.0);
+    vec3 m = texture(tex_normal, slot_uv(SLOT_NORMAL, uv0, uv1)).xyz * 2.0 - 1.0;
+    m.xy *= material.pbr.z;
+    return normalize(t * m.x + b * m.y + n * m.z);
 }
+
+#ifndef PLAIN_SURFACE
+vec3 height_space_ray_dir(vec3 d) {
+    d.z = max(d.z, MIN_DIR_Z * length(d.xy));
+    return normalize(d);
+}
+
+// 1 when nothing of the height field stands between the hit and the light, else 0: a ray from
+// the top plane toward the hit (Policarpo et al. 2005's self-shadowing), traced by the method.
+float self_shadow(ReliefFrame f, vec3 l_world, vec2 uv_hit, float z_hit, float depth_scale) {
+    vec3 l = to_height_space(f, l_world);
+    if (l.z <= 0.0) {
+        return 0.0;
+    }
+    vec3 dir = height_space_ray_dir(vec3(-l.xy, l.z));
+    Ray ray = Ray(uv_hit - (z_hit / dir.z) * dir.xy, dir, depth_scale);
+    Hit hit = METHOD_TRACE(ray, default_budget());
+    return hit.z < z_hit - SHADOW_BIAS * depth_scale ? 0.0 : 1.0;
+}
+#endif
 
 void main() {
     vec3 n = normalize(gl_FrontFacing ? in_normal : -in_normal);
-    vec3 t = normalize(in_tangent.xyz - n * dot(n, in_tangent.xyz));
-    vec3 b = cross(n, t) * (in_tangent.w < 0.0 ? -1.0 : 1.0);
-    vec2 scale = world_per_uv();
-    // Depth is measured in uv units; one uv unit of depth spans the mean of the two uv lengths.
-    float depth_len = sqrt(scale.x * scale.y);
+    vec2 uv0 = in_uv0;
+    vec2 uv1 = in_uv1;
+    vec3 world = in_world;
     vec3 view = normalize(in_world - frame.eye.xyz);
-    vec3 dir = vec3(dot(view, t) / scale.x, dot(view, b) / scale.y, -dot(view, n) / depth_len);
-    dir.z = max(dir.z, MIN_DIR_Z * length(dir.xy));
-    dir = normalize(dir);
-
-    float depth_scale = draw.material.x;
-    vec2 uv = in_uv;
-    float z = 0.0;
     vec3 normal = n;
-    if (depth_scale > 0.0) {
-        Ray ray = Ray(in_uv, dir, depth_scale);
-        Hit hit = METHOD_TRACE(ray, default_budget());
-        z = clamp(hit.z, 0.0, depth_scale);
-        uv = ray_uv(ray, z);
-        // The surface sits at height s*h above the bottom plane; its normal in uv units, mapped to
-        // world with the inverse-transpose of the (t*scale.x, b*scale.y, n*depth_len) frame.
-        vec2 grad = depth_scale * height_gradient(uv);
-        normal = normalize(t * (-grad.x / scale.x) + b * (-grad.y / scale.y) + n / depth_len);
-    }
+    bool relief_normal = false;
 
-    vec3 world = in_world + t * ((uv.x - in_uv.x) * scale.x) + b * ((uv.y - in_uv.y) * scale.y)
-        - n * (z * depth_len);
+#ifndef PLAIN_SURFACE
+    float depth_scale = material.relief.x;
+    ReliefFrame f = relief_frame(in_world, n, in_tangent, in_uv0, in_uv1);
+    vec2 uv_h = slot_uv(SLOT_HEIGHT, in_uv0, in_uv1);
+    Ray ray = Ray(uv_h, height_space_ray_dir(to_height_space(f, view) * vec3(1.0, 1.0, -1.0)),
+                  depth_scale);
+    Hit hit = METHOD_TRACE(ray, default_budget());
+    float z = clamp(hit.z, 0.0, depth_scale);
+    vec2 uv_hit = ray_uv(ray, z);
+    vec2 d0 = f.from_height * (uv_hit - uv_h);
+    uv0 += d0;
+    uv1 += f.uv1_per_uv0 * d0;
+    world += height_offset_to_world(f, uv_hit - uv_h) - n * (z * f.depth_len);
+    // The surface stands depth_scale * h above the bottom plane; its slope per uv0 unit is the
+    // height gradient carried back through the uv map.
+    vec2 g0 = transpose(f.to_height) * (depth_scale * height_gradient(uv_hit));
+    normal = normalize(n - f.t * (f.depth_len * g0.x / f.scale.x)
+                         - f.b * (f.depth_len * g0.y / f.scale.y));
+    relief_normal = true;
     vec4 clip = frame.view_proj * vec4(world, 1.0);
     gl_FragDepth = clamp(clip.z / clip.w, 0.0, 1.0);
+#endif
 
-    float shade_h = depth_scale > 0.0 ? height_bilinear(uv) : 1.0;
-    vec3 albedo = draw.base_color.rgb * mix(0.45, 1.0, shade_h);
-    vec3 v = -view;
-    vec3 color = frame.ambient.rgb * albedo;
-    if (frame.light_dir.w > 0.0) {
-        vec3 l = normalize(frame.light_dir.xyz);
-        color += shade_ggx(albedo, draw.material.y, draw.material.z, normal, v, l, frame.light_color.rgb);
+    vec4 base = material.base_color * in_color;
+    if (has_texture(SLOT_BASE_COLOR)) {
+        base *= texture(tex_base_color, slot_uv(SLOT_BASE_COLOR, uv0, uv1));
     }
-    out_color = vec4(color, draw.base_color.a);
+    float cutoff = material.emissive.w;
+    if (cutoff >= 0.0 && base.a < cutoff) {
+        discard;
+    }
+    float roughness = material.pbr.x;
+    float metallic = material.pbr.y;
+    if (has_texture(SLOT_METALLIC_ROUGHNESS)) {
+        vec4 mr = texture(tex_metallic_roughness, slot_uv(SLOT_METALLIC_ROUGHNESS, uv0, uv1));
+        roughness *= mr.g;
+        metallic *= mr.b;
+    }
+    if (has_texture(SLOT_NORMAL)) {
+        // The normal map is the surface's finer detail; without one, the height field's own.
+        normal = tangent_frame_normal(relief_normal ? normal : n, uv0, uv1);
+    }
+    float occlusion = 1.0;
+    if (has_texture(SLOT_OCCLUSION)) {
+        float ao = texture(tex_occlusion, slot_uv(SLOT_OCCLUSION, uv0, uv1)).r;
+        occlusion = mix(1.0, ao, material.pbr.w);
+    }
+    vec3 emissive = material.emissive.rgb;
+    if (has_texture(SLOT_EMISSIVE)) {
+        emissive *= texture(tex_emissive, slot_uv(SLOT_EMISSIVE, uv0, uv1)).rgb;
+    }
+
+    vec3 v = -view;
+    vec3 color = frame.ambient.rgb * base.rgb * occlusion + emissive;
+    for (int i = 0; i < min(frame.counts.x, MAX_LIGHTS); ++i) {
+        float attenuation;
+        vec3 l = light_toward(i, world, attenuation);
+        if (dot(normal, l) <= 0.0 || attenuation <= 0.0) {
+            continue;
+        }
+        float lit = 1.0;
+#ifndef PLAIN_SURFACE
+        if (SELF_SHADOW && frame.lights[i].color.w > 0.5) {
+            lit = self_shadow(f, l, uv_hit, z, depth_scale);
+        }
+#endif
+        vec3 radiance = frame.lights[i].color.rgb * (attenuation * lit);
+        color += shade_ggx(base.rgb, roughness, metallic, normal, v, l, radiance);
+    }
+    out_color = vec4(color, material.relief.y > 0.5 ? base.a : 1.0);
 }

@@ -4,10 +4,9 @@ use std::path::PathBuf;
 
 use anyhow::Context as _;
 use clap::{Args, ValueEnum};
-use relief::heightfield::Heightfield;
 use relief::method::Method;
-use relief::render::{render, Addressing, Frame, HeightFormat, RenderOptions};
-use relief::scene::{default_heightfield, default_scene, load_gltf, Scene};
+use relief::render::{explain, render, Addressing, Frame, HeightFormat, RenderOptions};
+use relief::scene::{default_heightfield, default_scene, load_gltf, Scene, SceneOptions};
 use serde_json::json;
 
 use super::heightmap_args::HeightmapArgs;
@@ -40,9 +39,19 @@ pub struct RenderArgs {
     /// Depth of height 0 below the surface, in uv units (0.05 = a twentieth of the texture).
     #[arg(long, value_name = "S")]
     depth_scale: Option<f32>,
-    /// Displacement method id (see `relief methods`).
+    /// Displacement method id (see `relief methods`) for the default scene and for materials
+    /// given relief by --heightmap.
     #[arg(long, default_value = "pom")]
     method: String,
+    /// Which materials --heightmap displaces: a material name, or `all`.
+    #[arg(long, value_name = "NAME|all", default_value = "all")]
+    material: String,
+    /// Which scene of the glTF file (default: the file's default scene).
+    #[arg(long = "scene", value_name = "N")]
+    scene_index: Option<usize>,
+    /// Which camera of the scene, in node order (default: the first; none frames the scene).
+    #[arg(long, value_name = "N")]
+    camera: Option<usize>,
     /// Storage of heights on the GPU.
     #[arg(long, value_enum, default_value = "r16")]
     height_format: FormatArg,
@@ -55,6 +64,9 @@ pub struct RenderArgs {
     /// Print one JSON object instead of the table.
     #[arg(long)]
     json: bool,
+    /// Print the plan (pipelines, maps, passes, what was skipped and why) as one JSON object.
+    #[arg(long)]
+    explain: bool,
 }
 
 const DEFAULT_GLTF_DEPTH_SCALE: f32 = 0.05;
@@ -88,9 +100,25 @@ fn build_scene(args: &RenderArgs, method: Method, heights: bool) -> anyhow::Resu
         }
         return Ok(scene);
     };
-    let mut scene = load_gltf(path)?;
+    let options = SceneOptions {
+        scene: args.scene_index,
+        camera: args.camera,
+    };
+    let mut scene = load_gltf(path, &options)?;
+    let filter = (args.material != "all").then_some(args.material.as_str());
     if heights {
-        scene.apply_relief(args.depth_scale.unwrap_or(DEFAULT_GLTF_DEPTH_SCALE), method);
+        let depth = args.depth_scale.unwrap_or(DEFAULT_GLTF_DEPTH_SCALE);
+        if scene.apply_relief(depth, method, filter) == 0 {
+            let names: Vec<&str> = scene.materials.iter().map(|m| m.name.as_str()).collect();
+            anyhow::bail!(
+                "--material {:?} names no material of {}; its materials: {}",
+                args.material,
+                path.display(),
+                names.join(", ")
+            );
+        }
+    } else if filter.is_some() {
+        anyhow::bail!("--material chooses which materials --heightmap displaces; give --heightmap FILE");
     }
     Ok(scene)
 }
@@ -102,13 +130,16 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let scene = build_scene(args, method, loaded.is_some())?;
     let ctx = super::open_device(args.device.as_deref(), args.json)?;
     let (heights, source) = match loaded {
-        Some(pair) => pair,
-        None if args.scene.is_none() => {
-            (default_heightfield(), "built-in bricks 256x256".to_owned())
-        }
-        None => (Heightfield::new(1, 1, vec![1.0])?, "none (flat)".to_owned()),
+        Some((hf, source)) => (Some(hf), source),
+        None if args.scene.is_none() => (
+            Some(default_heightfield()),
+            "built-in bricks 256x256".to_owned(),
+        ),
+        None => (None, "the scene's own".to_owned()),
     };
-    heights.check_max_dimension(ctx.info().max_image_dimension_2d, &source)?;
+    if let Some(hf) = &heights {
+        hf.check_max_dimension(ctx.info().max_image_dimension_2d, &source)?;
+    }
     let opts = RenderOptions {
         width: args.width,
         height: args.height,
@@ -121,9 +152,15 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
             AddressArg::Clamp => Addressing::Clamp,
         },
     };
-    let frame = render(&ctx, &scene, &heights, &opts).context("rendering the frame")?;
+    let before = ctx.created();
+    let frame = render(&ctx, &scene, heights.as_ref(), &opts).context("rendering the frame")?;
+    let created = ctx.created() - before;
     write_png(&frame, &args.out)?;
     super::check_validation(&ctx)?;
+    if args.explain {
+        println!("{}", explain(&frame, &created));
+        return Ok(());
+    }
     report(args, &ctx, &frame, &source);
     Ok(())
 }
@@ -153,6 +190,7 @@ fn report(args: &RenderArgs, ctx: &relief::vk::Context, frame: &Frame, source: &
             "heightmap": source,
             "upload_ms": frame.upload_ms,
             "passes": frame.timings,
+            "maps": frame.maps,
         });
         println!("{value}");
         return;

@@ -26,6 +26,12 @@ pub enum MapKind {
 }
 
 impl MapKind {
+    /// Whether the map is bound apart from the height image (binding 3): every kind but the
+    /// pyramid, which lives in the height image's mip levels.
+    pub fn is_method_map(self) -> bool {
+        self != MapKind::MaxPyramid
+    }
+
     /// The name reports use.
     pub fn name(self) -> &'static str {
         match self {

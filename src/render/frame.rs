@@ -5,17 +5,17 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use ash::vk;
-use glam::Vec3;
 use serde::Serialize;
 
+use super::frame_uniforms::FrameUniforms;
 use super::gpu_heightfield::{Addressing, HeightFormat};
 use super::height_resources::HeightResources;
-use super::method_map::MapData;
-use super::surface_pass::{FrameUniforms, SurfacePass, COLOR_FORMAT, DEPTH_FORMAT};
+use super::plan::{HeightKey, HeightPlan, Plan, PlanError};
+use super::surface_pass::{SurfacePass, COLOR_FORMAT, DEPTH_FORMAT};
 use crate::heightfield::reference::Address;
-use crate::heightfield::Heightfield;
+use crate::heightfield::{Heightfield, HeightfieldError, LoadOptions};
 use crate::method::{build_method_map, MapKind};
-use crate::scene::{Camera, Light, Scene};
+use crate::scene::Scene;
 use crate::vk::{
     read_mip, transition_images, Context, Image, ImageDesc, ImageTransition, TimestampPool,
     VkError, VkResult,
@@ -48,43 +48,44 @@ pub struct PassTiming {
     pub gpu_ms: f64,
 }
 
-/// A rendered image (sRGB RGBA8, rows top to bottom) and how long each pass took.
+/// A map the frame built: the pyramid on the GPU, precomputed maps on the CPU.
+#[derive(Debug, Clone, Serialize)]
+pub struct BuiltMap {
+    pub kind: &'static str,
+    /// The height map it belongs to.
+    pub source: String,
+    pub size: [u32; 2],
+    /// GPU ms for the pyramid, CPU wall ms for precomputed maps.
+    pub ms: f64,
+    pub on: &'static str,
+}
+
+/// A rendered image (sRGB RGBA8, rows top to bottom), how long each pass took, and the plan it
+/// followed.
 #[derive(Debug, Clone)]
 pub struct Frame {
     pub width: u32,
     pub height: u32,
     pub rgba: Vec<u8>,
     pub timings: Vec<PassTiming>,
-    /// CPU wall time of the upload of the height field, in ms.
+    /// CPU wall time of uploading height maps and precomputed maps, in ms.
     pub upload_ms: f64,
-    /// Keys of the surface pipelines built.
-    pub pipelines: Vec<(String, bool)>,
+    pub plan: Plan,
+    pub maps: Vec<BuiltMap>,
+}
+
+/// Why a frame could not be rendered.
+#[derive(Debug, thiserror::Error)]
+pub enum RenderError {
+    #[error(transparent)]
+    Plan(#[from] PlanError),
+    #[error(transparent)]
+    Height(#[from] HeightfieldError),
+    #[error(transparent)]
+    Vulkan(#[from] VkError),
 }
 
 const CLEAR: [f32; 4] = [0.015, 0.02, 0.03, 1.0];
-const AMBIENT: [f32; 4] = [0.09, 0.1, 0.12, 0.0];
-
-fn uniforms(scene: &Scene, aspect: f32) -> FrameUniforms {
-    let camera = scene.camera.unwrap_or_else(|| match scene.bounds() {
-        Some((lo, hi)) => Camera::framing(lo, hi),
-        None => Camera::look_at(Vec3::new(0.0, 1.0, 3.0), Vec3::ZERO, 0.8, 0.1, 100.0),
-    });
-    let light = scene
-        .lights
-        .first()
-        .copied()
-        .unwrap_or_else(Light::default_light);
-    let eye = camera.eye();
-    FrameUniforms {
-        view_proj: camera.view_projection(aspect).to_cols_array_2d(),
-        eye: [eye.x, eye.y, eye.z, 1.0],
-        light_dir: [light.direction.x, light.direction.y, light.direction.z, 1.0],
-        light_color: [light.color.x, light.color.y, light.color.z, 0.0],
-        ambient: AMBIENT,
-        // Filled in by HeightResources.
-        height_info: [0.0; 4],
-    }
-}
 
 fn target(ctx: &Arc<Context>, opts: &RenderOptions, depth: bool) -> VkResult<Image> {
     let (format, usage, aspect, name) = if depth {
@@ -113,87 +114,127 @@ fn target(ctx: &Arc<Context>, opts: &RenderOptions, depth: bool) -> VkResult<Ima
     Image::new(ctx, desc, name)
 }
 
-/// The precomputed map the scene's relief methods read, built on the CPU. One kind per frame:
-/// materials whose methods need different maps would need a set per material.
-fn frame_map(
+/// The heights of one planned height map, as stored on the GPU.
+fn planned_heights(
+    ctx: &Arc<Context>,
     scene: &Scene,
-    stored: &Heightfield,
-    address: Addressing,
-) -> VkResult<Option<MapData>> {
-    let reference_address = match address {
+    plan: &HeightPlan,
+    frame_heights: Option<&Heightfield>,
+    format: HeightFormat,
+) -> Result<Heightfield, RenderError> {
+    let hf = match plan.key {
+        HeightKey::Frame => frame_heights
+            .cloned()
+            .ok_or_else(|| VkError::Invalid("the plan reads a frame height map".into()))?,
+        HeightKey::Image {
+            image,
+            channel,
+            invert,
+            ..
+        } => {
+            let opts = LoadOptions { channel, invert };
+            Heightfield::from_dynamic_image(&scene.images[image].pixels, &opts, &plan.source)?
+        }
+    };
+    hf.check_max_dimension(ctx.info().max_image_dimension_2d, &plan.source)?;
+    Ok(match format {
+        HeightFormat::R16Unorm => hf.quantized_unorm16(),
+        HeightFormat::R32Float => hf,
+    })
+}
+
+fn reference_address(address: Addressing) -> Address {
+    match address {
         Addressing::Repeat => Address::Repeat,
         Addressing::Clamp => Address::Clamp,
-    };
-    let mut kinds: Vec<_> = scene
-        .materials
-        .iter()
-        .filter_map(|m| m.relief.map(|r| r.method))
-        .filter(|m| m.info().needs.iter().any(|k| *k != MapKind::MaxPyramid))
-        .collect();
-    kinds.dedup();
-    match kinds.as_slice() {
-        [] => Ok(None),
-        [method] => Ok(build_method_map(*method, stored, reference_address).map(|(data, _)| data)),
-        many => Err(VkError::Invalid(format!(
-            "materials use {} methods with precomputed maps ({}); relief renders one such method per frame",
-            many.len(),
-            many.iter().map(|m| m.id()).collect::<Vec<_>>().join(", ")
-        ))),
     }
 }
 
-/// Renders `scene`, displacing its relief materials with `heights`.
+/// Renders `scene`. Relief materials without a height texture of their own read `frame_heights`.
 pub fn render(
     ctx: &Arc<Context>,
     scene: &Scene,
-    heights: &Heightfield,
+    frame_heights: Option<&Heightfield>,
     opts: &RenderOptions,
-) -> VkResult<Frame> {
-    let stored = match opts.height_format {
-        HeightFormat::R16Unorm => heights.quantized_unorm16(),
-        HeightFormat::R32Float => heights.clone(),
-    };
-    let map = frame_map(scene, &stored, opts.address)?;
+) -> Result<Frame, RenderError> {
+    let plan = Plan::derive(scene, frame_heights)?;
     let aspect = opts.width as f32 / opts.height as f32;
+    let uniforms = FrameUniforms::for_scene(scene, &plan.lights, aspect);
     let started = Instant::now();
-    let res = HeightResources::new(
-        ctx,
-        &stored,
-        opts.height_format,
-        opts.address,
-        map.as_ref(),
-        uniforms(scene, aspect),
-    )?;
+    let mut heights = Vec::with_capacity(plan.heights.len());
+    let mut maps = Vec::new();
+    for hp in &plan.heights {
+        let stored = planned_heights(ctx, scene, hp, frame_heights, opts.height_format)?;
+        let address = match hp.key {
+            HeightKey::Frame => opts.address,
+            HeightKey::Image { address, .. } => address,
+        };
+        let map = hp.map_method.and_then(|method| {
+            build_method_map(method, &stored, reference_address(address))
+        });
+        if let (Some((data, took)), Some(kind)) = (&map, hp.map) {
+            maps.push(BuiltMap {
+                kind: kind.name(),
+                source: hp.source.clone(),
+                size: [data.width, data.height],
+                ms: took.as_secs_f64() * 1e3,
+                on: "cpu",
+            });
+        }
+        heights.push(HeightResources::with_pyramid(
+            ctx,
+            &stored,
+            opts.height_format,
+            address,
+            map.as_ref().map(|(data, _)| data),
+            uniforms,
+            hp.pyramid,
+        )?);
+    }
     let upload_ms = started.elapsed().as_secs_f64() * 1e3;
-    let surface = SurfacePass::new(ctx, scene, &res)?;
+    let surface = SurfacePass::new(ctx, scene, &plan, &heights, &uniforms)?;
     let color = target(ctx, opts, false)?;
     let depth = target(ctx, opts, true)?;
-    let timestamps = TimestampPool::new(ctx, 4, "frame timestamps")?;
+    let stamps = heights.len() as u32 + 2;
+    let timestamps = TimestampPool::new(ctx, stamps, "frame timestamps")?;
     let device = ctx.device();
     let all = vk::PipelineStageFlags2::ALL_COMMANDS;
     ctx.one_shot(|cmd| {
         timestamps.write(cmd, all, 0)?;
-        res.record_pyramid(cmd);
-        timestamps.write(cmd, all, 1)?;
+        for (k, h) in heights.iter().enumerate() {
+            h.record_pyramid(cmd);
+            timestamps.write(cmd, all, k as u32 + 1)?;
+        }
         begin_targets(device, cmd, &color, &depth, opts);
         surface.record_draws(device, cmd);
         // SAFETY: rendering was begun by begin_targets.
         unsafe { device.cmd_end_rendering(cmd) };
-        timestamps.write(cmd, all, 2)?;
+        timestamps.write(cmd, all, stamps - 1)?;
         transition_images(device, cmd, &[color_to_transfer(&color)]);
         Ok(())
     })?;
-    let ticks = timestamps.read_ticks(3)?;
-    let timings = vec![
-        PassTiming {
+    let ticks = timestamps.read_ticks(stamps)?;
+    let last = stamps as usize - 1;
+    for (k, hp) in plan.heights.iter().enumerate().filter(|(_, hp)| hp.pyramid) {
+        maps.push(BuiltMap {
+            kind: MapKind::MaxPyramid.name(),
+            source: hp.source.clone(),
+            size: [hp.size.0, hp.size.1],
+            ms: timestamps.ticks_to_ms(ticks[k], ticks[k + 1]),
+            on: "gpu",
+        });
+    }
+    let mut timings = Vec::new();
+    if plan.heights.iter().any(|h| h.pyramid) {
+        timings.push(PassTiming {
             pass: "pyramid",
-            gpu_ms: timestamps.ticks_to_ms(ticks[0], ticks[1]),
-        },
-        PassTiming {
-            pass: "surface",
-            gpu_ms: timestamps.ticks_to_ms(ticks[1], ticks[2]),
-        },
-    ];
+            gpu_ms: timestamps.ticks_to_ms(ticks[0], ticks[last - 1]),
+        });
+    }
+    timings.push(PassTiming {
+        pass: "surface",
+        gpu_ms: timestamps.ticks_to_ms(ticks[last - 1], ticks[last]),
+    });
     let rgba = read_mip(ctx, &color, 0, vk::ImageLayout::TRANSFER_SRC_OPTIMAL)?;
     Ok(Frame {
         width: opts.width,
@@ -201,7 +242,8 @@ pub fn render(
         rgba,
         timings,
         upload_ms,
-        pipelines: surface.pipeline_keys(),
+        plan,
+        maps,
     })
 }
 

@@ -97,12 +97,34 @@ impl GpuHeightfield {
         format: HeightFormat,
         address: Addressing,
     ) -> VkResult<GpuHeightfield> {
-        let needed = vk::FormatFeatureFlags::STORAGE_IMAGE
-            | vk::FormatFeatureFlags::SAMPLED_IMAGE
+        Self::upload_levels(ctx, hf, format, address, true)
+    }
+
+    /// Uploads `hf` alone, for methods that read no pyramid: one level, ready for sampling.
+    pub fn upload_without_pyramid(
+        ctx: &Arc<Context>,
+        hf: &Heightfield,
+        format: HeightFormat,
+        address: Addressing,
+    ) -> VkResult<GpuHeightfield> {
+        Self::upload_levels(ctx, hf, format, address, false)
+    }
+
+    fn upload_levels(
+        ctx: &Arc<Context>,
+        hf: &Heightfield,
+        format: HeightFormat,
+        address: Addressing,
+        pyramid: bool,
+    ) -> VkResult<GpuHeightfield> {
+        let mut needed = vk::FormatFeatureFlags::SAMPLED_IMAGE
             | vk::FormatFeatureFlags::SAMPLED_IMAGE_FILTER_LINEAR
             | vk::FormatFeatureFlags::TRANSFER_DST;
+        if pyramid {
+            needed |= vk::FormatFeatureFlags::STORAGE_IMAGE;
+        }
         if !ctx.format_features(format.vk()).contains(needed)
-            || (format == HeightFormat::R16Unorm && !ctx.info().storage_r16)
+            || (pyramid && format == HeightFormat::R16Unorm && !ctx.info().storage_r16)
         {
             return Err(VkError::Unsupported(format!(
                 "{format:?} height images (storage, sampling and linear filtering)"
@@ -112,16 +134,29 @@ impl GpuHeightfield {
             width: hf.width(),
             height: hf.height(),
             format: format.vk(),
-            mip_levels: mip_level_count(hf.width(), hf.height()),
-            usage: vk::ImageUsageFlags::STORAGE
-                | vk::ImageUsageFlags::SAMPLED
-                | vk::ImageUsageFlags::TRANSFER_DST
-                | vk::ImageUsageFlags::TRANSFER_SRC,
+            mip_levels: if pyramid {
+                mip_level_count(hf.width(), hf.height())
+            } else {
+                1
+            },
+            usage: if pyramid {
+                vk::ImageUsageFlags::STORAGE
+                    | vk::ImageUsageFlags::SAMPLED
+                    | vk::ImageUsageFlags::TRANSFER_DST
+                    | vk::ImageUsageFlags::TRANSFER_SRC
+            } else {
+                vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_DST
+            },
             aspect: vk::ImageAspectFlags::COLOR,
         };
         let image = Image::new(ctx, desc, "height field")?;
         let level0 = format.encode(hf.data());
-        upload_mips(ctx, &image, &[&level0], vk::ImageLayout::GENERAL)?;
+        let layout = if pyramid {
+            vk::ImageLayout::GENERAL
+        } else {
+            vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL
+        };
+        upload_mips(ctx, &image, &[&level0], layout)?;
         Ok(GpuHeightfield {
             image,
             point: Sampler::new(

@@ -9,15 +9,15 @@ use ash::vk;
 use super::gpu_heightfield::{Addressing, GpuHeightfield, HeightFormat};
 use super::method_map::{GpuMethodMap, MapData};
 use super::pyramid_pass::{PyramidJob, PyramidPass};
-use super::surface_pass::FrameUniforms;
+use super::frame_uniforms::FrameUniforms;
 use crate::heightfield::Heightfield;
 use crate::vk::{Bind, Buffer, Context, VkResult};
 
-/// Uploaded heights, their pyramid pass, uniforms and the optional method map.
+/// Uploaded heights, their pyramid pass (when a method reads it), uniforms and the optional
+/// method map.
 pub struct HeightResources {
     pub heights: GpuHeightfield,
-    pyramid: PyramidPass,
-    job: PyramidJob,
+    pyramid: Option<(PyramidPass, PyramidJob)>,
     uniforms: Buffer,
     map: Option<GpuMethodMap>,
 }
@@ -31,11 +31,31 @@ impl HeightResources {
         format: HeightFormat,
         address: Addressing,
         map: Option<&MapData>,
-        mut frame: FrameUniforms,
+        frame: FrameUniforms,
     ) -> VkResult<HeightResources> {
-        let heights = GpuHeightfield::upload(ctx, hf, format, address)?;
-        let pyramid = PyramidPass::new(ctx, format.shader_suffix())?;
-        let job = pyramid.prepare(&heights)?;
+        Self::with_pyramid(ctx, hf, format, address, map, frame, true)
+    }
+
+    /// As [`HeightResources::new`], with the pyramid only when `pyramid` is set: methods that
+    /// read no pyramid get a single-level height image and no pyramid pass.
+    pub fn with_pyramid(
+        ctx: &Arc<Context>,
+        hf: &Heightfield,
+        format: HeightFormat,
+        address: Addressing,
+        map: Option<&MapData>,
+        mut frame: FrameUniforms,
+        pyramid: bool,
+    ) -> VkResult<HeightResources> {
+        let (heights, pyramid) = if pyramid {
+            let heights = GpuHeightfield::upload(ctx, hf, format, address)?;
+            let pass = PyramidPass::new(ctx, format.shader_suffix())?;
+            let job = pass.prepare(&heights)?;
+            (heights, Some((pass, job)))
+        } else {
+            let heights = GpuHeightfield::upload_without_pyramid(ctx, hf, format, address)?;
+            (heights, None)
+        };
         frame.height_info = heights.shader_info();
         let uniforms = Buffer::with_data(
             ctx,
@@ -49,7 +69,6 @@ impl HeightResources {
         Ok(HeightResources {
             heights,
             pyramid,
-            job,
             uniforms,
             map,
         })
@@ -82,8 +101,21 @@ impl HeightResources {
         list
     }
 
-    /// Records the pyramid build; afterwards the height image is ready for sampling.
+    /// Records the pyramid build (if there is one); afterwards the height image is ready for
+    /// sampling.
     pub fn record_pyramid(&self, cmd: vk::CommandBuffer) {
-        self.pyramid.record(cmd, &self.heights, &self.job);
+        if let Some((pass, job)) = &self.pyramid {
+            pass.record(cmd, &self.heights, job);
+        }
+    }
+
+    /// Whether a method map is bound (binding 3).
+    pub fn has_map(&self) -> bool {
+        self.map.is_some()
+    }
+
+    /// Whether the height image carries a max pyramid.
+    pub fn has_pyramid(&self) -> bool {
+        self.pyramid.is_some()
     }
 }

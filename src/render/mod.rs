@@ -2,19 +2,28 @@
 //! the surface pass, timestamps around each, and readback to an image.
 
 mod bench_pass;
+mod explain;
 mod frame;
+mod frame_uniforms;
 mod gpu_heightfield;
 mod height_resources;
+mod material_set;
 mod method_map;
+mod plan;
 mod pyramid_pass;
+mod scene_textures;
 mod surface_pass;
+mod texture_mips;
 mod trace_pass;
 
 pub use bench_pass::{time_method, BenchRequest, BenchTiming};
-pub use frame::{render, Frame, PassTiming, RenderOptions};
+pub use explain::explain;
+pub use frame::{render, BuiltMap, Frame, PassTiming, RenderError, RenderOptions};
+pub use frame_uniforms::{frame_camera, FrameUniforms, LightUniform, MAX_LIGHTS};
 pub use gpu_heightfield::{Addressing, GpuHeightfield, HeightFormat};
 pub use height_resources::HeightResources;
 pub use method_map::{GpuMethodMap, MapData};
 pub use pyramid_pass::{build_pyramid_on_gpu, PyramidJob, PyramidPass};
-pub use surface_pass::{FrameUniforms, COLOR_FORMAT, DEPTH_FORMAT};
+pub use plan::{DrawPlan, HeightKey, HeightPlan, PassPlan, PipelineKey, Plan, PlanError, Skipped};
+pub use surface_pass::{describe as describe_pipeline, COLOR_FORMAT, DEPTH_FORMAT};
 pub use trace_pass::{trace_on_gpu, TraceOutput, TraceRequest};

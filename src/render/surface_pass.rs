@@ -1,19 +1,22 @@
-//! The surface pass: mesh buffers, the frame's uniforms and descriptor set, one graphics pipeline
-//! per (method, sidedness) the scene uses, and the draw recording with dynamic rendering.
+//! The surface pass: mesh buffers, set 0 per height map (frame uniforms, heights, the method's
+//! map) plus a plain one, set 1 per material, the pipelines the plan lists, and the draw
+//! recording with dynamic rendering: opaque draws first, then blended ones back to front.
 
-use std::collections::BTreeMap;
 use std::sync::Arc;
 
 use ash::vk;
-use glam::Mat4;
+use glam::{Mat4, Vec3};
 
+use super::frame_uniforms::FrameUniforms;
 use super::height_resources::HeightResources;
-use crate::method::Method;
+use super::material_set::{material_layout, MaterialSets};
+use super::plan::{PipelineKey, Plan};
+use super::scene_textures::SceneTextures;
 use crate::scene::{Scene, Vertex};
 use crate::shaders;
 use crate::vk::{
-    graphics_pipeline, Buffer, Context, DescriptorLayout, DescriptorPool, GraphicsDesc, Pipeline,
-    SpecConstants, VkError, VkResult,
+    graphics_pipeline, Bind, Buffer, Context, DescriptorLayout, DescriptorPool, GraphicsDesc,
+    Pipeline, SpecConstants, VkError, VkResult,
 };
 
 /// Colour target format: sRGB, so the hardware encodes the shader's linear output.
@@ -21,170 +24,232 @@ pub const COLOR_FORMAT: vk::Format = vk::Format::R8G8B8A8_SRGB;
 /// Depth target format.
 pub const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
 
-/// The frame uniform block; mirrors `Frame` in `shaders/include/bindings.glsl`.
-#[repr(C)]
-#[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
-pub struct FrameUniforms {
-    pub view_proj: [[f32; 4]; 4],
-    pub eye: [f32; 4],
-    pub light_dir: [f32; 4],
-    pub light_color: [f32; 4],
-    pub ambient: [f32; 4],
-    pub height_info: [f32; 4],
-}
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 144);
+/// Specialization constant id of `SELF_SHADOW` in `surface.frag`.
+const SELF_SHADOW_ID: u32 = 8;
 
-/// Per-draw push constants; mirrors `Draw` in `shaders/include/bindings.glsl`.
-#[repr(C)]
-#[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
-struct DrawConstants {
-    model: [[f32; 4]; 4],
-    base_color: [f32; 4],
-    material: [f32; 4],
-}
-const _: () = assert!(std::mem::size_of::<DrawConstants>() == 96);
-
-struct MeshBuffers {
+struct MeshDraw {
     vertices: Buffer,
     indices: Buffer,
     index_count: u32,
-    pipeline: (Method, bool),
-    constants: DrawConstants,
+    pipeline: usize,
+    frame_set: vk::DescriptorSet,
+    material_set: vk::DescriptorSet,
+    model: Mat4,
+    blend: bool,
+    center: Vec3,
 }
 
 /// Everything the surface pass needs for one scene.
 pub struct SurfacePass {
-    _layout: DescriptorLayout,
-    _pool: DescriptorPool,
-    set: vk::DescriptorSet,
-    pipelines: BTreeMap<(String, bool), Pipeline>,
-    meshes: Vec<MeshBuffers>,
+    pipelines: Vec<Pipeline>,
+    draws: Vec<MeshDraw>,
+    eye: Vec3,
+    _materials: MaterialSets,
+    _textures: SceneTextures,
+    _frame_pool: DescriptorPool,
+    _plain_uniforms: Option<Buffer>,
+    _layouts: Vec<DescriptorLayout>,
 }
 
-fn pipeline_key(key: &(Method, bool)) -> (String, bool) {
-    (key.0.id().to_owned(), key.1)
+/// The set 0 layouts: plain (uniforms only), heights, heights with a method map.
+struct FrameLayouts {
+    plain: DescriptorLayout,
+    heights: DescriptorLayout,
+    heights_and_map: DescriptorLayout,
+}
+
+fn frame_layouts(ctx: &Arc<Context>) -> VkResult<FrameLayouts> {
+    let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
+    let ubo = (0, vk::DescriptorType::UNIFORM_BUFFER);
+    let tex = |b| (b, vk::DescriptorType::COMBINED_IMAGE_SAMPLER);
+    Ok(FrameLayouts {
+        plain: DescriptorLayout::new(ctx, &[ubo], stages, "plain frame layout")?,
+        heights: DescriptorLayout::new(ctx, &[ubo, tex(1), tex(2)], stages, "height layout")?,
+        heights_and_map: DescriptorLayout::new(
+            ctx,
+            &[ubo, tex(1), tex(2), tex(3)],
+            stages,
+            "height and map layout",
+        )?,
+    })
 }
 
 impl SurfacePass {
-    /// Uploads the scene's meshes and builds the pipelines its materials use (plain materials
-    /// share the first relief method's pipeline, with relief switched off by depth scale 0).
-    pub fn new(ctx: &Arc<Context>, scene: &Scene, res: &HeightResources) -> VkResult<SurfacePass> {
-        let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
-        let layout = DescriptorLayout::new(ctx, &res.layout_bindings(), stages, "surface layout")?;
-        let pool = DescriptorPool::new(ctx, 1, 2, "surface sets")?;
-        let set = pool.allocate(&layout, &res.binds())?;
-        let fallback = scene
-            .materials
-            .iter()
-            .find_map(|m| m.relief.map(|r| r.method))
-            .unwrap_or(Method::POM);
-        let meshes = upload_meshes(ctx, scene, fallback)?;
-        let mut pipelines = BTreeMap::new();
-        for mesh in &meshes {
-            let key = pipeline_key(&mesh.pipeline);
-            if let std::collections::btree_map::Entry::Vacant(slot) = pipelines.entry(key) {
-                slot.insert(create_pipeline(
-                    ctx,
-                    mesh.pipeline.0,
-                    mesh.pipeline.1,
-                    layout.raw(),
-                )?);
-            }
+    /// Uploads what `plan` draws of `scene` and builds the pipelines it lists. `heights[k]` is
+    /// the uploaded height map of `plan.heights[k]`.
+    pub fn new(
+        ctx: &Arc<Context>,
+        scene: &Scene,
+        plan: &Plan,
+        heights: &[HeightResources],
+        uniforms: &FrameUniforms,
+    ) -> VkResult<SurfacePass> {
+        let layouts = frame_layouts(ctx)?;
+        let material_layout = material_layout(ctx)?;
+        let mut drawn = vec![false; scene.materials.len()];
+        for d in &plan.draws {
+            drawn[d.material] = true;
         }
+        let mut textures = SceneTextures::new(ctx)?;
+        let materials = MaterialSets::new(
+            ctx,
+            &material_layout,
+            &scene.materials,
+            &scene.images,
+            &drawn,
+            &mut textures,
+        )?;
+        let sets = heights.len() as u32 + 1;
+        let frame_pool = DescriptorPool::new(ctx, sets, 4 * sets, "frame sets")?;
+        let height_sets = heights
+            .iter()
+            .map(|h| {
+                let layout = if h.has_map() {
+                    &layouts.heights_and_map
+                } else {
+                    &layouts.heights
+                };
+                frame_pool.allocate(layout, &h.binds())
+            })
+            .collect::<VkResult<Vec<_>>>()?;
+        let plain_uniforms = if plan.pipelines.iter().any(|p| p.method.is_none()) {
+            Some(Buffer::with_data(
+                ctx,
+                bytemuck::bytes_of(uniforms),
+                vk::BufferUsageFlags::UNIFORM_BUFFER,
+                "plain frame uniforms",
+            )?)
+        } else {
+            None
+        };
+        let plain_set = plain_uniforms
+            .as_ref()
+            .map(|b| frame_pool.allocate(&layouts.plain, &[Bind::Uniform(0, b.raw())]))
+            .transpose()?;
+        let pipelines = plan
+            .pipelines
+            .iter()
+            .map(|key| {
+                let set0 = match key.method {
+                    None => &layouts.plain,
+                    Some(m) if m.info().needs.iter().any(|k| k.is_method_map()) => {
+                        &layouts.heights_and_map
+                    }
+                    Some(_) => &layouts.heights,
+                };
+                create_pipeline(ctx, key, &[set0.raw(), material_layout.raw()])
+            })
+            .collect::<VkResult<Vec<_>>>()?;
+        let mut draws = Vec::with_capacity(plan.draws.len());
+        for d in &plan.draws {
+            let mesh = &scene.meshes[d.mesh];
+            let frame_set = match d.heights {
+                Some(k) => height_sets[k],
+                None => plain_set.ok_or_else(|| VkError::Invalid("no plain frame set".into()))?,
+            };
+            let material_set = materials.set(d.material).ok_or_else(|| {
+                VkError::Invalid(format!("material {} has no set", d.material))
+            })?;
+            let (lo, hi) = mesh_bounds(&mesh.vertices);
+            draws.push(MeshDraw {
+                vertices: Buffer::with_data(
+                    ctx,
+                    bytemuck::cast_slice(&mesh.vertices),
+                    vk::BufferUsageFlags::VERTEX_BUFFER,
+                    &format!("{} vertices", mesh.name),
+                )?,
+                indices: Buffer::with_data(
+                    ctx,
+                    bytemuck::cast_slice(&mesh.indices),
+                    vk::BufferUsageFlags::INDEX_BUFFER,
+                    &format!("{} indices", mesh.name),
+                )?,
+                index_count: mesh.indices.len() as u32,
+                pipeline: d.pipeline,
+                frame_set,
+                material_set,
+                model: mesh.transform,
+                blend: plan.pipelines[d.pipeline].blend,
+                center: mesh.transform.transform_point3((lo + hi) * 0.5),
+            });
+        }
+        let eye = Vec3::from_slice(&uniforms.eye[..3]);
         Ok(SurfacePass {
-            _layout: layout,
-            _pool: pool,
-            set,
             pipelines,
-            meshes,
+            draws,
+            eye,
+            _materials: materials,
+            _frame_pool: frame_pool,
+            _plain_uniforms: plain_uniforms,
+            _layouts: vec![
+                layouts.plain,
+                layouts.heights,
+                layouts.heights_and_map,
+                material_layout,
+            ],
+            _textures: textures,
         })
     }
 
-    /// Keys (`method id`, double-sided) of the pipelines built.
-    pub fn pipeline_keys(&self) -> Vec<(String, bool)> {
-        self.pipelines.keys().cloned().collect()
-    }
-
-    /// Records every draw. Rendering must have begun with the targets' formats.
+    /// Records every draw: opaque ones in plan order, then blended ones from far to near.
+    /// Rendering must have begun with the targets' formats.
     pub fn record_draws(&self, device: &ash::Device, cmd: vk::CommandBuffer) {
-        for mesh in &self.meshes {
-            let Some(pipeline) = self.pipelines.get(&pipeline_key(&mesh.pipeline)) else {
-                continue;
-            };
-            pipeline.bind(cmd, Some(self.set));
-            pipeline.push(cmd, bytemuck::bytes_of(&mesh.constants));
+        let mut order: Vec<&MeshDraw> = self.draws.iter().filter(|d| !d.blend).collect();
+        let mut blended: Vec<&MeshDraw> = self.draws.iter().filter(|d| d.blend).collect();
+        blended.sort_by(|a, b| {
+            let da = a.center.distance_squared(self.eye);
+            let db = b.center.distance_squared(self.eye);
+            db.total_cmp(&da)
+        });
+        order.extend(blended);
+        for draw in order {
+            let pipeline = &self.pipelines[draw.pipeline];
+            pipeline.bind(cmd, Some(draw.frame_set));
+            pipeline.bind_set(cmd, 1, draw.material_set);
+            pipeline.push(cmd, bytemuck::bytes_of(&draw.model.to_cols_array_2d()));
             // SAFETY: `cmd` is recording inside dynamic rendering; buffers outlive the submission.
             unsafe {
-                device.cmd_bind_vertex_buffers(cmd, 0, &[mesh.vertices.raw()], &[0]);
-                device.cmd_bind_index_buffer(cmd, mesh.indices.raw(), 0, vk::IndexType::UINT32);
-                device.cmd_draw_indexed(cmd, mesh.index_count, 1, 0, 0, 0);
+                device.cmd_bind_vertex_buffers(cmd, 0, &[draw.vertices.raw()], &[0]);
+                device.cmd_bind_index_buffer(cmd, draw.indices.raw(), 0, vk::IndexType::UINT32);
+                device.cmd_draw_indexed(cmd, draw.index_count, 1, 0, 0, 0);
             }
         }
     }
 }
 
-fn upload_meshes(
-    ctx: &Arc<Context>,
-    scene: &Scene,
-    fallback: Method,
-) -> VkResult<Vec<MeshBuffers>> {
-    let mut out = Vec::new();
-    for mesh in scene.meshes.iter().filter(|m| !m.indices.is_empty()) {
-        let material = scene.materials.get(mesh.material).ok_or_else(|| {
-            VkError::Invalid(format!(
-                "mesh {:?} names material {}",
-                mesh.name, mesh.material
-            ))
-        })?;
-        let method = material.relief.map(|r| r.method).unwrap_or(fallback);
-        let depth_scale = material.relief.map(|r| r.depth_scale).unwrap_or(0.0);
-        let vertices = Buffer::with_data(
-            ctx,
-            bytemuck::cast_slice(&mesh.vertices),
-            vk::BufferUsageFlags::VERTEX_BUFFER,
-            &format!("{} vertices", mesh.name),
-        )?;
-        let indices = Buffer::with_data(
-            ctx,
-            bytemuck::cast_slice(&mesh.indices),
-            vk::BufferUsageFlags::INDEX_BUFFER,
-            &format!("{} indices", mesh.name),
-        )?;
-        let transform: Mat4 = mesh.transform;
-        out.push(MeshBuffers {
-            vertices,
-            indices,
-            index_count: mesh.indices.len() as u32,
-            pipeline: (method, material.double_sided),
-            constants: DrawConstants {
-                model: transform.to_cols_array_2d(),
-                base_color: material.base_color,
-                material: [depth_scale, material.roughness, material.metallic, 0.0],
-            },
-        });
-    }
-    Ok(out)
+fn mesh_bounds(vertices: &[Vertex]) -> (Vec3, Vec3) {
+    vertices.iter().fold(
+        (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
+        |(lo, hi), v| {
+            let p = Vec3::from(v.position);
+            (lo.min(p), hi.max(p))
+        },
+    )
 }
 
 fn create_pipeline(
     ctx: &Arc<Context>,
-    method: Method,
-    double_sided: bool,
-    set_layout: vk::DescriptorSetLayout,
+    key: &PipelineKey,
+    set_layouts: &[vk::DescriptorSetLayout],
 ) -> VkResult<Pipeline> {
     let missing = |k: &str| VkError::Invalid(format!("no compiled shader {k}"));
     let vs = shaders::spirv("mesh.vert").ok_or_else(|| missing("mesh.vert"))?;
-    let key = method.surface_shader_key();
-    let fs = shaders::spirv(&key).ok_or_else(|| missing(&key))?;
-    let budget = method.info().default_budget;
-    let spec = SpecConstants::default()
-        .u32(0, budget.max_steps)
-        .u32(1, budget.refine_steps);
+    let shader = key.shader();
+    let fs = shaders::spirv(&shader).ok_or_else(|| missing(&shader))?;
+    let mut spec = SpecConstants::default().u32(SELF_SHADOW_ID, u32::from(key.self_shadow));
+    if let Some(method) = key.method {
+        let budget = method.info().default_budget;
+        spec = spec
+            .u32(0, budget.max_steps)
+            .u32(1, budget.refine_steps);
+    }
     let attributes = [
         (0, vk::Format::R32G32B32_SFLOAT, 0),
         (1, vk::Format::R32G32B32_SFLOAT, 12),
         (2, vk::Format::R32G32_SFLOAT, 24),
-        (3, vk::Format::R32G32B32A32_SFLOAT, 32),
+        (3, vk::Format::R32G32_SFLOAT, 32),
+        (4, vk::Format::R32G32B32A32_SFLOAT, 40),
+        (5, vk::Format::R32G32B32A32_SFLOAT, 56),
     ]
     .map(
         |(location, format, offset)| vk::VertexInputAttributeDescription {
@@ -202,18 +267,30 @@ fn create_pipeline(
         attributes: &attributes,
         color_format: COLOR_FORMAT,
         depth_format: DEPTH_FORMAT,
-        cull: if double_sided {
+        cull: if key.double_sided {
             vk::CullModeFlags::NONE
         } else {
             vk::CullModeFlags::BACK
         },
-        set_layouts: &[set_layout],
-        push_bytes: std::mem::size_of::<DrawConstants>() as u32,
+        set_layouts,
+        push_bytes: std::mem::size_of::<Mat4>() as u32,
+        blend: key.blend,
     };
-    let sided = if double_sided {
-        "double-sided"
-    } else {
-        "single-sided"
-    };
-    graphics_pipeline(ctx, &desc, &format!("surface {method} {sided}"))
+    graphics_pipeline(ctx, &desc, &format!("surface {}", describe(key)))
+}
+
+/// A pipeline's name for debug labels and `--explain`.
+pub fn describe(key: &PipelineKey) -> String {
+    let mut name = key.shader();
+    for (on, what) in [
+        (key.double_sided, "double-sided"),
+        (key.blend, "blend"),
+        (key.self_shadow, "self-shadow"),
+    ] {
+        if on {
+            name.push(' ');
+            name.push_str(what);
+        }
+    }
+    name
 }

@@ -3,7 +3,7 @@
 
 use glam::{Mat4, Vec3};
 
-use super::{box_mesh, quad_mesh, Camera, Light, Material, Mesh, Relief, Scene};
+use super::{box_mesh, quad_mesh, Camera, HeightSource, Light, Material, Mesh, Relief, Scene};
 use crate::heightfield::{Generator, Heightfield};
 use crate::method::Method;
 
@@ -46,6 +46,8 @@ pub fn default_scene(method: Method) -> Scene {
     let relief = Relief {
         depth_scale: DEFAULT_DEPTH_SCALE,
         method,
+        budget: None,
+        height: HeightSource::Frame,
     };
     let materials = vec![
         material("bricks", [0.62, 0.26, 0.17], 0.7, Some(relief)),
@@ -71,6 +73,11 @@ pub fn default_scene(method: Method) -> Scene {
             0.05,
             50.0,
         )),
-        lights: vec![Light::default_light()],
+        // The one light casts shadows, so the default scene shows relief self-shadowing.
+        lights: vec![Light {
+            casts_shadows: true,
+            ..Light::default_light()
+        }],
+        images: Vec::new(),
     }
 }

@@ -20,7 +20,14 @@ pub enum SceneError {
 }
 
 /// Loads a glTF file and its buffers and images.
-pub fn load_gltf(path: &Path) -> Result<Scene, SceneError> {
+/// Which scene and camera of a file to use.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct SceneOptions {
+    pub scene: Option<usize>,
+    pub camera: Option<usize>,
+}
+
+pub fn load_gltf(path: &Path, _opts: &SceneOptions) -> Result<Scene, SceneError> {
     let (doc, buffers, _images) = gltf::import(path).map_err(|source| SceneError::Gltf {
         path: path.to_owned(),
         source,
@@ -71,8 +78,8 @@ fn convert_material(m: gltf::Material) -> Material {
         base_color: pbr.base_color_factor(),
         roughness: pbr.roughness_factor(),
         metallic: pbr.metallic_factor(),
-        relief: None,
         double_sided: m.double_sided(),
+        ..Material::default()
     }
 }
 
@@ -128,17 +135,19 @@ fn convert_primitive(
     let normals: Option<Vec<[f32; 3]>> = reader.read_normals().map(|n| n.collect());
     let tangents: Option<Vec<[f32; 4]>> = reader.read_tangents().map(|t| t.collect());
     let mut vertices: Vec<Vertex> = (0..count)
-        .map(|k| Vertex {
-            position: positions[k],
-            normal: normals
-                .as_ref()
-                .and_then(|n| n.get(k).copied())
-                .unwrap_or([0.0; 3]),
-            uv: uvs.get(k).copied().unwrap_or([0.0; 2]),
-            tangent: tangents
-                .as_ref()
-                .and_then(|t| t.get(k).copied())
-                .unwrap_or([0.0; 4]),
+        .map(|k| {
+            Vertex::new(
+                positions[k],
+                normals
+                    .as_ref()
+                    .and_then(|n| n.get(k).copied())
+                    .unwrap_or([0.0; 3]),
+                uvs.get(k).copied().unwrap_or([0.0; 2]),
+                tangents
+                    .as_ref()
+                    .and_then(|t| t.get(k).copied())
+                    .unwrap_or([0.0; 4]),
+            )
         })
         .collect();
     if normals.is_none() || tangents.is_none() {

@@ -1,92 +1,117 @@
-//! Scenes as plain Rust data: meshes with tangents, materials (with optional relief), a camera
-//! and lights. No Vulkan types, so scenes are built and tested without a GPU.
+//! Scenes as plain Rust data: meshes with tangents, materials (with optional relief), images,
+//! cameras and lights. No Vulkan types, so scenes are built and tested without a GPU.
 
 mod builtin;
 mod camera;
 mod gltf_load;
+mod material;
 mod primitives;
 
 pub use builtin::{default_heightfield, default_scene, DEFAULT_HEIGHTFIELD};
-pub use camera::Camera;
-pub use gltf_load::{load_gltf, SceneError};
+pub use camera::{Camera, Projection};
+pub use gltf_load::{load_gltf, SceneError, SceneOptions};
+pub use material::{
+    AlphaMode, Filter, HeightSource, Material, Relief, SamplerDesc, TextureRef, TextureSlot,
+    UvTransform, Wrap,
+};
 pub use primitives::{box_mesh, quad_mesh};
+
+use std::sync::Arc;
 
 use glam::{Mat4, Vec3};
 
 use crate::method::Method;
 
-/// One vertex as the mesh shader reads it (location 0..3). Mirrors `mesh.vert`.
+/// One vertex as the mesh shader reads it (locations 0..=5). Mirrors `mesh.vert`.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct Vertex {
     pub position: [f32; 3],
     pub normal: [f32; 3],
+    /// Texture coordinate set 0.
     pub uv: [f32; 2],
-    /// xyz: tangent along +u; w: sign of the bitangent (+v) relative to normal x tangent.
+    /// Texture coordinate set 1 (a copy of set 0 when the mesh has none).
+    pub uv1: [f32; 2],
+    /// xyz: tangent along +u of set 0; w: sign of the bitangent (+v) relative to normal x tangent.
     pub tangent: [f32; 4],
+    /// Linear RGBA vertex colour (white when the mesh has none).
+    pub color: [f32; 4],
 }
 
-const _: () = assert!(std::mem::size_of::<Vertex>() == 48);
+const _: () = assert!(std::mem::size_of::<Vertex>() == 72);
+
+impl Vertex {
+    /// A vertex with no second uv set (set 1 copies set 0) and a white colour.
+    pub fn new(position: [f32; 3], normal: [f32; 3], uv: [f32; 2], tangent: [f32; 4]) -> Vertex {
+        Vertex {
+            position,
+            normal,
+            uv,
+            uv1: uv,
+            tangent,
+            color: [1.0; 4],
+        }
+    }
+}
 
 /// Indexed triangles in object space, with the material they use and their placement.
 #[derive(Debug, Clone)]
 pub struct Mesh {
     pub name: String,
     pub vertices: Vec<Vertex>,
+    /// Counter-clockwise front faces in world space (a mirroring transform is already
+    /// compensated by reversed winding).
     pub indices: Vec<u32>,
     pub material: usize,
     pub transform: Mat4,
 }
 
-/// How a material is displaced.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Relief {
-    /// Depth of height 0 below the polygon, in uv units (DESIGN.md section 2).
-    pub depth_scale: f32,
-    pub method: Method,
-}
-
-/// A surface's look.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Material {
+/// A decoded image a material's textures point at.
+#[derive(Debug, Clone)]
+pub struct SceneImage {
+    /// Where it came from, for messages: a file name, `"embedded #3"`, ...
     pub name: String,
-    /// Linear RGBA.
-    pub base_color: [f32; 4],
-    pub roughness: f32,
-    pub metallic: f32,
-    /// Relief from the frame's height field, or `None` for a plain surface.
-    pub relief: Option<Relief>,
-    pub double_sided: bool,
+    pub pixels: Arc<image::DynamicImage>,
 }
 
-impl Default for Material {
-    fn default() -> Self {
-        Material {
-            name: "default".into(),
-            base_color: [0.8, 0.8, 0.8, 1.0],
-            roughness: 0.6,
-            metallic: 0.0,
-            relief: None,
-            double_sided: false,
-        }
-    }
+/// What kind of punctual light.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum LightKind {
+    /// Parallel rays along `Light::direction`.
+    Directional,
+    /// From `Light::position` in every direction.
+    Point,
+    /// From `Light::position` around `Light::direction`; angles in radians from the axis.
+    Spot { inner_cone: f32, outer_cone: f32 },
 }
 
-/// A directional light.
+/// A punctual light (KHR_lights_punctual semantics).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Light {
-    /// Direction toward the light, world space.
+    pub kind: LightKind,
+    /// World position (point and spot).
+    pub position: Vec3,
+    /// World direction the light travels (directional and spot), unit length.
     pub direction: Vec3,
-    /// Linear RGB radiance times intensity.
+    /// Linear RGB times intensity (lux for directional, candela for point and spot).
     pub color: Vec3,
+    /// Distance where the light's influence ends, `None` for infinite.
+    pub range: Option<f32>,
+    /// Whether relief surfaces trace self-shadow rays toward this light.
+    pub casts_shadows: bool,
 }
 
 impl Light {
-    /// The light a scene without lights gets: warm, from above and to the side.
+    /// The light a scene without lights gets: warm, from above and to the side. It fills in for
+    /// missing lights and casts no shadows, so a scene with no light builds no shadow work.
     pub fn default_light() -> Light {
         Light {
-            direction: Vec3::new(-0.45, 0.8, 0.4).normalize(),
+            kind: LightKind::Directional,
+            position: Vec3::ZERO,
+            direction: -Vec3::new(-0.45, 0.8, 0.4).normalize(),
             color: Vec3::new(3.0, 2.85, 2.6),
+            range: None,
+            casts_shadows: false,
         }
     }
 }
@@ -96,7 +121,10 @@ impl Light {
 pub struct Scene {
     pub meshes: Vec<Mesh>,
     pub materials: Vec<Material>,
+    pub images: Vec<SceneImage>,
+    /// The camera to render with; `None` frames the scene's bounds.
     pub camera: Option<Camera>,
+    /// The scene's own lights; empty means the renderer adds [`Light::default_light`].
     pub lights: Vec<Light>,
 }
 
@@ -117,13 +145,31 @@ impl Scene {
         self.materials.iter().any(|m| m.relief.is_some())
     }
 
-    /// Gives every material relief with `depth_scale` and `method` (the `--heightmap` path).
-    pub fn apply_relief(&mut self, depth_scale: f32, method: Method) {
+    /// Gives relief from the frame's height map (`--heightmap`) to the materials `filter`
+    /// selects: every material for `None`, else those named exactly so. Returns how many.
+    pub fn apply_relief(&mut self, depth_scale: f32, method: Method, filter: Option<&str>) -> usize {
+        let mut count = 0;
         for m in &mut self.materials {
+            if filter.is_some_and(|name| name != m.name) {
+                continue;
+            }
             m.relief = Some(Relief {
                 depth_scale,
                 method,
+                budget: None,
+                height: HeightSource::Frame,
             });
+            count += 1;
+        }
+        count
+    }
+
+    /// The lights the frame is lit by: the scene's, or the default light.
+    pub fn effective_lights(&self) -> Vec<Light> {
+        if self.lights.is_empty() {
+            vec![Light::default_light()]
+        } else {
+            self.lights.clone()
         }
     }
 }

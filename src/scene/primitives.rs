@@ -24,15 +24,15 @@ fn push_face(face: &Face, vertices: &mut Vec<Vertex>, indices: &mut Vec<u32>) {
     };
     for (su, sv) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
         let p = face.center + face.u_dir * (su * face.half.0) + face.v_dir * (sv * face.half.1);
-        vertices.push(Vertex {
-            position: p.into(),
-            normal: face.normal.into(),
-            uv: [
+        vertices.push(Vertex::new(
+            p.into(),
+            face.normal.into(),
+            [
                 (su + 1.0) * 0.5 * face.uv_repeat.0,
                 (sv + 1.0) * 0.5 * face.uv_repeat.1,
             ],
-            tangent: [face.u_dir.x, face.u_dir.y, face.u_dir.z, sign],
-        });
+            [face.u_dir.x, face.u_dir.y, face.u_dir.z, sign],
+        ));
     }
     // Counter-clockwise seen from the side the normal points to.
     let ccw = face.u_dir.cross(face.v_dir).dot(face.normal) > 0.0;

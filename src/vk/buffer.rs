@@ -7,6 +7,7 @@ use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme};
 use gpu_allocator::MemoryLocation;
 
 use super::context::Context;
+use super::counters::Created;
 use super::error::{Named, VkError, VkResult};
 
 /// A buffer and its allocation, owned together.
@@ -51,7 +52,12 @@ impl Buffer {
                 allocation_scheme: AllocationScheme::GpuAllocatorManaged,
             });
         let allocation = match allocation {
-            Ok(a) => a,
+            Ok(a) => {
+                ctx.count(Created::Buffer {
+                    bytes: requirements.size,
+                });
+                a
+            }
             Err(source) => {
                 // SAFETY: the buffer has no memory bound and is unused.
                 unsafe { device.destroy_buffer(raw, None) };

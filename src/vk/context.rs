@@ -9,6 +9,7 @@ use ash::{ext, vk};
 use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
 use gpu_allocator::{AllocationSizes, AllocatorDebugSettings};
 
+use super::counters::{Created, ObjectCounters, ObjectCounts};
 use super::error::{Named, VkError, VkResult};
 use super::instance::{create_instance, InstanceParts, MessageCounts, Validation};
 use super::physical::{choose_physical_device, DeviceInfo};
@@ -34,6 +35,7 @@ pub struct Context {
     queue_family: u32,
     allocator: ManuallyDrop<Mutex<Allocator>>,
     command_pool: Mutex<vk::CommandPool>,
+    created: ObjectCounters,
 }
 
 impl Context {
@@ -118,6 +120,7 @@ impl Context {
             queue_family,
             allocator: ManuallyDrop::new(Mutex::new(allocator)),
             command_pool: Mutex::new(pool),
+            created: ObjectCounters::default(),
         }))
     }
 
@@ -149,6 +152,15 @@ impl Context {
     /// What the validation layer has reported so far.
     pub fn messages(&self) -> &MessageCounts {
         &self.counts
+    }
+
+    /// How many objects and allocations this context has created so far.
+    pub fn created(&self) -> ObjectCounts {
+        self.created.snapshot()
+    }
+
+    pub(crate) fn count(&self, what: Created) {
+        self.created.record(what);
     }
 
     /// The queue family of the single graphics + compute queue relief uses.
@@ -243,7 +255,9 @@ fn create_device(
     let mut v12 = vk::PhysicalDeviceVulkan12Features::default().host_query_reset(true);
     let mut v13 = vk::PhysicalDeviceVulkan13Features::default()
         .dynamic_rendering(true)
-        .synchronization2(true);
+        .synchronization2(true)
+        // glslang lowers `discard` (alpha masks) to demote-to-helper under SPIR-V 1.6.
+        .shader_demote_to_helper_invocation(true);
     let features = vk::PhysicalDeviceFeatures::default()
         .shader_storage_image_extended_formats(info.storage_r16);
     let info = vk::DeviceCreateInfo::default()

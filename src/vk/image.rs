@@ -8,6 +8,7 @@ use gpu_allocator::vulkan::{Allocation, AllocationCreateDesc, AllocationScheme};
 use gpu_allocator::MemoryLocation;
 
 use super::context::Context;
+use super::counters::Created;
 use super::error::{Named, VkError, VkResult};
 
 /// What to create: size, format, mip count, usage, and the aspect its views see.
@@ -94,6 +95,9 @@ impl Image {
                 name: self.name.clone(),
                 source,
             })?;
+        self.ctx.count(Created::Image {
+            bytes: requirements.size,
+        });
         // SAFETY: the allocation satisfies the image's requirements.
         let bound =
             unsafe { device.bind_image_memory(self.raw, allocation.memory(), allocation.offset()) };
@@ -225,6 +229,23 @@ impl Sampler {
             .max_lod(vk::LOD_CLAMP_NONE);
         // SAFETY: valid device and create info.
         let raw = unsafe { ctx.device().create_sampler(&info, None) }.named("vkCreateSampler")?;
+        ctx.count(Created::Sampler);
+        ctx.set_name(raw, name);
+        Ok(Sampler {
+            ctx: ctx.clone(),
+            raw,
+        })
+    }
+
+    /// A sampler exactly as `info` describes it.
+    pub fn from_info(
+        ctx: &Arc<Context>,
+        info: &vk::SamplerCreateInfo,
+        name: &str,
+    ) -> VkResult<Sampler> {
+        // SAFETY: valid device and create info.
+        let raw = unsafe { ctx.device().create_sampler(info, None) }.named("vkCreateSampler")?;
+        ctx.count(Created::Sampler);
         ctx.set_name(raw, name);
         Ok(Sampler {
             ctx: ctx.clone(),

@@ -7,6 +7,7 @@
 mod buffer;
 mod commands;
 mod context;
+mod counters;
 mod descriptors;
 mod error;
 mod image;
@@ -19,6 +20,7 @@ mod transfer;
 pub use buffer::Buffer;
 pub use commands::{memory_barrier, transition_images, ImageTransition};
 pub use context::{Context, ContextOptions};
+pub use counters::ObjectCounts;
 pub use descriptors::{write_set, Bind, DescriptorLayout, DescriptorPool};
 pub use error::{VkError, VkResult};
 pub use image::{Image, ImageDesc, ImageView, Sampler};

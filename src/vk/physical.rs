@@ -1,5 +1,5 @@
 //! Choosing the physical device: a queue family that does graphics and compute, Vulkan 1.3 with
-//! dynamic rendering and synchronization2; then discrete > integrated > virtual > CPU, or by name.
+//! dynamic rendering, synchronization2 and demote-to-helper; then discrete > integrated > virtual > CPU, or by name.
 
 use std::ffi::CStr;
 
@@ -68,6 +68,7 @@ fn describe(instance: &ash::Instance, pd: vk::PhysicalDevice) -> Option<(u32, De
     let usable = props.api_version >= vk::API_VERSION_1_3
         && v13.dynamic_rendering == vk::TRUE
         && v13.synchronization2 == vk::TRUE
+        && v13.shader_demote_to_helper_invocation == vk::TRUE
         && v12.host_query_reset == vk::TRUE;
     if !usable {
         return None;

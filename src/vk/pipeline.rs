@@ -6,6 +6,7 @@ use std::sync::Arc;
 use ash::vk;
 
 use super::context::Context;
+use super::counters::Created;
 use super::error::{Named, VkResult};
 
 /// Specialization constants, in constant-id order as pushed.
@@ -74,6 +75,21 @@ impl Pipeline {
                 device.cmd_bind_descriptor_sets(cmd, self.bind_point, self.layout, 0, &[set], &[]);
             }
         }
+    }
+
+    /// Binds `set` at index `index` (the pipeline itself must be bound).
+    pub fn bind_set(&self, cmd: vk::CommandBuffer, index: u32, set: vk::DescriptorSet) {
+        // SAFETY: `cmd` is recording on this device; the set matches the layout at `index`.
+        unsafe {
+            self.ctx.device().cmd_bind_descriptor_sets(
+                cmd,
+                self.bind_point,
+                self.layout,
+                index,
+                &[set],
+                &[],
+            )
+        };
     }
 
     /// Pushes `bytes` as push constants visible to every stage of the pipeline.
@@ -193,6 +209,11 @@ fn finish(
     match created {
         Ok(list) => {
             ctx.set_name(list[0], name);
+            ctx.count(if bind_point == vk::PipelineBindPoint::GRAPHICS {
+                Created::GraphicsPipeline
+            } else {
+                Created::ComputePipeline
+            });
             Ok(Pipeline {
                 ctx: ctx.clone(),
                 raw: list[0],
@@ -223,6 +244,8 @@ pub struct GraphicsDesc<'a> {
     pub cull: vk::CullModeFlags,
     pub set_layouts: &'a [vk::DescriptorSetLayout],
     pub push_bytes: u32,
+    /// Blend over the target with the fragment's alpha (and leave depth unwritten).
+    pub blend: bool,
 }
 
 /// Creates a triangle-list graphics pipeline for dynamic rendering with one colour and one depth
@@ -279,9 +302,16 @@ pub fn graphics_pipeline(
     let has_depth = desc.depth_format != vk::Format::UNDEFINED;
     let depth = vk::PipelineDepthStencilStateCreateInfo::default()
         .depth_test_enable(has_depth)
-        .depth_write_enable(has_depth)
+        .depth_write_enable(has_depth && !desc.blend)
         .depth_compare_op(vk::CompareOp::LESS_OR_EQUAL);
     let blend_attachments = [vk::PipelineColorBlendAttachmentState::default()
+        .blend_enable(desc.blend)
+        .src_color_blend_factor(vk::BlendFactor::SRC_ALPHA)
+        .dst_color_blend_factor(vk::BlendFactor::ONE_MINUS_SRC_ALPHA)
+        .color_blend_op(vk::BlendOp::ADD)
+        .src_alpha_blend_factor(vk::BlendFactor::ONE)
+        .dst_alpha_blend_factor(vk::BlendFactor::ONE_MINUS_SRC_ALPHA)
+        .alpha_blend_op(vk::BlendOp::ADD)
         .color_write_mask(vk::ColorComponentFlags::RGBA)];
     let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachments);
     let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];

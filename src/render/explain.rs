@@ -1,0 +1,58 @@
+//! The plan as `relief render --explain` prints it: one JSON object with the pipelines built, the
+//! maps built (kind, size, ms), the passes recorded and what was skipped, and why.
+
+use serde::Serialize;
+use serde_json::{json, Value};
+
+use super::frame::Frame;
+use super::surface_pass::describe;
+use crate::vk::ObjectCounts;
+
+#[derive(Serialize)]
+struct PipelineEntry {
+    name: String,
+    shader: String,
+    method: Option<&'static str>,
+    double_sided: bool,
+    blend: bool,
+    self_shadow: bool,
+}
+
+/// The explanation of `frame`; `created` is what the frame created on the device.
+pub fn explain(frame: &Frame, created: &ObjectCounts) -> Value {
+    let plan = &frame.plan;
+    let pipelines: Vec<PipelineEntry> = plan
+        .pipelines
+        .iter()
+        .map(|p| PipelineEntry {
+            name: describe(p),
+            shader: p.shader(),
+            method: p.method.map(|m| m.id()),
+            double_sided: p.double_sided,
+            blend: p.blend,
+            self_shadow: p.self_shadow,
+        })
+        .collect();
+    let heights: Vec<Value> = plan
+        .heights
+        .iter()
+        .map(|h| {
+            json!({
+                "source": h.source,
+                "size": [h.size.0, h.size.1],
+                "pyramid": h.pyramid,
+                "map": h.map.map(|m| m.name()),
+            })
+        })
+        .collect();
+    json!({
+        "pipelines": pipelines,
+        "maps": frame.maps,
+        "heights": heights,
+        "passes": plan.passes,
+        "skipped": plan.skipped,
+        "draws": plan.draws.len(),
+        "lights": plan.lights.len(),
+        "created": created,
+    })
+}

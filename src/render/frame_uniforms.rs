@@ -1,0 +1,91 @@
+//! The frame uniform block every pass that traces binds (set 0, binding 0): camera, ambient,
+//! the height map's size, and the punctual lights. Mirrors `Frame` in `shaders/include/bindings.glsl`.
+
+use glam::{Mat4, Vec3};
+
+use crate::scene::{Camera, Light, LightKind, Scene};
+
+/// Lights the shaders read; a scene with more is lit by its first ones (the plan says so).
+pub const MAX_LIGHTS: usize = 8;
+
+/// One light; mirrors `LightData` in `bindings.glsl`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct LightUniform {
+    pub position: [f32; 4],
+    pub direction: [f32; 4],
+    pub color: [f32; 4],
+    pub cone: [f32; 4],
+}
+
+/// The frame uniform block.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct FrameUniforms {
+    pub view_proj: [[f32; 4]; 4],
+    pub eye: [f32; 4],
+    pub ambient: [f32; 4],
+    /// Filled in per height map by `HeightResources`.
+    pub height_info: [f32; 4],
+    pub counts: [i32; 4],
+    pub lights: [LightUniform; MAX_LIGHTS],
+}
+const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 128 + 64 * MAX_LIGHTS);
+
+/// Ambient radiance: a dim sky so unlit sides keep their shape.
+const AMBIENT: [f32; 4] = [0.09, 0.1, 0.12, 0.0];
+
+impl LightUniform {
+    fn of(light: &Light) -> LightUniform {
+        let (kind, cone) = match light.kind {
+            LightKind::Directional => (0.0, [0.0; 4]),
+            LightKind::Point => (1.0, [0.0; 4]),
+            LightKind::Spot {
+                inner_cone,
+                outer_cone,
+            } => (2.0, [outer_cone.cos(), inner_cone.cos(), 0.0, 0.0]),
+        };
+        let p = light.position;
+        let d = light.direction.normalize_or(Vec3::NEG_Y);
+        let c = light.color;
+        LightUniform {
+            position: [p.x, p.y, p.z, kind],
+            direction: [d.x, d.y, d.z, light.range.unwrap_or(0.0)],
+            color: [c.x, c.y, c.z, f32::from(u8::from(light.casts_shadows))],
+            cone,
+        }
+    }
+}
+
+/// The camera a frame uses: the scene's, or one framing its bounds.
+pub fn frame_camera(scene: &Scene) -> Camera {
+    scene.camera.unwrap_or_else(|| match scene.bounds() {
+        Some((lo, hi)) => Camera::framing(lo, hi),
+        None => Camera::look_at(Vec3::new(0.0, 1.0, 3.0), Vec3::ZERO, 0.8, 0.1, 100.0),
+    })
+}
+
+impl FrameUniforms {
+    /// The uniforms for `scene` seen with an image of `aspect` (width / height), lit by `lights`.
+    pub fn for_scene(scene: &Scene, lights: &[Light], aspect: f32) -> FrameUniforms {
+        let camera = frame_camera(scene);
+        let eye = camera.eye();
+        let mut out = FrameUniforms {
+            view_proj: camera.view_projection(aspect).to_cols_array_2d(),
+            eye: [eye.x, eye.y, eye.z, 1.0],
+            ambient: AMBIENT,
+            height_info: [0.0; 4],
+            counts: [lights.len().min(MAX_LIGHTS) as i32, 0, 0, 0],
+            lights: [LightUniform::default(); MAX_LIGHTS],
+        };
+        for (slot, light) in out.lights.iter_mut().zip(lights) {
+            *slot = LightUniform::of(light);
+        }
+        out
+    }
+
+    /// The view-projection matrix.
+    pub fn view_projection(&self) -> Mat4 {
+        Mat4::from_cols_array_2d(&self.view_proj)
+    }
+}

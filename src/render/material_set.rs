@@ -1,0 +1,152 @@
+//! Set 1 of the surface pass: per material, its parameter block and its five textures (the white
+//! texture fills empty slots). Mirrors `MaterialParams` in `shaders/include/draw.glsl`.
+
+use std::sync::Arc;
+
+use ash::vk;
+
+use super::scene_textures::SceneTextures;
+use crate::scene::{AlphaMode, HeightSource, Material, SceneImage, TextureSlot, UvTransform};
+use crate::vk::{Bind, Buffer, Context, DescriptorLayout, DescriptorPool, VkResult};
+
+/// The material parameter block.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct MaterialUniform {
+    pub base_color: [f32; 4],
+    pub emissive: [f32; 4],
+    pub pbr: [f32; 4],
+    pub relief: [f32; 4],
+    pub textures: [u32; 4],
+    pub uv_rows: [[f32; 4]; 12],
+}
+const _: () = assert!(std::mem::size_of::<MaterialUniform>() == 272);
+
+/// Index of the height map's uv transform after the five texture slots.
+const HEIGHT_SLOT: usize = 5;
+
+fn uv_rows(transform: &UvTransform, tex_coord: u32) -> [[f32; 4]; 2] {
+    let [r0, r1] = transform.rows();
+    [
+        [r0[0], r0[1], r0[2], tex_coord as f32],
+        [r1[0], r1[1], r1[2], 0.0],
+    ]
+}
+
+impl MaterialUniform {
+    pub fn of(material: &Material) -> MaterialUniform {
+        let identity = uv_rows(&UvTransform::default(), 0);
+        let mut rows = [[0.0; 4]; 12];
+        let mut textures = 0u32;
+        for (k, slot) in TextureSlot::ALL.iter().enumerate() {
+            let pair = match material.texture(*slot) {
+                Some(t) => {
+                    textures |= 1 << k;
+                    uv_rows(&t.transform, t.tex_coord)
+                }
+                None => identity,
+            };
+            rows[2 * k] = pair[0];
+            rows[2 * k + 1] = pair[1];
+        }
+        let height = match material.relief.map(|r| r.height) {
+            Some(HeightSource::Texture { texture, .. }) => {
+                uv_rows(&texture.transform, texture.tex_coord)
+            }
+            _ => identity,
+        };
+        rows[2 * HEIGHT_SLOT] = height[0];
+        rows[2 * HEIGHT_SLOT + 1] = height[1];
+        let cutoff = match material.alpha_mode {
+            AlphaMode::Mask { cutoff } => cutoff,
+            _ => -1.0,
+        };
+        let [er, eg, eb] = material.emissive;
+        MaterialUniform {
+            base_color: material.base_color,
+            emissive: [er, eg, eb, cutoff],
+            pbr: [
+                material.roughness,
+                material.metallic,
+                material.normal_scale,
+                material.occlusion_strength,
+            ],
+            relief: [
+                material.relief.map_or(0.0, |r| r.depth_scale),
+                f32::from(u8::from(material.alpha_mode == AlphaMode::Blend)),
+                0.0,
+                0.0,
+            ],
+            textures: [textures, 0, 0, 0],
+            uv_rows: rows,
+        }
+    }
+}
+
+/// The layout of set 1.
+pub fn material_layout(ctx: &Arc<Context>) -> VkResult<DescriptorLayout> {
+    let mut bindings: Vec<(u32, vk::DescriptorType)> = (0..5)
+        .map(|b| (b, vk::DescriptorType::COMBINED_IMAGE_SAMPLER))
+        .collect();
+    bindings.push((5, vk::DescriptorType::UNIFORM_BUFFER));
+    let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
+    DescriptorLayout::new(ctx, &bindings, stages, "material layout")
+}
+
+/// One descriptor set per drawn material, with the buffers it points at.
+pub struct MaterialSets {
+    _pool: DescriptorPool,
+    _buffers: Vec<Buffer>,
+    /// By material index; `None` for materials no mesh draws.
+    sets: Vec<Option<vk::DescriptorSet>>,
+}
+
+impl MaterialSets {
+    /// Sets for the materials `drawn` marks, uploading the textures they read.
+    pub fn new(
+        ctx: &Arc<Context>,
+        layout: &DescriptorLayout,
+        materials: &[Material],
+        images: &[SceneImage],
+        drawn: &[bool],
+        textures: &mut SceneTextures,
+    ) -> VkResult<MaterialSets> {
+        let count = drawn.iter().filter(|d| **d).count().max(1) as u32;
+        let pool = DescriptorPool::new(ctx, count, 5 * count, "material sets")?;
+        let mut buffers = Vec::new();
+        let mut sets = vec![None; materials.len()];
+        for (index, material) in materials.iter().enumerate() {
+            if !drawn.get(index).copied().unwrap_or(false) {
+                continue;
+            }
+            let uniform = MaterialUniform::of(material);
+            let buffer = Buffer::with_data(
+                ctx,
+                bytemuck::bytes_of(&uniform),
+                vk::BufferUsageFlags::UNIFORM_BUFFER,
+                &format!("material {:?}", material.name),
+            )?;
+            let mut binds = Vec::with_capacity(6);
+            for (k, slot) in TextureSlot::ALL.iter().enumerate() {
+                let (view, sampler) = match material.texture(*slot) {
+                    Some(t) => textures.bind(images, t, slot.is_color())?,
+                    None => textures.white()?,
+                };
+                binds.push(Bind::Texture(k as u32, view, sampler));
+            }
+            binds.push(Bind::Uniform(5, buffer.raw()));
+            sets[index] = Some(pool.allocate(layout, &binds)?);
+            buffers.push(buffer);
+        }
+        Ok(MaterialSets {
+            _pool: pool,
+            _buffers: buffers,
+            sets,
+        })
+    }
+
+    /// The set of material `index`, if it is drawn.
+    pub fn set(&self, index: usize) -> Option<vk::DescriptorSet> {
+        self.sets.get(index).copied().flatten()
+    }
+}

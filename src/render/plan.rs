@@ -1,0 +1,342 @@
+//! The plan: what a scene needs before anything is built. From the meshes that are drawn and
+//! their materials it derives the surface pipelines, the height maps with the pyramid and the
+//! precomputed map their methods read, and the passes; everything else is listed as skipped, with
+//! the reason. The frame builds exactly what the plan lists (`relief render --explain`).
+
+use serde::Serialize;
+
+use super::frame_uniforms::MAX_LIGHTS;
+use super::gpu_heightfield::Addressing;
+use crate::heightfield::{Channel, Heightfield};
+use crate::method::{MapKind, Method};
+use crate::scene::{AlphaMode, HeightSource, Light, Scene, Wrap};
+
+/// Where a planned height map comes from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum HeightKey {
+    /// The frame's height map (`--heightmap`, or the default scene's).
+    Frame,
+    /// A scene image, one channel of it.
+    Image {
+        image: usize,
+        channel: Channel,
+        invert: bool,
+        address: Addressing,
+    },
+}
+
+/// One surface pipeline.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct PipelineKey {
+    /// `None`: the plain variant, without relief.
+    pub method: Option<Method>,
+    pub double_sided: bool,
+    pub blend: bool,
+    pub self_shadow: bool,
+}
+
+impl PipelineKey {
+    /// The SPIR-V variant it is built from.
+    pub fn shader(&self) -> String {
+        match self.method {
+            Some(m) => m.surface_shader_key(),
+            None => "surface.frag:plain".into(),
+        }
+    }
+}
+
+/// One height map to upload: its pyramid when a method reads it, its precomputed map if any.
+#[derive(Debug, Clone, PartialEq)]
+pub struct HeightPlan {
+    pub key: HeightKey,
+    /// For messages and `--explain`: the file or image it comes from.
+    pub source: String,
+    pub size: (u32, u32),
+    pub pyramid: bool,
+    pub map: Option<MapKind>,
+    /// The method whose map it is (maps are built per method row).
+    pub map_method: Option<Method>,
+}
+
+/// One mesh's draw: which pipeline, which height map (relief only), which material.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DrawPlan {
+    pub mesh: usize,
+    pub material: usize,
+    pub pipeline: usize,
+    pub heights: Option<usize>,
+}
+
+/// Something the scene does not need, and why.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct Skipped {
+    pub what: String,
+    pub why: String,
+}
+
+/// A pass the frame records.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PassPlan {
+    pub name: String,
+    pub why: String,
+}
+
+/// Everything a frame builds.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Plan {
+    pub pipelines: Vec<PipelineKey>,
+    pub heights: Vec<HeightPlan>,
+    pub draws: Vec<DrawPlan>,
+    pub passes: Vec<PassPlan>,
+    pub skipped: Vec<Skipped>,
+    /// The lights the frame is lit by (the scene's, or the default one).
+    pub lights: Vec<Light>,
+}
+
+/// Why a scene cannot be planned.
+#[derive(Debug, thiserror::Error)]
+pub enum PlanError {
+    #[error("material {material:?} has relief from the frame's height map, but none was given (use --heightmap FILE)")]
+    NoFrameHeights { material: String },
+    #[error("mesh {mesh:?} names material {material}, but the scene has {count}")]
+    NoMaterial {
+        mesh: String,
+        material: usize,
+        count: usize,
+    },
+    #[error("material {material:?}: height texture names image {image}, but the scene has {count}")]
+    NoImage {
+        material: String,
+        image: usize,
+        count: usize,
+    },
+}
+
+fn address_of(wrap: [Wrap; 2]) -> Addressing {
+    if wrap.contains(&Wrap::ClampToEdge) {
+        Addressing::Clamp
+    } else {
+        Addressing::Repeat
+    }
+}
+
+impl Plan {
+    /// Plans `scene`; `frame_heights` is the height map of materials whose relief has no
+    /// texture of its own.
+    pub fn derive(scene: &Scene, frame_heights: Option<&Heightfield>) -> Result<Plan, PlanError> {
+        let lights = scene.effective_lights();
+        let casts_shadows = lights.iter().take(MAX_LIGHTS).any(|l| l.casts_shadows);
+        let mut plan = Plan {
+            pipelines: Vec::new(),
+            heights: Vec::new(),
+            draws: Vec::new(),
+            passes: Vec::new(),
+            skipped: Vec::new(),
+            lights,
+        };
+        let mut used = vec![false; scene.materials.len()];
+        for (index, mesh) in scene.meshes.iter().enumerate() {
+            if mesh.indices.is_empty() {
+                plan.skip(format!("mesh {:?}", mesh.name), "it has no triangles");
+                continue;
+            }
+            let material =
+                scene
+                    .materials
+                    .get(mesh.material)
+                    .ok_or_else(|| PlanError::NoMaterial {
+                        mesh: mesh.name.clone(),
+                        material: mesh.material,
+                        count: scene.materials.len(),
+                    })?;
+            used[mesh.material] = true;
+            let heights = match &material.relief {
+                None => None,
+                Some(relief) => {
+                    let (key, source, size) = match relief.height {
+                        HeightSource::Frame => {
+                            let hf = frame_heights.ok_or_else(|| PlanError::NoFrameHeights {
+                                material: material.name.clone(),
+                            })?;
+                            let size = (hf.width(), hf.height());
+                            (HeightKey::Frame, "frame height map".to_owned(), size)
+                        }
+                        HeightSource::Texture {
+                            texture,
+                            channel,
+                            invert,
+                        } => {
+                            let image = scene.images.get(texture.image).ok_or_else(|| {
+                                PlanError::NoImage {
+                                    material: material.name.clone(),
+                                    image: texture.image,
+                                    count: scene.images.len(),
+                                }
+                            })?;
+                            let key = HeightKey::Image {
+                                image: texture.image,
+                                channel,
+                                invert,
+                                address: address_of([
+                                    texture.sampler.wrap_u,
+                                    texture.sampler.wrap_v,
+                                ]),
+                            };
+                            let size = (image.pixels.width(), image.pixels.height());
+                            (key, format!("image {}", image.name), size)
+                        }
+                    };
+                    Some(plan.height_for(key, source, size, relief.method))
+                }
+            };
+            let pipeline = PipelineKey {
+                method: material.relief.map(|r| r.method),
+                double_sided: material.double_sided,
+                blend: material.alpha_mode == AlphaMode::Blend,
+                self_shadow: casts_shadows && material.relief.is_some(),
+            };
+            let pipeline = match plan.pipelines.iter().position(|p| *p == pipeline) {
+                Some(k) => k,
+                None => {
+                    plan.pipelines.push(pipeline);
+                    plan.pipelines.len() - 1
+                }
+            };
+            plan.draws.push(DrawPlan {
+                mesh: index,
+                material: mesh.material,
+                pipeline,
+                heights,
+            });
+        }
+        plan.note_unused(scene, &used);
+        plan.note_passes(casts_shadows);
+        Ok(plan)
+    }
+
+    /// The index of the height plan for `key` read by `method`, added or widened as needed.
+    fn height_for(
+        &mut self,
+        key: HeightKey,
+        source: String,
+        size: (u32, u32),
+        method: Method,
+    ) -> usize {
+        let needs = method.info().needs;
+        let pyramid = needs.contains(&MapKind::MaxPyramid);
+        let map = needs.iter().copied().find(|k| *k != MapKind::MaxPyramid);
+        let found = self
+            .heights
+            .iter()
+            .position(|h| h.key == key && h.map == map);
+        match found {
+            Some(k) => {
+                self.heights[k].pyramid |= pyramid;
+                k
+            }
+            None => {
+                self.heights.push(HeightPlan {
+                    key,
+                    source,
+                    size,
+                    pyramid,
+                    map,
+                    map_method: map.map(|_| method),
+                });
+                self.heights.len() - 1
+            }
+        }
+    }
+
+    fn skip(&mut self, what: impl Into<String>, why: impl Into<String>) {
+        self.skipped.push(Skipped {
+            what: what.into(),
+            why: why.into(),
+        });
+    }
+
+    fn note_unused(&mut self, scene: &Scene, used: &[bool]) {
+        for (material, _) in scene.materials.iter().zip(used).filter(|(_, u)| !**u) {
+            self.skip(
+                format!("material {:?}", material.name),
+                "no drawn mesh uses it: no textures or maps uploaded for it",
+            );
+        }
+        let used_methods: Vec<Method> = self.pipelines.iter().filter_map(|p| p.method).collect();
+        for kind in [
+            MapKind::MaxPyramid,
+            MapKind::ConservativeCone,
+            MapKind::RelaxedCone,
+            MapKind::Quadric,
+        ] {
+            let built = self
+                .heights
+                .iter()
+                .any(|h| h.map == Some(kind) || (kind == MapKind::MaxPyramid && h.pyramid));
+            if built {
+                continue;
+            }
+            let readers: Vec<&str> = Method::all()
+                .filter(|m| m.info().needs.contains(&kind))
+                .map(|m| m.id())
+                .collect();
+            let why = if used_methods.is_empty() {
+                "no material has relief".to_owned()
+            } else {
+                format!(
+                    "only {} reads it; the scene uses {}",
+                    readers.join(", "),
+                    unique_ids(&used_methods)
+                )
+            };
+            self.skip(kind.name(), why);
+        }
+        if !self.pipelines.iter().any(|p| p.method.is_none()) {
+            self.skip("surface.frag:plain", "every drawn material has relief");
+        }
+        if self.lights.len() > MAX_LIGHTS {
+            self.skip(
+                format!("lights beyond the first {MAX_LIGHTS}"),
+                format!("the surface shader reads {MAX_LIGHTS} lights"),
+            );
+        }
+    }
+
+    fn note_passes(&mut self, casts_shadows: bool) {
+        let pyramids = self.heights.iter().filter(|h| h.pyramid).count();
+        if pyramids > 0 {
+            self.passes.push(PassPlan {
+                name: "pyramid".into(),
+                why: format!("{pyramids} height map(s) read by pyramid methods"),
+            });
+        }
+        self.passes.push(PassPlan {
+            name: "surface".into(),
+            why: format!("{} draw(s)", self.draws.len()),
+        });
+        let shadowed = self.pipelines.iter().any(|p| p.self_shadow);
+        if shadowed {
+            self.passes.push(PassPlan {
+                name: "self-shadow rays".into(),
+                why: "relief materials under a light that casts shadows (traced in the surface pass)"
+                    .into(),
+            });
+        } else if casts_shadows {
+            self.skip("self-shadow rays", "no drawn material has relief");
+        } else {
+            self.skip("self-shadow rays", "no light casts shadows");
+        }
+        self.skip(
+            "ambient occlusion pass",
+            "not requested; materials' occlusion textures are applied in the surface pass",
+        );
+    }
+}
+
+fn unique_ids(methods: &[Method]) -> String {
+    let mut ids: Vec<&str> = methods.iter().map(|m| m.id()).collect();
+    ids.dedup();
+    ids.sort_unstable();
+    ids.dedup();
+    ids.join(", ")
+}

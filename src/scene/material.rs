@@ -1,0 +1,214 @@
+//! Materials: glTF metallic-roughness with textures, samplers and uv transforms, plus relief.
+
+use crate::heightfield::Channel;
+use crate::method::Method;
+
+/// How a texture's texels are filtered.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum Filter {
+    Nearest,
+    #[default]
+    Linear,
+}
+
+/// How a texture coordinate outside 0..1 is wrapped.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum Wrap {
+    #[default]
+    Repeat,
+    MirroredRepeat,
+    ClampToEdge,
+}
+
+/// A texture's sampler (glTF `sampler`; defaults: linear, mipmapped, repeat).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub struct SamplerDesc {
+    pub mag: Filter,
+    pub min: Filter,
+    /// Whether minification reads mip levels (and, when so, whether it blends between them).
+    pub mipmaps: Option<Filter>,
+    pub wrap_u: Wrap,
+    pub wrap_v: Wrap,
+}
+
+impl Default for SamplerDesc {
+    fn default() -> Self {
+        SamplerDesc {
+            mag: Filter::Linear,
+            min: Filter::Linear,
+            mipmaps: Some(Filter::Linear),
+            wrap_u: Wrap::Repeat,
+            wrap_v: Wrap::Repeat,
+        }
+    }
+}
+
+/// KHR_texture_transform: uv' = T * R * S * uv (glTF's order).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct UvTransform {
+    pub offset: [f32; 2],
+    /// Radians, counter-clockwise in uv space as the extension defines it.
+    pub rotation: f32,
+    pub scale: [f32; 2],
+}
+
+impl Default for UvTransform {
+    fn default() -> Self {
+        UvTransform {
+            offset: [0.0; 2],
+            rotation: 0.0,
+            scale: [1.0; 2],
+        }
+    }
+}
+
+impl UvTransform {
+    /// The two rows of the 2x3 affine matrix: uv' = (row0 . (u, v, 1), row1 . (u, v, 1)).
+    pub fn rows(&self) -> [[f32; 3]; 2] {
+        let (s, c) = self.rotation.sin_cos();
+        let [sx, sy] = self.scale;
+        let [ox, oy] = self.offset;
+        [[c * sx, s * sy, ox], [-s * sx, c * sy, oy]]
+    }
+}
+
+/// A material's use of one image.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TextureRef {
+    /// Index into `Scene::images`.
+    pub image: usize,
+    /// Which texture coordinate set (0 or 1) the texture reads.
+    pub tex_coord: u32,
+    pub transform: UvTransform,
+    pub sampler: SamplerDesc,
+}
+
+/// The texture slots of a material, in the order the surface shader binds them.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+pub enum TextureSlot {
+    BaseColor,
+    MetallicRoughness,
+    Normal,
+    Occlusion,
+    Emissive,
+}
+
+impl TextureSlot {
+    pub const ALL: [TextureSlot; 5] = [
+        TextureSlot::BaseColor,
+        TextureSlot::MetallicRoughness,
+        TextureSlot::Normal,
+        TextureSlot::Occlusion,
+        TextureSlot::Emissive,
+    ];
+
+    /// Whether texels hold colours (sRGB-encoded) rather than data.
+    pub fn is_color(self) -> bool {
+        matches!(self, TextureSlot::BaseColor | TextureSlot::Emissive)
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            TextureSlot::BaseColor => "baseColor",
+            TextureSlot::MetallicRoughness => "metallicRoughness",
+            TextureSlot::Normal => "normal",
+            TextureSlot::Occlusion => "occlusion",
+            TextureSlot::Emissive => "emissive",
+        }
+    }
+}
+
+/// How alpha is used (glTF `alphaMode`).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum AlphaMode {
+    #[default]
+    Opaque,
+    /// Fragments with alpha below the cutoff are discarded.
+    Mask { cutoff: f32 },
+    /// Blended over what is behind, drawn after the opaque surfaces.
+    Blend,
+}
+
+/// Where a relief material's heights come from.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum HeightSource {
+    /// The frame's height map: `--heightmap`, or the built-in one for the default scene.
+    Frame,
+    /// A texture of the scene, from the material's `extras.relief.height`.
+    Texture {
+        texture: TextureRef,
+        channel: Channel,
+        invert: bool,
+    },
+}
+
+/// How a material is displaced.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Relief {
+    /// Depth of height 0 below the polygon, in uv units of the height map (DESIGN.md section 2).
+    pub depth_scale: f32,
+    pub method: Method,
+    /// Iteration cap instead of the method's default.
+    pub budget: Option<u32>,
+    pub height: HeightSource,
+}
+
+/// A surface's look: glTF metallic-roughness.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Material {
+    pub name: String,
+    /// Linear RGBA factor.
+    pub base_color: [f32; 4],
+    pub base_color_texture: Option<TextureRef>,
+    pub roughness: f32,
+    pub metallic: f32,
+    /// Roughness in G, metalness in B.
+    pub metallic_roughness_texture: Option<TextureRef>,
+    pub normal_texture: Option<TextureRef>,
+    pub normal_scale: f32,
+    /// Occlusion in R.
+    pub occlusion_texture: Option<TextureRef>,
+    pub occlusion_strength: f32,
+    /// Linear RGB factor (KHR_materials_emissive_strength folded in).
+    pub emissive: [f32; 3],
+    pub emissive_texture: Option<TextureRef>,
+    pub alpha_mode: AlphaMode,
+    pub double_sided: bool,
+    /// Relief, or `None` for a plain surface.
+    pub relief: Option<Relief>,
+}
+
+impl Default for Material {
+    fn default() -> Self {
+        Material {
+            name: "default".into(),
+            base_color: [0.8, 0.8, 0.8, 1.0],
+            base_color_texture: None,
+            roughness: 0.6,
+            metallic: 0.0,
+            metallic_roughness_texture: None,
+            normal_texture: None,
+            normal_scale: 1.0,
+            occlusion_texture: None,
+            occlusion_strength: 1.0,
+            emissive: [0.0; 3],
+            emissive_texture: None,
+            alpha_mode: AlphaMode::Opaque,
+            double_sided: false,
+            relief: None,
+        }
+    }
+}
+
+impl Material {
+    /// The texture in `slot`, if any.
+    pub fn texture(&self, slot: TextureSlot) -> Option<&TextureRef> {
+        match slot {
+            TextureSlot::BaseColor => self.base_color_texture.as_ref(),
+            TextureSlot::MetallicRoughness => self.metallic_roughness_texture.as_ref(),
+            TextureSlot::Normal => self.normal_texture.as_ref(),
+            TextureSlot::Occlusion => self.occlusion_texture.as_ref(),
+            TextureSlot::Emissive => self.emissive_texture.as_ref(),
+        }
+    }
+}

@@ -1,0 +1,91 @@
+//! How many Vulkan objects and memory allocations a context has created: the evidence that a
+//! scene builds only what its plan lists (a test compares counts before and after a frame).
+
+use std::sync::atomic::{AtomicU64, Ordering};
+
+/// Counts of objects created so far (never decremented).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize)]
+pub struct ObjectCounts {
+    pub graphics_pipelines: u64,
+    pub compute_pipelines: u64,
+    pub images: u64,
+    pub buffers: u64,
+    pub samplers: u64,
+    /// Device memory allocations (one per image and buffer, through gpu-allocator).
+    pub allocations: u64,
+    pub allocated_bytes: u64,
+}
+
+impl std::ops::Sub for ObjectCounts {
+    type Output = ObjectCounts;
+
+    fn sub(self, before: ObjectCounts) -> ObjectCounts {
+        ObjectCounts {
+            graphics_pipelines: self.graphics_pipelines - before.graphics_pipelines,
+            compute_pipelines: self.compute_pipelines - before.compute_pipelines,
+            images: self.images - before.images,
+            buffers: self.buffers - before.buffers,
+            samplers: self.samplers - before.samplers,
+            allocations: self.allocations - before.allocations,
+            allocated_bytes: self.allocated_bytes - before.allocated_bytes,
+        }
+    }
+}
+
+/// What a context counts, by kind.
+#[derive(Debug, Clone, Copy)]
+pub(crate) enum Created {
+    GraphicsPipeline,
+    ComputePipeline,
+    Image { bytes: u64 },
+    Buffer { bytes: u64 },
+    Sampler,
+}
+
+/// The live counters a context keeps.
+#[derive(Debug, Default)]
+pub(crate) struct ObjectCounters {
+    graphics_pipelines: AtomicU64,
+    compute_pipelines: AtomicU64,
+    images: AtomicU64,
+    buffers: AtomicU64,
+    samplers: AtomicU64,
+    allocations: AtomicU64,
+    allocated_bytes: AtomicU64,
+}
+
+impl ObjectCounters {
+    pub(crate) fn record(&self, what: Created) {
+        let bump = |c: &AtomicU64, n: u64| {
+            c.fetch_add(n, Ordering::Relaxed);
+        };
+        match what {
+            Created::GraphicsPipeline => bump(&self.graphics_pipelines, 1),
+            Created::ComputePipeline => bump(&self.compute_pipelines, 1),
+            Created::Sampler => bump(&self.samplers, 1),
+            Created::Image { bytes } | Created::Buffer { bytes } => {
+                let counter = if matches!(what, Created::Image { .. }) {
+                    &self.images
+                } else {
+                    &self.buffers
+                };
+                bump(counter, 1);
+                bump(&self.allocations, 1);
+                bump(&self.allocated_bytes, bytes);
+            }
+        }
+    }
+
+    pub(crate) fn snapshot(&self) -> ObjectCounts {
+        let get = |c: &AtomicU64| c.load(Ordering::Relaxed);
+        ObjectCounts {
+            graphics_pipelines: get(&self.graphics_pipelines),
+            compute_pipelines: get(&self.compute_pipelines),
+            images: get(&self.images),
+            buffers: get(&self.buffers),
+            samplers: get(&self.samplers),
+            allocations: get(&self.allocations),
+            allocated_bytes: get(&self.allocated_bytes),
+        }
+    }
+}
