@@ -27,7 +27,9 @@ void main() {
     out_normal = normal_matrix * in_normal;
     out_uv0 = in_uv0;
     out_uv1 = in_uv1;
-    out_tangent = vec4(mat3(draw.model) * in_tangent.xyz, in_tangent.w);
+    // A mirroring transform flips normal x tangent relative to the mapped bitangent.
+    float mirror = determinant(mat3(draw.model)) < 0.0 ? -1.0 : 1.0;
+    out_tangent = vec4(mat3(draw.model) * in_tangent.xyz, in_tangent.w * mirror);
     out_color = in_color;
     gl_Position = frame.view_proj * world;
 }

@@ -84,6 +84,13 @@ void main() {
     Hit hit = METHOD_TRACE(ray, default_budget());
     float z = clamp(hit.z, 0.0, depth_scale);
     vec2 uv_hit = ray_uv(ray, z);
+    // A clamp-addressed height map ends at its uv bounds: a ray that leaves them through the
+    // relief passes beside the object, which cuts the silhouette.
+    bool inside = all(greaterThanEqual(uv_h, vec2(0.0))) && all(lessThanEqual(uv_h, vec2(1.0)));
+    bool left = any(lessThan(uv_hit, vec2(0.0))) || any(greaterThan(uv_hit, vec2(1.0)));
+    if (frame.height_info.w < 0.5 && inside && left) {
+        discard;
+    }
     vec2 d0 = f.from_height * (uv_hit - uv_h);
     uv0 += d0;
     uv1 += f.uv1_per_uv0 * d0;

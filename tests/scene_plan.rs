@@ -1,0 +1,125 @@
+//! Only what the scene needs: the plan derived from a scene, checked against what the frame
+//! really created on the device (pipelines, images, allocations counted by the context).
+
+mod common;
+
+use relief::heightfield::Generator;
+use relief::method::Method;
+use relief::render::{render, Plan, RenderOptions};
+use relief::scene::{quad_mesh, HeightSource, Light, Material, Relief, Scene};
+use relief::vk::ObjectCounts;
+
+fn one_material_scene(method: Method, light: Option<Light>) -> Scene {
+    Scene {
+        meshes: vec![quad_mesh("quad", 2.0, 2.0, 1.0, 0)],
+        materials: vec![Material {
+            name: "displaced".into(),
+            relief: Some(Relief {
+                depth_scale: 0.05,
+                method,
+                budget: None,
+                height: HeightSource::Frame,
+            }),
+            ..Material::default()
+        }],
+        lights: light.into_iter().collect(),
+        ..Scene::default()
+    }
+}
+
+fn render_counted(scene: &Scene) -> Option<(Plan, ObjectCounts)> {
+    let ctx = common::device("scene_plan")?;
+    let hf = Generator::Fbm.generate(64, 64, 3);
+    let opts = RenderOptions {
+        width: 64,
+        height: 48,
+        ..RenderOptions::default()
+    };
+    let before = ctx.created();
+    let frame = render(&ctx, scene, Some(&hf), &opts).expect("renders");
+    let created = ctx.created() - before;
+    common::assert_no_validation_errors(&ctx);
+    Some((frame.plan, created))
+}
+
+#[test]
+fn one_pom_material_without_light_builds_one_pipeline_and_nothing_else() {
+    let scene = one_material_scene(Method::POM, None);
+    let Some((plan, created)) = render_counted(&scene) else {
+        return;
+    };
+    assert_eq!(plan.pipelines.len(), 1, "{:?}", plan.pipelines);
+    let pipeline = plan.pipelines[0];
+    assert_eq!(pipeline.method, Some(Method::POM));
+    assert!(!pipeline.self_shadow, "no light casts shadows");
+    assert_eq!(plan.heights.len(), 1);
+    assert!(!plan.heights[0].pyramid, "POM reads no pyramid");
+    assert_eq!(plan.heights[0].map, None, "POM reads no cone or quadric map");
+    let passes: Vec<&str> = plan.passes.iter().map(|p| p.name.as_str()).collect();
+    assert_eq!(passes, ["surface"], "no pyramid pass, no shadow pass");
+    let skipped: Vec<&str> = plan.skipped.iter().map(|s| s.what.as_str()).collect();
+    for what in [
+        "max_pyramid",
+        "cone_map",
+        "relaxed_cone_map",
+        "quadric_map",
+        "self-shadow rays",
+        "surface.frag:plain",
+    ] {
+        assert!(skipped.contains(&what), "{what} not listed as skipped: {skipped:?}");
+    }
+    // What the device saw: one graphics pipeline, no compute (no pyramid build); images for the
+    // heights, the white texture and the two targets, and no map image.
+    assert_eq!(created.graphics_pipelines, 1, "{created:?}");
+    assert_eq!(created.compute_pipelines, 0, "{created:?}");
+    assert_eq!(created.images, 4, "{created:?}");
+    assert_eq!(created.allocations, created.images + created.buffers);
+}
+
+#[test]
+fn maps_and_shadow_work_appear_only_when_needed() {
+    let csm = Method::all().find(|m| m.id() == "csm").expect("csm");
+    let shadowed = Light {
+        casts_shadows: true,
+        ..Light::default_light()
+    };
+    let scene = one_material_scene(csm, Some(shadowed));
+    let Some((plan, created)) = render_counted(&scene) else {
+        return;
+    };
+    assert_eq!(plan.pipelines.len(), 1);
+    assert!(plan.pipelines[0].self_shadow, "a shadow-casting light");
+    assert!(plan.passes.iter().any(|p| p.name == "self-shadow rays"));
+    assert_eq!(
+        plan.heights[0].map.map(|m| m.name()),
+        Some("cone_map"),
+        "csm reads a cone map"
+    );
+    assert_eq!(created.graphics_pipelines, 1, "{created:?}");
+    assert_eq!(created.compute_pipelines, 0, "{created:?}");
+    // The cone map is the one image more than POM needs.
+    assert_eq!(created.images, 5, "{created:?}");
+}
+
+#[test]
+fn pyramid_methods_build_the_pyramid_on_the_gpu() {
+    let qdm = Method::all().find(|m| m.id() == "qdm").expect("qdm");
+    let Some((plan, created)) = render_counted(&one_material_scene(qdm, None)) else {
+        return;
+    };
+    assert!(plan.heights[0].pyramid);
+    assert_eq!(plan.heights[0].map, None);
+    assert_eq!(created.compute_pipelines, 1, "the pyramid pass: {created:?}");
+    assert_eq!(created.graphics_pipelines, 1, "{created:?}");
+}
+
+#[test]
+fn relief_without_any_height_map_is_a_clear_error() {
+    let scene = one_material_scene(Method::POM, None);
+    let err = Plan::derive(&scene, None).expect_err("no height map given");
+    let text = err.to_string();
+    assert!(
+        text.contains("\"displaced\"") && text.contains("--heightmap"),
+        "{text}"
+    );
+}
