@@ -2,6 +2,8 @@
 //! validation check at teardown, and image comparison with written evidence.
 #![allow(dead_code)]
 
+pub mod golden;
+
 use std::path::PathBuf;
 use std::sync::Arc;
 
