@@ -40,7 +40,11 @@ fn every_corpus_scene_renders() {
         return;
     };
     let files = common::corpus::gltf_files(&corpus.join("gltf"));
-    assert!(files.len() >= 20, "expected the corpus scenes, found {}", files.len());
+    assert!(
+        files.len() >= 20,
+        "expected the corpus scenes, found {}",
+        files.len()
+    );
     for path in &files {
         let scene = load(path);
         let frame = draw(&ctx, &scene, 64, 48);
@@ -146,7 +150,12 @@ fn empty_scenes_render_the_background() {
     let Some(ctx) = common::device("empty_scenes_render_the_background") else {
         return;
     };
-    for case in ["00_empty_scene", "00_no_nodes", "00_no_scene", "00_no_scenes"] {
+    for case in [
+        "00_empty_scene",
+        "00_no_nodes",
+        "00_no_scene",
+        "00_no_scenes",
+    ] {
         let path = corpus
             .join("gltf/blender-io-roundtrip")
             .join(case)
@@ -168,7 +177,13 @@ fn head_on(scene: &mut Scene) {
     let centre = (lo + hi) * 0.5;
     let radius = (hi - lo).length() * 0.5;
     let eye = centre + Vec3::Z * radius * 2.6;
-    scene.camera = Some(Camera::look_at(eye, centre, 0.8, radius * 0.1, radius * 10.0));
+    scene.camera = Some(Camera::look_at(
+        eye,
+        centre,
+        0.8,
+        radius * 0.1,
+        radius * 10.0,
+    ));
     scene.lights = vec![Light {
         direction: Vec3::new(0.0, 0.0, -1.0),
         ..Light::default_light()
@@ -196,7 +211,11 @@ fn mirrored_tangents_light_both_halves_alike() {
             for x in 0..w / 2 {
                 let a = &frame.rgba[(y * w + x) * 4..][..3];
                 let b = &frame.rgba[(y * w + (w - 1 - x)) * 4..][..3];
-                total += a.iter().zip(b).map(|(p, q)| u64::from(p.abs_diff(*q))).sum::<u64>();
+                total += a
+                    .iter()
+                    .zip(b)
+                    .map(|(p, q)| u64::from(p.abs_diff(*q)))
+                    .sum::<u64>();
                 count += 3;
             }
         }

@@ -54,7 +54,12 @@ fn materials_scene() -> Scene {
     // Roughness in G, metalness in B; occlusion in R darkens the cell edges.
     let orm = RgbaImage::from_fn(16, 16, |x, y| {
         let edge = x == 0 || y == 0;
-        Rgba([if edge { 80 } else { 255 }, 90, if x < 8 { 255 } else { 0 }, 255])
+        Rgba([
+            if edge { 80 } else { 255 },
+            90,
+            if x < 8 { 255 } else { 0 },
+            255,
+        ])
     });
     let glow = RgbaImage::from_fn(16, 16, |x, _| Rgba([255, (x * 16) as u8, 0, 255]));
     let holes = RgbaImage::from_fn(32, 32, |x, y| {
@@ -126,12 +131,12 @@ fn materials_scene() -> Scene {
     lamp_box.transform = Mat4::from_translation(Vec3::new(1.2, 0.15, -0.8));
     meshes.push(lamp_box);
     let mut fence_quad = quad_mesh("fence", 1.4, 1.0, 1.0, 3);
-    fence_quad.transform =
-        Mat4::from_translation(Vec3::new(0.9, 0.6, 0.3)) * Mat4::from_rotation_x(1.5708);
+    fence_quad.transform = Mat4::from_translation(Vec3::new(0.9, 0.6, 0.3))
+        * Mat4::from_rotation_x(std::f32::consts::FRAC_PI_2);
     meshes.push(fence_quad);
     let mut glass_quad = quad_mesh("glass", 1.0, 1.0, 1.0, 4);
-    glass_quad.transform =
-        Mat4::from_translation(Vec3::new(-0.2, 0.5, 1.2)) * Mat4::from_rotation_x(1.5708);
+    glass_quad.transform = Mat4::from_translation(Vec3::new(-0.2, 0.5, 1.2))
+        * Mat4::from_rotation_x(std::f32::consts::FRAC_PI_2);
     meshes.push(glass_quad);
     Scene {
         meshes,

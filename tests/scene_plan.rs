@@ -54,7 +54,10 @@ fn one_pom_material_without_light_builds_one_pipeline_and_nothing_else() {
     assert!(!pipeline.self_shadow, "no light casts shadows");
     assert_eq!(plan.heights.len(), 1);
     assert!(!plan.heights[0].pyramid, "POM reads no pyramid");
-    assert_eq!(plan.heights[0].map, None, "POM reads no cone or quadric map");
+    assert_eq!(
+        plan.heights[0].map, None,
+        "POM reads no cone or quadric map"
+    );
     let passes: Vec<&str> = plan.passes.iter().map(|p| p.name.as_str()).collect();
     assert_eq!(passes, ["surface"], "no pyramid pass, no shadow pass");
     let skipped: Vec<&str> = plan.skipped.iter().map(|s| s.what.as_str()).collect();
@@ -66,7 +69,10 @@ fn one_pom_material_without_light_builds_one_pipeline_and_nothing_else() {
         "self-shadow rays",
         "surface.frag:plain",
     ] {
-        assert!(skipped.contains(&what), "{what} not listed as skipped: {skipped:?}");
+        assert!(
+            skipped.contains(&what),
+            "{what} not listed as skipped: {skipped:?}"
+        );
     }
     // What the device saw: one graphics pipeline, no compute (no pyramid build); images for the
     // heights, the white texture and the two targets, and no map image.
@@ -109,7 +115,10 @@ fn pyramid_methods_build_the_pyramid_on_the_gpu() {
     };
     assert!(plan.heights[0].pyramid);
     assert_eq!(plan.heights[0].map, None);
-    assert_eq!(created.compute_pipelines, 1, "the pyramid pass: {created:?}");
+    assert_eq!(
+        created.compute_pipelines, 1,
+        "the pyramid pass: {created:?}"
+    );
     assert_eq!(created.graphics_pipelines, 1, "{created:?}");
 }
 

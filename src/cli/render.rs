@@ -118,7 +118,9 @@ fn build_scene(args: &RenderArgs, method: Method, heights: bool) -> anyhow::Resu
             );
         }
     } else if filter.is_some() {
-        anyhow::bail!("--material chooses which materials --heightmap displaces; give --heightmap FILE");
+        anyhow::bail!(
+            "--material chooses which materials --heightmap displaces; give --heightmap FILE"
+        );
     }
     Ok(scene)
 }

@@ -169,9 +169,9 @@ pub fn render(
             HeightKey::Frame => opts.address,
             HeightKey::Image { address, .. } => address,
         };
-        let map = hp.map_method.and_then(|method| {
-            build_method_map(method, &stored, reference_address(address))
-        });
+        let map = hp
+            .map_method
+            .and_then(|method| build_method_map(method, &stored, reference_address(address)));
         if let (Some((data, took)), Some(kind)) = (&map, hp.map) {
             maps.push(BuiltMap {
                 kind: kind.name(),

@@ -6,10 +6,10 @@ use std::sync::Arc;
 
 use ash::vk;
 
+use super::frame_uniforms::FrameUniforms;
 use super::gpu_heightfield::{Addressing, GpuHeightfield, HeightFormat};
 use super::method_map::{GpuMethodMap, MapData};
 use super::pyramid_pass::{PyramidJob, PyramidPass};
-use super::frame_uniforms::FrameUniforms;
 use crate::heightfield::Heightfield;
 use crate::vk::{Bind, Buffer, Context, VkResult};
 

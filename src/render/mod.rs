@@ -23,7 +23,7 @@ pub use frame_uniforms::{frame_camera, FrameUniforms, LightUniform, MAX_LIGHTS};
 pub use gpu_heightfield::{Addressing, GpuHeightfield, HeightFormat};
 pub use height_resources::HeightResources;
 pub use method_map::{GpuMethodMap, MapData};
-pub use pyramid_pass::{build_pyramid_on_gpu, PyramidJob, PyramidPass};
 pub use plan::{DrawPlan, HeightKey, HeightPlan, PassPlan, PipelineKey, Plan, PlanError, Skipped};
+pub use pyramid_pass::{build_pyramid_on_gpu, PyramidJob, PyramidPass};
 pub use surface_pass::{describe as describe_pipeline, COLOR_FORMAT, DEPTH_FORMAT};
 pub use trace_pass::{trace_on_gpu, TraceOutput, TraceRequest};

@@ -104,7 +104,9 @@ pub enum PlanError {
         material: usize,
         count: usize,
     },
-    #[error("material {material:?}: height texture names image {image}, but the scene has {count}")]
+    #[error(
+        "material {material:?}: height texture names image {image}, but the scene has {count}"
+    )]
     NoImage {
         material: String,
         image: usize,
@@ -318,8 +320,9 @@ impl Plan {
         if shadowed {
             self.passes.push(PassPlan {
                 name: "self-shadow rays".into(),
-                why: "relief materials under a light that casts shadows (traced in the surface pass)"
-                    .into(),
+                why:
+                    "relief materials under a light that casts shadows (traced in the surface pass)"
+                        .into(),
             });
         } else if casts_shadows {
             self.skip("self-shadow rays", "no drawn material has relief");
@@ -339,4 +342,94 @@ fn unique_ids(methods: &[Method]) -> String {
     ids.sort_unstable();
     ids.dedup();
     ids.join(", ")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::heightfield::Generator;
+    use crate::scene::{quad_mesh, Material, Relief};
+
+    fn scene(methods: &[Option<&str>], shadows: bool) -> Scene {
+        let materials = methods
+            .iter()
+            .enumerate()
+            .map(|(k, m)| Material {
+                name: format!("m{k}"),
+                relief: m.map(|id| Relief {
+                    depth_scale: 0.05,
+                    method: id.parse().expect("known id"),
+                    budget: None,
+                    height: HeightSource::Frame,
+                }),
+                ..Material::default()
+            })
+            .collect();
+        let meshes = (0..methods.len())
+            .map(|k| quad_mesh(&format!("q{k}"), 1.0, 1.0, 1.0, k))
+            .collect();
+        let lights = if shadows {
+            vec![Light {
+                casts_shadows: true,
+                ..Light::default_light()
+            }]
+        } else {
+            Vec::new()
+        };
+        Scene {
+            meshes,
+            materials,
+            lights,
+            ..Scene::default()
+        }
+    }
+
+    fn plan(scene: &Scene) -> Plan {
+        let hf = Generator::Fbm.generate(16, 16, 1);
+        Plan::derive(scene, Some(&hf)).expect("plans")
+    }
+
+    #[test]
+    fn plain_scene_needs_no_heights_and_no_shadow_work() {
+        let p = plan(&scene(&[None, None], true));
+        assert_eq!(p.pipelines.len(), 1);
+        assert_eq!(p.pipelines[0].method, None);
+        assert!(p.heights.is_empty());
+        assert!(p.passes.iter().all(|x| x.name != "self-shadow rays"));
+        assert!(p.skipped.iter().any(|s| s.what == "self-shadow rays"));
+    }
+
+    #[test]
+    fn methods_sharing_a_height_map_share_its_upload() {
+        // pom and qdm read the same frame map and no method map: one upload, with the pyramid.
+        let p = plan(&scene(&[Some("pom"), Some("qdm"), None], false));
+        assert_eq!(p.pipelines.len(), 3);
+        assert_eq!(p.heights.len(), 1);
+        assert!(p.heights[0].pyramid);
+        assert_eq!(p.draws[0].heights, p.draws[1].heights);
+        assert_eq!(p.draws[2].heights, None);
+    }
+
+    #[test]
+    fn each_map_kind_gets_its_own_height_upload() {
+        let p = plan(&scene(&[Some("csm"), Some("quadric"), Some("csm")], true));
+        let kinds: Vec<_> = p.heights.iter().map(|h| h.map).collect();
+        assert_eq!(
+            kinds,
+            [Some(MapKind::ConservativeCone), Some(MapKind::Quadric)]
+        );
+        assert!(p.pipelines.iter().all(|k| k.self_shadow));
+        assert!(p.skipped.iter().any(|s| s.what == "relaxed_cone_map"));
+    }
+
+    #[test]
+    fn unused_materials_and_empty_meshes_are_skipped_with_reasons() {
+        let mut s = scene(&[Some("pom"), None], false);
+        s.meshes[1].indices.clear();
+        let p = plan(&s);
+        assert_eq!(p.draws.len(), 1);
+        let whats: Vec<&str> = p.skipped.iter().map(|x| x.what.as_str()).collect();
+        assert!(whats.contains(&"mesh \"q1\""), "{whats:?}");
+        assert!(whats.contains(&"material \"m1\""), "{whats:?}");
+    }
 }

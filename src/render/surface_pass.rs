@@ -147,9 +147,9 @@ impl SurfacePass {
                 Some(k) => height_sets[k],
                 None => plain_set.ok_or_else(|| VkError::Invalid("no plain frame set".into()))?,
             };
-            let material_set = materials.set(d.material).ok_or_else(|| {
-                VkError::Invalid(format!("material {} has no set", d.material))
-            })?;
+            let material_set = materials
+                .set(d.material)
+                .ok_or_else(|| VkError::Invalid(format!("material {} has no set", d.material)))?;
             let (lo, hi) = mesh_bounds(&mesh.vertices);
             draws.push(MeshDraw {
                 vertices: Buffer::with_data(
@@ -239,9 +239,7 @@ fn create_pipeline(
     let mut spec = SpecConstants::default().u32(SELF_SHADOW_ID, u32::from(key.self_shadow));
     if let Some(method) = key.method {
         let budget = method.info().default_budget;
-        spec = spec
-            .u32(0, budget.max_steps)
-            .u32(1, budget.refine_steps);
+        spec = spec.u32(0, budget.max_steps).u32(1, budget.refine_steps);
     }
     let attributes = [
         (0, vk::Format::R32G32B32_SFLOAT, 0),

@@ -147,7 +147,12 @@ impl Scene {
 
     /// Gives relief from the frame's height map (`--heightmap`) to the materials `filter`
     /// selects: every material for `None`, else those named exactly so. Returns how many.
-    pub fn apply_relief(&mut self, depth_scale: f32, method: Method, filter: Option<&str>) -> usize {
+    pub fn apply_relief(
+        &mut self,
+        depth_scale: f32,
+        method: Method,
+        filter: Option<&str>,
+    ) -> usize {
         let mut count = 0;
         for m in &mut self.materials {
             if filter.is_some_and(|name| name != m.name) {
