@@ -1,34 +1,65 @@
-//! glTF 2.0 (.gltf with external or embedded buffers, .glb) to a [`Scene`]: the default scene's
-//! node tree with transforms, triangle primitives (positions, normals, uv 0, tangents), base
-//! colour factors, metallic-roughness factors, the first camera and directional lights.
-//! Missing normals and tangents are derived per triangle.
+//! glTF 2.0 (.gltf with external or embedded buffers, .glb) to a [`Scene`]: one scene's node
+//! tree with transforms, its triangle meshes, materials with textures and relief, images,
+//! cameras and KHR_lights_punctual lights.
+//!
+//! Malformed files are rejected with an error rather than trusted: the JSON is checked (by
+//! `gltf_prepass` and the gltf crate's validator), and buffer views, accessors, the node graph,
+//! cameras and lights are checked here before anything is read, because the gltf crate's own
+//! readers panic on out-of-range data.
+//! Primitives that are not triangle lists are skipped and counted in
+//! [`LoadReport::skipped_primitives`].
 
 use std::path::{Path, PathBuf};
 
 use glam::{Mat4, Vec3};
 
 use super::camera::Projection;
-use super::{Camera, Material, Mesh, Scene, Vertex};
+use super::gltf_mesh::{convert_meshes, place};
+use super::gltf_prepass::{self, Parsed};
+use super::{gltf_accessor, gltf_image, gltf_material, gltf_nodes};
+use super::{Camera, Light, LightKind, Material, Scene};
 
-/// Why a scene file could not be used.
+/// Why a scene file could not be used. Every message starts with the file's path.
 #[derive(Debug, thiserror::Error)]
 pub enum SceneError {
+    /// The file itself could not be read.
     #[error("scene {path:?}: {source}")]
-    Gltf { path: PathBuf, source: gltf::Error },
+    Read {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+    /// The file is not glTF 2.0 the loader can use; `what` says where and why.
     #[error("scene {path:?}: {what}")]
     Invalid { path: PathBuf, what: String },
 }
 
-/// Loads a glTF file and its buffers and images.
 /// Which scene and camera of a file to use.
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct SceneOptions {
+    /// Index of the glTF scene; `None`: the file's default scene, else scene 0.
     pub scene: Option<usize>,
+    /// Index among the cameras met walking the chosen scene's nodes; `None`: the first.
     pub camera: Option<usize>,
 }
 
-pub fn load_gltf(path: &Path, _opts: &SceneOptions) -> Result<Scene, SceneError> {
-    let (doc, buffers, _images) = gltf::import(path).map_err(|source| SceneError::Gltf {
+/// What was loaded but left out.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct LoadReport {
+    /// Primitives that are points, lines, strips or fans (only triangle lists are drawn).
+    pub skipped_primitives: usize,
+}
+
+/// Loads a glTF file with its buffers and images.
+pub fn load_gltf(path: &Path, opts: &SceneOptions) -> Result<Scene, SceneError> {
+    load_gltf_with_report(path, opts).map(|(scene, _)| scene)
+}
+
+/// [`load_gltf`], also saying what was skipped.
+pub fn load_gltf_with_report(
+    path: &Path,
+    opts: &SceneOptions,
+) -> Result<(Scene, LoadReport), SceneError> {
+    let bytes = std::fs::read(path).map_err(|source| SceneError::Read {
         path: path.to_owned(),
         source,
     })?;
@@ -36,60 +67,146 @@ pub fn load_gltf(path: &Path, _opts: &SceneOptions) -> Result<Scene, SceneError>
         path: path.to_owned(),
         what,
     };
+    let Parsed {
+        doc,
+        raw,
+        blob,
+        zero_buffers,
+    } = gltf_prepass::parse(&bytes).map_err(invalid)?;
+    let base = path.parent().unwrap_or_else(|| Path::new("."));
+    let buffers = load_buffers(&doc, base, blob).map_err(invalid)?;
+    gltf_accessor::check_views(&doc, &buffers).map_err(invalid)?;
+    gltf_nodes::check_graph(&doc).map_err(invalid)?;
+    check_cameras(&doc).map_err(invalid)?;
+    let images = gltf_image::load_images(&doc, base, &buffers).map_err(invalid)?;
     let mut scene = Scene {
-        materials: doc.materials().map(convert_material).collect(),
+        materials: gltf_material::convert_materials(&doc, &raw).map_err(invalid)?,
+        images,
         ..Scene::default()
     };
-    let default_material = scene.materials.len();
-    scene.materials.push(Material::default());
-    let Some(root) = doc.default_scene().or_else(|| doc.scenes().next()) else {
-        return Ok(scene);
-    };
-    let mut stack: Vec<(gltf::Node, Mat4, usize)> =
-        root.nodes().map(|n| (n, Mat4::IDENTITY, 0)).collect();
-    while let Some((node, parent, depth)) = stack.pop() {
-        if depth > 256 {
-            return Err(invalid(
-                "node hierarchy deeper than 256 levels (a cycle?)".into(),
-            ));
-        }
-        let world = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
-        if let Some(mesh) = node.mesh() {
-            for prim in mesh.primitives() {
-                let name = mesh.name().unwrap_or("mesh").to_owned();
-                let material = prim.material().index().unwrap_or(default_material);
-                let m =
-                    convert_primitive(&prim, &buffers, name, material, world).map_err(invalid)?;
-                scene.meshes.push(m);
-            }
-        }
-        if let (Some(cam), None) = (node.camera(), &scene.camera) {
-            scene.camera = Some(convert_camera(&cam, world));
-        }
-        stack.extend(node.children().map(|c| (c, world, depth + 1)));
-    }
-    Ok(scene)
+    let report = build(&doc, &buffers, opts, &mut scene).map_err(invalid)?;
+    // Last, so errors in what is drawn name their mesh: the rest of the accessors (animation,
+    // skins, unused) are checked too, since a file with broken data is broken either way.
+    gltf_accessor::check_accessors(&doc, &buffers, zero_buffers).map_err(invalid)?;
+    Ok((scene, report))
 }
 
-fn convert_material(m: gltf::Material) -> Material {
-    let pbr = m.pbr_metallic_roughness();
-    Material {
-        name: m.name().unwrap_or("material").to_owned(),
-        base_color: pbr.base_color_factor(),
-        roughness: pbr.roughness_factor(),
-        metallic: pbr.metallic_factor(),
-        double_sided: m.double_sided(),
-        ..Material::default()
+/// Like `gltf::import_buffers`, but the error says which buffer (lengths are checked later).
+fn load_buffers(
+    doc: &gltf::Document,
+    base: &Path,
+    mut blob: Option<Vec<u8>>,
+) -> Result<Vec<gltf::buffer::Data>, String> {
+    doc.buffers()
+        .map(|b| {
+            gltf::buffer::Data::from_source_and_blob(b.source(), Some(base), &mut blob).map_err(
+                |e| match b.source() {
+                    gltf::buffer::Source::Uri(uri) if !uri.starts_with("data:") => {
+                        format!("buffer {} ({uri}): {e}", b.index())
+                    }
+                    _ => format!("buffer {}: {e}", b.index()),
+                },
+            )
+        })
+        .collect()
+}
+
+fn build(
+    doc: &gltf::Document,
+    buffers: &[gltf::buffer::Data],
+    opts: &SceneOptions,
+    scene: &mut Scene,
+) -> Result<LoadReport, String> {
+    let mut report = LoadReport::default();
+    let meshes = convert_meshes(doc, buffers, &scene.materials)?;
+    let count = doc.scenes().len();
+    let chosen = match opts.scene {
+        Some(i) if i >= count => {
+            return Err(format!(
+                "scene {i} requested but the file has {count} scenes"
+            ));
+        }
+        Some(i) => doc.scenes().nth(i),
+        None => doc.default_scene().or_else(|| doc.scenes().next()),
+    };
+    let Some(root) = chosen else {
+        return Ok(report);
+    };
+    let mut default_material = None;
+    let mut cameras = Vec::new();
+    for (node, world) in gltf_nodes::walk(&root, doc.nodes().len())? {
+        if let Some(mesh) = node.mesh() {
+            for converted in &meshes[mesh.index()] {
+                let Some(m) = converted else {
+                    report.skipped_primitives += 1;
+                    continue;
+                };
+                let mut placed = place(m, world);
+                if placed.material == usize::MAX {
+                    placed.material = *default_material.get_or_insert_with(|| {
+                        scene.materials.push(Material::default());
+                        scene.materials.len() - 1
+                    });
+                }
+                scene.meshes.push(placed);
+            }
+        }
+        if let Some(cam) = node.camera() {
+            cameras.push(convert_camera(&cam, world));
+        }
+        if let Some(light) = node.light() {
+            scene.lights.push(convert_light(&light, world)?);
+        }
     }
+    scene.camera = match opts.camera {
+        Some(i) if i >= cameras.len() => {
+            return Err(format!(
+                "camera {i} requested but the scene has {} cameras",
+                cameras.len()
+            ));
+        }
+        Some(i) => Some(cameras[i]),
+        None => cameras.first().copied(),
+    };
+    Ok(report)
+}
+
+/// Cameras whose projection is degenerate (zero extent, far not beyond near) are rejected:
+/// they would give a singular projection matrix.
+fn check_cameras(doc: &gltf::Document) -> Result<(), String> {
+    for cam in doc.cameras() {
+        let ok = match cam.projection() {
+            gltf::camera::Projection::Perspective(p) => {
+                p.yfov() > 0.0
+                    && p.yfov() < std::f32::consts::PI
+                    && p.znear() > 0.0
+                    && p.zfar().is_none_or(|f| f > p.znear() && f.is_finite())
+                    && p.aspect_ratio().is_none_or(|a| a > 0.0 && a.is_finite())
+            }
+            gltf::camera::Projection::Orthographic(o) => {
+                o.xmag() != 0.0
+                    && o.ymag() != 0.0
+                    && o.xmag().is_finite()
+                    && o.ymag().is_finite()
+                    && o.znear() >= 0.0
+                    && o.zfar() > o.znear()
+                    && o.zfar().is_finite()
+            }
+        };
+        if !ok {
+            return Err(format!("camera {}: degenerate projection", cam.index()));
+        }
+    }
+    Ok(())
 }
 
 fn convert_camera(cam: &gltf::Camera, world: Mat4) -> Camera {
-    let view = world.inverse();
     let projection = match cam.projection() {
         gltf::camera::Projection::Perspective(p) => Projection::Perspective {
             yfov: p.yfov(),
             aspect: p.aspect_ratio(),
             znear: p.znear(),
+            // glTF's infinite projection; a far plane far away stands in for it.
             zfar: p.zfar().unwrap_or(p.znear() * 1e4),
         },
         gltf::camera::Projection::Orthographic(o) => Projection::Orthographic {
@@ -99,110 +216,60 @@ fn convert_camera(cam: &gltf::Camera, world: Mat4) -> Camera {
             zfar: o.zfar(),
         },
     };
-    Camera { view, projection }
+    Camera {
+        view: world.inverse(),
+        projection,
+    }
 }
 
-fn convert_primitive(
-    prim: &gltf::Primitive,
-    buffers: &[gltf::buffer::Data],
-    name: String,
-    material: usize,
-    transform: Mat4,
-) -> Result<Mesh, String> {
-    if prim.mode() != gltf::mesh::Mode::Triangles {
-        return Err(format!("mesh {name:?}: only triangle primitives are drawn"));
-    }
-    let reader = prim.reader(|b| buffers.get(b.index()).map(|d| &d.0[..]));
-    let positions: Vec<[f32; 3]> = reader
-        .read_positions()
-        .ok_or_else(|| format!("mesh {name:?} has no POSITION"))?
-        .collect();
-    let count = positions.len();
-    let indices: Vec<u32> = match reader.read_indices() {
-        Some(i) => i.into_u32().collect(),
-        None => (0..count as u32).collect(),
-    };
-    if let Some(bad) = indices.iter().find(|&&i| i as usize >= count) {
+fn convert_light(light: &gltf::khr_lights_punctual::Light, world: Mat4) -> Result<Light, String> {
+    use gltf::khr_lights_punctual::Kind;
+    let what = || format!("light {}", light.index());
+    let intensity = light.intensity();
+    let color = Vec3::from(light.color());
+    let valid = intensity.is_finite()
+        && intensity >= 0.0
+        && color.is_finite()
+        && color.min_element() >= 0.0;
+    if !valid {
         return Err(format!(
-            "mesh {name:?}: index {bad} out of range for {count} vertices"
+            "{}: negative or non-finite colour or intensity",
+            what()
         ));
     }
-    let indices: Vec<u32> = indices.chunks_exact(3).flatten().copied().collect();
-    let uvs: Vec<[f32; 2]> = reader
-        .read_tex_coords(0)
-        .map(|t| t.into_f32().collect())
-        .unwrap_or_else(|| vec![[0.0, 0.0]; count]);
-    let normals: Option<Vec<[f32; 3]>> = reader.read_normals().map(|n| n.collect());
-    let tangents: Option<Vec<[f32; 4]>> = reader.read_tangents().map(|t| t.collect());
-    let mut vertices: Vec<Vertex> = (0..count)
-        .map(|k| {
-            Vertex::new(
-                positions[k],
-                normals
-                    .as_ref()
-                    .and_then(|n| n.get(k).copied())
-                    .unwrap_or([0.0; 3]),
-                uvs.get(k).copied().unwrap_or([0.0; 2]),
-                tangents
-                    .as_ref()
-                    .and_then(|t| t.get(k).copied())
-                    .unwrap_or([0.0; 4]),
-            )
-        })
-        .collect();
-    if normals.is_none() || tangents.is_none() {
-        derive_frames(
-            &mut vertices,
-            &indices,
-            normals.is_none(),
-            tangents.is_none(),
-        );
+    if light.range().is_some_and(|r| !(r > 0.0 && r.is_finite())) {
+        return Err(format!("{}: range must be > 0", what()));
     }
-    Ok(Mesh {
-        name,
-        vertices,
-        indices,
-        material,
-        transform,
+    let kind = match light.kind() {
+        Kind::Directional => LightKind::Directional,
+        Kind::Point => LightKind::Point,
+        Kind::Spot {
+            inner_cone_angle,
+            outer_cone_angle,
+        } => {
+            if !(0.0 <= inner_cone_angle
+                && inner_cone_angle < outer_cone_angle
+                && outer_cone_angle <= std::f32::consts::FRAC_PI_2)
+            {
+                return Err(format!(
+                    "{}: spot cone angles must satisfy 0 <= inner < outer <= pi/2",
+                    what()
+                ));
+            }
+            LightKind::Spot {
+                inner_cone: inner_cone_angle,
+                outer_cone: outer_cone_angle,
+            }
+        }
+    };
+    Ok(Light {
+        kind,
+        position: world.transform_point3(Vec3::ZERO),
+        direction: world
+            .transform_vector3(Vec3::NEG_Z)
+            .normalize_or(Vec3::NEG_Z),
+        color: color * intensity,
+        range: light.range(),
+        casts_shadows: true,
     })
-}
-
-/// Accumulates per-triangle normals and uv tangents onto vertices, then normalises.
-fn derive_frames(vertices: &mut [Vertex], indices: &[u32], normals: bool, tangents: bool) {
-    let mut n_acc = vec![Vec3::ZERO; vertices.len()];
-    let mut t_acc = vec![Vec3::ZERO; vertices.len()];
-    let mut b_acc = vec![Vec3::ZERO; vertices.len()];
-    for tri in indices.chunks_exact(3) {
-        let [a, b, c] = [0, 1, 2].map(|k| vertices[tri[k] as usize]);
-        let (pa, pb, pc) = (
-            Vec3::from(a.position),
-            Vec3::from(b.position),
-            Vec3::from(c.position),
-        );
-        let (e1, e2) = (pb - pa, pc - pa);
-        let (du1, dv1) = (b.uv[0] - a.uv[0], b.uv[1] - a.uv[1]);
-        let (du2, dv2) = (c.uv[0] - a.uv[0], c.uv[1] - a.uv[1]);
-        let det = du1 * dv2 - du2 * dv1;
-        let r = if det.abs() > 1e-20 { 1.0 / det } else { 0.0 };
-        for &i in tri {
-            n_acc[i as usize] += e1.cross(e2);
-            t_acc[i as usize] += (e1 * dv2 - e2 * dv1) * r;
-            b_acc[i as usize] += (e2 * du1 - e1 * du2) * r;
-        }
-    }
-    for (k, v) in vertices.iter_mut().enumerate() {
-        if normals {
-            v.normal = n_acc[k].normalize_or(Vec3::Y).into();
-        }
-        if tangents {
-            let n = Vec3::from(v.normal);
-            let t = (t_acc[k] - n * n.dot(t_acc[k])).normalize_or(n.any_orthonormal_vector());
-            let w = if n.cross(t).dot(b_acc[k]) < 0.0 {
-                -1.0
-            } else {
-                1.0
-            };
-            v.tangent = [t.x, t.y, t.z, w];
-        }
-    }
 }

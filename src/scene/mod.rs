@@ -3,13 +3,21 @@
 
 mod builtin;
 mod camera;
+mod gltf_accessor;
+mod gltf_image;
 mod gltf_load;
+mod gltf_material;
+mod gltf_mesh;
+mod gltf_nodes;
+mod gltf_prepass;
 mod material;
 mod primitives;
+mod relief_extras;
+mod tangents;
 
 pub use builtin::{default_heightfield, default_scene, DEFAULT_HEIGHTFIELD};
 pub use camera::{Camera, Projection};
-pub use gltf_load::{load_gltf, SceneError, SceneOptions};
+pub use gltf_load::{load_gltf, load_gltf_with_report, LoadReport, SceneError, SceneOptions};
 pub use material::{
     AlphaMode, Filter, HeightSource, Material, Relief, SamplerDesc, TextureRef, TextureSlot,
     UvTransform, Wrap,

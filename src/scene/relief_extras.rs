@@ -1,0 +1,299 @@
+//! Relief settings carried in a glTF material's `extras`:
+//!
+//! ```json
+//! "extras": { "relief": {
+//!     "height": { "index": 3, "texCoord": 0, "channel": "a", "invert": false },
+//!     "depth_scale": 0.05, "method": "qdm", "budget": 64 } }
+//! ```
+//!
+//! `depth_scale` is required (finite, > 0). Defaults: `method` "pom", `budget` none (the
+//! method's own), `height.texCoord` 0, `height.channel` "r", `height.invert` false. Without
+//! `height` the material takes the frame's height map. Extras without `relief` are ignored;
+//! unknown keys inside `relief` are errors, so a misspelt setting is not silently dropped.
+
+use serde_json::{Map, Value};
+
+use super::{HeightSource, Relief, TextureRef};
+use crate::heightfield::Channel;
+use crate::method::Method;
+
+/// The relief a material's extras ask for, or `None` when they do not mention relief.
+/// `texture(index, tex_coord)` resolves a glTF texture index (`None`: no such texture);
+/// `texture_count` is only for the message. Errors name the offending field.
+pub(super) fn parse_relief(
+    extras: Option<&str>,
+    texture: impl Fn(usize, u32) -> Option<TextureRef>,
+    texture_count: usize,
+) -> Result<Option<Relief>, String> {
+    let Some(text) = extras else { return Ok(None) };
+    let root: Value = serde_json::from_str(text).map_err(|e| format!("extras: {e}"))?;
+    let Some(relief) = root.as_object().and_then(|o| o.get("relief")) else {
+        return Ok(None);
+    };
+    let relief = object(relief, "extras.relief")?;
+    only_keys(
+        relief,
+        "extras.relief",
+        &["height", "depth_scale", "method", "budget"],
+    )?;
+    let depth_scale = match relief.get("depth_scale") {
+        None => return Err("extras.relief.depth_scale: missing (a number > 0)".into()),
+        Some(v) => v
+            .as_f64()
+            .map(|d| d as f32)
+            .filter(|d| d.is_finite() && *d > 0.0)
+            .ok_or_else(|| format!("extras.relief.depth_scale: {v} is not a finite number > 0"))?,
+    };
+    let method = match relief.get("method") {
+        None => Method::POM,
+        Some(v) => string(v, "extras.relief.method")?
+            .parse()
+            .map_err(|e| format!("extras.relief.method: {e}"))?,
+    };
+    let budget = match relief.get("budget") {
+        None => None,
+        Some(v) => Some(
+            v.as_u64()
+                .filter(|&b| b >= 1)
+                .and_then(|b| u32::try_from(b).ok())
+                .ok_or_else(|| {
+                    format!("extras.relief.budget: {v} is not an integer in 1..=2^32-1")
+                })?,
+        ),
+    };
+    let height = match relief.get("height") {
+        None => HeightSource::Frame,
+        Some(h) => height_source(h, texture, texture_count)?,
+    };
+    Ok(Some(Relief {
+        depth_scale,
+        method,
+        budget,
+        height,
+    }))
+}
+
+fn height_source(
+    h: &Value,
+    texture: impl Fn(usize, u32) -> Option<TextureRef>,
+    texture_count: usize,
+) -> Result<HeightSource, String> {
+    let h = object(h, "extras.relief.height")?;
+    only_keys(
+        h,
+        "extras.relief.height",
+        &["index", "texCoord", "channel", "invert"],
+    )?;
+    let index = match h.get("index") {
+        None => return Err("extras.relief.height.index: missing (a glTF texture index)".into()),
+        Some(v) => v
+            .as_u64()
+            .ok_or_else(|| format!("extras.relief.height.index: {v} is not a texture index"))?,
+    };
+    let tex_coord = match h.get("texCoord") {
+        None => 0,
+        Some(v) => v
+            .as_u64()
+            .filter(|&t| t <= 1)
+            .ok_or_else(|| format!("extras.relief.height.texCoord: {v} is not 0 or 1"))?
+            as u32,
+    };
+    let texture = usize::try_from(index)
+        .ok()
+        .and_then(|i| texture(i, tex_coord))
+        .ok_or_else(|| {
+            format!("extras.relief.height.index: texture {index} does not exist (the file has {texture_count})")
+        })?;
+    let channel = match h.get("channel") {
+        None => Channel::R,
+        Some(v) => string(v, "extras.relief.height.channel")?
+            .parse()
+            .map_err(|e| format!("extras.relief.height.channel: {e}"))?,
+    };
+    let invert = match h.get("invert") {
+        None => false,
+        Some(v) => v
+            .as_bool()
+            .ok_or_else(|| format!("extras.relief.height.invert: {v} is not true or false"))?,
+    };
+    Ok(HeightSource::Texture {
+        texture,
+        channel,
+        invert,
+    })
+}
+
+fn object<'v>(v: &'v Value, field: &str) -> Result<&'v Map<String, Value>, String> {
+    v.as_object()
+        .ok_or_else(|| format!("{field}: expected an object, found {v}"))
+}
+
+fn string<'v>(v: &'v Value, field: &str) -> Result<&'v str, String> {
+    v.as_str()
+        .ok_or_else(|| format!("{field}: expected a string, found {v}"))
+}
+
+fn only_keys(o: &Map<String, Value>, field: &str, known: &[&str]) -> Result<(), String> {
+    match o.keys().find(|k| !known.contains(&k.as_str())) {
+        Some(k) => Err(format!(
+            "{field}: unknown key {k:?}; known keys: {}",
+            known.join(", ")
+        )),
+        None => Ok(()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{SamplerDesc, UvTransform};
+
+    fn tex(index: usize, tex_coord: u32) -> Option<TextureRef> {
+        (index < 4).then_some(TextureRef {
+            image: index + 10,
+            tex_coord,
+            transform: UvTransform::default(),
+            sampler: SamplerDesc::default(),
+        })
+    }
+
+    fn parse(json: &str) -> Result<Option<Relief>, String> {
+        parse_relief(Some(json), tex, 4)
+    }
+
+    #[test]
+    fn full_settings() {
+        let r = parse(
+            r#"{"relief": {"height": {"index": 3, "texCoord": 1, "channel": "a", "invert": true},
+                "depth_scale": 0.05, "method": "qdm", "budget": 64}, "other": 1}"#,
+        )
+        .unwrap()
+        .unwrap();
+        assert_eq!(r.depth_scale, 0.05);
+        assert_eq!(r.method, "qdm".parse().unwrap());
+        assert_eq!(r.budget, Some(64));
+        let HeightSource::Texture {
+            texture,
+            channel,
+            invert,
+        } = r.height
+        else {
+            panic!("expected a texture height source")
+        };
+        assert_eq!((texture.image, texture.tex_coord), (13, 1));
+        assert_eq!(channel, Channel::A);
+        assert!(invert);
+    }
+
+    #[test]
+    fn defaults() {
+        let r = parse(r#"{"relief": {"depth_scale": 0.1}}"#)
+            .unwrap()
+            .unwrap();
+        assert_eq!(r.method, Method::POM);
+        assert_eq!(r.budget, None);
+        assert_eq!(r.height, HeightSource::Frame);
+        let r = parse(r#"{"relief": {"depth_scale": 1, "height": {"index": 0}}}"#)
+            .unwrap()
+            .unwrap();
+        let HeightSource::Texture {
+            texture,
+            channel,
+            invert,
+        } = r.height
+        else {
+            panic!("expected a texture height source")
+        };
+        assert_eq!(
+            (texture.image, texture.tex_coord, channel, invert),
+            (10, 0, Channel::R, false)
+        );
+    }
+
+    #[test]
+    fn unrelated_extras_are_ignored() {
+        assert_eq!(parse_relief(None, tex, 4), Ok(None));
+        assert_eq!(parse(r#"{"author": "me"}"#), Ok(None));
+        assert_eq!(parse(r#"[1, 2]"#), Ok(None));
+        assert_eq!(parse(r#""just a string""#), Ok(None));
+    }
+
+    #[test]
+    fn bad_values_name_their_field() {
+        let cases = [
+            (r#"{"relief": 3}"#, "extras.relief: expected an object"),
+            (r#"{"relief": {}}"#, "extras.relief.depth_scale: missing"),
+            (
+                r#"{"relief": {"depth_scale": 0}}"#,
+                "extras.relief.depth_scale: 0",
+            ),
+            (
+                r#"{"relief": {"depth_scale": -1.5}}"#,
+                "extras.relief.depth_scale: -1.5",
+            ),
+            (
+                r#"{"relief": {"depth_scale": "big"}}"#,
+                "extras.relief.depth_scale: \"big\"",
+            ),
+            (
+                r#"{"relief": {"depth_scale": 1e300}}"#,
+                "extras.relief.depth_scale",
+            ),
+            (
+                r#"{"relief": {"depth_scale": 1, "method": "foo"}}"#,
+                "extras.relief.method: unknown method \"foo\"; known methods: ",
+            ),
+            (
+                r#"{"relief": {"depth_scale": 1, "method": 2}}"#,
+                "extras.relief.method: expected a string",
+            ),
+            (
+                r#"{"relief": {"depth_scale": 1, "budget": 0}}"#,
+                "extras.relief.budget",
+            ),
+            (
+                r#"{"relief": {"depth_scale": 1, "budget": 1.5}}"#,
+                "extras.relief.budget",
+            ),
+            (
+                r#"{"relief": {"depth_scale": 1, "height": 3}}"#,
+                "extras.relief.height: expected an object",
+            ),
+            (
+                r#"{"relief": {"depth_scale": 1, "height": {}}}"#,
+                "extras.relief.height.index: missing",
+            ),
+            (
+                r#"{"relief": {"depth_scale": 1, "height": {"index": 4}}}"#,
+                "extras.relief.height.index: texture 4 does not exist (the file has 4)",
+            ),
+            (
+                r#"{"relief": {"depth_scale": 1, "height": {"index": -1}}}"#,
+                "extras.relief.height.index: -1",
+            ),
+            (
+                r#"{"relief": {"depth_scale": 1, "height": {"index": 0, "texCoord": 2}}}"#,
+                "extras.relief.height.texCoord",
+            ),
+            (
+                r#"{"relief": {"depth_scale": 1, "height": {"index": 0, "channel": "x"}}}"#,
+                "extras.relief.height.channel: unknown height channel",
+            ),
+            (
+                r#"{"relief": {"depth_scale": 1, "height": {"index": 0, "invert": 1}}}"#,
+                "extras.relief.height.invert",
+            ),
+            (
+                r#"{"relief": {"depth_scale": 1, "depthscale": 2}}"#,
+                "extras.relief: unknown key \"depthscale\"",
+            ),
+        ];
+        for (json, want) in cases {
+            let err = parse(json).expect_err(json);
+            assert!(
+                err.starts_with(want),
+                "{json}: got {err:?}, want {want:?}..."
+            );
+        }
+    }
+}
