@@ -309,3 +309,129 @@ fn malformed_files_that_load_render_without_validation_errors() {
     );
     assert_eq!(rendered + rejected, files.len());
 }
+
+/// An orthographic camera looking down -z at the whole scene, and a light from the camera.
+fn orthographic_front(scene: &mut Scene, aspect: f32) {
+    let (lo, hi) = scene.bounds().expect("not empty");
+    let centre = (lo + hi) * 0.5;
+    let half = (hi - lo) * 0.5 * 1.05;
+    let (xmag, ymag) = (half.x.max(half.y * aspect), half.y.max(half.x / aspect));
+    scene.camera = Some(Camera {
+        view: Mat4::look_at_rh(centre + Vec3::Z * (half.z + 1.0), centre, Vec3::Y),
+        projection: Projection::Orthographic {
+            xmag,
+            ymag,
+            znear: 0.01,
+            zfar: 2.0 * half.z + 2.0,
+        },
+    });
+    scene.lights = vec![Light {
+        direction: Vec3::NEG_Z,
+        ..Light::default_light()
+    }];
+}
+
+/// Pixels (x, y) of `rgba` (width `w`) whose colour `pick` accepts.
+fn pixels_where(rgba: &[u8], w: usize, pick: impl Fn(&[u8]) -> bool) -> Vec<(i32, i32)> {
+    rgba.chunks_exact(4)
+        .enumerate()
+        .filter(|(_, p)| pick(p))
+        .map(|(i, _)| ((i % w) as i32, (i / w) as i32))
+        .collect()
+}
+
+#[test]
+fn texture_transform_test_reads_correct() {
+    let Some(corpus) = common::corpus::corpus("texture_transform_test_reads_correct") else {
+        return;
+    };
+    let Some(ctx) = common::device("texture_transform_test_reads_correct") else {
+        return;
+    };
+    let mut scene = load(&corpus.join("gltf/TextureTransformTest/TextureTransformTest.gltf"));
+    let (w, h) = (480usize, 320usize);
+    orthographic_front(&mut scene, w as f32 / h as f32);
+    let rgba = draw(&ctx, &scene, w as u32, h as u32).rgba;
+    let evidence = common::evidence_dir("corpus").join("texture_transform_test.png");
+    image::save_buffer(
+        &evidence,
+        &rgba,
+        w as u32,
+        h as u32,
+        image::ColorType::Rgba8,
+    )
+    .expect("writes evidence");
+    // Top row: uv offsets show the green "U", blue "V" and cyan "UV" quarters of UV.png; the
+    // olive "not supported" quarter must not appear.
+    let olive: Vec<_> = pixels_where(&rgba, w, |p| p[0] > 120 && p[1] > 120 && p[2] < 60)
+        .into_iter()
+        .filter(|&(_, y)| y < h as i32 / 2)
+        .collect();
+    let count = |pick: fn(&[u8]) -> bool| pixels_where(&rgba, w, pick).len();
+    let green = count(|p| p[1] > 110 && p[0] < 60 && p[2] < 60);
+    let blue = count(|p| p[2] > 110 && p[0] < 40 && p[1] < 40);
+    let cyan = count(|p| p[1] > 100 && p[2] > 100 && p[0] < 60);
+    assert!(
+        olive.len() < 20,
+        "{} olive 'not supported' pixels",
+        olive.len()
+    );
+    let square = w * h / 40;
+    assert!(
+        green > square && blue > square && cyan > square,
+        "{green} {blue} {cyan}"
+    );
+    // Bottom row: every arrow (rotation, scale, all three) ends at a green "correct" marker, none
+    // at a red "error" marker: the arrow's dark pixels reach into the marker's box. (Olive
+    // markers there show where an arrow would point without the extension.)
+    let lower = |pick: fn(&[u8]) -> bool| -> Vec<(i32, i32)> {
+        pixels_where(&rgba, w, pick)
+            .into_iter()
+            .filter(|&(_, y)| y > h as i32 / 2)
+            .collect()
+    };
+    let dark = lower(|p| p[0] < 40 && p[1] < 40 && p[2] < 40);
+    // Distance in pixels from a marker to the nearest arrow pixel.
+    let gap = |marker: &[(i32, i32)]| {
+        marker
+            .iter()
+            .flat_map(|&(mx, my)| {
+                dark.iter()
+                    .map(move |&(x, y)| (x - mx).abs().max((y - my).abs()))
+            })
+            .min()
+            .unwrap_or(i32::MAX)
+    };
+    let third = w as i32 / 3;
+    let correct = split_columns(&lower(|p| p[1] > 110 && p[0] < 60 && p[2] < 60), third);
+    let unsupported = split_columns(&lower(|p| p[0] > 120 && p[1] > 120 && p[2] < 60), third);
+    let error = lower(|p| p[0] > 150 && p[1] < 60 && p[2] < 60);
+    assert_eq!(correct.len(), 3, "one correct marker per arrow square");
+    assert!(!error.is_empty(), "the error marker is drawn");
+    for (k, marker) in correct.iter().enumerate() {
+        let ok = gap(marker);
+        assert!(ok <= 16, "arrow {k} ends {ok} px from its correct marker");
+        assert!(gap(&error) > ok, "arrow {k} is nearer the error marker");
+        if let Some(other) = unsupported.get(k) {
+            assert!(
+                gap(other) > ok,
+                "arrow {k} is nearer the 'not supported' marker"
+            );
+        }
+    }
+    common::assert_no_validation_errors(&ctx);
+}
+
+/// Groups points by the third of the image they fall in, dropping empty thirds.
+fn split_columns(points: &[(i32, i32)], third: i32) -> Vec<Vec<(i32, i32)>> {
+    (0..3)
+        .map(|k| {
+            points
+                .iter()
+                .copied()
+                .filter(|&(x, _)| x / third == k)
+                .collect::<Vec<_>>()
+        })
+        .filter(|g| !g.is_empty())
+        .collect()
+}
