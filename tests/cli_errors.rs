@@ -138,3 +138,47 @@ fn no_vulkan_driver_exits_77_with_install_line() {
     );
     assert!(!err.contains("panicked"));
 }
+
+#[test]
+fn missing_scene_file() {
+    let dir = common::scratch_dir("missing_scene");
+    let scene = dir.join("no-such-scene.gltf");
+    let out = relief(&["render", scene.to_str().expect("utf-8")]);
+    assert_clean_failure(&out, "no-such-scene.gltf");
+}
+
+#[test]
+fn broken_scene_file() {
+    let dir = common::scratch_dir("broken_scene");
+    let scene = dir.join("broken.gltf");
+    std::fs::write(
+        &scene,
+        "{\"asset\": {\"version\": \"2.0\"}, \"nodes\": [{\"mesh\": 7}]}",
+    )
+    .expect("writes");
+    let out = relief(&["render", scene.to_str().expect("utf-8")]);
+    assert_clean_failure(&out, "broken.gltf");
+}
+
+#[test]
+fn material_flag_without_a_height_map_or_naming_nothing() {
+    let Some(corpus) = common::corpus::corpus("material_flag") else {
+        return;
+    };
+    let plane = corpus.join("gltf/sascha/plane.gltf");
+    let plane = plane.to_str().expect("utf-8");
+    let out = relief(&["render", plane, "--material", "Floor"]);
+    assert_clean_failure(&out, "--heightmap");
+    let out = relief(&[
+        "render",
+        plane,
+        "--field",
+        "bricks",
+        "--size",
+        "64",
+        "--material",
+        "NoSuch",
+    ]);
+    assert_clean_failure(&out, "plane.gltf");
+    assert!(stderr(&out).contains("its materials:"), "lists the materials");
+}

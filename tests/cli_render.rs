@@ -77,3 +77,57 @@ fn maps_writes_every_pyramid_level() {
     }
     assert!(!dir.join("level_06.png").exists());
 }
+
+#[test]
+fn explain_prints_the_plan() {
+    if common::device("explain_prints_the_plan").is_none() {
+        return;
+    }
+    let dir = common::scratch_dir("explain");
+    let out = dir.join("frame.png");
+    let run = relief(&[
+        "render",
+        "--out",
+        out.to_str().expect("utf-8"),
+        "--width",
+        "64",
+        "--height",
+        "48",
+        "--method",
+        "csm",
+        "--explain",
+    ]);
+    let err = String::from_utf8_lossy(&run.stderr);
+    assert!(run.status.success(), "render failed:\n{err}");
+    let plan: serde_json::Value = serde_json::from_slice(&run.stdout).expect("one JSON object");
+    let shaders: Vec<&str> = plan["pipelines"]
+        .as_array()
+        .expect("pipelines")
+        .iter()
+        .filter_map(|p| p["shader"].as_str())
+        .collect();
+    assert_eq!(shaders, ["surface.frag:csm", "surface.frag:plain"]);
+    let maps = plan["maps"].as_array().expect("maps");
+    assert_eq!(maps.len(), 1, "the cone map only: {maps:?}");
+    assert_eq!(maps[0]["kind"], "cone_map");
+    assert_eq!(maps[0]["size"], serde_json::json!([256, 256]));
+    assert!(maps[0]["ms"].as_f64().is_some_and(|ms| ms > 0.0));
+    let skipped = plan["skipped"].as_array().expect("skipped");
+    for what in ["max_pyramid", "quadric_map", "relaxed_cone_map"] {
+        let entry = skipped.iter().find(|s| s["what"] == what);
+        assert!(
+            entry.is_some_and(|e| e["why"].as_str().is_some_and(|w| !w.is_empty())),
+            "{what} skipped with a reason: {skipped:?}"
+        );
+    }
+    assert!(plan["passes"]
+        .as_array()
+        .expect("passes")
+        .iter()
+        .any(|p| p["name"] == "surface"));
+    assert_eq!(
+        plan["created"]["compute_pipelines"], 0,
+        "no pyramid for csm"
+    );
+    assert_eq!(plan["created"]["graphics_pipelines"], 2);
+}
