@@ -180,5 +180,8 @@ fn material_flag_without_a_height_map_or_naming_nothing() {
         "NoSuch",
     ]);
     assert_clean_failure(&out, "plane.gltf");
-    assert!(stderr(&out).contains("its materials:"), "lists the materials");
+    assert!(
+        stderr(&out).contains("its materials:"),
+        "lists the materials"
+    );
 }

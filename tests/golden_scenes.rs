@@ -238,7 +238,7 @@ fn write_displaced_gltf(dir: &std::path::Path) -> std::path::PathBuf {
             "pbrMetallicRoughness": {"baseColorTexture": {"index": 1}, "metallicFactor": 0.0, "roughnessFactor": 0.7},
             "extras": {"relief": {
                 "height": {"index": 0, "channel": "r"},
-                "depth_scale": 0.05, "method": "qdm"
+                "depth_scale": 0.05, "method": "qdm", "budget": 96
             }}
         }],
         "textures": [{"source": 0}, {"source": 1}],
@@ -281,6 +281,7 @@ fn displaced_gltf_matches_golden() {
     let plan = &frame.plan;
     assert_eq!(plan.pipelines.len(), 1, "{:?}", plan.pipelines);
     assert_eq!(plan.pipelines[0].method.map(|m| m.id()), Some("qdm"));
+    assert_eq!(plan.pipelines[0].max_steps, Some(96), "the material's budget");
     assert!(plan.pipelines[0].self_shadow, "glTF lights cast shadows");
     assert_eq!(plan.heights.len(), 1);
     assert!(plan.heights[0].pyramid && plan.heights[0].size == (128, 128));

@@ -30,6 +30,8 @@ pub enum HeightKey {
 pub struct PipelineKey {
     /// `None`: the plain variant, without relief.
     pub method: Option<Method>,
+    /// Iteration cap instead of the method's default (a material's `budget`).
+    pub max_steps: Option<u32>,
     pub double_sided: bool,
     pub blend: bool,
     pub self_shadow: bool,
@@ -193,6 +195,7 @@ impl Plan {
             };
             let pipeline = PipelineKey {
                 method: material.relief.map(|r| r.method),
+                max_steps: material.relief.and_then(|r| r.budget),
                 double_sided: material.double_sided,
                 blend: material.alpha_mode == AlphaMode::Blend,
                 self_shadow: casts_shadows && material.relief.is_some(),

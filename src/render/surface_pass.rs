@@ -239,7 +239,9 @@ fn create_pipeline(
     let mut spec = SpecConstants::default().u32(SELF_SHADOW_ID, u32::from(key.self_shadow));
     if let Some(method) = key.method {
         let budget = method.info().default_budget;
-        spec = spec.u32(0, budget.max_steps).u32(1, budget.refine_steps);
+        spec = spec
+            .u32(0, key.max_steps.unwrap_or(budget.max_steps))
+            .u32(1, budget.refine_steps);
     }
     let attributes = [
         (0, vk::Format::R32G32B32_SFLOAT, 0),
@@ -280,6 +282,9 @@ fn create_pipeline(
 /// A pipeline's name for debug labels and `--explain`.
 pub fn describe(key: &PipelineKey) -> String {
     let mut name = key.shader();
+    if let Some(steps) = key.max_steps {
+        name.push_str(&format!(" budget {steps}"));
+    }
     for (on, what) in [
         (key.double_sided, "double-sided"),
         (key.blend, "blend"),
