@@ -193,7 +193,7 @@ fn budgets_are_honoured() {
             grid: (16, 16),
             budget: Budget {
                 max_steps: 1,
-                refine_steps: 0,
+                ..method.info().default_budget
             },
             address: Addressing::Repeat,
             format: HeightFormat::R16Unorm,

@@ -184,8 +184,11 @@ Hit pyramid_trace(Ray ray, Budget budget, int ascent, int leaf_mode) {
         } else if (level > leaf) {
             level -= 1;
         } else {
+            // The exact test starts `push` back: the ray is known to be above the surface up to
+            // there (every move ends on a node's plane or `push` past a searched boundary), so
+            // the sliver a crossing steps over is searched too.
             float hit;
-            bool found = leaf_mode == 2 ? leaf_exact(ray, z, min(exit_z, s), hit)
+            bool found = leaf_mode == 2 ? leaf_exact(ray, max(z - push, 0.0), min(exit_z, s), hit)
                                         : leaf_search(ray, z, min(exit_z, s), spacing, true, hit);
             if (found) {
                 return Hit(hit, i + 1u, false);

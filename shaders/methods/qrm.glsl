@@ -4,7 +4,11 @@
 // a texel of the full map; it never moves back and never ascends; when the plane lies inside the
 // node the search descends. The paper's last level bounds the box surface; relief's leaf is the
 // bilinear-bounding level 1, stepped through by the same delta against the bilinear surface, and
-// the first point found below it is the hit (no refinement, as in the paper).
+// the first point found below it is the hit (no refinement, as in the paper). With the exact leaf
+// (the default, budget.exact_leaf) the half-texel stepping is replaced by the exact
+// ray/bilinear-patch intersection, started `delta` before the cursor: every move ends at most
+// `delta` past a point the ray is known to be above the surface at (a node's plane, or a boundary
+// up to which the leaf was searched), so nothing before that start can hold the first hit.
 #include "pyramid.glsl"
 
 Hit trace_qrm(Ray ray, Budget budget) {
@@ -33,7 +37,9 @@ Hit trace_qrm(Ray ray, Budget budget) {
             continue;
         }
         float hit;
-        if (leaf_search(ray, max(cursor, t), min(tmin, s), delta, false, hit)) {
+        bool found = budget.exact_leaf ? leaf_exact(ray, max(cursor - delta, 0.0), min(tmin, s), hit)
+                                       : leaf_search(ray, max(cursor, t), min(tmin, s), delta, false, hit);
+        if (found) {
             return Hit(hit, i + 1u, false);
         }
         cursor = min(tmin + delta, s);
