@@ -19,9 +19,11 @@ pub enum MapKind {
     MaxPyramid,
     /// Per texel a, b, c and height of an unbounding cone + revolved parabola (paper 004).
     Quadric,
-    /// Per texel the ratio of the widest cone the box surface stays outside of.
+    /// Per texel the ratio of the widest cone the bilinear bound's box surface stays outside of,
+    /// and that surface's height.
     ConservativeCone,
-    /// Per texel the ratio of the widest cone a ray enters the box surface through at most once.
+    /// Per texel the ratio of the widest cone a ray enters the bilinear bound's box surface
+    /// through at most once, and that surface's height.
     RelaxedCone,
 }
 
