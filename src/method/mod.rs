@@ -178,8 +178,9 @@ const METHODS: &[MethodInfo] = &[
         name: "quadtree relief mapping (Algorithm 1: quadrant trick, half-texel delta), exact leaf",
         paper: "Schroders & van Gulik 2006 (paper 000)",
         needs: &[MapKind::MaxPyramid],
+        // A 1-degree view of fbm 128^2 takes up to ~215 steps; the cap only bounds stragglers.
         default_budget: Budget {
-            max_steps: 128,
+            max_steps: 256,
             refine_steps: 0,
             leaf: Leaf::Exact,
         },
@@ -190,8 +191,9 @@ const METHODS: &[MethodInfo] = &[
         name: "pyramidal displacement mapping: node crossing, exact leaf",
         paper: "Oh et al. 2006, Ki & Oh (paper 003)",
         needs: &[MapKind::MaxPyramid],
+        // A 1-degree view of fbm 128^2 takes up to ~215 steps; the cap only bounds stragglers.
         default_budget: Budget {
-            max_steps: 128,
+            max_steps: 256,
             refine_steps: 0,
             leaf: Leaf::Exact,
         },
@@ -202,8 +204,9 @@ const METHODS: &[MethodInfo] = &[
         name: "quadtree displacement mapping: one-level ascent on crossing, exact leaf",
         paper: "Drobot 2010 (paper 001, Listing 1.3)",
         needs: &[MapKind::MaxPyramid],
+        // A 1-degree view of fbm 128^2 takes up to ~215 steps; the cap only bounds stragglers.
         default_budget: Budget {
-            max_steps: 128,
+            max_steps: 256,
             refine_steps: 0,
             leaf: Leaf::Exact,
         },
@@ -214,8 +217,9 @@ const METHODS: &[MethodInfo] = &[
         name: "maximum-mipmap traversal with exact ray/bilinear-patch intersection at the leaf",
         paper: "Tevs, Ihrke, Seidel 2008 (beyond the papers)",
         needs: &[MapKind::MaxPyramid],
+        // A 1-degree view of fbm 128^2 takes up to ~215 steps; the cap only bounds stragglers.
         default_budget: Budget {
-            max_steps: 128,
+            max_steps: 256,
             refine_steps: 0,
             leaf: Leaf::Exact,
         },
