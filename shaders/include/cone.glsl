@@ -89,6 +89,9 @@ float cone_refine(Ray ray, Budget budget, inout float lo, float z) {
     return z;
 }
 
+// The march and the leaf are two loops, not one: lanes of a SIMD group land at different
+// iterations, and a leaf inside the march would be paid by the whole group once per landing
+// iteration; here landed lanes wait at the end of the march and take the leaf together.
 Hit cone_trace(Ray ray, Budget budget, bool relaxed) {
     float s = ray.depth_scale;
     vec2 size = height_size();
@@ -99,50 +102,59 @@ Hit cone_trace(Ray ray, Budget budget, bool relaxed) {
     float z_before = 0.0;
     vec2 cell = cone_cell_at(ray, z, size);
     vec2 cell_before = cell;
-    for (uint i = 0u; i < budget.max_steps; ++i) {
-        // At the bottom plane every ray is at or below the surface (a flat 0 field, depth 0).
-        if (z >= s) {
-            return Hit(s, i, false);
-        }
-        float floor_z = cone_floor(cell, size, s);
-        if (z >= floor_z) {
-            // The ray is in the bound's solid; before z_before it was above the bilinear surface,
-            // and conservative steps never pass the bound's first hit, so z_before = z for them.
-            float lo = relaxed ? z_before : z;
-            if (relaxed) {
-                z = cone_refine(ray, budget, lo, z);
+    uint i = 0u;
+    while (i < budget.max_steps) {
+        bool landed = false;
+        for (; i < budget.max_steps; ++i) {
+            // At the bottom plane every ray is at or below the surface (a flat 0 field, depth 0).
+            if (z >= s) {
+                return Hit(s, i, false);
             }
-            if (!budget.exact_leaf) {
-                return Hit(z, i + 1u, false);
+            float floor_z = cone_floor(cell, size, s);
+            if (z >= floor_z) {
+                landed = true;
+                break;
             }
-            vec2 leaf_cell = relaxed && lo > z_before ? cone_cell_at(ray, lo, size) : (relaxed ? cell_before : cell);
-            vec2 exits = cone_exits(ray, leaf_cell, size, lo);
-            float exit_z = min(exits.x, exits.y);
-            float end = min(min(exit_z, lo + reach), s);
-            float hit;
-            if (leaf_exact(ray, lo, end, hit)) {
-                return Hit(hit, i + 1u, false);
-            }
-            z = end;
-            cell = end < exit_z ? cone_cell_at(ray, end, size) : cone_next_cell(ray, leaf_cell, exits, exit_z);
             z_before = z;
             cell_before = cell;
-            continue;
+            float cone_z = z + cone_step(ray, cell, size, z, floor_z, relaxed);
+            vec2 exits = cone_exits(ray, cell, size, z);
+            float exit_z = min(exits.x, exits.y);
+            if (cone_z > min(exit_z, floor_z)) {
+                z = min(cone_z, floor_z);
+                cell = cone_cell_at(ray, z, size);
+            } else if (floor_z <= exit_z) {
+                z = floor_z;
+            } else {
+                z = exit_z;
+                cell = cone_next_cell(ray, cell, exits, exit_z);
+            }
         }
+        if (!landed) {
+            break;
+        }
+        i += 1u;
+        // The ray is in the bound's solid; before z_before it was above the bilinear surface,
+        // and conservative steps never pass the bound's first hit, so z_before = z for them.
+        float lo = relaxed ? z_before : z;
+        if (relaxed) {
+            z = cone_refine(ray, budget, lo, z);
+        }
+        if (!budget.exact_leaf) {
+            return Hit(z, i, false);
+        }
+        vec2 leaf_cell = relaxed && lo > z_before ? cone_cell_at(ray, lo, size) : (relaxed ? cell_before : cell);
+        vec2 exits = cone_exits(ray, leaf_cell, size, lo);
+        float exit_z = min(exits.x, exits.y);
+        float end = min(min(exit_z, lo + reach), s);
+        float hit;
+        if (leaf_exact(ray, lo, end, hit)) {
+            return Hit(hit, i, false);
+        }
+        z = end;
+        cell = end < exit_z ? cone_cell_at(ray, end, size) : cone_next_cell(ray, leaf_cell, exits, exit_z);
         z_before = z;
         cell_before = cell;
-        float cone_z = z + cone_step(ray, cell, size, z, floor_z, relaxed);
-        vec2 exits = cone_exits(ray, cell, size, z);
-        float exit_z = min(exits.x, exits.y);
-        if (cone_z > min(exit_z, floor_z)) {
-            z = min(cone_z, floor_z);
-            cell = cone_cell_at(ray, z, size);
-        } else if (floor_z <= exit_z) {
-            z = floor_z;
-        } else {
-            z = exit_z;
-            cell = cone_next_cell(ray, cell, exits, exit_z);
-        }
     }
     return Hit(z, budget.max_steps, true);
 }
