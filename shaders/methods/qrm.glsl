@@ -18,29 +18,42 @@ Hit trace_qrm(Ray ray, Budget budget) {
     int leaf = pyramid_leaf();
     int level = pyramid_top();
     float cursor = 0.0;
-    for (uint i = 0u; i < budget.max_steps; ++i) {
-        if (cursor >= s) {
-            return Hit(s, i, false);
-        }
-        vec2 uv = ray_uv(ray, cursor);
-        vec2 size = level_size(level);
-        float t = node_depth(uv, level, s);
-        // The quadrant trick: floor(cursor * n + quadrant) is the cell edge ahead on each axis.
-        vec2 cell = floor(uv * size + quadrant) - quadrant;
-        vec2 tb = next_line_depths(ray, cell, size, 0.0, cursor);
-        float tmin = min(tb.x, tb.y);
-        if (level > leaf || t >= tmin + delta) {
+    // Descent and leaf are two loops so a SIMD group's lanes search their leaves together
+    // (pyramid_trace says why).
+    uint i = 0u;
+    while (i < budget.max_steps) {
+        bool at_leaf = false;
+        float t = s;
+        float tmin = s;
+        for (; i < budget.max_steps; ++i) {
+            if (cursor >= s) {
+                return Hit(s, i, false);
+            }
+            vec2 uv = ray_uv(ray, cursor);
+            vec2 size = level_size(level);
+            t = node_depth(uv, level, s);
+            // The quadrant trick: floor(cursor * n + quadrant) is the cell edge ahead on each axis.
+            vec2 cell = floor(uv * size + quadrant) - quadrant;
+            vec2 tb = next_line_depths(ray, cell, size, 0.0, cursor);
+            tmin = min(tb.x, tb.y);
+            if (level <= leaf && t < tmin + delta) {
+                at_leaf = true;
+                break;
+            }
             cursor = min(max(cursor, min(t, tmin + delta)), s);
             if (t < tmin + delta) {
                 level -= 1;
             }
-            continue;
         }
+        if (!at_leaf) {
+            break;
+        }
+        i += 1u;
         float hit;
         bool found = budget.exact_leaf ? leaf_exact(ray, max(cursor - delta, 0.0), min(tmin, s), hit)
                                        : leaf_search(ray, max(cursor, t), min(tmin, s), delta, false, hit);
         if (found) {
-            return Hit(hit, i + 1u, false);
+            return Hit(hit, i, false);
         }
         cursor = min(tmin + delta, s);
     }
