@@ -178,9 +178,11 @@ const METHODS: &[MethodInfo] = &[
         name: "quadtree relief mapping (Algorithm 1: quadrant trick, half-texel delta), exact leaf",
         paper: "Schroders & van Gulik 2006 (paper 000)",
         needs: &[MapKind::MaxPyramid],
-        // A 1-degree view of fbm 128^2 takes up to ~215 steps; the cap only bounds stragglers.
+        // Its traversal never climbs back up, so a ray grazing the surface pays a step per leaf
+        // node it passes: a 5-degree view of fbm 1024^2 takes up to 512 steps (1 degree: ~1500).
+        // The cap only bounds stragglers.
         default_budget: Budget {
-            max_steps: 256,
+            max_steps: 1024,
             refine_steps: 0,
             leaf: Leaf::Exact,
         },
@@ -191,9 +193,11 @@ const METHODS: &[MethodInfo] = &[
         name: "pyramidal displacement mapping: node crossing, exact leaf",
         paper: "Oh et al. 2006, Ki & Oh (paper 003)",
         needs: &[MapKind::MaxPyramid],
-        // A 1-degree view of fbm 128^2 takes up to ~215 steps; the cap only bounds stragglers.
+        // Its traversal never climbs back up, so a ray grazing the surface pays a step per leaf
+        // node it passes: a 5-degree view of fbm 1024^2 takes up to 512 steps (1 degree: ~1500).
+        // The cap only bounds stragglers.
         default_budget: Budget {
-            max_steps: 256,
+            max_steps: 1024,
             refine_steps: 0,
             leaf: Leaf::Exact,
         },
