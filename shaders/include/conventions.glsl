@@ -23,14 +23,21 @@ struct Hit {
 // recompiling SPIR-V. Defaults suit the renderer; the bench sweeps them.
 layout(constant_id = 0) const uint BUDGET_MAX_STEPS = 32;
 layout(constant_id = 1) const uint BUDGET_REFINE_STEPS = 5;
+// How methods with a leaf stage (qrm, pdm, qdm, csm, rcsm, quadric) finish: 1 = the exact
+// intersection of the ray with the bilinear patches it crosses, 0 = the paper's own refinement
+// (linear search or interpolation, binary search, or stopping on the box surface). Methods
+// without a leaf stage ignore it. The default is exact because the surface pass sets only
+// constants 0 and 1, and the renderer wants the accurate answer.
+layout(constant_id = 2) const uint BUDGET_LEAF_EXACT = 1;
 
 struct Budget {
     uint max_steps;
     uint refine_steps;
+    bool exact_leaf;
 };
 
 Budget default_budget() {
-    return Budget(BUDGET_MAX_STEPS, BUDGET_REFINE_STEPS);
+    return Budget(BUDGET_MAX_STEPS, BUDGET_REFINE_STEPS, BUDGET_LEAF_EXACT != 0u);
 }
 
 // Vertical rays (dir.xy = 0) are fine; dir.z is kept away from 0 by the caller (ray_from_view).

@@ -156,7 +156,9 @@ bool leaf_exact(Ray ray, float z0, float z1, out float hit) {
 // descend; a move that would leave the node stops at its boundary plus CROSSING_TEXELS and climbs
 // `ascent` levels; at the leaf, search the bilinear surface inside the node (`leaf_mode` 0: linear
 // interpolation at one-texel spacing, 1: at half-texel spacing, 2: exact) and move on to the next
-// node if it is not hit there.
+// node if it is not hit there. The traversal and the leaf are two loops, not one: lanes of a SIMD
+// group reach leaves at different iterations, and a leaf inside the traversal would be paid by the
+// whole group once per such iteration; here they wait for each other and search together.
 Hit pyramid_trace(Ray ray, Budget budget, int ascent, int leaf_mode) {
     float s = ray.depth_scale;
     int top = pyramid_top();
@@ -165,34 +167,48 @@ Hit pyramid_trace(Ray ray, Budget budget, int ascent, int leaf_mode) {
     float z = 0.0;
     float push = depth_per_texels(ray, CROSSING_TEXELS);
     float spacing = depth_per_texels(ray, leaf_mode == 0 ? 1.0 : 0.5);
-    for (uint i = 0u; i < budget.max_steps; ++i) {
-        // At the bottom plane every ray is at or below the surface (a flat 0 field, depth 0).
-        if (z >= s) {
-            return Hit(s, i, false);
-        }
-        vec2 size = level_size(level);
-        vec2 cell = floor(ray_uv(ray, z) * size);
-        float exit_z = cell_exit_depth(ray, cell, size, z);
-        float d = node_depth_cell(cell, level, s);
-        bool crossing = d > z && d >= exit_z;
-        if (d > z && !crossing) {
-            z = d;
-        }
-        if (crossing) {
-            z = min(exit_z + push, s);
-            level = min(level + ascent, top);
-        } else if (level > leaf) {
-            level -= 1;
-        } else {
-            float hit;
-            bool found = leaf_mode == 2 ? leaf_exact(ray, z, min(exit_z, s), hit)
-                                        : leaf_search(ray, z, min(exit_z, s), spacing, true, hit);
-            if (found) {
-                return Hit(hit, i + 1u, false);
+    uint i = 0u;
+    while (i < budget.max_steps) {
+        bool at_leaf = false;
+        float exit_z = s;
+        for (; i < budget.max_steps; ++i) {
+            // At the bottom plane every ray is at or below the surface (a flat 0 field, depth 0).
+            if (z >= s) {
+                return Hit(s, i, false);
             }
-            z = min(exit_z + push, s);
-            level = min(level + ascent, top);
+            vec2 size = level_size(level);
+            vec2 cell = floor(ray_uv(ray, z) * size);
+            exit_z = cell_exit_depth(ray, cell, size, z);
+            float d = node_depth_cell(cell, level, s);
+            bool crossing = d > z && d >= exit_z;
+            if (d > z && !crossing) {
+                z = d;
+            }
+            if (crossing) {
+                z = min(exit_z + push, s);
+                level = min(level + ascent, top);
+            } else if (level > leaf) {
+                level -= 1;
+            } else {
+                at_leaf = true;
+                break;
+            }
         }
+        if (!at_leaf) {
+            break;
+        }
+        i += 1u;
+        // The exact test starts `push` back: the ray is known to be above the surface up to
+        // there (every move ends on a node's plane or `push` past a searched boundary), so
+        // the sliver a crossing steps over is searched too.
+        float hit;
+        bool found = leaf_mode == 2 ? leaf_exact(ray, max(z - push, 0.0), min(exit_z, s), hit)
+                                    : leaf_search(ray, z, min(exit_z, s), spacing, true, hit);
+        if (found) {
+            return Hit(hit, i, false);
+        }
+        z = min(exit_z + push, s);
+        level = min(level + ascent, top);
     }
     return Hit(z, budget.max_steps, true);
 }

@@ -5,9 +5,11 @@
 // half a texel at a time while it is above the bilinear surface, and the hit is interpolated
 // between the last points behind and ahead by their distances to the surface (linear filtering,
 // section 2.4). The LOD switch to averaged mips (section 2.5) needs an averaged pyramid relief
-// does not build; traces run at full detail.
+// does not build; traces run at full detail. With the exact leaf (the default, budget.exact_leaf)
+// the half-texel search is replaced by the exact ray/bilinear-patch intersection in the node: the
+// search misses slivers of surface thinner than its spacing, and the exact test does not.
 #include "pyramid.glsl"
 
 Hit trace_pdm(Ray ray, Budget budget) {
-    return pyramid_trace(ray, budget, 0, 1);
+    return pyramid_trace(ray, budget, 0, budget.exact_leaf ? 2 : 1);
 }

@@ -4,9 +4,11 @@
 // convergence speed-up, "Level += 2" before the loop's "Level--"); at the leaf, refine by linear
 // interpolation of the bilinear surface at one-texel spacing (section 1.4.3). Boundary depths
 // come from the ray's own parameterisation, not from the listing's ratio p2.z * b / a, which is
-// 0/0 at the ray's start.
+// 0/0 at the ray's start. With the exact leaf (the default, budget.exact_leaf) the one-texel
+// interpolation is replaced by the exact ray/bilinear-patch intersection in the node: the
+// interpolation misses slivers of surface thinner than a texel, and the exact test does not.
 #include "pyramid.glsl"
 
 Hit trace_qdm(Ray ray, Budget budget) {
-    return pyramid_trace(ray, budget, 1, 0);
+    return pyramid_trace(ray, budget, 1, budget.exact_leaf ? 2 : 0);
 }

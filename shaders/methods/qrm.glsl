@@ -4,7 +4,11 @@
 // a texel of the full map; it never moves back and never ascends; when the plane lies inside the
 // node the search descends. The paper's last level bounds the box surface; relief's leaf is the
 // bilinear-bounding level 1, stepped through by the same delta against the bilinear surface, and
-// the first point found below it is the hit (no refinement, as in the paper).
+// the first point found below it is the hit (no refinement, as in the paper). With the exact leaf
+// (the default, budget.exact_leaf) the half-texel stepping is replaced by the exact
+// ray/bilinear-patch intersection, started `delta` before the cursor: every move ends at most
+// `delta` past a point the ray is known to be above the surface at (a node's plane, or a boundary
+// up to which the leaf was searched), so nothing before that start can hold the first hit.
 #include "pyramid.glsl"
 
 Hit trace_qrm(Ray ray, Budget budget) {
@@ -14,27 +18,42 @@ Hit trace_qrm(Ray ray, Budget budget) {
     int leaf = pyramid_leaf();
     int level = pyramid_top();
     float cursor = 0.0;
-    for (uint i = 0u; i < budget.max_steps; ++i) {
-        if (cursor >= s) {
-            return Hit(s, i, false);
-        }
-        vec2 uv = ray_uv(ray, cursor);
-        vec2 size = level_size(level);
-        float t = node_depth(uv, level, s);
-        // The quadrant trick: floor(cursor * n + quadrant) is the cell edge ahead on each axis.
-        vec2 cell = floor(uv * size + quadrant) - quadrant;
-        vec2 tb = next_line_depths(ray, cell, size, 0.0, cursor);
-        float tmin = min(tb.x, tb.y);
-        if (level > leaf || t >= tmin + delta) {
+    // Descent and leaf are two loops so a SIMD group's lanes search their leaves together
+    // (pyramid_trace says why).
+    uint i = 0u;
+    while (i < budget.max_steps) {
+        bool at_leaf = false;
+        float t = s;
+        float tmin = s;
+        for (; i < budget.max_steps; ++i) {
+            if (cursor >= s) {
+                return Hit(s, i, false);
+            }
+            vec2 uv = ray_uv(ray, cursor);
+            vec2 size = level_size(level);
+            t = node_depth(uv, level, s);
+            // The quadrant trick: floor(cursor * n + quadrant) is the cell edge ahead on each axis.
+            vec2 cell = floor(uv * size + quadrant) - quadrant;
+            vec2 tb = next_line_depths(ray, cell, size, 0.0, cursor);
+            tmin = min(tb.x, tb.y);
+            if (level <= leaf && t < tmin + delta) {
+                at_leaf = true;
+                break;
+            }
             cursor = min(max(cursor, min(t, tmin + delta)), s);
             if (t < tmin + delta) {
                 level -= 1;
             }
-            continue;
         }
+        if (!at_leaf) {
+            break;
+        }
+        i += 1u;
         float hit;
-        if (leaf_search(ray, max(cursor, t), min(tmin, s), delta, false, hit)) {
-            return Hit(hit, i + 1u, false);
+        bool found = budget.exact_leaf ? leaf_exact(ray, max(cursor - delta, 0.0), min(tmin, s), hit)
+                                       : leaf_search(ray, max(cursor, t), min(tmin, s), delta, false, hit);
+        if (found) {
+            return Hit(hit, i, false);
         }
         cursor = min(tmin + delta, s);
     }

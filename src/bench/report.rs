@@ -40,10 +40,19 @@ fn runs(results: &BenchResults, section: Section) -> impl Iterator<Item = &Run> 
 }
 
 fn budget_label(r: &Run) -> String {
-    if r.budget.refine_steps > 0 {
+    let steps = if r.budget.refine_steps > 0 {
         format!("{}+{}", r.budget.max_steps, r.budget.refine_steps)
     } else {
         r.budget.max_steps.to_string()
+    };
+    let choice = r
+        .method
+        .parse::<crate::method::Method>()
+        .is_ok_and(|m| m.info().leaf_choice);
+    if choice {
+        format!("{steps} {}", r.budget.leaf)
+    } else {
+        steps
     }
 }
 

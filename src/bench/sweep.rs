@@ -6,7 +6,7 @@ use std::path::PathBuf;
 
 use crate::heightfield::reference::Address;
 use crate::heightfield::Generator;
-use crate::method::{Budget, Method};
+use crate::method::{Budget, Leaf, Method};
 use crate::render::HeightFormat;
 
 /// Where a height field comes from.
@@ -52,6 +52,8 @@ pub struct SweepConfig {
     pub seed: u64,
     /// Run the stability matrix (stiff and extreme cases) too.
     pub stability: bool,
+    /// Also run each method with a leaf choice with the paper's refinement (error vs time).
+    pub paper_leaf: bool,
     /// The small CI variant: fewer and smaller cases.
     pub quick: bool,
 }
@@ -84,6 +86,7 @@ impl SweepConfig {
             format: HeightFormat::R16Unorm,
             seed: 1,
             stability: true,
+            paper_leaf: true,
             quick: false,
         }
     }
@@ -100,15 +103,23 @@ impl SweepConfig {
             frames: 3,
             warmup: 1,
             error_grid: (32, 32),
+            paper_leaf: false,
             quick: true,
             ..SweepConfig::full()
         }
     }
 
-    /// Budgets to run `method` with: its default, and for fixed-step methods each listed cap.
+    /// Budgets to run `method` with: its default, for fixed-step methods each listed cap, and
+    /// with `paper_leaf` the paper's refinement for methods with a leaf choice.
     pub fn budgets_for(&self, method: Method) -> Vec<Budget> {
         let default = method.info().default_budget;
         let mut list = vec![default];
+        if self.paper_leaf && method.info().leaf_choice {
+            list.push(Budget {
+                leaf: Leaf::Paper,
+                ..default
+            });
+        }
         if is_fixed_step(method) {
             for &steps in &self.budgets {
                 let b = Budget {

@@ -4,10 +4,10 @@
 use std::path::PathBuf;
 
 use anyhow::Context as _;
-use clap::Args;
+use clap::{Args, ValueEnum};
 use relief::bench::{ray_direction, trace_stats, write_npy_f32};
 use relief::heightfield::reference::Address;
-use relief::method::{build_method_map, Budget, Method};
+use relief::method::{build_method_map, Budget, Leaf, Method};
 use relief::render::{trace_on_gpu, Addressing, HeightFormat, TraceRequest};
 use serde_json::json;
 
@@ -41,6 +41,10 @@ pub struct TraceArgs {
     /// Refinement steps (the method's default when left out).
     #[arg(long)]
     refine: Option<u32>,
+    /// How methods with a leaf stage (qrm, pdm, qdm, csm, rcsm, quadric) finish: the paper's
+    /// refinement or the exact bilinear intersection (the method's default when left out).
+    #[arg(long, value_enum)]
+    leaf: Option<LeafArg>,
     #[arg(long, value_enum, default_value = "r16")]
     height_format: FormatArg,
     /// Write the traced rays to this .npy file, shape (rows, cols, 8).
@@ -48,6 +52,21 @@ pub struct TraceArgs {
     dump: Option<PathBuf>,
     #[arg(long, value_name = "SUBSTRING")]
     device: Option<String>,
+}
+
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum LeafArg {
+    Paper,
+    Exact,
+}
+
+impl From<LeafArg> for Leaf {
+    fn from(arg: LeafArg) -> Leaf {
+        match arg {
+            LeafArg::Paper => Leaf::Paper,
+            LeafArg::Exact => Leaf::Exact,
+        }
+    }
 }
 
 fn parse_grid(text: &str) -> anyhow::Result<(u32, u32)> {
@@ -90,6 +109,7 @@ pub fn run(args: &TraceArgs) -> anyhow::Result<()> {
     let budget = Budget {
         max_steps: args.budget.unwrap_or(defaults.max_steps),
         refine_steps: args.refine.unwrap_or(defaults.refine_steps),
+        leaf: args.leaf.map_or(defaults.leaf, Leaf::from),
     };
     let (format, stored) = match args.height_format {
         FormatArg::R16 => (HeightFormat::R16Unorm, hf.quantized_unorm16()),

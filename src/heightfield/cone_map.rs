@@ -1,6 +1,6 @@
 //! Cone maps for cone step mapping (Dummer 2006, *conservative*) and relaxed cone stepping (Policarpo and
-//! Oliveira 2007, *relaxed*), built exactly on the CPU, and CPU models of both tracers that the GLSL methods
-//! port line for line.
+//! Oliveira 2007, *relaxed*), built exactly on the CPU, and CPU models of both tracers' stepping that the GLSL
+//! methods port line for line (the GLSL adds the exact bilinear leaf, shaders/include/cone.glsl).
 //!
 //! # Units
 //! A cone map stores per texel `p` a ratio `c >= 0`: horizontal uv per unit of normalised height. Its cone has
@@ -10,13 +10,16 @@
 //! maximum has nothing to limit it) and rounded down to `f32`, so a stored cone is never wider than proven.
 //!
 //! # Surface model
-//! Both maps and both tracers use the *nearest* (box) surface: `h` constant over each half-open texel box,
-//! extended by `Repeat` tiling or by `Clamp` (border rows and columns extend to infinity). The cones are
-//! exact for that surface, so both tracers find the nearest-model reference hit exactly. They do not bound
-//! the bilinear surface (between a low texel and a high neighbour it rises above the low texel's box, and at
-//! a peak it falls below the peak's box), so against the bilinear reference the hits differ: on fbm 256^2 at
-//! s = 0.1, by 0.06 / 0.23 / 0.55 texels on average at 60 / 30 / 15 degrees, with rare gross misses (tens of
-//! texels) where a grazing ray clips a box top that the bilinear surface passes under.
+//! Both maps and both tracers use a *nearest* (box) surface: a height constant over each half-open texel
+//! box, extended by `Repeat` tiling or by `Clamp` (border rows and columns extend to infinity). The cones are
+//! exact for that surface, so both tracers find its nearest-model reference hit exactly. [`ConeMap::build`]
+//! takes as that box surface the *bilinear bound* of the height field ([`bilinear_box_bound`]: per texel the
+//! highest point of the bilinear surface over the texel's box), which lies on or above the bilinear surface
+//! everywhere; so neither tracer passes the first bilinear hit, and the GPU methods end with an exact
+//! ray/bilinear-patch test in the box where the stepping stopped (continuing when it finds nothing there).
+//! The height field's own boxes do not bound the bilinear surface (between a low texel and a high
+//! neighbour it rises above the low texel's box): cones built on them let grazing rays stop on a box top the
+//! bilinear surface passes under, a gross miss. [`ConeMap::build_box`] still builds those, for tests.
 //!
 //! # Conservative cone
 //! `c(p) = min over texels q with h(q) > h(p) of dist(p_c, box(q)) / (h(q) - h(p))`, with `box(q)` closed and
@@ -84,12 +87,23 @@ pub struct ConeMap {
     pub height: u32,
     /// Row-major like [`Heightfield`]: texel `(i, j)` at `j * width + i`.
     pub ratio: Vec<f32>,
+    /// The heights of the box surface the cones are exact for (the cones' apexes and the tracers'
+    /// floors), row-major: the bilinear bound for [`ConeMap::build`], the field itself for
+    /// [`ConeMap::build_box`].
+    pub surface: Vec<f32>,
 }
 
 impl ConeMap {
-    /// Builds the map of `kind` for `hf` under `address` on all cores. Both kinds are exact minima computed by
-    /// pruned searches over the max pyramid (the tests compare them with brute force bit for bit).
+    /// Builds the map of `kind` for the bilinear surface of `hf` under `address`: the cones of the box
+    /// surface [`bilinear_box_bound`], which is on or above the bilinear surface everywhere.
     pub fn build(hf: &Heightfield, kind: ConeKind, address: Address) -> ConeMap {
+        ConeMap::build_box(&bilinear_box_bound(hf, address), kind, address)
+    }
+
+    /// Builds the map of `kind` for the box surface of `hf` itself under `address` on all cores. Both kinds
+    /// are exact minima computed by pruned searches over the max pyramid (the tests compare them with brute
+    /// force bit for bit).
+    pub fn build_box(hf: &Heightfield, kind: ConeKind, address: Address) -> ConeMap {
         let field = Field::new(hf, address);
         let cap = f64::from(CONE_RATIO_MAX);
         let width = hf.width();
@@ -122,6 +136,7 @@ impl ConeMap {
             width,
             height: hf.height(),
             ratio: ratio.into_iter().map(|c| round_down(c.min(cap))).collect(),
+            surface: hf.data().to_vec(),
         }
     }
 
@@ -134,6 +149,50 @@ impl ConeMap {
             self.height
         );
         self.ratio[j as usize * self.width as usize + i as usize]
+    }
+}
+
+/// Per texel, the highest point of the bilinear surface of `hf` (under `address`) over the texel's box,
+/// rounded up to `f32`. The box meets the four bilinear cells around the texel centre, in a quarter each;
+/// on each quarter (a rectangle) the bilinear function peaks at a corner, so the maximum is the largest of
+/// nine values: the texel itself, the means with its four edge neighbours and with each 2x2 block around a
+/// box corner. Clamped borders reuse the edge texels, which also bounds the surface beyond the map.
+pub fn bilinear_box_bound(hf: &Heightfield, address: Address) -> Heightfield {
+    let (w, h) = (i64::from(hf.width()), i64::from(hf.height()));
+    let at = |i: i64, j: i64| {
+        let (i, j) = match address {
+            Address::Repeat => (i.rem_euclid(w), j.rem_euclid(h)),
+            Address::Clamp => (i.clamp(0, w - 1), j.clamp(0, h - 1)),
+        };
+        f64::from(hf.get(i as u32, j as u32))
+    };
+    let mut data = Vec::with_capacity(hf.data().len());
+    for j in 0..h {
+        for i in 0..w {
+            let centre = at(i, j);
+            let mut top = centre;
+            for (di, dj) in [(-1, -1), (-1, 1), (1, -1), (1, 1)] {
+                let (side_u, side_v) = (at(i + di, j), at(i, j + dj));
+                let corner = 0.25 * (centre + side_u + side_v + at(i + di, j + dj));
+                top = top
+                    .max(0.5 * (centre + side_u))
+                    .max(0.5 * (centre + side_v))
+                    .max(corner);
+            }
+            data.push(round_up(top));
+        }
+    }
+    Heightfield::new(hf.width(), hf.height(), data)
+        .expect("means of valid heights are valid heights")
+}
+
+/// The smallest `f32` not below `x` in `[0, 1]`.
+fn round_up(x: f64) -> f32 {
+    let f = x as f32;
+    if f64::from(f) < x && f < 1.0 {
+        f32::from_bits(f.to_bits() + 1)
+    } else {
+        f
     }
 }
 
@@ -158,10 +217,11 @@ pub struct ConeTrace {
     pub capped: bool,
 }
 
-/// Traces `ray` through `hf` with cone stepping over `map` (see the module docs), exactly as the GPU methods
-/// do: at most `max_steps` stepping iterations, then (relaxed maps only) `refine_steps` halvings of the last
-/// step, which brackets the first crossing; the reported `z` is the inside end of the final bracket.
-/// Conservative tracing ends on the surface itself and ignores `refine_steps`.
+/// Traces `ray` with cone stepping over `map` against the map's box surface (`map.surface`; see the module
+/// docs), as the GPU methods do with the paper's leaf: at most `max_steps` stepping iterations, then (relaxed
+/// maps only) `refine_steps` halvings of the last step, which brackets the first crossing; the reported `z`
+/// is the inside end of the final bracket. Conservative tracing ends on the surface itself and ignores
+/// `refine_steps`. (With the exact leaf the GPU goes on from there to the bilinear surface of `hf`.)
 ///
 /// Panics if `map` and `hf` differ in size, or on a ray the reference tracer would reject.
 pub fn trace_cone_cpu(
@@ -374,10 +434,11 @@ impl<'a> Walk<'a> {
         }
     }
 
-    /// The surface depth `s (1 - h)` of a cell.
+    /// The depth `s (1 - h)` of a cell's box top (of the map's surface).
     fn floor(&self, cell: CellIndex) -> f64 {
         let (i, j) = self.texel(cell);
-        self.s * (1.0 - f64::from(self.hf.get(i, j)))
+        let k = j as usize * self.map.width as usize + i as usize;
+        self.s * (1.0 - f64::from(self.map.surface[k]))
     }
 
     /// Binary search between `lo` (above the surface) and `hi` (at or below it); returns the final `hi`.

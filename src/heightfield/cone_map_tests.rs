@@ -163,15 +163,24 @@ fn hand_computed_ratios() {
     // One bump of height 1 among zeros, W = 3: the nearest higher box is half a texel (1/6 uv) away.
     let hf = Heightfield::new(3, 1, vec![0.0, 1.0, 0.0]).expect("valid");
     for address in ADDRESSES {
-        let map = ConeMap::build(&hf, ConeKind::Conservative, address);
+        let map = ConeMap::build_box(&hf, ConeKind::Conservative, address);
         assert_eq!(
             map.ratio,
             vec![round_down(1.0 / 6.0), CONE_RATIO_MAX, round_down(1.0 / 6.0)]
         );
         // Every neighbour of the bump is lower, so no ray can stay inside it: relaxed equals conservative.
         assert_eq!(
-            ConeMap::build(&hf, ConeKind::Relaxed, address).ratio,
+            ConeMap::build_box(&hf, ConeKind::Relaxed, address).ratio,
             map.ratio
+        );
+        // Over the bilinear bound the bump's neighbours rise to 0.5 at their shared edges (under
+        // clamp the outer halves stay at 0, but the inner half still reaches 0.5): the nearest
+        // higher box is the same, half as much higher.
+        let bound = ConeMap::build(&hf, ConeKind::Conservative, address);
+        assert_eq!(bound.surface, vec![0.5, 1.0, 0.5]);
+        assert_eq!(
+            bound.ratio,
+            vec![round_down(1.0 / 3.0), CONE_RATIO_MAX, round_down(1.0 / 3.0)]
         );
     }
     // A plateau 0.5 high and six texels wide between two zero texels, tiled: from texel 0 the nearest higher
@@ -191,8 +200,8 @@ fn hand_computed_ratios() {
             "sector {k}: {r}"
         );
     }
-    let cons = ConeMap::build(&hf, ConeKind::Conservative, Address::Repeat);
-    let relaxed = ConeMap::build(&hf, ConeKind::Relaxed, Address::Repeat);
+    let cons = ConeMap::build_box(&hf, ConeKind::Conservative, Address::Repeat);
+    let relaxed = ConeMap::build_box(&hf, ConeKind::Relaxed, Address::Repeat);
     assert_eq!(cons.get(0, 0), 0.125);
     // Texel 1 limits it at (1/16 + reach) / 0.5 (the other plateau texels give at least as much as long as
     // the reach cap is below 5/8), five times the conservative ratio with a cap of 1/4.
@@ -213,10 +222,11 @@ fn maps_are_finite_bounded_and_relaxed_is_wider() {
         (Generator::Bricks, 32, 16),
     ] {
         let hf = generator.generate(w, h, 7);
-        let top = hf.data().iter().fold(0.0f32, |m, &x| m.max(x));
         for address in ADDRESSES {
             let cons = ConeMap::build(&hf, ConeKind::Conservative, address);
             let relaxed = ConeMap::build(&hf, ConeKind::Relaxed, address);
+            assert_eq!(cons.surface, relaxed.surface);
+            let top = cons.surface.iter().fold(0.0f32, |m, &x| m.max(x));
             assert_eq!(
                 (cons.width, cons.height, cons.ratio.len()),
                 (w, h, (w * h) as usize)
@@ -227,8 +237,51 @@ fn maps_are_finite_bounded_and_relaxed_is_wider() {
                     r >= c && r <= CONE_RATIO_MAX,
                     "{generator} texel {n}: {r} < {c}"
                 );
-                if hf.data()[n] == top {
+                if cons.surface[n] == top {
                     assert_eq!(c, CONE_RATIO_MAX);
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn bilinear_bound_is_the_highest_bilinear_point_over_each_texel() {
+    // Sampled on a fine grid that includes every box's centre, edge midpoints and corners, the
+    // bilinear surface never rises above the bound, and reaches it in every box.
+    const SUB: u32 = 8;
+    let inside = |k: u32| (f64::from(k) / f64::from(SUB)).min(1.0 - 1e-9);
+    for hf in small_fields() {
+        for address in ADDRESSES {
+            let bound = bilinear_box_bound(&hf, address);
+            let (w, h) = (hf.width(), hf.height());
+            for j in 0..h {
+                for i in 0..w {
+                    let mut top = f64::MIN;
+                    for (a, b) in (0..=SUB).flat_map(|b| (0..=SUB).map(move |a| (a, b))) {
+                        // The far edges just inside the half-open texel.
+                        let (du, dv) = (inside(a), inside(b));
+                        let (u, v) = (
+                            (f64::from(i) + du) / f64::from(w),
+                            (f64::from(j) + dv) / f64::from(h),
+                        );
+                        let d = crate::heightfield::reference::surface_depth(
+                            &hf,
+                            u,
+                            v,
+                            1.0,
+                            SurfaceModel::Bilinear,
+                            address,
+                        );
+                        top = top.max(1.0 - d);
+                    }
+                    let b = f64::from(bound.get(i, j));
+                    let at = format!("{w}x{h} {address} ({i}, {j})");
+                    assert!(top <= b + 1e-12, "{at}: surface {top} above bound {b}");
+                    assert!(
+                        b - top < 1e-6,
+                        "{at}: bound {b} above the surface's top {top}"
+                    );
                 }
             }
         }
@@ -263,6 +316,11 @@ fn trace_fields() -> Vec<Heightfield> {
     out
 }
 
+/// The box surface a map's cones are exact for, as a height field.
+fn bound_field(map: &ConeMap) -> Heightfield {
+    Heightfield::new(map.width, map.height, map.surface.clone()).expect("bound heights are valid")
+}
+
 /// Every depth a walk fetches at, and its result.
 fn walk(
     hf: &Heightfield,
@@ -284,12 +342,19 @@ fn conservative_steps_never_pass_the_first_hit_and_end_on_it() {
     for hf in trace_fields() {
         for address in ADDRESSES {
             let map = ConeMap::build(&hf, ConeKind::Conservative, address);
+            let bound = bound_field(&map);
             for _ in 0..120 {
                 let ray = random_ray(&mut rng);
                 let s = 0.02 + 0.3 * f64::from(rng.next_f32());
-                let exact = trace(&hf, &ray, s, SurfaceModel::Nearest, address).z;
+                // The walk is exact for the bound's boxes, which lie on or above the bilinear surface.
+                let exact = trace(&bound, &ray, s, SurfaceModel::Nearest, address).z;
+                let bilinear = trace(&hf, &ray, s, SurfaceModel::Bilinear, address).z;
                 let (seen, result) = walk(&hf, &map, &ray, s, address, 100_000);
                 let at = format!("{}x{} {address} {ray:?} s={s}", hf.width(), hf.height());
+                assert!(
+                    exact <= bilinear + 1e-9,
+                    "{at}: bound hit {exact} after {bilinear}"
+                );
                 assert!(
                     seen.iter().all(|&z| z <= exact + 1e-9),
                     "{at}: passed {exact}: {seen:?}"
@@ -361,10 +426,11 @@ fn relaxed_steps_cross_at_most_once_and_refine_to_the_first_hit() {
     for hf in trace_fields() {
         for address in ADDRESSES {
             let map = ConeMap::build(&hf, ConeKind::Relaxed, address);
+            let bound = bound_field(&map);
             for _ in 0..120 {
                 let ray = random_ray(&mut rng);
                 let s = 0.02 + 0.3 * f64::from(rng.next_f32());
-                let exact = trace(&hf, &ray, s, SurfaceModel::Nearest, address).z;
+                let exact = trace(&bound, &ray, s, SurfaceModel::Nearest, address).z;
                 let (seen, result) = walk(&hf, &map, &ray, s, address, 100_000);
                 let at = format!("{}x{} {address} {ray:?} s={s}", hf.width(), hf.height());
                 assert!(!result.capped, "{at}");
@@ -376,7 +442,7 @@ fn relaxed_steps_cross_at_most_once_and_refine_to_the_first_hit() {
                 );
                 for pair in seen.windows(2) {
                     assert!(
-                        !leaves_solid(&hf, &ray, s, address, pair[0], pair[1]),
+                        !leaves_solid(&bound, &ray, s, address, pair[0], pair[1]),
                         "{at}: step {pair:?} exits"
                     );
                 }
@@ -437,7 +503,14 @@ fn relaxed_needs_fewer_steps_on_a_plateau() {
     for kind in [ConeKind::Conservative, ConeKind::Relaxed] {
         let map = ConeMap::build(&hf, kind, Address::Repeat);
         let t = trace_cone_cpu(&hf, &map, &ray, 0.05, Address::Repeat, 1000, 30);
-        let exact = trace(&hf, &ray, 0.05, SurfaceModel::Nearest, Address::Repeat).z;
+        let exact = trace(
+            &bound_field(&map),
+            &ray,
+            0.05,
+            SurfaceModel::Nearest,
+            Address::Repeat,
+        )
+        .z;
         assert!((t.z - exact).abs() < 1e-9, "{kind:?}: {t:?} vs {exact}");
         steps.push(t.steps);
     }

@@ -36,12 +36,18 @@ fn build(kind: MapKind, hf: &Heightfield, address: Address) -> Option<MapData> {
             } else {
                 ConeKind::Conservative
             };
+            // Per texel the cone ratio and the height of the box surface it is exact for.
             let map = ConeMap::build(hf, cone, address);
             Some(MapData {
                 width: map.width,
                 height: map.height,
-                channels: 1,
-                texels: map.ratio,
+                channels: 2,
+                texels: map
+                    .ratio
+                    .iter()
+                    .zip(&map.surface)
+                    .flat_map(|(&c, &h)| [c, h])
+                    .collect(),
             })
         }
         MapKind::Quadric => {

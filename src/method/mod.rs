@@ -19,9 +19,11 @@ pub enum MapKind {
     MaxPyramid,
     /// Per texel a, b, c and height of an unbounding cone + revolved parabola (paper 004).
     Quadric,
-    /// Per texel the ratio of the widest cone the box surface stays outside of.
+    /// Per texel the ratio of the widest cone the bilinear bound's box surface stays outside of,
+    /// and that surface's height.
     ConservativeCone,
-    /// Per texel the ratio of the widest cone a ray enters the box surface through at most once.
+    /// Per texel the ratio of the widest cone a ray enters the bilinear bound's box surface
+    /// through at most once, and that surface's height.
     RelaxedCone,
 }
 
@@ -43,11 +45,51 @@ impl MapKind {
     }
 }
 
-/// Iteration cap and refinement steps (specialization constants 0 and 1 of every method).
+/// How a method with a leaf stage finds the hit once its traversal has closed in on it
+/// (specialization constant 2, `BUDGET_LEAF_EXACT` in `conventions.glsl`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Leaf {
+    /// The paper's own refinement: linear search or interpolation at half- or one-texel spacing,
+    /// binary search, or stopping on the box surface. It misses slivers of surface thinner than
+    /// its sampling.
+    Paper,
+    /// The exact intersection of the ray with the bilinear patches it crosses (the shaders'
+    /// default, which the surface pass relies on).
+    Exact,
+}
+
+impl Leaf {
+    /// The value of specialization constant 2.
+    pub fn spec_value(self) -> u32 {
+        match self {
+            Leaf::Paper => 0,
+            Leaf::Exact => 1,
+        }
+    }
+
+    /// The name the CLI and reports use.
+    pub fn name(self) -> &'static str {
+        match self {
+            Leaf::Paper => "paper",
+            Leaf::Exact => "exact",
+        }
+    }
+}
+
+impl fmt::Display for Leaf {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// Iteration cap, refinement steps and leaf (specialization constants 0, 1 and 2 of every
+/// method). Methods without a leaf stage ignore `leaf`; their table rows say `Paper`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
 pub struct Budget {
     pub max_steps: u32,
     pub refine_steps: u32,
+    pub leaf: Leaf,
 }
 
 /// One row of the method table.
@@ -58,6 +100,9 @@ pub struct MethodInfo {
     pub paper: &'static str,
     pub needs: &'static [MapKind],
     pub default_budget: Budget,
+    /// Whether `Budget::leaf` chooses between the paper's refinement and the exact leaf; the
+    /// other methods ignore it (a search with no leaf, or maxmip, whose paper's leaf is exact).
+    pub leaf_choice: bool,
 }
 
 const METHODS: &[MethodInfo] = &[
@@ -69,7 +114,9 @@ const METHODS: &[MethodInfo] = &[
         default_budget: Budget {
             max_steps: 1,
             refine_steps: 0,
+            leaf: Leaf::Paper,
         },
+        leaf_choice: false,
     },
     MethodInfo {
         id: "steep",
@@ -79,7 +126,9 @@ const METHODS: &[MethodInfo] = &[
         default_budget: Budget {
             max_steps: 32,
             refine_steps: 0,
+            leaf: Leaf::Paper,
         },
+        leaf_choice: false,
     },
     MethodInfo {
         id: "relief",
@@ -90,7 +139,9 @@ const METHODS: &[MethodInfo] = &[
         default_budget: Budget {
             max_steps: 16,
             refine_steps: 5,
+            leaf: Leaf::Paper,
         },
+        leaf_choice: false,
     },
     MethodInfo {
         id: "pom",
@@ -100,77 +151,101 @@ const METHODS: &[MethodInfo] = &[
         default_budget: Budget {
             max_steps: 32,
             refine_steps: 0,
+            leaf: Leaf::Paper,
         },
+        leaf_choice: false,
     },
     MethodInfo {
         id: "csm",
-        name: "cone step mapping on a conservative cone map",
+        name: "cone step mapping on a cone map conservative for the bilinear surface, exact leaf",
         paper: "Dummer 2006 (papers 001, 004)",
         needs: &[MapKind::ConservativeCone],
         default_budget: Budget {
             max_steps: 256,
             refine_steps: 0,
+            leaf: Leaf::Exact,
         },
+        leaf_choice: true,
     },
     MethodInfo {
         id: "rcsm",
-        name: "relaxed cone stepping + binary refinement on a relaxed cone map",
+        name: "relaxed cone stepping + binary refinement on a relaxed cone map, exact leaf",
         paper: "Policarpo & Oliveira 2007 (papers 001, 004)",
         needs: &[MapKind::RelaxedCone],
         default_budget: Budget {
             max_steps: 256,
             refine_steps: 8,
+            leaf: Leaf::Exact,
         },
+        leaf_choice: true,
     },
     MethodInfo {
         id: "qrm",
-        name: "quadtree relief mapping (Algorithm 1: quadrant trick, half-texel delta)",
+        name: "quadtree relief mapping (Algorithm 1: quadrant trick, half-texel delta), exact leaf",
         paper: "Schroders & van Gulik 2006 (paper 000)",
         needs: &[MapKind::MaxPyramid],
+        // Its traversal never climbs back up, so a ray grazing the surface pays a step per leaf
+        // node it passes: a 5-degree view of fbm 1024^2 takes up to 512 steps (1 degree: ~1500).
+        // The cap only bounds stragglers.
         default_budget: Budget {
-            max_steps: 128,
+            max_steps: 1024,
             refine_steps: 0,
+            leaf: Leaf::Exact,
         },
+        leaf_choice: true,
     },
     MethodInfo {
         id: "pdm",
-        name: "pyramidal displacement mapping: node crossing, linear-filtering refinement",
+        name: "pyramidal displacement mapping: node crossing, exact leaf",
         paper: "Oh et al. 2006, Ki & Oh (paper 003)",
         needs: &[MapKind::MaxPyramid],
+        // Its traversal never climbs back up, so a ray grazing the surface pays a step per leaf
+        // node it passes: a 5-degree view of fbm 1024^2 takes up to 512 steps (1 degree: ~1500).
+        // The cap only bounds stragglers.
         default_budget: Budget {
-            max_steps: 128,
+            max_steps: 1024,
             refine_steps: 0,
+            leaf: Leaf::Exact,
         },
+        leaf_choice: true,
     },
     MethodInfo {
         id: "qdm",
-        name: "quadtree displacement mapping: one-level ascent on crossing, linear refinement",
+        name: "quadtree displacement mapping: one-level ascent on crossing, exact leaf",
         paper: "Drobot 2010 (paper 001, Listing 1.3)",
         needs: &[MapKind::MaxPyramid],
+        // A 1-degree view of fbm 128^2 takes up to ~215 steps; the cap only bounds stragglers.
         default_budget: Budget {
-            max_steps: 128,
+            max_steps: 256,
             refine_steps: 0,
+            leaf: Leaf::Exact,
         },
+        leaf_choice: true,
     },
     MethodInfo {
         id: "maxmip",
         name: "maximum-mipmap traversal with exact ray/bilinear-patch intersection at the leaf",
         paper: "Tevs, Ihrke, Seidel 2008 (beyond the papers)",
         needs: &[MapKind::MaxPyramid],
+        // A 1-degree view of fbm 128^2 takes up to ~215 steps; the cap only bounds stragglers.
         default_budget: Budget {
-            max_steps: 128,
+            max_steps: 256,
             refine_steps: 0,
+            leaf: Leaf::Exact,
         },
+        leaf_choice: false,
     },
     MethodInfo {
         id: "quadric",
-        name: "quadratic displacement maps: cone + revolved parabola per texel, stable solver",
+        name: "quadratic displacement maps: cone + revolved parabola per texel, stable solver, exact leaf",
         paper: "Kiglics, Valasek, Balint, Ban (paper 004, Algorithms 1 and 2)",
         needs: &[MapKind::Quadric],
         default_budget: Budget {
             max_steps: 256,
             refine_steps: 8,
+            leaf: Leaf::Exact,
         },
+        leaf_choice: true,
     },
 ];
 
@@ -260,6 +335,26 @@ impl FromStr for Method {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn shader_default_leaf_is_the_tables() {
+        // The surface pass sets only constants 0 and 1, so the GLSL default of constant 2 is the
+        // leaf every method with a choice renders with: it must be the table's default.
+        let glsl = include_str!("../../shaders/include/conventions.glsl");
+        let line = glsl
+            .lines()
+            .find(|l| l.contains("constant_id = 2"))
+            .expect("conventions.glsl declares constant 2");
+        let default = line
+            .trim_end_matches(';')
+            .rsplit('=')
+            .next()
+            .and_then(|v| v.trim().parse::<u32>().ok())
+            .expect("constant 2 has a numeric default");
+        for m in Method::all().filter(|m| m.info().leaf_choice) {
+            assert_eq!(m.info().default_budget.leaf.spec_value(), default, "{m}");
+        }
+    }
 
     #[test]
     fn ids_round_trip_and_have_shaders() {

@@ -9,7 +9,7 @@ use ash::vk;
 use super::gpu_heightfield::Addressing;
 use crate::vk::{upload_mips, Context, Image, ImageDesc, Sampler, VkError, VkResult};
 
-/// A map on the CPU: `channels` (1 or 4) floats per texel, rows of `width` texels.
+/// A map on the CPU: `channels` (1, 2 or 4) floats per texel, rows of `width` texels.
 #[derive(Debug, Clone, PartialEq)]
 pub struct MapData {
     pub width: u32,
@@ -25,7 +25,7 @@ pub struct GpuMethodMap {
 }
 
 impl GpuMethodMap {
-    /// Uploads `data` as R32 or RGBA32 float, ready for sampling.
+    /// Uploads `data` as R32, RG32 or RGBA32 float, ready for sampling.
     pub fn upload(
         ctx: &Arc<Context>,
         data: &MapData,
@@ -34,6 +34,7 @@ impl GpuMethodMap {
     ) -> VkResult<GpuMethodMap> {
         let format = match data.channels {
             1 => vk::Format::R32_SFLOAT,
+            2 => vk::Format::R32G32_SFLOAT,
             4 => vk::Format::R32G32B32A32_SFLOAT,
             n => return Err(VkError::Invalid(format!("map {name:?} with {n} channels"))),
         };

@@ -123,7 +123,8 @@ pub fn trace_repeated(
     let set = pool.allocate(&layout, &binds)?;
     let spec = SpecConstants::default()
         .u32(0, req.budget.max_steps)
-        .u32(1, req.budget.refine_steps);
+        .u32(1, req.budget.refine_steps)
+        .u32(2, req.budget.leaf.spec_value());
     let params = TraceParams {
         dir: [req.dir[0], req.dir[1], req.dir[2], req.depth_scale],
         grid: [cols, rows, 0, 0],
