@@ -281,7 +281,11 @@ fn displaced_gltf_matches_golden() {
     let plan = &frame.plan;
     assert_eq!(plan.pipelines.len(), 1, "{:?}", plan.pipelines);
     assert_eq!(plan.pipelines[0].method.map(|m| m.id()), Some("qdm"));
-    assert_eq!(plan.pipelines[0].max_steps, Some(96), "the material's budget");
+    assert_eq!(
+        plan.pipelines[0].max_steps,
+        Some(96),
+        "the material's budget"
+    );
     assert!(plan.pipelines[0].self_shadow, "glTF lights cast shadows");
     assert_eq!(plan.heights.len(), 1);
     assert!(plan.heights[0].pyramid && plan.heights[0].size == (128, 128));

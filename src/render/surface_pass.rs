@@ -241,7 +241,8 @@ fn create_pipeline(
         let budget = method.info().default_budget;
         spec = spec
             .u32(0, key.max_steps.unwrap_or(budget.max_steps))
-            .u32(1, budget.refine_steps);
+            .u32(1, budget.refine_steps)
+            .u32(2, budget.leaf.spec_value());
     }
     let attributes = [
         (0, vk::Format::R32G32B32_SFLOAT, 0),
