@@ -28,6 +28,7 @@ pub fn render_report(results: &BenchResults) -> (String, Vec<(String, String)>) 
     );
     error_vs_time(&mut md, results);
     scaling(&mut md, results);
+    matched_scaling(&mut md, results);
     depth_scale(&mut md, results);
     cone_vs_quadric(&mut md, results);
     maps(&mut md, results);
@@ -137,6 +138,69 @@ fn scaling_runs(results: &BenchResults) -> Vec<&Run> {
         .collect();
     list.sort_by_key(|r| (r.method.clone(), r.size[0]));
     list
+}
+
+/// QDM's scaling beside POM's at the cheapest cap that holds POM's error at the smallest size.
+fn matched_scaling(md: &mut String, results: &BenchResults) {
+    let pom: Vec<&Run> = runs(results, Section::MatchedScaling).collect();
+    let sizes: BTreeSet<u32> = pom.iter().map(|r| r.size[0]).collect();
+    let Some(&smallest) = sizes.first() else {
+        return;
+    };
+    let at = |size: u32| pom.iter().filter(move |r| r.size[0] == size);
+    // The target: POM's default cap at the smallest size.
+    let Some(target) = at(smallest).min_by_key(|r| r.budget.max_steps) else {
+        return;
+    };
+    let goal = target.error_texels.mean;
+    let qdm: Vec<&Run> = scaling_runs(results)
+        .into_iter()
+        .filter(|r| r.method == "qdm")
+        .collect();
+    let _ = writeln!(md, "### Matched for error\n");
+    let _ = writeln!(md, "Per size, POM's cheapest cap (of those tried, up to its default grown in proportion to the map side) whose mean error is at most {goal:.4} texel, its error at {smallest}^2; next to QDM at its default budget. Growth is time over the smallest size's.\n");
+    let _ = writeln!(
+        md,
+        "| size | POM steps | POM ms | POM error | POM growth | QDM ms | QDM error | QDM growth |"
+    );
+    let _ = writeln!(md, "|---|---|---|---|---|---|---|---|");
+    let ratio = |t: f64, base: f64| {
+        if base > 0.0 {
+            format!("{:.2}x", t / base)
+        } else {
+            "-".into()
+        }
+    };
+    let first_qdm = qdm
+        .iter()
+        .find(|q| q.size[0] == smallest)
+        .map(|q| q.gpu_ms.median);
+    for &size in &sizes {
+        let matched = at(size)
+            .filter(|r| r.error_texels.mean <= goal)
+            .min_by_key(|r| r.budget.max_steps)
+            .or_else(|| at(size).max_by_key(|r| r.budget.max_steps));
+        let Some(r) = matched else {
+            continue;
+        };
+        let q = qdm.iter().find(|q| q.size[0] == size);
+        let (qms, qerr, qgrowth) = q.map_or(("-".into(), "-".into(), "-".into()), |q| {
+            (
+                format!("{:.3}", q.gpu_ms.median),
+                format!("{:.4}", q.error_texels.mean),
+                first_qdm.map_or("-".into(), |b| ratio(q.gpu_ms.median, b)),
+            )
+        });
+        let _ = writeln!(
+            md,
+            "| {size}^2 | {} | {:.3} | {:.4} | {} | {qms} | {qerr} | {qgrowth} |",
+            r.budget.max_steps,
+            r.gpu_ms.median,
+            r.error_texels.mean,
+            ratio(r.gpu_ms.median, target.gpu_ms.median)
+        );
+    }
+    md.push('\n');
 }
 
 fn is_default_budget(r: &Run) -> bool {

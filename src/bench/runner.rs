@@ -26,7 +26,18 @@ use crate::vk::Context;
 pub enum Section {
     ErrorVsTime,
     Scaling,
+    /// POM at caps from its default up to the default grown in proportion to the map side: the
+    /// report picks per size the cheapest cap that holds POM's error at the smallest size, the
+    /// cost of a fixed-step method matched for error.
+    MatchedScaling,
     DepthScale,
+}
+
+/// POM's largest cap tried at map side `size`: `base` steps at side `smallest`, grown in
+/// proportion (the ray's path in texels grows with the side).
+pub fn matched_steps(base: u32, size: u32, smallest: u32) -> u32 {
+    let scaled = u64::from(base) * u64::from(size) / u64::from(smallest.max(1));
+    scaled.clamp(1, 4096) as u32
 }
 
 /// One configuration to measure.
@@ -96,6 +107,29 @@ pub fn plan_jobs(cfg: &SweepConfig) -> Vec<Job> {
                 middle,
                 depth,
             ));
+        }
+        if method.id() == "pom" && cfg.sizes.len() > 1 {
+            let smallest = cfg.sizes.iter().copied().min().unwrap_or(size);
+            for &s in &cfg.sizes {
+                let most = matched_steps(budget.max_steps, s, smallest);
+                let caps = std::iter::successors(Some(budget.max_steps), |c| Some(c * 2))
+                    .take_while(|c| *c <= most);
+                for steps in caps {
+                    let capped = Budget {
+                        max_steps: steps,
+                        ..budget
+                    };
+                    jobs.push(base(
+                        Section::MatchedScaling,
+                        &first,
+                        s,
+                        method,
+                        capped,
+                        middle,
+                        depth,
+                    ));
+                }
+            }
         }
         if matches!(method.id(), "pom" | "qdm") {
             for &d in cfg.depth_scales.iter().skip(1) {
