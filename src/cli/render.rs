@@ -181,14 +181,32 @@ fn write_png(frame: &Frame, out: &std::path::Path) -> anyhow::Result<()> {
     .with_context(|| format!("writing {}", out.display()))
 }
 
+/// The relief methods the frame drew with, or "none".
+fn methods_drawn(frame: &Frame) -> String {
+    let mut ids: Vec<&str> = frame
+        .plan
+        .pipelines
+        .iter()
+        .filter_map(|p| p.method.map(|m| m.id()))
+        .collect();
+    ids.sort_unstable();
+    ids.dedup();
+    if ids.is_empty() {
+        "none".into()
+    } else {
+        ids.join(", ")
+    }
+}
+
 fn report(args: &RenderArgs, ctx: &relief::vk::Context, frame: &Frame, source: &str) {
+    let methods = methods_drawn(frame);
     if args.json {
         let value = json!({
             "device": ctx.info(),
             "out": args.out,
             "width": frame.width,
             "height": frame.height,
-            "method": args.method,
+            "methods": methods,
             "heightmap": source,
             "upload_ms": frame.upload_ms,
             "passes": frame.timings,
@@ -202,10 +220,9 @@ fn report(args: &RenderArgs, ctx: &relief::vk::Context, frame: &Frame, source: &
         println!("{:<10} {:>9.3}", t.pass, t.gpu_ms);
     }
     eprintln!(
-        "wrote {} ({}x{}, method {}, heights: {source})",
+        "wrote {} ({}x{}, relief: {methods}, heights: {source})",
         args.out.display(),
         frame.width,
         frame.height,
-        args.method
     );
 }
