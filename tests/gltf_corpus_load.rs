@@ -252,4 +252,9 @@ fn bad_input_never_panics() {
         println!("  {r}");
     }
     assert!(panicked.is_empty(), "panicked on: {panicked:#?}");
+    // Every file the validator finds errors in must be rejected, animations and skins included.
+    assert!(
+        loaded_with_errors.is_empty(),
+        "loaded despite validator errors: {loaded_with_errors:#?}"
+    );
 }

@@ -5,7 +5,8 @@
 //! Malformed files are rejected with an error rather than trusted: the JSON is checked (by
 //! `gltf_prepass` and the gltf crate's validator), and buffer views, accessors, the node graph,
 //! cameras and lights are checked here before anything is read, because the gltf crate's own
-//! readers panic on out-of-range data.
+//! readers panic on out-of-range data. Animations, skins and joint/weight attributes are not
+//! used, but are checked too (`gltf_animation_check`, `gltf_skin_check`).
 //! Primitives that are not triangle lists are skipped and counted in
 //! [`LoadReport::skipped_primitives`].
 
@@ -16,7 +17,9 @@ use glam::{Mat4, Vec3};
 use super::camera::Projection;
 use super::gltf_mesh::{convert_meshes, place};
 use super::gltf_prepass::{self, Parsed};
-use super::{gltf_accessor, gltf_image, gltf_material, gltf_nodes};
+use super::{
+    gltf_accessor, gltf_animation_check, gltf_image, gltf_material, gltf_nodes, gltf_skin_check,
+};
 use super::{Camera, Light, LightKind, Material, Scene};
 
 /// Why a scene file could not be used. Every message starts with the file's path.
@@ -88,6 +91,9 @@ pub fn load_gltf_with_report(
     // Last, so errors in what is drawn name their mesh: the rest of the accessors (animation,
     // skins, unused) are checked too, since a file with broken data is broken either way.
     gltf_accessor::check_accessors(&doc, &buffers, zero_buffers).map_err(invalid)?;
+    // Animations and skins are not used, but are checked like the rest of the file.
+    gltf_animation_check::check_animations(&doc, &buffers, zero_buffers).map_err(invalid)?;
+    gltf_skin_check::check_skins(&doc, &buffers, zero_buffers).map_err(invalid)?;
     Ok((scene, report))
 }
 

@@ -4,12 +4,14 @@
 mod builtin;
 mod camera;
 mod gltf_accessor;
+mod gltf_animation_check;
 mod gltf_image;
 mod gltf_load;
 mod gltf_material;
 mod gltf_mesh;
 mod gltf_nodes;
 mod gltf_prepass;
+mod gltf_skin_check;
 mod material;
 mod primitives;
 mod relief_extras;
