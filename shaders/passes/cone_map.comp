@@ -31,9 +31,9 @@ const uint MODE_REDUCE = 0u;
 const uint MODE_CONE = 1u;
 const float CONE_RATIO_MAX = 64.0;
 // Entries a search stack can hold: a pop pushes at most 4 children, so a depth-first search over
-// L levels holds at most 3 L + 1; 64 covers maps up to 2^21 texels a side.
-const int STACK = 64;
-const uint MAX_LEVELS = 22u;
+// L levels holds at most 3 L + 1; 48 covers the 15 levels of maps up to 16384 texels a side.
+const int STACK = 48;
+const uint MAX_LEVELS = 15u;
 const uint STEP_DOWN = 128u;
 
 // All pyramid levels back to back, level 0 (the bound heights, width x height) first.
@@ -58,31 +58,15 @@ layout(push_constant, std430) uniform Params {
     uint row0;
     // width / height rounded to f32: the v distance in u-texel units is dy * aspect.
     float aspect;
-    uint pad;
+    // The level whose single node covers the map.
+    uint top;
+    // Where each level starts in `pyramid` (the host computes them once).
+    uint offsets[MAX_LEVELS];
 } params;
 
 uvec2 level_size(uint level) {
     uint n = 1u << level;
     return uvec2((params.width + n - 1u) >> level, (params.height + n - 1u) >> level);
-}
-
-uint level_offset(uint level) {
-    uint offset = 0u;
-    for (uint l = 0u; l < level; ++l) {
-        uvec2 s = level_size(l);
-        offset += s.x * s.y;
-    }
-    return offset;
-}
-
-// The level whose single node covers the whole map.
-uint top_level() {
-    uint largest = max(params.width, params.height);
-    uint level = 0u;
-    while ((1u << level) < largest) {
-        ++level;
-    }
-    return level;
 }
 
 void reduce() {
@@ -92,7 +76,7 @@ void reduce() {
         return;
     }
     uvec2 fine = level_size(params.level - 1u);
-    uint base = level_offset(params.level - 1u);
+    uint base = params.offsets[params.level - 1u];
     uvec2 first = at * 2u;
     uvec2 last = min(first + 1u, fine - 1u);
     float h = 0.0;
@@ -101,7 +85,7 @@ void reduce() {
             h = max(h, pyramid[base + y * fine.x + x]);
         }
     }
-    pyramid[level_offset(params.level) + at.y * size.x + at.x] = h;
+    pyramid[params.offsets[params.level] + at.y * size.x + at.x] = h;
 }
 
 // The computed value of a node: its rectangle [lo, hi] (u-texels, v-texels; closed) seen from
@@ -143,6 +127,12 @@ float step_down(float x, uint ulps) {
     return uintBitsToFloat(bits > ulps ? bits - ulps : 0u);
 }
 
+// A stack entry: level | i << 4 | j << 18 (sides below 2^14, levels below 16) and the bound's bits,
+// re-checked on pop since the best may have improved after the push.
+uvec2 entry(uint level, uint i, uint j, float bound) {
+    return uvec2(level | (i << 4) | (j << 18), floatBitsToUint(bound));
+}
+
 void cone() {
     uvec2 p = uvec2(gl_GlobalInvocationID.x, gl_GlobalInvocationID.y + params.row0);
     if (p.x >= params.width || p.y >= params.height) {
@@ -150,88 +140,72 @@ void cone() {
     }
     uint index = p.y * params.width + p.x;
     float hp = pyramid[index];
-    uint top = top_level();
-    uint top_offset = level_offset(top);
+    uint top = params.top;
+    float top_height = pyramid[params.offsets[top]];
     float best = CONE_RATIO_MAX;
     // Centre in texels; the v axis is scaled to u-texel units only inside cone_map_value.
     vec2 centre = vec2(p) + 0.5;
-    uint offsets[MAX_LEVELS];
-    for (uint l = 0u; l <= top; ++l) {
-        offsets[l] = level_offset(l);
-    }
-    // Stack entries: (level, i | j << 16) (maps are at most 65535 texels a side) and the bound,
-    // re-checked on pop since the best may have improved after the push.
-    uvec2 stack_node[STACK];
-    float stack_bound[STACK];
-    int tiles = params.repeat_address != 0u ? 9 : 1;
-    for (int t = 0; t < tiles && pyramid[top_offset] > hp; ++t) {
+    // One array of packed entries: private arrays indexed at run time are costly on some
+    // implementations (lavapipe spills them to memory), so the search keeps just this one.
+    uvec2 stack[STACK];
+    int tiles = params.repeat_address != 0u && top_height > hp ? 9 : (top_height > hp ? 1 : 0);
+    for (int t = 0; t < tiles; ++t) {
         // Tile (a, b) of the 3x3 block, the map itself (slot 4) first so the ring starts pruned.
         int slot = (t + 4) % 9;
-        int a = slot % 3 - 1;
-        int b = slot / 3 - 1;
-        vec2 tile = vec2(float(a) * float(params.width), float(b) * float(params.height));
-        int sp = 0;
+        vec2 tile = vec2(float(slot % 3 - 1) * float(params.width), float(slot / 3 - 1) * float(params.height));
+        // The centre relative to this tile, to pick each node's nearer children.
+        vec2 local = centre - tile;
         Node root = node_rect(top, uvec2(0u), tile);
-        float root_rise = pyramid[top_offset] - hp;
-        float root_bound = cone_map_value(centre, root.lo, root.hi, root_rise);
+        float root_bound = cone_map_value(centre, root.lo, root.hi, top_height - hp);
+        int sp = 0;
         if (root_bound < best) {
-            stack_node[0] = uvec2(top, 0u);
-            stack_bound[0] = root_bound;
+            stack[0] = entry(top, 0u, 0u, root_bound);
             sp = 1;
         }
         while (sp > 0) {
             --sp;
-            if (!(stack_bound[sp] < best)) {
+            uvec2 e = stack[sp];
+            float bound = uintBitsToFloat(e.y);
+            if (!(bound < best)) {
                 continue;
             }
-            uint level = stack_node[sp].x;
-            uvec2 at = uvec2(stack_node[sp].y & 0xffffu, stack_node[sp].y >> 16);
+            uint level = e.x & 15u;
+            uvec2 at = uvec2((e.x >> 4) & 0x3fffu, e.x >> 18);
             if (level == 0u) {
-                best = stack_bound[sp];
+                best = bound;
                 continue;
             }
-            // The children on the level below, clipped to it, with their bounds.
+            // The children on the level below (clipped to it), farther ones pushed first so the
+            // one nearest the centre is searched next: nearness by position, not by bound, which
+            // keeps the order free of sorting.
             uint child = level - 1u;
             uvec2 size = level_size(child);
             uvec2 first = at * 2u;
             uvec2 last = min(first + 1u, size - 1u);
-            uvec2 kid_node[4];
-            float kid_bound[4];
-            int kids = 0;
-            for (uint y = first.y; y <= last.y; ++y) {
-                for (uint x = first.x; x <= last.x; ++x) {
-                    float h = pyramid[offsets[child] + y * size.x + x];
-                    if (!(h > hp)) {
-                        continue;
-                    }
-                    Node n = node_rect(child, uvec2(x, y), tile);
-                    float bound = cone_map_value(centre, n.lo, n.hi, h - hp);
-                    if (bound < best) {
-                        kid_node[kids] = uvec2(child, x | (y << 16));
-                        kid_bound[kids] = bound;
-                        ++kids;
-                    }
+            vec2 middle = vec2(first + 1u) * float(1u << child);
+            bvec2 near_first = lessThan(local, middle);
+            uvec2 near = mix(last, first, near_first);
+            uvec2 far = mix(first, last, near_first);
+            for (int q = 0; q < 4; ++q) {
+                bool use_far_x = q < 2;
+                bool use_far_y = (q & 1) == 0;
+                // On an axis with one child, only its "near" copy is visited.
+                if ((use_far_x && first.x == last.x) || (use_far_y && first.y == last.y)) {
+                    continue;
                 }
-            }
-            // Farthest first onto the stack, so the nearest is searched next (insertion sort by
-            // descending bound; at most four).
-            for (int k = 1; k < kids; ++k) {
-                uvec2 node = kid_node[k];
-                float bound = kid_bound[k];
-                int m = k - 1;
-                while (m >= 0 && kid_bound[m] < bound) {
-                    kid_node[m + 1] = kid_node[m];
-                    kid_bound[m + 1] = kid_bound[m];
-                    --m;
+                uint x = use_far_x ? far.x : near.x;
+                uint y = use_far_y ? far.y : near.y;
+                float h = pyramid[params.offsets[child] + y * size.x + x];
+                if (!(h > hp)) {
+                    continue;
                 }
-                kid_node[m + 1] = node;
-                kid_bound[m + 1] = bound;
-            }
-            // sp < STACK always holds (see STACK); the test only keeps the access in bounds.
-            for (int k = 0; k < kids && sp < STACK; ++k) {
-                stack_node[sp] = kid_node[k];
-                stack_bound[sp] = kid_bound[k];
-                ++sp;
+                Node n = node_rect(child, uvec2(x, y), tile);
+                float b = cone_map_value(centre, n.lo, n.hi, h - hp);
+                // sp < STACK always holds (see STACK); the test only keeps the access in bounds.
+                if (b < best && sp < STACK) {
+                    stack[sp] = entry(child, x, y, b);
+                    ++sp;
+                }
             }
         }
     }

@@ -32,8 +32,10 @@ use crate::vk::{
 const GROUP: u32 = 8;
 /// About this many texels per submission of the search.
 const ROWS_TEXELS: u32 = 1 << 20;
-/// The stack packs texel indices in 16 bits.
-const MAX_SIDE: u32 = 65535;
+/// The stack packs texel indices in 14 bits (and the push constants hold 15 level offsets).
+const MAX_SIDE: u32 = 16384;
+/// `MAX_LEVELS` in the shader: levels of a `MAX_SIDE` map.
+const MAX_LEVELS: usize = 15;
 /// Relative amount by which a GPU ratio may fall short of the CPU's (never exceed it): the f32
 /// search's error plus the step down that makes it conservative (see `cone_map.comp`).
 pub const RATIO_TOLERANCE: f32 = 1.0 / 32768.0;
@@ -52,7 +54,8 @@ struct Params {
     level: u32,
     row0: u32,
     aspect: f32,
-    pad: u32,
+    top: u32,
+    offsets: [u32; 15],
 }
 
 /// The cone-map pipeline with its layout and one descriptor set, rewritten for every build (builds
@@ -147,7 +150,8 @@ impl ConeMapPass {
             level: 0,
             row0: 0,
             aspect: (f64::from(w) / f64::from(h)) as f32,
-            pad: 0,
+            top: top_level(w, h),
+            offsets: level_offsets(w, h),
         };
         let all = vk::PipelineStageFlags2::ALL_COMMANDS;
         ctx.one_shot(|cmd| {
@@ -159,9 +163,11 @@ impl ConeMapPass {
         for chunk in 0..chunks {
             let row0 = chunk * rows;
             let count = rows.min(h - row0);
+            let mut rows_params = params;
+            rows_params.row0 = row0;
             ctx.one_shot(|cmd| {
                 timestamps.write(cmd, all, 2 * chunk + 2)?;
-                self.record_rows(cmd, Params { row0, ..params }, count);
+                self.record_rows(cmd, rows_params, count);
                 timestamps.write(cmd, all, 2 * chunk + 3)?;
                 Ok(())
             })?;
@@ -212,8 +218,9 @@ impl ConeMapPass {
         self.pipeline.bind(cmd, Some(self.set));
         for level in 1..=top_level(params.width, params.height) {
             let (lw, lh) = level_size(params.width, params.height, level);
-            self.pipeline
-                .push(cmd, bytemuck::bytes_of(&Params { level, ..params }));
+            let mut level_params = params;
+            level_params.level = level;
+            self.pipeline.push(cmd, bytemuck::bytes_of(&level_params));
             // SAFETY: `cmd` is recording; the bound set covers both buffers the shader touches.
             unsafe { device.cmd_dispatch(cmd, lw.div_ceil(GROUP), lh.div_ceil(GROUP), 1) };
             memory_barrier(device, cmd, (compute, write_read), (compute, write_read));
@@ -224,10 +231,8 @@ impl ConeMapPass {
     fn record_rows(&self, cmd: vk::CommandBuffer, params: Params, count: u32) {
         let device = self.ctx.device();
         self.pipeline.bind(cmd, Some(self.set));
-        let params = Params {
-            mode: MODE_CONE,
-            ..params
-        };
+        let mut params = params;
+        params.mode = MODE_CONE;
         self.pipeline.push(cmd, bytemuck::bytes_of(&params));
         // SAFETY: `cmd` is recording; the bound set covers both buffers the shader touches.
         unsafe { device.cmd_dispatch(cmd, params.width.div_ceil(GROUP), count.div_ceil(GROUP), 1) };
@@ -263,6 +268,22 @@ fn level_size(w: u32, h: u32, level: u32) -> (u32, u32) {
     (w.div_ceil(1 << level), h.div_ceil(1 << level))
 }
 
+/// Where each level starts in the pyramid buffer, in floats (zero past the top).
+fn level_offsets(w: u32, h: u32) -> [u32; MAX_LEVELS] {
+    let mut offsets = [0; MAX_LEVELS];
+    let mut at = 0;
+    for (l, slot) in offsets
+        .iter_mut()
+        .enumerate()
+        .take(top_level(w, h) as usize + 1)
+    {
+        *slot = at;
+        let (lw, lh) = level_size(w, h, l as u32);
+        at += lw * lh;
+    }
+    offsets
+}
+
 fn pyramid_floats(w: u32, h: u32) -> u64 {
     (0..=top_level(w, h))
         .map(|l| {
@@ -291,6 +312,8 @@ mod tests {
         assert_eq!(level_size(257, 129, 9), (1, 1));
         assert_eq!(level_size(3, 5, 1), (2, 3));
         assert_eq!(pyramid_floats(3, 5), 15 + 6 + 2 + 1);
+        assert_eq!(level_offsets(3, 5)[..5], [0, 15, 21, 23, 0]);
+        assert_eq!(top_level(MAX_SIDE, 1) as usize, MAX_LEVELS - 1);
     }
 
     #[test]
