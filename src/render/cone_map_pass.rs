@@ -55,8 +55,12 @@ struct Params {
     row0: u32,
     aspect: f32,
     top: u32,
+    // Spelled out: with `MAX_LEVELS` here, rustc 1.95 hit an internal error ("broken MIR")
+    // when a closure captured a copy of `Params`.
     offsets: [u32; 15],
 }
+
+const _: () = assert!(MAX_LEVELS == 15, "Params::offsets holds MAX_LEVELS offsets");
 
 /// The cone-map pipeline with its layout and one descriptor set, rewritten for every build (builds
 /// wait for their submissions, so the set is never in use when it is rewritten).
