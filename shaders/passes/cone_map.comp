@@ -148,6 +148,23 @@ void cone() {
     // One array of packed entries: private arrays indexed at run time are costly on some
     // implementations (lavapipe spills them to memory), so the search keeps just this one.
     uvec2 stack[STACK];
+    // Seed the best with the 8 neighbours (genuine candidates, so the minimum is unchanged) so
+    // that most of the pyramid is pruned from the first node on, as the CPU search does.
+    for (int n = 0; n < 9 && top_height > hp; ++n) {
+        ivec2 q = ivec2(p) + ivec2(n % 3 - 1, n / 3 - 1);
+        ivec2 size = ivec2(params.width, params.height);
+        ivec2 wrapped = ivec2(q.x < 0 ? q.x + size.x : (q.x >= size.x ? q.x - size.x : q.x),
+                              q.y < 0 ? q.y + size.y : (q.y >= size.y ? q.y - size.y : q.y));
+        // The texel itself is no candidate; under Clamp only texels of the map are.
+        if (n == 4 || (params.repeat_address == 0u && q != wrapped)) {
+            continue;
+        }
+        float h = pyramid[uint(wrapped.y) * params.width + uint(wrapped.x)];
+        if (h > hp) {
+            Node node = node_rect(0u, uvec2(wrapped), vec2(q - wrapped));
+            best = min(best, cone_map_value(centre, node.lo, node.hi, h - hp));
+        }
+    }
     int tiles = params.repeat_address != 0u && top_height > hp ? 9 : (top_height > hp ? 1 : 0);
     for (int t = 0; t < tiles; ++t) {
         // Tile (a, b) of the 3x3 block, the map itself (slot 4) first so the ring starts pruned.
