@@ -133,6 +133,30 @@ uvec2 entry(uint level, uint i, uint j, float bound) {
     return uvec2(level | (i << 4) | (j << 18), floatBitsToUint(bound));
 }
 
+// The bits of a bound no candidate has: above every finite float.
+const uint NO_BOUND = 0xffffffffu;
+
+// Child (x, y) of `level` as a stack entry, or NO_BOUND when it holds nothing higher than hp or
+// its bound cannot beat `best`.
+uvec2 kid(uint level, uvec2 at, uvec2 size, vec2 tile, vec2 centre, float hp, float best) {
+    float h = pyramid[params.offsets[level] + at.y * size.x + at.x];
+    if (!(h > hp)) {
+        return uvec2(0u, NO_BOUND);
+    }
+    Node n = node_rect(level, at, tile);
+    float b = cone_map_value(centre, n.lo, n.hi, h - hp);
+    return b < best ? entry(level, at.x, at.y, b) : uvec2(0u, NO_BOUND);
+}
+
+// Puts the larger bound first (NO_BOUND counts as the largest).
+void order(inout uvec2 a, inout uvec2 b) {
+    if (a.y < b.y) {
+        uvec2 t = a;
+        a = b;
+        b = t;
+    }
+}
+
 void cone() {
     uvec2 p = uvec2(gl_GlobalInvocationID.x, gl_GlobalInvocationID.y + params.row0);
     if (p.x >= params.width || p.y >= params.height) {
@@ -170,8 +194,6 @@ void cone() {
         // Tile (a, b) of the 3x3 block, the map itself (slot 4) first so the ring starts pruned.
         int slot = (t + 4) % 9;
         vec2 tile = vec2(float(slot % 3 - 1) * float(params.width), float(slot / 3 - 1) * float(params.height));
-        // The centre relative to this tile, to pick each node's nearer children.
-        vec2 local = centre - tile;
         Node root = node_rect(top, uvec2(0u), tile);
         float root_bound = cone_map_value(centre, root.lo, root.hi, top_height - hp);
         int sp = 0;
@@ -192,38 +214,31 @@ void cone() {
                 best = bound;
                 continue;
             }
-            // The children on the level below (clipped to it), farther ones pushed first so the
-            // one nearest the centre is searched next: nearness by position, not by bound, which
-            // keeps the order free of sorting.
+            // The children on the level below (clipped to it), with their bounds in registers
+            // (a node that cannot improve the best gets NO_BOUND), sorted by a fixed network of
+            // swaps, so that the nearest is pushed last and searched next without any array.
             uint child = level - 1u;
             uvec2 size = level_size(child);
             uvec2 first = at * 2u;
             uvec2 last = min(first + 1u, size - 1u);
-            vec2 middle = vec2(first + 1u) * float(1u << child);
-            bvec2 near_first = lessThan(local, middle);
-            uvec2 near = mix(last, first, near_first);
-            uvec2 far = mix(first, last, near_first);
-            for (int q = 0; q < 4; ++q) {
-                bool use_far_x = q < 2;
-                bool use_far_y = (q & 1) == 0;
-                // On an axis with one child, only its "near" copy is visited.
-                if ((use_far_x && first.x == last.x) || (use_far_y && first.y == last.y)) {
-                    continue;
-                }
-                uint x = use_far_x ? far.x : near.x;
-                uint y = use_far_y ? far.y : near.y;
-                float h = pyramid[params.offsets[child] + y * size.x + x];
-                if (!(h > hp)) {
-                    continue;
-                }
-                Node n = node_rect(child, uvec2(x, y), tile);
-                float b = cone_map_value(centre, n.lo, n.hi, h - hp);
-                // sp < STACK always holds (see STACK); the test only keeps the access in bounds.
-                if (b < best && sp < STACK) {
-                    stack[sp] = entry(child, x, y, b);
-                    ++sp;
-                }
-            }
+            uvec2 e0 = kid(child, uvec2(first.x, first.y), size, tile, centre, hp, best);
+            uvec2 e1 = first.x == last.x ? uvec2(0u, NO_BOUND)
+                : kid(child, uvec2(last.x, first.y), size, tile, centre, hp, best);
+            uvec2 e2 = first.y == last.y ? uvec2(0u, NO_BOUND)
+                : kid(child, uvec2(first.x, last.y), size, tile, centre, hp, best);
+            uvec2 e3 = first.x == last.x || first.y == last.y ? uvec2(0u, NO_BOUND)
+                : kid(child, last, size, tile, centre, hp, best);
+            // Descending by bound (positive floats order as their bits).
+            order(e0, e1);
+            order(e2, e3);
+            order(e0, e2);
+            order(e1, e3);
+            order(e1, e2);
+            // sp < STACK always holds (see STACK); the tests only keep the accesses in bounds.
+            if (e0.y != NO_BOUND && sp < STACK) { stack[sp++] = e0; }
+            if (e1.y != NO_BOUND && sp < STACK) { stack[sp++] = e1; }
+            if (e2.y != NO_BOUND && sp < STACK) { stack[sp++] = e2; }
+            if (e3.y != NO_BOUND && sp < STACK) { stack[sp++] = e3; }
         }
     }
     // Below the minimum of the computed values by more than their error (see the header); a
