@@ -12,9 +12,10 @@
 //    level-0 texels [i, i + 1) * 2^L (clipped to the map) along each axis; levels shrink to 1x1.
 //    (Not the Vulkan mip rule of the height image: aligned power-of-two spans give the search
 //    exact node rectangles with no tables.)
-//  CONE: one invocation per texel of rows [row0, row0 + rows): a depth-first search of each
-//    tile's pyramid, nearest child first, skipping every node whose bound (its rectangle's
-//    distance over its maximum's rise) is no lower than the best found. The search itself is
+//  CONE: one invocation per texel of rows [row0, row0 + rows): the best seeded with the 8
+//    neighbours, then a depth-first search of each tile's pyramid, lowest-bound child first,
+//    skipping every node whose bound (its rectangle's distance over its maximum's rise) is no
+//    lower than the best found. The search itself is
 //    exact; only the arithmetic is f32.
 //
 // Rounding (the guarantee): every candidate's value is computed in f32 with relative error at
