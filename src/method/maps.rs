@@ -11,7 +11,7 @@ use crate::heightfield::cone_map::{ConeKind, ConeMap};
 use crate::heightfield::quadric_map::QuadricMap;
 use crate::heightfield::reference::Address;
 use crate::heightfield::Heightfield;
-use crate::render::{build_cone_map_on_gpu, MapData};
+use crate::render::{build_cone_map_on_gpu, MapData, CONE_MAP_GPU_MAX_SIDE};
 use crate::vk::{Context, VkResult};
 
 /// Where [`build_method_map_with`] builds a map.
@@ -19,7 +19,7 @@ use crate::vk::{Context, VkResult};
 pub enum MapBuilder<'a> {
     /// Always on the CPU.
     Cpu,
-    /// On this device where a GPU builder exists, else on the CPU.
+    /// On this device where a GPU builder exists and takes the map's size, else on the CPU.
     Gpu(&'a Arc<Context>),
 }
 
@@ -52,7 +52,10 @@ pub fn build_method_map_with(
     address: Address,
     builder: MapBuilder<'_>,
 ) -> VkResult<Option<BuiltMethodMap>> {
-    if let (Some(MapKind::ConservativeCone), MapBuilder::Gpu(ctx)) = (map_kind(method), builder) {
+    let fits = hf.width().max(hf.height()) <= CONE_MAP_GPU_MAX_SIDE;
+    if let (Some(MapKind::ConservativeCone), MapBuilder::Gpu(ctx), true) =
+        (map_kind(method), builder, fits)
+    {
         let (data, ms) = build_cone_map_on_gpu(ctx, hf, address)?;
         return Ok(Some(BuiltMethodMap {
             data,

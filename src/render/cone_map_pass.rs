@@ -32,8 +32,9 @@ use crate::vk::{
 const GROUP: u32 = 8;
 /// About this many texels per submission of the search.
 const ROWS_TEXELS: u32 = 1 << 20;
-/// The stack packs texel indices in 14 bits (and the push constants hold 15 level offsets).
-const MAX_SIDE: u32 = 16384;
+/// The largest side the GPU builder takes: the stack packs texel indices in 14 bits (and the push
+/// constants hold 15 level offsets). Larger maps are built on the CPU.
+pub const MAX_SIDE: u32 = 16384;
 /// `MAX_LEVELS` in the shader: levels of a `MAX_SIDE` map.
 const MAX_LEVELS: usize = 15;
 /// Relative amount by which a GPU ratio may fall short of the CPU's (never exceed it): the f32
