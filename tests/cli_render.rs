@@ -79,6 +79,37 @@ fn maps_writes_every_pyramid_level() {
 }
 
 #[test]
+fn maps_builds_the_cone_map_on_the_gpu_or_on_request_the_cpu() {
+    if common::device("maps_builds_the_cone_map").is_none() {
+        return;
+    }
+    for (on, says) in [("gpu", "built on the GPU"), ("cpu", "built on the CPU")] {
+        let dir = common::scratch_dir(&format!("maps-csm-{on}"));
+        let run = relief(&[
+            "maps",
+            "--field",
+            "fbm",
+            "--size",
+            "37",
+            "--method",
+            "csm",
+            "--map-on",
+            on,
+            "--out",
+            dir.to_str().expect("utf-8"),
+        ]);
+        let out = String::from_utf8_lossy(&run.stdout);
+        assert!(
+            run.status.success(),
+            "maps --map-on {on} failed:\n{}",
+            String::from_utf8_lossy(&run.stderr)
+        );
+        assert!(out.contains(says), "{on}: {out}");
+        assert!(dir.join("map.npy").exists(), "{on}: map.npy written");
+    }
+}
+
+#[test]
 fn explain_prints_the_plan() {
     if common::device("explain_prints_the_plan").is_none() {
         return;
@@ -125,9 +156,10 @@ fn explain_prints_the_plan() {
         .expect("passes")
         .iter()
         .any(|p| p["name"] == "surface"));
+    assert_eq!(maps[0]["on"], "gpu", "csm's cone map is built on the GPU");
     assert_eq!(
-        plan["created"]["compute_pipelines"], 0,
-        "no pyramid for csm"
+        plan["created"]["compute_pipelines"], 1,
+        "no pyramid for csm, only the cone map build"
     );
     assert_eq!(plan["created"]["graphics_pipelines"], 2);
 }

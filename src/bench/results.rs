@@ -72,8 +72,9 @@ pub struct MapBuild {
     pub kind: String,
     pub heightfield: String,
     pub size: [u32; 2],
+    /// GPU ms for maps built on the GPU, CPU wall ms for those built on the CPU.
     pub ms: f64,
-    /// "gpu" or "cpu".
+    /// Which builder built it: "gpu" or "cpu".
     pub on: &'static str,
 }
 

@@ -13,7 +13,7 @@ use super::sweep::{FieldSource, SweepConfig};
 use super::trace_stats::{ray_direction, trace_stats};
 use crate::heightfield::reference::Address;
 use crate::heightfield::{Heightfield, LoadOptions};
-use crate::method::{build_method_map, Budget, Method};
+use crate::method::{build_method_map_with, Budget, MapBuilder, Method};
 use crate::render::{
     build_pyramid_on_gpu, time_method, trace_on_gpu, Addressing, BenchRequest, HeightFormat,
     MapData, TraceRequest,
@@ -207,42 +207,47 @@ impl Runner {
         Ok(hf)
     }
 
+    /// The method's map, built once per field and size: the conservative cone map on the GPU,
+    /// the others on the CPU (the entry in `map_builds` says which).
     fn map(
         &mut self,
         field: &FieldSource,
         size: u32,
         method: Method,
         hf: &Heightfield,
-    ) -> Option<Arc<MapData>> {
+    ) -> anyhow::Result<Option<Arc<MapData>>> {
         let key = (field.name(), size, method);
         if let Some(m) = self.maps.get(&key) {
-            return m.clone();
+            return Ok(m.clone());
         }
-        let built = build_method_map(method, hf, self.cfg.address).map(|(data, took)| {
-            let kind = method
-                .info()
-                .needs
-                .last()
-                .map(|k| k.name())
-                .unwrap_or_default()
-                .to_owned();
-            self.map_builds.push(MapBuild {
-                kind,
-                heightfield: field.name(),
-                size: [hf.width(), hf.height()],
-                ms: took.as_secs_f64() * 1e3,
-                on: "cpu",
+        let builder = MapBuilder::Gpu(&self.ctx);
+        let built = build_method_map_with(method, hf, self.cfg.address, builder)
+            .with_context(|| format!("building the {method} map of {}", key.0))?
+            .map(|built| {
+                let kind = method
+                    .info()
+                    .needs
+                    .last()
+                    .map(|k| k.name())
+                    .unwrap_or_default()
+                    .to_owned();
+                self.map_builds.push(MapBuild {
+                    kind,
+                    heightfield: field.name(),
+                    size: [hf.width(), hf.height()],
+                    ms: built.ms,
+                    on: built.on,
+                });
+                Arc::new(built.data)
             });
-            Arc::new(data)
-        });
         self.maps.insert(key, built.clone());
-        built
+        Ok(built)
     }
 
     /// Times and measures one job.
     pub fn measure(&mut self, job: &Job) -> anyhow::Result<Run> {
         let hf = self.field(&job.field, job.size)?;
-        let map = self.map(&job.field, job.size, job.method, &hf);
+        let map = self.map(&job.field, job.size, job.method, &hf)?;
         let dir = ray_direction(job.angle, job.azimuth).map(|x| x as f32);
         let depth_scale = job.depth_scale as f32;
         let trace = TraceRequest {

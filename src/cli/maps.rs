@@ -1,6 +1,7 @@
 //! `relief maps`: the max pyramid of a height map, built on the GPU, one 16-bit PNG per level;
 //! with `--method`, also that method's precomputed map (cone ratios, quadric coefficients) as
-//! `map.npy`, with its build time.
+//! `map.npy`, with its build time: the conservative cone map on the GPU unless `--map-on cpu`,
+//! the others on the CPU.
 
 use std::path::PathBuf;
 
@@ -9,7 +10,7 @@ use clap::Args;
 use relief::bench::write_npy_f32;
 use relief::heightfield::reference::Address;
 use relief::heightfield::{Heightfield, MaxPyramid};
-use relief::method::{build_method_map, Method};
+use relief::method::{build_method_map_with, MapBuilder, Method};
 use relief::render::{build_pyramid_on_gpu, Addressing, HeightFormat};
 
 use super::heightmap_args::HeightmapArgs;
@@ -24,32 +25,52 @@ pub struct MapsArgs {
     /// Also build this method's precomputed map (see `relief methods --json`, `needs`).
     #[arg(long, value_name = "ID")]
     method: Option<String>,
+    /// Where to build the method's map: "gpu" (where a GPU builder exists, else the CPU) or "cpu".
+    #[arg(long, value_name = "WHERE", default_value = "gpu", value_parser = ["gpu", "cpu"])]
+    map_on: String,
     /// Pick the Vulkan device whose name contains this text.
     #[arg(long, value_name = "SUBSTRING")]
     device: Option<String>,
 }
 
-fn write_method_map(id: &str, hf: &Heightfield, out: &std::path::Path) -> anyhow::Result<()> {
+fn write_method_map(
+    id: &str,
+    hf: &Heightfield,
+    out: &std::path::Path,
+    builder: MapBuilder<'_>,
+) -> anyhow::Result<()> {
     let method: Method = id.parse()?;
-    let Some((map, took)) = build_method_map(method, &hf.quantized_unorm16(), Address::Repeat)
-    else {
+    let started = std::time::Instant::now();
+    let built = build_method_map_with(method, &hf.quantized_unorm16(), Address::Repeat, builder)?;
+    let wall_ms = started.elapsed().as_secs_f64() * 1e3;
+    let Some(map) = built else {
         println!("{method} reads no map besides the pyramid");
         return Ok(());
     };
     let path = out.join("map.npy");
+    let data = &map.data;
     let shape = [
-        map.height as usize,
-        map.width as usize,
-        map.channels as usize,
+        data.height as usize,
+        data.width as usize,
+        data.channels as usize,
     ];
-    write_npy_f32(&path, &shape, &map.texels)
+    write_npy_f32(&path, &shape, &data.texels)
         .with_context(|| format!("writing {}", path.display()))?;
+    let on = if map.on == "gpu" {
+        // The wall time adds the CPU's bilinear bound, the transfers and the submissions.
+        format!(
+            "on the GPU in {:.1} ms of GPU time ({wall_ms:.1} ms wall)",
+            map.ms
+        )
+    } else {
+        format!("on the CPU in {:.1} ms", map.ms)
+    };
     println!(
-        "{method} map: {}x{} x {} channels, built on the CPU in {:.1} ms -> {}",
-        map.width,
-        map.height,
-        map.channels,
-        took.as_secs_f64() * 1e3,
+        "{method} map: {}x{} x {} channels, built {} -> {}",
+        data.width,
+        data.height,
+        data.channels,
+        on,
         path.display()
     );
     Ok(())
@@ -86,7 +107,12 @@ pub fn run(args: &MapsArgs) -> anyhow::Result<()> {
     super::check_validation(&ctx)?;
     println!("pyramid build: {gpu_ms:.3} ms GPU ({source})");
     if let Some(id) = &args.method {
-        write_method_map(id, &hf, &args.out)?;
+        let builder = match args.map_on.as_str() {
+            "cpu" => MapBuilder::Cpu,
+            _ => MapBuilder::Gpu(&ctx),
+        };
+        write_method_map(id, &hf, &args.out, builder)?;
+        super::check_validation(&ctx)?;
     }
     if mismatched > 0 {
         anyhow::bail!("{mismatched} GPU pyramid level(s) differ from the CPU builder");

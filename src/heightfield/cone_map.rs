@@ -1,6 +1,8 @@
 //! Cone maps for cone step mapping (Dummer 2006, *conservative*) and relaxed cone stepping (Policarpo and
 //! Oliveira 2007, *relaxed*), built exactly on the CPU, and CPU models of both tracers' stepping that the GLSL
-//! methods port line for line (the GLSL adds the exact bilinear leaf, shaders/include/cone.glsl).
+//! methods port line for line (the GLSL adds the exact bilinear leaf, shaders/include/cone.glsl). These
+//! builders are the reference: `render::cone_map_pass` builds the conservative map on the GPU for frames
+//! and benches and is tested against them.
 //!
 //! # Units
 //! A cone map stores per texel `p` a ratio `c >= 0`: horizontal uv per unit of normalised height. Its cone has

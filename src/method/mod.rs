@@ -4,7 +4,7 @@
 
 mod maps;
 
-pub use maps::build_method_map;
+pub use maps::{build_method_map, build_method_map_with, BuiltMethodMap, MapBuilder};
 
 use std::fmt;
 use std::str::FromStr;

@@ -14,7 +14,7 @@ use super::plan::{HeightKey, HeightPlan, Plan, PlanError};
 use super::surface_pass::{SurfacePass, COLOR_FORMAT, DEPTH_FORMAT};
 use crate::heightfield::reference::Address;
 use crate::heightfield::{Heightfield, HeightfieldError, LoadOptions};
-use crate::method::{build_method_map, MapKind};
+use crate::method::{build_method_map_with, MapBuilder, MapKind};
 use crate::scene::Scene;
 use crate::vk::{
     read_mip, transition_images, Context, Image, ImageDesc, ImageTransition, TimestampPool,
@@ -48,15 +48,17 @@ pub struct PassTiming {
     pub gpu_ms: f64,
 }
 
-/// A map the frame built: the pyramid on the GPU, precomputed maps on the CPU.
+/// A map the frame built: the pyramid and the conservative cone map on the GPU, the other
+/// precomputed maps on the CPU.
 #[derive(Debug, Clone, Serialize)]
 pub struct BuiltMap {
     pub kind: &'static str,
     /// The height map it belongs to.
     pub source: String,
     pub size: [u32; 2],
-    /// GPU ms for the pyramid, CPU wall ms for precomputed maps.
+    /// GPU ms for maps built on the GPU, CPU wall ms for those built on the CPU.
     pub ms: f64,
+    /// "gpu" or "cpu".
     pub on: &'static str,
 }
 
@@ -169,16 +171,22 @@ pub fn render(
             HeightKey::Frame => opts.address,
             HeightKey::Image { address, .. } => address,
         };
-        let map = hp
-            .map_method
-            .and_then(|method| build_method_map(method, &stored, reference_address(address)));
-        if let (Some((data, took)), Some(kind)) = (&map, hp.map) {
+        let map = match hp.map_method {
+            Some(method) => build_method_map_with(
+                method,
+                &stored,
+                reference_address(address),
+                MapBuilder::Gpu(ctx),
+            )?,
+            None => None,
+        };
+        if let (Some(built), Some(kind)) = (&map, hp.map) {
             maps.push(BuiltMap {
                 kind: kind.name(),
                 source: hp.source.clone(),
-                size: [data.width, data.height],
-                ms: took.as_secs_f64() * 1e3,
-                on: "cpu",
+                size: [built.data.width, built.data.height],
+                ms: built.ms,
+                on: built.on,
             });
         }
         heights.push(HeightResources::with_pyramid(
@@ -186,7 +194,7 @@ pub fn render(
             &stored,
             opts.height_format,
             address,
-            map.as_ref().map(|(data, _)| data),
+            map.as_ref().map(|built| &built.data),
             uniforms,
             hp.pyramid,
         )?);

@@ -2,6 +2,7 @@
 //! the surface pass, timestamps around each, and readback to an image.
 
 mod bench_pass;
+mod cone_map_pass;
 mod explain;
 mod frame;
 mod frame_uniforms;
@@ -17,6 +18,9 @@ mod texture_mips;
 mod trace_pass;
 
 pub use bench_pass::{time_method, BenchRequest, BenchTiming};
+pub use cone_map_pass::{
+    build_cone_map_on_gpu, ConeMapPass, MAX_SIDE as CONE_MAP_GPU_MAX_SIDE, RATIO_TOLERANCE,
+};
 pub use explain::explain;
 pub use frame::{render, BuiltMap, Frame, PassTiming, RenderError, RenderOptions};
 pub use frame_uniforms::{frame_camera, FrameUniforms, LightUniform, MAX_LIGHTS};

@@ -1,0 +1,257 @@
+#version 460
+// The conservative cone map on the GPU (heightfield::cone_map, "Conservative cone"): per texel p
+// of the bilinear bound's box surface (level 0 of `pyramid`, computed exactly on the CPU),
+//   c(p) = min over texels q with h(q) > h(p) of dist(p_c, box(q)) / (h(q) - h(p)),
+// distances in uv between p's centre and q's closed box, over the 3x3 tiles around the map under
+// Repeat (farther tiles are at least 1 uv away while the global maximum always has a copy within
+// sqrt(0.5) uv, so they never hold the minimum) and over the map alone under Clamp (the border's
+// copies are never nearer than the border texels). Capped at CONE_RATIO_MAX.
+//
+// Two modes, chosen per dispatch by params.mode:
+//  REDUCE: level L of a max pyramid from level L - 1, where node (i, j) of level L covers the
+//    level-0 texels [i, i + 1) * 2^L (clipped to the map) along each axis; levels shrink to 1x1.
+//    (Not the Vulkan mip rule of the height image: aligned power-of-two spans give the search
+//    exact node rectangles with no tables.)
+//  CONE: one invocation per texel of rows [row0, row0 + rows): the best seeded with the 8
+//    neighbours, then a depth-first search of each tile's pyramid, lowest-bound child first,
+//    skipping every node whose bound (its rectangle's distance over its maximum's rise) is no
+//    lower than the best found. The search itself is
+//    exact; only the arithmetic is f32.
+//
+// Rounding (the guarantee): every candidate's value is computed in f32 with relative error at
+// most EPS_ULPS units of 2^-23 under the Vulkan precision rules (sqrt about 5 ULP, division
+// 2.5 ULP, the rest correctly rounded; see cone_map_value). The minimum M of the computed values
+// is then stepped down by STEP_DOWN ulps, more than that error, so the stored ratio is never
+// above the exact minimum (a node is skipped only when its computed bound is >= M, and its true
+// bound is at least that bound over 1 + error) and never below it by more than
+// (EPS_ULPS + STEP_DOWN) * 2^-23, under 2^-15 relative (render::cone_map_pass states it, the
+// tests check it against the CPU builder).
+layout(local_size_x = 8, local_size_y = 8) in;
+
+const uint MODE_REDUCE = 0u;
+const uint MODE_CONE = 1u;
+const float CONE_RATIO_MAX = 64.0;
+// Entries a search stack can hold: a pop pushes at most 4 children, so a depth-first search over
+// L levels holds at most 3 L + 1; 48 covers the 15 levels of maps up to 16384 texels a side.
+const int STACK = 48;
+const uint MAX_LEVELS = 15u;
+const uint STEP_DOWN = 128u;
+
+// All pyramid levels back to back, level 0 (the bound heights, width x height) first.
+layout(set = 0, binding = 0, std430) buffer Pyramid {
+    float pyramid[];
+};
+
+// Per texel of level 0: the ratio and the bound height (MapData's two channels), row-major.
+layout(set = 0, binding = 1, std430) writeonly buffer ConeMap {
+    vec2 cone_map[];
+};
+
+layout(push_constant, std430) uniform Params {
+    uint mode;
+    // Level 0 size in texels.
+    uint width;
+    uint height;
+    // 1 for Repeat, 0 for Clamp.
+    uint repeat_address;
+    // REDUCE: the level written. CONE: the first row of this dispatch.
+    uint level;
+    uint row0;
+    // width / height rounded to f32: the v distance in u-texel units is dy * aspect.
+    float aspect;
+    // The level whose single node covers the map.
+    uint top;
+    // Where each level starts in `pyramid` (the host computes them once).
+    uint offsets[MAX_LEVELS];
+} params;
+
+uvec2 level_size(uint level) {
+    uint n = 1u << level;
+    return uvec2((params.width + n - 1u) >> level, (params.height + n - 1u) >> level);
+}
+
+void reduce() {
+    uvec2 size = level_size(params.level);
+    uvec2 at = gl_GlobalInvocationID.xy;
+    if (any(greaterThanEqual(at, size))) {
+        return;
+    }
+    uvec2 fine = level_size(params.level - 1u);
+    uint base = params.offsets[params.level - 1u];
+    uvec2 first = at * 2u;
+    uvec2 last = min(first + 1u, fine - 1u);
+    float h = 0.0;
+    for (uint y = first.y; y <= last.y; ++y) {
+        for (uint x = first.x; x <= last.x; ++x) {
+            h = max(h, pyramid[base + y * fine.x + x]);
+        }
+    }
+    pyramid[params.offsets[params.level] + at.y * size.x + at.x] = h;
+}
+
+// The computed value of a node: its rectangle [lo, hi] (u-texels, v-texels; closed) seen from
+// the centre c over the rise of its maximum. dx and dy are exact (half-integers below 2^22); the
+// error is one rounding each for dx^2, aspect, dy * aspect, its square, the sum, rise, w * rise,
+// plus sqrt (5 ULP) and the division (2.5 ULP): about 12.5 units of 2^-23, so EPS_ULPS = 16.
+// STEP_DOWN ulps of the result are at least STEP_DOWN * 2^-24 relative, 4x that error.
+float cone_map_value(vec2 c, vec2 lo, vec2 hi, float rise) {
+    float dx = max(max(lo.x - c.x, c.x - hi.x), 0.0);
+    float dy = max(max(lo.y - c.y, c.y - hi.y), 0.0) * params.aspect;
+    float den = float(params.width) * rise;
+    // Division has no precision guarantee below 2^-126; there the true value (at least half a
+    // texel over den) is far above the cap anyway, so the candidate is dropped.
+    if (!(den > 1.0e-30)) {
+        return 3.0e38;
+    }
+    return sqrt(dx * dx + dy * dy) / den;
+}
+
+struct Node {
+    // Level-0 rectangle of the node in its tile, in texels (lo inclusive, hi exclusive edges).
+    vec2 lo;
+    vec2 hi;
+};
+
+Node node_rect(uint level, uvec2 at, vec2 tile) {
+    uint n = 1u << level;
+    uvec2 lo = at * n;
+    uvec2 hi = min(lo + n, uvec2(params.width, params.height));
+    Node node;
+    node.lo = vec2(lo) + tile;
+    node.hi = vec2(hi) + tile;
+    return node;
+}
+
+// Largest f32 at least `ulps` ulps below a positive finite x (stays positive: bits only shrink).
+float step_down(float x, uint ulps) {
+    uint bits = floatBitsToUint(x);
+    return uintBitsToFloat(bits > ulps ? bits - ulps : 0u);
+}
+
+// A stack entry: level | i << 4 | j << 18 (sides below 2^14, levels below 16) and the bound's bits,
+// re-checked on pop since the best may have improved after the push.
+uvec2 entry(uint level, uint i, uint j, float bound) {
+    return uvec2(level | (i << 4) | (j << 18), floatBitsToUint(bound));
+}
+
+// The bits of a bound no candidate has: above every finite float.
+const uint NO_BOUND = 0xffffffffu;
+
+// Child (x, y) of `level` as a stack entry, or NO_BOUND when it holds nothing higher than hp or
+// its bound cannot beat `best`.
+uvec2 kid(uint level, uvec2 at, uvec2 size, vec2 tile, vec2 centre, float hp, float best) {
+    float h = pyramid[params.offsets[level] + at.y * size.x + at.x];
+    if (!(h > hp)) {
+        return uvec2(0u, NO_BOUND);
+    }
+    Node n = node_rect(level, at, tile);
+    float b = cone_map_value(centre, n.lo, n.hi, h - hp);
+    return b < best ? entry(level, at.x, at.y, b) : uvec2(0u, NO_BOUND);
+}
+
+// Puts the larger bound first (NO_BOUND counts as the largest).
+void order(inout uvec2 a, inout uvec2 b) {
+    if (a.y < b.y) {
+        uvec2 t = a;
+        a = b;
+        b = t;
+    }
+}
+
+void cone() {
+    uvec2 p = uvec2(gl_GlobalInvocationID.x, gl_GlobalInvocationID.y + params.row0);
+    if (p.x >= params.width || p.y >= params.height) {
+        return;
+    }
+    uint index = p.y * params.width + p.x;
+    float hp = pyramid[index];
+    uint top = params.top;
+    float top_height = pyramid[params.offsets[top]];
+    float best = CONE_RATIO_MAX;
+    // Centre in texels; the v axis is scaled to u-texel units only inside cone_map_value.
+    vec2 centre = vec2(p) + 0.5;
+    // One array of packed entries: private arrays indexed at run time are costly on some
+    // implementations (lavapipe spills them to memory), so the search keeps just this one.
+    uvec2 stack[STACK];
+    // Seed the best with the 8 neighbours (genuine candidates, so the minimum is unchanged) so
+    // that most of the pyramid is pruned from the first node on, as the CPU search does.
+    for (int n = 0; n < 9 && top_height > hp; ++n) {
+        ivec2 q = ivec2(p) + ivec2(n % 3 - 1, n / 3 - 1);
+        ivec2 size = ivec2(params.width, params.height);
+        ivec2 wrapped = ivec2(q.x < 0 ? q.x + size.x : (q.x >= size.x ? q.x - size.x : q.x),
+                              q.y < 0 ? q.y + size.y : (q.y >= size.y ? q.y - size.y : q.y));
+        // The texel itself is no candidate; under Clamp only texels of the map are.
+        if (n == 4 || (params.repeat_address == 0u && q != wrapped)) {
+            continue;
+        }
+        float h = pyramid[uint(wrapped.y) * params.width + uint(wrapped.x)];
+        if (h > hp) {
+            Node node = node_rect(0u, uvec2(wrapped), vec2(q - wrapped));
+            best = min(best, cone_map_value(centre, node.lo, node.hi, h - hp));
+        }
+    }
+    int tiles = params.repeat_address != 0u && top_height > hp ? 9 : (top_height > hp ? 1 : 0);
+    for (int t = 0; t < tiles; ++t) {
+        // Tile (a, b) of the 3x3 block, the map itself (slot 4) first so the ring starts pruned.
+        int slot = (t + 4) % 9;
+        vec2 tile = vec2(float(slot % 3 - 1) * float(params.width), float(slot / 3 - 1) * float(params.height));
+        Node root = node_rect(top, uvec2(0u), tile);
+        float root_bound = cone_map_value(centre, root.lo, root.hi, top_height - hp);
+        int sp = 0;
+        if (root_bound < best) {
+            stack[0] = entry(top, 0u, 0u, root_bound);
+            sp = 1;
+        }
+        while (sp > 0) {
+            --sp;
+            uvec2 e = stack[sp];
+            float bound = uintBitsToFloat(e.y);
+            if (!(bound < best)) {
+                continue;
+            }
+            uint level = e.x & 15u;
+            uvec2 at = uvec2((e.x >> 4) & 0x3fffu, e.x >> 18);
+            if (level == 0u) {
+                best = bound;
+                continue;
+            }
+            // The children on the level below (clipped to it), with their bounds in registers
+            // (a node that cannot improve the best gets NO_BOUND), sorted by a fixed network of
+            // swaps, so that the nearest is pushed last and searched next without any array.
+            uint child = level - 1u;
+            uvec2 size = level_size(child);
+            uvec2 first = at * 2u;
+            uvec2 last = min(first + 1u, size - 1u);
+            uvec2 e0 = kid(child, uvec2(first.x, first.y), size, tile, centre, hp, best);
+            uvec2 e1 = first.x == last.x ? uvec2(0u, NO_BOUND)
+                : kid(child, uvec2(last.x, first.y), size, tile, centre, hp, best);
+            uvec2 e2 = first.y == last.y ? uvec2(0u, NO_BOUND)
+                : kid(child, uvec2(first.x, last.y), size, tile, centre, hp, best);
+            uvec2 e3 = first.x == last.x || first.y == last.y ? uvec2(0u, NO_BOUND)
+                : kid(child, last, size, tile, centre, hp, best);
+            // Descending by bound (positive floats order as their bits).
+            order(e0, e1);
+            order(e2, e3);
+            order(e0, e2);
+            order(e1, e3);
+            order(e1, e2);
+            // sp < STACK always holds (see STACK); the tests only keep the accesses in bounds.
+            if (e0.y != NO_BOUND && sp < STACK) { stack[sp++] = e0; }
+            if (e1.y != NO_BOUND && sp < STACK) { stack[sp++] = e1; }
+            if (e2.y != NO_BOUND && sp < STACK) { stack[sp++] = e2; }
+            if (e3.y != NO_BOUND && sp < STACK) { stack[sp++] = e3; }
+        }
+    }
+    // Below the minimum of the computed values by more than their error (see the header); a
+    // texel nothing limits keeps the cap itself, as on the CPU.
+    float ratio = best < CONE_RATIO_MAX ? step_down(best, STEP_DOWN) : CONE_RATIO_MAX;
+    cone_map[index] = vec2(ratio, hp);
+}
+
+void main() {
+    if (params.mode == MODE_REDUCE) {
+        reduce();
+    } else {
+        cone();
+    }
+}
