@@ -1,31 +1,14 @@
 //! Animations, skins and joint/weight attributes in small glTF files written on the fly: a
 //! valid rig loads, and each broken rule is rejected with a message naming what broke it.
 
+mod common;
+
 use std::path::PathBuf;
 
 use relief::scene::{load_gltf, SceneOptions};
 use serde_json::{json, Value};
 
-fn base64(bytes: &[u8]) -> String {
-    const ABC: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    let mut out = String::new();
-    for chunk in bytes.chunks(3) {
-        let b = [
-            chunk[0],
-            *chunk.get(1).unwrap_or(&0),
-            *chunk.get(2).unwrap_or(&0),
-        ];
-        let n = (b[0] as u32) << 16 | (b[1] as u32) << 8 | b[2] as u32;
-        for k in 0..4 {
-            if k <= chunk.len() {
-                out.push(ABC[(n >> (18 - 6 * k) & 63) as usize] as char);
-            } else {
-                out.push('=');
-            }
-        }
-    }
-    out
-}
+use common::base64::base64;
 
 /// The data of a two-joint rig: keyframe times, translation and rotation keys, per-vertex
 /// joints and weights of a triangle, and two inverse bind matrices.

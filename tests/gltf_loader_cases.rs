@@ -1,6 +1,8 @@
 //! Small glTF files written on the fly: node placement, scene and camera choice, lights,
 //! relief extras and the errors for broken input.
 
+mod common;
+
 use std::path::PathBuf;
 
 use glam::{Mat4, Quat, Vec3};
@@ -8,26 +10,7 @@ use relief::heightfield::Channel;
 use relief::scene::{load_gltf, load_gltf_with_report, HeightSource, LightKind, SceneOptions};
 use serde_json::{json, Value};
 
-fn base64(bytes: &[u8]) -> String {
-    const ABC: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    let mut out = String::new();
-    for chunk in bytes.chunks(3) {
-        let b = [
-            chunk[0],
-            *chunk.get(1).unwrap_or(&0),
-            *chunk.get(2).unwrap_or(&0),
-        ];
-        let n = (b[0] as u32) << 16 | (b[1] as u32) << 8 | b[2] as u32;
-        for k in 0..4 {
-            if k <= chunk.len() {
-                out.push(ABC[(n >> (18 - 6 * k) & 63) as usize] as char);
-            } else {
-                out.push('=');
-            }
-        }
-    }
-    out
-}
+use common::base64::base64;
 
 /// One triangle (0,0,0) (1,0,0) (0,1,0), counter-clockwise seen from +z, indexed 0 1 2.
 fn triangle_doc(positions: [[f32; 3]; 3], index: [u16; 3]) -> Value {

@@ -2,6 +2,7 @@
 //! validation check at teardown, and image comparison with written evidence.
 #![allow(dead_code)]
 
+pub mod base64;
 pub mod corpus;
 pub mod golden;
 
