@@ -11,7 +11,6 @@ use anyhow::Context as _;
 use super::results::{GpuMs, MapBuild, Run};
 use super::sweep::{FieldSource, SweepConfig};
 use super::trace_stats::{ray_direction, trace_stats};
-use crate::heightfield::reference::Address;
 use crate::heightfield::{Heightfield, LoadOptions};
 use crate::method::{build_method_map_with, Budget, MapBuilder, Method};
 use crate::render::{
@@ -171,10 +170,7 @@ impl Runner {
     }
 
     fn addressing(&self) -> Addressing {
-        match self.cfg.address {
-            Address::Repeat => Addressing::Repeat,
-            Address::Clamp => Addressing::Clamp,
-        }
+        self.cfg.address.into()
     }
 
     /// The height field of `field` at `size`, as the GPU stores it (so the reference sees the same).

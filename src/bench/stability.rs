@@ -113,10 +113,7 @@ pub fn run_stiff_case(ctx: &Arc<Context>, case: &StiffCase, method: Method) -> S
         HeightFormat::R32Float => raw,
     };
     let map = build_method_map(method, &hf, case.address);
-    let address = match case.address {
-        Address::Repeat => Addressing::Repeat,
-        Address::Clamp => Addressing::Clamp,
-    };
+    let address = Addressing::from(case.address);
     let req = TraceRequest {
         method,
         dir: ray_direction(case.angle, 30.0).map(|x| x as f32),

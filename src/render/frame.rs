@@ -1,6 +1,7 @@
 //! One frame, offscreen: upload the height field, build its pyramid, draw the scene into colour
 //! and depth targets, read the colour back. Each pass sits between GPU timestamps.
 
+use std::borrow::Cow;
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -12,7 +13,6 @@ use super::gpu_heightfield::{Addressing, HeightFormat};
 use super::height_resources::HeightResources;
 use super::plan::{HeightKey, HeightPlan, Plan, PlanError};
 use super::surface_pass::{SurfacePass, COLOR_FORMAT, DEPTH_FORMAT};
-use crate::heightfield::reference::Address;
 use crate::heightfield::{Heightfield, HeightfieldError, LoadOptions};
 use crate::method::{build_method_map_with, MapBuilder, MapKind};
 use crate::scene::Scene;
@@ -116,18 +116,20 @@ fn target(ctx: &Arc<Context>, opts: &RenderOptions, depth: bool) -> VkResult<Ima
     Image::new(ctx, desc, name)
 }
 
-/// The heights of one planned height map, as stored on the GPU.
-fn planned_heights(
+/// The heights of one planned height map, as stored on the GPU. The frame's own map is borrowed
+/// when it is stored as it is (R32F), not copied.
+fn planned_heights<'a>(
     ctx: &Arc<Context>,
     scene: &Scene,
     plan: &HeightPlan,
-    frame_heights: Option<&Heightfield>,
+    frame_heights: Option<&'a Heightfield>,
     format: HeightFormat,
-) -> Result<Heightfield, RenderError> {
+) -> Result<Cow<'a, Heightfield>, RenderError> {
     let hf = match plan.key {
-        HeightKey::Frame => frame_heights
-            .cloned()
-            .ok_or_else(|| VkError::Invalid("the plan reads a frame height map".into()))?,
+        HeightKey::Frame => Cow::Borrowed(
+            frame_heights
+                .ok_or_else(|| VkError::Invalid("the plan reads a frame height map".into()))?,
+        ),
         HeightKey::Image {
             image,
             channel,
@@ -135,21 +137,18 @@ fn planned_heights(
             ..
         } => {
             let opts = LoadOptions { channel, invert };
-            Heightfield::from_dynamic_image(&scene.images[image].pixels, &opts, &plan.source)?
+            Cow::Owned(Heightfield::from_dynamic_image(
+                &scene.images[image].pixels,
+                &opts,
+                &plan.source,
+            )?)
         }
     };
     hf.check_max_dimension(ctx.info().max_image_dimension_2d, &plan.source)?;
     Ok(match format {
-        HeightFormat::R16Unorm => hf.quantized_unorm16(),
+        HeightFormat::R16Unorm => Cow::Owned(hf.quantized_unorm16()),
         HeightFormat::R32Float => hf,
     })
-}
-
-fn reference_address(address: Addressing) -> Address {
-    match address {
-        Addressing::Repeat => Address::Repeat,
-        Addressing::Clamp => Address::Clamp,
-    }
 }
 
 /// Renders `scene`. Relief materials without a height texture of their own read `frame_heights`.
@@ -172,12 +171,9 @@ pub fn render(
             HeightKey::Image { address, .. } => address,
         };
         let map = match hp.map_method {
-            Some(method) => build_method_map_with(
-                method,
-                &stored,
-                reference_address(address),
-                MapBuilder::Gpu(ctx),
-            )?,
+            Some(method) => {
+                build_method_map_with(method, &stored, address.into(), MapBuilder::Gpu(ctx))?
+            }
             None => None,
         };
         if let (Some(built), Some(kind)) = (&map, hp.map) {

@@ -6,6 +6,8 @@ use std::sync::Arc;
 
 use ash::vk;
 
+use crate::heightfield::reference::Address;
+
 use crate::heightfield::{mip_level_count, Heightfield};
 use crate::vk::{upload_mips, Context, Image, ImageDesc, Sampler, VkError, VkResult};
 
@@ -68,6 +70,25 @@ impl HeightFormat {
 pub enum Addressing {
     Repeat,
     Clamp,
+}
+
+/// The reference tracer's name for the same addressing.
+impl From<Addressing> for Address {
+    fn from(a: Addressing) -> Address {
+        match a {
+            Addressing::Repeat => Address::Repeat,
+            Addressing::Clamp => Address::Clamp,
+        }
+    }
+}
+
+impl From<Address> for Addressing {
+    fn from(a: Address) -> Addressing {
+        match a {
+            Address::Repeat => Addressing::Repeat,
+            Address::Clamp => Addressing::Clamp,
+        }
+    }
 }
 
 impl Addressing {
