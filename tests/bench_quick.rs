@@ -36,6 +36,17 @@ fn quick_bench_covers_every_method_without_nan() {
         assert_eq!(r["nan_pixels"], 0, "NaN in {r}");
         let ms = r["gpu_ms"]["median"].as_f64().expect("gpu ms");
         assert!(ms > 0.0 && ms.is_finite(), "implausible GPU time in {r}");
+        // Every timed ray iterates at least once, and a subgroup pays at least its mean ray.
+        let timed = &r["timed_steps"];
+        let (mean, paid) = (
+            timed["mean"].as_f64().expect("timed mean steps"),
+            timed["subgroup_mean_max"].as_f64().expect("subgroup steps"),
+        );
+        assert!(
+            timed["subgroup_size"].as_u64().is_some_and(|n| n >= 1),
+            "{r}"
+        );
+        assert!(mean >= 1.0 && paid >= mean - 1e-9, "timed steps in {r}");
         for key in [
             "method",
             "heightfield",
@@ -70,6 +81,7 @@ fn quick_bench_covers_every_method_without_nan() {
     for heading in [
         "## 1. Error against run time",
         "## 2. Scaling with map size",
+        "Iterations of the timed rays",
         "## 3. Depth scale",
         "## 5. Stability matrix",
     ] {

@@ -211,12 +211,38 @@ fn is_default_budget(r: &Run) -> bool {
 
 fn scaling(md: &mut String, results: &BenchResults) {
     let list = scaling_runs(results);
-    if list.is_empty() {
+    let Some(lanes) = list.first().map(|r| r.timed_steps.subgroup_size) else {
         return;
-    }
-    let sizes: BTreeSet<u32> = list.iter().map(|r| r.size[0]).collect();
+    };
     let _ = writeln!(md, "## 2. Scaling with map size\n");
     let _ = writeln!(md, "GPU ms at 30 deg with default budgets (mean error in brackets); the last column is the largest size's time over the smallest's (paper 000, Table 1: about 1.5x for quadtree methods from 256^2 to 2048^2).\n");
+    size_table(
+        md,
+        &list,
+        |r| format!("{:.3} ({:.3})", r.gpu_ms.median, r.error_texels.mean),
+        |r| r.gpu_ms.median,
+    );
+    let _ = writeln!(md, "Iterations of the timed rays: the mean per ray, and in brackets the mean over subgroups of {lanes} lanes of the subgroup's slowest ray, which is what a SIMD device pays for the loop; the growth is that of the subgroup figure.\n");
+    size_table(
+        md,
+        &list,
+        |r| {
+            let t = r.timed_steps;
+            format!("{:.1} ({:.1})", t.mean, t.subgroup_mean_max)
+        },
+        |r| r.timed_steps.subgroup_mean_max,
+    );
+}
+
+/// One row per method, one column per map size, and the growth of `value` from the smallest
+/// size to the largest.
+fn size_table(
+    md: &mut String,
+    list: &[&Run],
+    cell: impl Fn(&Run) -> String,
+    value: impl Fn(&Run) -> f64,
+) {
+    let sizes: BTreeSet<u32> = list.iter().map(|r| r.size[0]).collect();
     let head: Vec<String> = sizes.iter().map(|s| format!("{s}^2")).collect();
     let _ = writeln!(md, "| method | {} | growth |", head.join(" | "));
     let _ = writeln!(md, "|---|{}---|", "---|".repeat(sizes.len()));
@@ -228,14 +254,10 @@ fn scaling(md: &mut String, results: &BenchResults) {
             .collect();
         let cells: Vec<String> = row
             .iter()
-            .map(|r| {
-                r.map_or("-".into(), |r| {
-                    format!("{:.3} ({:.3})", r.gpu_ms.median, r.error_texels.mean)
-                })
-            })
+            .map(|r| r.map_or("-".into(), |r| cell(r)))
             .collect();
-        let times: Vec<f64> = row.iter().flatten().map(|r| r.gpu_ms.median).collect();
-        let growth = match (times.first(), times.last()) {
+        let values: Vec<f64> = row.iter().flatten().map(|r| value(r)).collect();
+        let growth = match (values.first(), values.last()) {
             (Some(&a), Some(&b)) if a > 0.0 => format!("{:.2}x", b / a),
             _ => "-".into(),
         };

@@ -3,6 +3,7 @@
 
 use serde::Serialize;
 
+use super::subgroup_steps::TimedSteps;
 use super::trace_stats::{Spread, StepStats};
 use crate::method::Budget;
 use crate::vk::DeviceInfo;
@@ -63,7 +64,10 @@ pub struct Run {
     pub gross_rate: f64,
     pub capped_rate: f64,
     pub nan_pixels: usize,
+    /// Iterations of the error trace's rays.
     pub steps: StepStats,
+    /// Iterations of the timed rays, and what their subgroups paid.
+    pub timed_steps: TimedSteps,
 }
 
 /// Time to build one precomputed map.

@@ -9,6 +9,7 @@ use std::time::Instant;
 use anyhow::Context as _;
 
 use super::results::{GpuMs, MapBuild, Run};
+use super::subgroup_steps::subgroup_steps;
 use super::sweep::{FieldSource, SweepConfig};
 use super::trace_stats::{ray_direction, trace_stats};
 use crate::heightfield::{Heightfield, LoadOptions};
@@ -267,6 +268,11 @@ impl Runner {
         };
         let timing = time_method(&self.ctx, &hf, &timed)?;
         let cpu_ms = started.elapsed().as_secs_f64() * 1e3;
+        let timed_steps = subgroup_steps(
+            &timing.steps,
+            self.cfg.resolution,
+            self.ctx.info().subgroup_size,
+        );
         let traced = trace_on_gpu(&self.ctx, &hf, &trace)?;
         let stats = trace_stats(
             &hf,
@@ -295,6 +301,7 @@ impl Runner {
             capped_rate: stats.capped_rate,
             nan_pixels: stats.nan_pixels,
             steps: stats.steps,
+            timed_steps,
         })
     }
 

@@ -21,10 +21,12 @@ pub struct BenchRequest<'a> {
     pub frames: u32,
 }
 
-/// GPU milliseconds of each timed frame, in order.
+/// GPU milliseconds of each timed frame, in order, and the iterations of the timed rays.
 #[derive(Debug, Clone)]
 pub struct BenchTiming {
     pub frame_ms: Vec<f64>,
+    /// `(steps, capped)` per ray of the last frame, row by row over `trace.grid`.
+    pub steps: Vec<[u32; 2]>,
 }
 
 /// Times `req.frames` frames of `req.trace` over `hf`.
@@ -43,5 +45,6 @@ pub fn time_method(
     let out = trace_repeated(ctx, hf, &req.trace, req.warmup, req.frames)?;
     Ok(BenchTiming {
         frame_ms: out.frame_ms,
+        steps: out.steps,
     })
 }

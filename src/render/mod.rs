@@ -30,4 +30,4 @@ pub use method_map::{GpuMethodMap, MapData};
 pub use plan::{DrawPlan, HeightKey, HeightPlan, PassPlan, PipelineKey, Plan, PlanError, Skipped};
 pub use pyramid_pass::{build_pyramid_on_gpu, PyramidJob, PyramidPass};
 pub use surface_pass::{describe as describe_pipeline, COLOR_FORMAT, DEPTH_FORMAT};
-pub use trace_pass::{trace_on_gpu, TraceOutput, TraceRequest};
+pub use trace_pass::{trace_on_gpu, TraceOutput, TraceRequest, TRACE_GROUP_SIDE};

@@ -16,7 +16,9 @@ use crate::vk::{
     MemoryLocation, SpecConstants, TimestampPool, VkError, VkResult,
 };
 
-const GROUP: u32 = 8;
+/// Side of the trace pass's square workgroups (`local_size_x` and `_y` in trace.comp).
+pub const TRACE_GROUP_SIDE: u32 = 8;
+const GROUP: u32 = TRACE_GROUP_SIDE;
 
 /// One sweep of parallel rays.
 #[derive(Debug, Clone, Copy)]

@@ -29,6 +29,9 @@ pub struct DeviceInfo {
     pub queue_family: u32,
     /// Whether storage images may use R16 (`shaderStorageImageExtendedFormats`).
     pub storage_r16: bool,
+    /// Invocations that run in lockstep (`subgroupSize`): 8 on llvmpipe with AVX2, 32 or 64 on
+    /// GPUs. A loop costs such a group as many iterations as its slowest invocation needs.
+    pub subgroup_size: u32,
 }
 
 fn kind_rank(kind: vk::PhysicalDeviceType) -> (u32, &'static str) {
@@ -53,8 +56,11 @@ fn version_string(v: u32) -> String {
 /// Describes a device, or `None` if relief cannot use it.
 fn describe(instance: &ash::Instance, pd: vk::PhysicalDevice) -> Option<(u32, DeviceInfo)> {
     let mut driver = vk::PhysicalDeviceDriverProperties::default();
-    let mut props2 = vk::PhysicalDeviceProperties2::default().push_next(&mut driver);
-    // SAFETY: valid physical device; the chained struct lives across the call.
+    let mut subgroup = vk::PhysicalDeviceSubgroupProperties::default();
+    let mut props2 = vk::PhysicalDeviceProperties2::default()
+        .push_next(&mut driver)
+        .push_next(&mut subgroup);
+    // SAFETY: valid physical device; the chained structs live across the call.
     unsafe { instance.get_physical_device_properties2(pd, &mut props2) };
     let props = props2.properties;
     let mut v13 = vk::PhysicalDeviceVulkan13Features::default();
@@ -98,6 +104,7 @@ fn describe(instance: &ash::Instance, pd: vk::PhysicalDevice) -> Option<(u32, De
         timestamp_period_ns: props.limits.timestamp_period,
         timestamp_valid_bits: fprops.timestamp_valid_bits,
         queue_family: family as u32,
+        subgroup_size: subgroup.subgroup_size.max(1),
         storage_r16,
     };
     Some((rank, info))
