@@ -11,28 +11,40 @@ fn relief(args: &[&str]) -> std::process::Output {
         .expect("binary runs")
 }
 
-#[test]
-fn render_default_scene_reports_passes() {
-    if common::device("render_default_scene_reports_passes").is_none() {
-        return;
-    }
-    let dir = common::scratch_dir("render-json");
-    let out = dir.join("frame.png");
+/// Renders the default scene at `width` x `height` with `method` and a flag that makes the CLI
+/// print one JSON object; returns that object and the PNG's path.
+fn render_default(
+    name: &str,
+    width: &str,
+    height: &str,
+    method: &str,
+    flag: &str,
+) -> (serde_json::Value, std::path::PathBuf) {
+    let out = common::scratch_dir(name).join("frame.png");
     let run = relief(&[
         "render",
         "--out",
         out.to_str().expect("utf-8"),
         "--width",
-        "96",
+        width,
         "--height",
-        "64",
+        height,
         "--method",
-        "qdm",
-        "--json",
+        method,
+        flag,
     ]);
     let err = String::from_utf8_lossy(&run.stderr);
-    assert!(run.status.success(), "render failed:\n{err}");
-    let report: serde_json::Value = serde_json::from_slice(&run.stdout).expect("one JSON object");
+    assert!(run.status.success(), "render {flag} failed:\n{err}");
+    let json = serde_json::from_slice(&run.stdout).expect("one JSON object");
+    (json, out)
+}
+
+#[test]
+fn render_default_scene_reports_passes() {
+    if common::device("render_default_scene_reports_passes").is_none() {
+        return;
+    }
+    let (report, out) = render_default("render-json", "96", "64", "qdm", "--json");
     assert!(report["device"]["name"]
         .as_str()
         .is_some_and(|n| !n.is_empty()));
@@ -114,23 +126,7 @@ fn explain_prints_the_plan() {
     if common::device("explain_prints_the_plan").is_none() {
         return;
     }
-    let dir = common::scratch_dir("explain");
-    let out = dir.join("frame.png");
-    let run = relief(&[
-        "render",
-        "--out",
-        out.to_str().expect("utf-8"),
-        "--width",
-        "64",
-        "--height",
-        "48",
-        "--method",
-        "csm",
-        "--explain",
-    ]);
-    let err = String::from_utf8_lossy(&run.stderr);
-    assert!(run.status.success(), "render failed:\n{err}");
-    let plan: serde_json::Value = serde_json::from_slice(&run.stdout).expect("one JSON object");
+    let (plan, _) = render_default("explain", "64", "48", "csm", "--explain");
     let shaders: Vec<&str> = plan["pipelines"]
         .as_array()
         .expect("pipelines")

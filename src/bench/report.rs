@@ -164,13 +164,6 @@ fn matched_scaling(md: &mut String, results: &BenchResults) {
         "| size | POM steps | POM ms | POM error | POM growth | QDM ms | QDM error | QDM growth |"
     );
     let _ = writeln!(md, "|---|---|---|---|---|---|---|---|");
-    let ratio = |t: f64, base: f64| {
-        if base > 0.0 {
-            format!("{:.2}x", t / base)
-        } else {
-            "-".into()
-        }
-    };
     let first_qdm = qdm
         .iter()
         .find(|q| q.size[0] == smallest)
@@ -188,7 +181,7 @@ fn matched_scaling(md: &mut String, results: &BenchResults) {
             (
                 format!("{:.3}", q.gpu_ms.median),
                 format!("{:.4}", q.error_texels.mean),
-                first_qdm.map_or("-".into(), |b| ratio(q.gpu_ms.median, b)),
+                first_qdm.map_or("-".into(), |b| growth(q.gpu_ms.median, b)),
             )
         });
         let _ = writeln!(
@@ -197,7 +190,7 @@ fn matched_scaling(md: &mut String, results: &BenchResults) {
             r.budget.max_steps,
             r.gpu_ms.median,
             r.error_texels.mean,
-            ratio(r.gpu_ms.median, target.gpu_ms.median)
+            growth(r.gpu_ms.median, target.gpu_ms.median)
         );
     }
     md.push('\n');
@@ -234,6 +227,15 @@ fn scaling(md: &mut String, results: &BenchResults) {
     );
 }
 
+/// `t` over `base` as "1.23x", or "-" without a base.
+fn growth(t: f64, base: f64) -> String {
+    if base > 0.0 {
+        format!("{:.2}x", t / base)
+    } else {
+        "-".into()
+    }
+}
+
 /// One row per method, one column per map size, and the growth of `value` from the smallest
 /// size to the largest.
 fn size_table(
@@ -257,11 +259,11 @@ fn size_table(
             .map(|r| r.map_or("-".into(), |r| cell(r)))
             .collect();
         let values: Vec<f64> = row.iter().flatten().map(|r| value(r)).collect();
-        let growth = match (values.first(), values.last()) {
-            (Some(&a), Some(&b)) if a > 0.0 => format!("{:.2}x", b / a),
+        let grew = match (values.first(), values.last()) {
+            (Some(&a), Some(&b)) => growth(b, a),
             _ => "-".into(),
         };
-        let _ = writeln!(md, "| {m} | {} | {growth} |", cells.join(" | "));
+        let _ = writeln!(md, "| {m} | {} | {grew} |", cells.join(" | "));
     }
     md.push('\n');
 }

@@ -11,6 +11,9 @@
 //! `height` the material takes the frame's height map. Extras without `relief` are ignored;
 //! unknown keys inside `relief` are errors, so a misspelt setting is not silently dropped.
 
+use std::fmt::Display;
+use std::str::FromStr;
+
 use serde_json::{Map, Value};
 
 use super::{HeightSource, Relief, TextureRef};
@@ -46,9 +49,7 @@ pub(super) fn parse_relief(
     };
     let method = match relief.get("method") {
         None => Method::POM,
-        Some(v) => string(v, "extras.relief.method")?
-            .parse()
-            .map_err(|e| format!("extras.relief.method: {e}"))?,
+        Some(v) => parsed(v, "extras.relief.method")?,
     };
     let budget = match relief.get("budget") {
         None => None,
@@ -106,9 +107,7 @@ fn height_source(
         })?;
     let channel = match h.get("channel") {
         None => Channel::R,
-        Some(v) => string(v, "extras.relief.height.channel")?
-            .parse()
-            .map_err(|e| format!("extras.relief.height.channel: {e}"))?,
+        Some(v) => parsed(v, "extras.relief.height.channel")?,
     };
     let invert = match h.get("invert") {
         None => false,
@@ -128,9 +127,15 @@ fn object<'v>(v: &'v Value, field: &str) -> Result<&'v Map<String, Value>, Strin
         .ok_or_else(|| format!("{field}: expected an object, found {v}"))
 }
 
-fn string<'v>(v: &'v Value, field: &str) -> Result<&'v str, String> {
+/// A string field read through `T`'s `FromStr`, whose message names what it accepts.
+fn parsed<T: FromStr>(v: &Value, field: &str) -> Result<T, String>
+where
+    T::Err: Display,
+{
     v.as_str()
-        .ok_or_else(|| format!("{field}: expected a string, found {v}"))
+        .ok_or_else(|| format!("{field}: expected a string, found {v}"))?
+        .parse()
+        .map_err(|e| format!("{field}: {e}"))
 }
 
 fn only_keys(o: &Map<String, Value>, field: &str, known: &[&str]) -> Result<(), String> {
