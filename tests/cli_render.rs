@@ -159,3 +159,101 @@ fn explain_prints_the_plan() {
     );
     assert_eq!(plan["created"]["graphics_pipelines"], 2);
 }
+
+#[test]
+fn a_frame_sequence_reuses_its_resources_and_reports_steady_statistics() {
+    if common::device("frame_sequence_statistics").is_none() {
+        return;
+    }
+    let run = relief(&[
+        "render",
+        "--width",
+        "64",
+        "--height",
+        "36",
+        "--method",
+        "qdm",
+        "--frames",
+        "4",
+        "--orbit",
+        "360",
+        "--no-write",
+        "--json",
+    ]);
+    let err = String::from_utf8_lossy(&run.stderr);
+    assert!(run.status.success(), "render --frames failed:\n{err}");
+    let report: serde_json::Value = serde_json::from_slice(&run.stdout).expect("one JSON object");
+    assert_eq!(report["frames"], 4);
+    assert!(
+        report["out"].is_null(),
+        "--no-write writes nothing: {report}"
+    );
+    let first: Vec<&str> = report["passes"]
+        .as_array()
+        .expect("first frame's passes")
+        .iter()
+        .filter_map(|p| p["pass"].as_str())
+        .collect();
+    assert_eq!(
+        first,
+        ["pyramid", "surface"],
+        "the first frame builds the pyramid"
+    );
+    let steady = report["steady"].as_array().expect("steady statistics");
+    assert_eq!(
+        steady.len(),
+        1,
+        "only the surface pass after frame 1: {steady:?}"
+    );
+    let surface = &steady[0];
+    assert_eq!(surface["pass"], "surface");
+    assert_eq!(surface["frames"], 3);
+    let ms = |key: &str| surface[key].as_f64().expect(key);
+    assert!(ms("min_ms") > 0.0 && ms("min_ms") <= ms("median_ms"));
+    assert!(ms("median_ms") <= ms("p95_ms"), "{surface}");
+    let created = &report["created_after_first_frame"];
+    for (key, count) in created.as_object().expect("counts") {
+        assert_eq!(count, 0, "{key} created after the first frame: {created}");
+    }
+}
+
+#[test]
+fn a_frame_sequence_writes_numbered_files() {
+    if common::device("frame_sequence_files").is_none() {
+        return;
+    }
+    let dir = common::scratch_dir("frame-sequence");
+    let out = dir.join("shot.png");
+    let run = relief(&[
+        "render",
+        "--width",
+        "48",
+        "--height",
+        "32",
+        "--frames",
+        "2",
+        "--orbit",
+        "90",
+        "--out",
+        out.to_str().expect("utf-8"),
+    ]);
+    let err = String::from_utf8_lossy(&run.stderr);
+    assert!(run.status.success(), "render --frames failed:\n{err}");
+    let first = image::open(dir.join("shot_0001.png"))
+        .expect("frame 1")
+        .to_rgba8();
+    let second = image::open(dir.join("shot_0002.png"))
+        .expect("frame 2")
+        .to_rgba8();
+    assert_eq!(first.dimensions(), (48, 32));
+    assert!(!out.exists(), "a sequence writes numbered files only");
+    assert_ne!(
+        first.as_raw(),
+        second.as_raw(),
+        "the orbit moved the camera"
+    );
+    assert!(
+        err.contains("objects created after the first frame: none"),
+        "{err}"
+    );
+}

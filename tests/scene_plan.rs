@@ -5,7 +5,7 @@ mod common;
 
 use relief::heightfield::Generator;
 use relief::method::Method;
-use relief::render::{render, Plan, RenderOptions};
+use relief::render::{render, Pass, Plan, RenderOptions};
 use relief::scene::{quad_mesh, HeightSource, Light, Material, Relief, Scene};
 use relief::vk::ObjectCounts;
 
@@ -58,7 +58,7 @@ fn one_pom_material_without_light_builds_one_pipeline_and_nothing_else() {
         plan.heights[0].map, None,
         "POM reads no cone or quadric map"
     );
-    let passes: Vec<&str> = plan.passes.iter().map(|p| p.name.as_str()).collect();
+    let passes: Vec<&str> = plan.passes.iter().map(|p| p.pass.name()).collect();
     assert_eq!(passes, ["surface"], "no pyramid pass, no shadow pass");
     let skipped: Vec<&str> = plan.skipped.iter().map(|s| s.what.as_str()).collect();
     for what in [
@@ -95,7 +95,7 @@ fn maps_and_shadow_work_appear_only_when_needed() {
     };
     assert_eq!(plan.pipelines.len(), 1);
     assert!(plan.pipelines[0].self_shadow, "a shadow-casting light");
-    assert!(plan.passes.iter().any(|p| p.name == "self-shadow rays"));
+    assert!(plan.passes.iter().any(|p| p.pass == Pass::SelfShadowRays));
     assert_eq!(
         plan.heights[0].map.map(|m| m.name()),
         Some("cone_map"),

@@ -8,6 +8,7 @@ mod logger;
 mod maps;
 mod methods;
 mod render;
+mod render_frames;
 mod trace;
 
 use std::process::ExitCode;

@@ -5,11 +5,11 @@ use std::path::PathBuf;
 use anyhow::Context as _;
 use clap::{Args, ValueEnum};
 use relief::method::Method;
-use relief::render::{explain, render, Addressing, Frame, HeightFormat, RenderOptions};
+use relief::render::{Addressing, HeightFormat, RenderOptions, Renderer};
 use relief::scene::{default_heightfield, default_scene, load_gltf, Scene, SceneOptions};
-use serde_json::json;
 
 use super::heightmap_args::HeightmapArgs;
+use super::render_frames::{run_frames, FrameArgs};
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
 pub enum FormatArg {
@@ -27,9 +27,9 @@ pub enum AddressArg {
 pub struct RenderArgs {
     /// glTF scene (.gltf or .glb); the built-in default scene when left out.
     scene: Option<PathBuf>,
-    /// Output PNG.
+    /// Output PNG; with --frames N > 1, frame k is written as STEM_000k.png beside it.
     #[arg(long, default_value = "frame.png")]
-    out: PathBuf,
+    pub(super) out: PathBuf,
     #[arg(long, default_value_t = 960)]
     width: u32,
     #[arg(long, default_value_t = 540)]
@@ -63,10 +63,12 @@ pub struct RenderArgs {
     device: Option<String>,
     /// Print one JSON object instead of the table.
     #[arg(long)]
-    json: bool,
+    pub(super) json: bool,
     /// Print the plan (pipelines, maps, passes, what was skipped and why) as one JSON object.
     #[arg(long)]
-    explain: bool,
+    pub(super) explain: bool,
+    #[command(flatten)]
+    pub(super) frames: FrameArgs,
 }
 
 const DEFAULT_GLTF_DEPTH_SCALE: f32 = 0.05;
@@ -155,74 +157,8 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         },
     };
     let before = ctx.created();
-    let frame = render(&ctx, &scene, heights.as_ref(), &opts).context("rendering the frame")?;
-    let created = ctx.created() - before;
-    write_png(&frame, &args.out)?;
-    super::check_validation(&ctx)?;
-    if args.explain {
-        println!("{}", explain(&frame, &created));
-        return Ok(());
-    }
-    report(args, &ctx, &frame, &source);
-    Ok(())
-}
-
-fn write_png(frame: &Frame, out: &std::path::Path) -> anyhow::Result<()> {
-    if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
-    }
-    image::save_buffer(
-        out,
-        &frame.rgba,
-        frame.width,
-        frame.height,
-        image::ColorType::Rgba8,
-    )
-    .with_context(|| format!("writing {}", out.display()))
-}
-
-/// The relief methods the frame drew with, or "none".
-fn methods_drawn(frame: &Frame) -> String {
-    let mut ids: Vec<&str> = frame
-        .plan
-        .pipelines
-        .iter()
-        .filter_map(|p| p.method.map(|m| m.id()))
-        .collect();
-    ids.sort_unstable();
-    ids.dedup();
-    if ids.is_empty() {
-        "none".into()
-    } else {
-        ids.join(", ")
-    }
-}
-
-fn report(args: &RenderArgs, ctx: &relief::vk::Context, frame: &Frame, source: &str) {
-    let methods = methods_drawn(frame);
-    if args.json {
-        let value = json!({
-            "device": ctx.info(),
-            "out": args.out,
-            "width": frame.width,
-            "height": frame.height,
-            "methods": methods,
-            "heightmap": source,
-            "upload_ms": frame.upload_ms,
-            "passes": frame.timings,
-            "maps": frame.maps,
-        });
-        println!("{value}");
-        return;
-    }
-    println!("{:<10} {:>9}", "pass", "gpu_ms");
-    for t in &frame.timings {
-        println!("{:<10} {:>9.3}", t.pass, t.gpu_ms);
-    }
-    eprintln!(
-        "wrote {} ({}x{}, relief: {methods}, heights: {source})",
-        args.out.display(),
-        frame.width,
-        frame.height,
-    );
+    let mut renderer = Renderer::new(&ctx, &scene, heights.as_ref(), &opts)
+        .context("preparing the scene for rendering")?;
+    run_frames(args, &ctx, &mut renderer, &scene, before, &source)?;
+    super::check_validation(&ctx)
 }

@@ -24,8 +24,9 @@ use crate::heightfield::reference::Address;
 use crate::heightfield::Heightfield;
 use crate::shaders;
 use crate::vk::{
-    compute_pipeline, memory_barrier, write_set, Bind, Buffer, Context, DescriptorLayout,
-    DescriptorPool, MemoryLocation, Pipeline, SpecConstants, TimestampPool, VkError, VkResult,
+    compute_pipeline, memory_barrier, Bind, Buffer, Context, DescriptorLayout, DescriptorPool,
+    DescriptorSet, MemoryLocation, Pipeline, Recording, SpecConstants, TimestampPool, VkError,
+    VkResult,
 };
 
 /// The workgroup is 8x8 texels.
@@ -69,7 +70,7 @@ pub struct ConeMapPass {
     ctx: Arc<Context>,
     _layout: DescriptorLayout,
     _pool: DescriptorPool,
-    set: vk::DescriptorSet,
+    set: DescriptorSet,
     pipeline: Pipeline,
 }
 
@@ -139,9 +140,8 @@ impl ConeMapPass {
             MemoryLocation::GpuToCpu,
             "cone map",
         )?;
-        write_set(
-            ctx.device(),
-            self.set,
+        self.set.rewrite(
+            ctx,
             &[Bind::Storage(0, pyramid.raw()), Bind::Storage(1, out.raw())],
         );
         let rows = rows_per_submission(w, h);
@@ -159,10 +159,10 @@ impl ConeMapPass {
             offsets: level_offsets(w, h),
         };
         let all = vk::PipelineStageFlags2::ALL_COMMANDS;
-        ctx.one_shot(|cmd| {
-            timestamps.write(cmd, all, 0)?;
-            self.record_pyramid(cmd, &staging, &pyramid, params, bound.data().len());
-            timestamps.write(cmd, all, 1)?;
+        ctx.one_shot(|rec| {
+            timestamps.write(rec, all, 0)?;
+            self.record_pyramid(rec, &staging, &pyramid, params)?;
+            timestamps.write(rec, all, 1)?;
             Ok(())
         })?;
         for chunk in 0..chunks {
@@ -170,10 +170,10 @@ impl ConeMapPass {
             let count = rows.min(h - row0);
             let mut rows_params = params;
             rows_params.row0 = row0;
-            ctx.one_shot(|cmd| {
-                timestamps.write(cmd, all, 2 * chunk + 2)?;
-                self.record_rows(cmd, rows_params, count);
-                timestamps.write(cmd, all, 2 * chunk + 3)?;
+            ctx.one_shot(|rec| {
+                timestamps.write(rec, all, 2 * chunk + 2)?;
+                self.record_rows(rec, rows_params, count)?;
+                timestamps.write(rec, all, 2 * chunk + 3)?;
                 Ok(())
             })?;
         }
@@ -194,62 +194,51 @@ impl ConeMapPass {
     /// Copies level 0 in and reduces it to 1x1, a barrier after every step.
     fn record_pyramid(
         &self,
-        cmd: vk::CommandBuffer,
+        rec: &Recording,
         staging: &Buffer,
         pyramid: &Buffer,
         params: Params,
-        floats: usize,
-    ) {
-        let device = self.ctx.device();
-        let region = [vk::BufferCopy {
-            src_offset: 0,
-            dst_offset: 0,
-            size: floats as u64 * 4,
-        }];
-        // SAFETY: `cmd` is recording; both buffers hold at least `size` bytes.
-        unsafe { device.cmd_copy_buffer(cmd, staging.raw(), pyramid.raw(), &region) };
+    ) -> VkResult<()> {
+        rec.copy_buffer(staging, pyramid);
         let write_read =
             vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE;
         let compute = vk::PipelineStageFlags2::COMPUTE_SHADER;
         memory_barrier(
-            device,
-            cmd,
+            rec,
             (
                 vk::PipelineStageFlags2::COPY,
                 vk::AccessFlags2::TRANSFER_WRITE,
             ),
             (compute, write_read),
         );
-        self.pipeline.bind(cmd, Some(self.set));
+        self.pipeline.bind(rec, Some(self.set));
         for level in 1..=top_level(params.width, params.height) {
             let (lw, lh) = level_size(params.width, params.height, level);
             let mut level_params = params;
             level_params.level = level;
-            self.pipeline.push(cmd, bytemuck::bytes_of(&level_params));
-            // SAFETY: `cmd` is recording; the bound set covers both buffers the shader touches.
-            unsafe { device.cmd_dispatch(cmd, lw.div_ceil(GROUP), lh.div_ceil(GROUP), 1) };
-            memory_barrier(device, cmd, (compute, write_read), (compute, write_read));
+            self.pipeline.push(rec, bytemuck::bytes_of(&level_params))?;
+            rec.dispatch([lw.div_ceil(GROUP), lh.div_ceil(GROUP), 1]);
+            memory_barrier(rec, (compute, write_read), (compute, write_read));
         }
+        Ok(())
     }
 
     /// Searches `count` rows from `params.row0`, then makes the results visible to the host.
-    fn record_rows(&self, cmd: vk::CommandBuffer, params: Params, count: u32) {
-        let device = self.ctx.device();
-        self.pipeline.bind(cmd, Some(self.set));
+    fn record_rows(&self, rec: &Recording, params: Params, count: u32) -> VkResult<()> {
+        self.pipeline.bind(rec, Some(self.set));
         let mut params = params;
         params.mode = MODE_CONE;
-        self.pipeline.push(cmd, bytemuck::bytes_of(&params));
-        // SAFETY: `cmd` is recording; the bound set covers both buffers the shader touches.
-        unsafe { device.cmd_dispatch(cmd, params.width.div_ceil(GROUP), count.div_ceil(GROUP), 1) };
+        self.pipeline.push(rec, bytemuck::bytes_of(&params))?;
+        rec.dispatch([params.width.div_ceil(GROUP), count.div_ceil(GROUP), 1]);
         memory_barrier(
-            device,
-            cmd,
+            rec,
             (
                 vk::PipelineStageFlags2::COMPUTE_SHADER,
                 vk::AccessFlags2::SHADER_STORAGE_WRITE,
             ),
             (vk::PipelineStageFlags2::HOST, vk::AccessFlags2::HOST_READ),
         );
+        Ok(())
     }
 }
 

@@ -4,7 +4,8 @@
 use serde::Serialize;
 use serde_json::{json, Value};
 
-use super::frame::Frame;
+use super::frame::BuiltMap;
+use super::plan::Plan;
 use super::surface_pass::describe;
 use crate::vk::ObjectCounts;
 
@@ -19,9 +20,9 @@ struct PipelineEntry {
     self_shadow: bool,
 }
 
-/// The explanation of `frame`; `created` is what the frame created on the device.
-pub fn explain(frame: &Frame, created: &ObjectCounts) -> Value {
-    let plan = &frame.plan;
+/// The explanation of what `plan` built; `maps` are the maps built for it and `created` what
+/// was created on the device.
+pub fn explain(plan: &Plan, maps: &[BuiltMap], created: &ObjectCounts) -> Value {
     let pipelines: Vec<PipelineEntry> = plan
         .pipelines
         .iter()
@@ -49,7 +50,7 @@ pub fn explain(frame: &Frame, created: &ObjectCounts) -> Value {
         .collect();
     json!({
         "pipelines": pipelines,
-        "maps": frame.maps,
+        "maps": maps,
         "heights": heights,
         "passes": plan.passes,
         "skipped": plan.skipped,

@@ -68,7 +68,11 @@ pub fn frame_camera(scene: &Scene) -> Camera {
 impl FrameUniforms {
     /// The uniforms for `scene` seen with an image of `aspect` (width / height), lit by `lights`.
     pub fn for_scene(scene: &Scene, lights: &[Light], aspect: f32) -> FrameUniforms {
-        let camera = frame_camera(scene);
+        Self::new(&frame_camera(scene), lights, aspect)
+    }
+
+    /// The uniforms for `camera` with an image of `aspect` (width / height), lit by `lights`.
+    pub fn new(camera: &Camera, lights: &[Light], aspect: f32) -> FrameUniforms {
         let eye = camera.eye();
         let mut out = FrameUniforms {
             view_proj: camera.view_projection(aspect).to_cols_array_2d(),

@@ -1,6 +1,7 @@
 //! What every pass that traces rays binds: the height image with its pyramid (built on the GPU),
-//! the frame uniforms' height info, and the method's precomputed map when it has one. Bindings
-//! 0..=3 of `shaders/include/bindings.glsl`.
+//! the frame uniforms with this map's height info, and the method's precomputed map when it has
+//! one. Bindings 0..=3 of `shaders/include/bindings.glsl`. The uniforms come in one host-visible
+//! copy per frame in flight, so a frame can rewrite its copy while the GPU still reads another.
 
 use std::sync::Arc;
 
@@ -11,14 +12,14 @@ use super::gpu_heightfield::{Addressing, GpuHeightfield, HeightFormat};
 use super::method_map::{GpuMethodMap, MapData};
 use super::pyramid_pass::{PyramidJob, PyramidPass};
 use crate::heightfield::Heightfield;
-use crate::vk::{Bind, Buffer, Context, VkResult};
+use crate::vk::{Bind, Buffer, Context, Recording, VkError, VkResult};
 
 /// Uploaded heights, their pyramid pass (when a method reads it), uniforms and the optional
 /// method map.
 pub struct HeightResources {
     pub heights: GpuHeightfield,
     pyramid: Option<(PyramidPass, PyramidJob)>,
-    uniforms: Buffer,
+    uniforms: Vec<Buffer>,
     map: Option<GpuMethodMap>,
 }
 
@@ -33,11 +34,13 @@ impl HeightResources {
         map: Option<&MapData>,
         frame: FrameUniforms,
     ) -> VkResult<HeightResources> {
-        Self::with_pyramid(ctx, hf, format, address, map, frame, true)
+        Self::with_pyramid(ctx, hf, format, address, map, frame, true, 1)
     }
 
-    /// As [`HeightResources::new`], with the pyramid only when `pyramid` is set: methods that
-    /// read no pyramid get a single-level height image and no pyramid pass.
+    /// As [`HeightResources::new`], with the pyramid only when `pyramid` is set (methods that
+    /// read no pyramid get a single-level height image and no pyramid pass) and `slots` copies
+    /// of the uniforms, one per frame in flight.
+    #[allow(clippy::too_many_arguments)]
     pub fn with_pyramid(
         ctx: &Arc<Context>,
         hf: &Heightfield,
@@ -46,6 +49,7 @@ impl HeightResources {
         map: Option<&MapData>,
         mut frame: FrameUniforms,
         pyramid: bool,
+        slots: usize,
     ) -> VkResult<HeightResources> {
         let (heights, pyramid) = if pyramid {
             let heights = GpuHeightfield::upload(ctx, hf, format, address)?;
@@ -57,12 +61,16 @@ impl HeightResources {
             (heights, None)
         };
         frame.height_info = heights.shader_info();
-        let uniforms = Buffer::with_data(
-            ctx,
-            bytemuck::bytes_of(&frame),
-            vk::BufferUsageFlags::UNIFORM_BUFFER,
-            "frame uniforms",
-        )?;
+        let uniforms = (0..slots.max(1))
+            .map(|slot| {
+                Buffer::with_data(
+                    ctx,
+                    bytemuck::bytes_of(&frame),
+                    vk::BufferUsageFlags::UNIFORM_BUFFER,
+                    &format!("frame uniforms {slot}"),
+                )
+            })
+            .collect::<VkResult<Vec<_>>>()?;
         let map = map
             .map(|m| GpuMethodMap::upload(ctx, m, address, "method map"))
             .transpose()?;
@@ -87,11 +95,17 @@ impl HeightResources {
         list
     }
 
-    /// The resources for bindings 0..=3.
+    /// The resources for bindings 0..=3, with the uniforms of frame slot 0.
     pub fn binds(&self) -> Vec<Bind> {
+        self.slot_binds(0)
+    }
+
+    /// The resources for bindings 0..=3, with the uniforms of frame slot `slot`.
+    pub fn slot_binds(&self, slot: usize) -> Vec<Bind> {
         let view = self.heights.image.view();
+        let uniforms = &self.uniforms[slot.min(self.uniforms.len() - 1)];
         let mut list = vec![
-            Bind::Uniform(0, self.uniforms.raw()),
+            Bind::Uniform(0, uniforms.raw()),
             Bind::Texture(1, view, self.heights.point.raw()),
             Bind::Texture(2, view, self.heights.linear.raw()),
         ];
@@ -103,10 +117,28 @@ impl HeightResources {
 
     /// Records the pyramid build (if there is one); afterwards the height image is ready for
     /// sampling.
-    pub fn record_pyramid(&self, cmd: vk::CommandBuffer) {
-        if let Some((pass, job)) = &self.pyramid {
-            pass.record(cmd, &self.heights, job);
+    pub fn record_pyramid(&self, rec: &Recording) -> VkResult<()> {
+        match &self.pyramid {
+            Some((pass, job)) => pass.record(rec, &self.heights, job),
+            None => Ok(()),
         }
+    }
+
+    /// Writes `frame`, with this map's height info, into slot `slot`'s uniforms. The slot's
+    /// previous frame must have finished on the GPU.
+    pub fn write_uniforms(&mut self, slot: usize, mut frame: FrameUniforms) -> VkResult<()> {
+        frame.height_info = self.heights.shader_info();
+        let count = self.uniforms.len();
+        let buffer = self
+            .uniforms
+            .get_mut(slot)
+            .ok_or_else(|| VkError::Invalid(format!("uniform slot {slot} of {count}")))?;
+        buffer.write(0, bytemuck::bytes_of(&frame))
+    }
+
+    /// How many frame slots have uniforms.
+    pub fn slots(&self) -> usize {
+        self.uniforms.len()
     }
 
     /// Whether a method map is bound (binding 3).

@@ -7,7 +7,7 @@ use ash::vk;
 
 use super::scene_textures::SceneTextures;
 use crate::scene::{AlphaMode, HeightSource, Material, SceneImage, TextureSlot, UvTransform};
-use crate::vk::{Bind, Buffer, Context, DescriptorLayout, DescriptorPool, VkResult};
+use crate::vk::{Bind, Buffer, Context, DescriptorLayout, DescriptorPool, DescriptorSet, VkResult};
 
 /// The material parameter block.
 #[repr(C)]
@@ -98,7 +98,7 @@ pub struct MaterialSets {
     _pool: DescriptorPool,
     _buffers: Vec<Buffer>,
     /// By material index; `None` for materials no mesh draws.
-    sets: Vec<Option<vk::DescriptorSet>>,
+    sets: Vec<Option<DescriptorSet>>,
 }
 
 impl MaterialSets {
@@ -146,7 +146,7 @@ impl MaterialSets {
     }
 
     /// The set of material `index`, if it is drawn.
-    pub fn set(&self, index: usize) -> Option<vk::DescriptorSet> {
+    pub fn set(&self, index: usize) -> Option<DescriptorSet> {
         self.sets.get(index).copied().flatten()
     }
 }

@@ -1,19 +1,25 @@
-//! The frame: joins height fields and scenes with the Vulkan layer. Uploads, the pyramid pass,
-//! the surface pass, timestamps around each, and readback to an image.
+//! The renderer: joins height fields and scenes with the Vulkan layer. A [`Renderer`] made once
+//! per scene owns the uploads, maps and pipelines and draws frames from cameras; typed passes
+//! (the pyramid, the surface) are timed by timestamp scopes and read a frame later.
 
 mod bench_pass;
 mod cone_map_pass;
 mod explain;
 mod frame;
+mod frame_stats;
 mod frame_uniforms;
 mod gpu_heightfield;
 mod height_resources;
 mod material_set;
 mod method_map;
+mod pass;
+mod pass_timer;
 mod plan;
 mod pyramid_pass;
+mod renderer;
 mod scene_textures;
 mod surface_pass;
+mod targets;
 mod texture_mips;
 mod trace_pass;
 
@@ -22,12 +28,16 @@ pub use cone_map_pass::{
     build_cone_map_on_gpu, ConeMapPass, MAX_SIDE as CONE_MAP_GPU_MAX_SIDE, RATIO_TOLERANCE,
 };
 pub use explain::explain;
-pub use frame::{render, BuiltMap, Frame, PassTiming, RenderError, RenderOptions};
+pub use frame::{render, BuiltMap, Frame, RenderError, RenderOptions};
+pub use frame_stats::{sequence_stats, PassStats, SequenceStats};
 pub use frame_uniforms::{frame_camera, FrameUniforms, LightUniform, MAX_LIGHTS};
 pub use gpu_heightfield::{Addressing, GpuHeightfield, HeightFormat};
 pub use height_resources::HeightResources;
 pub use method_map::{GpuMethodMap, MapData};
+pub use pass::Pass;
+pub use pass_timer::{PassTiming, Scope};
 pub use plan::{DrawPlan, HeightKey, HeightPlan, PassPlan, PipelineKey, Plan, PlanError, Skipped};
 pub use pyramid_pass::{build_pyramid_on_gpu, PyramidJob, PyramidPass};
+pub use renderer::{FrameOutput, FrameRequest, Renderer, FRAMES_IN_FLIGHT};
 pub use surface_pass::{describe as describe_pipeline, COLOR_FORMAT, DEPTH_FORMAT};
 pub use trace_pass::{trace_on_gpu, TraceOutput, TraceRequest, TRACE_GROUP_SIDE};

@@ -7,6 +7,7 @@ use serde::Serialize;
 
 use super::frame_uniforms::MAX_LIGHTS;
 use super::gpu_heightfield::Addressing;
+use super::pass::Pass;
 use crate::heightfield::{Channel, Heightfield};
 use crate::method::{MapKind, Method};
 use crate::scene::{AlphaMode, HeightSource, Light, Scene, Wrap};
@@ -76,10 +77,11 @@ pub struct Skipped {
     pub why: String,
 }
 
-/// A pass the frame records.
+/// A pass the frame records, and why the scene needs it.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct PassPlan {
-    pub name: String,
+    #[serde(rename = "name")]
+    pub pass: Pass,
     pub why: String,
 }
 
@@ -311,26 +313,26 @@ impl Plan {
         let pyramids = self.heights.iter().filter(|h| h.pyramid).count();
         if pyramids > 0 {
             self.passes.push(PassPlan {
-                name: "pyramid".into(),
+                pass: Pass::Pyramid,
                 why: format!("{pyramids} height map(s) read by pyramid methods"),
             });
         }
         self.passes.push(PassPlan {
-            name: "surface".into(),
+            pass: Pass::Surface,
             why: format!("{} draw(s)", self.draws.len()),
         });
         let shadowed = self.pipelines.iter().any(|p| p.self_shadow);
         if shadowed {
             self.passes.push(PassPlan {
-                name: "self-shadow rays".into(),
+                pass: Pass::SelfShadowRays,
                 why:
                     "relief materials under a light that casts shadows (traced in the surface pass)"
                         .into(),
             });
         } else if casts_shadows {
-            self.skip("self-shadow rays", "no drawn material has relief");
+            self.skip(Pass::SelfShadowRays.name(), "no drawn material has relief");
         } else {
-            self.skip("self-shadow rays", "no light casts shadows");
+            self.skip(Pass::SelfShadowRays.name(), "no light casts shadows");
         }
         self.skip(
             "ambient occlusion pass",
@@ -398,7 +400,7 @@ mod tests {
         assert_eq!(p.pipelines.len(), 1);
         assert_eq!(p.pipelines[0].method, None);
         assert!(p.heights.is_empty());
-        assert!(p.passes.iter().all(|x| x.name != "self-shadow rays"));
+        assert!(p.passes.iter().all(|x| x.pass != Pass::SelfShadowRays));
         assert!(p.skipped.iter().any(|s| s.what == "self-shadow rays"));
     }
 

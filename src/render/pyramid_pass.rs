@@ -11,7 +11,8 @@ use super::gpu_heightfield::GpuHeightfield;
 use crate::shaders;
 use crate::vk::{
     compute_pipeline, memory_barrier, transition_images, Bind, Context, DescriptorLayout,
-    DescriptorPool, ImageTransition, ImageView, Pipeline, SpecConstants, VkError, VkResult,
+    DescriptorPool, DescriptorSet, ImageTransition, ImageView, Pipeline, Recording, SpecConstants,
+    VkError, VkResult,
 };
 
 const GROUP: u32 = 8;
@@ -28,7 +29,7 @@ pub struct PyramidPass {
 pub struct PyramidJob {
     _views: Vec<ImageView>,
     _pool: DescriptorPool,
-    sets: Vec<vk::DescriptorSet>,
+    sets: Vec<DescriptorSet>,
 }
 
 impl PyramidPass {
@@ -90,8 +91,7 @@ impl PyramidPass {
 
     /// Records the build. The image must be in `GENERAL` with level 0 written; it ends in
     /// `SHADER_READ_ONLY_OPTIMAL`, ready for the surface pass.
-    pub fn record(&self, cmd: vk::CommandBuffer, hf: &GpuHeightfield, job: &PyramidJob) {
-        let device = self.ctx.device();
+    pub fn record(&self, rec: &Recording, hf: &GpuHeightfield, job: &PyramidJob) -> VkResult<()> {
         let write = (
             vk::PipelineStageFlags2::COMPUTE_SHADER,
             vk::AccessFlags2::SHADER_STORAGE_WRITE,
@@ -102,18 +102,16 @@ impl PyramidPass {
         );
         for (k, &set) in job.sets.iter().enumerate() {
             let (w, h) = hf.image.level_extent(k as u32 + 1);
-            self.pipeline.bind(cmd, Some(set));
+            self.pipeline.bind(rec, Some(set));
             let widen = u32::from(k == 0);
             let wrap = u32::from(hf.address == super::Addressing::Repeat);
             self.pipeline
-                .push(cmd, bytemuck::bytes_of(&[widen, wrap, 0u32, 0u32]));
-            // SAFETY: `cmd` is recording; the bound set covers both images the shader touches.
-            unsafe { device.cmd_dispatch(cmd, w.div_ceil(GROUP), h.div_ceil(GROUP), 1) };
-            memory_barrier(device, cmd, write, read);
+                .push(rec, bytemuck::bytes_of(&[widen, wrap, 0u32, 0u32]))?;
+            rec.dispatch([w.div_ceil(GROUP), h.div_ceil(GROUP), 1]);
+            memory_barrier(rec, write, read);
         }
         transition_images(
-            device,
-            cmd,
+            rec,
             &[ImageTransition {
                 image: hf.image.raw(),
                 aspect: vk::ImageAspectFlags::COLOR,
@@ -133,6 +131,7 @@ impl PyramidPass {
                 ),
             }],
         );
+        Ok(())
     }
 }
 
@@ -149,10 +148,10 @@ pub fn build_pyramid_on_gpu(
     let job = pass.prepare(&gpu)?;
     let timestamps = crate::vk::TimestampPool::new(ctx, 2, "pyramid timestamps")?;
     let all = vk::PipelineStageFlags2::ALL_COMMANDS;
-    ctx.one_shot(|cmd| {
-        timestamps.write(cmd, all, 0)?;
-        pass.record(cmd, &gpu, &job);
-        timestamps.write(cmd, all, 1)?;
+    ctx.one_shot(|rec| {
+        timestamps.write(rec, all, 0)?;
+        pass.record(rec, &gpu, &job)?;
+        timestamps.write(rec, all, 1)?;
         Ok(())
     })?;
     let ticks = timestamps.read_ticks(2)?;

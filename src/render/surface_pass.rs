@@ -1,6 +1,7 @@
-//! The surface pass: mesh buffers, set 0 per height map (frame uniforms, heights, the method's
-//! map) plus a plain one, set 1 per material, the pipelines the plan lists, and the draw
-//! recording with dynamic rendering: opaque draws first, then blended ones back to front.
+//! The surface pass: mesh buffers, set 0 per height map and frame slot (frame uniforms, heights,
+//! the method's map) plus a plain one per slot, set 1 per material, the pipelines the plan lists,
+//! and the draw recording with dynamic rendering: opaque draws first, then blended ones back to
+//! front. Everything here is built once per scene; a frame only rewrites its slot's uniforms.
 
 use std::sync::Arc;
 
@@ -15,8 +16,8 @@ use super::scene_textures::SceneTextures;
 use crate::scene::{Scene, Vertex};
 use crate::shaders;
 use crate::vk::{
-    graphics_pipeline, Bind, Buffer, Context, DescriptorLayout, DescriptorPool, GraphicsDesc,
-    Pipeline, SpecConstants, VkError, VkResult,
+    graphics_pipeline, Bind, Buffer, Context, DescriptorLayout, DescriptorPool, DescriptorSet,
+    GraphicsDesc, Pipeline, Recording, SpecConstants, VkError, VkResult,
 };
 
 /// Colour target format: sRGB, so the hardware encodes the shader's linear output.
@@ -32,8 +33,9 @@ struct MeshDraw {
     indices: Buffer,
     index_count: u32,
     pipeline: usize,
-    frame_set: vk::DescriptorSet,
-    material_set: vk::DescriptorSet,
+    /// Set 0 per frame slot.
+    frame_sets: Vec<DescriptorSet>,
+    material_set: DescriptorSet,
     model: Mat4,
     blend: bool,
     center: Vec3,
@@ -43,11 +45,11 @@ struct MeshDraw {
 pub struct SurfacePass {
     pipelines: Vec<Pipeline>,
     draws: Vec<MeshDraw>,
-    eye: Vec3,
     _materials: MaterialSets,
     _textures: SceneTextures,
     _frame_pool: DescriptorPool,
-    _plain_uniforms: Option<Buffer>,
+    /// The plain variant's uniforms, one per frame slot (empty when nothing is drawn plain).
+    plain_uniforms: Vec<Buffer>,
     _layouts: Vec<DescriptorLayout>,
 }
 
@@ -76,7 +78,7 @@ fn frame_layouts(ctx: &Arc<Context>) -> VkResult<FrameLayouts> {
 
 impl SurfacePass {
     /// Uploads what `plan` draws of `scene` and builds the pipelines it lists. `heights[k]` is
-    /// the uploaded height map of `plan.heights[k]`.
+    /// the uploaded height map of `plan.heights[k]`, with uniforms for every frame slot.
     pub fn new(
         ctx: &Arc<Context>,
         scene: &Scene,
@@ -84,6 +86,7 @@ impl SurfacePass {
         heights: &[HeightResources],
         uniforms: &FrameUniforms,
     ) -> VkResult<SurfacePass> {
+        let slots = heights.first().map_or(1, HeightResources::slots);
         let layouts = frame_layouts(ctx)?;
         let material_layout = material_layout(ctx)?;
         let mut drawn = vec![false; scene.materials.len()];
@@ -99,7 +102,7 @@ impl SurfacePass {
             &drawn,
             &mut textures,
         )?;
-        let sets = heights.len() as u32 + 1;
+        let sets = (heights.len() as u32 + 1) * slots as u32;
         let frame_pool = DescriptorPool::new(ctx, sets, 4 * sets, "frame sets")?;
         let height_sets = heights
             .iter()
@@ -109,23 +112,29 @@ impl SurfacePass {
                 } else {
                     &layouts.heights
                 };
-                frame_pool.allocate(layout, &h.binds())
+                (0..slots)
+                    .map(|slot| frame_pool.allocate(layout, &h.slot_binds(slot)))
+                    .collect::<VkResult<Vec<_>>>()
             })
             .collect::<VkResult<Vec<_>>>()?;
         let plain_uniforms = if plan.pipelines.iter().any(|p| p.method.is_none()) {
-            Some(Buffer::with_data(
-                ctx,
-                bytemuck::bytes_of(uniforms),
-                vk::BufferUsageFlags::UNIFORM_BUFFER,
-                "plain frame uniforms",
-            )?)
+            (0..slots)
+                .map(|slot| {
+                    Buffer::with_data(
+                        ctx,
+                        bytemuck::bytes_of(uniforms),
+                        vk::BufferUsageFlags::UNIFORM_BUFFER,
+                        &format!("plain frame uniforms {slot}"),
+                    )
+                })
+                .collect::<VkResult<Vec<_>>>()?
         } else {
-            None
+            Vec::new()
         };
-        let plain_set = plain_uniforms
-            .as_ref()
+        let plain_sets = plain_uniforms
+            .iter()
             .map(|b| frame_pool.allocate(&layouts.plain, &[Bind::Uniform(0, b.raw())]))
-            .transpose()?;
+            .collect::<VkResult<Vec<_>>>()?;
         let pipelines = plan
             .pipelines
             .iter()
@@ -143,9 +152,10 @@ impl SurfacePass {
         let mut draws = Vec::with_capacity(plan.draws.len());
         for d in &plan.draws {
             let mesh = &scene.meshes[d.mesh];
-            let frame_set = match d.heights {
-                Some(k) => height_sets[k],
-                None => plain_set.ok_or_else(|| VkError::Invalid("no plain frame set".into()))?,
+            let frame_sets = match d.heights {
+                Some(k) => height_sets[k].clone(),
+                None if !plain_sets.is_empty() => plain_sets.clone(),
+                None => return Err(VkError::Invalid("no plain frame set".into())),
             };
             let material_set = materials
                 .set(d.material)
@@ -166,21 +176,19 @@ impl SurfacePass {
                 )?,
                 index_count: mesh.indices.len() as u32,
                 pipeline: d.pipeline,
-                frame_set,
+                frame_sets,
                 material_set,
                 model: mesh.transform,
                 blend: plan.pipelines[d.pipeline].blend,
                 center: mesh.transform.transform_point3((lo + hi) * 0.5),
             });
         }
-        let eye = Vec3::from_slice(&uniforms.eye[..3]);
         Ok(SurfacePass {
             pipelines,
             draws,
-            eye,
             _materials: materials,
             _frame_pool: frame_pool,
-            _plain_uniforms: plain_uniforms,
+            plain_uniforms,
             _layouts: vec![
                 layouts.plain,
                 layouts.heights,
@@ -191,29 +199,36 @@ impl SurfacePass {
         })
     }
 
-    /// Records every draw: opaque ones in plan order, then blended ones from far to near.
-    /// Rendering must have begun with the targets' formats.
-    pub fn record_draws(&self, device: &ash::Device, cmd: vk::CommandBuffer) {
+    /// Writes the plain variant's uniforms of frame slot `slot` (the height maps' own are
+    /// written through their `HeightResources`).
+    pub fn write_uniforms(&mut self, slot: usize, uniforms: &FrameUniforms) -> VkResult<()> {
+        match self.plain_uniforms.get_mut(slot) {
+            Some(buffer) => buffer.write(0, bytemuck::bytes_of(uniforms)),
+            None => Ok(()),
+        }
+    }
+
+    /// Records every draw of frame slot `slot`, seen from `eye`: opaque ones in plan order, then
+    /// blended ones from far to near. Rendering must have begun with the targets' formats.
+    pub fn record_draws(&self, rec: &Recording, slot: usize, eye: Vec3) -> VkResult<()> {
         let mut order: Vec<&MeshDraw> = self.draws.iter().filter(|d| !d.blend).collect();
         let mut blended: Vec<&MeshDraw> = self.draws.iter().filter(|d| d.blend).collect();
         blended.sort_by(|a, b| {
-            let da = a.center.distance_squared(self.eye);
-            let db = b.center.distance_squared(self.eye);
+            let da = a.center.distance_squared(eye);
+            let db = b.center.distance_squared(eye);
             db.total_cmp(&da)
         });
         order.extend(blended);
         for draw in order {
             let pipeline = &self.pipelines[draw.pipeline];
-            pipeline.bind(cmd, Some(draw.frame_set));
-            pipeline.bind_set(cmd, 1, draw.material_set);
-            pipeline.push(cmd, bytemuck::bytes_of(&draw.model.to_cols_array_2d()));
-            // SAFETY: `cmd` is recording inside dynamic rendering; buffers outlive the submission.
-            unsafe {
-                device.cmd_bind_vertex_buffers(cmd, 0, &[draw.vertices.raw()], &[0]);
-                device.cmd_bind_index_buffer(cmd, draw.indices.raw(), 0, vk::IndexType::UINT32);
-                device.cmd_draw_indexed(cmd, draw.index_count, 1, 0, 0, 0);
-            }
+            let set = draw.frame_sets[slot.min(draw.frame_sets.len() - 1)];
+            pipeline.bind(rec, Some(set));
+            pipeline.bind_set(rec, 1, draw.material_set);
+            pipeline.push(rec, bytemuck::bytes_of(&draw.model.to_cols_array_2d()))?;
+            rec.bind_mesh(&draw.vertices, &draw.indices);
+            rec.draw_indexed(draw.index_count);
         }
+        Ok(())
     }
 }
 

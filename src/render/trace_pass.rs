@@ -139,24 +139,20 @@ pub fn trace_repeated(
         vk::AccessFlags2::MEMORY_READ | vk::AccessFlags2::MEMORY_WRITE,
     );
     let all = vk::PipelineStageFlags2::ALL_COMMANDS;
-    ctx.one_shot(|cmd| {
-        res.record_pyramid(cmd);
-        pipeline.bind(cmd, Some(set));
-        pipeline.push(cmd, bytemuck::bytes_of(&params));
+    ctx.one_shot(|rec| {
+        res.record_pyramid(rec)?;
+        pipeline.bind(rec, Some(set));
+        pipeline.push(rec, bytemuck::bytes_of(&params))?;
         for frame in 0..warmup + frames {
             let timed = frame.checked_sub(warmup);
             if let Some(k) = timed {
-                timestamps.write(cmd, all, 2 * k)?;
+                timestamps.write(rec, all, 2 * k)?;
             }
-            // SAFETY: `cmd` is recording; the set binds every resource the shader touches.
-            unsafe {
-                ctx.device()
-                    .cmd_dispatch(cmd, cols.div_ceil(GROUP), rows.div_ceil(GROUP), 1)
-            };
+            rec.dispatch([cols.div_ceil(GROUP), rows.div_ceil(GROUP), 1]);
             if let Some(k) = timed {
-                timestamps.write(cmd, all, 2 * k + 1)?;
+                timestamps.write(rec, all, 2 * k + 1)?;
             }
-            memory_barrier(ctx.device(), cmd, full, full);
+            memory_barrier(rec, full, full);
         }
         Ok(())
     })?;

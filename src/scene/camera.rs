@@ -53,6 +53,18 @@ impl Camera {
         Camera::look_at(eye, center, yfov, distance * 0.01, distance + radius * 2.0)
     }
 
+    /// This camera turned by `angle` radians about the vertical (+y) axis through `center`: the
+    /// eye circles `center` at its height and distance and keeps its view of it.
+    pub fn orbited(&self, center: Vec3, angle: f32) -> Camera {
+        let turn = Mat4::from_translation(center)
+            * Mat4::from_rotation_y(angle)
+            * Mat4::from_translation(-center);
+        Camera {
+            view: self.view * turn.inverse(),
+            projection: self.projection,
+        }
+    }
+
     /// Camera position in world space.
     pub fn eye(&self) -> Vec3 {
         self.view.inverse().transform_point3(Vec3::ZERO)
@@ -78,5 +90,27 @@ impl Camera {
         // glTF and glam use y up; Vulkan's framebuffer y points down.
         let flip = Mat4::from_scale(Vec3::new(1.0, -1.0, 1.0));
         flip * proj * self.view
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_orbit_keeps_distance_and_height_and_looks_at_the_centre() {
+        let center = Vec3::new(1.0, 0.5, -2.0);
+        let cam = Camera::look_at(Vec3::new(1.0, 2.0, 3.0), center, 0.8, 0.1, 100.0);
+        let quarter = cam.orbited(center, std::f32::consts::FRAC_PI_2);
+        let eye = quarter.eye();
+        assert!((eye - Vec3::new(6.0, 2.0, -2.0)).length() < 1e-4, "{eye}");
+        // The centre stays on the view axis.
+        let seen = quarter.view.transform_point3(center);
+        assert!(
+            seen.x.abs() < 1e-4 && seen.y.abs() < 1e-4 && seen.z < 0.0,
+            "{seen}"
+        );
+        let full = cam.orbited(center, std::f32::consts::TAU).eye();
+        assert!((full - cam.eye()).length() < 1e-4);
     }
 }

@@ -4,13 +4,11 @@ use ash::vk;
 
 use super::context::Context;
 use super::error::{Named, VkError, VkResult};
+use super::recording::Recording;
 
 impl Context {
     /// Records commands with `record`, submits them on the queue and waits until they finish.
-    pub fn one_shot<R>(
-        &self,
-        record: impl FnOnce(vk::CommandBuffer) -> VkResult<R>,
-    ) -> VkResult<R> {
+    pub fn one_shot<R>(&self, record: impl FnOnce(&Recording) -> VkResult<R>) -> VkResult<R> {
         let device = self.device();
         let pool = *self
             .command_pool()
@@ -32,14 +30,14 @@ impl Context {
     fn record_and_submit<R>(
         &self,
         cmd: vk::CommandBuffer,
-        record: impl FnOnce(vk::CommandBuffer) -> VkResult<R>,
+        record: impl FnOnce(&Recording) -> VkResult<R>,
     ) -> VkResult<R> {
         let device = self.device();
         let begin = vk::CommandBufferBeginInfo::default()
             .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
         // SAFETY: freshly allocated command buffer.
         unsafe { device.begin_command_buffer(cmd, &begin) }.named("vkBeginCommandBuffer")?;
-        let value = record(cmd)?;
+        let value = record(&Recording::new(device, cmd))?;
         // SAFETY: recording was begun above.
         unsafe { device.end_command_buffer(cmd) }.named("vkEndCommandBuffer")?;
         // SAFETY: valid device.
@@ -80,7 +78,7 @@ pub struct ImageTransition {
 }
 
 /// Records a set of image transitions as one synchronization2 barrier.
-pub fn transition_images(device: &ash::Device, cmd: vk::CommandBuffer, list: &[ImageTransition]) {
+pub fn transition_images(rec: &Recording, list: &[ImageTransition]) {
     let barriers: Vec<_> = list
         .iter()
         .map(|t| {
@@ -104,14 +102,13 @@ pub fn transition_images(device: &ash::Device, cmd: vk::CommandBuffer, list: &[I
         })
         .collect();
     let dep = vk::DependencyInfo::default().image_memory_barriers(&barriers);
-    // SAFETY: `cmd` is recording; the barriers reference images owned by the caller.
-    unsafe { device.cmd_pipeline_barrier2(cmd, &dep) };
+    // SAFETY: `rec` is recording; the barriers reference images owned by the caller.
+    unsafe { rec.device().cmd_pipeline_barrier2(rec.raw(), &dep) };
 }
 
 /// Records a global memory barrier (e.g. between timed repeats or compute passes).
 pub fn memory_barrier(
-    device: &ash::Device,
-    cmd: vk::CommandBuffer,
+    rec: &Recording,
     src: (vk::PipelineStageFlags2, vk::AccessFlags2),
     dst: (vk::PipelineStageFlags2, vk::AccessFlags2),
 ) {
@@ -121,6 +118,6 @@ pub fn memory_barrier(
         .dst_stage_mask(dst.0)
         .dst_access_mask(dst.1)];
     let dep = vk::DependencyInfo::default().memory_barriers(&barrier);
-    // SAFETY: `cmd` is recording.
-    unsafe { device.cmd_pipeline_barrier2(cmd, &dep) };
+    // SAFETY: `rec` is recording.
+    unsafe { rec.device().cmd_pipeline_barrier2(rec.raw(), &dep) };
 }

@@ -11,6 +11,10 @@ pub struct ObjectCounts {
     pub images: u64,
     pub buffers: u64,
     pub samplers: u64,
+    pub descriptor_sets: u64,
+    pub query_pools: u64,
+    pub command_buffers: u64,
+    pub fences: u64,
     /// Device memory allocations (one per image and buffer, through gpu-allocator).
     pub allocations: u64,
     pub allocated_bytes: u64,
@@ -26,6 +30,10 @@ impl std::ops::Sub for ObjectCounts {
             images: self.images - before.images,
             buffers: self.buffers - before.buffers,
             samplers: self.samplers - before.samplers,
+            descriptor_sets: self.descriptor_sets - before.descriptor_sets,
+            query_pools: self.query_pools - before.query_pools,
+            command_buffers: self.command_buffers - before.command_buffers,
+            fences: self.fences - before.fences,
             allocations: self.allocations - before.allocations,
             allocated_bytes: self.allocated_bytes - before.allocated_bytes,
         }
@@ -40,6 +48,10 @@ pub(crate) enum Created {
     Image { bytes: u64 },
     Buffer { bytes: u64 },
     Sampler,
+    DescriptorSet,
+    QueryPool,
+    CommandBuffer,
+    Fence,
 }
 
 /// The live counters a context keeps.
@@ -50,6 +62,10 @@ pub(crate) struct ObjectCounters {
     images: AtomicU64,
     buffers: AtomicU64,
     samplers: AtomicU64,
+    descriptor_sets: AtomicU64,
+    query_pools: AtomicU64,
+    command_buffers: AtomicU64,
+    fences: AtomicU64,
     allocations: AtomicU64,
     allocated_bytes: AtomicU64,
 }
@@ -63,6 +79,10 @@ impl ObjectCounters {
             Created::GraphicsPipeline => bump(&self.graphics_pipelines, 1),
             Created::ComputePipeline => bump(&self.compute_pipelines, 1),
             Created::Sampler => bump(&self.samplers, 1),
+            Created::DescriptorSet => bump(&self.descriptor_sets, 1),
+            Created::QueryPool => bump(&self.query_pools, 1),
+            Created::CommandBuffer => bump(&self.command_buffers, 1),
+            Created::Fence => bump(&self.fences, 1),
             Created::Image { bytes } | Created::Buffer { bytes } => {
                 let counter = if matches!(what, Created::Image { .. }) {
                     &self.images
@@ -84,6 +104,10 @@ impl ObjectCounters {
             images: get(&self.images),
             buffers: get(&self.buffers),
             samplers: get(&self.samplers),
+            descriptor_sets: get(&self.descriptor_sets),
+            query_pools: get(&self.query_pools),
+            command_buffers: get(&self.command_buffers),
+            fences: get(&self.fences),
             allocations: get(&self.allocations),
             allocated_bytes: get(&self.allocated_bytes),
         }

@@ -5,7 +5,24 @@ use std::sync::Arc;
 use ash::vk;
 
 use super::context::Context;
+use super::counters::Created;
 use super::error::{Named, VkResult};
+
+/// A descriptor set allocated and written by a [`DescriptorPool`]; only a pool makes one, so a
+/// bound set is never null or foreign. It dies with its pool.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct DescriptorSet(vk::DescriptorSet);
+
+impl DescriptorSet {
+    pub(crate) fn raw(self) -> vk::DescriptorSet {
+        self.0
+    }
+
+    /// Rewrites `binds` into the set; no submitted work may be using it.
+    pub fn rewrite(&self, ctx: &Context, binds: &[Bind]) {
+        write_set(ctx.device(), self.0, binds);
+    }
+}
 
 /// One resource bound at a binding number.
 #[derive(Debug, Clone, Copy)]
@@ -130,11 +147,7 @@ impl DescriptorPool {
     }
 
     /// Allocates one set of `layout` and writes `binds` into it.
-    pub fn allocate(
-        &self,
-        layout: &DescriptorLayout,
-        binds: &[Bind],
-    ) -> VkResult<vk::DescriptorSet> {
+    pub fn allocate(&self, layout: &DescriptorLayout, binds: &[Bind]) -> VkResult<DescriptorSet> {
         let layouts = [layout.raw()];
         let info = vk::DescriptorSetAllocateInfo::default()
             .descriptor_pool(self.raw)
@@ -143,7 +156,8 @@ impl DescriptorPool {
         let set = unsafe { self.ctx.device().allocate_descriptor_sets(&info) }
             .named("vkAllocateDescriptorSets")?[0];
         write_set(self.ctx.device(), set, binds);
-        Ok(set)
+        self.ctx.count(Created::DescriptorSet);
+        Ok(DescriptorSet(set))
     }
 }
 
@@ -155,7 +169,7 @@ impl Drop for DescriptorPool {
 }
 
 /// Writes `binds` into `set`.
-pub fn write_set(device: &ash::Device, set: vk::DescriptorSet, binds: &[Bind]) {
+fn write_set(device: &ash::Device, set: vk::DescriptorSet, binds: &[Bind]) {
     let buffers: Vec<_> = binds
         .iter()
         .map(|b| match *b {

@@ -5,6 +5,7 @@
 //! order written out in its `Drop`.
 
 mod buffer;
+mod command_slot;
 mod commands;
 mod context;
 mod counters;
@@ -15,19 +16,22 @@ mod instance;
 mod physical;
 mod pipeline;
 mod query;
+mod recording;
 mod transfer;
 
 pub use buffer::Buffer;
+pub use command_slot::CommandSlot;
 pub use commands::{memory_barrier, transition_images, ImageTransition};
 pub use context::{Context, ContextOptions};
 pub use counters::ObjectCounts;
-pub use descriptors::{write_set, Bind, DescriptorLayout, DescriptorPool};
+pub use descriptors::{Bind, DescriptorLayout, DescriptorPool, DescriptorSet};
 pub use error::{VkError, VkResult};
 pub use image::{Image, ImageDesc, ImageView, Sampler};
 pub use instance::{MessageCounts, Validation};
 pub use physical::{list_devices, DeviceInfo};
 pub use pipeline::{compute_pipeline, graphics_pipeline, GraphicsDesc, Pipeline, SpecConstants};
 pub use query::TimestampPool;
+pub use recording::Recording;
 pub use transfer::{read_mip, texel_size, upload_mips};
 
 pub use ash::vk as raw;

@@ -7,7 +7,9 @@ use ash::vk;
 
 use super::context::Context;
 use super::counters::Created;
-use super::error::{Named, VkResult};
+use super::descriptors::DescriptorSet;
+use super::error::{Named, VkError, VkResult};
+use super::recording::Recording;
 
 /// Specialization constants, in constant-id order as pushed.
 #[derive(Debug, Clone, Default)]
@@ -52,6 +54,7 @@ pub struct Pipeline {
     layout: vk::PipelineLayout,
     bind_point: vk::PipelineBindPoint,
     push_stages: vk::ShaderStageFlags,
+    push_bytes: u32,
 }
 
 impl Pipeline {
@@ -66,40 +69,50 @@ impl Pipeline {
     }
 
     /// Binds the pipeline and, if given, descriptor set 0.
-    pub fn bind(&self, cmd: vk::CommandBuffer, set: Option<vk::DescriptorSet>) {
-        let device = self.ctx.device();
-        // SAFETY: `cmd` is recording on this device; the set matches the layout.
+    pub fn bind(&self, rec: &Recording, set: Option<DescriptorSet>) {
+        // SAFETY: `rec` is recording on this device; the set's layout is the validation layer's
+        // to check against the pipeline layout.
         unsafe {
-            device.cmd_bind_pipeline(cmd, self.bind_point, self.raw);
-            if let Some(set) = set {
-                device.cmd_bind_descriptor_sets(cmd, self.bind_point, self.layout, 0, &[set], &[]);
-            }
+            rec.device()
+                .cmd_bind_pipeline(rec.raw(), self.bind_point, self.raw);
+        }
+        if let Some(set) = set {
+            self.bind_set(rec, 0, set);
         }
     }
 
     /// Binds `set` at index `index` (the pipeline itself must be bound).
-    pub fn bind_set(&self, cmd: vk::CommandBuffer, index: u32, set: vk::DescriptorSet) {
-        // SAFETY: `cmd` is recording on this device; the set matches the layout at `index`.
+    pub fn bind_set(&self, rec: &Recording, index: u32, set: DescriptorSet) {
+        // SAFETY: `rec` is recording on this device; the set was made by a relief pool.
         unsafe {
-            self.ctx.device().cmd_bind_descriptor_sets(
-                cmd,
+            rec.device().cmd_bind_descriptor_sets(
+                rec.raw(),
                 self.bind_point,
                 self.layout,
                 index,
-                &[set],
+                &[set.raw()],
                 &[],
             )
         };
     }
 
-    /// Pushes `bytes` as push constants visible to every stage of the pipeline.
-    pub fn push(&self, cmd: vk::CommandBuffer, bytes: &[u8]) {
-        // SAFETY: the layout declares a push range at least this large for these stages.
+    /// Pushes `bytes` as push constants visible to every stage of the pipeline; more bytes than
+    /// the layout's push range is an error, not undefined behaviour.
+    pub fn push(&self, rec: &Recording, bytes: &[u8]) -> VkResult<()> {
+        if bytes.len() > self.push_bytes as usize || bytes.len() % 4 != 0 {
+            return Err(VkError::Invalid(format!(
+                "{} push-constant bytes for a range of {}",
+                bytes.len(),
+                self.push_bytes
+            )));
+        }
+        // SAFETY: `rec` is recording; the layout declares a push range at least this large for
+        // these stages (checked above).
         unsafe {
-            self.ctx
-                .device()
-                .cmd_push_constants(cmd, self.layout, self.push_stages, 0, bytes)
+            rec.device()
+                .cmd_push_constants(rec.raw(), self.layout, self.push_stages, 0, bytes)
         };
+        Ok(())
     }
 }
 
@@ -193,7 +206,7 @@ pub fn compute_pipeline(
     finish(
         ctx,
         created,
-        (layout, stages),
+        (layout, stages, push_bytes),
         vk::PipelineBindPoint::COMPUTE,
         name,
     )
@@ -202,7 +215,7 @@ pub fn compute_pipeline(
 fn finish(
     ctx: &Arc<Context>,
     created: Result<Vec<vk::Pipeline>, (Vec<vk::Pipeline>, vk::Result)>,
-    (layout, push_stages): (vk::PipelineLayout, vk::ShaderStageFlags),
+    (layout, push_stages, push_bytes): (vk::PipelineLayout, vk::ShaderStageFlags, u32),
     bind_point: vk::PipelineBindPoint,
     name: &str,
 ) -> VkResult<Pipeline> {
@@ -220,6 +233,7 @@ fn finish(
                 layout,
                 bind_point,
                 push_stages,
+                push_bytes,
             })
         }
         Err((_, result)) => {
@@ -340,7 +354,7 @@ pub fn graphics_pipeline(
     finish(
         ctx,
         created,
-        (layout, push_stages),
+        (layout, push_stages, desc.push_bytes),
         vk::PipelineBindPoint::GRAPHICS,
         name,
     )

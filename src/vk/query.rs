@@ -6,7 +6,9 @@ use std::sync::Arc;
 use ash::vk;
 
 use super::context::Context;
+use super::counters::Created;
 use super::error::{Named, VkError, VkResult};
+use super::recording::Recording;
 
 /// A pool of `capacity` timestamp queries, reset from the host before each use.
 pub struct TimestampPool {
@@ -40,6 +42,7 @@ impl TimestampPool {
         let raw =
             unsafe { ctx.device().create_query_pool(&create, None) }.named("vkCreateQueryPool")?;
         ctx.set_name(raw, name);
+        ctx.count(Created::QueryPool);
         // SAFETY: hostQueryReset is enabled at device creation; the pool is unused.
         unsafe { ctx.device().reset_query_pool(raw, 0, capacity) };
         Ok(TimestampPool {
@@ -74,7 +77,7 @@ impl TimestampPool {
     /// Records a timestamp into `index` once all earlier work has passed `stage`.
     pub fn write(
         &self,
-        cmd: vk::CommandBuffer,
+        rec: &Recording,
         stage: vk::PipelineStageFlags2,
         index: u32,
     ) -> VkResult<()> {
@@ -84,11 +87,11 @@ impl TimestampPool {
                 self.capacity
             )));
         }
-        // SAFETY: `cmd` is recording; the query was reset since its last use.
+        // SAFETY: `rec` is recording; the query was reset since its last use.
         unsafe {
             self.ctx
                 .device()
-                .cmd_write_timestamp2(cmd, stage, self.raw, index)
+                .cmd_write_timestamp2(rec.raw(), stage, self.raw, index)
         };
         Ok(())
     }

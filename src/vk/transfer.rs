@@ -97,17 +97,20 @@ pub fn upload_mips(
                 })
         })
         .collect();
-    let device = ctx.device();
-    ctx.one_shot(|cmd| {
+    ctx.one_shot(|rec| {
         let dst = vk::ImageLayout::TRANSFER_DST_OPTIMAL;
-        transition_images(
-            device,
-            cmd,
-            &[all_mips(image, vk::ImageLayout::UNDEFINED, dst)],
-        );
+        transition_images(rec, &[all_mips(image, vk::ImageLayout::UNDEFINED, dst)]);
         // SAFETY: regions lie within the staging buffer and the image's levels.
-        unsafe { device.cmd_copy_buffer_to_image(cmd, staging.raw(), image.raw(), dst, &regions) };
-        transition_images(device, cmd, &[all_mips(image, dst, final_layout)]);
+        unsafe {
+            rec.device().cmd_copy_buffer_to_image(
+                rec.raw(),
+                staging.raw(),
+                image.raw(),
+                dst,
+                &regions,
+            )
+        };
+        transition_images(rec, &[all_mips(image, dst, final_layout)]);
         Ok(())
     })
 }
@@ -136,10 +139,9 @@ pub fn read_mip(
         MemoryLocation::GpuToCpu,
         &format!("{} readback", image.name()),
     )?;
-    let device = ctx.device();
     let src = vk::ImageLayout::TRANSFER_SRC_OPTIMAL;
-    ctx.one_shot(|cmd| {
-        transition_images(device, cmd, &[all_mips(image, layout, src)]);
+    ctx.one_shot(|rec| {
+        transition_images(rec, &[all_mips(image, layout, src)]);
         let region = vk::BufferImageCopy::default()
             .image_subresource(layers(image, level))
             .image_extent(vk::Extent3D {
@@ -149,9 +151,15 @@ pub fn read_mip(
             });
         // SAFETY: the region lies within the image level and the buffer.
         unsafe {
-            device.cmd_copy_image_to_buffer(cmd, image.raw(), src, readback.raw(), &[region])
+            rec.device().cmd_copy_image_to_buffer(
+                rec.raw(),
+                image.raw(),
+                src,
+                readback.raw(),
+                &[region],
+            )
         };
-        transition_images(device, cmd, &[all_mips(image, src, layout)]);
+        transition_images(rec, &[all_mips(image, src, layout)]);
         Ok(())
     })?;
     Ok(readback.mapped()?.to_vec())

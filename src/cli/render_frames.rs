@@ -1,0 +1,291 @@
+//! Drawing `relief render`'s frames: one, or a sequence along a camera path (`--orbit`, or the
+//! glTF file's camera animation), written as PNGs (numbered for a sequence) or only timed
+//! (`--no-write`), with per-pass GPU times: the first frame apart (it builds the pyramids and
+//! pays first-use compilation), min / median / p95 over the rest.
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+use anyhow::Context as _;
+use clap::Args;
+use glam::Vec3;
+use relief::render::{
+    explain, sequence_stats, FrameOutput, FrameRequest, PassTiming, Renderer, SequenceStats,
+};
+use relief::scene::{Camera, Scene};
+use relief::vk::{Context, ObjectCounts};
+use serde_json::json;
+
+use super::render::RenderArgs;
+
+/// The frame-sequence flags of `relief render`.
+#[derive(Args, Debug, Clone)]
+pub struct FrameArgs {
+    /// How many frames to draw.
+    #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=1_000_000))]
+    pub frames: u32,
+    /// Turn the camera this many degrees about the vertical axis through the scene's centre over
+    /// the sequence (frame k at DEGREES * k / N).
+    #[arg(long, value_name = "DEGREES", allow_hyphen_values = true)]
+    pub orbit: Option<f32>,
+    /// Draw and time the frames without reading them back or writing files.
+    #[arg(long)]
+    pub no_write: bool,
+}
+
+/// Where the camera is in each frame.
+enum CameraPath {
+    Still(Camera),
+    Orbit {
+        start: Camera,
+        center: Vec3,
+        degrees: f32,
+    },
+}
+
+impl CameraPath {
+    fn choose(args: &FrameArgs, renderer: &Renderer, scene: &Scene) -> anyhow::Result<CameraPath> {
+        let start = renderer.default_camera();
+        let Some(degrees) = args.orbit else {
+            return Ok(CameraPath::Still(start));
+        };
+        if !degrees.is_finite() {
+            anyhow::bail!("--orbit must be a finite number of degrees, got {degrees}");
+        }
+        let center = scene
+            .bounds()
+            .map_or(Vec3::ZERO, |(lo, hi)| (lo + hi) * 0.5);
+        Ok(CameraPath::Orbit {
+            start,
+            center,
+            degrees,
+        })
+    }
+
+    fn at(&self, frame: u32, frames: u32) -> Camera {
+        match *self {
+            CameraPath::Still(camera) => camera,
+            CameraPath::Orbit {
+                start,
+                center,
+                degrees,
+            } => {
+                let turn = degrees * frame as f32 / frames as f32;
+                start.orbited(center, turn.to_radians())
+            }
+        }
+    }
+}
+
+/// The file frame `index` (0-based) of `frames` is written to.
+fn frame_path(out: &Path, index: u64, frames: u32) -> PathBuf {
+    if frames == 1 {
+        return out.to_path_buf();
+    }
+    let stem = out
+        .file_stem()
+        .map_or("frame".into(), |s| s.to_string_lossy());
+    let ext = out
+        .extension()
+        .map_or("png".into(), |e| e.to_string_lossy());
+    out.with_file_name(format!("{stem}_{:04}.{ext}", index + 1))
+}
+
+fn write_png(frame: &FrameOutput, out: &Path) -> anyhow::Result<()> {
+    let Some(rgba) = &frame.rgba else {
+        return Ok(());
+    };
+    if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+    }
+    image::save_buffer(
+        out,
+        rgba,
+        frame.width,
+        frame.height,
+        image::ColorType::Rgba8,
+    )
+    .with_context(|| format!("writing {}", out.display()))
+}
+
+/// What a sequence left behind.
+struct Drawn {
+    timings: Vec<Vec<PassTiming>>,
+    /// Objects created from the end of the first frame's submission to the end of the last.
+    created_after_first: ObjectCounts,
+}
+
+/// Draws every frame, writing each as it retires.
+fn draw_all(
+    args: &RenderArgs,
+    ctx: &Context,
+    renderer: &mut Renderer,
+    path: &CameraPath,
+) -> anyhow::Result<Drawn> {
+    let frames = args.frames.frames;
+    let read_back = !args.frames.no_write;
+    let mut timings = Vec::with_capacity(frames as usize);
+    let mut keep = |frame: FrameOutput| -> anyhow::Result<()> {
+        write_png(&frame, &frame_path(&args.out, frame.index, frames))?;
+        timings.push(frame.timings);
+        Ok(())
+    };
+    let mut after_first = None;
+    for k in 0..frames {
+        let request = FrameRequest {
+            camera: path.at(k, frames),
+            read_back,
+        };
+        let retired = renderer
+            .submit(&request)
+            .with_context(|| format!("drawing frame {}", k + 1))?;
+        after_first.get_or_insert_with(|| ctx.created());
+        if let Some(frame) = retired {
+            keep(frame)?;
+        }
+    }
+    for frame in renderer.finish().context("finishing the frames")? {
+        keep(frame)?;
+    }
+    let after_first = after_first.unwrap_or_else(|| ctx.created());
+    Ok(Drawn {
+        timings,
+        created_after_first: ctx.created() - after_first,
+    })
+}
+
+/// Draws the frames `args` asks for and reports them.
+pub fn run_frames(
+    args: &RenderArgs,
+    ctx: &Arc<Context>,
+    renderer: &mut Renderer,
+    scene: &Scene,
+    before: ObjectCounts,
+    source: &str,
+) -> anyhow::Result<()> {
+    let path = CameraPath::choose(&args.frames, renderer, scene)?;
+    let drawn = draw_all(args, ctx, renderer, &path)?;
+    let stats = sequence_stats(&drawn.timings);
+    if args.explain {
+        let created = ctx.created() - before;
+        println!("{}", explain(renderer.plan(), renderer.maps(), &created));
+        return Ok(());
+    }
+    let methods = methods_drawn(renderer);
+    if args.json {
+        let value = json!({
+            "device": ctx.info(),
+            "out": (!args.frames.no_write).then_some(&args.out),
+            "width": renderer.size().0,
+            "height": renderer.size().1,
+            "methods": methods,
+            "heightmap": source,
+            "upload_ms": renderer.upload_ms(),
+            "passes": stats.first,
+            "maps": renderer.maps(),
+            "frames": stats.frames,
+            "steady": stats.steady,
+            "created_after_first_frame": drawn.created_after_first,
+        });
+        println!("{value}");
+        return Ok(());
+    }
+    print_table(&stats);
+    report_files(args, renderer, &methods, source, &drawn);
+    Ok(())
+}
+
+fn print_table(stats: &SequenceStats) {
+    if stats.steady.is_empty() {
+        println!("{:<10} {:>9}", "pass", "gpu_ms");
+        for t in &stats.first {
+            println!("{:<10} {:>9.3}", t.pass.name(), t.gpu_ms);
+        }
+        return;
+    }
+    println!(
+        "{:<10} {:>9} {:>9} {:>9} {:>9}   (first frame apart; min/median/p95 over frames 2..{})",
+        "pass", "first_ms", "min_ms", "median_ms", "p95_ms", stats.frames
+    );
+    let mut passes: Vec<_> = stats.first.iter().map(|t| t.pass).collect();
+    passes.extend(stats.steady.iter().map(|s| s.pass));
+    passes.sort_unstable();
+    passes.dedup();
+    for pass in passes {
+        let first = stats.first.iter().find(|t| t.pass == pass);
+        let cell = |v: Option<f64>| v.map_or(format!("{:>9}", "-"), |v| format!("{v:>9.3}"));
+        let steady = stats.steady.iter().find(|s| s.pass == pass);
+        println!(
+            "{:<10} {} {} {} {}",
+            pass.name(),
+            cell(first.map(|t| t.gpu_ms)),
+            cell(steady.map(|s| s.min_ms)),
+            cell(steady.map(|s| s.median_ms)),
+            cell(steady.map(|s| s.p95_ms)),
+        );
+    }
+}
+
+fn report_files(args: &RenderArgs, renderer: &Renderer, methods: &str, source: &str, d: &Drawn) {
+    let (w, h) = renderer.size();
+    let frames = args.frames.frames;
+    let what = if args.frames.no_write {
+        format!("drew {frames} frame(s), wrote none (--no-write)")
+    } else if frames == 1 {
+        format!("wrote {}", args.out.display())
+    } else {
+        format!(
+            "wrote {} .. {}",
+            frame_path(&args.out, 0, frames).display(),
+            frame_path(&args.out, u64::from(frames) - 1, frames).display()
+        )
+    };
+    eprintln!("{what} ({w}x{h}, relief: {methods}, heights: {source})");
+    if frames > 1 {
+        let same = d.created_after_first == ObjectCounts::default();
+        eprintln!(
+            "objects created after the first frame: {}",
+            if same {
+                "none".to_owned()
+            } else {
+                format!("{:?}", d.created_after_first)
+            }
+        );
+    }
+}
+
+/// The relief methods the renderer draws with, or "none".
+fn methods_drawn(renderer: &Renderer) -> String {
+    let mut ids: Vec<&str> = renderer
+        .plan()
+        .pipelines
+        .iter()
+        .filter_map(|p| p.method.map(|m| m.id()))
+        .collect();
+    ids.sort_unstable();
+    ids.dedup();
+    if ids.is_empty() {
+        "none".into()
+    } else {
+        ids.join(", ")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_sequence_numbers_its_files_beside_the_output() {
+        let out = Path::new("shots/frame.png");
+        assert_eq!(frame_path(out, 0, 1), PathBuf::from("shots/frame.png"));
+        assert_eq!(
+            frame_path(out, 0, 60),
+            PathBuf::from("shots/frame_0001.png")
+        );
+        assert_eq!(
+            frame_path(out, 59, 60),
+            PathBuf::from("shots/frame_0060.png")
+        );
+    }
+}

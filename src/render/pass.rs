@@ -1,0 +1,66 @@
+//! The passes a frame can record, as one enum: the plan lists them, the renderer times them with
+//! timestamp scopes, and `--explain` and the timing tables print them, all by the same names.
+
+use serde::{Serialize, Serializer};
+
+/// One pass of a frame.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Pass {
+    /// Builds the max pyramid of every height map a pyramid method reads (first frame only: the
+    /// fields are static).
+    Pyramid,
+    /// Draws the scene: rasterises the meshes and traces each relief fragment's view ray.
+    Surface,
+    /// Rays from each relief hit toward the shadow-casting lights, traced inside the surface
+    /// pass's fragments (listed for the plan; its time is part of `Surface`).
+    SelfShadowRays,
+}
+
+impl Pass {
+    /// Every pass, in recording order.
+    pub const ALL: [Pass; 3] = [Pass::Pyramid, Pass::Surface, Pass::SelfShadowRays];
+
+    /// The name the plan, `--explain` and the timing tables print.
+    pub fn name(self) -> &'static str {
+        match self {
+            Pass::Pyramid => "pyramid",
+            Pass::Surface => "surface",
+            Pass::SelfShadowRays => "self-shadow rays",
+        }
+    }
+
+    /// Whether the pass has timestamps of its own (else it runs inside another pass).
+    pub fn timed(self) -> bool {
+        !matches!(self, Pass::SelfShadowRays)
+    }
+}
+
+impl std::fmt::Display for Pass {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl Serialize for Pass {
+    fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        serializer.serialize_str(self.name())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_are_unique_and_serialise_as_printed() {
+        let mut names: Vec<&str> = Pass::ALL.iter().map(|p| p.name()).collect();
+        names.sort_unstable();
+        names.dedup();
+        assert_eq!(names.len(), Pass::ALL.len());
+        for pass in Pass::ALL {
+            let json = serde_json::to_string(&pass).unwrap();
+            assert_eq!(json, format!("\"{}\"", pass.name()));
+            assert_eq!(pass.to_string(), pass.name());
+        }
+    }
+}

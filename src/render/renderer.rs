@@ -1,0 +1,312 @@
+//! The renderer: made once per (device, scene), it owns everything a frame reads (meshes,
+//! textures, height maps with their pyramids and precomputed maps, descriptor sets, pipelines,
+//! targets) and draws any number of frames from a camera. A frame only rewrites its slot's
+//! uniforms and records commands; nothing is created per frame, and a static field's pyramid is
+//! built by the first frame alone.
+//!
+//! Frames in flight: each of `FRAMES_IN_FLIGHT` slots has its command buffer, fence, uniforms,
+//! timestamp scopes and read-back buffer. Submitting a frame first retires the slot's previous
+//! frame (its fence has long signalled in a steady stream), so its timings and pixels are read
+//! a frame later, without stalling the frame being recorded.
+
+use std::sync::Arc;
+use std::time::Instant;
+
+use glam::Vec3;
+
+use super::frame::{planned_heights, BuiltMap, RenderError, RenderOptions};
+use super::frame_uniforms::{frame_camera, FrameUniforms};
+use super::height_resources::HeightResources;
+use super::pass::Pass;
+use super::pass_timer::{per_pass, PassTimer, PassTiming, Scope};
+use super::plan::{HeightKey, Plan};
+use super::surface_pass::SurfacePass;
+use super::targets::Targets;
+use crate::heightfield::Heightfield;
+use crate::method::{build_method_map_with, MapBuilder, MapKind};
+use crate::scene::{Camera, Light, Scene};
+use crate::vk::{Buffer, CommandSlot, Context, VkResult};
+
+/// How many frames may be recorded or running at once.
+pub const FRAMES_IN_FLIGHT: usize = 2;
+
+/// What one frame draws.
+#[derive(Debug, Clone)]
+pub struct FrameRequest {
+    pub camera: Camera,
+    /// Copy the colour image back to the host (for writing it out).
+    pub read_back: bool,
+}
+
+/// A finished frame: its GPU time per pass and, when asked for, its pixels.
+#[derive(Debug, Clone)]
+pub struct FrameOutput {
+    /// 0 for the renderer's first frame.
+    pub index: u64,
+    pub timings: Vec<PassTiming>,
+    /// sRGB RGBA8, rows top to bottom.
+    pub rgba: Option<Vec<u8>>,
+    pub width: u32,
+    pub height: u32,
+}
+
+struct FrameSlot {
+    commands: CommandSlot,
+    timer: PassTimer,
+    readback: Option<Buffer>,
+    /// The frame submitted from this slot and not yet retired: (index, read back?).
+    pending: Option<(u64, bool)>,
+}
+
+/// Everything a scene needs on the device, kept across frames.
+pub struct Renderer {
+    ctx: Arc<Context>,
+    plan: Plan,
+    maps: Vec<BuiltMap>,
+    upload_ms: f64,
+    heights: Vec<HeightResources>,
+    surface: SurfacePass,
+    targets: Targets,
+    slots: Vec<FrameSlot>,
+    lights: Vec<Light>,
+    default_camera: Camera,
+    width: u32,
+    height: u32,
+    submitted: u64,
+    pyramids_built: bool,
+}
+
+impl Renderer {
+    /// Plans `scene`, uploads what the plan lists and builds its maps and pipelines. Relief
+    /// materials without a height texture of their own read `frame_heights`.
+    pub fn new(
+        ctx: &Arc<Context>,
+        scene: &Scene,
+        frame_heights: Option<&Heightfield>,
+        opts: &RenderOptions,
+    ) -> Result<Renderer, RenderError> {
+        let plan = Plan::derive(scene, frame_heights)?;
+        let default_camera = frame_camera(scene);
+        let aspect = opts.width as f32 / opts.height as f32;
+        let uniforms = FrameUniforms::new(&default_camera, &plan.lights, aspect);
+        let started = Instant::now();
+        let (heights, maps) = upload_heights(ctx, scene, &plan, frame_heights, opts, uniforms)?;
+        let upload_ms = started.elapsed().as_secs_f64() * 1e3;
+        let surface = SurfacePass::new(ctx, scene, &plan, &heights, &uniforms)?;
+        let targets = Targets::new(ctx, opts.width, opts.height)?;
+        // One scope per pyramid build plus the surface pass.
+        let scopes = plan.heights.len() as u32 + 1;
+        let slots = (0..FRAMES_IN_FLIGHT)
+            .map(|k| {
+                Ok(FrameSlot {
+                    commands: CommandSlot::new(ctx, &format!("frame slot {k}"))?,
+                    timer: PassTimer::new(ctx, scopes, &format!("frame slot {k} timestamps"))?,
+                    readback: None,
+                    pending: None,
+                })
+            })
+            .collect::<VkResult<Vec<_>>>()?;
+        Ok(Renderer {
+            ctx: ctx.clone(),
+            lights: plan.lights.clone(),
+            plan,
+            maps,
+            upload_ms,
+            heights,
+            surface,
+            targets,
+            slots,
+            default_camera,
+            width: opts.width,
+            height: opts.height,
+            submitted: 0,
+            pyramids_built: false,
+        })
+    }
+
+    /// The plan the renderer follows.
+    pub fn plan(&self) -> &Plan {
+        &self.plan
+    }
+
+    /// The maps built so far (pyramids appear once the first frame has finished).
+    pub fn maps(&self) -> &[BuiltMap] {
+        &self.maps
+    }
+
+    /// CPU wall time of uploading height maps and building their precomputed maps, in ms.
+    pub fn upload_ms(&self) -> f64 {
+        self.upload_ms
+    }
+
+    /// The scene's camera, or one framing its bounds.
+    pub fn default_camera(&self) -> Camera {
+        self.default_camera
+    }
+
+    /// Target width and height.
+    pub fn size(&self) -> (u32, u32) {
+        (self.width, self.height)
+    }
+
+    /// Records and submits one frame. If the slot it takes still held an older frame, that frame
+    /// is retired first and returned.
+    pub fn submit(&mut self, request: &FrameRequest) -> Result<Option<FrameOutput>, RenderError> {
+        let k = (self.submitted % FRAMES_IN_FLIGHT as u64) as usize;
+        let retired = self.retire(k)?;
+        let aspect = self.width as f32 / self.height as f32;
+        let uniforms = FrameUniforms::new(&request.camera, &self.lights, aspect);
+        for h in &mut self.heights {
+            h.write_uniforms(k, uniforms)?;
+        }
+        self.surface.write_uniforms(k, &uniforms)?;
+        if request.read_back && self.slots[k].readback.is_none() {
+            // Every slot's at once, so frames after the first create nothing.
+            for (j, slot) in self.slots.iter_mut().enumerate() {
+                let name = format!("frame slot {j} readback");
+                slot.readback = Some(self.targets.readback_buffer(&self.ctx, &name)?);
+            }
+        }
+        let build_pyramids = !self.pyramids_built;
+        let eye = request.camera.eye();
+        let slot = &mut self.slots[k];
+        let readback = slot.readback.as_ref().filter(|_| request.read_back);
+        let (heights, surface, targets) = (&self.heights, &self.surface, &self.targets);
+        let timer = &mut slot.timer;
+        slot.commands.submit(|rec| {
+            if build_pyramids {
+                for (part, h) in heights.iter().enumerate().filter(|(_, h)| h.has_pyramid()) {
+                    let scope = Scope {
+                        pass: Pass::Pyramid,
+                        part: Some(part),
+                    };
+                    timer.scope(rec, scope, |rec| h.record_pyramid(rec))?;
+                }
+            }
+            let scope = Scope {
+                pass: Pass::Surface,
+                part: None,
+            };
+            timer.scope(rec, scope, |rec| {
+                targets.begin(rec);
+                let drawn = surface.record_draws(rec, k, eye);
+                targets.end(rec, readback);
+                drawn
+            })
+        })?;
+        slot.pending = Some((self.submitted, request.read_back));
+        self.pyramids_built = true;
+        self.submitted += 1;
+        Ok(retired)
+    }
+
+    /// Waits for every frame still in flight and returns them, oldest first.
+    pub fn finish(&mut self) -> Result<Vec<FrameOutput>, RenderError> {
+        let mut out = Vec::new();
+        for step in 0..FRAMES_IN_FLIGHT as u64 {
+            let k = ((self.submitted + step) % FRAMES_IN_FLIGHT as u64) as usize;
+            out.extend(self.retire(k)?);
+        }
+        Ok(out)
+    }
+
+    /// Draws one frame and waits for it.
+    pub fn draw(&mut self, request: &FrameRequest) -> Result<FrameOutput, RenderError> {
+        self.submit(request)?;
+        self.finish()?
+            .pop()
+            .ok_or_else(|| RenderError::Vulkan(crate::vk::VkError::Invalid("no frame".into())))
+    }
+
+    /// Waits for slot `k`'s frame, if any, and reads its timings and pixels.
+    fn retire(&mut self, k: usize) -> Result<Option<FrameOutput>, RenderError> {
+        let slot = &mut self.slots[k];
+        let Some((index, read_back)) = slot.pending.take() else {
+            return Ok(None);
+        };
+        slot.commands.wait()?;
+        let scopes = slot.timer.read()?;
+        slot.timer.reset();
+        let rgba = match (&slot.readback, read_back) {
+            (Some(buffer), true) => Some(buffer.mapped()?.to_vec()),
+            _ => None,
+        };
+        if index == 0 {
+            self.note_pyramids(&scopes);
+        }
+        Ok(Some(FrameOutput {
+            index,
+            timings: per_pass(&scopes),
+            rgba,
+            width: self.width,
+            height: self.height,
+        }))
+    }
+
+    /// Lists the pyramids the first frame built, with their GPU time.
+    fn note_pyramids(&mut self, scopes: &[(Scope, f64)]) {
+        for (scope, ms) in scopes.iter().filter(|(s, _)| s.pass == Pass::Pyramid) {
+            let Some(hp) = scope.part.and_then(|p| self.plan.heights.get(p)) else {
+                continue;
+            };
+            self.maps.push(BuiltMap {
+                kind: MapKind::MaxPyramid.name(),
+                source: hp.source.clone(),
+                size: [hp.size.0, hp.size.1],
+                ms: *ms,
+                on: "gpu",
+            });
+        }
+    }
+
+    /// The eye of the default camera (for callers building camera paths around it).
+    pub fn default_eye(&self) -> Vec3 {
+        self.default_camera.eye()
+    }
+}
+
+/// Uploads every planned height map with its precomputed map (built once, here).
+fn upload_heights(
+    ctx: &Arc<Context>,
+    scene: &Scene,
+    plan: &Plan,
+    frame_heights: Option<&Heightfield>,
+    opts: &RenderOptions,
+    uniforms: FrameUniforms,
+) -> Result<(Vec<HeightResources>, Vec<BuiltMap>), RenderError> {
+    let mut heights = Vec::with_capacity(plan.heights.len());
+    let mut maps = Vec::new();
+    for hp in &plan.heights {
+        let stored = planned_heights(ctx, scene, hp, frame_heights, opts.height_format)?;
+        let address = match hp.key {
+            HeightKey::Frame => opts.address,
+            HeightKey::Image { address, .. } => address,
+        };
+        let map = match hp.map_method {
+            Some(method) => {
+                build_method_map_with(method, &stored, address.into(), MapBuilder::Gpu(ctx))?
+            }
+            None => None,
+        };
+        if let (Some(built), Some(kind)) = (&map, hp.map) {
+            maps.push(BuiltMap {
+                kind: kind.name(),
+                source: hp.source.clone(),
+                size: [built.data.width, built.data.height],
+                ms: built.ms,
+                on: built.on,
+            });
+        }
+        heights.push(HeightResources::with_pyramid(
+            ctx,
+            &stored,
+            opts.height_format,
+            address,
+            map.as_ref().map(|built| &built.data),
+            uniforms,
+            hp.pyramid,
+            FRAMES_IN_FLIGHT,
+        )?);
+    }
+    Ok((heights, maps))
+}

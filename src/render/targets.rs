@@ -1,0 +1,154 @@
+//! The offscreen targets a frame draws into (colour and depth, made once per renderer), the
+//! barriers that hand them from one frame to the next, and the copy of the colour image into a
+//! host-visible buffer when the frame is to be read back.
+
+use std::sync::Arc;
+
+use ash::vk;
+
+use super::surface_pass::{COLOR_FORMAT, DEPTH_FORMAT};
+use crate::vk::{
+    memory_barrier, transition_images, Buffer, Context, Image, ImageDesc, ImageTransition,
+    MemoryLocation, Recording, VkResult,
+};
+
+/// Background colour (linear).
+const CLEAR: [f32; 4] = [0.015, 0.02, 0.03, 1.0];
+
+/// Colour and depth targets of one size.
+pub struct Targets {
+    pub color: Image,
+    pub depth: Image,
+}
+
+impl Targets {
+    /// Creates both targets at `width` x `height`.
+    pub fn new(ctx: &Arc<Context>, width: u32, height: u32) -> VkResult<Targets> {
+        let desc = |format, usage, aspect| ImageDesc {
+            width,
+            height,
+            format,
+            mip_levels: 1,
+            usage,
+            aspect,
+        };
+        Ok(Targets {
+            color: Image::new(
+                ctx,
+                desc(
+                    COLOR_FORMAT,
+                    vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC,
+                    vk::ImageAspectFlags::COLOR,
+                ),
+                "colour target",
+            )?,
+            depth: Image::new(
+                ctx,
+                desc(
+                    DEPTH_FORMAT,
+                    vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
+                    vk::ImageAspectFlags::DEPTH,
+                ),
+                "depth target",
+            )?,
+        })
+    }
+
+    /// Bytes of one read-back colour image (RGBA8).
+    pub fn readback_bytes(&self) -> u64 {
+        let desc = self.color.desc();
+        u64::from(desc.width) * u64::from(desc.height) * 4
+    }
+
+    /// A host-visible buffer a frame's colour is copied into.
+    pub fn readback_buffer(&self, ctx: &Arc<Context>, name: &str) -> VkResult<Buffer> {
+        Buffer::new(
+            ctx,
+            self.readback_bytes(),
+            vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuToCpu,
+            name,
+        )
+    }
+
+    /// Begins rendering into both targets, cleared. The previous frame may still be drawing or
+    /// copying them (same queue), so the transitions wait for those stages; the old contents are
+    /// discarded.
+    pub fn begin(&self, rec: &Recording) {
+        let color_stages =
+            vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT | vk::PipelineStageFlags2::COPY;
+        let depth_stages = vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS
+            | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS;
+        let depth_access = vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE
+            | vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ;
+        transition_images(
+            rec,
+            &[
+                ImageTransition {
+                    image: self.color.raw(),
+                    aspect: vk::ImageAspectFlags::COLOR,
+                    base_mip: 0,
+                    mip_count: 1,
+                    old: vk::ImageLayout::UNDEFINED,
+                    new: vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+                    src: (color_stages, vk::AccessFlags2::COLOR_ATTACHMENT_WRITE),
+                    dst: (
+                        vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+                        vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
+                    ),
+                },
+                ImageTransition {
+                    image: self.depth.raw(),
+                    aspect: vk::ImageAspectFlags::DEPTH,
+                    base_mip: 0,
+                    mip_count: 1,
+                    old: vk::ImageLayout::UNDEFINED,
+                    new: vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
+                    src: (
+                        depth_stages,
+                        vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE,
+                    ),
+                    dst: (depth_stages, depth_access),
+                },
+            ],
+        );
+        rec.begin_rendering(&self.color, Some(&self.depth), CLEAR);
+    }
+
+    /// Ends rendering and, if `readback` is given, copies the colour image into it and makes the
+    /// copy visible to the host.
+    pub fn end(&self, rec: &Recording, readback: Option<&Buffer>) {
+        rec.end_rendering();
+        let Some(buffer) = readback else {
+            return;
+        };
+        transition_images(
+            rec,
+            &[ImageTransition {
+                image: self.color.raw(),
+                aspect: vk::ImageAspectFlags::COLOR,
+                base_mip: 0,
+                mip_count: 1,
+                old: vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+                new: vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                src: (
+                    vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+                    vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
+                ),
+                dst: (
+                    vk::PipelineStageFlags2::COPY,
+                    vk::AccessFlags2::TRANSFER_READ,
+                ),
+            }],
+        );
+        rec.copy_image_to_buffer(&self.color, buffer);
+        memory_barrier(
+            rec,
+            (
+                vk::PipelineStageFlags2::COPY,
+                vk::AccessFlags2::TRANSFER_WRITE,
+            ),
+            (vk::PipelineStageFlags2::HOST, vk::AccessFlags2::HOST_READ),
+        );
+    }
+}

@@ -1,0 +1,125 @@
+//! A command buffer that is recorded and submitted over and over: one frame in flight. Each slot
+//! has its own command pool, so recording never shares a pool (and its lock) with another thread,
+//! and its own fence, so the owner can wait for exactly the work it submitted and reuse the slot
+//! without stalling on newer frames.
+
+use std::sync::Arc;
+
+use ash::vk;
+
+use super::context::Context;
+use super::counters::Created;
+use super::error::{Named, VkError, VkResult};
+use super::recording::Recording;
+
+/// A reusable command buffer with its pool and fence.
+pub struct CommandSlot {
+    ctx: Arc<Context>,
+    pool: vk::CommandPool,
+    cmd: vk::CommandBuffer,
+    fence: vk::Fence,
+    in_flight: bool,
+    name: String,
+}
+
+impl CommandSlot {
+    /// Creates the pool, the buffer and the fence.
+    pub fn new(ctx: &Arc<Context>, name: &str) -> VkResult<CommandSlot> {
+        let device = ctx.device();
+        let pool_info = vk::CommandPoolCreateInfo::default()
+            .queue_family_index(ctx.queue_family())
+            .flags(vk::CommandPoolCreateFlags::TRANSIENT);
+        // SAFETY: valid device and create info.
+        let pool =
+            unsafe { device.create_command_pool(&pool_info, None) }.named("vkCreateCommandPool")?;
+        let mut slot = CommandSlot {
+            ctx: ctx.clone(),
+            pool,
+            cmd: vk::CommandBuffer::null(),
+            fence: vk::Fence::null(),
+            in_flight: false,
+            name: name.to_owned(),
+        };
+        let alloc = vk::CommandBufferAllocateInfo::default()
+            .command_pool(pool)
+            .level(vk::CommandBufferLevel::PRIMARY)
+            .command_buffer_count(1);
+        // SAFETY: the pool belongs to this device and is used by this slot only.
+        slot.cmd = unsafe { device.allocate_command_buffers(&alloc) }
+            .named("vkAllocateCommandBuffers")?[0];
+        // SAFETY: valid device.
+        slot.fence = unsafe { device.create_fence(&vk::FenceCreateInfo::default(), None) }
+            .named("vkCreateFence")?;
+        ctx.set_name(slot.pool, &format!("{name} pool"));
+        ctx.set_name(slot.cmd, name);
+        ctx.set_name(slot.fence, &format!("{name} fence"));
+        ctx.count(Created::CommandBuffer);
+        ctx.count(Created::Fence);
+        Ok(slot)
+    }
+
+    /// Whether work submitted from this slot may still be running.
+    pub fn in_flight(&self) -> bool {
+        self.in_flight
+    }
+
+    /// Waits until the last submission from this slot has finished (at once if there is none).
+    pub fn wait(&mut self) -> VkResult<()> {
+        if !self.in_flight {
+            return Ok(());
+        }
+        wait_fence(&self.ctx, self.fence, &self.name)?;
+        // SAFETY: the fence is signalled and no submission waits on it.
+        unsafe { self.ctx.device().reset_fences(&[self.fence]) }.named("vkResetFences")?;
+        self.in_flight = false;
+        Ok(())
+    }
+
+    /// Waits for the slot's previous work, records new commands with `record` and submits them.
+    /// The recording lives only inside `record`.
+    pub fn submit<R>(&mut self, record: impl FnOnce(&Recording) -> VkResult<R>) -> VkResult<R> {
+        self.wait()?;
+        let device = self.ctx.device();
+        // SAFETY: the slot's previous submission has completed, so its pool's buffer is idle.
+        unsafe { device.reset_command_pool(self.pool, vk::CommandPoolResetFlags::empty()) }
+            .named("vkResetCommandPool")?;
+        let begin = vk::CommandBufferBeginInfo::default()
+            .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
+        // SAFETY: the buffer was reset above.
+        unsafe { device.begin_command_buffer(self.cmd, &begin) }.named("vkBeginCommandBuffer")?;
+        let recorded = record(&Recording::new(device, self.cmd));
+        // SAFETY: recording was begun above; ending it also closes a recording cut short by an
+        // error, so the pool reset next time finds no buffer in the recording state.
+        let ended = unsafe { device.end_command_buffer(self.cmd) }.named("vkEndCommandBuffer");
+        let value = recorded?;
+        ended?;
+        let cmds = [self.cmd];
+        let submit = vk::SubmitInfo::default().command_buffers(&cmds);
+        let queue = self
+            .ctx
+            .queue()
+            .lock()
+            .map_err(|_| VkError::Invalid("queue lock poisoned".into()))?;
+        // SAFETY: the buffer is fully recorded; the queue is externally synchronised by the lock.
+        unsafe { device.queue_submit(*queue, &[submit], self.fence) }.named("vkQueueSubmit")?;
+        self.in_flight = true;
+        Ok(value)
+    }
+}
+
+impl Drop for CommandSlot {
+    fn drop(&mut self) {
+        // A failed wait (device lost) still lets the objects go: the device is past using them.
+        let _ = self.wait();
+        // SAFETY: no submission from this slot is pending; the fence and pool are ours alone.
+        unsafe {
+            self.ctx.device().destroy_fence(self.fence, None);
+            self.ctx.device().destroy_command_pool(self.pool, None);
+        }
+    }
+}
+
+fn wait_fence(ctx: &Context, fence: vk::Fence, _what: &str) -> VkResult<()> {
+    // SAFETY: the fence belongs to this device.
+    unsafe { ctx.device().wait_for_fences(&[fence], true, u64::MAX) }.named("vkWaitForFences")
+}

@@ -1,0 +1,205 @@
+//! A command buffer while it records. Only this layer makes one, inside a submission (a one-shot
+//! submit or a frame slot), and lends it to the caller by reference for the length of the
+//! recording: safe code can record only into a buffer that is recording now, never into a null,
+//! foreign or finished one. Every command relief records goes through it.
+
+use std::marker::PhantomData;
+
+use ash::vk;
+
+use super::buffer::Buffer;
+use super::image::Image;
+
+/// A command buffer in the recording state, borrowed for one recording.
+///
+/// Safe code cannot make a recording of its own, so it cannot record into a null or foreign
+/// command buffer:
+///
+/// ```compile_fail
+/// use relief::vk::{raw, Recording};
+/// let rec = Recording::new(todo!(), raw::CommandBuffer::null());
+/// ```
+///
+/// nor keep one past its submission, so it cannot record into a finished buffer:
+///
+/// ```compile_fail
+/// fn keep(ctx: &relief::vk::Context) {
+///     let mut kept = None;
+///     ctx.one_shot(|rec| {
+///         kept = Some(rec);
+///         Ok(())
+///     })
+///     .unwrap();
+///     drop(kept);
+/// }
+/// ```
+///
+/// while recording inside a submission compiles:
+///
+/// ```no_run
+/// fn record(ctx: &relief::vk::Context) -> relief::vk::VkResult<()> {
+///     ctx.one_shot(|rec| {
+///         rec.dispatch([1, 1, 1]);
+///         Ok(())
+///     })
+/// }
+/// ```
+pub struct Recording<'a> {
+    device: &'a ash::Device,
+    cmd: vk::CommandBuffer,
+    // Not Send or Sync: a command buffer is recorded by one thread (its pool is externally
+    // synchronised).
+    _single_thread: PhantomData<*const ()>,
+}
+
+impl<'a> Recording<'a> {
+    /// Wraps `cmd`, which must be in the recording state until this value is dropped.
+    pub(crate) fn new(device: &'a ash::Device, cmd: vk::CommandBuffer) -> Recording<'a> {
+        Recording {
+            device,
+            cmd,
+            _single_thread: PhantomData,
+        }
+    }
+
+    /// The raw command buffer, for the vk layer's own recording functions.
+    pub(crate) fn raw(&self) -> vk::CommandBuffer {
+        self.cmd
+    }
+
+    pub(crate) fn device(&self) -> &ash::Device {
+        self.device
+    }
+
+    /// Dispatches `groups` workgroups of the bound compute pipeline.
+    pub fn dispatch(&self, groups: [u32; 3]) {
+        // SAFETY: the buffer is recording (the type's invariant); a compute pipeline whose sets
+        // are bound is the caller's contract with the shader, checked by the validation layer.
+        unsafe {
+            self.device
+                .cmd_dispatch(self.cmd, groups[0], groups[1], groups[2])
+        };
+    }
+
+    /// Binds `vertices` at binding 0 and `indices` as 32-bit indices.
+    pub fn bind_mesh(&self, vertices: &Buffer, indices: &Buffer) {
+        // SAFETY: the buffer is recording; both buffers are alive and owned by relief.
+        unsafe {
+            self.device
+                .cmd_bind_vertex_buffers(self.cmd, 0, &[vertices.raw()], &[0]);
+            self.device
+                .cmd_bind_index_buffer(self.cmd, indices.raw(), 0, vk::IndexType::UINT32);
+        }
+    }
+
+    /// Draws `index_count` indices of the bound mesh, one instance.
+    pub fn draw_indexed(&self, index_count: u32) {
+        // SAFETY: the buffer is recording inside dynamic rendering (the caller's
+        // `begin_rendering`); the validation layer checks the bound state.
+        unsafe {
+            self.device
+                .cmd_draw_indexed(self.cmd, index_count, 1, 0, 0, 0)
+        };
+    }
+
+    /// Copies the whole of `src` to the start of `dst`.
+    pub fn copy_buffer(&self, src: &Buffer, dst: &Buffer) {
+        let size = src.size().min(dst.size());
+        let region = [vk::BufferCopy {
+            src_offset: 0,
+            dst_offset: 0,
+            size,
+        }];
+        // SAFETY: the buffer is recording; the region lies inside both buffers.
+        unsafe {
+            self.device
+                .cmd_copy_buffer(self.cmd, src.raw(), dst.raw(), &region)
+        };
+    }
+
+    /// Copies mip 0 of `image`, in `TRANSFER_SRC_OPTIMAL`, tightly packed into `dst`.
+    pub fn copy_image_to_buffer(&self, image: &Image, dst: &Buffer) {
+        let desc = image.desc();
+        let region = [vk::BufferImageCopy::default()
+            .image_subresource(
+                vk::ImageSubresourceLayers::default()
+                    .aspect_mask(desc.aspect)
+                    .mip_level(0)
+                    .layer_count(1),
+            )
+            .image_extent(vk::Extent3D {
+                width: desc.width,
+                height: desc.height,
+                depth: 1,
+            })];
+        // SAFETY: the buffer is recording; the caller sized `dst` for the level (the validation
+        // layer checks it) and put the image in TRANSFER_SRC_OPTIMAL.
+        unsafe {
+            self.device.cmd_copy_image_to_buffer(
+                self.cmd,
+                image.raw(),
+                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                dst.raw(),
+                &region,
+            )
+        };
+    }
+
+    /// Begins dynamic rendering into `color` (cleared to `clear`) and, if given, `depth`
+    /// (cleared to 1), both already in attachment layouts, with a full-target viewport.
+    pub fn begin_rendering(&self, color: &Image, depth: Option<&Image>, clear: [f32; 4]) {
+        let (width, height) = (color.desc().width, color.desc().height);
+        let color_attachment = [vk::RenderingAttachmentInfo::default()
+            .image_view(color.view())
+            .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+            .load_op(vk::AttachmentLoadOp::CLEAR)
+            .store_op(vk::AttachmentStoreOp::STORE)
+            .clear_value(vk::ClearValue {
+                color: vk::ClearColorValue { float32: clear },
+            })];
+        let depth_attachment = depth.map(|d| {
+            vk::RenderingAttachmentInfo::default()
+                .image_view(d.view())
+                .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
+                .load_op(vk::AttachmentLoadOp::CLEAR)
+                .store_op(vk::AttachmentStoreOp::DONT_CARE)
+                .clear_value(vk::ClearValue {
+                    depth_stencil: vk::ClearDepthStencilValue {
+                        depth: 1.0,
+                        stencil: 0,
+                    },
+                })
+        });
+        let area = vk::Rect2D {
+            offset: vk::Offset2D::default(),
+            extent: vk::Extent2D { width, height },
+        };
+        let mut info = vk::RenderingInfo::default()
+            .render_area(area)
+            .layer_count(1)
+            .color_attachments(&color_attachment);
+        if let Some(depth) = &depth_attachment {
+            info = info.depth_attachment(depth);
+        }
+        let viewport = vk::Viewport {
+            x: 0.0,
+            y: 0.0,
+            width: width as f32,
+            height: height as f32,
+            min_depth: 0.0,
+            max_depth: 1.0,
+        };
+        // SAFETY: the buffer is recording; the attachments are alive and in the layouts named.
+        unsafe {
+            self.device.cmd_begin_rendering(self.cmd, &info);
+            self.device.cmd_set_viewport(self.cmd, 0, &[viewport]);
+            self.device.cmd_set_scissor(self.cmd, 0, &[area]);
+        }
+    }
+
+    /// Ends the dynamic rendering begun by [`Recording::begin_rendering`].
+    pub fn end_rendering(&self) {
+        // SAFETY: the buffer is recording inside dynamic rendering.
+        unsafe { self.device.cmd_end_rendering(self.cmd) };
+    }
+}

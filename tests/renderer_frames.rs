@@ -1,0 +1,117 @@
+//! The persistent renderer: resources made once and reused by every frame, the pyramid built by
+//! the first frame only, frames in flight that come back in order, and frames that equal the
+//! one-shot render of the same view.
+
+mod common;
+
+use relief::method::Method;
+use relief::render::{render, FrameRequest, Pass, RenderOptions, Renderer};
+use relief::scene::{default_heightfield, default_scene};
+
+const OPTS: RenderOptions = RenderOptions {
+    width: 96,
+    height: 54,
+    height_format: relief::render::HeightFormat::R16Unorm,
+    address: relief::render::Addressing::Repeat,
+};
+
+#[test]
+fn frames_reuse_every_resource_and_build_the_pyramid_once() {
+    let Some(ctx) = common::device("frames_reuse_every_resource") else {
+        return;
+    };
+    let qdm: Method = "qdm".parse().expect("qdm");
+    let scene = default_scene(qdm);
+    let hf = default_heightfield();
+    let mut renderer = Renderer::new(&ctx, &scene, Some(&hf), &OPTS).expect("prepares");
+    let center = glam::Vec3::ZERO;
+    let start = renderer.default_camera();
+    let frames = 8u32;
+    let mut outputs = Vec::new();
+    let mut after_first = None;
+    for k in 0..frames {
+        let request = FrameRequest {
+            camera: start.orbited(center, (45.0 * k as f32).to_radians()),
+            read_back: k % 2 == 0,
+        };
+        outputs.extend(renderer.submit(&request).expect("submits"));
+        after_first.get_or_insert_with(|| ctx.created());
+    }
+    outputs.extend(renderer.finish().expect("finishes"));
+    assert_eq!(
+        ctx.created(),
+        after_first.unwrap(),
+        "frames 2..{frames} created Vulkan objects"
+    );
+    let indices: Vec<u64> = outputs.iter().map(|f| f.index).collect();
+    assert_eq!(indices, (0..u64::from(frames)).collect::<Vec<_>>());
+    let has = |k: usize, pass| outputs[k].timings.iter().any(|t| t.pass == pass);
+    assert!(has(0, Pass::Pyramid), "the first frame builds the pyramid");
+    for k in 1..frames as usize {
+        assert!(
+            !has(k, Pass::Pyramid),
+            "frame {k} rebuilt the static pyramid"
+        );
+        assert!(has(k, Pass::Surface), "frame {k} has no surface time");
+    }
+    for (k, frame) in outputs.iter().enumerate() {
+        assert_eq!(frame.rgba.is_some(), k % 2 == 0, "frame {k} read back?");
+    }
+    // Eight 45-degree steps: frames 0 and 4 look at the slab from opposite sides.
+    let (mean, _, _) = common::golden::compare(
+        outputs[0].rgba.as_ref().unwrap(),
+        outputs[4].rgba.as_ref().unwrap(),
+    );
+    assert!(
+        mean > 2.0,
+        "the orbit did not move the camera (mean {mean:.2})"
+    );
+    assert_eq!(renderer.maps().len(), 1, "{:?}", renderer.maps());
+    common::assert_no_validation_errors(&ctx);
+}
+
+#[test]
+fn a_frame_of_the_renderer_equals_the_one_shot_render_of_its_view() {
+    let Some(ctx) = common::device("frame_equals_one_shot") else {
+        return;
+    };
+    let scene = default_scene(Method::POM);
+    let hf = default_heightfield();
+    let one_shot = render(&ctx, &scene, Some(&hf), &OPTS).expect("renders");
+    let mut renderer = Renderer::new(&ctx, &scene, Some(&hf), &OPTS).expect("prepares");
+    let camera = renderer.default_camera();
+    let away = camera.orbited(glam::Vec3::ZERO, 1.0);
+    let mut last = None;
+    // Another view in between: a stale uniform or descriptor slot would show in frame 3.
+    for cam in [camera, away, camera] {
+        let request = FrameRequest {
+            camera: cam,
+            read_back: true,
+        };
+        if let Some(out) = renderer.submit(&request).expect("submits") {
+            last = Some(out);
+        }
+    }
+    let mut rest = renderer.finish().expect("finishes");
+    let third = rest.pop().expect("the third frame");
+    assert_eq!(third.index, 2);
+    let first = last.expect("the first frame retired when the third was submitted");
+    assert_eq!(first.index, 0);
+    let rgba = third.rgba.expect("read back");
+    assert_eq!(
+        rgba,
+        first.rgba.expect("read back"),
+        "same view, same pixels"
+    );
+    assert!(
+        rgba == one_shot.rgba,
+        "the third frame differs from the one-shot render"
+    );
+    let middle = rest.pop().expect("the second frame");
+    let (moved, _, _) = common::golden::compare(&rgba, &middle.rgba.expect("read back"));
+    assert!(
+        moved > 1.0,
+        "the second view did not differ (mean {moved:.2})"
+    );
+    common::assert_no_validation_errors(&ctx);
+}
