@@ -3,6 +3,7 @@
 
 mod builtin;
 mod camera;
+mod camera_path;
 mod gltf_accessor;
 mod gltf_animation_check;
 mod gltf_image;
@@ -19,6 +20,7 @@ mod tangents;
 
 pub use builtin::{default_heightfield, default_scene, DEFAULT_HEIGHTFIELD};
 pub use camera::{Camera, Projection};
+pub use camera_path::{CameraPath, Interpolation, Keyed, Keyframe, NodeMotion, Track, TrackError};
 pub use gltf_load::{load_gltf, load_gltf_with_report, LoadReport, SceneError, SceneOptions};
 pub use material::{
     AlphaMode, Filter, HeightSource, Material, Relief, SamplerDesc, TextureRef, TextureSlot,
