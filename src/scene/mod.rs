@@ -6,6 +6,7 @@ mod camera;
 mod camera_path;
 mod gltf_accessor;
 mod gltf_animation_check;
+mod gltf_camera_path;
 mod gltf_image;
 mod gltf_load;
 mod gltf_material;
@@ -138,6 +139,9 @@ pub struct Scene {
     pub camera: Option<Camera>,
     /// The scene's own lights; empty means the renderer adds [`Light::default_light`].
     pub lights: Vec<Light>,
+    /// How `camera` moves when the file animates it (or one of its ancestors); `None` when it
+    /// stands still. `camera` itself is the rest pose, not the path's first sample.
+    pub camera_path: Option<CameraPath>,
 }
 
 impl Scene {
