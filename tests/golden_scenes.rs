@@ -170,6 +170,7 @@ fn materials_scene() -> Scene {
                 casts_shadows: true,
             },
         ],
+        camera_path: None,
     }
 }
 

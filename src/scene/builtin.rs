@@ -79,5 +79,6 @@ pub fn default_scene(method: Method) -> Scene {
             ..Light::default_light()
         }],
         images: Vec::new(),
+        camera_path: None,
     }
 }

@@ -1,6 +1,6 @@
-//! Animations, checked as glTF 2.0 and the Khronos validator define them. Animations are not
-//! played, but a file whose animations break the spec is broken, so it is rejected with the
-//! animation, sampler or channel and the rule it breaks.
+//! Animations, checked as glTF 2.0 and the Khronos validator define them. Only the one that
+//! moves the camera is played (`gltf_camera_path`), but a file whose animations break the spec
+//! is broken, so it is rejected with the animation, sampler or channel and the rule it breaks.
 //!
 //! Accessor data is read with `gltf_accessor`'s bounds-checked readers, and each accessor's
 //! data is read at most once here, so the work is linear in the file's size.

@@ -5,8 +5,9 @@
 //! Malformed files are rejected with an error rather than trusted: the JSON is checked (by
 //! `gltf_prepass` and the gltf crate's validator), and buffer views, accessors, the node graph,
 //! cameras and lights are checked here before anything is read, because the gltf crate's own
-//! readers panic on out-of-range data. Animations, skins and joint/weight attributes are not
-//! used, but are checked too (`gltf_animation_check`, `gltf_skin_check`).
+//! readers panic on out-of-range data. Animations are checked (`gltf_animation_check`) and the one
+//! that moves the chosen camera becomes [`Scene::camera_path`] (`gltf_camera_path`); skins and
+//! joint/weight attributes are not used, but are checked too (`gltf_skin_check`).
 //! Primitives that are not triangle lists are skipped and counted in
 //! [`LoadReport::skipped_primitives`].
 
@@ -18,7 +19,8 @@ use super::camera::Projection;
 use super::gltf_mesh::{convert_meshes, place};
 use super::gltf_prepass::{self, Parsed};
 use super::{
-    gltf_accessor, gltf_animation_check, gltf_image, gltf_material, gltf_nodes, gltf_skin_check,
+    gltf_accessor, gltf_animation_check, gltf_camera_path, gltf_image, gltf_material, gltf_nodes,
+    gltf_skin_check,
 };
 use super::{Camera, Light, LightKind, Material, Scene};
 
@@ -87,13 +89,18 @@ pub fn load_gltf_with_report(
         images,
         ..Scene::default()
     };
-    let report = build(&doc, &buffers, opts, &mut scene).map_err(invalid)?;
+    let (report, camera_node) = build(&doc, &buffers, opts, &mut scene).map_err(invalid)?;
     // Last, so errors in what is drawn name their mesh: the rest of the accessors (animation,
     // skins, unused) are checked too, since a file with broken data is broken either way.
     gltf_accessor::check_accessors(&doc, &buffers, zero_buffers).map_err(invalid)?;
-    // Animations and skins are not used, but are checked like the rest of the file.
+    // Animations are checked whole before the camera's is read; skins are checked, not used.
     gltf_animation_check::check_animations(&doc, &buffers, zero_buffers).map_err(invalid)?;
     gltf_skin_check::check_skins(&doc, &buffers, zero_buffers).map_err(invalid)?;
+    if let (Some(node), Some(camera)) = (camera_node, scene.camera) {
+        scene.camera_path =
+            gltf_camera_path::camera_path(&doc, &buffers, zero_buffers, node, camera.projection)
+                .map_err(invalid)?;
+    }
     Ok((scene, report))
 }
 
@@ -117,12 +124,13 @@ fn load_buffers(
         .collect()
 }
 
+/// Fills `scene` from the chosen glTF scene; also returns the chosen camera's node.
 fn build(
     doc: &gltf::Document,
     buffers: &[gltf::buffer::Data],
     opts: &SceneOptions,
     scene: &mut Scene,
-) -> Result<LoadReport, String> {
+) -> Result<(LoadReport, Option<usize>), String> {
     let mut report = LoadReport::default();
     let meshes = convert_meshes(doc, buffers, &scene.materials)?;
     let count = doc.scenes().len();
@@ -136,7 +144,7 @@ fn build(
         None => doc.default_scene().or_else(|| doc.scenes().next()),
     };
     let Some(root) = chosen else {
-        return Ok(report);
+        return Ok((report, None));
     };
     let mut default_material = None;
     let mut cameras = Vec::new();
@@ -158,13 +166,13 @@ fn build(
             }
         }
         if let Some(cam) = node.camera() {
-            cameras.push(convert_camera(&cam, world));
+            cameras.push((node.index(), convert_camera(&cam, world)));
         }
         if let Some(light) = node.light() {
             scene.lights.push(convert_light(&light, world)?);
         }
     }
-    scene.camera = match opts.camera {
+    let chosen = match opts.camera {
         Some(i) if i >= cameras.len() => {
             return Err(format!(
                 "camera {i} requested but the scene has {} cameras",
@@ -174,7 +182,8 @@ fn build(
         Some(i) => Some(cameras[i]),
         None => cameras.first().copied(),
     };
-    Ok(report)
+    scene.camera = chosen.map(|(_, camera)| camera);
+    Ok((report, chosen.map(|(node, _)| node)))
 }
 
 /// Cameras whose projection is degenerate (zero extent, far not beyond near) are rejected:

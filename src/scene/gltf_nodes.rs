@@ -121,7 +121,8 @@ pub(super) fn walk<'a>(
     Ok(out)
 }
 
-fn local(node: &gltf::Node) -> Mat4 {
+/// The node's local transform (matrix, or translation * rotation * scale).
+pub(super) fn local(node: &gltf::Node) -> Mat4 {
     match node.transform() {
         gltf::scene::Transform::Matrix { matrix } => Mat4::from_cols_array_2d(&matrix),
         gltf::scene::Transform::Decomposed {

@@ -3,8 +3,10 @@
 
 mod builtin;
 mod camera;
+mod camera_path;
 mod gltf_accessor;
 mod gltf_animation_check;
+mod gltf_camera_path;
 mod gltf_image;
 mod gltf_load;
 mod gltf_material;
@@ -19,6 +21,7 @@ mod tangents;
 
 pub use builtin::{default_heightfield, default_scene, DEFAULT_HEIGHTFIELD};
 pub use camera::{Camera, Projection};
+pub use camera_path::{CameraPath, Interpolation, Keyed, Keyframe, NodeMotion, Track, TrackError};
 pub use gltf_load::{load_gltf, load_gltf_with_report, LoadReport, SceneError, SceneOptions};
 pub use material::{
     AlphaMode, Filter, HeightSource, Material, Relief, SamplerDesc, TextureRef, TextureSlot,
@@ -136,6 +139,9 @@ pub struct Scene {
     pub camera: Option<Camera>,
     /// The scene's own lights; empty means the renderer adds [`Light::default_light`].
     pub lights: Vec<Light>,
+    /// How `camera` moves when the file animates it (or one of its ancestors); `None` when it
+    /// stands still. `camera` itself is the rest pose, not the path's first sample.
+    pub camera_path: Option<CameraPath>,
 }
 
 impl Scene {
