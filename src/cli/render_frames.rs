@@ -1,5 +1,5 @@
 //! Drawing `relief render`'s frames: one, or a sequence along a camera path (`--orbit`, or the
-//! glTF file's camera animation), written as PNGs (numbered for a sequence) or only timed
+//! glTF file's camera animation sampled evenly from its start to its end), written as PNGs (numbered for a sequence) or only timed
 //! (`--no-write`), with per-pass GPU times: the first frame apart (it builds the pyramids and
 //! pays first-use compilation), min / median / p95 over the rest.
 
@@ -25,7 +25,8 @@ pub struct FrameArgs {
     #[arg(long, default_value_t = 1, value_parser = clap::value_parser!(u32).range(1..=1_000_000))]
     pub frames: u32,
     /// Turn the camera this many degrees about the vertical axis through the scene's centre over
-    /// the sequence (frame k at DEGREES * k / N).
+    /// the sequence (frame k at DEGREES * k / N). Without it a sequence follows the glTF file's
+    /// camera animation when it has one, and otherwise keeps the camera still.
     #[arg(long, value_name = "DEGREES", allow_hyphen_values = true)]
     pub orbit: Option<f32>,
     /// Draw and time the frames without reading them back or writing files.
@@ -36,6 +37,8 @@ pub struct FrameArgs {
 /// Where the camera is in each frame.
 enum CameraPath {
     Still(Camera),
+    /// The file's animation of its camera, frame k at start + duration * k / (N - 1).
+    Animated(relief::scene::CameraPath),
     Orbit {
         start: Camera,
         center: Vec3,
@@ -47,7 +50,10 @@ impl CameraPath {
     fn choose(args: &FrameArgs, renderer: &Renderer, scene: &Scene) -> anyhow::Result<CameraPath> {
         let start = renderer.default_camera();
         let Some(degrees) = args.orbit else {
-            return Ok(CameraPath::Still(start));
+            return Ok(match &scene.camera_path {
+                Some(path) if args.frames > 1 => CameraPath::Animated(path.clone()),
+                _ => CameraPath::Still(start),
+            });
         };
         if !degrees.is_finite() {
             anyhow::bail!("--orbit must be a finite number of degrees, got {degrees}");
@@ -65,6 +71,10 @@ impl CameraPath {
     fn at(&self, frame: u32, frames: u32) -> Camera {
         match *self {
             CameraPath::Still(camera) => camera,
+            CameraPath::Animated(ref path) => {
+                let along = frame as f32 / (frames.max(2) - 1) as f32;
+                path.sample(path.start() + (path.duration() - path.start()) * along)
+            }
             CameraPath::Orbit {
                 start,
                 center,
@@ -274,6 +284,52 @@ fn methods_drawn(renderer: &Renderer) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use relief::scene::{Interpolation, Keyed, NodeMotion, Projection, Track};
+
+    #[test]
+    fn an_animated_camera_is_sampled_evenly_from_its_first_key_to_its_last() {
+        let track = Track::new(
+            Interpolation::Linear,
+            vec![1.0, 3.0],
+            vec![Vec3::ZERO, Vec3::new(4.0, 0.0, 0.0)],
+        )
+        .expect("a valid track");
+        let node = NodeMotion::Animated {
+            translation: Keyed::Track(track),
+            rotation: Keyed::Rest(glam::Quat::IDENTITY),
+            scale: Keyed::Rest(Vec3::ONE),
+        };
+        let projection = Projection::Perspective {
+            yfov: 0.8,
+            aspect: None,
+            znear: 0.1,
+            zfar: 10.0,
+        };
+        let path = CameraPath::Animated(relief::scene::CameraPath::new(vec![node], projection));
+        for (frame, x) in [(0, 0.0), (1, 2.0), (2, 4.0)] {
+            let eye = path.at(frame, 3).eye();
+            assert!(
+                (eye - Vec3::new(x, 0.0, 0.0)).length() < 1e-5,
+                "frame {frame}: {eye}"
+            );
+        }
+    }
+
+    #[test]
+    fn an_orbit_turns_by_its_share_of_the_degrees_each_frame() {
+        let start = Camera::look_at(Vec3::new(0.0, 1.0, 4.0), Vec3::ZERO, 0.8, 0.1, 10.0);
+        let path = CameraPath::Orbit {
+            start,
+            center: Vec3::ZERO,
+            degrees: 360.0,
+        };
+        assert!((path.at(0, 4).eye() - start.eye()).length() < 1e-5);
+        let quarter = path.at(1, 4).eye();
+        assert!(
+            (quarter - Vec3::new(4.0, 1.0, 0.0)).length() < 1e-4,
+            "{quarter}"
+        );
+    }
 
     #[test]
     fn a_sequence_numbers_its_files_beside_the_output() {
