@@ -8,10 +8,9 @@
 mod common;
 
 use relief::bench::{ray_direction, trace_stats, TraceStats};
-use relief::heightfield::reference::Address;
-use relief::heightfield::{Generator, Heightfield};
-use relief::method::{build_method_map, Budget, Leaf, Method};
-use relief::render::{trace_on_gpu, Addressing, HeightFormat, MapData, TraceRequest};
+use relief::heightfield::{build_method_map, Address, Generator, Heightfield, MapData};
+use relief::method::{Budget, Leaf, Method};
+use relief::render::{trace_on_gpu, HeightFormat, TraceRequest};
 
 const FIELDS: [Generator; 3] = [Generator::Fbm, Generator::Bricks, Generator::Step];
 const ANGLES: [f64; 4] = [1.0, 5.0, 30.0, 75.0];
@@ -28,7 +27,8 @@ const DEPTH_SCALE: f32 = 0.1;
 /// samples are tens of texels apart: most of their rays are gross misses there.
 struct Bounds {
     method: &'static str,
-    per_angle: [(f64, f64); 4],
+    repeat: [(f64, f64); 4],
+    clamp: [(f64, f64); 4],
 }
 
 /// The accurate methods end in the exact ray/bilinear-patch intersection (the default leaf), over
@@ -39,47 +39,58 @@ const EXACT: [(f64, f64); 4] = [(0.01, 0.0); 4];
 const BOUNDS: &[Bounds] = &[
     Bounds {
         method: "parallax",
-        per_angle: [(210.0, 1.0), (50.0, 1.0), (6.0, 1.0), (0.4, 0.1)],
+        repeat: [(210.0, 1.0), (50.0, 1.0), (6.0, 1.0), (0.4, 0.1)],
+        clamp: [(210.0, 1.0), (50.0, 1.0), (6.0, 1.0), (0.4, 0.1)],
     },
     Bounds {
         method: "steep",
-        per_angle: [(80.0, 1.0), (5.0, 0.9), (0.5, 0.01), (0.1, 0.02)],
+        repeat: [(80.0, 1.0), (5.0, 0.9), (0.5, 0.01), (0.1, 0.02)],
+        clamp: [(80.0, 1.0), (5.0, 0.9), (0.5, 0.01), (0.1, 0.02)],
     },
     Bounds {
         method: "relief",
-        per_angle: [(115.0, 1.0), (4.0, 0.3), (0.1, 0.01), (0.06, 0.025)],
+        repeat: [(115.0, 1.0), (4.0, 0.3), (0.1, 0.01), (0.06, 0.025)],
+        clamp: [(115.0, 1.0), (4.0, 0.3), (0.1, 0.01), (0.06, 0.025)],
     },
     Bounds {
         method: "pom",
-        per_angle: [(72.0, 1.0), (3.0, 0.6), (0.07, 0.01), (0.03, 0.025)],
+        repeat: [(72.0, 1.0), (3.0, 0.6), (0.07, 0.01), (0.03, 0.025)],
+        clamp: [(72.0, 1.0), (3.0, 0.6), (0.07, 0.01), (0.03, 0.025)],
     },
     Bounds {
         method: "qrm",
-        per_angle: EXACT,
+        repeat: EXACT,
+        clamp: EXACT,
     },
     Bounds {
         method: "pdm",
-        per_angle: EXACT,
+        repeat: EXACT,
+        clamp: EXACT,
     },
     Bounds {
         method: "qdm",
-        per_angle: EXACT,
+        repeat: EXACT,
+        clamp: EXACT,
     },
     Bounds {
         method: "csm",
-        per_angle: EXACT,
+        repeat: EXACT,
+        clamp: EXACT,
     },
     Bounds {
         method: "rcsm",
-        per_angle: EXACT,
+        repeat: EXACT,
+        clamp: EXACT,
     },
     Bounds {
         method: "quadric",
-        per_angle: EXACT,
+        repeat: EXACT,
+        clamp: EXACT,
     },
     Bounds {
         method: "maxmip",
-        per_angle: EXACT,
+        repeat: EXACT,
+        clamp: EXACT,
     },
 ];
 
@@ -90,6 +101,7 @@ fn trace_one(
     map: Option<&MapData>,
     angle: f64,
     budget: Budget,
+    address: Address,
 ) -> TraceStats {
     let dir = ray_direction(angle, 30.0);
     let req = TraceRequest {
@@ -98,21 +110,17 @@ fn trace_one(
         depth_scale: DEPTH_SCALE,
         grid: (64, 64),
         budget,
-        address: Addressing::Repeat,
+        address,
         format: HeightFormat::R16Unorm,
         map,
     };
     let out = trace_on_gpu(ctx, hf, &req).expect("trace runs");
-    trace_stats(
-        hf,
-        &out.hits,
-        &out.steps,
-        f64::from(DEPTH_SCALE),
-        Address::Repeat,
-    )
+    trace_stats(hf, &out.hits, &out.steps, f64::from(DEPTH_SCALE), address)
 }
 
-fn check_method(id: &str) {
+/// Traces `id` on every field at every angle with `address` (the GPU's sampler, the map's build
+/// and the reference's), comparing each view with the bounds stated for that addressing.
+fn check_method(id: &str, address: Address) {
     let Some(ctx) = common::device(id) else {
         return;
     };
@@ -121,23 +129,20 @@ fn check_method(id: &str) {
         .iter()
         .find(|b| b.method == id)
         .expect("every method states its bounds");
+    let per_angle = match address {
+        Address::Repeat => bounds.repeat,
+        Address::Clamp => bounds.clamp,
+    };
     let mut failures = Vec::new();
     for field in FIELDS {
         let hf = field.generate(SIZE, SIZE, 11).quantized_unorm16();
-        let map = build_method_map(method, &hf, Address::Repeat);
-        for (k, &angle) in ANGLES.iter().enumerate() {
-            let (max_mean, max_gross) = bounds.per_angle[k];
+        let map = build_method_map(method, &hf, address);
+        for (&angle, &(max_mean, max_gross)) in ANGLES.iter().zip(&per_angle) {
             let budget = method.info().default_budget;
-            let s = trace_one(
-                &ctx,
-                method,
-                &hf,
-                map.as_ref().map(|(m, _)| m),
-                angle,
-                budget,
-            );
+            let map = map.as_ref().map(|(m, _)| m);
+            let s = trace_one(&ctx, method, &hf, map, angle, budget, address);
             eprintln!(
-                "{id:9} {:7} {angle:4} deg: mean {:.4} p99 {:.3} max {:.2} gross {:.4} capped {:.4} steps {:.1}/{}",
+                "{id:9} {address:6} {:7} {angle:4} deg: mean {:.6} p99 {:.3} max {:.2} gross {:.4} capped {:.4} steps {:.1}/{}",
                 field.name(), s.error_texels.mean, s.error_texels.p99, s.error_texels.max,
                 s.gross_rate, s.capped_rate, s.steps.mean, s.steps.max
             );
@@ -150,14 +155,18 @@ fn check_method(id: &str) {
             }
             if s.error_texels.mean > max_mean || s.gross_rate > max_gross {
                 failures.push(format!(
-                    "{} at {angle} deg: mean error {:.4} (bound {max_mean}), gross rate {:.4} (bound {max_gross})",
+                    "{} at {angle} deg: mean error {:.6} (bound {max_mean}), gross rate {:.4} (bound {max_gross})",
                     field.name(), s.error_texels.mean, s.gross_rate
                 ));
             }
         }
     }
     common::assert_no_validation_errors(&ctx);
-    assert!(failures.is_empty(), "{id}:\n{}", failures.join("\n"));
+    assert!(
+        failures.is_empty(),
+        "{id} ({address}):\n{}",
+        failures.join("\n")
+    );
 }
 
 #[test]
@@ -170,25 +179,19 @@ fn every_method_states_bounds() {
     }
 }
 
+/// One test per method and addressing, `repeat::<id>` and `clamp::<id>`, so they run in parallel.
 macro_rules! method_tests {
-    ($($name:ident => $id:literal),* $(,)?) => {
-        $(#[test] fn $name() { check_method($id); })*
+    ($($id:ident),* $(,)?) => {
+        mod repeat {
+            $(#[test] fn $id() { super::check_method(stringify!($id), super::Address::Repeat); })*
+        }
+        mod clamp {
+            $(#[test] fn $id() { super::check_method(stringify!($id), super::Address::Clamp); })*
+        }
     };
 }
 
-method_tests! {
-    parallax => "parallax",
-    steep => "steep",
-    relief => "relief",
-    pom => "pom",
-    qrm => "qrm",
-    pdm => "pdm",
-    qdm => "qdm",
-    maxmip => "maxmip",
-    quadric => "quadric",
-    csm => "csm",
-    rcsm => "rcsm",
-}
+method_tests!(parallax, steep, relief, pom, qrm, pdm, qdm, maxmip, quadric, csm, rcsm);
 
 #[test]
 fn paper_leaf_stays_selectable() {
@@ -209,8 +212,8 @@ fn paper_leaf_stays_selectable() {
             leaf: Leaf::Paper,
             ..exact
         };
-        let e = trace_one(&ctx, method, &hf, map, 5.0, exact);
-        let p = trace_one(&ctx, method, &hf, map, 5.0, paper);
+        let e = trace_one(&ctx, method, &hf, map, 5.0, exact, Address::Repeat);
+        let p = trace_one(&ctx, method, &hf, map, 5.0, paper, Address::Repeat);
         eprintln!(
             "{method:9} bricks 5 deg: exact gross {:.4}, paper gross {:.4}",
             e.gross_rate, p.gross_rate
@@ -245,7 +248,7 @@ fn budgets_are_honoured() {
                 max_steps: 1,
                 ..method.info().default_budget
             },
-            address: Addressing::Repeat,
+            address: Address::Repeat,
             format: HeightFormat::R16Unorm,
             map: map.as_ref().map(|(data, _)| data),
         };

@@ -6,10 +6,9 @@
 mod common;
 
 use relief::bench::{ray_direction, trace_stats, TraceStats};
-use relief::heightfield::reference::Address;
-use relief::heightfield::{Generator, Heightfield};
-use relief::method::{build_method_map, Method};
-use relief::render::{trace_on_gpu, Addressing, HeightFormat, TraceRequest};
+use relief::heightfield::{build_method_map, Address, Generator, Heightfield};
+use relief::method::Method;
+use relief::render::{trace_on_gpu, HeightFormat, TraceRequest};
 
 fn trace(
     ctx: &std::sync::Arc<relief::vk::Context>,
@@ -25,7 +24,7 @@ fn trace(
         depth_scale: 0.1,
         grid: (grid, grid),
         budget: method.info().default_budget,
-        address: Addressing::Repeat,
+        address: Address::Repeat,
         format: HeightFormat::R16Unorm,
         map: map.as_ref().map(|(m, _)| m),
     };

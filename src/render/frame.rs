@@ -9,12 +9,14 @@ use ash::vk;
 use serde::Serialize;
 
 use super::frame_uniforms::FrameUniforms;
-use super::gpu_heightfield::{Addressing, HeightFormat};
+use super::gpu_heightfield::HeightFormat;
 use super::height_resources::HeightResources;
+use super::map_builder::{build_method_map_with, MapBuilder};
 use super::plan::{HeightKey, HeightPlan, Plan, PlanError};
 use super::surface_pass::{SurfacePass, COLOR_FORMAT, DEPTH_FORMAT};
+use crate::heightfield::Address;
 use crate::heightfield::{Heightfield, HeightfieldError, LoadOptions};
-use crate::method::{build_method_map_with, MapBuilder, MapKind};
+use crate::method::MapKind;
 use crate::scene::Scene;
 use crate::vk::{
     read_mip, transition_images, Context, Image, ImageDesc, ImageTransition, TimestampPool,
@@ -27,7 +29,7 @@ pub struct RenderOptions {
     pub width: u32,
     pub height: u32,
     pub height_format: HeightFormat,
-    pub address: Addressing,
+    pub address: Address,
 }
 
 impl Default for RenderOptions {
@@ -36,7 +38,7 @@ impl Default for RenderOptions {
             width: 960,
             height: 540,
             height_format: HeightFormat::R16Unorm,
-            address: Addressing::Repeat,
+            address: Address::Repeat,
         }
     }
 }
@@ -171,9 +173,7 @@ pub fn render(
             HeightKey::Image { address, .. } => address,
         };
         let map = match hp.map_method {
-            Some(method) => {
-                build_method_map_with(method, &stored, address.into(), MapBuilder::Gpu(ctx))?
-            }
+            Some(method) => build_method_map_with(method, &stored, address, MapBuilder::Gpu(ctx))?,
             None => None,
         };
         if let (Some(built), Some(kind)) = (&map, hp.map) {

@@ -6,8 +6,7 @@
 use serde::Serialize;
 
 use super::frame_uniforms::MAX_LIGHTS;
-use super::gpu_heightfield::Addressing;
-use crate::heightfield::{Channel, Heightfield};
+use crate::heightfield::{Address, Channel, Heightfield};
 use crate::method::{MapKind, Method};
 use crate::scene::{AlphaMode, HeightSource, Light, Scene, Wrap};
 
@@ -21,7 +20,7 @@ pub enum HeightKey {
         image: usize,
         channel: Channel,
         invert: bool,
-        address: Addressing,
+        address: Address,
     },
 }
 
@@ -116,11 +115,11 @@ pub enum PlanError {
     },
 }
 
-fn address_of(wrap: [Wrap; 2]) -> Addressing {
+fn address_of(wrap: [Wrap; 2]) -> Address {
     if wrap.contains(&Wrap::ClampToEdge) {
-        Addressing::Clamp
+        Address::Clamp
     } else {
-        Addressing::Repeat
+        Address::Repeat
     }
 }
 
@@ -227,9 +226,8 @@ impl Plan {
         size: (u32, u32),
         method: Method,
     ) -> usize {
-        let needs = method.info().needs;
-        let pyramid = needs.contains(&MapKind::MaxPyramid);
-        let map = needs.iter().copied().find(|k| *k != MapKind::MaxPyramid);
+        let pyramid = method.info().reads_pyramid();
+        let map = method.info().method_map();
         let found = self
             .heights
             .iter()
@@ -268,12 +266,7 @@ impl Plan {
             );
         }
         let used_methods: Vec<Method> = self.pipelines.iter().filter_map(|p| p.method).collect();
-        for kind in [
-            MapKind::MaxPyramid,
-            MapKind::ConservativeCone,
-            MapKind::RelaxedCone,
-            MapKind::Quadric,
-        ] {
+        for kind in MapKind::ALL {
             let built = self
                 .heights
                 .iter()
