@@ -1,5 +1,7 @@
 //! The frame: joins height fields and scenes with the Vulkan layer. Uploads, the pyramid pass,
-//! the surface pass, timestamps around each, and readback to an image.
+//! the surface pass, timestamps around each, and readback to an image. Also where a method's map
+//! is built (`map_builder`: on the GPU where a builder exists, else `heightfield`'s CPU build)
+//! and where the height field's `Address` becomes a sampler address mode (`gpu_heightfield`).
 
 mod bench_pass;
 mod cone_map_pass;
