@@ -2,14 +2,22 @@
 //! writes `shaders.rs` into OUT_DIR, which embeds them. A compile error fails the build with the
 //! shader's file:line and glslang's message.
 //!
-//! Variants: `passes/surface.frag` once per method file in `shaders/methods/` (the method is
-//! reached through the virtual include "method.glsl") and once plain (no relief), `passes/pyramid.comp` once per storage
-//! format; every other file under `passes/` once.
+//! Variants: each of the method passes (`surface.frag`, `trace.comp`) once per row of the method
+//! table, `src/method/table.rs`, which this script compiles as a module of its own: the row names
+//! the method's file (reached through the virtual include "method.glsl") and whether the variant
+//! binds the method map (binding 3). `surface.frag` also once plain (no relief),
+//! `passes/pyramid.comp` once per storage format; every other file under `passes/` once. A file in
+//! `shaders/methods/` that no row names fails the build.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use glslang::include::{IncludeHandler, IncludeResult, IncludeType};
+
+/// The method table, the same file the library compiles; build.rs reads only part of it.
+#[allow(dead_code)]
+#[path = "src/method/table.rs"]
+mod table;
 use glslang::{
     Compiler, CompilerOptions, ShaderInput, ShaderSource, ShaderStage, SourceLanguage,
     SpirvVersion, Target, VulkanVersion,
@@ -67,10 +75,6 @@ fn sorted_files(dir: &Path) -> Vec<PathBuf> {
 }
 
 fn variants(root: &Path) -> Vec<Variant> {
-    let methods: Vec<PathBuf> = sorted_files(&root.join("methods"))
-        .into_iter()
-        .filter(|p| p.extension().is_some_and(|e| e == "glsl"))
-        .collect();
     let mut out = Vec::new();
     for file in sorted_files(&root.join("passes")) {
         let Some(stage) = stage_of(&file) else {
@@ -94,15 +98,14 @@ fn variants(root: &Path) -> Vec<Variant> {
             let defines = vec![("PLAIN_SURFACE".into(), "1".into())];
             out.push(plain(format!("{base}:plain"), defines, None));
         }
-        if matches!(base.as_str(), "surface.frag" | "trace.comp") {
-            for m in &methods {
-                let id = m.file_stem().and_then(|s| s.to_str()).unwrap_or_default();
-                let mut defines = vec![("METHOD_TRACE".into(), format!("trace_{id}"))];
-                // Only methods that read a precomputed map get binding 3 (bindings.glsl).
-                if reads_method_map(root, m) {
-                    defines.push(("USES_METHOD_MAP".into(), "1".into()));
-                }
-                out.push(plain(format!("{base}:{id}"), defines, Some(m.clone())));
+        if table::METHOD_PASSES.contains(&base.as_str()) {
+            for m in table::METHODS {
+                let (defines, method_file) = method_variant(root, m);
+                out.push(plain(
+                    format!("{base}:{}", m.id),
+                    defines,
+                    Some(method_file),
+                ));
             }
         } else if base == "pyramid.comp" {
             for (fmt, qualifier) in [("r16", "r16"), ("r32f", "r32f")] {
@@ -116,16 +119,46 @@ fn variants(root: &Path) -> Vec<Variant> {
     out
 }
 
-/// Whether a method file, or an include it names, reads binding 3.
-fn reads_method_map(root: &Path, method: &Path) -> bool {
-    let source = std::fs::read_to_string(method).unwrap_or_default();
-    let included = source.lines().filter_map(|l| {
-        let name = l.trim().strip_prefix("#include")?.trim().trim_matches('"');
-        std::fs::read_to_string(root.join("include").join(name)).ok()
-    });
-    std::iter::once(source.clone())
-        .chain(included)
-        .any(|text| text.contains("method_map"))
+/// The defines and the method file of a method variant, from the method's table row.
+fn method_variant(root: &Path, m: &table::MethodInfo) -> (Vec<(String, String)>, PathBuf) {
+    let mut defines = vec![("METHOD_TRACE".into(), format!("trace_{}", m.id))];
+    // Only methods whose row names a method map get binding 3 (bindings.glsl).
+    if m.method_map().is_some() {
+        defines.push((table::METHOD_MAP_DEFINE.into(), "1".into()));
+    }
+    (defines, root.join(m.shader))
+}
+
+/// Every method file is some row's, and every row's file exists: a method is one GLSL file plus
+/// one row, and neither compiles alone.
+fn check_table(root: &Path) -> Result<(), String> {
+    let named: Vec<PathBuf> = table::METHODS.iter().map(|m| root.join(m.shader)).collect();
+    let mut problems: Vec<String> = named
+        .iter()
+        .filter(|p| !p.is_file())
+        .map(|p| {
+            format!(
+                "the method table names {}, which does not exist",
+                p.display()
+            )
+        })
+        .collect();
+    problems.extend(
+        sorted_files(&root.join("methods"))
+            .into_iter()
+            .filter(|p| p.extension().is_some_and(|e| e == "glsl") && !named.contains(p))
+            .map(|p| {
+                format!(
+                    "{} has no row in src/method/table.rs (add one, or delete the file)",
+                    p.display()
+                )
+            }),
+    );
+    if problems.is_empty() {
+        Ok(())
+    } else {
+        Err(problems.join("\n"))
+    }
 }
 
 fn compile(compiler: &Compiler, root: &Path, v: &Variant) -> Result<Vec<u32>, String> {
@@ -185,6 +218,11 @@ fn main() {
     let out_dir = PathBuf::from(std::env::var("OUT_DIR").expect("cargo sets OUT_DIR"));
     let root = manifest.join("shaders");
     println!("cargo:rerun-if-changed=shaders");
+    println!("cargo:rerun-if-changed=src/method/table.rs");
+    if let Err(message) = check_table(&root) {
+        eprintln!("{message}");
+        std::process::exit(1);
+    }
     let compiler = Compiler::acquire().expect("glslang initialises once per process");
     let mut table = String::from("// Generated by build.rs: SPIR-V of every shader variant.\n");
     table.push_str("pub(crate) static SHADERS: &[(&str, &Aligned<[u8]>)] = &[\n");

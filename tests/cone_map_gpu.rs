@@ -9,8 +9,8 @@ use std::sync::Arc;
 
 use relief::heightfield::cone_map::{trace_cone_cpu, ConeKind, ConeMap};
 use relief::heightfield::reference::{trace, Address, RefRay, SurfaceModel};
-use relief::heightfield::{Generator, Heightfield};
-use relief::render::{ConeMapPass, MapData, RATIO_TOLERANCE};
+use relief::heightfield::{Generator, Heightfield, MapData};
+use relief::render::{ConeMapPass, RATIO_TOLERANCE};
 use relief::vk::Context;
 
 const FIELDS: [Generator; 5] = [

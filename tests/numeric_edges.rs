@@ -6,10 +6,9 @@
 mod common;
 
 use relief::bench::{ray_direction, trace_stats, TraceStats};
-use relief::heightfield::reference::Address;
-use relief::heightfield::{Generator, Heightfield};
-use relief::method::{build_method_map, Method};
-use relief::render::{trace_on_gpu, Addressing, HeightFormat, TraceRequest};
+use relief::heightfield::{build_method_map, Address, Generator, Heightfield};
+use relief::method::Method;
+use relief::render::{trace_on_gpu, HeightFormat, TraceRequest};
 
 fn trace(
     ctx: &std::sync::Arc<relief::vk::Context>,
@@ -25,13 +24,31 @@ fn trace(
         depth_scale: 0.1,
         grid: (grid, grid),
         budget: method.info().default_budget,
-        address: Addressing::Repeat,
+        address: Address::Repeat,
         format: HeightFormat::R16Unorm,
         map: map.as_ref().map(|(m, _)| m),
     };
     let out = trace_on_gpu(ctx, hf, &req).expect("trace runs");
     trace_stats(hf, &out.hits, &out.steps, 0.1f32 as f64, Address::Repeat)
 }
+
+/// Worst depth error in texels of an exactly vertical ray on fbm 64^2, per method: measured, rounded
+/// up to two significant digits. Steep parallax stops on its 32-step grid (measured 0.197), relief
+/// after 5 binary steps (0.0124); the others meet the surface to float rounding (measured 3.8e-7
+/// for parallax, 6.1e-7 for pom, 6.9e-7 for the pyramid methods and quadric, 7.5e-7 for the cones).
+const VERTICAL_DEPTH_ERROR: &[(&str, f64)] = &[
+    ("parallax", 3.9e-7),
+    ("steep", 0.20),
+    ("relief", 0.013),
+    ("pom", 6.1e-7),
+    ("csm", 7.5e-7),
+    ("rcsm", 7.5e-7),
+    ("qrm", 7.0e-7),
+    ("pdm", 7.0e-7),
+    ("qdm", 7.0e-7),
+    ("maxmip", 7.0e-7),
+    ("quadric", 7.0e-7),
+];
 
 #[test]
 fn axis_aligned_and_vertical_rays_stay_finite() {
@@ -48,10 +65,16 @@ fn axis_aligned_and_vertical_rays_stay_finite() {
         // Exactly vertical: dx = dy = 0, so every per-axis division is by zero.
         let s = trace(&ctx, &hf, method, [0.0, 0.0, 1.0], 16);
         assert_eq!(s.nan_pixels, 0, "{method} vertical: NaN");
+        // Straight down the uv error is zero by construction: the depth error is the check.
+        let bound = VERTICAL_DEPTH_ERROR
+            .iter()
+            .find(|(id, _)| *id == method.id())
+            .map(|(_, b)| *b)
+            .expect("every method states its vertical depth error");
         assert!(
-            s.error_texels.max < 1e-3,
-            "{method} vertical: error {}",
-            s.error_texels.max
+            s.depth_error_texels.max <= bound,
+            "{method} vertical: depth error {} (bound {bound})",
+            s.depth_error_texels.max
         );
     }
     common::assert_no_validation_errors(&ctx);

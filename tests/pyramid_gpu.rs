@@ -2,21 +2,22 @@
 
 mod common;
 
+use relief::heightfield::Address;
 use relief::heightfield::{Generator, Heightfield, MaxPyramid};
-use relief::render::{build_pyramid_on_gpu, Addressing, HeightFormat};
+use relief::render::{build_pyramid_on_gpu, HeightFormat};
 
 fn check(
     ctx: &std::sync::Arc<relief::vk::Context>,
     hf: &Heightfield,
     format: HeightFormat,
-    address: Addressing,
+    address: Address,
 ) {
     let (gpu, ms) = build_pyramid_on_gpu(ctx, hf, format, address).expect("GPU pyramid builds");
     let stored = match format {
         HeightFormat::R16Unorm => hf.quantized_unorm16(),
         HeightFormat::R32Float => hf.clone(),
     };
-    let cpu = MaxPyramid::build_bilinear_bound(&stored, address == Addressing::Repeat);
+    let cpu = MaxPyramid::build_bilinear_bound(&stored, address == Address::Repeat);
     assert_eq!(
         gpu.len() as u32,
         cpu.level_count(),
@@ -51,15 +52,15 @@ fn gpu_pyramid_equals_cpu_pyramid() {
         .enumerate()
     {
         let hf = Generator::Noise.generate(w, h, 7 + k as u64);
-        check(&ctx, &hf, HeightFormat::R16Unorm, Addressing::Clamp);
-        check(&ctx, &hf, HeightFormat::R16Unorm, Addressing::Repeat);
+        check(&ctx, &hf, HeightFormat::R16Unorm, Address::Clamp);
+        check(&ctx, &hf, HeightFormat::R16Unorm, Address::Repeat);
     }
     for (w, h) in [(3, 5), (257, 129)] {
         check(
             &ctx,
             &Generator::Fbm.generate(w, h, 3),
             HeightFormat::R32Float,
-            Addressing::Repeat,
+            Address::Repeat,
         );
     }
     common::assert_no_validation_errors(&ctx);

@@ -12,7 +12,7 @@ const OPTS: RenderOptions = RenderOptions {
     width: 96,
     height: 54,
     height_format: relief::render::HeightFormat::R16Unorm,
-    address: relief::render::Addressing::Repeat,
+    address: relief::heightfield::Address::Repeat,
 };
 
 #[test]

@@ -29,7 +29,8 @@ layout(set = 0, binding = 2) uniform sampler2D height_linear;  // bilinear
 
 #ifdef USES_METHOD_MAP
 // The method's precomputed map (cone ratios, quadric coefficients), one texel per height texel,
-// read by integer texel. build.rs defines USES_METHOD_MAP for methods that mention it.
+// read by integer texel. build.rs defines USES_METHOD_MAP for the methods whose row in the method
+// table (src/method/table.rs) names a method map.
 layout(set = 0, binding = 3) uniform sampler2D method_map;
 #endif
 #endif

@@ -17,5 +17,5 @@ pub use results::{BenchDevice, BenchResults, GpuMs, MapBuild, Run, StabilityCell
 pub use runner::{plan_jobs, Job, Runner, Section};
 pub use stability::{run_stiff_case, stiff_cases, StiffCase};
 pub use subgroup_steps::{subgroup_steps, TimedSteps};
-pub use sweep::{is_fixed_step, FieldSource, SweepConfig};
+pub use sweep::{FieldSource, SweepConfig};
 pub use trace_stats::{ray_direction, trace_stats, Spread, StepStats, TraceStats};

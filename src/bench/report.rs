@@ -1,6 +1,8 @@
 //! `report.md` and the SVG plots, from the measured results alone: error against run time with
-//! the Pareto front per view, scaling with map size, POM against QDM over depth scales, quadric
-//! against cone stepping, and the stability matrix.
+//! the Pareto front per view, scaling with map size, the step baseline (POM) against the tree
+//! baseline (QDM) over depth scales, the methods that read a cone or quadric map side by side,
+//! and the stability matrix. Which methods those are is the method table's `bench_role` and
+//! `needs`, never an id written here.
 
 use std::collections::BTreeSet;
 use std::fmt::Write as _;
@@ -8,6 +10,7 @@ use std::fmt::Write as _;
 use super::results::{BenchResults, Run, StabilityCell};
 use super::runner::Section;
 use super::svg::{Plot, Series};
+use crate::method::{BenchRole, Method};
 
 /// The report's Markdown and its plots as (file name, SVG).
 pub fn render_report(results: &BenchResults) -> (String, Vec<(String, String)>) {
@@ -48,13 +51,20 @@ fn budget_label(r: &Run) -> String {
     };
     let choice = r
         .method
-        .parse::<crate::method::Method>()
+        .parse::<Method>()
         .is_ok_and(|m| m.info().leaf_choice);
     if choice {
         format!("{steps} {}", r.budget.leaf)
     } else {
         steps
     }
+}
+
+/// The ids of the step and tree baselines (POM and QDM), when the table names both.
+fn baselines() -> Option<(&'static str, &'static str)> {
+    let step = Method::with_role(BenchRole::StepBaseline)?;
+    let tree = Method::with_role(BenchRole::TreeBaseline)?;
+    Some((step.id(), tree.id()))
 }
 
 /// Runs not dominated in (GPU ms, mean error) by another run of the same group.
@@ -140,31 +150,36 @@ fn scaling_runs(results: &BenchResults) -> Vec<&Run> {
     list
 }
 
-/// QDM's scaling beside POM's at the cheapest cap that holds POM's error at the smallest size.
+/// The tree baseline's scaling beside the step baseline's at the cheapest cap that holds the
+/// step baseline's error at the smallest size.
 fn matched_scaling(md: &mut String, results: &BenchResults) {
-    let pom: Vec<&Run> = runs(results, Section::MatchedScaling).collect();
-    let sizes: BTreeSet<u32> = pom.iter().map(|r| r.size[0]).collect();
+    let Some((step_id, tree_id)) = baselines() else {
+        return;
+    };
+    let (s, t) = (step_id.to_uppercase(), tree_id.to_uppercase());
+    let step: Vec<&Run> = runs(results, Section::MatchedScaling).collect();
+    let sizes: BTreeSet<u32> = step.iter().map(|r| r.size[0]).collect();
     let Some(&smallest) = sizes.first() else {
         return;
     };
-    let at = |size: u32| pom.iter().filter(move |r| r.size[0] == size);
-    // The target: POM's default cap at the smallest size.
+    let at = |size: u32| step.iter().filter(move |r| r.size[0] == size);
+    // The target: the step baseline's default cap at the smallest size.
     let Some(target) = at(smallest).min_by_key(|r| r.budget.max_steps) else {
         return;
     };
     let goal = target.error_texels.mean;
-    let qdm: Vec<&Run> = scaling_runs(results)
+    let tree: Vec<&Run> = scaling_runs(results)
         .into_iter()
-        .filter(|r| r.method == "qdm")
+        .filter(|r| r.method == tree_id)
         .collect();
     let _ = writeln!(md, "### Matched for error\n");
-    let _ = writeln!(md, "Per size, POM's cheapest cap (of those tried, up to its default grown in proportion to the map side) whose mean error is at most {goal:.4} texel, its error at {smallest}^2; next to QDM at its default budget. Growth is time over the smallest size's.\n");
+    let _ = writeln!(md, "Per size, {s}'s cheapest cap (of those tried, up to its default grown in proportion to the map side) whose mean error is at most {goal:.4} texel, its error at {smallest}^2; next to {t} at its default budget. Growth is time over the smallest size's.\n");
     let _ = writeln!(
         md,
-        "| size | POM steps | POM ms | POM error | POM growth | QDM ms | QDM error | QDM growth |"
+        "| size | {s} steps | {s} ms | {s} error | {s} growth | {t} ms | {t} error | {t} growth |"
     );
     let _ = writeln!(md, "|---|---|---|---|---|---|---|---|");
-    let first_qdm = qdm
+    let first_tree = tree
         .iter()
         .find(|q| q.size[0] == smallest)
         .map(|q| q.gpu_ms.median);
@@ -176,12 +191,12 @@ fn matched_scaling(md: &mut String, results: &BenchResults) {
         let Some(r) = matched else {
             continue;
         };
-        let q = qdm.iter().find(|q| q.size[0] == size);
+        let q = tree.iter().find(|q| q.size[0] == size);
         let (qms, qerr, qgrowth) = q.map_or(("-".into(), "-".into(), "-".into()), |q| {
             (
                 format!("{:.3}", q.gpu_ms.median),
                 format!("{:.4}", q.error_texels.mean),
-                first_qdm.map_or("-".into(), |b| growth(q.gpu_ms.median, b)),
+                first_tree.map_or("-".into(), |b| growth(q.gpu_ms.median, b)),
             )
         });
         let _ = writeln!(
@@ -198,7 +213,7 @@ fn matched_scaling(md: &mut String, results: &BenchResults) {
 
 fn is_default_budget(r: &Run) -> bool {
     r.method
-        .parse::<crate::method::Method>()
+        .parse::<Method>()
         .is_ok_and(|m| m.info().default_budget == r.budget)
 }
 
@@ -269,10 +284,13 @@ fn size_table(
 }
 
 fn depth_scale(md: &mut String, results: &BenchResults) {
+    let Some((step_id, tree_id)) = baselines() else {
+        return;
+    };
     let base = runs(results, Section::ErrorVsTime).filter(|r| r.angle_deg == 30.0);
     let mut list: Vec<&Run> = runs(results, Section::DepthScale)
         .chain(base)
-        .filter(|r| r.method == "pom" || r.method == "qdm")
+        .filter(|r| r.method == step_id || r.method == tree_id)
         .collect();
     if !list.iter().any(|r| r.section == Section::DepthScale) {
         return;
@@ -282,48 +300,57 @@ fn depth_scale(md: &mut String, results: &BenchResults) {
         .map(|r| r.heightfield.clone());
     list.retain(|r| Some(&r.heightfield) == field.as_ref());
     let scales: BTreeSet<u64> = list.iter().map(|r| r.depth_scale.to_bits()).collect();
-    let _ = writeln!(md, "## 3. Depth scale: POM against QDM at matched error\n");
-    let _ = writeln!(md, "At 30 deg. For each depth scale, QDM at its default budget, and the cheapest POM budget whose mean error is no worse (or POM's most accurate budget when none is); the shape of paper 001, Tables 1.3 and 1.4.\n");
-    let _ = writeln!(
-        md,
-        "| depth scale | QDM ms | QDM error | POM budget | POM ms | POM error | POM / QDM time |"
-    );
-    let _ = writeln!(md, "|---|---|---|---|---|---|---|");
+    depth_scale_head(md, &step_id.to_uppercase(), &tree_id.to_uppercase());
     for bits in scales {
         let s = f64::from_bits(bits);
         let at: Vec<&&Run> = list.iter().filter(|r| r.depth_scale == s).collect();
-        let Some(qdm) = at
+        let Some(tree) = at
             .iter()
-            .find(|r| r.method == "qdm" && is_default_budget(r))
+            .find(|r| r.method == tree_id && is_default_budget(r))
         else {
             continue;
         };
-        let mut pom: Vec<&&&Run> = at.iter().filter(|r| r.method == "pom").collect();
-        pom.sort_by(|a, b| a.gpu_ms.median.total_cmp(&b.gpu_ms.median));
-        let matched = pom
+        let mut step: Vec<&&&Run> = at.iter().filter(|r| r.method == step_id).collect();
+        step.sort_by(|a, b| a.gpu_ms.median.total_cmp(&b.gpu_ms.median));
+        let matched = step
             .iter()
-            .find(|r| r.error_texels.mean <= qdm.error_texels.mean)
+            .find(|r| r.error_texels.mean <= tree.error_texels.mean)
             .or_else(|| {
-                pom.iter()
+                step.iter()
                     .min_by(|a, b| a.error_texels.mean.total_cmp(&b.error_texels.mean))
             });
         let Some(p) = matched else { continue };
         let _ = writeln!(
             md,
             "| {s} | {:.3} | {:.4} | {} | {:.3} | {:.4} | {:.2}x |",
-            qdm.gpu_ms.median,
-            qdm.error_texels.mean,
+            tree.gpu_ms.median,
+            tree.error_texels.mean,
             budget_label(p),
             p.gpu_ms.median,
             p.error_texels.mean,
-            p.gpu_ms.median / qdm.gpu_ms.median.max(1e-9)
+            p.gpu_ms.median / tree.gpu_ms.median.max(1e-9)
         );
     }
     md.push('\n');
 }
 
+/// Title, text and table head of section 3, naming the step (`s`) and tree (`t`) baselines.
+fn depth_scale_head(md: &mut String, s: &str, t: &str) {
+    let _ = writeln!(md, "## 3. Depth scale: {s} against {t} at matched error\n");
+    let _ = writeln!(md, "At 30 deg. For each depth scale, {t} at its default budget, and the cheapest {s} budget whose mean error is no worse (or {s}'s most accurate budget when none is); the shape of paper 001, Tables 1.3 and 1.4.\n");
+    let _ = writeln!(
+        md,
+        "| depth scale | {t} ms | {t} error | {s} budget | {s} ms | {s} error | {s} / {t} time |"
+    );
+    let _ = writeln!(md, "|---|---|---|---|---|---|---|");
+}
+
+/// The methods that read a cone or quadric map (binding 3), in table order.
 fn cone_vs_quadric(md: &mut String, results: &BenchResults) {
-    let ids = ["csm", "rcsm", "quadric"];
+    let ids: Vec<&str> = Method::all()
+        .filter(|m| m.info().method_map().is_some())
+        .map(|m| m.id())
+        .collect();
     let list: Vec<&Run> = runs(results, Section::ErrorVsTime)
         .filter(|r| ids.contains(&r.method.as_str()) && is_default_budget(r))
         .collect();
@@ -339,7 +366,10 @@ fn cone_vs_quadric(md: &mut String, results: &BenchResults) {
     let _ = writeln!(
         md,
         "| angle | {} |",
-        ids.map(|m| format!("{m} steps | {m} ms")).join(" | ")
+        ids.iter()
+            .map(|m| format!("{m} steps | {m} ms"))
+            .collect::<Vec<_>>()
+            .join(" | ")
     );
     let _ = writeln!(md, "|---|{}", "---|".repeat(2 * ids.len()));
     let angles: BTreeSet<u64> = list.iter().map(|r| r.angle_deg.to_bits()).collect();

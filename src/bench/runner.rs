@@ -12,11 +12,11 @@ use super::results::{GpuMs, MapBuild, Run};
 use super::subgroup_steps::subgroup_steps;
 use super::sweep::{FieldSource, SweepConfig};
 use super::trace_stats::{ray_direction, trace_stats};
-use crate::heightfield::{Heightfield, LoadOptions};
-use crate::method::{build_method_map_with, Budget, MapBuilder, Method};
+use crate::heightfield::{Heightfield, LoadOptions, MapData};
+use crate::method::{BenchRole, Budget, Method};
 use crate::render::{
-    build_pyramid_on_gpu, time_method, trace_on_gpu, Addressing, BenchRequest, HeightFormat,
-    MapData, TraceRequest,
+    build_method_map_with, build_pyramid_on_gpu, time_method, trace_on_gpu, BenchRequest,
+    HeightFormat, MapBuilder, TraceRequest,
 };
 use crate::vk::Context;
 
@@ -108,7 +108,8 @@ pub fn plan_jobs(cfg: &SweepConfig) -> Vec<Job> {
                 depth,
             ));
         }
-        if method.id() == "pom" && cfg.sizes.len() > 1 {
+        let role = method.info().bench_role;
+        if role == Some(BenchRole::StepBaseline) && cfg.sizes.len() > 1 {
             let smallest = cfg.sizes.iter().copied().min().unwrap_or(size);
             for &s in &cfg.sizes {
                 let most = matched_steps(budget.max_steps, s, smallest);
@@ -131,7 +132,7 @@ pub fn plan_jobs(cfg: &SweepConfig) -> Vec<Job> {
                 }
             }
         }
-        if matches!(method.id(), "pom" | "qdm") {
+        if role.is_some() {
             for &d in cfg.depth_scales.iter().skip(1) {
                 for b in cfg.budgets_for(method) {
                     jobs.push(base(
@@ -170,10 +171,6 @@ impl Runner {
         }
     }
 
-    fn addressing(&self) -> Addressing {
-        self.cfg.address.into()
-    }
-
     /// The height field of `field` at `size`, as the GPU stores it (so the reference sees the same).
     pub fn field(&mut self, field: &FieldSource, size: u32) -> anyhow::Result<Arc<Heightfield>> {
         let key = (field.name(), size);
@@ -190,7 +187,7 @@ impl Runner {
             HeightFormat::R32Float => raw,
         };
         let (_, gpu_ms) =
-            build_pyramid_on_gpu(&self.ctx, &stored, self.cfg.format, self.addressing())
+            build_pyramid_on_gpu(&self.ctx, &stored, self.cfg.format, self.cfg.address)
                 .with_context(|| format!("building the pyramid of {}", key.0))?;
         self.map_builds.push(MapBuild {
             kind: "max_pyramid".into(),
@@ -223,8 +220,7 @@ impl Runner {
             .map(|built| {
                 let kind = method
                     .info()
-                    .needs
-                    .last()
+                    .method_map()
                     .map(|k| k.name())
                     .unwrap_or_default()
                     .to_owned();
@@ -253,7 +249,7 @@ impl Runner {
             depth_scale,
             grid: self.cfg.error_grid,
             budget: job.budget,
-            address: self.addressing(),
+            address: self.cfg.address,
             format: self.cfg.format,
             map: map.as_deref(),
         };

@@ -7,10 +7,9 @@ use std::sync::Arc;
 
 use super::results::StabilityCell;
 use super::trace_stats::{ray_direction, trace_stats};
-use crate::heightfield::reference::Address;
-use crate::heightfield::Generator;
-use crate::method::{build_method_map, Method};
-use crate::render::{trace_on_gpu, Addressing, HeightFormat, TraceRequest};
+use crate::heightfield::{build_method_map, Address, Generator};
+use crate::method::Method;
+use crate::render::{trace_on_gpu, HeightFormat, TraceRequest};
 use crate::vk::Context;
 
 /// One named stiff case.
@@ -96,11 +95,7 @@ pub fn run_stiff_case(ctx: &Arc<Context>, case: &StiffCase, method: Method) -> S
         failed,
     };
     let texels = u64::from(case.size.0) * u64::from(case.size.1);
-    let cpu_map = method
-        .info()
-        .needs
-        .iter()
-        .any(|k| *k != crate::method::MapKind::MaxPyramid);
+    let cpu_map = method.info().method_map().is_some();
     if cpu_map && texels > CPU_MAP_TEXELS {
         return cell(Some(format!(
             "its CPU-built map is not built above {}^2 texels (minutes to hours on 2 cores; see the map build times)",
@@ -113,14 +108,13 @@ pub fn run_stiff_case(ctx: &Arc<Context>, case: &StiffCase, method: Method) -> S
         HeightFormat::R32Float => raw,
     };
     let map = build_method_map(method, &hf, case.address);
-    let address = Addressing::from(case.address);
     let req = TraceRequest {
         method,
         dir: ray_direction(case.angle, 30.0).map(|x| x as f32),
         depth_scale: case.depth_scale as f32,
         grid: RAYS,
         budget: method.info().default_budget,
-        address,
+        address: case.address,
         format: case.format,
         map: map.as_ref().map(|(m, _)| m),
     };

@@ -4,8 +4,7 @@
 
 use std::path::PathBuf;
 
-use crate::heightfield::reference::Address;
-use crate::heightfield::Generator;
+use crate::heightfield::{Address, Generator};
 use crate::method::{Budget, Leaf, Method};
 use crate::render::HeightFormat;
 
@@ -56,11 +55,6 @@ pub struct SweepConfig {
     pub paper_leaf: bool,
     /// The small CI variant: fewer and smaller cases.
     pub quick: bool,
-}
-
-/// Methods whose cost is a fixed number of steps, so a larger budget buys accuracy.
-pub fn is_fixed_step(method: Method) -> bool {
-    matches!(method.id(), "steep" | "relief" | "pom")
 }
 
 impl SweepConfig {
@@ -120,7 +114,7 @@ impl SweepConfig {
                 ..default
             });
         }
-        if is_fixed_step(method) {
+        if method.info().fixed_step {
             for &steps in &self.budgets {
                 let b = Budget {
                     max_steps: steps,

@@ -12,12 +12,11 @@ use relief::bench::{
     plan_jobs, render_report, run_stiff_case, stiff_cases, BenchResults, FieldSource, Runner,
     SweepConfig,
 };
-use relief::heightfield::reference::Address;
-use relief::heightfield::Generator;
+use relief::heightfield::{Address, Generator};
 use relief::method::Method;
 use relief::render::HeightFormat;
 
-use super::render::{AddressArg, FormatArg};
+use super::render::FormatArg;
 
 #[derive(Args)]
 pub struct BenchArgs {
@@ -48,7 +47,7 @@ pub struct BenchArgs {
     /// Depth scales; the first is used by every section, all of them by the depth-scale one.
     #[arg(long, value_delimiter = ',')]
     depth_scales: Vec<f64>,
-    /// Iteration caps tried on fixed-step methods (steep, relief, pom) besides their defaults.
+    /// Iteration caps tried on fixed-step methods besides their defaults.
     #[arg(long, value_delimiter = ',')]
     budgets: Vec<u32>,
     /// Size of the timed full-screen pass, WxH.
@@ -60,8 +59,8 @@ pub struct BenchArgs {
     /// Skip the stability matrix.
     #[arg(long)]
     no_stability: bool,
-    #[arg(long, value_enum, default_value = "repeat")]
-    address: AddressArg,
+    #[arg(long, value_name = "repeat|clamp", default_value_t = Address::Repeat)]
+    address: Address,
     #[arg(long, value_enum, default_value = "r16")]
     height_format: FormatArg,
     /// Print results.json to stdout and no progress.
@@ -122,10 +121,7 @@ fn config(args: &BenchArgs) -> anyhow::Result<SweepConfig> {
     }
     cfg.frames = args.frames.unwrap_or(cfg.frames).max(1);
     cfg.stability &= !args.no_stability;
-    cfg.address = match args.address {
-        AddressArg::Repeat => Address::Repeat,
-        AddressArg::Clamp => Address::Clamp,
-    };
+    cfg.address = args.address;
     cfg.format = match args.height_format {
         FormatArg::R16 => HeightFormat::R16Unorm,
         FormatArg::R32f => HeightFormat::R32Float,

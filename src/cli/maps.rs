@@ -8,10 +8,9 @@ use std::path::PathBuf;
 use anyhow::Context as _;
 use clap::Args;
 use relief::bench::write_npy_f32;
-use relief::heightfield::reference::Address;
-use relief::heightfield::{Heightfield, MaxPyramid};
-use relief::method::{build_method_map_with, MapBuilder, Method};
-use relief::render::{build_pyramid_on_gpu, Addressing, HeightFormat};
+use relief::heightfield::{Address, Heightfield, MaxPyramid};
+use relief::method::Method;
+use relief::render::{build_method_map_with, build_pyramid_on_gpu, HeightFormat, MapBuilder};
 
 use super::heightmap_args::HeightmapArgs;
 
@@ -83,8 +82,7 @@ pub fn run(args: &MapsArgs) -> anyhow::Result<()> {
         .ok_or_else(|| anyhow::anyhow!("give a height map: --heightmap FILE or --field NAME"))?;
     let ctx = super::open_device(args.device.as_deref(), false)?;
     hf.check_max_dimension(ctx.info().max_image_dimension_2d, &source)?;
-    let (levels, gpu_ms) =
-        build_pyramid_on_gpu(&ctx, &hf, HeightFormat::R16Unorm, Addressing::Clamp)?;
+    let (levels, gpu_ms) = build_pyramid_on_gpu(&ctx, &hf, HeightFormat::R16Unorm, Address::Clamp)?;
     // The GPU pyramid is checked against the CPU builder on the same 16-bit values.
     let cpu = MaxPyramid::build_bilinear_bound(&hf.quantized_unorm16(), false);
     let mismatched = levels

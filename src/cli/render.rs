@@ -4,8 +4,9 @@ use std::path::PathBuf;
 
 use anyhow::Context as _;
 use clap::{Args, ValueEnum};
+use relief::heightfield::Address;
 use relief::method::Method;
-use relief::render::{Addressing, HeightFormat, RenderOptions, Renderer};
+use relief::render::{HeightFormat, RenderOptions, Renderer};
 use relief::scene::{default_heightfield, default_scene, load_gltf, Scene, SceneOptions};
 
 use super::heightmap_args::HeightmapArgs;
@@ -15,12 +16,6 @@ use super::render_frames::{run_frames, FrameArgs};
 pub enum FormatArg {
     R16,
     R32f,
-}
-
-#[derive(Clone, Copy, Debug, ValueEnum)]
-pub enum AddressArg {
-    Repeat,
-    Clamp,
 }
 
 #[derive(Args)]
@@ -56,8 +51,8 @@ pub struct RenderArgs {
     #[arg(long, value_enum, default_value = "r16")]
     height_format: FormatArg,
     /// Height map addressing.
-    #[arg(long, value_enum, default_value = "repeat")]
-    address: AddressArg,
+    #[arg(long, value_name = "repeat|clamp", default_value_t = Address::Repeat)]
+    address: Address,
     /// Pick the Vulkan device whose name contains this text.
     #[arg(long, value_name = "SUBSTRING")]
     device: Option<String>,
@@ -151,10 +146,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
             FormatArg::R16 => HeightFormat::R16Unorm,
             FormatArg::R32f => HeightFormat::R32Float,
         },
-        address: match args.address {
-            AddressArg::Repeat => Addressing::Repeat,
-            AddressArg::Clamp => Addressing::Clamp,
-        },
+        address: args.address,
     };
     let before = ctx.created();
     let mut renderer = Renderer::new(&ctx, &scene, heights.as_ref(), &opts)

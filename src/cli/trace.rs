@@ -4,22 +4,22 @@
 use std::path::PathBuf;
 
 use anyhow::Context as _;
-use clap::{Args, ValueEnum};
+use clap::Args;
 use relief::bench::{ray_direction, trace_stats, write_npy_f32};
-use relief::heightfield::reference::Address;
-use relief::method::{build_method_map, Budget, Leaf, Method};
-use relief::render::{trace_on_gpu, Addressing, HeightFormat, TraceRequest};
+use relief::heightfield::{build_method_map, Address};
+use relief::method::{Budget, Leaf, Method};
+use relief::render::{trace_on_gpu, HeightFormat, TraceRequest};
 use serde_json::json;
 
 use super::heightmap_args::HeightmapArgs;
-use super::render::{AddressArg, FormatArg};
+use super::render::FormatArg;
 
 #[derive(Args)]
 pub struct TraceArgs {
     #[command(flatten)]
     heights: HeightmapArgs,
     /// Method id (see `relief methods`).
-    #[arg(long, default_value = "pom")]
+    #[arg(long, default_value_t = Method::POM.id().to_owned())]
     method: String,
     /// View elevation in degrees: 90 looks straight down, 0 grazes.
     #[arg(long, default_value_t = 30.0)]
@@ -30,8 +30,8 @@ pub struct TraceArgs {
     /// Depth of height 0 below the top plane, in uv units.
     #[arg(long, default_value_t = 0.1)]
     depth_scale: f64,
-    #[arg(long, value_enum, default_value = "repeat")]
-    address: AddressArg,
+    #[arg(long, value_name = "repeat|clamp", default_value_t = Address::Repeat)]
+    address: Address,
     /// Ray grid, COLSxROWS; ray (c, r) enters at the cell centre.
     #[arg(long, default_value = "64x64")]
     grid: String,
@@ -41,10 +41,10 @@ pub struct TraceArgs {
     /// Refinement steps (the method's default when left out).
     #[arg(long)]
     refine: Option<u32>,
-    /// How methods with a leaf stage (qrm, pdm, qdm, csm, rcsm, quadric) finish: the paper's
-    /// refinement or the exact bilinear intersection (the method's default when left out).
-    #[arg(long, value_enum)]
-    leaf: Option<LeafArg>,
+    /// How methods with a leaf choice finish: the paper's refinement or the exact bilinear
+    /// intersection (the method's default when left out; the others ignore it).
+    #[arg(long, value_name = "paper|exact")]
+    leaf: Option<Leaf>,
     #[arg(long, value_enum, default_value = "r16")]
     height_format: FormatArg,
     /// Write the traced rays to this .npy file, shape (rows, cols, 8).
@@ -52,21 +52,6 @@ pub struct TraceArgs {
     dump: Option<PathBuf>,
     #[arg(long, value_name = "SUBSTRING")]
     device: Option<String>,
-}
-
-#[derive(Clone, Copy, Debug, ValueEnum)]
-pub enum LeafArg {
-    Paper,
-    Exact,
-}
-
-impl From<LeafArg> for Leaf {
-    fn from(arg: LeafArg) -> Leaf {
-        match arg {
-            LeafArg::Paper => Leaf::Paper,
-            LeafArg::Exact => Leaf::Exact,
-        }
-    }
 }
 
 fn parse_grid(text: &str) -> anyhow::Result<(u32, u32)> {
@@ -109,18 +94,15 @@ pub fn run(args: &TraceArgs) -> anyhow::Result<()> {
     let budget = Budget {
         max_steps: args.budget.unwrap_or(defaults.max_steps),
         refine_steps: args.refine.unwrap_or(defaults.refine_steps),
-        leaf: args.leaf.map_or(defaults.leaf, Leaf::from),
+        leaf: args.leaf.unwrap_or(defaults.leaf),
     };
     let (format, stored) = match args.height_format {
         FormatArg::R16 => (HeightFormat::R16Unorm, hf.quantized_unorm16()),
         FormatArg::R32f => (HeightFormat::R32Float, hf.clone()),
     };
-    let (address, ref_address) = match args.address {
-        AddressArg::Repeat => (Addressing::Repeat, Address::Repeat),
-        AddressArg::Clamp => (Addressing::Clamp, Address::Clamp),
-    };
+    let address = args.address;
     let d = ray_direction(args.angle, args.azimuth);
-    let map = build_method_map(method, &stored, ref_address);
+    let map = build_method_map(method, &stored, address);
     let req = TraceRequest {
         method,
         dir: d.map(|x| x as f32),
@@ -144,12 +126,12 @@ pub fn run(args: &TraceArgs) -> anyhow::Result<()> {
         &out.hits,
         &out.steps,
         f64::from(req.depth_scale),
-        ref_address,
+        address,
     );
     let line = json!({
         "method": method.id(), "heightmap": source, "size": [hf.width(), hf.height()],
         "angle_deg": args.angle, "azimuth_deg": args.azimuth, "depth_scale": args.depth_scale,
-        "address": ref_address.to_string(), "grid": [grid.0, grid.1], "budget": budget,
+        "address": address.to_string(), "grid": [grid.0, grid.1], "budget": budget,
         "gpu_ms": out.frame_ms[0], "device": ctx.info().name,
         "error_texels": stats.error_texels, "depth_error_texels": stats.depth_error_texels,
         "gross_rate": stats.gross_rate, "capped_rate": stats.capped_rate,

@@ -1,5 +1,6 @@
-//! Height fields on the CPU: the validated map itself, PNG loading and saving, synthetic generators and the
-//! conservative max pyramid. No Vulkan here.
+//! Height fields on the CPU: the validated map itself, PNG loading and saving, synthetic generators, the
+//! conservative max pyramid, the method maps (cone, quadric) and the exact reference tracer with its
+//! addressing modes ([`Address`], the one addressing type of the crate). No Vulkan here.
 //!
 //! Conventions (DESIGN.md section 2): heights are in [0, 1] with 1 the top plane; a W x H map stores texel
 //! `(i, j)` at row-major index `j * W + i`, `i` along u (x), `j` along v (y); PNG row 0 is `j = 0`.
@@ -10,6 +11,7 @@
 pub mod cone_map;
 pub mod error;
 pub mod load;
+pub mod method_map;
 pub mod pyramid;
 pub mod quadric_map;
 pub mod reference;
@@ -19,7 +21,9 @@ pub mod synthetic;
 
 pub use error::HeightfieldError;
 pub use load::{Channel, LoadOptions};
+pub use method_map::{build_method_map, MapData};
 pub use pyramid::{covered_range, mip_level_count, MaxPyramid, PyramidLevel};
+pub use reference::Address;
 pub use synthetic::Generator;
 
 /// The largest value of a 16-bit UNORM texel, which stands for 1.0.

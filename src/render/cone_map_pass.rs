@@ -18,10 +18,8 @@ use std::sync::Arc;
 
 use ash::vk;
 
-use super::method_map::MapData;
 use crate::heightfield::cone_map::bilinear_box_bound;
-use crate::heightfield::reference::Address;
-use crate::heightfield::Heightfield;
+use crate::heightfield::{Address, Heightfield, MapData};
 use crate::shaders;
 use crate::vk::{
     compute_pipeline, memory_barrier, Bind, Buffer, Context, DescriptorLayout, DescriptorPool,

@@ -6,11 +6,11 @@ use std::sync::Arc;
 
 use serde::Serialize;
 
-use super::gpu_heightfield::{Addressing, HeightFormat};
+use super::gpu_heightfield::HeightFormat;
 use super::pass_timer::PassTiming;
 use super::plan::{HeightKey, HeightPlan, Plan, PlanError};
 use super::renderer::{FrameRequest, Renderer};
-use crate::heightfield::{Heightfield, HeightfieldError, LoadOptions};
+use crate::heightfield::{Address, Heightfield, HeightfieldError, LoadOptions};
 use crate::scene::Scene;
 use crate::vk::{Context, VkError};
 
@@ -20,7 +20,7 @@ pub struct RenderOptions {
     pub width: u32,
     pub height: u32,
     pub height_format: HeightFormat,
-    pub address: Addressing,
+    pub address: Address,
 }
 
 impl Default for RenderOptions {
@@ -29,7 +29,7 @@ impl Default for RenderOptions {
             width: 960,
             height: 540,
             height_format: HeightFormat::R16Unorm,
-            address: Addressing::Repeat,
+            address: Address::Repeat,
         }
     }
 }

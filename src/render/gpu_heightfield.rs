@@ -6,9 +6,7 @@ use std::sync::Arc;
 
 use ash::vk;
 
-use crate::heightfield::reference::Address;
-
-use crate::heightfield::{mip_level_count, Heightfield};
+use crate::heightfield::{mip_level_count, Address, Heightfield};
 use crate::vk::{upload_mips, Context, Image, ImageDesc, Sampler, VkError, VkResult};
 
 /// How heights are stored on the GPU.
@@ -64,39 +62,12 @@ impl HeightFormat {
     }
 }
 
-/// Texture addressing of the height field (DESIGN.md section 2).
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Addressing {
-    Repeat,
-    Clamp,
-}
-
-/// The reference tracer's name for the same addressing.
-impl From<Addressing> for Address {
-    fn from(a: Addressing) -> Address {
-        match a {
-            Addressing::Repeat => Address::Repeat,
-            Addressing::Clamp => Address::Clamp,
-        }
-    }
-}
-
-impl From<Address> for Addressing {
-    fn from(a: Address) -> Addressing {
-        match a {
-            Address::Repeat => Addressing::Repeat,
-            Address::Clamp => Addressing::Clamp,
-        }
-    }
-}
-
-impl Addressing {
-    fn vk(self) -> vk::SamplerAddressMode {
-        match self {
-            Addressing::Repeat => vk::SamplerAddressMode::REPEAT,
-            Addressing::Clamp => vk::SamplerAddressMode::CLAMP_TO_EDGE,
-        }
+/// The sampler address mode of `address`: the one place the renderer maps the height field's
+/// addressing (DESIGN.md section 2) to Vulkan, for the height samplers and the method map's.
+pub(crate) fn sampler_address_mode(address: Address) -> vk::SamplerAddressMode {
+    match address {
+        Address::Repeat => vk::SamplerAddressMode::REPEAT,
+        Address::Clamp => vk::SamplerAddressMode::CLAMP_TO_EDGE,
     }
 }
 
@@ -106,7 +77,7 @@ pub struct GpuHeightfield {
     pub point: Sampler,
     pub linear: Sampler,
     pub format: HeightFormat,
-    pub address: Addressing,
+    pub address: Address,
 }
 
 impl GpuHeightfield {
@@ -116,7 +87,7 @@ impl GpuHeightfield {
         ctx: &Arc<Context>,
         hf: &Heightfield,
         format: HeightFormat,
-        address: Addressing,
+        address: Address,
     ) -> VkResult<GpuHeightfield> {
         Self::upload_levels(ctx, hf, format, address, true)
     }
@@ -126,7 +97,7 @@ impl GpuHeightfield {
         ctx: &Arc<Context>,
         hf: &Heightfield,
         format: HeightFormat,
-        address: Addressing,
+        address: Address,
     ) -> VkResult<GpuHeightfield> {
         Self::upload_levels(ctx, hf, format, address, false)
     }
@@ -135,7 +106,7 @@ impl GpuHeightfield {
         ctx: &Arc<Context>,
         hf: &Heightfield,
         format: HeightFormat,
-        address: Addressing,
+        address: Address,
         pyramid: bool,
     ) -> VkResult<GpuHeightfield> {
         let mut needed = vk::FormatFeatureFlags::SAMPLED_IMAGE
@@ -183,13 +154,13 @@ impl GpuHeightfield {
             point: Sampler::new(
                 ctx,
                 vk::Filter::NEAREST,
-                address.vk(),
+                sampler_address_mode(address),
                 "height point sampler",
             )?,
             linear: Sampler::new(
                 ctx,
                 vk::Filter::LINEAR,
-                address.vk(),
+                sampler_address_mode(address),
                 "height linear sampler",
             )?,
             format,
@@ -200,7 +171,7 @@ impl GpuHeightfield {
     /// `height_info` of the shaders' frame uniforms: width, height, mip levels, 1 for repeat.
     pub fn shader_info(&self) -> [f32; 4] {
         let d = self.image.desc();
-        let repeat = if self.address == Addressing::Repeat {
+        let repeat = if self.address == Address::Repeat {
             1.0
         } else {
             0.0

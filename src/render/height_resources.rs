@@ -8,10 +8,10 @@ use std::sync::Arc;
 use ash::vk;
 
 use super::frame_uniforms::FrameUniforms;
-use super::gpu_heightfield::{Addressing, GpuHeightfield, HeightFormat};
-use super::method_map::{GpuMethodMap, MapData};
+use super::gpu_heightfield::{GpuHeightfield, HeightFormat};
+use super::method_map::GpuMethodMap;
 use super::pyramid_pass::{PyramidJob, PyramidPass};
-use crate::heightfield::Heightfield;
+use crate::heightfield::{Address, Heightfield, MapData};
 use crate::vk::{Bind, Buffer, Context, Recording, VkError, VkResult};
 
 /// Uploaded heights, their pyramid pass (when a method reads it), uniforms and the optional
@@ -30,7 +30,7 @@ impl HeightResources {
         ctx: &Arc<Context>,
         hf: &Heightfield,
         format: HeightFormat,
-        address: Addressing,
+        address: Address,
         map: Option<&MapData>,
         frame: FrameUniforms,
     ) -> VkResult<HeightResources> {
@@ -45,7 +45,7 @@ impl HeightResources {
         ctx: &Arc<Context>,
         hf: &Heightfield,
         format: HeightFormat,
-        address: Addressing,
+        address: Address,
         map: Option<&MapData>,
         mut frame: FrameUniforms,
         pyramid: bool,

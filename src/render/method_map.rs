@@ -6,17 +6,9 @@ use std::sync::Arc;
 
 use ash::vk;
 
-use super::gpu_heightfield::Addressing;
+use super::gpu_heightfield::sampler_address_mode;
+use crate::heightfield::{Address, MapData};
 use crate::vk::{upload_mips, Context, Image, ImageDesc, Sampler, VkError, VkResult};
-
-/// A map on the CPU: `channels` (1, 2 or 4) floats per texel, rows of `width` texels.
-#[derive(Debug, Clone, PartialEq)]
-pub struct MapData {
-    pub width: u32,
-    pub height: u32,
-    pub channels: u32,
-    pub texels: Vec<f32>,
-}
 
 /// A map on the GPU, with the nearest sampler its binding uses.
 pub struct GpuMethodMap {
@@ -29,7 +21,7 @@ impl GpuMethodMap {
     pub fn upload(
         ctx: &Arc<Context>,
         data: &MapData,
-        address: Addressing,
+        address: Address,
         name: &str,
     ) -> VkResult<GpuMethodMap> {
         let format = match data.channels {
@@ -61,11 +53,12 @@ impl GpuMethodMap {
             &[bytes],
             vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
         )?;
-        let mode = match address {
-            Addressing::Repeat => vk::SamplerAddressMode::REPEAT,
-            Addressing::Clamp => vk::SamplerAddressMode::CLAMP_TO_EDGE,
-        };
-        let sampler = Sampler::new(ctx, vk::Filter::NEAREST, mode, &format!("{name} sampler"))?;
+        let sampler = Sampler::new(
+            ctx,
+            vk::Filter::NEAREST,
+            sampler_address_mode(address),
+            &format!("{name} sampler"),
+        )?;
         Ok(GpuMethodMap { image, sampler })
     }
 }

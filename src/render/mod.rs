@@ -1,6 +1,9 @@
 //! The renderer: joins height fields and scenes with the Vulkan layer. A [`Renderer`] made once
 //! per scene owns the uploads, maps and pipelines and draws frames from cameras; typed passes
-//! (the pyramid, the surface) are timed by timestamp scopes and read a frame later.
+//! (the pyramid, the surface) are timed by timestamp scopes and read a frame later. Also where a
+//! method's map is built (`map_builder`: on the GPU where a builder exists, else `heightfield`'s
+//! CPU build) and where the height field's `Address` becomes a sampler address mode
+//! (`gpu_heightfield`).
 
 mod bench_pass;
 mod cone_map_pass;
@@ -10,6 +13,7 @@ mod frame_stats;
 mod frame_uniforms;
 mod gpu_heightfield;
 mod height_resources;
+mod map_builder;
 mod material_set;
 mod method_map;
 mod pass;
@@ -31,9 +35,10 @@ pub use explain::explain;
 pub use frame::{render, BuiltMap, Frame, RenderError, RenderOptions};
 pub use frame_stats::{sequence_stats, PassStats, SequenceStats};
 pub use frame_uniforms::{frame_camera, FrameUniforms, LightUniform, MAX_LIGHTS};
-pub use gpu_heightfield::{Addressing, GpuHeightfield, HeightFormat};
+pub use gpu_heightfield::{GpuHeightfield, HeightFormat};
 pub use height_resources::HeightResources;
-pub use method_map::{GpuMethodMap, MapData};
+pub use map_builder::{build_method_map_with, BuiltMethodMap, MapBuilder};
+pub use method_map::GpuMethodMap;
 pub use pass::Pass;
 pub use pass_timer::{PassTiming, Scope};
 pub use plan::{DrawPlan, HeightKey, HeightPlan, PassPlan, PipelineKey, Plan, PlanError, Skipped};

@@ -6,9 +6,8 @@
 use serde::Serialize;
 
 use super::frame_uniforms::MAX_LIGHTS;
-use super::gpu_heightfield::Addressing;
 use super::pass::Pass;
-use crate::heightfield::{Channel, Heightfield};
+use crate::heightfield::{Address, Channel, Heightfield};
 use crate::method::{MapKind, Method};
 use crate::scene::{AlphaMode, HeightSource, Light, Scene, Wrap};
 
@@ -22,7 +21,7 @@ pub enum HeightKey {
         image: usize,
         channel: Channel,
         invert: bool,
-        address: Addressing,
+        address: Address,
     },
 }
 
@@ -118,11 +117,11 @@ pub enum PlanError {
     },
 }
 
-fn address_of(wrap: [Wrap; 2]) -> Addressing {
+fn address_of(wrap: [Wrap; 2]) -> Address {
     if wrap.contains(&Wrap::ClampToEdge) {
-        Addressing::Clamp
+        Address::Clamp
     } else {
-        Addressing::Repeat
+        Address::Repeat
     }
 }
 
@@ -229,9 +228,8 @@ impl Plan {
         size: (u32, u32),
         method: Method,
     ) -> usize {
-        let needs = method.info().needs;
-        let pyramid = needs.contains(&MapKind::MaxPyramid);
-        let map = needs.iter().copied().find(|k| *k != MapKind::MaxPyramid);
+        let pyramid = method.info().reads_pyramid();
+        let map = method.info().method_map();
         let found = self
             .heights
             .iter()
@@ -270,12 +268,7 @@ impl Plan {
             );
         }
         let used_methods: Vec<Method> = self.pipelines.iter().filter_map(|p| p.method).collect();
-        for kind in [
-            MapKind::MaxPyramid,
-            MapKind::ConservativeCone,
-            MapKind::RelaxedCone,
-            MapKind::Quadric,
-        ] {
+        for kind in MapKind::ALL {
             let built = self
                 .heights
                 .iter()

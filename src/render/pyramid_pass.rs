@@ -8,6 +8,7 @@ use std::sync::Arc;
 use ash::vk;
 
 use super::gpu_heightfield::GpuHeightfield;
+use crate::heightfield::Address;
 use crate::shaders;
 use crate::vk::{
     compute_pipeline, memory_barrier, transition_images, Bind, Context, DescriptorLayout,
@@ -104,7 +105,7 @@ impl PyramidPass {
             let (w, h) = hf.image.level_extent(k as u32 + 1);
             self.pipeline.bind(rec, Some(set));
             let widen = u32::from(k == 0);
-            let wrap = u32::from(hf.address == super::Addressing::Repeat);
+            let wrap = u32::from(hf.address == Address::Repeat);
             self.pipeline
                 .push(rec, bytemuck::bytes_of(&[widen, wrap, 0u32, 0u32]))?;
             rec.dispatch([w.div_ceil(GROUP), h.div_ceil(GROUP), 1]);
@@ -141,7 +142,7 @@ pub fn build_pyramid_on_gpu(
     ctx: &Arc<Context>,
     hf: &crate::heightfield::Heightfield,
     format: super::HeightFormat,
-    address: super::Addressing,
+    address: Address,
 ) -> VkResult<(Vec<Vec<f32>>, f64)> {
     let gpu = GpuHeightfield::upload(ctx, hf, format, address)?;
     let pass = PyramidPass::new(ctx, format.shader_suffix())?;

@@ -17,13 +17,14 @@ use glam::Vec3;
 use super::frame::{planned_heights, BuiltMap, RenderError, RenderOptions};
 use super::frame_uniforms::{frame_camera, FrameUniforms};
 use super::height_resources::HeightResources;
+use super::map_builder::{build_method_map_with, MapBuilder};
 use super::pass::Pass;
 use super::pass_timer::{per_pass, PassTimer, PassTiming, Scope};
 use super::plan::{HeightKey, Plan};
 use super::surface_pass::SurfacePass;
 use super::targets::Targets;
 use crate::heightfield::Heightfield;
-use crate::method::{build_method_map_with, MapBuilder, MapKind};
+use crate::method::MapKind;
 use crate::scene::{Camera, Light, Scene};
 use crate::vk::{Buffer, CommandSlot, Context, VkResult};
 
@@ -283,9 +284,7 @@ fn upload_heights(
             HeightKey::Image { address, .. } => address,
         };
         let map = match hp.map_method {
-            Some(method) => {
-                build_method_map_with(method, &stored, address.into(), MapBuilder::Gpu(ctx))?
-            }
+            Some(method) => build_method_map_with(method, &stored, address, MapBuilder::Gpu(ctx))?,
             None => None,
         };
         if let (Some(built), Some(kind)) = (&map, hp.map) {

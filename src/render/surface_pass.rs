@@ -141,7 +141,7 @@ impl SurfacePass {
             .map(|key| {
                 let set0 = match key.method {
                     None => &layouts.plain,
-                    Some(m) if m.info().needs.iter().any(|k| k.is_method_map()) => {
+                    Some(m) if m.info().method_map().is_some() => {
                         &layouts.heights_and_map
                     }
                     Some(_) => &layouts.heights,

@@ -5,10 +5,9 @@ use std::sync::Arc;
 
 use ash::vk;
 
-use super::gpu_heightfield::{Addressing, HeightFormat};
+use super::gpu_heightfield::HeightFormat;
 use super::height_resources::HeightResources;
-use super::method_map::MapData;
-use crate::heightfield::Heightfield;
+use crate::heightfield::{Address, Heightfield, MapData};
 use crate::method::{Budget, Method};
 use crate::shaders;
 use crate::vk::{
@@ -30,7 +29,7 @@ pub struct TraceRequest<'a> {
     /// Columns and rows of the ray grid; ray (c, r) enters at ((c+0.5)/cols, (r+0.5)/rows).
     pub grid: (u32, u32),
     pub budget: Budget,
-    pub address: Addressing,
+    pub address: Address,
     pub format: HeightFormat,
     /// The method's precomputed map, when it reads one (`Method::info().needs`).
     pub map: Option<&'a MapData>,
@@ -82,7 +81,7 @@ pub fn trace_repeated(
         return Err(VkError::Invalid(format!("ray grid {cols}x{rows}")));
     }
     let count = cols as u64 * rows as u64;
-    let key = format!("trace.comp:{}", req.method.id());
+    let key = req.method.shader_key("trace.comp");
     let spirv = shaders::spirv(&key)
         .ok_or_else(|| VkError::Invalid(format!("no compiled shader {key}")))?;
     let res = HeightResources::new(
