@@ -25,7 +25,8 @@ use crate::heightfield::Heightfield;
 use crate::shaders;
 use crate::vk::{
     compute_pipeline, memory_barrier, write_set, Bind, Buffer, Context, DescriptorLayout,
-    DescriptorPool, MemoryLocation, Pipeline, SpecConstants, TimestampPool, VkError, VkResult,
+    DescriptorPool, MemoryLocation, Pipeline, Readback, SpecConstants, TimestampPool, VkError,
+    VkResult,
 };
 
 /// The workgroup is 8x8 texels.
@@ -135,10 +136,11 @@ impl ConeMapPass {
         let out = Buffer::new(
             ctx,
             texels * 8,
-            vk::BufferUsageFlags::STORAGE_BUFFER,
-            MemoryLocation::GpuToCpu,
+            vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC,
+            MemoryLocation::GpuOnly,
             "cone map",
         )?;
+        let back = Readback::new(ctx, texels * 8, "cone map readback")?;
         write_set(
             ctx.device(),
             self.set,
@@ -177,6 +179,12 @@ impl ConeMapPass {
                 Ok(())
             })?;
         }
+        // Outside the timed submissions: the map reaches the host by a copy and the host barrier.
+        let written = (
+            vk::PipelineStageFlags2::COMPUTE_SHADER,
+            vk::AccessFlags2::SHADER_STORAGE_WRITE,
+        );
+        ctx.one_shot(|cmd| back.record_copy_from_buffer(cmd, &out, written))?;
         let ticks = timestamps.read_ticks(2 * (chunks + 1))?;
         let gpu_ms = ticks
             .chunks_exact(2)
@@ -186,7 +194,7 @@ impl ConeMapPass {
             width: w,
             height: h,
             channels: 2,
-            texels: bytemuck::pod_collect_to_vec(out.mapped()?),
+            texels: bytemuck::pod_collect_to_vec(back.bytes()?),
         };
         Ok((map, gpu_ms))
     }
