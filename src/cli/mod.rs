@@ -7,6 +7,7 @@ mod heightmap_args;
 mod logger;
 mod maps;
 mod methods;
+mod pipeline_cache;
 mod render;
 mod render_frames;
 mod trace;
@@ -65,14 +66,24 @@ pub fn run() -> ExitCode {
         Ok(()) => ExitCode::SUCCESS,
         Err(err) => {
             eprintln!("relief: error: {err:#}");
-            let no_device = err.chain().any(|e| {
-                matches!(
-                    e.downcast_ref::<VkError>(),
-                    Some(VkError::NoDevice | VkError::Loader(_))
-                )
-            });
-            ExitCode::from(if no_device { EXIT_NO_DEVICE } else { 1 })
+            ExitCode::from(exit_code(&err))
         }
+    }
+}
+
+/// The exit code for a failure: 77 when there is no Vulkan device at all, else 1 (a lost or hung
+/// device and exhausted memory included: the device exists, the run failed).
+fn exit_code(err: &anyhow::Error) -> u8 {
+    let no_device = err.chain().any(|e| {
+        matches!(
+            e.downcast_ref::<VkError>(),
+            Some(VkError::NoDevice | VkError::Loader(_))
+        )
+    });
+    if no_device {
+        EXIT_NO_DEVICE
+    } else {
+        1
     }
 }
 
@@ -80,7 +91,7 @@ pub fn run() -> ExitCode {
 pub fn open_device(filter: Option<&str>, quiet: bool) -> anyhow::Result<std::sync::Arc<Context>> {
     let options = ContextOptions {
         device_filter: filter.map(str::to_owned),
-        validation: None,
+        ..ContextOptions::default()
     };
     let ctx = Context::new(&options)?;
     if !quiet {
@@ -107,4 +118,31 @@ pub fn check_validation(ctx: &Context) -> anyhow::Result<()> {
         anyhow::bail!("the Vulkan validation layer reported {errors} error(s); see the log above");
     }
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use relief::vk::raw;
+
+    #[test]
+    fn gpu_failures_exit_with_1_and_a_missing_device_with_77() {
+        let failures = [
+            VkError::Hang {
+                what: "the frame".into(),
+                seconds: 600.0,
+            },
+            VkError::DeviceLost {
+                call: "vkQueueSubmit",
+            },
+            VkError::from_call("vkAllocateMemory", raw::Result::ERROR_OUT_OF_DEVICE_MEMORY),
+            VkError::from_call("vkCreateFence", raw::Result::ERROR_OUT_OF_HOST_MEMORY),
+        ];
+        for e in failures {
+            let err = anyhow::Error::from(e).context("rendering");
+            assert_eq!(exit_code(&err), 1, "{err:#}");
+        }
+        let err = anyhow::Error::from(VkError::NoDevice).context("opening the device");
+        assert_eq!(exit_code(&err), EXIT_NO_DEVICE);
+    }
 }

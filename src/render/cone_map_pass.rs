@@ -23,8 +23,8 @@ use crate::heightfield::{Address, Heightfield, MapData};
 use crate::shaders;
 use crate::vk::{
     compute_pipeline, memory_barrier, Bind, Buffer, Context, DescriptorLayout, DescriptorPool,
-    DescriptorSet, MemoryLocation, Pipeline, Recording, SpecConstants, TimestampPool, VkError,
-    VkResult,
+    DescriptorSet, MemoryLocation, Pipeline, Readback, Recording, SpecConstants, TimestampPool,
+    VkError, VkResult,
 };
 
 /// The workgroup is 8x8 texels.
@@ -134,10 +134,11 @@ impl ConeMapPass {
         let out = Buffer::new(
             ctx,
             texels * 8,
-            vk::BufferUsageFlags::STORAGE_BUFFER,
-            MemoryLocation::GpuToCpu,
+            vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC,
+            MemoryLocation::GpuOnly,
             "cone map",
         )?;
+        let back = Readback::new(ctx, texels * 8, "cone map readback")?;
         self.set.rewrite(
             ctx,
             &[Bind::Storage(0, pyramid.raw()), Bind::Storage(1, out.raw())],
@@ -175,6 +176,12 @@ impl ConeMapPass {
                 Ok(())
             })?;
         }
+        // Outside the timed submissions: the map reaches the host by a copy and the host barrier.
+        let written = (
+            vk::PipelineStageFlags2::COMPUTE_SHADER,
+            vk::AccessFlags2::SHADER_STORAGE_WRITE,
+        );
+        ctx.one_shot(|rec| back.record_copy_from_buffer(rec, &out, written))?;
         let ticks = timestamps.read_ticks(2 * (chunks + 1))?;
         let gpu_ms = ticks
             .chunks_exact(2)
@@ -184,7 +191,7 @@ impl ConeMapPass {
             width: w,
             height: h,
             channels: 2,
-            texels: bytemuck::pod_collect_to_vec(out.mapped()?),
+            texels: bytemuck::pod_collect_to_vec(back.bytes()?),
         };
         Ok((map, gpu_ms))
     }

@@ -26,7 +26,7 @@ use super::targets::Targets;
 use crate::heightfield::Heightfield;
 use crate::method::MapKind;
 use crate::scene::{Camera, Light, Scene};
-use crate::vk::{Buffer, CommandSlot, Context, VkResult};
+use crate::vk::{CommandSlot, Context, Readback, VkResult};
 
 /// How many frames may be recorded or running at once.
 pub const FRAMES_IN_FLIGHT: usize = 2;
@@ -54,7 +54,7 @@ pub struct FrameOutput {
 struct FrameSlot {
     commands: CommandSlot,
     timer: PassTimer,
-    readback: Option<Buffer>,
+    readback: Option<Readback>,
     /// The frame submitted from this slot and not yet retired: (index, read back?).
     pending: Option<(u64, bool)>,
 }
@@ -229,7 +229,7 @@ impl Renderer {
         let scopes = slot.timer.read()?;
         slot.timer.reset();
         let rgba = match (&slot.readback, read_back) {
-            (Some(buffer), true) => Some(buffer.mapped()?.to_vec()),
+            (Some(buffer), true) => Some(buffer.bytes()?.to_vec()),
             _ => None,
         };
         if index == 0 {

@@ -141,9 +141,7 @@ impl SurfacePass {
             .map(|key| {
                 let set0 = match key.method {
                     None => &layouts.plain,
-                    Some(m) if m.info().method_map().is_some() => {
-                        &layouts.heights_and_map
-                    }
+                    Some(m) if m.info().method_map().is_some() => &layouts.heights_and_map,
                     Some(_) => &layouts.heights,
                 };
                 create_pipeline(ctx, key, &[set0.raw(), material_layout.raw()])

@@ -8,8 +8,7 @@ use ash::vk;
 
 use super::surface_pass::{COLOR_FORMAT, DEPTH_FORMAT};
 use crate::vk::{
-    memory_barrier, transition_images, Buffer, Context, Image, ImageDesc, ImageTransition,
-    MemoryLocation, Recording, VkResult,
+    transition_images, Context, Image, ImageDesc, ImageTransition, Readback, Recording, VkResult,
 };
 
 /// Background colour (linear).
@@ -61,14 +60,8 @@ impl Targets {
     }
 
     /// A host-visible buffer a frame's colour is copied into.
-    pub fn readback_buffer(&self, ctx: &Arc<Context>, name: &str) -> VkResult<Buffer> {
-        Buffer::new(
-            ctx,
-            self.readback_bytes(),
-            vk::BufferUsageFlags::TRANSFER_DST,
-            MemoryLocation::GpuToCpu,
-            name,
-        )
+    pub fn readback_buffer(&self, ctx: &Arc<Context>, name: &str) -> VkResult<Readback> {
+        Readback::new(ctx, self.readback_bytes(), name)
     }
 
     /// Begins rendering into both targets, cleared. The previous frame may still be drawing or
@@ -117,7 +110,7 @@ impl Targets {
 
     /// Ends rendering and, if `readback` is given, copies the colour image into it and makes the
     /// copy visible to the host.
-    pub fn end(&self, rec: &Recording, readback: Option<&Buffer>) {
+    pub fn end(&self, rec: &Recording, readback: Option<&Readback>) {
         rec.end_rendering();
         let Some(buffer) = readback else {
             return;
@@ -141,14 +134,18 @@ impl Targets {
                 ),
             }],
         );
-        rec.copy_image_to_buffer(&self.color, buffer);
-        memory_barrier(
-            rec,
-            (
-                vk::PipelineStageFlags2::COPY,
-                vk::AccessFlags2::TRANSFER_WRITE,
-            ),
-            (vk::PipelineStageFlags2::HOST, vk::AccessFlags2::HOST_READ),
-        );
+        let desc = self.color.desc();
+        let region = vk::BufferImageCopy::default()
+            .image_subresource(
+                vk::ImageSubresourceLayers::default()
+                    .aspect_mask(vk::ImageAspectFlags::COLOR)
+                    .layer_count(1),
+            )
+            .image_extent(vk::Extent3D {
+                width: desc.width,
+                height: desc.height,
+                depth: 1,
+            });
+        buffer.record_copy_from_image(rec, &self.color, region);
     }
 }

@@ -12,7 +12,7 @@ use crate::method::{Budget, Method};
 use crate::shaders;
 use crate::vk::{
     compute_pipeline, memory_barrier, Bind, Buffer, Context, DescriptorLayout, DescriptorPool,
-    MemoryLocation, SpecConstants, TimestampPool, VkError, VkResult,
+    MemoryLocation, Readback, Recording, SpecConstants, TimestampPool, VkError, VkResult,
 };
 
 /// Side of the trace pass's square workgroups (`local_size_x` and `_y` in trace.comp).
@@ -55,6 +55,40 @@ struct TraceParams {
     grid: [u32; 4],
 }
 
+/// Where the timed dispatches write (device-local, so the timing has no bus writes in it) and the
+/// host-visible buffers their results are copied to after the closing timestamp.
+struct TraceTargets {
+    hits: Buffer,
+    steps: Buffer,
+    hits_back: Readback,
+    steps_back: Readback,
+}
+
+impl TraceTargets {
+    fn new(ctx: &Arc<Context>, rays: u64) -> VkResult<TraceTargets> {
+        let usage = vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC;
+        let gpu = MemoryLocation::GpuOnly;
+        Ok(TraceTargets {
+            hits: Buffer::new(ctx, rays * 32, usage, gpu, "trace hits")?,
+            steps: Buffer::new(ctx, rays * 8, usage, gpu, "trace steps")?,
+            hits_back: Readback::new(ctx, rays * 32, "trace hits readback")?,
+            steps_back: Readback::new(ctx, rays * 8, "trace steps readback")?,
+        })
+    }
+
+    /// Copies the last dispatch's results to the host-visible buffers (with the host barrier).
+    fn record_readback(&self, rec: &Recording) -> VkResult<()> {
+        let written = (
+            vk::PipelineStageFlags2::COMPUTE_SHADER,
+            vk::AccessFlags2::SHADER_STORAGE_WRITE,
+        );
+        self.hits_back
+            .record_copy_from_buffer(rec, &self.hits, written)?;
+        self.steps_back
+            .record_copy_from_buffer(rec, &self.steps, written)
+    }
+}
+
 /// Traces `req` over `hf` on the GPU once.
 pub fn trace_on_gpu(
     ctx: &Arc<Context>,
@@ -65,7 +99,8 @@ pub fn trace_on_gpu(
 }
 
 /// Traces `req` `warmup + frames` times in one submission, a full barrier between dispatches,
-/// timing the last `frames`; the output holds the last dispatch's hits.
+/// timing the last `frames`; the output holds the last dispatch's hits, copied to the host after
+/// the closing timestamp.
 pub fn trace_repeated(
     ctx: &Arc<Context>,
     hf: &Heightfield,
@@ -92,21 +127,7 @@ pub fn trace_repeated(
         req.map,
         bytemuck::Zeroable::zeroed(),
     )?;
-    let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
-    let hits = Buffer::new(
-        ctx,
-        count * 32,
-        storage,
-        MemoryLocation::GpuToCpu,
-        "trace hits",
-    )?;
-    let steps = Buffer::new(
-        ctx,
-        count * 8,
-        storage,
-        MemoryLocation::GpuToCpu,
-        "trace steps",
-    )?;
+    let targets = TraceTargets::new(ctx, count)?;
     let mut bindings = res.layout_bindings();
     bindings.extend([
         (4, vk::DescriptorType::STORAGE_BUFFER),
@@ -120,7 +141,10 @@ pub fn trace_repeated(
     )?;
     let pool = DescriptorPool::new(ctx, 1, 2, "trace sets")?;
     let mut binds = res.binds();
-    binds.extend([Bind::Storage(4, hits.raw()), Bind::Storage(5, steps.raw())]);
+    binds.extend([
+        Bind::Storage(4, targets.hits.raw()),
+        Bind::Storage(5, targets.steps.raw()),
+    ]);
     let set = pool.allocate(&layout, &binds)?;
     let spec = SpecConstants::default()
         .u32(0, req.budget.max_steps)
@@ -153,15 +177,51 @@ pub fn trace_repeated(
             }
             memory_barrier(rec, full, full);
         }
-        Ok(())
+        targets.record_readback(rec)
     })?;
     let ticks = timestamps.read_ticks(2 * frames)?;
     Ok(TraceOutput {
-        hits: bytemuck::pod_collect_to_vec(hits.mapped()?),
-        steps: bytemuck::pod_collect_to_vec(steps.mapped()?),
+        hits: bytemuck::pod_collect_to_vec(targets.hits_back.bytes()?),
+        steps: bytemuck::pod_collect_to_vec(targets.steps_back.bytes()?),
         frame_ms: ticks
             .chunks_exact(2)
             .map(|t| timestamps.ticks_to_ms(t[0], t[1]))
             .collect(),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::vk::ContextOptions;
+
+    fn device() -> Option<Arc<Context>> {
+        match Context::new(&ContextOptions::default()) {
+            Ok(ctx) => Some(ctx),
+            Err(e @ (VkError::NoDevice | VkError::Loader(_))) if std::env::var("CI").is_err() => {
+                eprintln!("SKIPPED: no Vulkan device: {e}");
+                None
+            }
+            Err(e) => panic!("cannot create a Vulkan device: {e}"),
+        }
+    }
+
+    #[test]
+    fn timed_dispatches_write_device_local_memory() {
+        let Some(ctx) = device() else {
+            return;
+        };
+        let targets = TraceTargets::new(&ctx, 64).expect("trace targets");
+        for written in [&targets.hits, &targets.steps] {
+            assert_eq!(
+                written.location(),
+                MemoryLocation::GpuOnly,
+                "{}",
+                written.name()
+            );
+        }
+        for back in [&targets.hits_back, &targets.steps_back] {
+            assert_eq!(back.buffer().location(), MemoryLocation::GpuToCpu);
+        }
+    }
 }

@@ -16,6 +16,7 @@ pub struct Buffer {
     raw: vk::Buffer,
     allocation: Option<Allocation>,
     size: u64,
+    location: MemoryLocation,
     name: String,
 }
 
@@ -37,7 +38,9 @@ impl Buffer {
             .usage(usage)
             .sharing_mode(vk::SharingMode::EXCLUSIVE);
         // SAFETY: valid device and create info.
-        let raw = unsafe { device.create_buffer(&info, None) }.named("vkCreateBuffer")?;
+        let raw = unsafe { device.create_buffer(&info, None) }
+            .named("vkCreateBuffer")
+            .map_err(|e| e.for_object("buffer", name))?;
         // SAFETY: `raw` was just created on this device.
         let requirements = unsafe { device.get_buffer_memory_requirements(raw) };
         let allocation = ctx
@@ -63,7 +66,7 @@ impl Buffer {
                 unsafe { device.destroy_buffer(raw, None) };
                 return Err(VkError::Allocation {
                     name: name.to_owned(),
-                    source,
+                    reason: source,
                 });
             }
         };
@@ -72,6 +75,7 @@ impl Buffer {
             raw,
             allocation: Some(allocation),
             size,
+            location,
             name: name.to_owned(),
         };
         let a = buffer
@@ -113,6 +117,16 @@ impl Buffer {
         self.size
     }
 
+    /// Where the buffer's memory was asked to live (`GpuOnly`: device-local).
+    pub fn location(&self) -> MemoryLocation {
+        self.location
+    }
+
+    /// The debug name.
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
     /// Copies `bytes` into a mapped buffer at `offset`.
     pub fn write(&mut self, offset: usize, bytes: &[u8]) -> VkResult<()> {
         let name = self.name.clone();
@@ -129,7 +143,8 @@ impl Buffer {
         Ok(())
     }
 
-    /// The mapped contents of a host-visible buffer.
+    /// The mapped contents of a host-visible buffer, as the host last wrote them. For what the GPU
+    /// wrote, copy into a [`Readback`](super::Readback): it records the host-read barrier.
     pub fn mapped(&self) -> VkResult<&[u8]> {
         self.allocation
             .as_ref()
@@ -141,6 +156,10 @@ impl Buffer {
 
 impl Drop for Buffer {
     fn drop(&mut self) {
+        if self.ctx.is_hung() {
+            // Hung work may still use the buffer: leave it (and its memory) to the process exit.
+            return;
+        }
         // SAFETY: users keep a Buffer alive until the GPU work that uses it has completed
         // (one-shot submissions wait on their fence).
         unsafe { self.ctx.device().destroy_buffer(self.raw, None) };

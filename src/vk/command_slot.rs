@@ -68,7 +68,7 @@ impl CommandSlot {
         if !self.in_flight {
             return Ok(());
         }
-        wait_fence(&self.ctx, self.fence, &self.name)?;
+        self.ctx.wait_fence(self.fence, &self.name)?;
         // SAFETY: the fence is signalled and no submission waits on it.
         unsafe { self.ctx.device().reset_fences(&[self.fence]) }.named("vkResetFences")?;
         self.in_flight = false;
@@ -117,9 +117,4 @@ impl Drop for CommandSlot {
             self.ctx.device().destroy_command_pool(self.pool, None);
         }
     }
-}
-
-fn wait_fence(ctx: &Context, fence: vk::Fence, _what: &str) -> VkResult<()> {
-    // SAFETY: the fence belongs to this device.
-    unsafe { ctx.device().wait_for_fences(&[fence], true, u64::MAX) }.named("vkWaitForFences")
 }

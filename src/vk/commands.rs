@@ -1,29 +1,43 @@
-//! One-shot command submission and the barriers relief records: record, submit, wait on a fence.
+//! One-shot command submission and the barriers relief records: record, submit, wait on a fence
+//! (with the GPU timeout). One-shots may run on several threads; the command pool lock serialises them.
 
 use ash::vk;
 
 use super::context::Context;
+use super::counters::Created;
 use super::error::{Named, VkError, VkResult};
 use super::recording::Recording;
 
 impl Context {
-    /// Records commands with `record`, submits them on the queue and waits until they finish.
+    /// Records commands with `record`, submits them on the queue and waits (at most the GPU
+    /// timeout, see [`Context::wait_fence`]) until they finish.
+    ///
+    /// Safe to call from several threads at once; `record` must not call `one_shot` itself (it
+    /// runs while the command pool is locked).
     pub fn one_shot<R>(&self, record: impl FnOnce(&Recording) -> VkResult<R>) -> VkResult<R> {
-        let device = self.device();
-        let pool = *self
+        // The pool is held for the whole use, not just the allocation: a command pool and every
+        // buffer allocated from it must be externally synchronised while a buffer is allocated,
+        // recorded, submitted or freed. Holding one lock is simpler than a pool per thread (no
+        // thread registry, no pools outliving their threads) and costs little, since each
+        // one-shot waits for its own work anyway and there is one queue.
+        let pool = self
             .command_pool()
             .lock()
             .map_err(|_| VkError::Invalid("command pool lock poisoned".into()))?;
+        let device = self.device();
         let alloc = vk::CommandBufferAllocateInfo::default()
-            .command_pool(pool)
+            .command_pool(*pool)
             .level(vk::CommandBufferLevel::PRIMARY)
             .command_buffer_count(1);
-        // SAFETY: valid pool on this device.
+        // SAFETY: valid pool on this device, locked for this thread.
         let cmd = unsafe { device.allocate_command_buffers(&alloc) }
             .named("vkAllocateCommandBuffers")?[0];
+        self.count(Created::CommandBuffer);
         let result = self.record_and_submit(cmd, record);
-        // SAFETY: the submission has completed or never happened; the buffer is not in use.
-        unsafe { device.free_command_buffers(pool, &[cmd]) };
+        if !matches!(result, Err(VkError::Hang { .. })) {
+            // SAFETY: the submission has completed or never happened; the pool is locked.
+            unsafe { device.free_command_buffers(*pool, &[cmd]) };
+        }
         result
     }
 
@@ -43,24 +57,27 @@ impl Context {
         // SAFETY: valid device.
         let fence = unsafe { device.create_fence(&vk::FenceCreateInfo::default(), None) }
             .named("vkCreateFence")?;
+        self.count(Created::Fence);
+        let waited = self
+            .submit(cmd, fence)
+            .and_then(|_| self.wait_fence(fence, "a one-shot submission"));
+        if !matches!(waited, Err(VkError::Hang { .. })) {
+            // SAFETY: the fence is signalled or was never submitted.
+            unsafe { device.destroy_fence(fence, None) };
+        }
+        waited.map(|_| value)
+    }
+
+    fn submit(&self, cmd: vk::CommandBuffer, fence: vk::Fence) -> VkResult<()> {
         let cmds = [cmd];
         let submit = vk::SubmitInfo::default().command_buffers(&cmds);
-        let waited = self
+        let queue = self
             .queue()
             .lock()
-            .map_err(|_| VkError::Invalid("queue lock poisoned".into()))
-            .and_then(|queue| {
-                // SAFETY: the command buffer is fully recorded; the queue is externally synchronised
-                // by the lock.
-                unsafe { device.queue_submit(*queue, &[submit], fence) }.named("vkQueueSubmit")
-            })
-            .and_then(|_| {
-                // SAFETY: the fence belongs to this device.
-                unsafe { device.wait_for_fences(&[fence], true, u64::MAX) }.named("vkWaitForFences")
-            });
-        // SAFETY: the fence is signalled or was never submitted.
-        unsafe { device.destroy_fence(fence, None) };
-        waited.map(|_| value)
+            .map_err(|_| VkError::Invalid("queue lock poisoned".into()))?;
+        // SAFETY: the command buffer is fully recorded; the queue is externally synchronised by
+        // the lock.
+        unsafe { self.device().queue_submit(*queue, &[submit], fence) }.named("vkQueueSubmit")
     }
 }
 

@@ -3,7 +3,9 @@
 //! is dropped last, and its `Drop` is the one place where teardown order is written out.
 
 use std::mem::ManuallyDrop;
-use std::sync::{Arc, Mutex};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Mutex, RwLock};
+use std::time::Duration;
 
 use ash::{ext, vk};
 use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
@@ -11,8 +13,10 @@ use gpu_allocator::{AllocationSizes, AllocatorDebugSettings};
 
 use super::counters::{Created, ObjectCounters, ObjectCounts};
 use super::error::{Named, VkError, VkResult};
+use super::fence::gpu_timeout_from_env;
 use super::instance::{create_instance, InstanceParts, MessageCounts, Validation};
 use super::physical::{choose_physical_device, DeviceInfo};
+use super::pipeline_cache::{CacheIdentity, PipelineCache};
 
 /// What the caller wants from [`Context::new`].
 #[derive(Debug, Clone, Default)]
@@ -21,6 +25,12 @@ pub struct ContextOptions {
     pub device_filter: Option<String>,
     /// Validation choice; `None` reads `RELIEF_VALIDATION` and the build profile.
     pub validation: Option<Validation>,
+    /// How long one submission may take before it counts as a hang; `None` reads
+    /// `RELIEF_GPU_TIMEOUT_S` (default 600 s).
+    pub gpu_timeout: Option<Duration>,
+    /// Pipeline cache data from an earlier run ([`Context::pipeline_cache_data`]); data made by
+    /// another device or driver, or corrupt, is ignored with a warning.
+    pub pipeline_cache: Option<Vec<u8>>,
 }
 
 /// One Vulkan device, ready to record and submit work.
@@ -35,13 +45,77 @@ pub struct Context {
     queue_family: u32,
     allocator: ManuallyDrop<Mutex<Allocator>>,
     command_pool: Mutex<vk::CommandPool>,
+    /// Read-locked while pipelines are created (the cache is internally synchronised for that),
+    /// write-locked to merge into it (`vkMergePipelineCaches` needs its target to itself).
+    pipeline_cache: ManuallyDrop<RwLock<PipelineCache>>,
+    gpu_timeout: Duration,
+    /// Set when a fence wait timed out: work may still be pending, so `Drop` must not wait for the
+    /// device or destroy it.
+    hung: AtomicBool,
     created: ObjectCounters,
+}
+
+/// What the context creates on the device and owns until its `Drop`.
+struct DeviceOwned {
+    pool: vk::CommandPool,
+    allocator: Allocator,
+    cache: PipelineCache,
+}
+
+impl DeviceOwned {
+    /// Creates the pool, the allocator and the pipeline cache, or destroys what it made and says
+    /// why (the allocator's own reason is kept).
+    fn new(
+        parts: &InstanceParts,
+        (physical, info): (vk::PhysicalDevice, &DeviceInfo),
+        device: &ash::Device,
+        cache_data: Option<&[u8]>,
+    ) -> VkResult<DeviceOwned> {
+        let pool_info = vk::CommandPoolCreateInfo::default()
+            .queue_family_index(info.queue_family)
+            .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
+        // SAFETY: valid device and create info.
+        let pool =
+            unsafe { device.create_command_pool(&pool_info, None) }.named("vkCreateCommandPool")?;
+        // SAFETY: (for the error paths) the pool is unused.
+        let drop_pool = || unsafe { device.destroy_command_pool(pool, None) };
+        let allocator = match Allocator::new(&AllocatorCreateDesc {
+            instance: parts.instance.clone(),
+            device: device.clone(),
+            physical_device: physical,
+            debug_settings: AllocatorDebugSettings::default(),
+            buffer_device_address: false,
+            allocation_sizes: AllocationSizes::default(),
+        }) {
+            Ok(a) => a,
+            Err(source) => {
+                drop_pool();
+                return Err(VkError::AllocatorSetup { reason: source });
+            }
+        };
+        match PipelineCache::new(device, &CacheIdentity::of(info), cache_data) {
+            Ok(cache) => Ok(DeviceOwned {
+                pool,
+                allocator,
+                cache,
+            }),
+            Err(e) => {
+                drop(allocator);
+                drop_pool();
+                Err(e)
+            }
+        }
+    }
 }
 
 impl Context {
     /// Creates the instance, picks a device (discrete > integrated > virtual > CPU, or by name) and
     /// creates the logical device with the features relief uses.
     pub fn new(options: &ContextOptions) -> VkResult<Arc<Context>> {
+        let gpu_timeout = match options.gpu_timeout {
+            Some(t) => t,
+            None => gpu_timeout_from_env()?,
+        };
         let counts = Box::<MessageCounts>::default();
         let validation = options.validation.unwrap_or_else(Validation::from_env);
         let parts = create_instance(validation, &counts)?;
@@ -53,63 +127,44 @@ impl Context {
                 return Err(e);
             }
         };
-        match create_device(&parts, physical, &info) {
-            Ok((device, queue_family)) => {
-                Self::finish(parts, counts, physical, info, device, queue_family)
-            }
+        let device = match create_device(&parts, physical, &info) {
+            Ok(device) => device,
             Err(e) => {
                 destroy_instance_parts(&parts);
-                Err(e)
-            }
-        }
-    }
-
-    fn finish(
-        parts: InstanceParts,
-        counts: Box<MessageCounts>,
-        physical: vk::PhysicalDevice,
-        info: DeviceInfo,
-        device: ash::Device,
-        queue_family: u32,
-    ) -> VkResult<Arc<Context>> {
-        // SAFETY: queue family index and queue 0 were requested at device creation.
-        let queue = unsafe { device.get_device_queue(queue_family, 0) };
-        let pool_info = vk::CommandPoolCreateInfo::default()
-            .queue_family_index(queue_family)
-            .flags(vk::CommandPoolCreateFlags::RESET_COMMAND_BUFFER);
-        let allocator = Allocator::new(&AllocatorCreateDesc {
-            instance: parts.instance.clone(),
-            device: device.clone(),
-            physical_device: physical,
-            debug_settings: AllocatorDebugSettings::default(),
-            buffer_device_address: false,
-            allocation_sizes: AllocationSizes::default(),
-        });
-        // SAFETY: valid device and create info.
-        let pool =
-            unsafe { device.create_command_pool(&pool_info, None) }.named("vkCreateCommandPool");
-        let (allocator, pool) = match (allocator, pool) {
-            (Ok(a), Ok(p)) => (a, p),
-            (a, p) => {
-                // SAFETY: the device is idle and owns at most this pool.
-                unsafe {
-                    if let Ok(p) = p {
-                        device.destroy_command_pool(p, None);
-                    }
-                    drop(a);
-                    device.destroy_device(None);
-                }
-                destroy_instance_parts(&parts);
-                return Err(VkError::Unsupported(
-                    "a memory allocator or command pool".into(),
-                ));
+                return Err(e);
             }
         };
+        let cache_data = options.pipeline_cache.as_deref();
+        let owned = match DeviceOwned::new(&parts, (physical, &info), &device, cache_data) {
+            Ok(owned) => owned,
+            Err(e) => {
+                // SAFETY: nothing made from the device is left.
+                unsafe { device.destroy_device(None) };
+                destroy_instance_parts(&parts);
+                return Err(e);
+            }
+        };
+        let ctx = Self::assemble(parts, counts, (physical, info), device, owned, gpu_timeout);
+        ctx.with_pipeline_cache(|raw| ctx.set_name(raw, "pipeline cache"));
+        Ok(ctx)
+    }
+
+    fn assemble(
+        parts: InstanceParts,
+        counts: Box<MessageCounts>,
+        (physical, info): (vk::PhysicalDevice, DeviceInfo),
+        device: ash::Device,
+        owned: DeviceOwned,
+        gpu_timeout: Duration,
+    ) -> Arc<Context> {
+        let queue_family = info.queue_family;
+        // SAFETY: queue family index and queue 0 were requested at device creation.
+        let queue = unsafe { device.get_device_queue(queue_family, 0) };
         let debug_device = parts
             .debug_utils
             .as_ref()
             .map(|_| ext::debug_utils::Device::new(&parts.instance, &device));
-        Ok(Arc::new(Context {
+        Arc::new(Context {
             parts: ManuallyDrop::new(parts),
             counts,
             physical,
@@ -118,10 +173,13 @@ impl Context {
             debug_device,
             queue: Mutex::new(queue),
             queue_family,
-            allocator: ManuallyDrop::new(Mutex::new(allocator)),
-            command_pool: Mutex::new(pool),
+            allocator: ManuallyDrop::new(Mutex::new(owned.allocator)),
+            command_pool: Mutex::new(owned.pool),
+            pipeline_cache: ManuallyDrop::new(RwLock::new(owned.cache)),
+            gpu_timeout,
+            hung: AtomicBool::new(false),
             created: ObjectCounters::default(),
-        }))
+        })
     }
 
     /// The logical device.
@@ -180,6 +238,25 @@ impl Context {
         &self.command_pool
     }
 
+    pub(crate) fn pipeline_cache_lock(&self) -> &RwLock<PipelineCache> {
+        &self.pipeline_cache
+    }
+
+    /// How long one submission may take before [`Context::wait_fence`] calls it a hang.
+    pub fn gpu_timeout(&self) -> Duration {
+        self.gpu_timeout
+    }
+
+    pub(crate) fn mark_hung(&self) {
+        self.hung.store(true, Ordering::Relaxed);
+    }
+
+    /// Whether a fence wait timed out: submitted work may never finish, so buffers, images and the
+    /// device itself are left undestroyed from then on.
+    pub fn is_hung(&self) -> bool {
+        self.hung.load(Ordering::Relaxed)
+    }
+
     /// Format features of `format` with optimal tiling.
     pub fn format_features(&self, format: vk::Format) -> vk::FormatFeatureFlags {
         // SAFETY: plain query on a valid physical device.
@@ -216,12 +293,19 @@ impl Context {
 
 impl Drop for Context {
     fn drop(&mut self) {
+        if self.is_hung() {
+            // Waiting would block forever and destroying objects still in use is undefined;
+            // leave the device to the process exit.
+            log::warn!("the GPU hung: leaving the Vulkan device undestroyed");
+            return;
+        }
         // SAFETY: every object made from this device holds an Arc of this context, so all of them
-        // are gone. Order: wait idle, allocator (frees its memory blocks), pools, device,
-        // messenger, instance.
+        // are gone. Order: wait idle, allocator (frees its memory blocks), pipeline cache, pools,
+        // device, messenger, instance.
         unsafe {
             let _ = self.device.device_wait_idle();
             ManuallyDrop::drop(&mut self.allocator);
+            ManuallyDrop::drop(&mut self.pipeline_cache);
             if let Ok(pool) = self.command_pool.lock() {
                 self.device.destroy_command_pool(*pool, None);
             }
@@ -246,7 +330,7 @@ fn create_device(
     parts: &InstanceParts,
     physical: vk::PhysicalDevice,
     info: &DeviceInfo,
-) -> VkResult<(ash::Device, u32)> {
+) -> VkResult<ash::Device> {
     let queue_family = info.queue_family;
     let priorities = [1.0f32];
     let queues = [vk::DeviceQueueCreateInfo::default()
@@ -268,5 +352,5 @@ fn create_device(
     // SAFETY: the create info and everything it points to live until the call returns.
     let device =
         unsafe { parts.instance.create_device(physical, &info, None) }.named("vkCreateDevice")?;
-    Ok((device, queue_family))
+    Ok(device)
 }

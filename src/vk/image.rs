@@ -59,7 +59,9 @@ impl Image {
             .sharing_mode(vk::SharingMode::EXCLUSIVE)
             .initial_layout(vk::ImageLayout::UNDEFINED);
         // SAFETY: valid device and create info.
-        let raw = unsafe { device.create_image(&info, None) }.named("vkCreateImage")?;
+        let raw = unsafe { device.create_image(&info, None) }
+            .named("vkCreateImage")
+            .map_err(|e| e.for_object("image", name))?;
         let mut image = Image {
             ctx: ctx.clone(),
             raw,
@@ -91,9 +93,9 @@ impl Image {
                 linear: false,
                 allocation_scheme: AllocationScheme::GpuAllocatorManaged,
             })
-            .map_err(|source| VkError::Allocation {
+            .map_err(|reason| VkError::Allocation {
                 name: self.name.clone(),
-                source,
+                reason,
             })?;
         self.ctx.count(Created::Image {
             bytes: requirements.size,
@@ -169,6 +171,10 @@ impl Image {
 
 impl Drop for Image {
     fn drop(&mut self) {
+        if self.ctx.is_hung() {
+            // Hung work may still use the image: leave it (and its memory) to the process exit.
+            return;
+        }
         // SAFETY: users keep an Image alive until GPU work using it has completed.
         unsafe {
             self.ctx.device().destroy_image_view(self.view, None);

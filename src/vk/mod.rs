@@ -11,11 +11,14 @@ mod context;
 mod counters;
 mod descriptors;
 mod error;
+mod fence;
 mod image;
 mod instance;
 mod physical;
 mod pipeline;
+mod pipeline_cache;
 mod query;
+mod readback;
 mod recording;
 mod transfer;
 
@@ -26,11 +29,16 @@ pub use context::{Context, ContextOptions};
 pub use counters::ObjectCounts;
 pub use descriptors::{Bind, DescriptorLayout, DescriptorPool, DescriptorSet};
 pub use error::{VkError, VkResult};
+pub use fence::{gpu_timeout_from, DEFAULT_GPU_TIMEOUT, GPU_TIMEOUT_ENV};
 pub use image::{Image, ImageDesc, ImageView, Sampler};
 pub use instance::{MessageCounts, Validation};
 pub use physical::{list_devices, DeviceInfo};
 pub use pipeline::{compute_pipeline, graphics_pipeline, GraphicsDesc, Pipeline, SpecConstants};
+pub use pipeline_cache::{
+    check_header as check_pipeline_cache_header, CacheIdentity, PipelineCache,
+};
 pub use query::TimestampPool;
+pub use readback::{host_read_barrier, Readback};
 pub use recording::Recording;
 pub use transfer::{read_mip, texel_size, upload_mips};
 

@@ -32,6 +32,16 @@ pub struct DeviceInfo {
     /// Invocations that run in lockstep (`subgroupSize`): 8 on llvmpipe with AVX2, 32 or 64 on
     /// GPUs. A loop costs such a group as many iterations as its slowest invocation needs.
     pub subgroup_size: u32,
+    /// PCI vendor id (`vendorID`); with `device_id` and `pipeline_cache_uuid` it says which
+    /// pipeline cache data this device accepts.
+    #[serde(skip)]
+    pub vendor_id: u32,
+    /// Vendor-specific device id (`deviceID`).
+    #[serde(skip)]
+    pub device_id: u32,
+    /// `pipelineCacheUUID`: changes with the driver build, so an old cache is not reused.
+    #[serde(skip)]
+    pub pipeline_cache_uuid: [u8; 16],
 }
 
 fn kind_rank(kind: vk::PhysicalDeviceType) -> (u32, &'static str) {
@@ -106,6 +116,9 @@ fn describe(instance: &ash::Instance, pd: vk::PhysicalDevice) -> Option<(u32, De
         queue_family: family as u32,
         subgroup_size: subgroup.subgroup_size.max(1),
         storage_r16,
+        vendor_id: props.vendor_id,
+        device_id: props.device_id,
+        pipeline_cache_uuid: props.pipeline_cache_uuid,
     };
     Some((rank, info))
 }

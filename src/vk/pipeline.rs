@@ -1,5 +1,6 @@
 //! Shader modules, pipeline layouts, and compute and graphics pipelines (dynamic rendering), with
-//! specialization constants for the numbers a shader variant is tuned by.
+//! specialization constants for the numbers a shader variant is tuned by. Every pipeline goes
+//! through the context's pipeline cache.
 
 use std::sync::Arc;
 
@@ -198,11 +199,10 @@ pub fn compute_pipeline(
     let info = vk::ComputePipelineCreateInfo::default()
         .stage(stage)
         .layout(layout);
-    // SAFETY: module, layout and specialization data outlive the call.
-    let created = unsafe {
-        ctx.device()
-            .create_compute_pipelines(vk::PipelineCache::null(), &[info], None)
-    };
+    // SAFETY: module, layout and specialization data outlive the call; the cache is held.
+    let created = ctx.with_pipeline_cache(|cache| unsafe {
+        ctx.device().create_compute_pipelines(cache, &[info], None)
+    });
     finish(
         ctx,
         created,
@@ -346,11 +346,10 @@ pub fn graphics_pipeline(
         .dynamic_state(&dynamic)
         .layout(layout)
         .push_next(&mut rendering);
-    // SAFETY: every struct referenced by `info` lives until the call returns.
-    let created = unsafe {
-        ctx.device()
-            .create_graphics_pipelines(vk::PipelineCache::null(), &[info], None)
-    };
+    // SAFETY: every struct referenced by `info` lives until the call returns; the cache is held.
+    let created = ctx.with_pipeline_cache(|cache| unsafe {
+        ctx.device().create_graphics_pipelines(cache, &[info], None)
+    });
     finish(
         ctx,
         created,

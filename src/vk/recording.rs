@@ -117,31 +117,15 @@ impl<'a> Recording<'a> {
         };
     }
 
-    /// Copies mip 0 of `image`, in `TRANSFER_SRC_OPTIMAL`, tightly packed into `dst`.
-    pub fn copy_image_to_buffer(&self, image: &Image, dst: &Buffer) {
-        let desc = image.desc();
-        let region = [vk::BufferImageCopy::default()
-            .image_subresource(
-                vk::ImageSubresourceLayers::default()
-                    .aspect_mask(desc.aspect)
-                    .mip_level(0)
-                    .layer_count(1),
-            )
-            .image_extent(vk::Extent3D {
-                width: desc.width,
-                height: desc.height,
-                depth: 1,
-            })];
-        // SAFETY: the buffer is recording; the caller sized `dst` for the level (the validation
-        // layer checks it) and put the image in TRANSFER_SRC_OPTIMAL.
+    /// Fills `size` bytes of `buffer` from `offset` with the 32-bit `word`; both multiples of 4
+    /// and inside the buffer.
+    pub fn fill_buffer(&self, buffer: &Buffer, offset: u64, size: u64, word: u32) {
+        debug_assert!(offset % 4 == 0 && size % 4 == 0 && offset + size <= buffer.size());
+        // SAFETY: the buffer is recording; the range is the caller's contract, checked by the
+        // validation layer (and the debug assertion above).
         unsafe {
-            self.device.cmd_copy_image_to_buffer(
-                self.cmd,
-                image.raw(),
-                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                dst.raw(),
-                &region,
-            )
+            self.device
+                .cmd_fill_buffer(self.cmd, buffer.raw(), offset, size, word)
         };
     }
 

@@ -1,5 +1,6 @@
 //! Moving pixels between host and GPU: mip-chain uploads through one staging buffer, and readback
-//! of one mip level into host memory. Images end in the layout the caller names.
+//! of one mip level into host memory (through a [`Readback`], which records the host-read
+//! barrier). Images end in the layout the caller names.
 
 use std::sync::Arc;
 
@@ -11,6 +12,7 @@ use super::commands::{transition_images, ImageTransition};
 use super::context::Context;
 use super::error::{VkError, VkResult};
 use super::image::Image;
+use super::readback::Readback;
 
 /// Bytes per texel of the formats relief moves between host and GPU.
 pub fn texel_size(format: vk::Format) -> VkResult<usize> {
@@ -132,13 +134,7 @@ pub fn read_mip(
     let texel = texel_size(image.desc().format)?;
     let (w, h) = image.level_extent(level);
     let size = (w as usize * h as usize * texel) as u64;
-    let readback = Buffer::new(
-        ctx,
-        size,
-        vk::BufferUsageFlags::TRANSFER_DST,
-        MemoryLocation::GpuToCpu,
-        &format!("{} readback", image.name()),
-    )?;
+    let readback = Readback::new(ctx, size, &format!("{} readback", image.name()))?;
     let src = vk::ImageLayout::TRANSFER_SRC_OPTIMAL;
     ctx.one_shot(|rec| {
         transition_images(rec, &[all_mips(image, layout, src)]);
@@ -149,18 +145,9 @@ pub fn read_mip(
                 height: h,
                 depth: 1,
             });
-        // SAFETY: the region lies within the image level and the buffer.
-        unsafe {
-            rec.device().cmd_copy_image_to_buffer(
-                rec.raw(),
-                image.raw(),
-                src,
-                readback.raw(),
-                &[region],
-            )
-        };
+        readback.record_copy_from_image(rec, image, region);
         transition_images(rec, &[all_mips(image, src, layout)]);
         Ok(())
     })?;
-    Ok(readback.mapped()?.to_vec())
+    Ok(readback.bytes()?.to_vec())
 }

@@ -13,14 +13,46 @@ use relief::vk::{Context, ContextOptions, VkError};
 
 /// Whether a missing device must fail the test (`CI=true` or `RELIEF_REQUIRE_GPU=1`).
 pub fn device_required() -> bool {
+    under_ci() || std::env::var("RELIEF_REQUIRE_GPU").is_ok_and(|v| v == "1")
+}
+
+/// Whether the tests run under CI (`CI=true` or `CI=1`), where checks must not pass vacuously.
+pub fn under_ci() -> bool {
     std::env::var("CI").is_ok_and(|v| v == "true" || v == "1")
-        || std::env::var("RELIEF_REQUIRE_GPU").is_ok_and(|v| v == "1")
+}
+
+/// Whether a "zero validation errors" check means anything: under CI it must, so a missing
+/// validation layer is an error there; elsewhere the check is skipped (the layer is optional).
+pub fn validation_check(ci: bool, validation_enabled: bool) -> Result<(), String> {
+    if ci && !validation_enabled {
+        return Err("the Khronos validation layer is not loaded, so validation checks would pass \
+                    vacuously under CI; install it with: sudo apt-get install vulkan-validationlayers \
+                    (and do not set RELIEF_VALIDATION=0 or test a release build)"
+            .into());
+    }
+    Ok(())
+}
+
+/// Panics when [`validation_check`] says this context's validation checks would be vacuous.
+pub fn require_validation(ctx: &Context) {
+    if let Err(why) = validation_check(under_ci(), ctx.validation_enabled()) {
+        panic!("{why}");
+    }
 }
 
 /// A fresh device context, or `None` (after printing SKIPPED) when none exists and none is required.
+/// Under CI the context must have the validation layer loaded.
 pub fn device(test: &str) -> Option<Arc<Context>> {
-    match Context::new(&ContextOptions::default()) {
-        Ok(ctx) => Some(ctx),
+    device_with(test, &ContextOptions::default())
+}
+
+/// [`device`] with explicit options.
+pub fn device_with(test: &str, options: &ContextOptions) -> Option<Arc<Context>> {
+    match Context::new(options) {
+        Ok(ctx) => {
+            require_validation(&ctx);
+            Some(ctx)
+        }
         Err(e @ (VkError::NoDevice | VkError::Loader(_))) if !device_required() => {
             eprintln!("SKIPPED: no Vulkan device ({test}): {e}");
             None
@@ -29,8 +61,10 @@ pub fn device(test: &str) -> Option<Arc<Context>> {
     }
 }
 
-/// Asserts the validation layer reported no errors during the test.
+/// Asserts the validation layer reported no errors during the test (and, under CI, that it was
+/// loaded at all).
 pub fn assert_no_validation_errors(ctx: &Context) {
+    require_validation(ctx);
     let messages = ctx.messages();
     assert_eq!(
         messages.errors(),
