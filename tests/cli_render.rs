@@ -257,3 +257,48 @@ fn a_frame_sequence_writes_numbered_files() {
         "{err}"
     );
 }
+
+#[test]
+fn the_pipeline_cache_persists_between_runs_and_a_corrupt_one_is_ignored() {
+    if common::device("pipeline_cache_persists").is_none() {
+        return;
+    }
+    let dir = common::scratch_dir("pipeline-cache");
+    let cache = dir.join("pipelines.bin");
+    let run = |extra: &[&str]| {
+        let mut args = vec![
+            "render",
+            "--width",
+            "32",
+            "--height",
+            "32",
+            "--method",
+            "qdm",
+            "--no-write",
+            "--json",
+        ];
+        args.extend_from_slice(extra);
+        let out = relief(&args);
+        let err = String::from_utf8_lossy(&out.stderr).into_owned();
+        assert!(out.status.success(), "render failed:\n{err}");
+        let report: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON");
+        (report["pipeline_cache"].clone(), err)
+    };
+    let path = cache.to_str().expect("utf-8");
+    let (first, _) = run(&["--pipeline-cache", path]);
+    assert_eq!(first["seeded"], false, "{first}");
+    // The slab (qdm), the plain pedestal and the pyramid build.
+    assert_eq!(first["pipelines"], 3, "{first}");
+    assert!(cache.exists(), "the cache was written");
+    let (second, _) = run(&["--pipeline-cache", path]);
+    assert_eq!(second["seeded"], true, "{second}");
+    std::fs::write(&cache, b"not a pipeline cache at all, just bytes").expect("write");
+    let (corrupt, err) = run(&["--pipeline-cache", path]);
+    assert_eq!(corrupt["seeded"], false, "{corrupt}");
+    assert!(
+        err.contains("pipeline cache"),
+        "a warning names the cache: {err}"
+    );
+    let (off, _) = run(&["--no-pipeline-cache"]);
+    assert!(off["path"].is_null() && off["seeded"] == false, "{off}");
+}

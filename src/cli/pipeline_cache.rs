@@ -7,7 +7,6 @@
 //! &ctx.pipeline_cache_data()?)`.
 
 // Used by `relief render --pipeline-cache PATH / --no-pipeline-cache`, which is wired separately.
-#![allow(dead_code)]
 
 use std::ffi::OsString;
 use std::path::{Path, PathBuf};

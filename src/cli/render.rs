@@ -10,7 +10,8 @@ use relief::render::{HeightFormat, RenderOptions, Renderer};
 use relief::scene::{default_heightfield, default_scene, load_gltf, Scene, SceneOptions};
 
 use super::heightmap_args::HeightmapArgs;
-use super::render_frames::{run_frames, FrameArgs};
+use super::pipeline_cache;
+use super::render_frames::{run_frames, CacheReport, FrameArgs};
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
 pub enum FormatArg {
@@ -64,6 +65,13 @@ pub struct RenderArgs {
     pub(super) explain: bool,
     #[command(flatten)]
     pub(super) frames: FrameArgs,
+    /// Where compiled pipelines are kept between runs (default: relief/pipelines-VENDOR-DEVICE.bin
+    /// under $XDG_CACHE_HOME or ~/.cache).
+    #[arg(long, value_name = "PATH")]
+    pipeline_cache: Option<PathBuf>,
+    /// Neither read nor write a pipeline cache file.
+    #[arg(long, conflicts_with = "pipeline_cache")]
+    no_pipeline_cache: bool,
 }
 
 const DEFAULT_GLTF_DEPTH_SCALE: f32 = 0.05;
@@ -148,9 +156,67 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         },
         address: args.address,
     };
+    let cache = cache_file(args, &ctx);
+    let seeded = seed_pipeline_cache(&ctx, cache.as_deref());
     let before = ctx.created();
     let mut renderer = Renderer::new(&ctx, &scene, heights.as_ref(), &opts)
         .context("preparing the scene for rendering")?;
-    run_frames(args, &ctx, &mut renderer, &scene, before, &source)?;
-    super::check_validation(&ctx)
+    let cache_report = CacheReport {
+        path: cache.clone(),
+        seeded,
+        pipelines: ctx.created() - before,
+    };
+    run_frames(
+        args,
+        &ctx,
+        &mut renderer,
+        &scene,
+        before,
+        &source,
+        &cache_report,
+    )?;
+    super::check_validation(&ctx)?;
+    if let Some(path) = &cache {
+        persist_pipeline_cache(&ctx, path);
+    }
+    Ok(())
+}
+
+/// The pipeline cache file this run reads and writes, if any.
+fn cache_file(args: &RenderArgs, ctx: &relief::vk::Context) -> Option<PathBuf> {
+    if args.no_pipeline_cache {
+        return None;
+    }
+    args.pipeline_cache
+        .clone()
+        .or_else(|| pipeline_cache::default_path(ctx.info()))
+}
+
+/// Merges the cache file into the context's pipeline cache; whether it was used. A missing file
+/// is a first run; an unreadable, corrupt or foreign one is ignored with a warning.
+fn seed_pipeline_cache(ctx: &relief::vk::Context, path: Option<&std::path::Path>) -> bool {
+    let Some(bytes) = path.and_then(pipeline_cache::load) else {
+        return false;
+    };
+    match ctx.merge_pipeline_cache(&bytes) {
+        Ok(seeded) => seeded,
+        Err(e) => {
+            log::warn!("ignoring the pipeline cache: {e}");
+            false
+        }
+    }
+}
+
+/// Writes the pipeline cache back; a failure costs the next run its head start, not this one.
+fn persist_pipeline_cache(ctx: &relief::vk::Context, path: &std::path::Path) {
+    let saved = ctx
+        .pipeline_cache_data()
+        .map_err(anyhow::Error::from)
+        .and_then(|bytes| pipeline_cache::save(path, &bytes));
+    if let Err(e) = saved {
+        log::warn!(
+            "could not save the pipeline cache to {}: {e:#}",
+            path.display()
+        );
+    }
 }

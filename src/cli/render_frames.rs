@@ -118,6 +118,41 @@ fn write_png(frame: &FrameOutput, out: &Path) -> anyhow::Result<()> {
     .with_context(|| format!("writing {}", out.display()))
 }
 
+/// Where pipelines came from: the cache file (if any), whether it seeded this run, and what the
+/// renderer created while it was made (pipelines and the CPU time they took).
+pub struct CacheReport {
+    pub path: Option<PathBuf>,
+    pub seeded: bool,
+    pub pipelines: ObjectCounts,
+}
+
+impl CacheReport {
+    fn json(&self) -> serde_json::Value {
+        let p = &self.pipelines;
+        json!({
+            "path": self.path,
+            "seeded": self.seeded,
+            "pipelines": p.graphics_pipelines + p.compute_pipelines,
+            "create_ms": p.pipeline_create_us as f64 / 1e3,
+        })
+    }
+
+    fn line(&self) -> String {
+        let p = &self.pipelines;
+        let cache = match (&self.path, self.seeded) {
+            (None, _) => "no cache file".to_owned(),
+            (Some(path), true) => format!("seeded from {}", path.display()),
+            (Some(path), false) => format!("cache {} was empty or new", path.display()),
+        };
+        format!(
+            "pipelines: {} graphics + {} compute created in {:.1} ms ({cache})",
+            p.graphics_pipelines,
+            p.compute_pipelines,
+            p.pipeline_create_us as f64 / 1e3
+        )
+    }
+}
+
 /// What a sequence left behind.
 struct Drawn {
     timings: Vec<Vec<PassTiming>>,
@@ -172,6 +207,7 @@ pub fn run_frames(
     scene: &Scene,
     before: ObjectCounts,
     source: &str,
+    cache: &CacheReport,
 ) -> anyhow::Result<()> {
     let path = CameraPath::choose(&args.frames, renderer, scene)?;
     let drawn = draw_all(args, ctx, renderer, &path)?;
@@ -196,12 +232,14 @@ pub fn run_frames(
             "frames": stats.frames,
             "steady": stats.steady,
             "created_after_first_frame": drawn.created_after_first,
+            "pipeline_cache": cache.json(),
         });
         println!("{value}");
         return Ok(());
     }
     print_table(&stats);
     report_files(args, renderer, &methods, source, &drawn);
+    eprintln!("{}", cache.line());
     Ok(())
 }
 

@@ -15,6 +15,8 @@ pub struct ObjectCounts {
     pub query_pools: u64,
     pub command_buffers: u64,
     pub fences: u64,
+    /// CPU time spent in `vkCreate*Pipelines`, in microseconds.
+    pub pipeline_create_us: u64,
     /// Device memory allocations (one per image and buffer, through gpu-allocator).
     pub allocations: u64,
     pub allocated_bytes: u64,
@@ -34,6 +36,7 @@ impl std::ops::Sub for ObjectCounts {
             query_pools: self.query_pools - before.query_pools,
             command_buffers: self.command_buffers - before.command_buffers,
             fences: self.fences - before.fences,
+            pipeline_create_us: self.pipeline_create_us - before.pipeline_create_us,
             allocations: self.allocations - before.allocations,
             allocated_bytes: self.allocated_bytes - before.allocated_bytes,
         }
@@ -52,6 +55,7 @@ pub(crate) enum Created {
     QueryPool,
     CommandBuffer,
     Fence,
+    PipelineTime { micros: u64 },
 }
 
 /// The live counters a context keeps.
@@ -66,6 +70,7 @@ pub(crate) struct ObjectCounters {
     query_pools: AtomicU64,
     command_buffers: AtomicU64,
     fences: AtomicU64,
+    pipeline_create_us: AtomicU64,
     allocations: AtomicU64,
     allocated_bytes: AtomicU64,
 }
@@ -83,6 +88,7 @@ impl ObjectCounters {
             Created::QueryPool => bump(&self.query_pools, 1),
             Created::CommandBuffer => bump(&self.command_buffers, 1),
             Created::Fence => bump(&self.fences, 1),
+            Created::PipelineTime { micros } => bump(&self.pipeline_create_us, micros),
             Created::Image { bytes } | Created::Buffer { bytes } => {
                 let counter = if matches!(what, Created::Image { .. }) {
                     &self.images
@@ -108,6 +114,7 @@ impl ObjectCounters {
             query_pools: get(&self.query_pools),
             command_buffers: get(&self.command_buffers),
             fences: get(&self.fences),
+            pipeline_create_us: get(&self.pipeline_create_us),
             allocations: get(&self.allocations),
             allocated_bytes: get(&self.allocated_bytes),
         }

@@ -137,7 +137,12 @@ impl Context {
             .pipeline_cache_lock()
             .read()
             .unwrap_or_else(PoisonError::into_inner);
-        f(cache.raw())
+        let started = std::time::Instant::now();
+        let created = f(cache.raw());
+        // What the cache saves shows here: the CPU time of pipeline creation.
+        let micros = started.elapsed().as_micros() as u64;
+        self.count(super::counters::Created::PipelineTime { micros });
+        created
     }
 
     /// The pipeline cache's contents, to persist after rendering and pass back through
