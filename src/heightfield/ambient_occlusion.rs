@@ -53,7 +53,13 @@ pub struct AoTexel {
 /// derivatives as central differences `(h[i+1] - h[i-1]) * W / 2` with the map's addressing.
 ///
 /// Panics if `(i, j)` is outside the map.
-pub fn texel_normal(hf: &Heightfield, depth_scale: f64, address: Address, i: u32, j: u32) -> [f64; 3] {
+pub fn texel_normal(
+    hf: &Heightfield,
+    depth_scale: f64,
+    address: Address,
+    i: u32,
+    j: u32,
+) -> [f64; 3] {
     let (w, h) = (hf.width(), hf.height());
     assert!(i < w && j < h, "texel ({i}, {j}) outside {w}x{h}");
     let at = |di: i64, dj: i64| {
@@ -126,7 +132,8 @@ fn ao_texel(field: &Field, i: u32, j: u32, azimuths: u32) -> AoTexel {
         let c = n[0] * cp + n[1] * sp;
         // The lower limit: the horizon, or the edge of the normal's hemisphere if that is higher.
         let t0 = tau.atan().max((-c).atan2(n[2]));
-        sum += n[2] * t0.cos().powi(2) / 2.0 + c * ((FRAC_PI_2 - t0) / 2.0 - (2.0 * t0).sin() / 4.0);
+        sum +=
+            n[2] * t0.cos().powi(2) / 2.0 + c * ((FRAC_PI_2 - t0) / 2.0 - (2.0 * t0).sin() / 4.0);
     }
     // (1/pi) * sum * (2 pi / azimuths), ordered so that a flat field gives exactly 1.
     let value = (sum * 2.0 / f64::from(azimuths)).clamp(0.0, 1.0);
@@ -167,7 +174,11 @@ fn max_slope(seg: &Segment, hp: f64, s: f64) -> f64 {
     let len = seg.len();
     if seg.la == 0.0 {
         // The point's own cell: a0 is exactly 0, the ratio is a1 + a2 t, its sup at an end (t -> 0+ gives a1).
-        return if len.is_finite() { a1.max(a1 + a2 * len) } else { a1 };
+        return if len.is_finite() {
+            a1.max(a1 + a2 * len)
+        } else {
+            a1
+        };
     }
     let ratio = |t: f64| (a0 + t * (a1 + a2 * t)) / (seg.la + t);
     let mut best = ratio(0.0);
@@ -185,4 +196,3 @@ fn max_slope(seg: &Segment, hp: f64, s: f64) -> f64 {
     }
     best
 }
-

@@ -113,7 +113,12 @@ pub fn light_visibility(
     check_finite("u", u)?;
     check_finite("v", v)?;
     check_light(&light)?;
-    check_count("samples_per_side", samples_per_side, 1, MAX_SAMPLES_PER_SIDE)?;
+    check_count(
+        "samples_per_side",
+        samples_per_side,
+        1,
+        MAX_SAMPLES_PER_SIDE,
+    )?;
     let field = Field::new(hf, depth_scale, address);
     let start = field.grid(u, v);
     let cap = Cap::new(&light);
@@ -229,27 +234,34 @@ impl Cap {
     /// The direction for the square point `(a, b)` in `[-1, 1]^2`: concentric map to the unit disk, then the
     /// equal-area map from the disk onto the cap.
     fn direction(&self, a: f64, b: f64) -> [f64; 3] {
-        let (rho, phi) = concentric(a, b);
-        let k = rho * rho * self.one_minus_cos;
+        let (x, y) = concentric(a, b);
+        let rho2 = x * x + y * y;
+        let k = rho2 * self.one_minus_cos;
         let cos_t = 1.0 - k;
-        let sin_t = (k * (2.0 - k)).max(0.0).sqrt();
-        let (sp, cp) = phi.sin_cos();
+        // sin(theta) / rho, so that (x, y) scaled by it lands on the cap; its limit at rho = 0 is finite.
+        let sin_over_rho = if rho2 > 0.0 {
+            (self.one_minus_cos * (2.0 - k)).max(0.0).sqrt()
+        } else {
+            0.0
+        };
         std::array::from_fn(|i| {
-            cos_t * self.centre[i] + sin_t * (cp * self.side[i] + sp * self.up[i])
+            cos_t * self.centre[i] + sin_over_rho * (x * self.side[i] + y * self.up[i])
         })
     }
 }
 
-/// Shirley and Chiu's concentric map from `[-1, 1]^2` to the unit disk, as (radius, angle).
+/// Shirley and Chiu's concentric map from `[-1, 1]^2` to the unit disk (area-preserving up to a constant).
 pub(crate) fn concentric(a: f64, b: f64) -> (f64, f64) {
     use std::f64::consts::FRAC_PI_4;
-    if a == 0.0 && b == 0.0 {
-        (0.0, 0.0)
+    let (rho, phi) = if a == 0.0 && b == 0.0 {
+        return (0.0, 0.0);
     } else if a.abs() > b.abs() {
         (a, FRAC_PI_4 * (b / a))
     } else {
         (b, 2.0 * FRAC_PI_4 - FRAC_PI_4 * (a / b))
-    }
+    };
+    let (sp, cp) = phi.sin_cos();
+    (rho * cp, rho * sp)
 }
 
 pub(crate) fn check_finite(name: &'static str, value: f64) -> Result<(), ShadingError> {
@@ -307,3 +319,6 @@ fn check_light(light: &LightDir) -> Result<(), ShadingError> {
     check_range("light radius_deg", light.radius_deg, 0.0, 90.0)
 }
 
+#[cfg(test)]
+#[path = "visibility_tests.rs"]
+mod tests;
