@@ -156,8 +156,8 @@ pub fn light_visibility(
 /// Whether the ray from the surface point at grid position `start` along `w` (in (u, v, up) coordinates, any
 /// length) leaves the top plane without passing below the bilinear surface.
 pub(crate) fn ray_escapes(field: &Field, start: (f64, f64), w: [f64; 3]) -> Escape {
-    // Horizontal or downward rays never leave the top plane (and `!(x > 0)` also catches NaN).
-    if !(w[2] > 0.0) {
+    // Horizontal or downward rays never leave the top plane.
+    if w[2].is_nan() || w[2] <= 0.0 {
         return Escape::Blocked;
     }
     let rate = (
@@ -170,7 +170,7 @@ pub(crate) fn ray_escapes(field: &Field, start: (f64, f64), w: [f64; 3]) -> Esca
     let s = field.s;
     // Once it has climbed this far the ray is above every texel and can no longer pass below.
     let end = s * (field.h_max - field.height(start));
-    if !(end > 0.0) {
+    if end.is_nan() || end <= 0.0 {
         return Escape::Escapes;
     }
     let tol = DIP_TOLERANCE * s;
