@@ -1,6 +1,7 @@
 //! Height fields on the CPU: the validated map itself, PNG loading and saving, synthetic generators, the
-//! conservative max pyramid, the method maps (cone, quadric) and the exact reference tracer with its
-//! addressing modes ([`Address`], the one addressing type of the crate). No Vulkan here.
+//! conservative max pyramid, the method maps (cone, quadric), the exact reference tracer with its
+//! addressing modes ([`Address`], the one addressing type of the crate) and the exact shading references
+//! (light visibility, ambient occlusion). No Vulkan here.
 //!
 //! Conventions (DESIGN.md section 2): heights are in [0, 1] with 1 the top plane; a W x H map stores texel
 //! `(i, j)` at row-major index `j * W + i`, `i` along u (x), `j` along v (y); PNG row 0 is `j = 0`.
@@ -8,6 +9,8 @@
 //! Invariant of [`Heightfield`]: `width >= 1`, `height >= 1`, `data.len() == width * height` and every value is
 //! finite and within [0, 1]. Every constructor checks it, so code that holds a `Heightfield` never re-checks.
 
+pub mod ambient_occlusion;
+mod cell_walk;
 pub mod cone_map;
 pub mod error;
 pub mod load;
@@ -18,6 +21,7 @@ pub mod reference;
 mod rng;
 pub mod stable_quadratic;
 pub mod synthetic;
+pub mod visibility;
 
 pub use error::HeightfieldError;
 pub use load::{Channel, LoadOptions};

@@ -213,7 +213,7 @@ fn check_ray(ray: &RefRay, s: f64) -> (f64, f64) {
 }
 
 /// Texel index `k` (any integer) mapped into `[0, n)` by the addressing mode.
-fn texel_index(k: i64, n: u32, address: Address) -> u32 {
+pub(crate) fn texel_index(k: i64, n: u32, address: Address) -> u32 {
     match address {
         Address::Repeat => k.rem_euclid(i64::from(n)) as u32,
         Address::Clamp => k.clamp(0, i64::from(n) - 1) as u32,
@@ -221,7 +221,7 @@ fn texel_index(k: i64, n: u32, address: Address) -> u32 {
 }
 
 /// Heights at the lattice corners `(x0, y0)`, `(x0+1, y0)`, `(x0, y0+1)`, `(x0+1, y0+1)`.
-fn corners(hf: &Heightfield, x0: i64, y0: i64, address: Address) -> [f64; 4] {
+pub(crate) fn corners(hf: &Heightfield, x0: i64, y0: i64, address: Address) -> [f64; 4] {
     let (w, h) = (hf.width(), hf.height());
     let (i0, i1) = (
         texel_index(x0, w, address),
