@@ -12,8 +12,6 @@
 use std::sync::Arc;
 use std::time::Instant;
 
-use glam::Vec3;
-
 use super::frame::{planned_heights, BuiltMap, RenderError, RenderOptions};
 use super::frame_uniforms::{frame_camera, FrameUniforms};
 use super::height_resources::HeightResources;
@@ -211,7 +209,8 @@ impl Renderer {
         Ok(out)
     }
 
-    /// Draws one frame and waits for it.
+    /// Draws one frame and waits for it (frames submitted earlier and still in flight are
+    /// waited for too, and not returned).
     pub fn draw(&mut self, request: &FrameRequest) -> Result<FrameOutput, RenderError> {
         self.submit(request)?;
         self.finish()?
@@ -258,11 +257,6 @@ impl Renderer {
                 on: "gpu",
             });
         }
-    }
-
-    /// The eye of the default camera (for callers building camera paths around it).
-    pub fn default_eye(&self) -> Vec3 {
-        self.default_camera.eye()
     }
 }
 
