@@ -67,27 +67,32 @@ fn maps_writes_every_pyramid_level() {
     if common::device("maps_writes_every_pyramid_level").is_none() {
         return;
     }
-    let dir = common::scratch_dir("maps");
-    let run = relief(&[
-        "maps",
-        "--field",
-        "fbm",
-        "--size",
-        "37",
-        "--out",
-        dir.to_str().expect("utf-8"),
-    ]);
-    assert!(
-        run.status.success(),
-        "maps failed:\n{}",
-        String::from_utf8_lossy(&run.stderr)
-    );
-    // 37 -> 18 -> 9 -> 4 -> 2 -> 1: six levels, each a PNG of the right size.
-    for (k, side) in [37u32, 18, 9, 4, 2, 1].into_iter().enumerate() {
-        let level = image::open(dir.join(format!("level_{k:02}.png"))).expect("level written");
-        assert_eq!((level.width(), level.height()), (side, side), "level {k}");
+    // maps fails when the GPU pyramid differs from the CPU builder's, under either addressing.
+    for address in ["repeat", "clamp"] {
+        let dir = common::scratch_dir(&format!("maps-{address}"));
+        let run = relief(&[
+            "maps",
+            "--field",
+            "fbm",
+            "--size",
+            "37",
+            "--address",
+            address,
+            "--out",
+            dir.to_str().expect("utf-8"),
+        ]);
+        assert!(
+            run.status.success(),
+            "maps --address {address} failed:\n{}",
+            String::from_utf8_lossy(&run.stderr)
+        );
+        // 37 -> 18 -> 9 -> 4 -> 2 -> 1: six levels, each a PNG of the right size.
+        for (k, side) in [37u32, 18, 9, 4, 2, 1].into_iter().enumerate() {
+            let level = image::open(dir.join(format!("level_{k:02}.png"))).expect("level written");
+            assert_eq!((level.width(), level.height()), (side, side), "level {k}");
+        }
+        assert!(!dir.join("level_06.png").exists());
     }
-    assert!(!dir.join("level_06.png").exists());
 }
 
 #[test]

@@ -1,7 +1,8 @@
 //! `relief maps`: the max pyramid of a height map, built on the GPU, one 16-bit PNG per level;
 //! with `--method`, also that method's precomputed map (cone ratios, quadric coefficients) as
 //! `map.npy`, with its build time: the conservative cone map on the GPU unless `--map-on cpu`,
-//! the others on the CPU.
+//! the others on the CPU. Both are built with the same addressing (`--address`, repeat by default
+//! as for `render`).
 
 use std::path::PathBuf;
 
@@ -27,6 +28,9 @@ pub struct MapsArgs {
     /// Where to build the method's map: "gpu" (where a GPU builder exists, else the CPU) or "cpu".
     #[arg(long, value_name = "WHERE", default_value = "gpu", value_parser = ["gpu", "cpu"])]
     map_on: String,
+    /// Height map addressing, for the pyramid and the method's map alike.
+    #[arg(long, value_name = "repeat|clamp", default_value_t = Address::Repeat)]
+    address: Address,
     /// Pick the Vulkan device whose name contains this text.
     #[arg(long, value_name = "SUBSTRING")]
     device: Option<String>,
@@ -35,12 +39,13 @@ pub struct MapsArgs {
 fn write_method_map(
     id: &str,
     hf: &Heightfield,
-    out: &std::path::Path,
+    args: &MapsArgs,
     builder: MapBuilder<'_>,
 ) -> anyhow::Result<()> {
     let method: Method = id.parse()?;
+    let out = &args.out;
     let started = std::time::Instant::now();
-    let built = build_method_map_with(method, &hf.quantized_unorm16(), Address::Repeat, builder)?;
+    let built = build_method_map_with(method, &hf.quantized_unorm16(), args.address, builder)?;
     let wall_ms = started.elapsed().as_secs_f64() * 1e3;
     let Some(map) = built else {
         println!("{method} reads no map besides the pyramid");
@@ -82,9 +87,10 @@ pub fn run(args: &MapsArgs) -> anyhow::Result<()> {
         .ok_or_else(|| anyhow::anyhow!("give a height map: --heightmap FILE or --field NAME"))?;
     let ctx = super::open_device(args.device.as_deref(), false)?;
     hf.check_max_dimension(ctx.info().max_image_dimension_2d, &source)?;
-    let (levels, gpu_ms) = build_pyramid_on_gpu(&ctx, &hf, HeightFormat::R16Unorm, Address::Clamp)?;
+    let (levels, gpu_ms) = build_pyramid_on_gpu(&ctx, &hf, HeightFormat::R16Unorm, args.address)?;
     // The GPU pyramid is checked against the CPU builder on the same 16-bit values.
-    let cpu = MaxPyramid::build_bilinear_bound(&hf.quantized_unorm16(), false);
+    let wrap = args.address == Address::Repeat;
+    let cpu = MaxPyramid::build_bilinear_bound(&hf.quantized_unorm16(), wrap);
     let mismatched = levels
         .iter()
         .zip(cpu.levels())
@@ -109,7 +115,7 @@ pub fn run(args: &MapsArgs) -> anyhow::Result<()> {
             "cpu" => MapBuilder::Cpu,
             _ => MapBuilder::Gpu(&ctx),
         };
-        write_method_map(id, &hf, &args.out, builder)?;
+        write_method_map(id, &hf, args, builder)?;
         super::check_validation(&ctx)?;
     }
     if mismatched > 0 {
