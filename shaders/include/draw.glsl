@@ -1,10 +1,15 @@
-// What the mesh passes (mesh.vert, surface.frag) read per draw: the model matrix as push
-// constants, and the material's parameters and textures in set 1.
+// What the mesh passes (mesh.vert, surface.frag) read per draw: the model matrix and its normal
+// matrix as push constants (made once per object on the CPU, not per vertex), and the material's
+// parameters and textures in set 1.
 #ifndef DRAW_GLSL
 #define DRAW_GLSL
 
+// Mirrors `DrawPush` in src/render/surface_pass.rs.
 layout(push_constant, std430) uniform Draw {
     mat4 model;
+    // Columns of the inverse transpose of the model's linear part; normal[0].w is -1 when the
+    // model mirrors (negative determinant), else 1.
+    vec4 normal[3];
 } draw;
 
 // Texture slots; mirrors `TextureSlot` in src/scene/material.rs, plus the height map's uv.

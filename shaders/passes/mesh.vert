@@ -22,13 +22,13 @@ layout(location = 5) out vec4 out_color;
 void main() {
     vec4 world = draw.model * vec4(in_position, 1.0);
     // Normals transform with the inverse transpose, so non-uniform scales stay correct.
-    mat3 normal_matrix = transpose(inverse(mat3(draw.model)));
+    mat3 normal_matrix = mat3(draw.normal[0].xyz, draw.normal[1].xyz, draw.normal[2].xyz);
     out_world = world.xyz;
     out_normal = normal_matrix * in_normal;
     out_uv0 = in_uv0;
     out_uv1 = in_uv1;
     // A mirroring transform flips normal x tangent relative to the mapped bitangent.
-    float mirror = determinant(mat3(draw.model)) < 0.0 ? -1.0 : 1.0;
+    float mirror = draw.normal[0].w;
     out_tangent = vec4(mat3(draw.model) * in_tangent.xyz, in_tangent.w * mirror);
     out_color = in_color;
     gl_Position = frame.view_proj * world;

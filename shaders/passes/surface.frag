@@ -4,7 +4,8 @@
 // height map's texture space, trace it, move every texture lookup to the hit, shade with the
 // height field's normal (or the normal map) and write the displaced point's depth; with
 // SELF_SHADOW they also trace toward each shadow-casting light. The plain variant
-// (PLAIN_SURFACE) does none of that and keeps early depth testing.
+// (PLAIN_SURFACE) does none of that; relief variants declare depth_greater, so early depth
+// testing survives their depth writes.
 #extension GL_GOOGLE_include_directive : require
 #include "conventions.glsl"
 #include "numeric.glsl"
@@ -26,6 +27,11 @@ layout(location = 4) in vec4 in_tangent;
 layout(location = 5) in vec4 in_color;
 
 layout(location = 0) out vec4 out_color;
+#ifndef PLAIN_SURFACE
+// The written depth is only ever behind the polygon's (see main), so the rasterizer may still
+// reject fragments early against the polygon's depth.
+layout(depth_greater) out float gl_FragDepth;
+#endif
 
 // Self-shadow rays toward lights that cast shadows; off unless the scene has such a light.
 layout(constant_id = 8) const bool SELF_SHADOW = false;
@@ -102,7 +108,9 @@ void main() {
                          - f.b * (f.depth_len * g0.y / f.scale.y));
     relief_normal = true;
     vec4 clip = frame.view_proj * vec4(world, 1.0);
-    gl_FragDepth = clamp(clip.z / clip.w, 0.0, 1.0);
+    // The hit lies along the view ray beyond the polygon, so its depth is never nearer; the max
+    // keeps rounding from breaking the depth_greater promise that lets early depth tests run.
+    gl_FragDepth = max(gl_FragCoord.z, clamp(clip.z / clip.w, 0.0, 1.0));
 #endif
 
     vec4 base = material.base_color * in_color;

@@ -6,7 +6,7 @@
 use std::sync::Arc;
 
 use ash::vk;
-use glam::{Mat4, Vec3};
+use glam::{Mat3, Mat4, Vec3};
 
 use super::frame_uniforms::FrameUniforms;
 use super::height_resources::HeightResources;
@@ -25,6 +25,38 @@ pub const COLOR_FORMAT: vk::Format = vk::Format::R8G8B8A8_SRGB;
 /// Depth target format.
 pub const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
 
+/// What a draw pushes; mirrors `Draw` in `shaders/include/draw.glsl`. The normal matrix is
+/// made once per object here rather than per vertex in the shader.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct DrawPush {
+    model: [[f32; 4]; 4],
+    /// Columns of the inverse transpose of the model's 3x3; `normal[0][3]` is the mirror sign.
+    normal: [[f32; 4]; 3],
+}
+const _: () = assert!(std::mem::size_of::<DrawPush>() == 112);
+
+impl DrawPush {
+    fn of(model: Mat4) -> DrawPush {
+        let linear = Mat3::from_mat4(model);
+        let normal = linear.inverse().transpose();
+        let mirror = if linear.determinant() < 0.0 {
+            -1.0
+        } else {
+            1.0
+        };
+        let col = |c: Vec3, w: f32| [c.x, c.y, c.z, w];
+        DrawPush {
+            model: model.to_cols_array_2d(),
+            normal: [
+                col(normal.x_axis, mirror),
+                col(normal.y_axis, 0.0),
+                col(normal.z_axis, 0.0),
+            ],
+        }
+    }
+}
+
 /// Specialization constant id of `SELF_SHADOW` in `surface.frag`.
 const SELF_SHADOW_ID: u32 = 8;
 
@@ -36,7 +68,7 @@ struct MeshDraw {
     /// Set 0 per frame slot.
     frame_sets: Vec<DescriptorSet>,
     material_set: DescriptorSet,
-    model: Mat4,
+    push: DrawPush,
     blend: bool,
     center: Vec3,
 }
@@ -176,7 +208,7 @@ impl SurfacePass {
                 pipeline: d.pipeline,
                 frame_sets,
                 material_set,
-                model: mesh.transform,
+                push: DrawPush::of(mesh.transform),
                 blend: plan.pipelines[d.pipeline].blend,
                 center: mesh.transform.transform_point3((lo + hi) * 0.5),
             });
@@ -222,7 +254,7 @@ impl SurfacePass {
             let set = draw.frame_sets[slot.min(draw.frame_sets.len() - 1)];
             pipeline.bind(rec, Some(set));
             pipeline.bind_set(rec, 1, draw.material_set);
-            pipeline.push(rec, bytemuck::bytes_of(&draw.model.to_cols_array_2d()))?;
+            pipeline.push(rec, bytemuck::bytes_of(&draw.push))?;
             rec.bind_mesh(&draw.vertices, &draw.indices);
             rec.draw_indexed(draw.index_count);
         }
@@ -287,7 +319,7 @@ fn create_pipeline(
             vk::CullModeFlags::BACK
         },
         set_layouts,
-        push_bytes: std::mem::size_of::<Mat4>() as u32,
+        push_bytes: std::mem::size_of::<DrawPush>() as u32,
         blend: key.blend,
     };
     graphics_pipeline(ctx, &desc, &format!("surface {}", describe(key)))
