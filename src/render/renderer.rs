@@ -91,7 +91,7 @@ impl Renderer {
         let started = Instant::now();
         let (heights, maps) = upload_heights(ctx, scene, &plan, frame_heights, opts, uniforms)?;
         let upload_ms = started.elapsed().as_secs_f64() * 1e3;
-        let surface = SurfacePass::new(ctx, scene, &plan, &heights, &uniforms)?;
+        let surface = SurfacePass::new(ctx, scene, &plan, &heights, &uniforms, FRAMES_IN_FLIGHT)?;
         let targets = Targets::new(ctx, opts.width, opts.height)?;
         // One scope per pyramid build plus the surface pass.
         let scopes = plan.heights.len() as u32 + 1;

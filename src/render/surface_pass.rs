@@ -109,16 +109,23 @@ fn frame_layouts(ctx: &Arc<Context>) -> VkResult<FrameLayouts> {
 }
 
 impl SurfacePass {
-    /// Uploads what `plan` draws of `scene` and builds the pipelines it lists. `heights[k]` is
-    /// the uploaded height map of `plan.heights[k]`, with uniforms for every frame slot.
+    /// Uploads what `plan` draws of `scene` and builds the pipelines it lists, with set 0 for
+    /// each of `slots` frame slots. `heights[k]` is the uploaded height map of
+    /// `plan.heights[k]`, with uniforms for every slot.
     pub fn new(
         ctx: &Arc<Context>,
         scene: &Scene,
         plan: &Plan,
         heights: &[HeightResources],
         uniforms: &FrameUniforms,
+        slots: usize,
     ) -> VkResult<SurfacePass> {
-        let slots = heights.first().map_or(1, HeightResources::slots);
+        if let Some(h) = heights.iter().find(|h| h.slots() != slots) {
+            return Err(VkError::Invalid(format!(
+                "height uniforms for {} frame slots, the pass has {slots}",
+                h.slots()
+            )));
+        }
         let layouts = frame_layouts(ctx)?;
         let material_layout = material_layout(ctx)?;
         let mut drawn = vec![false; scene.materials.len()];
