@@ -23,9 +23,23 @@ pub struct HeightResources {
     map: Option<GpuMethodMap>,
 }
 
+/// How a height map is stored and what comes with it.
+#[derive(Debug, Clone, Copy)]
+pub struct HeightUpload<'a> {
+    pub format: HeightFormat,
+    pub address: Address,
+    /// The method's precomputed map (binding 3), if it reads one.
+    pub map: Option<&'a MapData>,
+    /// Whether to build the max pyramid in the image's mip chain (methods that read no pyramid
+    /// get a single-level image and no pyramid pass).
+    pub pyramid: bool,
+    /// Copies of the uniforms, one per frame in flight.
+    pub slots: usize,
+}
+
 impl HeightResources {
-    /// Uploads `hf` (and `map`), prepares the pyramid build and the uniforms in `frame`, whose
-    /// `height_info` is filled in here.
+    /// Uploads `hf` (and `map`), prepares the pyramid build and one copy of the uniforms in
+    /// `frame`, whose `height_info` is filled in here.
     pub fn new(
         ctx: &Arc<Context>,
         hf: &Heightfield,
@@ -34,23 +48,30 @@ impl HeightResources {
         map: Option<&MapData>,
         frame: FrameUniforms,
     ) -> VkResult<HeightResources> {
-        Self::with_pyramid(ctx, hf, format, address, map, frame, true, 1)
+        let upload = HeightUpload {
+            format,
+            address,
+            map,
+            pyramid: true,
+            slots: 1,
+        };
+        Self::upload(ctx, hf, &upload, frame)
     }
 
-    /// As [`HeightResources::new`], with the pyramid only when `pyramid` is set (methods that
-    /// read no pyramid get a single-level height image and no pyramid pass) and `slots` copies
-    /// of the uniforms, one per frame in flight.
-    #[allow(clippy::too_many_arguments)]
-    pub fn with_pyramid(
+    /// Uploads `hf` as `upload` says, with `frame` in every copy of the uniforms.
+    pub fn upload(
         ctx: &Arc<Context>,
         hf: &Heightfield,
-        format: HeightFormat,
-        address: Address,
-        map: Option<&MapData>,
+        upload: &HeightUpload,
         mut frame: FrameUniforms,
-        pyramid: bool,
-        slots: usize,
     ) -> VkResult<HeightResources> {
+        let HeightUpload {
+            format,
+            address,
+            map,
+            pyramid,
+            slots,
+        } = *upload;
         let (heights, pyramid) = if pyramid {
             let heights = GpuHeightfield::upload(ctx, hf, format, address)?;
             let pass = PyramidPass::new(ctx, format.shader_suffix())?;

@@ -36,7 +36,7 @@ pub use frame::{render, BuiltMap, Frame, RenderError, RenderOptions};
 pub use frame_stats::{sequence_stats, PassStats, SequenceStats};
 pub use frame_uniforms::{frame_camera, FrameUniforms, LightUniform, MAX_LIGHTS};
 pub use gpu_heightfield::{GpuHeightfield, HeightFormat};
-pub use height_resources::HeightResources;
+pub use height_resources::{HeightResources, HeightUpload};
 pub use map_builder::{build_method_map_with, BuiltMethodMap, MapBuilder};
 pub use method_map::GpuMethodMap;
 pub use pass::Pass;

@@ -14,7 +14,7 @@ use std::time::Instant;
 
 use super::frame::{planned_heights, BuiltMap, RenderError, RenderOptions};
 use super::frame_uniforms::{frame_camera, FrameUniforms};
-use super::height_resources::HeightResources;
+use super::height_resources::{HeightResources, HeightUpload};
 use super::map_builder::{build_method_map_with, MapBuilder};
 use super::pass::Pass;
 use super::pass_timer::{per_pass, PassTimer, PassTiming, Scope};
@@ -290,16 +290,14 @@ fn upload_heights(
                 on: built.on,
             });
         }
-        heights.push(HeightResources::with_pyramid(
-            ctx,
-            &stored,
-            opts.height_format,
+        let upload = HeightUpload {
+            format: opts.height_format,
             address,
-            map.as_ref().map(|built| &built.data),
-            uniforms,
-            hp.pyramid,
-            FRAMES_IN_FLIGHT,
-        )?);
+            map: map.as_ref().map(|built| &built.data),
+            pyramid: hp.pyramid,
+            slots: FRAMES_IN_FLIGHT,
+        };
+        heights.push(HeightResources::upload(ctx, &stored, &upload, uniforms)?);
     }
     Ok((heights, maps))
 }
