@@ -3,18 +3,11 @@
 
 use super::*;
 use crate::heightfield::cell_walk::Field;
+use crate::heightfield::test_support::field;
 use crate::heightfield::visibility::{concentric, ray_escapes, Escape};
 use crate::heightfield::Generator;
 
 const ADDRESSES: [Address; 2] = [Address::Repeat, Address::Clamp];
-
-fn field(w: u32, h: u32, f: impl Fn(u32, u32) -> f32) -> Heightfield {
-    let data = (0..h)
-        .flat_map(|j| (0..w).map(move |i| (i, j)))
-        .map(|(i, j)| f(i, j))
-        .collect();
-    Heightfield::new(w, h, data).unwrap()
-}
 
 #[test]
 fn flat_fields_have_ao_exactly_one() {

@@ -21,6 +21,8 @@ pub mod reference;
 mod rng;
 pub mod stable_quadratic;
 pub mod synthetic;
+#[cfg(test)]
+mod test_support;
 pub mod visibility;
 
 pub use error::HeightfieldError;

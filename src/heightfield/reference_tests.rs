@@ -1,43 +1,10 @@
 //! Tests of the reference tracer: closed-form cases, and an independent brute-force march on random fields.
 
 use super::*;
+use crate::heightfield::test_support::{field, Rng};
 
 const MODELS: [SurfaceModel; 2] = [SurfaceModel::Bilinear, SurfaceModel::Nearest];
 const ADDRESSES: [Address; 2] = [Address::Repeat, Address::Clamp];
-
-/// splitmix64: a tiny seeded generator, so every failure reproduces.
-struct Rng(u64);
-
-impl Rng {
-    fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in [0, 1).
-    fn unit(&mut self) -> f64 {
-        (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
-    }
-
-    fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.unit()
-    }
-
-    fn below(&mut self, n: u64) -> u64 {
-        self.next_u64() % n
-    }
-}
-
-fn field(w: u32, h: u32, f: impl Fn(u32, u32) -> f32) -> Heightfield {
-    let data = (0..h)
-        .flat_map(|j| (0..w).map(move |i| (i, j)))
-        .map(|(i, j)| f(i, j))
-        .collect();
-    Heightfield::new(w, h, data).unwrap()
-}
 
 /// Heights on `levels + 1` steps from 0 to 1: plateaus, exact ties and the top plane itself, as 8-bit maps have.
 fn quantized_field(rng: &mut Rng, w: u32, h: u32, levels: u64) -> Heightfield {
@@ -142,7 +109,7 @@ fn address_parses_and_prints() {
 
 #[test]
 fn flat_field_hits_at_its_depth_from_any_direction() {
-    let mut rng = Rng(1);
+    let mut rng = Rng::new(1);
     let hf = field(4, 3, |_, _| 0.375);
     for _ in 0..500 {
         let ray = random_ray(&mut rng, 2.0, (-3.0, 4.0));
@@ -160,7 +127,7 @@ fn flat_field_hits_at_its_depth_from_any_direction() {
 
 #[test]
 fn rays_entering_at_the_top_plane_hit_at_zero() {
-    let mut rng = Rng(13);
+    let mut rng = Rng::new(13);
     let hf = field(4, 4, |i, _| if i == 0 { 0.0 } else { 1.0 });
     for _ in 0..200 {
         // Between the centres of columns 1..3 the bilinear surface is the top plane.
@@ -175,7 +142,7 @@ fn rays_entering_at_the_top_plane_hit_at_zero() {
 #[test]
 fn one_by_one_map_is_flat() {
     let hf = field(1, 1, |_, _| 0.625);
-    let mut rng = Rng(2);
+    let mut rng = Rng::new(2);
     for _ in 0..200 {
         let ray = random_ray(&mut rng, 5.0, (-2.0, 3.0));
         for (m, a) in MODELS.into_iter().flat_map(|m| ADDRESSES.map(|a| (m, a))) {
@@ -289,7 +256,7 @@ fn nearest_spike_is_hit_on_its_side_its_top_or_passed_over() {
 
 #[test]
 fn vertical_rays_hit_the_surface_below_them_in_one_cell() {
-    let mut rng = Rng(3);
+    let mut rng = Rng::new(3);
     for (w, h) in [(1, 1), (8, 8), (5, 3)] {
         let hf = random_field(&mut rng, w, h);
         for k in 0..300 {
@@ -324,7 +291,7 @@ fn vertical_rays_hit_the_surface_below_them_in_one_cell() {
 
 #[test]
 fn zero_depth_scale_hits_at_the_top() {
-    let mut rng = Rng(4);
+    let mut rng = Rng::new(4);
     let hf = random_field(&mut rng, 6, 5);
     for _ in 0..300 {
         let ray = random_ray(&mut rng, 1.0, (-2.0, 3.0));
@@ -370,7 +337,7 @@ fn compare_with_brute_force(hf: &Heightfield, rng: &mut Rng, rays: usize, uv: (f
 
 #[test]
 fn random_fields_match_brute_force() {
-    let mut rng = Rng(5);
+    let mut rng = Rng::new(5);
     let (mut rays, mut straddled) = (0, 0);
     for (w, h) in [(8, 8), (5, 3), (16, 16), (1, 4), (3, 1)] {
         let hf = random_field(&mut rng, w, h);
@@ -391,7 +358,7 @@ fn random_fields_match_brute_force() {
 
 #[test]
 fn rays_along_cell_edges_match_brute_force() {
-    let mut rng = Rng(6);
+    let mut rng = Rng::new(6);
     let hf = random_field(&mut rng, 8, 8);
     let s = 0.6;
     for (m, a) in MODELS.into_iter().flat_map(|m| ADDRESSES.map(|a| (m, a))) {
@@ -432,7 +399,7 @@ fn rays_along_cell_edges_match_brute_force() {
 
 #[test]
 fn bilinear_hits_are_roots_of_the_public_surface() {
-    let mut rng = Rng(7);
+    let mut rng = Rng::new(7);
     let hf = random_field(&mut rng, 9, 7);
     for a in ADDRESSES {
         for _ in 0..2000 {
@@ -450,7 +417,7 @@ fn bilinear_hits_are_roots_of_the_public_surface() {
 
 #[test]
 fn repeat_is_periodic_in_the_entry_point() {
-    let mut rng = Rng(8);
+    let mut rng = Rng::new(8);
     let hf = random_field(&mut rng, 6, 4);
     for m in MODELS {
         for _ in 0..300 {
@@ -478,7 +445,7 @@ fn repeat_is_periodic_in_the_entry_point() {
 
 #[test]
 fn grazing_rays_stay_finite_and_clamp_walks_stay_short() {
-    let mut rng = Rng(9);
+    let mut rng = Rng::new(9);
     let hf = random_field(&mut rng, 8, 8);
     for k in 0..20 {
         let ray = ray_at(rng.unit(), rng.unit(), 0.001, rng.range(0.0, 360.0));
@@ -519,7 +486,7 @@ fn clamp_outside_the_map_uses_the_border_values() {
         let hit = trace(&hf, &ray, 0.5, m, Address::Clamp);
         assert!((hit.z - surface_depth(&hf, 0.0, 0.3, 0.5, m, Address::Clamp)).abs() < 1e-15);
     }
-    let mut rng = Rng(10);
+    let mut rng = Rng::new(10);
     let mut straddled = compare_with_brute_force(&hf, &mut rng, 100, (-6.0, 7.0));
     straddled += compare_with_brute_force(&hf, &mut rng, 100, (-0.3, 1.3));
     assert!(straddled < 4, "{straddled} straddled rays");
@@ -527,7 +494,7 @@ fn clamp_outside_the_map_uses_the_border_values() {
 
 #[test]
 fn the_cell_cap_falls_back_to_the_bottom_plane() {
-    let mut rng = Rng(11);
+    let mut rng = Rng::new(11);
     let hf = random_field(&mut rng, 8, 8);
     let ray = ray_at(0.3, 0.6, 0.01, 20.0);
     let hit = trace_capped(&hf, &ray, 0.1, SurfaceModel::Bilinear, Address::Repeat, 10);
@@ -537,7 +504,7 @@ fn the_cell_cap_falls_back_to_the_bottom_plane() {
 
 #[test]
 fn random_rays_never_produce_nan_or_leave_the_slab() {
-    let mut rng = Rng(12);
+    let mut rng = Rng::new(12);
     for _ in 0..200 {
         let (w, h) = (1 + rng.below(9) as u32, 1 + rng.below(9) as u32);
         let hf = random_field(&mut rng, w, h);

@@ -4,33 +4,9 @@
 
 use super::*;
 use crate::heightfield::reference::{surface_depth, trace, RefRay, SurfaceModel};
+use crate::heightfield::test_support::{field, Rng};
 
 const ADDRESSES: [Address; 2] = [Address::Repeat, Address::Clamp];
-
-fn field(w: u32, h: u32, f: impl Fn(u32, u32) -> f32) -> Heightfield {
-    let data = (0..h)
-        .flat_map(|j| (0..w).map(move |i| (i, j)))
-        .map(|(i, j)| f(i, j))
-        .collect();
-    Heightfield::new(w, h, data).unwrap()
-}
-
-/// splitmix64, so every failure reproduces.
-struct Rng(u64);
-
-impl Rng {
-    fn unit(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    }
-
-    fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.unit()
-    }
-}
 
 fn light(elevation_deg: f64, azimuth_deg: f64, radius_deg: f64) -> LightDir {
     LightDir {
@@ -281,7 +257,7 @@ fn point_lights_give_zero_or_one_and_agree_with_the_reversed_downward_tracer() {
     // toward the point; the ray is blocked iff that trace hits clearly before the point. Cases where the hit
     // is within 1e-6 of the point's depth (tangent grazes, which the reversed trace cannot tell apart) are
     // skipped and counted.
-    let mut rng = Rng(0x5EED);
+    let mut rng = Rng::new(0x5EED);
     let (mut compared, mut skipped, mut blocked) = (0, 0, 0);
     for _ in 0..6 {
         let (w, h) = (
@@ -339,7 +315,7 @@ fn point_lights_give_zero_or_one_and_agree_with_the_reversed_downward_tracer() {
 
 #[test]
 fn extreme_inputs_give_fractions_in_range_and_bad_inputs_give_errors() {
-    let mut rng = Rng(42);
+    let mut rng = Rng::new(42);
     let fields = [
         field(1, 1, |_, _| 0.7),
         field(9, 4, |_, _| 0.0),

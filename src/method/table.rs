@@ -276,9 +276,7 @@ pub const METHODS: &[MethodInfo] = &[
         paper: "Oh et al. 2006, Ki & Oh (paper 003)",
         shader: "methods/pdm.glsl",
         needs: &[MapKind::MaxPyramid],
-        // Its traversal never climbs back up, so a ray grazing the surface pays a step per leaf
-        // node it passes: a 5-degree view of fbm 1024^2 takes up to 512 steps (1 degree: ~1500).
-        // The cap only bounds stragglers.
+        // Never climbs back up either: the same budget as qrm, for the same reason.
         default_budget: exact(1024, 0),
         leaf_choice: true,
         fixed_step: false,

@@ -16,8 +16,11 @@ use super::image::Image;
 /// command buffer:
 ///
 /// ```compile_fail
-/// use relief::vk::{raw, Recording};
-/// let rec = Recording::new(todo!(), raw::CommandBuffer::null());
+/// use relief::vk::{raw, Context, Recording};
+/// fn forge(ctx: &Context) {
+///     let rec = Recording::new(ctx.device(), raw::CommandBuffer::null());
+///     rec.dispatch([1, 1, 1]);
+/// }
 /// ```
 ///
 /// nor keep one past its submission, so it cannot record into a finished buffer:
