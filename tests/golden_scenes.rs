@@ -157,6 +157,7 @@ fn materials_scene() -> Scene {
                 color: Vec3::new(12.0, 10.0, 8.0),
                 range: Some(10.0),
                 casts_shadows: true,
+                radius: 0.0,
             },
             Light {
                 kind: LightKind::Spot {
@@ -168,6 +169,7 @@ fn materials_scene() -> Scene {
                 color: Vec3::new(6.0, 8.0, 14.0),
                 range: None,
                 casts_shadows: true,
+                radius: 0.0,
             },
         ],
         camera_path: None,

@@ -6,7 +6,7 @@ mod common;
 use relief::heightfield::Generator;
 use relief::method::Method;
 use relief::render::{render, Pass, Plan, RenderOptions};
-use relief::scene::{quad_mesh, HeightSource, Light, Material, Relief, Scene};
+use relief::scene::{quad_mesh, Light, Material, Relief, Scene};
 use relief::vk::ObjectCounts;
 
 fn one_material_scene(method: Method, light: Option<Light>) -> Scene {
@@ -14,12 +14,7 @@ fn one_material_scene(method: Method, light: Option<Light>) -> Scene {
         meshes: vec![quad_mesh("quad", 2.0, 2.0, 1.0, 0)],
         materials: vec![Material {
             name: "displaced".into(),
-            relief: Some(Relief {
-                depth_scale: 0.05,
-                method,
-                budget: None,
-                height: HeightSource::Frame,
-            }),
+            relief: Some(Relief::new(0.05, method)),
             ..Material::default()
         }],
         lights: light.into_iter().collect(),
@@ -87,6 +82,7 @@ fn maps_and_shadow_work_appear_only_when_needed() {
     let csm = Method::all().find(|m| m.id() == "csm").expect("csm");
     let shadowed = Light {
         casts_shadows: true,
+        radius: 0.0,
         ..Light::default_light()
     };
     let scene = one_material_scene(csm, Some(shadowed));

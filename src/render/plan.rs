@@ -354,12 +354,7 @@ mod tests {
             .enumerate()
             .map(|(k, m)| Material {
                 name: format!("m{k}"),
-                relief: m.map(|id| Relief {
-                    depth_scale: 0.05,
-                    method: id.parse().expect("known id"),
-                    budget: None,
-                    height: HeightSource::Frame,
-                }),
+                relief: m.map(|id| Relief::new(0.05, id.parse().expect("known id"))),
                 ..Material::default()
             })
             .collect();
@@ -369,6 +364,7 @@ mod tests {
         let lights = if shadows {
             vec![Light {
                 casts_shadows: true,
+                radius: 0.0,
                 ..Light::default_light()
             }]
         } else {

@@ -3,7 +3,7 @@
 
 use glam::{Mat4, Vec3};
 
-use super::{box_mesh, quad_mesh, Camera, HeightSource, Light, Material, Mesh, Relief, Scene};
+use super::{box_mesh, quad_mesh, Camera, Light, Material, Mesh, Relief, Scene};
 use crate::heightfield::{Generator, Heightfield};
 use crate::method::Method;
 
@@ -43,12 +43,7 @@ fn without_top(mut mesh: Mesh) -> Mesh {
 
 /// The default scene, displaced with `method`.
 pub fn default_scene(method: Method) -> Scene {
-    let relief = Relief {
-        depth_scale: DEFAULT_DEPTH_SCALE,
-        method,
-        budget: None,
-        height: HeightSource::Frame,
-    };
+    let relief = Relief::new(DEFAULT_DEPTH_SCALE, method);
     let materials = vec![
         material("bricks", [0.62, 0.26, 0.17], 0.7, Some(relief)),
         material("pedestal", [0.55, 0.55, 0.58], 0.5, None),
@@ -76,6 +71,7 @@ pub fn default_scene(method: Method) -> Scene {
         // The one light casts shadows, so the default scene shows relief self-shadowing.
         lights: vec![Light {
             casts_shadows: true,
+            radius: 0.0,
             ..Light::default_light()
         }],
         images: Vec::new(),

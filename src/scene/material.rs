@@ -1,5 +1,6 @@
 //! Materials: glTF metallic-roughness with textures, samplers and uv transforms, plus relief.
 
+use super::shading::{AoMode, ShadowMode};
 use crate::heightfield::Channel;
 use crate::method::Method;
 
@@ -151,6 +152,24 @@ pub struct Relief {
     /// Iteration cap instead of the method's default.
     pub budget: Option<u32>,
     pub height: HeightSource,
+    /// Self-shadowing toward lights that cast shadows.
+    pub shadows: ShadowMode,
+    /// Ambient occlusion from the height field.
+    pub ao: AoMode,
+}
+
+impl Relief {
+    /// Relief from the frame's height map with the method's own budget, hard self-shadows and no AO.
+    pub fn new(depth_scale: f32, method: Method) -> Relief {
+        Relief {
+            depth_scale,
+            method,
+            budget: None,
+            height: HeightSource::Frame,
+            shadows: ShadowMode::default(),
+            ao: AoMode::default(),
+        }
+    }
 }
 
 /// A surface's look: glTF metallic-roughness.

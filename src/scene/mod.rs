@@ -14,20 +14,24 @@ mod gltf_mesh;
 mod gltf_nodes;
 mod gltf_prepass;
 mod gltf_skin_check;
+mod light_extras;
 mod material;
 mod primitives;
 mod relief_extras;
+mod shading;
 mod tangents;
 
 pub use builtin::{default_heightfield, default_scene, DEFAULT_HEIGHTFIELD};
 pub use camera::{Camera, Projection};
 pub use camera_path::{CameraPath, Interpolation, Keyed, Keyframe, NodeMotion, Track, TrackError};
 pub use gltf_load::{load_gltf, load_gltf_with_report, LoadReport, SceneError, SceneOptions};
+pub use light_extras::MAX_ANGULAR_RADIUS_DEG;
 pub use material::{
     AlphaMode, Filter, HeightSource, Material, Relief, SamplerDesc, TextureRef, TextureSlot,
     UvTransform, Wrap,
 };
 pub use primitives::{box_mesh, quad_mesh};
+pub use shading::{AoMode, ShadowMode, AO_HORIZON_DIRECTIONS};
 
 use std::sync::Arc;
 
@@ -112,6 +116,9 @@ pub struct Light {
     pub range: Option<f32>,
     /// Whether relief surfaces trace self-shadow rays toward this light.
     pub casts_shadows: bool,
+    /// The light's size, 0 for a hard light: angular radius in radians for a directional light
+    /// (the sun's is 0.27 degrees), the radius of its sphere in world units for point and spot.
+    pub radius: f32,
 }
 
 impl Light {
@@ -125,6 +132,7 @@ impl Light {
             color: Vec3::new(3.0, 2.85, 2.6),
             range: None,
             casts_shadows: false,
+            radius: 0.0,
         }
     }
 }
@@ -174,12 +182,7 @@ impl Scene {
             if filter.is_some_and(|name| name != m.name) {
                 continue;
             }
-            m.relief = Some(Relief {
-                depth_scale,
-                method,
-                budget: None,
-                height: HeightSource::Frame,
-            });
+            m.relief = Some(Relief::new(depth_scale, method));
             count += 1;
         }
         count

@@ -3,11 +3,14 @@
 //! ```json
 //! "extras": { "relief": {
 //!     "height": { "index": 3, "texCoord": 0, "channel": "a", "invert": false },
-//!     "depth_scale": 0.05, "method": "qdm", "budget": 64 } }
+//!     "depth_scale": 0.05, "method": "qdm", "budget": 64,
+//!     "shadows": "cone", "ao": "horizon-8" } }
 //! ```
 //!
 //! `depth_scale` is required (finite, > 0). Defaults: `method` "pom", `budget` none (the
-//! method's own), `height.texCoord` 0, `height.channel` "r", `height.invert` false. Without
+//! method's own), `shadows` "hard" (`none`, `hard`, `pom-soft`, `horizon`, `cone`), `ao` "none"
+//! (`horizon-4|8|16`, optionally `-rotated`, or `exact-horizon`), `height.texCoord` 0,
+//! `height.channel` "r", `height.invert` false. Without
 //! `height` the material takes the frame's height map. Extras without `relief` are ignored;
 //! unknown keys inside `relief` are errors, so a misspelt setting is not silently dropped.
 
@@ -16,7 +19,7 @@ use std::str::FromStr;
 
 use serde_json::{Map, Value};
 
-use super::{HeightSource, Relief, TextureRef};
+use super::{AoMode, HeightSource, Relief, ShadowMode, TextureRef};
 use crate::heightfield::Channel;
 use crate::method::Method;
 
@@ -37,7 +40,7 @@ pub(super) fn parse_relief(
     only_keys(
         relief,
         "extras.relief",
-        &["height", "depth_scale", "method", "budget"],
+        &["height", "depth_scale", "method", "budget", "shadows", "ao"],
     )?;
     let depth_scale = match relief.get("depth_scale") {
         None => return Err("extras.relief.depth_scale: missing (a number > 0)".into()),
@@ -66,11 +69,21 @@ pub(super) fn parse_relief(
         None => HeightSource::Frame,
         Some(h) => height_source(h, texture, texture_count)?,
     };
+    let shadows = match relief.get("shadows") {
+        None => ShadowMode::default(),
+        Some(v) => parsed(v, "extras.relief.shadows")?,
+    };
+    let ao = match relief.get("ao") {
+        None => AoMode::default(),
+        Some(v) => parsed(v, "extras.relief.ao")?,
+    };
     Ok(Some(Relief {
         depth_scale,
         method,
         budget,
         height,
+        shadows,
+        ao,
     }))
 }
 
@@ -170,13 +183,22 @@ mod tests {
     fn full_settings() {
         let r = parse(
             r#"{"relief": {"height": {"index": 3, "texCoord": 1, "channel": "a", "invert": true},
-                "depth_scale": 0.05, "method": "qdm", "budget": 64}, "other": 1}"#,
+                "depth_scale": 0.05, "method": "qdm", "budget": 64, "shadows": "pom-soft",
+                "ao": "horizon-16-rotated"}, "other": 1}"#,
         )
         .unwrap()
         .unwrap();
         assert_eq!(r.depth_scale, 0.05);
         assert_eq!(r.method, "qdm".parse().unwrap());
         assert_eq!(r.budget, Some(64));
+        assert_eq!(r.shadows, ShadowMode::PomSoft);
+        assert_eq!(
+            r.ao,
+            AoMode::Horizon {
+                directions: 16,
+                rotated: true
+            }
+        );
         let HeightSource::Texture {
             texture,
             channel,
@@ -198,6 +220,7 @@ mod tests {
         assert_eq!(r.method, Method::POM);
         assert_eq!(r.budget, None);
         assert_eq!(r.height, HeightSource::Frame);
+        assert_eq!((r.shadows, r.ao), (ShadowMode::Hard, AoMode::None));
         let r = parse(r#"{"relief": {"depth_scale": 1, "height": {"index": 0}}}"#)
             .unwrap()
             .unwrap();
@@ -287,6 +310,14 @@ mod tests {
             (
                 r#"{"relief": {"depth_scale": 1, "height": {"index": 0, "invert": 1}}}"#,
                 "extras.relief.height.invert",
+            ),
+            (
+                r#"{"relief": {"depth_scale": 1, "shadows": "soft"}}"#,
+                "extras.relief.shadows: unknown shadow mode \"soft\"",
+            ),
+            (
+                r#"{"relief": {"depth_scale": 1, "ao": "horizon-3"}}"#,
+                "extras.relief.ao: unknown AO mode \"horizon-3\"",
             ),
             (
                 r#"{"relief": {"depth_scale": 1, "depthscale": 2}}"#,

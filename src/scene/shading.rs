@@ -1,0 +1,185 @@
+//! How a relief material is shaded beyond its hit: the self-shadow mode toward each light, the
+//! ambient occlusion mode, and level of detail. Plain data with stable ids (`extras.relief`,
+//! `--shadows`, `--ao`, `--lod`); the renderer turns them into pipeline variants and maps.
+
+use std::fmt;
+use std::str::FromStr;
+
+/// How a relief surface is shadowed by its own height field, per light.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum ShadowMode {
+    /// No self-shadowing.
+    None,
+    /// One ray toward the light's centre, traced by the material's method: lit or not.
+    #[default]
+    Hard,
+    /// Tatarchuk 2006: linear samples along the light ray, penumbra from the blocker/receiver ratio.
+    PomSoft,
+    /// Paper 001 Listing 1.4: a few distance-weighted samples from coarser pyramid levels.
+    Horizon,
+    /// The light's cone traced through the max pyramid; visible fraction from the tightest
+    /// clearance/distance ratio against the light's angular size.
+    Cone,
+}
+
+impl ShadowMode {
+    /// Every mode, in the order reports list them.
+    pub const ALL: [ShadowMode; 5] = [
+        ShadowMode::None,
+        ShadowMode::Hard,
+        ShadowMode::PomSoft,
+        ShadowMode::Horizon,
+        ShadowMode::Cone,
+    ];
+
+    /// The stable id.
+    pub fn id(self) -> &'static str {
+        match self {
+            ShadowMode::None => "none",
+            ShadowMode::Hard => "hard",
+            ShadowMode::PomSoft => "pom-soft",
+            ShadowMode::Horizon => "horizon",
+            ShadowMode::Cone => "cone",
+        }
+    }
+
+    /// The value of the shader's `SHADOW_MODE` specialization constant (shadows.glsl).
+    pub fn shader_value(self) -> u32 {
+        match self {
+            ShadowMode::None => 0,
+            ShadowMode::Hard => 1,
+            ShadowMode::PomSoft => 2,
+            ShadowMode::Horizon => 3,
+            ShadowMode::Cone => 4,
+        }
+    }
+
+    /// Whether the mode shades at all.
+    pub fn is_some(self) -> bool {
+        self != ShadowMode::None
+    }
+}
+
+impl fmt::Display for ShadowMode {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.id())
+    }
+}
+
+impl FromStr for ShadowMode {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        ShadowMode::ALL
+            .into_iter()
+            .find(|m| m.id() == s)
+            .ok_or_else(|| {
+                let ids: Vec<&str> = ShadowMode::ALL.iter().map(|m| m.id()).collect();
+                format!("unknown shadow mode {s:?}; known modes: {}", ids.join(", "))
+            })
+    }
+}
+
+/// Ambient occlusion of a relief material: a texture-space map built once per static field.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum AoMode {
+    /// No ambient occlusion from the height field.
+    #[default]
+    None,
+    /// Paper 001: horizon queries on the max pyramid in `directions` (4, 8 or 16) evenly spaced
+    /// azimuths, rotated by a per-texel hash when `rotated`.
+    Horizon { directions: u32, rotated: bool },
+    /// The exact horizon per direction by a line sweep over the field (Timonen and Westerholm 2010).
+    ExactHorizon,
+}
+
+/// The direction counts `horizon-N` accepts.
+pub const AO_HORIZON_DIRECTIONS: [u32; 3] = [4, 8, 16];
+
+impl AoMode {
+    /// Every mode, in the order reports list them.
+    pub fn all() -> Vec<AoMode> {
+        let mut all = vec![AoMode::None];
+        for rotated in [false, true] {
+            for directions in AO_HORIZON_DIRECTIONS {
+                all.push(AoMode::Horizon {
+                    directions,
+                    rotated,
+                });
+            }
+        }
+        all.push(AoMode::ExactHorizon);
+        all
+    }
+
+    /// Whether the mode builds an AO map.
+    pub fn is_some(self) -> bool {
+        self != AoMode::None
+    }
+}
+
+impl fmt::Display for AoMode {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            AoMode::None => f.write_str("none"),
+            AoMode::Horizon {
+                directions,
+                rotated,
+            } => {
+                write!(f, "horizon-{directions}")?;
+                if *rotated {
+                    f.write_str("-rotated")?;
+                }
+                Ok(())
+            }
+            AoMode::ExactHorizon => f.write_str("exact-horizon"),
+        }
+    }
+}
+
+impl FromStr for AoMode {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        AoMode::all()
+            .into_iter()
+            .find(|m| m.to_string() == s)
+            .ok_or_else(|| {
+                let ids: Vec<String> = AoMode::all().iter().map(|m| m.to_string()).collect();
+                format!("unknown AO mode {s:?}; known modes: {}", ids.join(", "))
+            })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ids_round_trip() {
+        for m in ShadowMode::ALL {
+            assert_eq!(m.id().parse::<ShadowMode>(), Ok(m));
+        }
+        for m in AoMode::all() {
+            assert_eq!(m.to_string().parse::<AoMode>(), Ok(m));
+        }
+        assert_eq!(
+            "horizon-8".parse::<AoMode>(),
+            Ok(AoMode::Horizon {
+                directions: 8,
+                rotated: false
+            })
+        );
+    }
+
+    #[test]
+    fn unknown_ids_list_the_known_ones() {
+        let e = "soft".parse::<ShadowMode>().unwrap_err();
+        assert!(e.contains("pom-soft") && e.contains("cone"), "{e}");
+        let e = "horizon-5".parse::<AoMode>().unwrap_err();
+        assert!(
+            e.contains("horizon-16") && e.contains("exact-horizon"),
+            "{e}"
+        );
+    }
+}
