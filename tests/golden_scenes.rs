@@ -289,7 +289,10 @@ fn displaced_gltf_matches_golden() {
         Some(96),
         "the material's budget"
     );
-    assert!(plan.pipelines[0].self_shadow, "glTF lights cast shadows");
+    assert!(
+        plan.pipelines[0].shadows.is_some(),
+        "glTF lights cast shadows"
+    );
     assert_eq!(plan.heights.len(), 1);
     assert!(plan.heights[0].pyramid && plan.heights[0].size == (128, 128));
     common::assert_no_validation_errors(&ctx);

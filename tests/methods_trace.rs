@@ -272,6 +272,7 @@ fn trace_one(
         address,
         format: HeightFormat::R16Unorm,
         map,
+        shadow: None,
     };
     let out = trace_on_gpu(ctx, hf, &req).expect("trace runs");
     let s = f64::from(DEPTH_SCALE);
@@ -444,6 +445,7 @@ fn budgets_are_honoured() {
             address: Address::Repeat,
             format: HeightFormat::R16Unorm,
             map: map.as_ref().map(|(data, _)| data),
+            shadow: None,
         };
         let out = trace_on_gpu(&ctx, &hf, &req).expect("trace runs");
         let s = trace_stats(

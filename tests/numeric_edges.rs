@@ -27,6 +27,7 @@ fn trace(
         address: Address::Repeat,
         format: HeightFormat::R16Unorm,
         map: map.as_ref().map(|(m, _)| m),
+        shadow: None,
     };
     let out = trace_on_gpu(ctx, hf, &req).expect("trace runs");
     trace_stats(hf, &out.hits, &out.steps, 0.1f32 as f64, Address::Repeat)

@@ -8,7 +8,7 @@ struct LightData {
     vec4 position;   // xyz: world position (point, spot); w: kind, 0 directional, 1 point, 2 spot
     vec4 direction;  // xyz: direction the light travels (directional, spot); w: range, 0 = none
     vec4 color;      // rgb: colour times intensity; w: 1 if relief traces shadow rays toward it
-    vec4 cone;       // x: cos of the outer cone angle, y: cos of the inner (spot)
+    vec4 cone;       // x, y: cos of the outer and inner cone angles (spot); z: radius (see Light)
 };
 
 const int MAX_LIGHTS = 8;

@@ -30,4 +30,15 @@ vec3 light_toward(int i, vec3 world, out float attenuation) {
     return l;
 }
 
+// Angular radius (radians) of light `i` seen from `world`: a directional light's own, or the
+// angle its sphere subtends.
+float light_angular_radius(int i, vec3 world) {
+    LightData light = frame.lights[i];
+    if (int(light.position.w) == 0) {
+        return light.cone.z;
+    }
+    float dist = max(length(light.position.xyz - world), 1e-8);
+    return asin(min(light.cone.z / dist, 1.0));
+}
+
 #endif

@@ -2,8 +2,8 @@
 // The surface pass: glTF metallic-roughness shading of a mesh, displaced per pixel. Relief
 // variants (build.rs maps "method.glsl" to shaders/methods/<id>.glsl) build the view ray in the
 // height map's texture space, trace it, move every texture lookup to the hit, shade with the
-// height field's normal (or the normal map) and write the displaced point's depth; with
-// SELF_SHADOW they also trace toward each shadow-casting light. The plain variant
+// height field's normal (or the normal map) and write the displaced point's depth; with a
+// SHADOW_MODE (shadows.glsl) they also shadow each shadow-casting light by the height field. The plain variant
 // (PLAIN_SURFACE) does none of that; relief variants declare depth_greater, so early depth
 // testing survives their depth writes.
 #extension GL_GOOGLE_include_directive : require
@@ -17,6 +17,7 @@
 #include "heightfield.glsl"
 #include "relief_frame.glsl"
 #include "method.glsl"
+#include "shadows.glsl"
 #endif
 
 layout(location = 0) in vec3 in_world;
@@ -33,16 +34,9 @@ layout(location = 0) out vec4 out_color;
 layout(depth_greater) out float gl_FragDepth;
 #endif
 
-// Self-shadow rays toward lights that cast shadows; off unless the scene has such a light.
-layout(constant_id = 8) const bool SELF_SHADOW = false;
-
 // Smallest dir.z of a ray per unit of its xy length (about 0.06 degrees): grazing views stay
 // finite instead of producing inf offsets.
 const float MIN_DIR_Z = 1e-3;
-
-// Fraction of the depth scale a shadow ray's blocker must sit above the shaded point, so a
-// method's own error on the lit surface does not shadow it.
-const float SHADOW_BIAS = 0.03;
 
 vec3 tangent_frame_normal(vec3 n, vec2 uv0, vec2 uv1) {
     vec3 t = normalize(in_tangent.xyz - n * dot(n, in_tangent.xyz));
@@ -58,18 +52,6 @@ vec3 height_space_ray_dir(vec3 d) {
     return normalize(d);
 }
 
-// 1 when nothing of the height field stands between the hit and the light, else 0: a ray from
-// the top plane toward the hit (Policarpo et al. 2005's self-shadowing), traced by the method.
-float self_shadow(ReliefFrame f, vec3 l_world, vec2 uv_hit, float z_hit, float depth_scale) {
-    vec3 l = to_height_space(f, l_world);
-    if (l.z <= 0.0) {
-        return 0.0;
-    }
-    vec3 dir = height_space_ray_dir(vec3(-l.xy, l.z));
-    Ray ray = Ray(uv_hit - (z_hit / dir.z) * dir.xy, dir, depth_scale);
-    Hit hit = METHOD_TRACE(ray, default_budget());
-    return hit.z < z_hit - SHADOW_BIAS * depth_scale ? 0.0 : 1.0;
-}
 #endif
 
 void main() {
@@ -152,8 +134,9 @@ void main() {
         }
         float lit = 1.0;
 #ifndef PLAIN_SURFACE
-        if (SELF_SHADOW && frame.lights[i].color.w > 0.5) {
-            lit = self_shadow(f, l, uv_hit, z, depth_scale);
+        if (SHADOW_MODE != 0u && frame.lights[i].color.w > 0.5) {
+            float radius = light_angular_radius(i, world);
+            lit = light_visible(uv_hit, z, to_height_space(f, l), radius, depth_scale);
         }
 #endif
         vec3 radiance = frame.lights[i].color.rgb * (attenuation * lit);

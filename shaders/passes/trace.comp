@@ -1,13 +1,15 @@
 #version 460
 // The trace pass: one parallel ray per grid cell, entering at the cell centre, traced with the
 // method this variant was compiled with; writes what `relief trace` dumps and the method's
-// iteration count. Same bindings as the surface pass, so the work per ray is the same.
+// iteration count, and with a SHADOW_MODE the light's visible fraction at each hit (shadows.glsl).
+// Same bindings as the surface pass, so the work per ray is the same.
 #extension GL_GOOGLE_include_directive : require
 #include "conventions.glsl"
 #include "numeric.glsl"
 #include "bindings.glsl"
 #include "heightfield.glsl"
 #include "method.glsl"
+#include "shadows.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
@@ -15,10 +17,13 @@ layout(local_size_x = 8, local_size_y = 8) in;
 layout(set = 0, binding = 4, std430) writeonly buffer Hits { float hits[]; };
 // Per ray: steps used, and 1 if the method hit its iteration cap.
 layout(set = 0, binding = 5, std430) writeonly buffer Steps { uvec2 steps[]; };
+// Per ray: the light's visible fraction at the hit (1 when SHADOW_MODE is 0).
+layout(set = 0, binding = 6, std430) writeonly buffer Visible { float visible[]; };
 
 layout(push_constant, std430) uniform TraceParams {
     vec4 dir;      // xyz: ray direction (dz > 0), w: depth scale
     uvec4 grid;    // x: columns, y: rows
+    vec4 light;    // xyz: unit direction toward the light (u, v, up), w: angular radius (radians)
 } params;
 
 void main() {
@@ -40,4 +45,5 @@ void main() {
     hits[8u * k + 6u] = uv.y;
     hits[8u * k + 7u] = hit.z;
     steps[k] = uvec2(hit.steps, hit.capped ? 1u : 0u);
+    visible[k] = light_visible(uv, hit.z, params.light.xyz, params.light.w, ray.depth_scale);
 }

@@ -252,6 +252,7 @@ impl Runner {
             address: self.cfg.address,
             format: self.cfg.format,
             map: map.as_deref(),
+            shadow: None,
         };
         let started = Instant::now();
         let timed = BenchRequest {

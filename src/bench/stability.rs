@@ -117,6 +117,7 @@ pub fn run_stiff_case(ctx: &Arc<Context>, case: &StiffCase, method: Method) -> S
         address: case.address,
         format: case.format,
         map: map.as_ref().map(|(m, _)| m),
+        shadow: None,
     };
     match trace_on_gpu(ctx, &hf, &req) {
         Err(e) => cell(Some(e.to_string())),

@@ -17,7 +17,7 @@ struct PipelineEntry {
     max_steps: Option<u32>,
     double_sided: bool,
     blend: bool,
-    self_shadow: bool,
+    shadows: &'static str,
 }
 
 /// The explanation of what `plan` built; `maps` are the maps built for it and `created` what
@@ -33,7 +33,7 @@ pub fn explain(plan: &Plan, maps: &[BuiltMap], created: &ObjectCounts) -> Value 
             max_steps: p.max_steps,
             double_sided: p.double_sided,
             blend: p.blend,
-            self_shadow: p.self_shadow,
+            shadows: p.shadows.id(),
         })
         .collect();
     let heights: Vec<Value> = plan

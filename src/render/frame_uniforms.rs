@@ -37,13 +37,14 @@ const AMBIENT: [f32; 4] = [0.09, 0.1, 0.12, 0.0];
 
 impl LightUniform {
     fn of(light: &Light) -> LightUniform {
+        let r = light.radius;
         let (kind, cone) = match light.kind {
-            LightKind::Directional => (0.0, [0.0; 4]),
-            LightKind::Point => (1.0, [0.0; 4]),
+            LightKind::Directional => (0.0, [0.0, 0.0, r, 0.0]),
+            LightKind::Point => (1.0, [0.0, 0.0, r, 0.0]),
             LightKind::Spot {
                 inner_cone,
                 outer_cone,
-            } => (2.0, [outer_cone.cos(), inner_cone.cos(), 0.0, 0.0]),
+            } => (2.0, [outer_cone.cos(), inner_cone.cos(), r, 0.0]),
         };
         let p = light.position;
         let d = light.direction.normalize_or(Vec3::NEG_Y);

@@ -45,4 +45,4 @@ pub use plan::{DrawPlan, HeightKey, HeightPlan, PassPlan, PipelineKey, Plan, Pla
 pub use pyramid_pass::{build_pyramid_on_gpu, PyramidJob, PyramidPass};
 pub use renderer::{FrameOutput, FrameRequest, Renderer, FRAMES_IN_FLIGHT};
 pub use surface_pass::{describe as describe_pipeline, COLOR_FORMAT, DEPTH_FORMAT};
-pub use trace_pass::{trace_on_gpu, TraceOutput, TraceRequest, TRACE_GROUP_SIDE};
+pub use trace_pass::{trace_on_gpu, ShadowTrace, TraceOutput, TraceRequest, TRACE_GROUP_SIDE};

@@ -9,7 +9,7 @@ use super::frame_uniforms::MAX_LIGHTS;
 use super::pass::Pass;
 use crate::heightfield::{Address, Channel, Heightfield};
 use crate::method::{MapKind, Method};
-use crate::scene::{AlphaMode, HeightSource, Light, Scene, Wrap};
+use crate::scene::{AlphaMode, HeightSource, Light, Scene, ShadowMode, Wrap};
 
 /// Where a planned height map comes from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -34,7 +34,8 @@ pub struct PipelineKey {
     pub max_steps: Option<u32>,
     pub double_sided: bool,
     pub blend: bool,
-    pub self_shadow: bool,
+    /// How the height field shadows it (`None` without relief or without a shadow-casting light).
+    pub shadows: ShadowMode,
 }
 
 impl PipelineKey {
@@ -191,7 +192,12 @@ impl Plan {
                             (key, format!("image {}", image.name), size)
                         }
                     };
-                    Some(plan.height_for(key, source, size, relief.method))
+                    let shadows = if casts_shadows {
+                        relief.shadows
+                    } else {
+                        ShadowMode::None
+                    };
+                    Some(plan.height_for(key, source, size, relief.method, shadows))
                 }
             };
             let pipeline = PipelineKey {
@@ -199,7 +205,10 @@ impl Plan {
                 max_steps: material.relief.and_then(|r| r.budget),
                 double_sided: material.double_sided,
                 blend: material.alpha_mode == AlphaMode::Blend,
-                self_shadow: casts_shadows && material.relief.is_some(),
+                shadows: match material.relief {
+                    Some(relief) if casts_shadows => relief.shadows,
+                    _ => ShadowMode::None,
+                },
             };
             let pipeline = match plan.pipelines.iter().position(|p| *p == pipeline) {
                 Some(k) => k,
@@ -227,8 +236,9 @@ impl Plan {
         source: String,
         size: (u32, u32),
         method: Method,
+        shadows: ShadowMode,
     ) -> usize {
-        let pyramid = method.info().reads_pyramid();
+        let pyramid = method.info().reads_pyramid() || shadows.reads_pyramid();
         let map = method.info().method_map();
         let found = self
             .heights
@@ -314,14 +324,26 @@ impl Plan {
             pass: Pass::Surface,
             why: format!("{} draw(s)", self.draws.len()),
         });
-        let shadowed = self.pipelines.iter().any(|p| p.self_shadow);
-        if shadowed {
+        let mut modes: Vec<&str> = Vec::new();
+        for p in &self.pipelines {
+            if p.shadows.is_some() && !modes.contains(&p.shadows.id()) {
+                modes.push(p.shadows.id());
+            }
+        }
+        let relief = self.pipelines.iter().any(|p| p.method.is_some());
+        if !modes.is_empty() {
             self.passes.push(PassPlan {
                 pass: Pass::SelfShadowRays,
-                why:
-                    "relief materials under a light that casts shadows (traced in the surface pass)"
-                        .into(),
+                why: format!(
+                    "relief materials under a light that casts shadows, mode {} (traced in the surface pass)",
+                    modes.join(", ")
+                ),
             });
+        } else if casts_shadows && relief {
+            self.skip(
+                Pass::SelfShadowRays.name(),
+                "every drawn relief material has shadows \"none\"",
+            );
         } else if casts_shadows {
             self.skip(Pass::SelfShadowRays.name(), "no drawn material has relief");
         } else {
@@ -412,7 +434,7 @@ mod tests {
             kinds,
             [Some(MapKind::ConservativeCone), Some(MapKind::Quadric)]
         );
-        assert!(p.pipelines.iter().all(|k| k.self_shadow));
+        assert!(p.pipelines.iter().all(|k| k.shadows == ShadowMode::Hard));
         assert!(p.skipped.iter().any(|s| s.what == "relaxed_cone_map"));
     }
 

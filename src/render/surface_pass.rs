@@ -57,8 +57,9 @@ impl DrawPush {
     }
 }
 
-/// Specialization constant id of `SELF_SHADOW` in `surface.frag`.
-const SELF_SHADOW_ID: u32 = 8;
+/// Specialization constant ids of `SHADOW_MODE` and `SHADOW_STEPS` in `shadows.glsl`.
+pub const SHADOW_MODE_ID: u32 = 8;
+pub const SHADOW_STEPS_ID: u32 = 9;
 
 struct MeshDraw {
     vertices: Buffer,
@@ -288,7 +289,9 @@ fn create_pipeline(
     let vs = shaders::spirv("mesh.vert").ok_or_else(|| missing("mesh.vert"))?;
     let shader = key.shader();
     let fs = shaders::spirv(&shader).ok_or_else(|| missing(&shader))?;
-    let mut spec = SpecConstants::default().u32(SELF_SHADOW_ID, u32::from(key.self_shadow));
+    let mut spec = SpecConstants::default()
+        .u32(SHADOW_MODE_ID, key.shadows.shader_value())
+        .u32(SHADOW_STEPS_ID, key.shadows.default_steps());
     if let Some(method) = key.method {
         let budget = method.info().default_budget;
         spec = spec
@@ -338,15 +341,14 @@ pub fn describe(key: &PipelineKey) -> String {
     if let Some(steps) = key.max_steps {
         name.push_str(&format!(" budget {steps}"));
     }
-    for (on, what) in [
-        (key.double_sided, "double-sided"),
-        (key.blend, "blend"),
-        (key.self_shadow, "self-shadow"),
-    ] {
+    for (on, what) in [(key.double_sided, "double-sided"), (key.blend, "blend")] {
         if on {
             name.push(' ');
             name.push_str(what);
         }
+    }
+    if key.shadows.is_some() {
+        name.push_str(&format!(" shadows {}", key.shadows));
     }
     name
 }

@@ -7,8 +7,10 @@ use ash::vk;
 
 use super::gpu_heightfield::HeightFormat;
 use super::height_resources::HeightResources;
+use super::surface_pass::{SHADOW_MODE_ID, SHADOW_STEPS_ID};
 use crate::heightfield::{Address, Heightfield, MapData};
 use crate::method::{Budget, Method};
+use crate::scene::ShadowMode;
 use crate::shaders;
 use crate::vk::{
     compute_pipeline, memory_barrier, Bind, Buffer, Context, DescriptorLayout, DescriptorPool,
@@ -33,13 +35,53 @@ pub struct TraceRequest<'a> {
     pub format: HeightFormat,
     /// The method's precomputed map, when it reads one (`Method::info().needs`).
     pub map: Option<&'a MapData>,
+    /// A light to shadow each hit toward, if any.
+    pub shadow: Option<ShadowTrace>,
 }
 
-/// What the GPU traced: per ray `u0 v0 dx dy dz u_hit v_hit z_hit`, and `(steps, capped)`.
+/// The light `relief trace --shadows` shades each hit with.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ShadowTrace {
+    pub mode: ShadowMode,
+    /// `SHADOW_STEPS`: samples or the pyramid walk's cap (`ShadowMode::default_steps`).
+    pub steps: u32,
+    /// Unit direction toward the light's centre in (u, v, up): DESIGN.md's light direction with
+    /// the depth axis flipped.
+    pub toward: [f32; 3],
+    /// Angular radius, radians.
+    pub radius: f32,
+}
+
+impl ShadowTrace {
+    /// A directional light at `elevation_deg` and `azimuth_deg` (DESIGN.md section 2) of angular
+    /// radius `radius_deg`, shadowed by `mode` with its default steps.
+    pub fn directional(
+        mode: ShadowMode,
+        elevation_deg: f64,
+        azimuth_deg: f64,
+        radius_deg: f64,
+    ) -> Self {
+        let (e, a) = (elevation_deg.to_radians(), azimuth_deg.to_radians());
+        ShadowTrace {
+            mode,
+            steps: mode.default_steps(),
+            toward: [
+                (e.cos() * a.cos()) as f32,
+                (e.cos() * a.sin()) as f32,
+                e.sin() as f32,
+            ],
+            radius: radius_deg.to_radians() as f32,
+        }
+    }
+}
+
+/// What the GPU traced: per ray `u0 v0 dx dy dz u_hit v_hit z_hit`, `(steps, capped)` and the
+/// light's visible fraction at the hit (all 1 without a `shadow`).
 #[derive(Debug, Clone)]
 pub struct TraceOutput {
     pub hits: Vec<[f32; 8]>,
     pub steps: Vec<[u32; 2]>,
+    pub visible: Vec<f32>,
     /// GPU time of each timed dispatch, in order.
     pub frame_ms: Vec<f64>,
 }
@@ -53,15 +95,19 @@ fn all_stages() -> vk::PipelineStageFlags2 {
 struct TraceParams {
     dir: [f32; 4],
     grid: [u32; 4],
+    light: [f32; 4],
 }
+const _: () = assert!(std::mem::size_of::<TraceParams>() == 48);
 
 /// Where the timed dispatches write (device-local, so the timing has no bus writes in it) and the
 /// host-visible buffers their results are copied to after the closing timestamp.
 struct TraceTargets {
     hits: Buffer,
     steps: Buffer,
+    visible: Buffer,
     hits_back: Readback,
     steps_back: Readback,
+    visible_back: Readback,
 }
 
 impl TraceTargets {
@@ -71,8 +117,10 @@ impl TraceTargets {
         Ok(TraceTargets {
             hits: Buffer::new(ctx, rays * 32, usage, gpu, "trace hits")?,
             steps: Buffer::new(ctx, rays * 8, usage, gpu, "trace steps")?,
+            visible: Buffer::new(ctx, rays * 4, usage, gpu, "trace visibility")?,
             hits_back: Readback::new(ctx, rays * 32, "trace hits readback")?,
             steps_back: Readback::new(ctx, rays * 8, "trace steps readback")?,
+            visible_back: Readback::new(ctx, rays * 4, "trace visibility readback")?,
         })
     }
 
@@ -85,7 +133,9 @@ impl TraceTargets {
         self.hits_back
             .record_copy_from_buffer(rec, &self.hits, written)?;
         self.steps_back
-            .record_copy_from_buffer(rec, &self.steps, written)
+            .record_copy_from_buffer(rec, &self.steps, written)?;
+        self.visible_back
+            .record_copy_from_buffer(rec, &self.visible, written)
     }
 }
 
@@ -132,6 +182,7 @@ pub fn trace_repeated(
     bindings.extend([
         (4, vk::DescriptorType::STORAGE_BUFFER),
         (5, vk::DescriptorType::STORAGE_BUFFER),
+        (6, vk::DescriptorType::STORAGE_BUFFER),
     ]);
     let layout = DescriptorLayout::new(
         ctx,
@@ -139,20 +190,30 @@ pub fn trace_repeated(
         vk::ShaderStageFlags::COMPUTE,
         "trace layout",
     )?;
-    let pool = DescriptorPool::new(ctx, 1, 2, "trace sets")?;
+    let pool = DescriptorPool::new(ctx, 1, 3, "trace sets")?;
     let mut binds = res.binds();
     binds.extend([
         Bind::Storage(4, targets.hits.raw()),
         Bind::Storage(5, targets.steps.raw()),
+        Bind::Storage(6, targets.visible.raw()),
     ]);
     let set = pool.allocate(&layout, &binds)?;
     let spec = SpecConstants::default()
         .u32(0, req.budget.max_steps)
         .u32(1, req.budget.refine_steps)
         .u32(2, req.budget.leaf.spec_value());
+    let (spec, light) = match req.shadow {
+        None => (spec, [0.0, 0.0, 1.0, 0.0]),
+        Some(s) => (
+            spec.u32(SHADOW_MODE_ID, s.mode.shader_value())
+                .u32(SHADOW_STEPS_ID, s.steps),
+            [s.toward[0], s.toward[1], s.toward[2], s.radius],
+        ),
+    };
     let params = TraceParams {
         dir: [req.dir[0], req.dir[1], req.dir[2], req.depth_scale],
         grid: [cols, rows, 0, 0],
+        light,
     };
     let push = std::mem::size_of::<TraceParams>() as u32;
     let pipeline = compute_pipeline(ctx, spirv, &[layout.raw()], push, &spec, &key)?;
@@ -183,6 +244,7 @@ pub fn trace_repeated(
     Ok(TraceOutput {
         hits: bytemuck::pod_collect_to_vec(targets.hits_back.bytes()?),
         steps: bytemuck::pod_collect_to_vec(targets.steps_back.bytes()?),
+        visible: bytemuck::pod_collect_to_vec(targets.visible_back.bytes()?),
         frame_ms: ticks
             .chunks_exact(2)
             .map(|t| timestamps.ticks_to_ms(t[0], t[1]))
@@ -212,7 +274,7 @@ mod tests {
             return;
         };
         let targets = TraceTargets::new(&ctx, 64).expect("trace targets");
-        for written in [&targets.hits, &targets.steps] {
+        for written in [&targets.hits, &targets.steps, &targets.visible] {
             assert_eq!(
                 written.location(),
                 MemoryLocation::GpuOnly,
@@ -220,7 +282,11 @@ mod tests {
                 written.name()
             );
         }
-        for back in [&targets.hits_back, &targets.steps_back] {
+        for back in [
+            &targets.hits_back,
+            &targets.steps_back,
+            &targets.visible_back,
+        ] {
             assert_eq!(back.buffer().location(), MemoryLocation::GpuToCpu);
         }
     }

@@ -58,6 +58,23 @@ impl ShadowMode {
     pub fn is_some(self) -> bool {
         self != ShadowMode::None
     }
+
+    /// Whether it reads the max pyramid (the height map then gets one even when the method does
+    /// not read it).
+    pub fn reads_pyramid(self) -> bool {
+        matches!(self, ShadowMode::Horizon | ShadowMode::Cone)
+    }
+
+    /// Its default `SHADOW_STEPS`: samples along the light (pom-soft, horizon; paper 001 uses 5
+    /// horizon samples) or the cap on the pyramid walk (cone); unused by `none` and `hard`.
+    pub fn default_steps(self) -> u32 {
+        match self {
+            ShadowMode::None | ShadowMode::Hard => 1,
+            ShadowMode::PomSoft => 16,
+            ShadowMode::Horizon => 5,
+            ShadowMode::Cone => 128,
+        }
+    }
 }
 
 impl fmt::Display for ShadowMode {

@@ -1,0 +1,282 @@
+// Self-shadowing of a relief hit by its own height field, toward a disk light (DESIGN.md section 2,
+// "Light"): the visible fraction of the light's disk of directions. Every soft mode estimates the
+// horizon of the field in the light's azimuth (the steepest rise of the surface seen from the hit,
+// as a tangent) and takes the share of the disk above that edge; they differ in how they find it:
+//   2 pom-soft  Tatarchuk 2006: SHADOW_STEPS bilinear samples in equal steps along the light ray
+//               out to where the disk's lowest direction clears the top plane;
+//   3 horizon   paper 001 Listing 1.4: SHADOW_STEPS samples at growing distances, each read from the
+//               max pyramid at the level whose node spans the gap since the previous sample;
+//   4 cone      the light's cone walked through the max pyramid: nodes that cannot raise the horizon
+//               above what already matters are skipped whole, the rest refined down to the leaf
+//               level, where the bilinear surface's steepest rise is found in closed form. The
+//               horizon it finds along the centre's azimuth is exact; the disk's other azimuths
+//               are assumed to see the same horizon.
+// 1 hard is Policarpo et al. 2005's ray from the top plane toward the hit, traced by the method.
+// The includer provides conventions.glsl, heightfield.glsl and the method (METHOD_TRACE).
+#ifndef SHADOWS_GLSL
+#define SHADOWS_GLSL
+
+#include "pyramid.glsl"
+
+// 0 none, 1 hard, 2 pom-soft, 3 horizon, 4 cone; mirrors `ShadowMode::shader_value`.
+layout(constant_id = 8) const uint SHADOW_MODE = 0u;
+// Samples (pom-soft, horizon) or the iteration cap of the pyramid walk (cone).
+layout(constant_id = 9) const uint SHADOW_STEPS = 16u;
+// Horizon mode: how far out its samples reach, as a multiple of the distance at which the disk's
+// lowest direction clears the top plane (paper 001's light vector scale).
+layout(constant_id = 10) const float SHADOW_REACH = 1.0;
+
+const float SHADOW_PI = 3.14159265358979;
+
+// How far (in texels, uv and depth together) a hard shadow ray's first hit must lie from the
+// shaded point to count as a blocker rather than the point itself seen through the method's own
+// error. A quarter texel keeps exact-leaf methods from shadowing thin slivers' worth of light.
+const float HARD_SHADOW_TEXELS = 0.25;
+
+// Farthest a soft search looks, in uv units, when the disk reaches below the horizontal: one map
+// width covers a repeating tile, and a clamped map is a plateau beyond its edge.
+const float SHADOW_MAX_REACH = 1.0;
+
+// Share of a disk of angular radius r whose centre stands `delta` (radians) above a straight edge.
+float disk_above_edge(float delta, float r) {
+    if (r <= 0.0) {
+        return delta > 0.0 ? 1.0 : 0.0;
+    }
+    float x = clamp(delta / r, -1.0, 1.0);
+    return 0.5 + (x * sqrt(1.0 - x * x) + asin(x)) / SHADOW_PI;
+}
+
+// The light as the horizon searches see it, from a hit at height `zp` above the bottom plane.
+struct ShadowQuery {
+    vec2 uv;          // the hit
+    float zp;         // its height above the bottom plane, in uv units (depth_scale - z_hit)
+    vec2 d;           // unit uv direction toward the light
+    float elevation;  // of the light's centre, radians
+    float radius;     // angular radius, radians
+    float s;          // depth scale
+    float reach;      // how far along d a blocker can matter, uv units
+};
+
+ShadowQuery shadow_query(vec2 uv_hit, float z_hit, vec3 l, float radius, float s) {
+    ShadowQuery q;
+    q.uv = uv_hit;
+    // The surface's own height at the hit, not the method's z: the searches below compare
+    // heights with it, and a method's small depth error would otherwise read as a blocker.
+    q.zp = s * height_bilinear_exact(uv_hit);
+    float flat_len = length(l.xy);
+    q.d = flat_len > 1e-7 ? l.xy / flat_len : vec2(1.0, 0.0);
+    q.elevation = atan(l.z, flat_len);
+    q.radius = radius;
+    q.s = s;
+    float lowest = q.elevation - radius;
+    float rise = max(s - q.zp, 0.0);
+    q.reach = lowest > 1e-4 ? min(rise / tan(lowest), SHADOW_MAX_REACH) : SHADOW_MAX_REACH;
+    // A hit on the top plane has nothing above it but still takes a sample or two.
+    vec2 texel = 1.0 / height_size();
+    q.reach = max(q.reach, min(texel.x, texel.y));
+    return q;
+}
+
+// Visible share of the disk over a horizon of tangent `tau` (directions below the horizontal
+// never leave the top plane, so the horizon is at least flat).
+float visible_over(ShadowQuery q, float tau) {
+    return clamp(disk_above_edge(q.elevation - atan(max(tau, 0.0)), q.radius), 0.0, 1.0);
+}
+
+// Gradient (dh/du, dh/dv) of the bilinear surface itself at uv, inside the cell holding it: the
+// slope the exact reference sees at a point, unlike height_gradient's central differences.
+vec2 bilinear_gradient(vec2 uv) {
+    vec2 size = height_size();
+    vec2 g = uv * size - 0.5;
+    vec2 cell = floor(g);
+    vec2 f = g - cell;
+    float h00 = texelFetch(height_point, address_cell(cell, size), 0).r;
+    float h10 = texelFetch(height_point, address_cell(cell + vec2(1.0, 0.0), size), 0).r;
+    float h01 = texelFetch(height_point, address_cell(cell + vec2(0.0, 1.0), size), 0).r;
+    float h11 = texelFetch(height_point, address_cell(cell + vec2(1.0), size), 0).r;
+    return vec2(mix(h10 - h00, h11 - h01, f.y), mix(h01 - h00, h11 - h10, f.x)) * size;
+}
+
+// The horizon right at the hit: the surface's own rise toward the light (its tangent plane), so
+// a point on a slope facing away from the light is dark before any blocker is searched for.
+float tangent_horizon(ShadowQuery q) {
+    return q.s * dot(bilinear_gradient(q.uv), q.d);
+}
+
+// Tangent of the elevation of the bilinear surface at distance x along the query's direction.
+float rise_tangent(ShadowQuery q, float x) {
+    float h = q.s * height_bilinear_exact(q.uv + x * q.d);
+    return (h - q.zp) / x;
+}
+
+float shadow_pom_soft(ShadowQuery q) {
+    uint n = max(SHADOW_STEPS, 1u);
+    float tau = tangent_horizon(q);
+    for (uint k = 1u; k <= n; ++k) {
+        tau = max(tau, rise_tangent(q, q.reach * float(k) / float(n)));
+    }
+    return visible_over(q, tau);
+}
+
+float shadow_horizon(ShadowQuery q) {
+    uint n = max(SHADOW_STEPS, 1u);
+    vec2 texels = height_size();
+    float texels_per_uv = max(abs(q.d.x) * texels.x, abs(q.d.y) * texels.y);
+    float reach = q.reach * SHADOW_REACH;
+    float top = float(pyramid_top());
+    float tau = tangent_horizon(q);
+    float prev = 0.0;
+    for (uint k = 1u; k <= n; ++k) {
+        // Geometric spacing: the near samples resolve the slope at the hit, the far ones are
+        // coarse pyramid nodes standing for everything since the previous sample.
+        float x = reach * exp2(float(k) - float(n));
+        float gap_texels = (x - prev) * texels_per_uv;
+        float level = clamp(floor(log2(max(gap_texels, 1.0))), 0.0, top);
+        float h = level < 0.5 ? height_bilinear_exact(q.uv + x * q.d)
+                              : height_max(q.uv + x * q.d, level);
+        tau = max(tau, (q.s * h - q.zp) / x);
+        prev = x;
+    }
+    return visible_over(q, tau);
+}
+
+// Distance along the query's direction at which the point uv + x d leaves its cell at `level`.
+float shadow_cell_exit(ShadowQuery q, float x, int level) {
+    vec2 size = level_size(level);
+    vec2 p = (q.uv + x * q.d) * size;
+    vec2 cell = floor(p);
+    float exit_x = 3.0e38;
+    for (int axis = 0; axis < 2; ++axis) {
+        float dv = q.d[axis] * size[axis];
+        if (abs(dv) > 1e-12) {
+            float line = cell[axis] + (dv > 0.0 ? 1.0 : 0.0);
+            exit_x = min(exit_x, (line - p[axis]) / dv);
+        }
+    }
+    return x + exit_x;
+}
+
+// Height of the max-pyramid node holding uv at `level`, fetched by integer texel (pyramid.glsl
+// says why not through the sampler).
+float node_height(vec2 uv, int level) {
+    vec2 size = level_size(level);
+    return texelFetch(height_point, address_cell(floor(uv * size), size), level).r;
+}
+
+// The largest rise tangent of the bilinear surface over [x0, x1] along the query's direction,
+// exactly: inside one bilinear cell the height along a line is a quadratic A + B x + C x^2, so
+// the tangent (s h - zp) / x = K / x + s B + s C x (K = s A - zp) peaks at an end or at
+// x* = sqrt(K / (s C)). Walks the cells (lines through texel centres) the span crosses.
+float segment_max_tangent(ShadowQuery q, float x0, float x1) {
+    vec2 size = height_size();
+    vec2 df = q.d * size;
+    float best = -3.0e38;
+    float x = x0;
+    for (int i = 0; i < 16 && x < x1; ++i) {
+        vec2 g = (q.uv + x * q.d) * size - 0.5;
+        vec2 cell = floor(g);
+        float xe = x1;
+        for (int axis = 0; axis < 2; ++axis) {
+            if (abs(df[axis]) > 1e-12) {
+                float line = cell[axis] + (df[axis] > 0.0 ? 1.0 : 0.0);
+                xe = min(xe, x + (line - g[axis]) / df[axis]);
+            }
+        }
+        vec2 f0 = g - cell - x * df;
+        float h00 = texelFetch(height_point, address_cell(cell, size), 0).r;
+        float h10 = texelFetch(height_point, address_cell(cell + vec2(1.0, 0.0), size), 0).r;
+        float h01 = texelFetch(height_point, address_cell(cell + vec2(0.0, 1.0), size), 0).r;
+        float h11 = texelFetch(height_point, address_cell(cell + vec2(1.0), size), 0).r;
+        float a = h10 - h00, b = h01 - h00, c = h11 - h10 - h01 + h00;
+        float A = h00 + a * f0.x + b * f0.y + c * f0.x * f0.y;
+        float B = a * df.x + b * df.y + c * (f0.x * df.y + f0.y * df.x);
+        float C = c * df.x * df.y;
+        // At the hit itself the point is on this surface, so K is exactly 0 there.
+        float K = x0 <= 0.0 && i == 0 ? 0.0 : q.s * A - q.zp;
+        float xa = max(x, 1e-9);
+        float t = max(K / xa + q.s * (B + C * xa), K / xe + q.s * (B + C * xe));
+        float r = K / (q.s * C);
+        if (r > 0.0) {
+            float xs = sqrt(r);
+            if (xs > xa && xs < xe) {
+                t = max(t, K / xs + q.s * (B + C * xs));
+            }
+        }
+        best = max(best, t);
+        x = xe + 1e-7 * (x1 - x0 + 1e-6);
+    }
+    return best;
+}
+
+float shadow_cone(ShadowQuery q) {
+    vec2 texels = height_size();
+    float texels_per_uv = max(abs(q.d.x) * texels.x, abs(q.d.y) * texels.y);
+    float nudge = CROSSING_TEXELS / max(texels_per_uv, 1e-30);
+    float floor_tau = tan(max(q.elevation - q.radius, 0.0));
+    float tau = max(tangent_horizon(q), 0.0);
+    int leaf = pyramid_leaf();
+    int top = pyramid_top();
+    int level = leaf;
+    float x = 0.0;
+    // Beyond where the highest point of the field, seen from the hit, stands below what already
+    // matters, nothing can change the answer.
+    float highest = q.s * node_height(q.uv, top) - q.zp;
+    for (uint i = 0u; i < SHADOW_STEPS; ++i) {
+        float matters = max(tau, floor_tau);
+        if (x >= q.reach || (matters > 0.0 && highest <= matters * x)) {
+            break;
+        }
+        float x_out = shadow_cell_exit(q, x, level);
+        float rise = q.s * node_height(q.uv + x * q.d, level) - q.zp;
+        bool can_matter = rise > 0.0 && (x <= 0.0 || rise > matters * x);
+        if (!can_matter) {
+            x = x_out + nudge;
+            level = min(level + 1, top);
+        } else if (level > leaf) {
+            level -= 1;
+        } else {
+            // Leaf node: the bilinear surface across it, exactly.
+            tau = max(tau, segment_max_tangent(q, x, x_out + nudge));
+            x = x_out + nudge;
+        }
+    }
+    return visible_over(q, tau);
+}
+
+// 1 when nothing of the field stands between the hit and the light's centre, else 0: a ray from
+// the top plane toward the hit (Policarpo et al. 2005's self-shadowing), traced by the method.
+float shadow_hard(ShadowQuery q, vec2 uv_hit, float z_hit, vec3 l, float s) {
+    if (l.z <= 0.0 || tan(q.elevation) <= tangent_horizon(q)) {
+        return 0.0;
+    }
+    vec3 dir = normalize(vec3(-l.xy, max(l.z, 1e-3 * length(l.xy))));
+    Ray ray = Ray(uv_hit - (z_hit / dir.z) * dir.xy, dir, s);
+    Hit hit = METHOD_TRACE(ray, default_budget());
+    vec3 gap = vec3(ray_uv(ray, hit.z) - uv_hit, hit.z - z_hit) * height_size().x;
+    return hit.z < z_hit && length(gap) > HARD_SHADOW_TEXELS ? 0.0 : 1.0;
+}
+
+// Visible fraction in [0, 1] of a light of angular radius `radius` (radians) in direction `l`
+// (height space: uv per unit, up per unit of depth; need not be normalised) from the hit at
+// (uv_hit, z_hit), by SHADOW_MODE.
+float light_visible(vec2 uv_hit, float z_hit, vec3 l, float radius, float depth_scale) {
+    if (SHADOW_MODE == 0u || depth_scale <= 0.0) {
+        return 1.0;
+    }
+    ShadowQuery q = shadow_query(uv_hit, z_hit, l, radius, depth_scale);
+    if (q.elevation + q.radius <= 0.0) {
+        return 0.0;
+    }
+    if (SHADOW_MODE == 1u) {
+        return shadow_hard(q, uv_hit, z_hit, l, depth_scale);
+    }
+    if (SHADOW_MODE == 2u) {
+        return shadow_pom_soft(q);
+    }
+    if (SHADOW_MODE == 3u) {
+        return shadow_horizon(q);
+    }
+    return shadow_cone(q);
+}
+
+#endif
