@@ -33,8 +33,9 @@ const float SHADOW_PI = 3.14159265358979;
 // error. A quarter texel keeps exact-leaf methods from shadowing thin slivers' worth of light.
 const float HARD_SHADOW_TEXELS = 0.25;
 
-// Farthest a soft search looks, in uv units, when the disk reaches below the horizontal: one map
-// width covers a repeating tile, and a clamped map is a plateau beyond its edge.
+// Farthest the sampling modes (pom-soft, horizon) spread their samples, in uv units: one map
+// width covers a repeating tile, and a clamped map is a plateau beyond its edge. The cone walk
+// needs no such cap: it stops where nothing can matter any more, or at its budget.
 const float SHADOW_MAX_REACH = 1.0;
 
 // Share of a disk of angular radius r whose centre stands `delta` (radians) above a straight edge.
@@ -70,7 +71,7 @@ ShadowQuery shadow_query(vec2 uv_hit, float z_hit, vec3 l, float radius, float s
     q.s = s;
     float lowest = q.elevation - radius;
     float rise = max(s - q.zp, 0.0);
-    q.reach = lowest > 1e-4 ? min(rise / tan(lowest), SHADOW_MAX_REACH) : SHADOW_MAX_REACH;
+    q.reach = lowest > 1e-4 ? rise / tan(lowest) : 3.0e38;
     // A hit on the top plane has nothing above it but still takes a sample or two.
     vec2 texel = 1.0 / height_size();
     q.reach = max(q.reach, min(texel.x, texel.y));
@@ -113,7 +114,7 @@ float shadow_pom_soft(ShadowQuery q) {
     uint n = max(SHADOW_STEPS, 1u);
     float tau = tangent_horizon(q);
     for (uint k = 1u; k <= n; ++k) {
-        tau = max(tau, rise_tangent(q, q.reach * float(k) / float(n)));
+        tau = max(tau, rise_tangent(q, min(q.reach, SHADOW_MAX_REACH) * float(k) / float(n)));
     }
     return visible_over(q, tau);
 }
@@ -122,7 +123,7 @@ float shadow_horizon(ShadowQuery q) {
     uint n = max(SHADOW_STEPS, 1u);
     vec2 texels = height_size();
     float texels_per_uv = max(abs(q.d.x) * texels.x, abs(q.d.y) * texels.y);
-    float reach = q.reach * SHADOW_REACH;
+    float reach = min(q.reach, SHADOW_MAX_REACH) * SHADOW_REACH;
     float top = float(pyramid_top());
     float tau = tangent_horizon(q);
     float prev = 0.0;
@@ -163,6 +164,30 @@ float node_height(vec2 uv, int level) {
     return texelFetch(height_point, address_cell(floor(uv * size), size), level).r;
 }
 
+// The largest rise tangent over [xa, xe] inside bilinear cell `cell`, where the ray's offset in
+// cell units is f0 + x * df. `at_hit`: the span starts at the hit, which lies on this surface.
+float cell_max_tangent(ShadowQuery q, vec2 cell, vec2 f0, vec2 df, float xa, float xe, bool at_hit) {
+    vec2 size = height_size();
+    float h00 = texelFetch(height_point, address_cell(cell, size), 0).r;
+    float h10 = texelFetch(height_point, address_cell(cell + vec2(1.0, 0.0), size), 0).r;
+    float h01 = texelFetch(height_point, address_cell(cell + vec2(0.0, 1.0), size), 0).r;
+    float h11 = texelFetch(height_point, address_cell(cell + vec2(1.0), size), 0).r;
+    float a = h10 - h00, b = h01 - h00, c = h11 - h10 - h01 + h00;
+    float A = h00 + a * f0.x + b * f0.y + c * f0.x * f0.y;
+    float B = a * df.x + b * df.y + c * (f0.x * df.y + f0.y * df.x);
+    float C = c * df.x * df.y;
+    float K = at_hit ? 0.0 : q.s * A - q.zp;
+    float t = max(K / xa + q.s * (B + C * xa), K / xe + q.s * (B + C * xe));
+    float r = K / (q.s * C);
+    if (r > 0.0) {
+        float xs = sqrt(r);
+        if (xs > xa && xs < xe) {
+            t = max(t, K / xs + q.s * (B + C * xs));
+        }
+    }
+    return t;
+}
+
 // The largest rise tangent of the bilinear surface over [x0, x1] along the query's direction,
 // exactly: inside one bilinear cell the height along a line is a quadratic A + B x + C x^2, so
 // the tangent (s h - zp) / x = K / x + s B + s C x (K = s A - zp) peaks at an end or at
@@ -170,40 +195,25 @@ float node_height(vec2 uv, int level) {
 float segment_max_tangent(ShadowQuery q, float x0, float x1) {
     vec2 size = height_size();
     vec2 df = q.d * size;
+    vec2 g0 = q.uv * size - 0.5;
+    // The cells are stepped by index, not found again by floor() at each boundary: in float a
+    // boundary point can floor back into the cell just left and stall the walk.
+    vec2 cell = floor(g0 + x0 * df);
+    vec2 ahead = step(0.0, df);
     float best = -3.0e38;
     float x = x0;
     for (int i = 0; i < 16 && x < x1; ++i) {
-        vec2 g = (q.uv + x * q.d) * size - 0.5;
-        vec2 cell = floor(g);
-        float xe = x1;
+        vec2 exits = vec2(3.0e38);
         for (int axis = 0; axis < 2; ++axis) {
             if (abs(df[axis]) > 1e-12) {
-                float line = cell[axis] + (df[axis] > 0.0 ? 1.0 : 0.0);
-                xe = min(xe, x + (line - g[axis]) / df[axis]);
+                exits[axis] = (cell[axis] + ahead[axis] - g0[axis]) / df[axis];
             }
         }
-        vec2 f0 = g - cell - x * df;
-        float h00 = texelFetch(height_point, address_cell(cell, size), 0).r;
-        float h10 = texelFetch(height_point, address_cell(cell + vec2(1.0, 0.0), size), 0).r;
-        float h01 = texelFetch(height_point, address_cell(cell + vec2(0.0, 1.0), size), 0).r;
-        float h11 = texelFetch(height_point, address_cell(cell + vec2(1.0), size), 0).r;
-        float a = h10 - h00, b = h01 - h00, c = h11 - h10 - h01 + h00;
-        float A = h00 + a * f0.x + b * f0.y + c * f0.x * f0.y;
-        float B = a * df.x + b * df.y + c * (f0.x * df.y + f0.y * df.x);
-        float C = c * df.x * df.y;
-        // At the hit itself the point is on this surface, so K is exactly 0 there.
-        float K = x0 <= 0.0 && i == 0 ? 0.0 : q.s * A - q.zp;
-        float xa = max(x, 1e-9);
-        float t = max(K / xa + q.s * (B + C * xa), K / xe + q.s * (B + C * xe));
-        float r = K / (q.s * C);
-        if (r > 0.0) {
-            float xs = sqrt(r);
-            if (xs > xa && xs < xe) {
-                t = max(t, K / xs + q.s * (B + C * xs));
-            }
-        }
-        best = max(best, t);
-        x = xe + 1e-7 * (x1 - x0 + 1e-6);
+        float xe = clamp(min(exits.x, exits.y), x, x1);
+        best = max(best, cell_max_tangent(q, cell, g0 - cell, df, max(x, 1e-9), xe, x0 <= 0.0 && i == 0));
+        int axis = exits.x <= exits.y ? 0 : 1;
+        cell[axis] += df[axis] > 0.0 ? 1.0 : -1.0;
+        x = xe;
     }
     return best;
 }

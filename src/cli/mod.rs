@@ -10,6 +10,7 @@ mod methods;
 mod pipeline_cache;
 mod render;
 mod render_frames;
+mod shading_args;
 mod trace;
 
 use std::process::ExitCode;

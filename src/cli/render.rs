@@ -12,6 +12,7 @@ use relief::scene::{default_heightfield, default_scene, load_gltf, Scene, SceneO
 use super::heightmap_args::HeightmapArgs;
 use super::pipeline_cache;
 use super::render_frames::{run_frames, CacheReport, FrameArgs};
+use super::shading_args::ShadingArgs;
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
 pub enum FormatArg {
@@ -32,6 +33,8 @@ pub struct RenderArgs {
     height: u32,
     #[command(flatten)]
     heights: HeightmapArgs,
+    #[command(flatten)]
+    shading: ShadingArgs,
     /// Depth of height 0 below the surface, in uv units (0.05 = a twentieth of the texture).
     #[arg(long, value_name = "S")]
     depth_scale: Option<f32>,
@@ -134,7 +137,8 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     check_inputs(args)?;
     let method: Method = args.method.parse()?;
     let loaded = args.heights.load()?;
-    let scene = build_scene(args, method, loaded.is_some())?;
+    let mut scene = build_scene(args, method, loaded.is_some())?;
+    args.shading.apply(&mut scene)?;
     let ctx = super::open_device(args.device.as_deref(), args.json)?;
     let (heights, source) = match loaded {
         Some((hf, source)) => (Some(hf), source),
