@@ -185,3 +185,40 @@ fn material_flag_without_a_height_map_or_naming_nothing() {
         "lists the materials"
     );
 }
+
+#[test]
+fn bad_shading_flags_name_the_flag() {
+    // Unknown mode ids are usage errors, caught by the argument parser (exit 2) with the list.
+    for (flag, value, needle) in [
+        (
+            "--shadows",
+            "soft",
+            "unknown shadow mode \"soft\"; known modes: none, hard",
+        ),
+        (
+            "--ao",
+            "horizon-5",
+            "unknown AO mode \"horizon-5\"; known modes: none",
+        ),
+    ] {
+        let out = relief(&["render", flag, value, "--out", "/dev/null"]);
+        let err = stderr(&out);
+        assert_eq!(out.status.code(), Some(2), "{err}");
+        assert!(err.contains(needle) && !err.contains("panicked"), "{err}");
+    }
+    let out = relief(&["render", "--light-radius", "95", "--out", "/dev/null"]);
+    assert_clean_failure(&out, "--light-radius 95 is above 90 degrees");
+    let trace = [
+        "trace",
+        "--field",
+        "fbm",
+        "--size",
+        "8",
+        "--shadows",
+        "cone",
+    ];
+    let out = relief(&[&trace[..], &["--light-elevation", "120"]].concat());
+    assert_clean_failure(&out, "--light-elevation must be in [-90, 90]");
+    let out = relief(&[&trace[..], &["--light-radius", "nan"]].concat());
+    assert_clean_failure(&out, "--light-radius must be in [0, 90]");
+}

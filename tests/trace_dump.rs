@@ -133,3 +133,71 @@ fn check_dump(address: Address) {
     assert_eq!(printed["nan_pixels"], 0);
     assert_eq!(printed["address"], address.to_string());
 }
+
+/// `--shadows` adds a ninth column, the visible fraction at the hit; its printed error against the
+/// exact reference is recomputed here from the dump.
+#[test]
+fn shadow_dump_has_the_visible_fraction() {
+    let test = "trace-dump-shadows";
+    if common::device(test).is_none() {
+        return;
+    }
+    let dir = common::scratch_dir(test);
+    let dump = dir.join("vis.npy");
+    let out = Command::new(env!("CARGO_BIN_EXE_relief"))
+        .args([
+            "trace", "--field", "bricks", "--size", "64", "--method", "qdm",
+        ])
+        .args(["--angle", "50", "--depth-scale", "0.1", "--grid", "12x10"])
+        .args([
+            "--shadows",
+            "cone",
+            "--light-elevation",
+            "20",
+            "--light-azimuth",
+        ])
+        .args(["-30", "--light-radius", "4", "--reference-samples", "6"])
+        .args(["--dump", dump.to_str().expect("utf-8")])
+        .output()
+        .expect("binary runs");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let printed: serde_json::Value = serde_json::from_slice(&out.stdout).expect("one JSON line");
+    let (shape, values) = read_npy(&std::fs::read(&dump).expect("dump written"));
+    assert_eq!(shape, [10, 12, 9]);
+    let hf = Generator::Bricks.generate(64, 64, 1).quantized_unorm16();
+    let light = relief::heightfield::visibility::LightDir {
+        elevation_deg: 20.0,
+        azimuth_deg: -30.0,
+        radius_deg: 4.0,
+    };
+    let errors: Vec<f64> = values
+        .chunks_exact(9)
+        .map(|r| {
+            let (u, v) = (f64::from(r[5]), f64::from(r[6]));
+            let exact = relief::heightfield::visibility::light_visibility(
+                &hf,
+                f64::from(0.1f32),
+                Address::Repeat,
+                (u, v),
+                light,
+                6,
+            )
+            .expect("reference");
+            assert!((0.0..=1.0).contains(&r[8]), "visible fraction {}", r[8]);
+            (f64::from(r[8]) - exact.fraction).abs()
+        })
+        .collect();
+    let mean = errors.iter().sum::<f64>() / errors.len() as f64;
+    let stats = &printed["shadow"]["stats"];
+    let p_mean = stats["abs_error"]["mean"].as_f64().expect("mean");
+    assert!(
+        (p_mean - mean).abs() < 1e-9,
+        "printed {p_mean}, recomputed {mean}"
+    );
+    assert_eq!(printed["shadow"]["mode"], "cone");
+    assert_eq!(stats["points"], 120);
+}

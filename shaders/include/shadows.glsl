@@ -27,6 +27,9 @@ layout(constant_id = 9) const uint SHADOW_STEPS = 16u;
 layout(constant_id = 10) const float SHADOW_REACH = 1.0;
 
 const float SHADOW_PI = 3.14159265358979;
+// Elevations are clamped below pi/2 before tan(): float's pi/2 lies past the pole, where tan() is
+// hugely negative.
+const float MAX_SHADOW_ELEVATION = 1.5707;
 
 // How far (in texels, uv and depth together) a hard shadow ray's first hit must lie from the
 // shaded point to count as a blocker rather than the point itself seen through the method's own
@@ -71,7 +74,7 @@ ShadowQuery shadow_query(vec2 uv_hit, float z_hit, vec3 l, float radius, float s
     q.s = s;
     float lowest = q.elevation - radius;
     float rise = max(s - q.zp, 0.0);
-    q.reach = lowest > 1e-4 ? rise / tan(lowest) : 3.0e38;
+    q.reach = lowest > 1e-4 ? rise / tan(min(lowest, MAX_SHADOW_ELEVATION)) : 3.0e38;
     // A hit on the top plane has nothing above it but still takes a sample or two.
     vec2 texel = 1.0 / height_size();
     q.reach = max(q.reach, min(texel.x, texel.y));
@@ -222,7 +225,7 @@ float shadow_cone(ShadowQuery q) {
     vec2 texels = height_size();
     float texels_per_uv = max(abs(q.d.x) * texels.x, abs(q.d.y) * texels.y);
     float nudge = CROSSING_TEXELS / max(texels_per_uv, 1e-30);
-    float floor_tau = tan(max(q.elevation - q.radius, 0.0));
+    float floor_tau = tan(clamp(q.elevation - q.radius, 0.0, MAX_SHADOW_ELEVATION));
     float tau = max(tangent_horizon(q), 0.0);
     int leaf = pyramid_leaf();
     int top = pyramid_top();
@@ -256,7 +259,7 @@ float shadow_cone(ShadowQuery q) {
 // 1 when nothing of the field stands between the hit and the light's centre, else 0: a ray from
 // the top plane toward the hit (Policarpo et al. 2005's self-shadowing), traced by the method.
 float shadow_hard(ShadowQuery q, vec2 uv_hit, float z_hit, vec3 l, float s) {
-    if (l.z <= 0.0 || tan(q.elevation) <= tangent_horizon(q)) {
+    if (l.z <= 0.0 || l.z <= tangent_horizon(q) * length(l.xy)) {
         return 0.0;
     }
     vec3 dir = normalize(vec3(-l.xy, max(l.z, 1e-3 * length(l.xy))));
