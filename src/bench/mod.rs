@@ -5,6 +5,8 @@ mod npy;
 mod report;
 mod results;
 mod runner;
+mod shading;
+mod shading_report;
 mod shadow_stats;
 mod stability;
 mod subgroup_steps;
@@ -16,7 +18,10 @@ pub use npy::write_npy_f32;
 pub use report::render_report;
 pub use results::{BenchDevice, BenchResults, GpuMs, MapBuild, Run, StabilityCell};
 pub use runner::{plan_jobs, Job, Runner, Section};
-pub use shadow_stats::{shadow_stats, ShadowStats, LEAK_DARK, LEAK_LIT};
+pub use shading::{measure_shadows, ShadingConfig, ShadowRun};
+pub use shadow_stats::{
+    compare_fractions, reference_fractions, shadow_stats, ShadowStats, LEAK_DARK, LEAK_LIT,
+};
 pub use stability::{run_stiff_case, stiff_cases, StiffCase};
 pub use subgroup_steps::{subgroup_steps, TimedSteps};
 pub use sweep::{FieldSource, SweepConfig};

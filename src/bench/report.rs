@@ -36,6 +36,7 @@ pub fn render_report(results: &BenchResults) -> (String, Vec<(String, String)>) 
     cone_vs_quadric(&mut md, results);
     maps(&mut md, results);
     stability(&mut md, &results.stability);
+    super::shading_report::shadows(&mut md, &results.shadows);
     (md, plots(results))
 }
 

@@ -3,6 +3,7 @@
 
 use serde::Serialize;
 
+use super::shading::ShadowRun;
 use super::subgroup_steps::TimedSteps;
 use super::trace_stats::{Spread, StepStats};
 use crate::method::Budget;
@@ -103,6 +104,8 @@ pub struct BenchResults {
     pub runs: Vec<Run>,
     pub maps: Vec<MapBuild>,
     pub stability: Vec<StabilityCell>,
+    /// The shading section: shadow modes against the exact visible fraction.
+    pub shadows: Vec<ShadowRun>,
 }
 
 /// The device every number was measured on.

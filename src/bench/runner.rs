@@ -203,7 +203,7 @@ impl Runner {
 
     /// The method's map, built once per field and size: the conservative cone map on the GPU,
     /// the others on the CPU (the entry in `map_builds` says which).
-    fn map(
+    pub(crate) fn map(
         &mut self,
         field: &FieldSource,
         size: u32,

@@ -43,9 +43,14 @@ pub fn shadow_stats(
     samples_per_side: u32,
 ) -> Result<ShadowStats, ShadingError> {
     let reference = reference_fractions(hf, hits, depth_scale, address, light, samples_per_side)?;
-    let mut errors = Vec::with_capacity(hits.len());
+    Ok(compare_fractions(visible, &reference))
+}
+
+/// Compares `visible[k]` with `reference[k]` (skipped where `None`).
+pub fn compare_fractions(visible: &[f32], reference: &[Option<f64>]) -> ShadowStats {
+    let mut errors = Vec::with_capacity(visible.len());
     let (mut leaks, mut agree, mut bad, mut lit) = (0usize, 0usize, 0usize, 0.0);
-    for (&got, exact) in visible.iter().zip(&reference) {
+    for (&got, exact) in visible.iter().zip(reference) {
         let Some(exact) = *exact else { continue };
         let got = f64::from(got);
         if !(0.0..=1.0).contains(&got) {
@@ -65,7 +70,7 @@ pub fn shadow_stats(
             n as f64 / points as f64
         }
     };
-    Ok(ShadowStats {
+    ShadowStats {
         points,
         abs_error: Spread::of(errors),
         leak_rate: share(leaks),
@@ -76,11 +81,12 @@ pub fn shadow_stats(
         } else {
             lit / points as f64
         },
-    })
+    }
 }
 
-/// The exact fraction at each hit's uv (`None` where the hit is not finite).
-fn reference_fractions(
+/// The exact fraction at each hit's uv (`None` where the hit is not finite), with
+/// `samples_per_side^2` exact rays per point, split between two threads.
+pub fn reference_fractions(
     hf: &Heightfield,
     hits: &[[f32; 8]],
     depth_scale: f64,

@@ -9,8 +9,8 @@ use std::io::IsTerminal;
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use relief::bench::{
-    plan_jobs, render_report, run_stiff_case, stiff_cases, BenchResults, FieldSource, Runner,
-    SweepConfig,
+    measure_shadows, plan_jobs, render_report, run_stiff_case, stiff_cases, BenchResults,
+    FieldSource, Runner, ShadingConfig, SweepConfig,
 };
 use relief::heightfield::{Address, Generator};
 use relief::method::Method;
@@ -59,6 +59,12 @@ pub struct BenchArgs {
     /// Skip the stability matrix.
     #[arg(long)]
     no_stability: bool,
+    /// Skip the shading section (shadow modes against the exact visible fraction).
+    #[arg(long)]
+    no_shading: bool,
+    /// Run only the shading section.
+    #[arg(long, conflicts_with = "no_shading")]
+    shading_only: bool,
     #[arg(long, value_name = "repeat|clamp", default_value_t = Address::Repeat)]
     address: Address,
     #[arg(long, value_enum, default_value = "r16")]
@@ -186,18 +192,35 @@ fn note(bar: &ProgressBar, what: &str, quiet: bool) {
 pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     let cfg = config(args)?;
     let ctx = super::open_device(args.device.as_deref(), args.json)?;
-    let jobs = plan_jobs(&cfg);
+    let jobs = if args.shading_only {
+        Vec::new()
+    } else {
+        plan_jobs(&cfg)
+    };
+    let shading = (!args.no_shading).then(|| {
+        if cfg.quick {
+            ShadingConfig::quick()
+        } else {
+            ShadingConfig::full()
+        }
+    });
     let largest = if cfg.quick {
         1024
     } else {
         8192.min(ctx.info().max_image_dimension_2d)
     };
-    let cases = if cfg.stability {
+    let cases = if cfg.stability && !args.shading_only {
         stiff_cases(largest)
     } else {
         Vec::new()
     };
-    let bar = progress(jobs.len() + cases.len() * cfg.methods.len(), args.json);
+    let shading_steps = shading.as_ref().map_or(0, |s| {
+        cfg.fields.len() * s.elevations.len() * s.radii.len() * (s.modes.len() + 1)
+    });
+    let bar = progress(
+        jobs.len() + cases.len() * cfg.methods.len() + shading_steps,
+        args.json,
+    );
     let mut runner = Runner::new(ctx.clone(), cfg.clone());
     let mut runs = Vec::with_capacity(jobs.len());
     for job in &jobs {
@@ -232,6 +255,19 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
             bar.inc(1);
         }
     }
+    let mut shadows = Vec::new();
+    if let Some(shading) = &shading {
+        for field in &cfg.fields {
+            let mut note_step = |what: &str| {
+                note(&bar, what, args.json);
+                bar.inc(1);
+            };
+            shadows.extend(
+                measure_shadows(&mut runner, shading, field, &mut note_step)
+                    .with_context(|| format!("measuring shadows on {}", field.name()))?,
+            );
+        }
+    }
     bar.finish_and_clear();
     super::check_validation(&ctx)?;
     let results = BenchResults {
@@ -240,6 +276,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         runs,
         maps: runner.map_builds,
         stability,
+        shadows,
     };
     write_outputs(&args.out, &results, args.json)
 }
