@@ -290,7 +290,7 @@ fn displaced_gltf_matches_golden() {
         "the material's budget"
     );
     assert!(
-        plan.pipelines[0].shadows.is_some(),
+        plan.pipelines[0].shadows.mode.is_some(),
         "glTF lights cast shadows"
     );
     assert_eq!(plan.heights.len(), 1);

@@ -46,7 +46,7 @@ fn one_pom_material_without_light_builds_one_pipeline_and_nothing_else() {
     assert_eq!(plan.pipelines.len(), 1, "{:?}", plan.pipelines);
     let pipeline = plan.pipelines[0];
     assert_eq!(pipeline.method, Some(Method::POM));
-    assert!(!pipeline.shadows.is_some(), "no light casts shadows");
+    assert!(!pipeline.shadows.mode.is_some(), "no light casts shadows");
     assert_eq!(plan.heights.len(), 1);
     assert!(!plan.heights[0].pyramid, "POM reads no pyramid");
     assert_eq!(
@@ -91,7 +91,7 @@ fn maps_and_shadow_work_appear_only_when_needed() {
     };
     assert_eq!(plan.pipelines.len(), 1);
     assert!(
-        plan.pipelines[0].shadows.is_some(),
+        plan.pipelines[0].shadows.mode.is_some(),
         "a shadow-casting light"
     );
     assert!(plan.passes.iter().any(|p| p.pass == Pass::SelfShadowRays));

@@ -10,6 +10,14 @@ pub struct ShadingArgs {
     /// (default: each material's extras.relief.shadows, else hard).
     #[arg(long, value_name = "MODE")]
     shadows: Option<ShadowMode>,
+    /// Shadow samples (pom-soft, horizon) or the cone walk's cap (default: the mode's: 16, 5,
+    /// 128).
+    #[arg(long, value_name = "N")]
+    shadow_steps: Option<u32>,
+    /// Horizon shadows: how far the samples reach, as a multiple of the distance at which the
+    /// light's lowest direction clears the top plane (paper 001's light vector scale; default 1).
+    #[arg(long, value_name = "SCALE")]
+    horizon_reach: Option<f32>,
     /// Ambient occlusion of every relief material: none, horizon-4|8|16 (optionally -rotated)
     /// or exact-horizon (default: each material's extras.relief.ao, else none).
     #[arg(long, value_name = "MODE")]
@@ -23,9 +31,24 @@ pub struct ShadingArgs {
 impl ShadingArgs {
     /// Applies the flags to `scene`'s materials and lights.
     pub fn apply(&self, scene: &mut Scene) -> anyhow::Result<()> {
+        if self.shadow_steps.is_some_and(|s| !(1..=4096).contains(&s)) {
+            anyhow::bail!("--shadow-steps must be in 1..=4096");
+        }
+        if self
+            .horizon_reach
+            .is_some_and(|r| !(r.is_finite() && r > 0.0))
+        {
+            anyhow::bail!("--horizon-reach must be a finite number above 0");
+        }
         for relief in scene.materials.iter_mut().filter_map(|m| m.relief.as_mut()) {
             if let Some(mode) = self.shadows {
-                relief.shadows = mode;
+                relief.shadows.mode = mode;
+            }
+            if let Some(steps) = self.shadow_steps {
+                relief.shadows.steps = Some(steps);
+            }
+            if let Some(reach) = self.horizon_reach {
+                relief.shadows.horizon_reach = reach;
             }
             if let Some(mode) = self.ao {
                 relief.ao = mode;

@@ -78,6 +78,10 @@ struct ShadowArgs {
     /// left out.
     #[arg(long)]
     shadow_steps: Option<u32>,
+    /// Horizon mode's reach, as a multiple of the distance at which the light's lowest
+    /// direction clears the top plane.
+    #[arg(long, default_value_t = 1.0)]
+    horizon_reach: f32,
     /// Exact reference rays per point: this number squared, over the light's disk.
     #[arg(long, default_value_t = 16)]
     reference_samples: u32,
@@ -123,6 +127,10 @@ impl ShadowArgs {
             }
             trace.steps = steps;
         }
+        if !(self.horizon_reach.is_finite() && self.horizon_reach > 0.0) {
+            anyhow::bail!("--horizon-reach must be a finite number above 0");
+        }
+        trace.horizon_reach = self.horizon_reach;
         Ok(Some((trace, light)))
     }
 }

@@ -33,7 +33,7 @@ pub fn explain(plan: &Plan, maps: &[BuiltMap], created: &ObjectCounts) -> Value 
             max_steps: p.max_steps,
             double_sided: p.double_sided,
             blend: p.blend,
-            shadows: p.shadows.id(),
+            shadows: p.shadows.mode.id(),
         })
         .collect();
     let heights: Vec<Value> = plan

@@ -9,7 +9,7 @@ use super::frame_uniforms::MAX_LIGHTS;
 use super::pass::Pass;
 use crate::heightfield::{Address, Channel, Heightfield};
 use crate::method::{MapKind, Method};
-use crate::scene::{AlphaMode, HeightSource, Light, Scene, ShadowMode, Wrap};
+use crate::scene::{AlphaMode, HeightSource, Light, Scene, ShadowMode, ShadowSettings, Wrap};
 
 /// Where a planned height map comes from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -34,8 +34,9 @@ pub struct PipelineKey {
     pub max_steps: Option<u32>,
     pub double_sided: bool,
     pub blend: bool,
-    /// How the height field shadows it (`None` without relief or without a shadow-casting light).
-    pub shadows: ShadowMode,
+    /// How the height field shadows it (mode `none` without relief or without a shadow-casting
+    /// light).
+    pub shadows: ShadowSettings,
 }
 
 impl PipelineKey {
@@ -193,7 +194,7 @@ impl Plan {
                         }
                     };
                     let shadows = if casts_shadows {
-                        relief.shadows
+                        relief.shadows.mode
                     } else {
                         ShadowMode::None
                     };
@@ -207,7 +208,7 @@ impl Plan {
                 blend: material.alpha_mode == AlphaMode::Blend,
                 shadows: match material.relief {
                     Some(relief) if casts_shadows => relief.shadows,
-                    _ => ShadowMode::None,
+                    _ => ShadowSettings::new(ShadowMode::None),
                 },
             };
             let pipeline = match plan.pipelines.iter().position(|p| *p == pipeline) {
@@ -326,8 +327,9 @@ impl Plan {
         });
         let mut modes: Vec<&str> = Vec::new();
         for p in &self.pipelines {
-            if p.shadows.is_some() && !modes.contains(&p.shadows.id()) {
-                modes.push(p.shadows.id());
+            let mode = p.shadows.mode;
+            if mode.is_some() && !modes.contains(&mode.id()) {
+                modes.push(mode.id());
             }
         }
         let relief = self.pipelines.iter().any(|p| p.method.is_some());
@@ -434,7 +436,10 @@ mod tests {
             kinds,
             [Some(MapKind::ConservativeCone), Some(MapKind::Quadric)]
         );
-        assert!(p.pipelines.iter().all(|k| k.shadows == ShadowMode::Hard));
+        assert!(p
+            .pipelines
+            .iter()
+            .all(|k| k.shadows.mode == ShadowMode::Hard));
         assert!(p.skipped.iter().any(|s| s.what == "relaxed_cone_map"));
     }
 

@@ -60,6 +60,8 @@ impl DrawPush {
 /// Specialization constant ids of `SHADOW_MODE` and `SHADOW_STEPS` in `shadows.glsl`.
 pub const SHADOW_MODE_ID: u32 = 8;
 pub const SHADOW_STEPS_ID: u32 = 9;
+/// Specialization constant id of `SHADOW_REACH` (horizon mode) in `shadows.glsl`.
+pub const SHADOW_REACH_ID: u32 = 10;
 
 struct MeshDraw {
     vertices: Buffer,
@@ -290,8 +292,9 @@ fn create_pipeline(
     let shader = key.shader();
     let fs = shaders::spirv(&shader).ok_or_else(|| missing(&shader))?;
     let mut spec = SpecConstants::default()
-        .u32(SHADOW_MODE_ID, key.shadows.shader_value())
-        .u32(SHADOW_STEPS_ID, key.shadows.default_steps());
+        .u32(SHADOW_MODE_ID, key.shadows.mode.shader_value())
+        .u32(SHADOW_STEPS_ID, key.shadows.resolved_steps())
+        .f32(SHADOW_REACH_ID, key.shadows.horizon_reach);
     if let Some(method) = key.method {
         let budget = method.info().default_budget;
         spec = spec
@@ -347,8 +350,8 @@ pub fn describe(key: &PipelineKey) -> String {
             name.push_str(what);
         }
     }
-    if key.shadows.is_some() {
-        name.push_str(&format!(" shadows {}", key.shadows));
+    if key.shadows.mode.is_some() {
+        name.push_str(&format!(" shadows {}", key.shadows.mode));
     }
     name
 }

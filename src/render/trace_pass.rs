@@ -7,7 +7,7 @@ use ash::vk;
 
 use super::gpu_heightfield::HeightFormat;
 use super::height_resources::HeightResources;
-use super::surface_pass::{SHADOW_MODE_ID, SHADOW_STEPS_ID};
+use super::surface_pass::{SHADOW_MODE_ID, SHADOW_REACH_ID, SHADOW_STEPS_ID};
 use crate::heightfield::{Address, Heightfield, MapData};
 use crate::method::{Budget, Method};
 use crate::scene::ShadowMode;
@@ -50,6 +50,8 @@ pub struct ShadowTrace {
     pub toward: [f32; 3],
     /// Angular radius, radians.
     pub radius: f32,
+    /// Horizon mode's light vector scale (`ShadowSettings::horizon_reach`).
+    pub horizon_reach: f32,
 }
 
 impl ShadowTrace {
@@ -71,6 +73,7 @@ impl ShadowTrace {
                 e.sin() as f32,
             ],
             radius: radius_deg.to_radians() as f32,
+            horizon_reach: 1.0,
         }
     }
 }
@@ -206,7 +209,8 @@ pub fn trace_repeated(
         None => (spec, [0.0, 0.0, 1.0, 0.0]),
         Some(s) => (
             spec.u32(SHADOW_MODE_ID, s.mode.shader_value())
-                .u32(SHADOW_STEPS_ID, s.steps),
+                .u32(SHADOW_STEPS_ID, s.steps)
+                .f32(SHADOW_REACH_ID, s.horizon_reach),
             [s.toward[0], s.toward[1], s.toward[2], s.radius],
         ),
     };

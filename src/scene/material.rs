@@ -1,6 +1,6 @@
 //! Materials: glTF metallic-roughness with textures, samplers and uv transforms, plus relief.
 
-use super::shading::{AoMode, ShadowMode};
+use super::shading::{AoMode, ShadowSettings};
 use crate::heightfield::Channel;
 use crate::method::Method;
 
@@ -153,7 +153,7 @@ pub struct Relief {
     pub budget: Option<u32>,
     pub height: HeightSource,
     /// Self-shadowing toward lights that cast shadows.
-    pub shadows: ShadowMode,
+    pub shadows: ShadowSettings,
     /// Ambient occlusion from the height field.
     pub ao: AoMode,
 }
@@ -166,7 +166,7 @@ impl Relief {
             method,
             budget: None,
             height: HeightSource::Frame,
-            shadows: ShadowMode::default(),
+            shadows: ShadowSettings::default(),
             ao: AoMode::default(),
         }
     }

@@ -31,7 +31,7 @@ pub use material::{
     UvTransform, Wrap,
 };
 pub use primitives::{box_mesh, quad_mesh};
-pub use shading::{AoMode, ShadowMode, AO_HORIZON_DIRECTIONS};
+pub use shading::{AoMode, ShadowMode, ShadowSettings, AO_HORIZON_DIRECTIONS};
 
 use std::sync::Arc;
 

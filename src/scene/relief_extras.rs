@@ -4,11 +4,13 @@
 //! "extras": { "relief": {
 //!     "height": { "index": 3, "texCoord": 0, "channel": "a", "invert": false },
 //!     "depth_scale": 0.05, "method": "qdm", "budget": 64,
-//!     "shadows": "cone", "ao": "horizon-8" } }
+//!     "shadows": "horizon", "shadow_steps": 5, "horizon_reach": 1.0, "ao": "horizon-8" } }
 //! ```
 //!
 //! `depth_scale` is required (finite, > 0). Defaults: `method` "pom", `budget` none (the
-//! method's own), `shadows` "hard" (`none`, `hard`, `pom-soft`, `horizon`, `cone`), `ao` "none"
+//! method's own), `shadows` "hard" (`none`, `hard`, `pom-soft`, `horizon`, `cone`) with
+//! `shadow_steps` (samples or the cone walk's cap, 1..=4096; the mode's default) and
+//! `horizon_reach` (the horizon mode's light vector scale, > 0; 1), `ao` "none"
 //! (`horizon-4|8|16`, optionally `-rotated`, or `exact-horizon`), `height.texCoord` 0,
 //! `height.channel` "r", `height.invert` false. Without
 //! `height` the material takes the frame's height map. Extras without `relief` are ignored;
@@ -19,7 +21,7 @@ use std::str::FromStr;
 
 use serde_json::{Map, Value};
 
-use super::{AoMode, HeightSource, Relief, ShadowMode, TextureRef};
+use super::{AoMode, HeightSource, Relief, ShadowMode, ShadowSettings, TextureRef};
 use crate::heightfield::Channel;
 use crate::method::Method;
 
@@ -40,7 +42,16 @@ pub(super) fn parse_relief(
     only_keys(
         relief,
         "extras.relief",
-        &["height", "depth_scale", "method", "budget", "shadows", "ao"],
+        &[
+            "height",
+            "depth_scale",
+            "method",
+            "budget",
+            "shadows",
+            "shadow_steps",
+            "horizon_reach",
+            "ao",
+        ],
     )?;
     let depth_scale = match relief.get("depth_scale") {
         None => return Err("extras.relief.depth_scale: missing (a number > 0)".into()),
@@ -69,10 +80,28 @@ pub(super) fn parse_relief(
         None => HeightSource::Frame,
         Some(h) => height_source(h, texture, texture_count)?,
     };
-    let shadows = match relief.get("shadows") {
+    let mut shadows = ShadowSettings::new(match relief.get("shadows") {
         None => ShadowMode::default(),
         Some(v) => parsed(v, "extras.relief.shadows")?,
-    };
+    });
+    if let Some(v) = relief.get("shadow_steps") {
+        let steps = v
+            .as_u64()
+            .filter(|s| (1..=4096).contains(s))
+            .ok_or_else(|| {
+                format!("extras.relief.shadow_steps: {v} is not an integer in 1..=4096")
+            })?;
+        shadows.steps = Some(steps as u32);
+    }
+    if let Some(v) = relief.get("horizon_reach") {
+        shadows.horizon_reach = v
+            .as_f64()
+            .map(|r| r as f32)
+            .filter(|r| r.is_finite() && *r > 0.0)
+            .ok_or_else(|| {
+                format!("extras.relief.horizon_reach: {v} is not a finite number > 0")
+            })?;
+    }
     let ao = match relief.get("ao") {
         None => AoMode::default(),
         Some(v) => parsed(v, "extras.relief.ao")?,
@@ -191,7 +220,7 @@ mod tests {
         assert_eq!(r.depth_scale, 0.05);
         assert_eq!(r.method, "qdm".parse().unwrap());
         assert_eq!(r.budget, Some(64));
-        assert_eq!(r.shadows, ShadowMode::PomSoft);
+        assert_eq!(r.shadows.mode, ShadowMode::PomSoft);
         assert_eq!(
             r.ao,
             AoMode::Horizon {
@@ -220,7 +249,7 @@ mod tests {
         assert_eq!(r.method, Method::POM);
         assert_eq!(r.budget, None);
         assert_eq!(r.height, HeightSource::Frame);
-        assert_eq!((r.shadows, r.ao), (ShadowMode::Hard, AoMode::None));
+        assert_eq!((r.shadows, r.ao), (ShadowSettings::default(), AoMode::None));
         let r = parse(r#"{"relief": {"depth_scale": 1, "height": {"index": 0}}}"#)
             .unwrap()
             .unwrap();
@@ -314,6 +343,14 @@ mod tests {
             (
                 r#"{"relief": {"depth_scale": 1, "shadows": "soft"}}"#,
                 "extras.relief.shadows: unknown shadow mode \"soft\"",
+            ),
+            (
+                r#"{"relief": {"depth_scale": 1, "shadow_steps": 0}}"#,
+                "extras.relief.shadow_steps: 0",
+            ),
+            (
+                r#"{"relief": {"depth_scale": 1, "horizon_reach": -2}}"#,
+                "extras.relief.horizon_reach: -2",
             ),
             (
                 r#"{"relief": {"depth_scale": 1, "ao": "horizon-3"}}"#,

@@ -97,6 +97,44 @@ impl FromStr for ShadowMode {
     }
 }
 
+/// A material's shadow mode with its parameters.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ShadowSettings {
+    pub mode: ShadowMode,
+    /// Samples (pom-soft, horizon; paper 001's iteration count) or the pyramid walk's cap
+    /// (cone); `None` takes [`ShadowMode::default_steps`].
+    pub steps: Option<u32>,
+    /// Horizon mode: how far its samples reach, as a multiple of the distance at which the
+    /// light's lowest direction clears the top plane (paper 001's light vector scale); finite, > 0.
+    pub horizon_reach: f32,
+}
+
+impl ShadowSettings {
+    /// `mode` with its default parameters.
+    pub fn new(mode: ShadowMode) -> ShadowSettings {
+        ShadowSettings {
+            mode,
+            steps: None,
+            horizon_reach: 1.0,
+        }
+    }
+
+    /// The `SHADOW_STEPS` the pipeline is built with.
+    pub fn resolved_steps(&self) -> u32 {
+        self.steps.unwrap_or(self.mode.default_steps())
+    }
+}
+
+// `horizon_reach` is finite wherever settings are made (extras and flags check it), so equality
+// is an equivalence and pipelines can be told apart by their settings.
+impl Eq for ShadowSettings {}
+
+impl Default for ShadowSettings {
+    fn default() -> Self {
+        ShadowSettings::new(ShadowMode::default())
+    }
+}
+
 /// Ambient occlusion of a relief material: a texture-space map built once per static field.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 pub enum AoMode {
