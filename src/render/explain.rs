@@ -48,10 +48,22 @@ pub fn explain(plan: &Plan, maps: &[BuiltMap], created: &ObjectCounts) -> Value 
             })
         })
         .collect();
+    let ao_maps: Vec<Value> = plan
+        .ao_maps
+        .iter()
+        .map(|a| {
+            json!({
+                "heights": plan.heights[a.heights].source,
+                "mode": a.mode.to_string(),
+                "depth_scale": a.depth_scale,
+            })
+        })
+        .collect();
     json!({
         "pipelines": pipelines,
         "maps": maps,
         "heights": heights,
+        "ao_maps": ao_maps,
         "passes": plan.passes,
         "skipped": plan.skipped,
         "draws": plan.draws.len(),

@@ -9,6 +9,9 @@ pub enum Pass {
     /// Builds the max pyramid of every height map a pyramid method reads (first frame only: the
     /// fields are static).
     Pyramid,
+    /// Builds the texture-space AO map of every height map a material asks AO of (first frame
+    /// only, after the pyramids).
+    AmbientOcclusion,
     /// Draws the scene: rasterises the meshes and traces each relief fragment's view ray.
     Surface,
     /// Rays from each relief hit toward the shadow-casting lights, traced inside the surface
@@ -18,12 +21,18 @@ pub enum Pass {
 
 impl Pass {
     /// Every pass, in recording order.
-    pub const ALL: [Pass; 3] = [Pass::Pyramid, Pass::Surface, Pass::SelfShadowRays];
+    pub const ALL: [Pass; 4] = [
+        Pass::Pyramid,
+        Pass::AmbientOcclusion,
+        Pass::Surface,
+        Pass::SelfShadowRays,
+    ];
 
     /// The name the plan, `--explain` and the timing tables print.
     pub fn name(self) -> &'static str {
         match self {
             Pass::Pyramid => "pyramid",
+            Pass::AmbientOcclusion => "ao map",
             Pass::Surface => "surface",
             Pass::SelfShadowRays => "self-shadow rays",
         }

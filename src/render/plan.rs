@@ -9,7 +9,9 @@ use super::frame_uniforms::MAX_LIGHTS;
 use super::pass::Pass;
 use crate::heightfield::{Address, Channel, Heightfield};
 use crate::method::{MapKind, Method};
-use crate::scene::{AlphaMode, HeightSource, Light, Scene, ShadowMode, ShadowSettings, Wrap};
+use crate::scene::{
+    AlphaMode, AoMode, HeightSource, Light, Scene, ShadowMode, ShadowSettings, Wrap,
+};
 
 /// Where a planned height map comes from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -69,6 +71,17 @@ pub struct DrawPlan {
     pub material: usize,
     pub pipeline: usize,
     pub heights: Option<usize>,
+    /// The AO map its material reads (`Plan::ao_maps`), if it asks for one.
+    pub ao: Option<usize>,
+}
+
+/// One AO map to build: of which height map, how, at which depth scale (the normals and
+/// horizons depend on it).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AoPlan {
+    pub heights: usize,
+    pub mode: AoMode,
+    pub depth_scale: f32,
 }
 
 /// Something the scene does not need, and why.
@@ -91,6 +104,8 @@ pub struct PassPlan {
 pub struct Plan {
     pub pipelines: Vec<PipelineKey>,
     pub heights: Vec<HeightPlan>,
+    /// AO maps, built once in the first frame.
+    pub ao_maps: Vec<AoPlan>,
     pub draws: Vec<DrawPlan>,
     pub passes: Vec<PassPlan>,
     pub skipped: Vec<Skipped>,
@@ -136,6 +151,7 @@ impl Plan {
         let mut plan = Plan {
             pipelines: Vec::new(),
             heights: Vec::new(),
+            ao_maps: Vec::new(),
             draws: Vec::new(),
             passes: Vec::new(),
             skipped: Vec::new(),
@@ -198,8 +214,14 @@ impl Plan {
                     } else {
                         ShadowMode::None
                     };
-                    Some(plan.height_for(key, source, size, relief.method, shadows))
+                    Some(plan.height_for(key, source, size, relief.method, shadows, relief.ao))
                 }
+            };
+            let ao = match (material.relief, heights) {
+                (Some(relief), Some(h)) if relief.ao.is_some() => {
+                    Some(plan.ao_for(h, relief.ao, relief.depth_scale))
+                }
+                _ => None,
             };
             let pipeline = PipelineKey {
                 method: material.relief.map(|r| r.method),
@@ -223,6 +245,7 @@ impl Plan {
                 material: mesh.material,
                 pipeline,
                 heights,
+                ao,
             });
         }
         plan.note_unused(scene, &used);
@@ -238,8 +261,11 @@ impl Plan {
         size: (u32, u32),
         method: Method,
         shadows: ShadowMode,
+        ao: AoMode,
     ) -> usize {
-        let pyramid = method.info().reads_pyramid() || shadows.reads_pyramid();
+        let pyramid = method.info().reads_pyramid()
+            || shadows.reads_pyramid()
+            || matches!(ao, AoMode::Horizon { .. });
         let map = method.info().method_map();
         let found = self
             .heights
@@ -260,6 +286,22 @@ impl Plan {
                     map_method: map.map(|_| method),
                 });
                 self.heights.len() - 1
+            }
+        }
+    }
+
+    /// The index of the AO map of height map `heights` in `mode` at `depth_scale`, added if new.
+    fn ao_for(&mut self, heights: usize, mode: AoMode, depth_scale: f32) -> usize {
+        let wanted = AoPlan {
+            heights,
+            mode,
+            depth_scale,
+        };
+        match self.ao_maps.iter().position(|a| *a == wanted) {
+            Some(k) => k,
+            None => {
+                self.ao_maps.push(wanted);
+                self.ao_maps.len() - 1
             }
         }
     }
@@ -318,7 +360,25 @@ impl Plan {
         if pyramids > 0 {
             self.passes.push(PassPlan {
                 pass: Pass::Pyramid,
-                why: format!("{pyramids} height map(s) read by pyramid methods"),
+                why: format!(
+                    "{pyramids} height map(s) whose method, shadows or AO read the max pyramid"
+                ),
+            });
+        }
+        if self.ao_maps.is_empty() {
+            self.skip(
+                Pass::AmbientOcclusion.name(),
+                "no drawn relief material asks for AO (extras.relief.ao, --ao); glTF occlusion textures are applied in the surface pass",
+            );
+        } else {
+            let modes: Vec<String> = self.ao_maps.iter().map(|a| a.mode.to_string()).collect();
+            self.passes.push(PassPlan {
+                pass: Pass::AmbientOcclusion,
+                why: format!(
+                    "{} AO map(s) ({}) for relief materials, built once in the first frame",
+                    self.ao_maps.len(),
+                    modes.join(", ")
+                ),
             });
         }
         self.passes.push(PassPlan {
@@ -351,10 +411,6 @@ impl Plan {
         } else {
             self.skip(Pass::SelfShadowRays.name(), "no light casts shadows");
         }
-        self.skip(
-            "ambient occlusion pass",
-            "not requested; materials' occlusion textures are applied in the surface pass",
-        );
     }
 }
 
@@ -452,5 +508,38 @@ mod tests {
         let whats: Vec<&str> = p.skipped.iter().map(|x| x.what.as_str()).collect();
         assert!(whats.contains(&"mesh \"q1\""), "{whats:?}");
         assert!(whats.contains(&"material \"m1\""), "{whats:?}");
+    }
+
+    #[test]
+    fn ao_maps_are_planned_only_when_asked_and_shared() {
+        let mut s = scene(&[Some("pom"), Some("pom"), Some("qdm")], false);
+        let p = plan(&s);
+        assert!(p.ao_maps.is_empty());
+        assert!(p.skipped.iter().any(|k| k.what == "ao map"));
+        let horizon = AoMode::Horizon {
+            directions: 8,
+            rotated: false,
+        };
+        for m in &mut s.materials[..2] {
+            m.relief.as_mut().expect("relief").ao = horizon;
+        }
+        let p = plan(&s);
+        assert_eq!(
+            p.ao_maps.len(),
+            1,
+            "two materials, one map: {:?}",
+            p.ao_maps
+        );
+        assert_eq!(p.draws[0].ao, Some(0));
+        assert_eq!(p.draws[1].ao, Some(0));
+        assert_eq!(p.draws[2].ao, None);
+        let pom_heights = p.draws[0].heights.expect("relief");
+        assert!(
+            p.heights[pom_heights].pyramid,
+            "horizon AO reads the pyramid"
+        );
+        assert!(p.passes.iter().any(|x| x.pass == Pass::AmbientOcclusion));
+        s.materials[1].relief.as_mut().expect("relief").depth_scale = 0.1;
+        assert_eq!(plan(&s).ao_maps.len(), 2, "AO depends on the depth scale");
     }
 }
