@@ -7,6 +7,7 @@ mod results;
 mod runner;
 mod shading;
 mod shading_report;
+mod shadow_stability;
 mod shadow_stats;
 mod stability;
 mod subgroup_steps;
@@ -19,6 +20,7 @@ pub use report::render_report;
 pub use results::{BenchDevice, BenchResults, GpuMs, MapBuild, Run, StabilityCell};
 pub use runner::{plan_jobs, Job, Runner, Section};
 pub use shading::{measure_shadows, ShadingConfig, ShadowRun};
+pub use shadow_stability::{shadow_stability, ShadowStabilityCell};
 pub use shadow_stats::{
     compare_fractions, reference_fractions, shadow_stats, ShadowStats, LEAK_DARK, LEAK_LIT,
 };

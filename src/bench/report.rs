@@ -37,6 +37,7 @@ pub fn render_report(results: &BenchResults) -> (String, Vec<(String, String)>) 
     maps(&mut md, results);
     stability(&mut md, &results.stability);
     super::shading_report::shadows(&mut md, &results.shadows);
+    super::shading_report::shadow_stability(&mut md, &results.shadow_stability);
     (md, plots(results))
 }
 

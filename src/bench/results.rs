@@ -4,6 +4,7 @@
 use serde::Serialize;
 
 use super::shading::ShadowRun;
+use super::shadow_stability::ShadowStabilityCell;
 use super::subgroup_steps::TimedSteps;
 use super::trace_stats::{Spread, StepStats};
 use crate::method::Budget;
@@ -106,6 +107,8 @@ pub struct BenchResults {
     pub stability: Vec<StabilityCell>,
     /// The shading section: shadow modes against the exact visible fraction.
     pub shadows: Vec<ShadowRun>,
+    /// Shadow modes under extreme lights on degenerate fields.
+    pub shadow_stability: Vec<ShadowStabilityCell>,
 }
 
 /// The device every number was measured on.

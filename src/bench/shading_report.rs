@@ -6,6 +6,7 @@
 use std::fmt::Write as _;
 
 use super::shading::ShadowRun;
+use super::shadow_stability::ShadowStabilityCell;
 
 fn distinct<T: PartialEq + Copy>(items: impl Iterator<Item = T>) -> Vec<T> {
     let mut out = Vec::new();
@@ -133,6 +134,51 @@ fn summary(md: &mut String, runs: &[ShadowRun]) {
                 h / p
             );
         }
+    }
+    md.push('\n');
+}
+
+/// Writes the shading rows of the stability matrix (nothing when they were not run).
+pub fn shadow_stability(md: &mut String, cells: &[ShadowStabilityCell]) {
+    if cells.is_empty() {
+        return;
+    }
+    let modes = distinct(cells.iter().map(|c| c.mode.as_str()));
+    let _ = writeln!(
+        md,
+        "### Shadows under extreme lights
+"
+    );
+    let _ = writeln!(
+        md,
+        "QDM hits of a 16x16 ray grid, each mode's visible fraction against the exact one: mean / max \
+         absolute error, `bad n` when n fractions are NaN or outside [0, 1], `FAILED` when the case could \
+         not run.\n"
+    );
+    let _ = writeln!(md, "| case | {} |", modes.join(" | "));
+    let _ = writeln!(md, "|---|{}", "---|".repeat(modes.len()));
+    for case in distinct(cells.iter().map(|c| c.case.as_str())) {
+        let row: Vec<String> = modes
+            .iter()
+            .map(
+                |m| match cells.iter().find(|c| c.case == case && c.mode == *m) {
+                    None => "-".into(),
+                    Some(c) if c.failed.is_some() => "FAILED".into(),
+                    Some(c) if c.bad_values > 0 => format!("bad {}", c.bad_values),
+                    Some(c) => format!("{:.3} / {:.3}", c.mean_error, c.max_error),
+                },
+            )
+            .collect();
+        let _ = writeln!(md, "| {case} | {} |", row.join(" | "));
+    }
+    for c in cells.iter().filter(|c| c.failed.is_some()) {
+        let _ = writeln!(
+            md,
+            "- {} on {}: {}",
+            c.mode,
+            c.case,
+            c.failed.as_deref().unwrap_or("")
+        );
     }
     md.push('\n');
 }

@@ -268,6 +268,12 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
             );
         }
     }
+    let shadow_stability = if shading.is_some() && cfg.stability {
+        note(&bar, "stability: shadows under extreme lights", args.json);
+        relief::bench::shadow_stability(&ctx)
+    } else {
+        Vec::new()
+    };
     bar.finish_and_clear();
     super::check_validation(&ctx)?;
     let results = BenchResults {
@@ -277,6 +283,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         maps: runner.map_builds,
         stability,
         shadows,
+        shadow_stability,
     };
     write_outputs(&args.out, &results, args.json)
 }
