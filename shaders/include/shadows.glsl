@@ -33,8 +33,10 @@ const float MAX_SHADOW_ELEVATION = 1.5707;
 
 // How far (in texels, uv and depth together) a hard shadow ray's first hit must lie from the
 // shaded point to count as a blocker rather than the point itself seen through the method's own
-// error. A quarter texel keeps exact-leaf methods from shadowing thin slivers' worth of light.
-const float HARD_SHADOW_TEXELS = 0.25;
+// error: set per method (`hard_shadow_texels` in src/render/surface_pass.rs), small for methods
+// that meet the surface exactly, larger for fixed-step searches, whose shadow rays land short
+// or long of the point.
+layout(constant_id = 11) const float HARD_SHADOW_TEXELS = 0.25;
 
 // Farthest the sampling modes (pom-soft, horizon) spread their samples, in uv units: one map
 // width covers a repeating tile, and a clamped map is a plateau beyond its edge. The cone walk

@@ -13,6 +13,7 @@ use super::height_resources::HeightResources;
 use super::material_set::{material_layout, MaterialSets};
 use super::plan::{PipelineKey, Plan};
 use super::scene_textures::SceneTextures;
+use crate::method::Method;
 use crate::scene::{Scene, Vertex};
 use crate::shaders;
 use crate::vk::{
@@ -62,6 +63,21 @@ pub const SHADOW_MODE_ID: u32 = 8;
 pub const SHADOW_STEPS_ID: u32 = 9;
 /// Specialization constant id of `SHADOW_REACH` (horizon mode) in `shadows.glsl`.
 pub const SHADOW_REACH_ID: u32 = 10;
+/// Specialization constant id of `HARD_SHADOW_TEXELS` in `shadows.glsl`.
+pub const HARD_SHADOW_TEXELS_ID: u32 = 11;
+
+/// How far from the shaded point a hard shadow ray's hit must be to count as a blocker, in
+/// texels. Methods that meet the surface to float rounding get a twentieth of a texel (measured:
+/// a quarter let 0.13% of bricks' points at 5 degrees see past a blocker); fixed-step searches a
+/// quarter, which trades their shadow acne against leaks (POM on fbm at 15 degrees: 74% of
+/// points agree with the exact verdict at a twentieth, 90% at a quarter).
+pub fn hard_shadow_texels(method: Method) -> f32 {
+    if method.info().fixed_step {
+        0.25
+    } else {
+        0.05
+    }
+}
 
 struct MeshDraw {
     vertices: Buffer,
@@ -298,6 +314,7 @@ fn create_pipeline(
     if let Some(method) = key.method {
         let budget = method.info().default_budget;
         spec = spec
+            .f32(HARD_SHADOW_TEXELS_ID, hard_shadow_texels(method))
             .u32(0, key.max_steps.unwrap_or(budget.max_steps))
             .u32(1, budget.refine_steps)
             .u32(2, budget.leaf.spec_value());

@@ -7,7 +7,9 @@ use ash::vk;
 
 use super::gpu_heightfield::HeightFormat;
 use super::height_resources::HeightResources;
-use super::surface_pass::{SHADOW_MODE_ID, SHADOW_REACH_ID, SHADOW_STEPS_ID};
+use super::surface_pass::{
+    hard_shadow_texels, HARD_SHADOW_TEXELS_ID, SHADOW_MODE_ID, SHADOW_REACH_ID, SHADOW_STEPS_ID,
+};
 use crate::heightfield::{Address, Heightfield, MapData};
 use crate::method::{Budget, Method};
 use crate::scene::ShadowMode;
@@ -210,7 +212,8 @@ pub fn trace_repeated(
         Some(s) => (
             spec.u32(SHADOW_MODE_ID, s.mode.shader_value())
                 .u32(SHADOW_STEPS_ID, s.steps)
-                .f32(SHADOW_REACH_ID, s.horizon_reach),
+                .f32(SHADOW_REACH_ID, s.horizon_reach)
+                .f32(HARD_SHADOW_TEXELS_ID, hard_shadow_texels(req.method)),
             [s.toward[0], s.toward[1], s.toward[2], s.radius],
         ),
     };
