@@ -10,6 +10,7 @@ use relief::render::{HeightFormat, RenderOptions, Renderer};
 use relief::scene::{default_heightfield, default_scene, load_gltf, Scene, SceneOptions};
 
 use super::heightmap_args::HeightmapArgs;
+use super::lod_args::LodArgs;
 use super::pipeline_cache;
 use super::render_frames::{run_frames, CacheReport, FrameArgs};
 
@@ -65,6 +66,8 @@ pub struct RenderArgs {
     pub(super) explain: bool,
     #[command(flatten)]
     pub(super) frames: FrameArgs,
+    #[command(flatten)]
+    lod: LodArgs,
     /// Where compiled pipelines are kept between runs (default: relief/pipelines-VENDOR-DEVICE.bin
     /// under $XDG_CACHE_HOME or ~/.cache).
     #[arg(long, value_name = "PATH")]
@@ -134,7 +137,8 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     check_inputs(args)?;
     let method: Method = args.method.parse()?;
     let loaded = args.heights.load()?;
-    let scene = build_scene(args, method, loaded.is_some())?;
+    let mut scene = build_scene(args, method, loaded.is_some())?;
+    args.lod.apply(&mut scene)?;
     let ctx = super::open_device(args.device.as_deref(), args.json)?;
     let (heights, source) = match loaded {
         Some((hf, source)) => (Some(hf), source),

@@ -6,10 +6,11 @@
 use serde::Serialize;
 
 use super::frame_uniforms::MAX_LIGHTS;
+use super::lod_note;
 use super::pass::Pass;
 use crate::heightfield::{Address, Channel, Heightfield};
 use crate::method::{MapKind, Method};
-use crate::scene::{AlphaMode, HeightSource, Light, Scene, Wrap};
+use crate::scene::{AlphaMode, HeightSource, Light, Lod, Scene, Wrap};
 
 /// Where a planned height map comes from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -35,15 +36,23 @@ pub struct PipelineKey {
     pub double_sided: bool,
     pub blend: bool,
     pub self_shadow: bool,
+    /// Level of detail (relief only): the `:lod` variant with these constants.
+    pub lod: Option<Lod>,
 }
 
 impl PipelineKey {
     /// The SPIR-V variant it is built from.
     pub fn shader(&self) -> String {
-        match self.method {
-            Some(m) => m.surface_shader_key(),
-            None => "surface.frag:plain".into(),
+        match (self.method, self.lod) {
+            (Some(m), None) => m.surface_shader_key(),
+            (Some(m), Some(_)) => format!("{}:lod", m.surface_shader_key()),
+            (None, _) => "surface.frag:plain".into(),
         }
+    }
+
+    /// Whether its set 0 has binding 4, the averaged pyramid (LOD variants of pyramid methods).
+    pub fn binds_mean_pyramid(&self) -> bool {
+        self.lod.is_some() && self.method.is_some_and(|m| m.info().reads_pyramid())
     }
 }
 
@@ -58,6 +67,10 @@ pub struct HeightPlan {
     pub map: Option<MapKind>,
     /// The method whose map it is (maps are built per method row).
     pub map_method: Option<Method>,
+    /// Its draws bind binding 4 (LOD pipelines of pyramid methods); uploads differ in this.
+    pub mean_binding: bool,
+    /// The averaged pyramid is built for binding 4 (else the max pyramid stands in, unread).
+    pub mean_pyramid: bool,
 }
 
 /// One mesh's draw: which pipeline, which height map (relief only), which material.
@@ -191,7 +204,8 @@ impl Plan {
                             (key, format!("image {}", image.name), size)
                         }
                     };
-                    Some(plan.height_for(key, source, size, relief.method))
+                    let mean = lod_mean(relief.method, relief.lod);
+                    Some(plan.height_for(key, source, size, relief.method, mean))
                 }
             };
             let pipeline = PipelineKey {
@@ -200,6 +214,7 @@ impl Plan {
                 double_sided: material.double_sided,
                 blend: material.alpha_mode == AlphaMode::Blend,
                 self_shadow: casts_shadows && material.relief.is_some(),
+                lod: material.relief.and_then(|r| r.lod),
             };
             let pipeline = match plan.pipelines.iter().position(|p| *p == pipeline) {
                 Some(k) => k,
@@ -227,16 +242,18 @@ impl Plan {
         source: String,
         size: (u32, u32),
         method: Method,
+        (mean_binding, mean_pyramid): (bool, bool),
     ) -> usize {
         let pyramid = method.info().reads_pyramid();
         let map = method.info().method_map();
         let found = self
             .heights
             .iter()
-            .position(|h| h.key == key && h.map == map);
+            .position(|h| h.key == key && h.map == map && h.mean_binding == mean_binding);
         match found {
             Some(k) => {
                 self.heights[k].pyramid |= pyramid;
+                self.heights[k].mean_pyramid |= mean_pyramid;
                 k
             }
             None => {
@@ -247,6 +264,8 @@ impl Plan {
                     pyramid,
                     map,
                     map_method: map.map(|_| method),
+                    mean_binding,
+                    mean_pyramid,
                 });
                 self.heights.len() - 1
             }
@@ -307,8 +326,14 @@ impl Plan {
         if pyramids > 0 {
             self.passes.push(PassPlan {
                 pass: Pass::Pyramid,
-                why: format!("{pyramids} height map(s) read by pyramid methods"),
+                why: format!(
+                    "{pyramids} height map(s) read by pyramid methods{}",
+                    lod_note::built(&self.heights)
+                ),
             });
+        }
+        if let Some(why) = lod_note::skipped(&self.pipelines, &self.heights) {
+            self.skip(lod_note::MEAN_PYRAMID, why);
         }
         self.passes.push(PassPlan {
             pass: Pass::Surface,
@@ -332,6 +357,15 @@ impl Plan {
             "not requested; materials' occlusion textures are applied in the surface pass",
         );
     }
+}
+
+/// Whether a material's draws bind binding 4 and whether they read the averaged pyramid there.
+fn lod_mean(method: Method, lod: Option<Lod>) -> (bool, bool) {
+    let binding = lod.is_some() && method.info().reads_pyramid();
+    (
+        binding,
+        binding && lod.is_some_and(|l| l.uses_mean_pyramid()),
+    )
 }
 
 fn unique_ids(methods: &[Method]) -> String {

@@ -13,7 +13,7 @@ use super::height_resources::HeightResources;
 use super::material_set::{material_layout, MaterialSets};
 use super::plan::{PipelineKey, Plan};
 use super::scene_textures::SceneTextures;
-use crate::scene::{Scene, Vertex};
+use crate::scene::{Lod, Scene, Vertex};
 use crate::shaders;
 use crate::vk::{
     graphics_pipeline, Bind, Buffer, Context, DescriptorLayout, DescriptorPool, DescriptorSet,
@@ -60,6 +60,15 @@ impl DrawPush {
 /// Specialization constant id of `SELF_SHADOW` in `surface.frag`.
 const SELF_SHADOW_ID: u32 = 8;
 
+/// The LOD variants' constants (ids 20..=24 of `shaders/include/lod.glsl`).
+fn lod_spec_constants(spec: SpecConstants, lod: &Lod) -> SpecConstants {
+    spec.f32(20, lod.factor)
+        .f32(21, lod.bias)
+        .f32(22, lod.fade_start)
+        .f32(23, lod.fade_end)
+        .u32(24, lod.average_below)
+}
+
 struct MeshDraw {
     vertices: Buffer,
     indices: Buffer,
@@ -85,11 +94,13 @@ pub struct SurfacePass {
     _layouts: Vec<DescriptorLayout>,
 }
 
-/// The set 0 layouts: plain (uniforms only), heights, heights with a method map.
+/// The set 0 layouts: plain (uniforms only), heights, heights with a method map, heights with
+/// the averaged pyramid (LOD variants of pyramid methods, binding 4).
 struct FrameLayouts {
     plain: DescriptorLayout,
     heights: DescriptorLayout,
     heights_and_map: DescriptorLayout,
+    heights_and_mean: DescriptorLayout,
 }
 
 fn frame_layouts(ctx: &Arc<Context>) -> VkResult<FrameLayouts> {
@@ -104,6 +115,12 @@ fn frame_layouts(ctx: &Arc<Context>) -> VkResult<FrameLayouts> {
             &[ubo, tex(1), tex(2), tex(3)],
             stages,
             "height and map layout",
+        )?,
+        heights_and_mean: DescriptorLayout::new(
+            ctx,
+            &[ubo, tex(1), tex(2), tex(4)],
+            stages,
+            "height and averaged pyramid layout",
         )?,
     })
 }
@@ -146,7 +163,9 @@ impl SurfacePass {
         let height_sets = heights
             .iter()
             .map(|h| {
-                let layout = if h.has_map() {
+                let layout = if h.has_mean_binding() {
+                    &layouts.heights_and_mean
+                } else if h.has_map() {
                     &layouts.heights_and_map
                 } else {
                     &layouts.heights
@@ -180,6 +199,7 @@ impl SurfacePass {
             .map(|key| {
                 let set0 = match key.method {
                     None => &layouts.plain,
+                    Some(_) if key.binds_mean_pyramid() => &layouts.heights_and_mean,
                     Some(m) if m.info().method_map().is_some() => &layouts.heights_and_map,
                     Some(_) => &layouts.heights,
                 };
@@ -230,6 +250,7 @@ impl SurfacePass {
                 layouts.plain,
                 layouts.heights,
                 layouts.heights_and_map,
+                layouts.heights_and_mean,
                 material_layout,
             ],
             _textures: textures,
@@ -295,6 +316,9 @@ fn create_pipeline(
             .u32(0, key.max_steps.unwrap_or(budget.max_steps))
             .u32(1, budget.refine_steps)
             .u32(2, budget.leaf.spec_value());
+    }
+    if let Some(lod) = key.lod {
+        spec = lod_spec_constants(spec, &lod);
     }
     let attributes = [
         (0, vk::Format::R32G32B32_SFLOAT, 0),
