@@ -36,6 +36,9 @@ pub fn render_report(results: &BenchResults) -> (String, Vec<(String, String)>) 
     cone_vs_quadric(&mut md, results);
     maps(&mut md, results);
     stability(&mut md, &results.stability);
+    if let Some(lod) = &results.lod {
+        super::lod::report(&mut md, lod);
+    }
     (md, plots(results))
 }
 

@@ -103,6 +103,8 @@ pub struct BenchResults {
     pub runs: Vec<Run>,
     pub maps: Vec<MapBuild>,
     pub stability: Vec<StabilityCell>,
+    /// The level-of-detail section (`None` when skipped, e.g. `--no-lod`).
+    pub lod: Option<super::lod::LodSection>,
 }
 
 /// The device every number was measured on.

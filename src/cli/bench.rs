@@ -9,8 +9,8 @@ use std::io::IsTerminal;
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use relief::bench::{
-    plan_jobs, render_report, run_stiff_case, stiff_cases, BenchResults, FieldSource, Runner,
-    SweepConfig,
+    plan_jobs, render_report, run_lod_section, run_stiff_case, stiff_cases, BenchResults,
+    FieldSource, LodConfig, Runner, SweepConfig,
 };
 use relief::heightfield::{Address, Generator};
 use relief::method::Method;
@@ -59,6 +59,12 @@ pub struct BenchArgs {
     /// Skip the stability matrix.
     #[arg(long)]
     no_stability: bool,
+    /// Run only the level-of-detail section (with --quick: its small version, seconds).
+    #[arg(long, conflicts_with = "no_lod")]
+    lod_only: bool,
+    /// Skip the level-of-detail section.
+    #[arg(long)]
+    no_lod: bool,
     #[arg(long, value_name = "repeat|clamp", default_value_t = Address::Repeat)]
     address: Address,
     #[arg(long, value_enum, default_value = "r16")]
@@ -186,13 +192,17 @@ fn note(bar: &ProgressBar, what: &str, quiet: bool) {
 pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     let cfg = config(args)?;
     let ctx = super::open_device(args.device.as_deref(), args.json)?;
-    let jobs = plan_jobs(&cfg);
+    let jobs = if args.lod_only {
+        Vec::new()
+    } else {
+        plan_jobs(&cfg)
+    };
     let largest = if cfg.quick {
         1024
     } else {
         8192.min(ctx.info().max_image_dimension_2d)
     };
-    let cases = if cfg.stability {
+    let cases = if cfg.stability && !args.lod_only {
         stiff_cases(largest)
     } else {
         Vec::new()
@@ -232,6 +242,12 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
             bar.inc(1);
         }
     }
+    let lod = if args.no_lod {
+        None
+    } else {
+        note(&bar, "level of detail", args.json);
+        Some(run_lod_section(&ctx, &lod_config(args, &cfg)).context("the LOD section")?)
+    };
     bar.finish_and_clear();
     super::check_validation(&ctx)?;
     let results = BenchResults {
@@ -240,8 +256,24 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         runs,
         maps: runner.map_builds,
         stability,
+        lod,
     };
     write_outputs(&args.out, &results, args.json)
+}
+
+/// The LOD section's settings: quick or full, with the sweep's methods when --methods names
+/// some, and its height format.
+fn lod_config(args: &BenchArgs, cfg: &SweepConfig) -> LodConfig {
+    let mut lod = if args.quick {
+        LodConfig::quick()
+    } else {
+        LodConfig::full()
+    };
+    if !args.methods.is_empty() {
+        lod.methods = cfg.methods.clone();
+    }
+    lod.format = cfg.format;
+    lod
 }
 
 fn write_outputs(out: &std::path::Path, results: &BenchResults, json: bool) -> anyhow::Result<()> {
