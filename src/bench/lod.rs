@@ -189,38 +189,61 @@ pub fn render_timed(
     frames: u32,
     format: HeightFormat,
 ) -> Result<(Vec<u8>, FrameMs), RenderError> {
+    let mut out = render_interleaved(ctx, std::slice::from_ref(scene), hf, size, frames, format)?;
+    out.pop()
+        .ok_or_else(|| RenderError::Vulkan(crate::vk::VkError::Invalid("no render".into())))
+}
+
+/// [`render_timed`] for several scenes at once, their frames taken in turn (one of each, then
+/// the next round), so a machine whose load changes during the run slows them alike.
+pub fn render_interleaved(
+    ctx: &Arc<Context>,
+    scenes: &[Scene],
+    hf: &Heightfield,
+    size: (u32, u32),
+    frames: u32,
+    format: HeightFormat,
+) -> Result<Vec<(Vec<u8>, FrameMs)>, RenderError> {
     let opts = RenderOptions {
         width: size.0,
         height: size.1,
         height_format: format,
         address: Address::Repeat,
     };
-    let mut renderer = Renderer::new(ctx, scene, Some(hf), &opts)?;
-    let camera = renderer.default_camera();
-    let (mut gpu, mut wall) = (Vec::new(), Vec::new());
-    let mut pixels = Vec::new();
+    let mut renderers = scenes
+        .iter()
+        .map(|scene| Renderer::new(ctx, scene, Some(hf), &opts))
+        .collect::<Result<Vec<_>, _>>()?;
+    let mut gpu = vec![Vec::new(); scenes.len()];
+    let mut wall = vec![Vec::new(); scenes.len()];
+    let mut pixels = vec![Vec::new(); scenes.len()];
     for k in 0..=frames {
-        let started = std::time::Instant::now();
-        let out = renderer.draw(&FrameRequest {
-            camera,
-            read_back: k == frames,
-        })?;
-        let elapsed = started.elapsed().as_secs_f64() * 1e3;
-        let surface = out.timings.iter().find(|t| t.pass == Pass::Surface);
-        // Frame 0 builds the pyramids and pays the shader JIT; the last reads pixels back.
-        if let (true, Some(t)) = (k > 0, surface) {
-            gpu.push(t.gpu_ms);
-            if k < frames || frames == 1 {
-                wall.push(elapsed);
+        for (j, renderer) in renderers.iter_mut().enumerate() {
+            let camera = renderer.default_camera();
+            let started = std::time::Instant::now();
+            let out = renderer.draw(&FrameRequest {
+                camera,
+                read_back: k == frames,
+            })?;
+            let elapsed = started.elapsed().as_secs_f64() * 1e3;
+            let surface = out.timings.iter().find(|t| t.pass == Pass::Surface);
+            // Frame 0 builds the pyramids and pays the shader JIT; the last reads pixels back.
+            if let (true, Some(t)) = (k > 0, surface) {
+                gpu[j].push(t.gpu_ms);
+                if k < frames || frames == 1 {
+                    wall[j].push(elapsed);
+                }
+            }
+            if let Some(rgba) = out.rgba {
+                pixels[j] = rgba;
             }
         }
-        pixels = out.rgba.unwrap_or(pixels);
     }
-    let ms = FrameMs {
-        gpu: GpuMs::of(&gpu),
-        wall: GpuMs::of(&wall),
-    };
-    Ok((pixels, ms))
+    let times = gpu.iter().zip(&wall).map(|(g, w)| FrameMs {
+        gpu: GpuMs::of(g),
+        wall: GpuMs::of(w),
+    });
+    Ok(pixels.into_iter().zip(times).collect())
 }
 
 fn srgb_to_linear(c: f64) -> f64 {
@@ -315,15 +338,15 @@ fn measure_method(
     let scene = |lod| receding_plane(method, lod, cfg.depth_scale, cfg.elevation_deg);
     let (big, _) = render_timed(ctx, &scene(None), hf, (w * k, h * k), 0, cfg.format)?;
     let reference = downsample(&big, w * k, h * k, k);
-    let shot = |lod| render_timed(ctx, &scene(lod), hf, (w, h), cfg.frames, cfg.format);
     let faded = Lod {
         fade_start: cfg.fade.0,
         fade_end: cfg.fade.1,
         ..cfg.lod
     };
-    let (off, ms_off) = shot(None)?;
-    let (on, ms_on) = shot(Some(cfg.lod))?;
-    let (fade, ms_fade) = shot(Some(faded))?;
+    let scenes = [scene(None), scene(Some(cfg.lod)), scene(Some(faded))];
+    let shots = render_interleaved(ctx, &scenes, hf, (w, h), cfg.frames, cfg.format)?;
+    let [(off, ms_off), (on, ms_on), (fade, ms_fade)] = <[_; 3]>::try_from(shots)
+        .map_err(|_| RenderError::Vulkan(crate::vk::VkError::Invalid("3 renders".into())))?;
     let saved = |ms: &FrameMs| 1.0 - ms.wall.min / ms_off.wall.min.max(1e-9);
     Ok(LodRun {
         method: method.id().into(),
@@ -348,11 +371,11 @@ fn measure_scaling(ctx: &Arc<Context>, cfg: &LodConfig) -> Result<Option<LodScal
     let mut on = [0.0; 2];
     for (i, side) in [small, large].into_iter().enumerate() {
         let hf = cfg.field.generate(side, side, 1);
-        for (lod, dst) in [(None, &mut off), (Some(cfg.lod), &mut on)] {
-            let scene = receding_plane(qdm, lod, cfg.depth_scale, cfg.elevation_deg);
-            let (_, ms) = render_timed(ctx, &scene, &hf, cfg.resolution, cfg.frames, cfg.format)?;
-            dst[i] = ms.wall.min;
-        }
+        let scenes = [None, Some(cfg.lod)]
+            .map(|lod| receding_plane(qdm, lod, cfg.depth_scale, cfg.elevation_deg));
+        let shots = render_interleaved(ctx, &scenes, &hf, cfg.resolution, cfg.frames, cfg.format)?;
+        off[i] = shots[0].1.wall.min;
+        on[i] = shots[1].1.wall.min;
     }
     Ok(Some(LodScaling {
         method: qdm.id().into(),

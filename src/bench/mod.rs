@@ -13,8 +13,8 @@ mod sweep;
 mod trace_stats;
 
 pub use lod::{
-    downsample, image_error, receding_plane, render_timed, run_lod_section, ImageError, LodConfig,
-    LodRun, LodScaling, LodSection,
+    downsample, image_error, receding_plane, render_interleaved, render_timed, run_lod_section,
+    ImageError, LodConfig, LodRun, LodScaling, LodSection,
 };
 pub use npy::write_npy_f32;
 pub use report::render_report;

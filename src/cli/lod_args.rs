@@ -42,7 +42,8 @@ impl LodArgs {
             (lod.fade_start, lod.fade_end) = (start, end);
         }
         lod.average_below = self.lod_average_below.unwrap_or(lod.average_below);
-        lod.validate("--lod").map_err(anyhow::Error::msg)?;
+        lod.validate("lod")
+            .map_err(|e| anyhow::anyhow!("--lod-*: {e}"))?;
         Ok(Some(lod))
     }
 
@@ -53,5 +54,29 @@ impl LodArgs {
         };
         let reliefs = scene.materials.iter_mut().filter_map(|m| m.relief.as_mut());
         Ok(reliefs.map(|r| r.lod = Some(lod)).count())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn args(fade: &[f32], factor: Option<f32>) -> LodArgs {
+        LodArgs {
+            lod: false,
+            lod_factor: factor,
+            lod_bias: None,
+            lod_fade: fade.to_vec(),
+            lod_average_below: None,
+        }
+    }
+
+    #[test]
+    fn flags_imply_lod_and_are_checked() {
+        assert_eq!(args(&[], None).settings().unwrap(), None);
+        let lod = args(&[2.0, 4.0], Some(0.5)).settings().unwrap().unwrap();
+        assert_eq!((lod.factor, lod.fade_start, lod.fade_end), (0.5, 2.0, 4.0));
+        let err = args(&[5.0, 4.0], None).settings().unwrap_err().to_string();
+        assert!(err.contains("lod.fade_end"), "{err}");
     }
 }
