@@ -1,7 +1,8 @@
 //! Level of detail on lavapipe: the averaged pyramid equals its CPU definition, and a receding
 //! plane rendered with LOD stays within a tolerance of a supersampled render without it, while
 //! its minified far region differs from the full-detail render (the traversal stopped early).
-//! LOD off is covered by the golden tests: its variants are unchanged. Never asserts on time.
+//! `--explain` says whether the averaged pyramid was built. LOD off is covered by the golden tests:
+//! its variants are unchanged. Never asserts on time.
 
 mod common;
 
@@ -134,4 +135,61 @@ fn lod_fade_ends_in_normal_mapping_without_nan() {
         "black pixels appear only with the trace skipped"
     );
     common::assert_no_validation_errors(&ctx);
+}
+
+/// `relief render --explain` of the default scene with `extra` flags: the plan as JSON.
+fn explain(name: &str, extra: &[&str]) -> serde_json::Value {
+    let out = common::scratch_dir(name).join("frame.png");
+    let mut args = vec![
+        "render",
+        "--explain",
+        "--no-pipeline-cache",
+        "--method",
+        "qdm",
+    ];
+    args.extend(["--width", "48", "--height", "32", "--out"]);
+    args.push(out.to_str().expect("utf-8"));
+    args.extend(extra);
+    let run = std::process::Command::new(env!("CARGO_BIN_EXE_relief"))
+        .args(&args)
+        .output()
+        .expect("binary runs");
+    let err = String::from_utf8_lossy(&run.stderr);
+    assert!(run.status.success(), "render {extra:?} failed:\n{err}");
+    serde_json::from_slice(&run.stdout).expect("one JSON object")
+}
+
+#[test]
+fn explain_says_whether_the_averaged_pyramid_was_built() {
+    if common::device("explain_says_whether_the_averaged_pyramid_was_built").is_none() {
+        return;
+    }
+    let skipped = |plan: &serde_json::Value| {
+        let list = plan["skipped"].as_array().expect("skipped").clone();
+        list.into_iter().find(|s| s["what"] == "averaged_pyramid")
+    };
+    let off = explain("lod-off", &[]);
+    let why = skipped(&off).expect("skipped without LOD");
+    assert!(why["why"]
+        .as_str()
+        .is_some_and(|w| w.contains("no drawn material has LOD")));
+    assert_eq!(
+        off["created"]["compute_pipelines"], 1,
+        "the max pyramid only"
+    );
+
+    let on = explain("lod-on", &["--lod"]);
+    assert!(skipped(&on).is_none(), "built with LOD: {on}");
+    assert_eq!(on["heights"][0]["averaged_pyramid"], true);
+    assert_eq!(on["pipelines"][0]["shader"], "surface.frag:qdm:lod");
+    assert_eq!(
+        on["created"]["compute_pipelines"], 2,
+        "max and averaged pyramids"
+    );
+
+    let flat = explain("lod-flat", &["--lod-average-below", "0"]);
+    let why = skipped(&flat).expect("skipped at average_below 0");
+    assert!(why["why"]
+        .as_str()
+        .is_some_and(|w| w.contains("average_below")));
 }
