@@ -5,8 +5,9 @@
 //! Variants: each of the method passes (`surface.frag`, `trace.comp`) once per row of the method
 //! table, `src/method/table.rs`, which this script compiles as a module of its own: the row names
 //! the method's file (reached through the virtual include "method.glsl") and whether the variant
-//! binds the method map (binding 3). `surface.frag` also once plain (no relief),
-//! `passes/pyramid.comp` once per storage format; every other file under `passes/` once. A file in
+//! binds the method map (binding 3); `surface.frag` also once per row with level of detail
+//! (`surface.frag:<id>:lod`, RELIEF_LOD) and once plain (no relief); `passes/pyramid.comp` and
+//! `passes/mean_pyramid.comp` once per storage format; every other file under `passes/` once. A file in
 //! `shaders/methods/` that no row names fails the build.
 
 use std::fmt::Write as _;
@@ -101,13 +102,18 @@ fn variants(root: &Path) -> Vec<Variant> {
         if table::METHOD_PASSES.contains(&base.as_str()) {
             for m in table::METHODS {
                 let (defines, method_file) = method_variant(root, m);
+                if base == "surface.frag" {
+                    let lod = lod_defines(m, &defines);
+                    let key = format!("{base}:{}:lod", m.id);
+                    out.push(plain(key, lod, Some(method_file.clone())));
+                }
                 out.push(plain(
                     format!("{base}:{}", m.id),
                     defines,
                     Some(method_file),
                 ));
             }
-        } else if base == "pyramid.comp" {
+        } else if base == "pyramid.comp" || base == "mean_pyramid.comp" {
             for (fmt, qualifier) in [("r16", "r16"), ("r32f", "r32f")] {
                 let defines = vec![("HEIGHT_FORMAT".into(), qualifier.into())];
                 out.push(plain(format!("{base}:{fmt}"), defines, None));
@@ -127,6 +133,19 @@ fn method_variant(root: &Path, m: &table::MethodInfo) -> (Vec<(String, String)>,
         defines.push((table::METHOD_MAP_DEFINE.into(), "1".into()));
     }
     (defines, root.join(m.shader))
+}
+
+/// A surface variant with level of detail (shaders/include/lod.glsl): methods that read the max
+/// pyramid also bind the averaged one (binding 4); fixed-step searches scale their sample count.
+fn lod_defines(m: &table::MethodInfo, defines: &[(String, String)]) -> Vec<(String, String)> {
+    let mut lod = defines.to_vec();
+    lod.push(("RELIEF_LOD".into(), "1".into()));
+    if m.reads_pyramid() {
+        lod.push(("LOD_MEAN_PYRAMID".into(), "1".into()));
+    } else if m.fixed_step {
+        lod.push(("LOD_LINEAR_SEARCH".into(), "1".into()));
+    }
+    lod
 }
 
 /// Every method file is some row's, and every row's file exists: a method is one GLSL file plus

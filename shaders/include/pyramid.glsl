@@ -163,6 +163,11 @@ Hit pyramid_trace(Ray ray, Budget budget, int ascent, int leaf_mode) {
     float s = ray.depth_scale;
     int top = pyramid_top();
     int leaf = pyramid_leaf();
+#ifdef LOD_MEAN_PYRAMID
+    // Level of detail (lod.glsl): descend no further than the pixel's stop level.
+    int full_leaf = leaf;
+    leaf = lod_stop_level(leaf);
+#endif
     int level = top;
     float z = 0.0;
     float push = depth_per_texels(ray, CROSSING_TEXELS);
@@ -180,6 +185,9 @@ Hit pyramid_trace(Ray ray, Budget budget, int ascent, int leaf_mode) {
             vec2 cell = floor(ray_uv(ray, z) * size);
             exit_z = cell_exit_depth(ray, cell, size, z);
             float d = node_depth_cell(cell, level, s);
+#ifdef LOD_MEAN_PYRAMID
+            d = lod_node_depth(d, cell, level, full_leaf, s);
+#endif
             bool crossing = d > z && d >= exit_z;
             if (d > z && !crossing) {
                 z = d;
@@ -198,6 +206,12 @@ Hit pyramid_trace(Ray ray, Budget budget, int ascent, int leaf_mode) {
             break;
         }
         i += 1u;
+#ifdef LOD_MEAN_PYRAMID
+        // Stopped above the full-detail leaf: the ray is on the node's (blended) plane or wall.
+        if (leaf > full_leaf) {
+            return Hit(z, i, false);
+        }
+#endif
         // The exact test starts `push` back: the ray is known to be above the surface up to
         // there (every move ends on a node's plane or `push` past a searched boundary), so
         // the sliver a crossing steps over is searched too.

@@ -9,6 +9,7 @@
 // ray/bilinear-patch intersection, started `delta` before the cursor: every move ends at most
 // `delta` past a point the ray is known to be above the surface at (a node's plane, or a boundary
 // up to which the leaf was searched), so nothing before that start can hold the first hit.
+// With level of detail (LOD_MEAN_PYRAMID, lod.glsl) the descent ends at the pixel's stop level.
 #include "pyramid.glsl"
 
 Hit trace_qrm(Ray ray, Budget budget) {
@@ -36,6 +37,14 @@ Hit trace_qrm(Ray ray, Budget budget) {
             vec2 cell = floor(uv * size + quadrant) - quadrant;
             vec2 tb = next_line_depths(ray, cell, size, 0.0, cursor);
             tmin = min(tb.x, tb.y);
+#ifdef LOD_MEAN_PYRAMID
+            // Level of detail (lod.glsl): at the pixel's stop level the node's (blended) plane is
+            // the hit if the ray meets it inside the node.
+            t = lod_node_depth(t, floor(uv * size), level, leaf, s);
+            if (level > leaf && level == lod_stop && t < tmin + delta) {
+                return Hit(max(cursor, t), i + 1u, false);
+            }
+#endif
             if (level <= leaf && t < tmin + delta) {
                 at_leaf = true;
                 break;

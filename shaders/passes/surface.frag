@@ -16,6 +16,9 @@
 #ifndef PLAIN_SURFACE
 #include "heightfield.glsl"
 #include "relief_frame.glsl"
+#ifdef RELIEF_LOD
+#include "lod.glsl"
+#endif
 #include "method.glsl"
 #include "shadows.glsl"
 #endif
@@ -69,7 +72,18 @@ void main() {
     vec2 uv_h = slot_uv(SLOT_HEIGHT, in_uv0, in_uv1);
     Ray ray = Ray(uv_h, height_space_ray_dir(to_height_space(f, view) * vec3(1.0, 1.0, -1.0)),
                   depth_scale);
+#ifdef RELIEF_LOD
+    // Level of detail (lod.glsl): past the fade's end nothing is traced (normal mapping at the
+    // entry point); inside it the hit slides back along the ray to the entry.
+    lod_begin(uv_h, distance(in_world, frame.eye.xyz));
+    Hit hit = Hit(0.0, 0u, false);
+    if (lod_fade < 1.0) {
+        hit = METHOD_TRACE(ray, lod_budget(default_budget(), ray));
+    }
+    hit.z *= 1.0 - lod_fade;
+#else
     Hit hit = METHOD_TRACE(ray, default_budget());
+#endif
     float z = clamp(hit.z, 0.0, depth_scale);
     vec2 uv_hit = ray_uv(ray, z);
     // A clamp-addressed height map ends at its uv bounds: a ray that leaves them through the

@@ -1,6 +1,7 @@
 //! Measuring methods: rays from view angles, error against the exact reference, statistics,
 //! and the files the tools write (`.npy` dumps).
 
+mod lod;
 mod npy;
 mod report;
 mod results;
@@ -15,6 +16,10 @@ mod svg;
 mod sweep;
 mod trace_stats;
 
+pub use lod::{
+    downsample, image_error, receding_plane, render_interleaved, render_timed, run_lod_section,
+    ImageError, LodConfig, LodRun, LodScaling, LodSection,
+};
 pub use npy::write_npy_f32;
 pub use report::render_report;
 pub use results::{BenchDevice, BenchResults, GpuMs, MapBuild, Run, StabilityCell};

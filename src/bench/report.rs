@@ -38,6 +38,9 @@ pub fn render_report(results: &BenchResults) -> (String, Vec<(String, String)>) 
     stability(&mut md, &results.stability);
     super::shading_report::shadows(&mut md, &results.shadows);
     super::shading_report::shadow_stability(&mut md, &results.shadow_stability);
+    if let Some(lod) = &results.lod {
+        super::lod::report(&mut md, lod);
+    }
     (md, plots(results))
 }
 

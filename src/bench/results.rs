@@ -109,6 +109,8 @@ pub struct BenchResults {
     pub shadows: Vec<ShadowRun>,
     /// Shadow modes under extreme lights on degenerate fields.
     pub shadow_stability: Vec<ShadowStabilityCell>,
+    /// The level-of-detail section (`None` when skipped, e.g. `--no-lod`).
+    pub lod: Option<super::lod::LodSection>,
 }
 
 /// The device every number was measured on.

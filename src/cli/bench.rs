@@ -9,8 +9,8 @@ use std::io::IsTerminal;
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use relief::bench::{
-    measure_shadows, plan_jobs, render_report, run_stiff_case, stiff_cases, BenchResults,
-    FieldSource, Runner, ShadingConfig, SweepConfig,
+    measure_shadows, plan_jobs, render_report, run_lod_section, run_stiff_case, stiff_cases,
+    BenchResults, FieldSource, LodConfig, Runner, ShadingConfig, SweepConfig,
 };
 use relief::heightfield::{Address, Generator};
 use relief::method::Method;
@@ -65,6 +65,12 @@ pub struct BenchArgs {
     /// Run only the shading section.
     #[arg(long, conflicts_with = "no_shading")]
     shading_only: bool,
+    /// Run only the level-of-detail section (with --quick: its small version, seconds).
+    #[arg(long, conflicts_with = "no_lod")]
+    lod_only: bool,
+    /// Skip the level-of-detail section.
+    #[arg(long)]
+    no_lod: bool,
     #[arg(long, value_name = "repeat|clamp", default_value_t = Address::Repeat)]
     address: Address,
     #[arg(long, value_enum, default_value = "r16")]
@@ -192,12 +198,13 @@ fn note(bar: &ProgressBar, what: &str, quiet: bool) {
 pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     let cfg = config(args)?;
     let ctx = super::open_device(args.device.as_deref(), args.json)?;
-    let jobs = if args.shading_only {
+    let only_other = args.shading_only || args.lod_only;
+    let jobs = if only_other {
         Vec::new()
     } else {
         plan_jobs(&cfg)
     };
-    let shading = (!args.no_shading).then(|| {
+    let shading = (!args.no_shading && !args.lod_only).then(|| {
         if cfg.quick {
             ShadingConfig::quick()
         } else {
@@ -209,7 +216,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     } else {
         8192.min(ctx.info().max_image_dimension_2d)
     };
-    let cases = if cfg.stability && !args.shading_only {
+    let cases = if cfg.stability && !only_other {
         stiff_cases(largest)
     } else {
         Vec::new()
@@ -274,6 +281,12 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     } else {
         Vec::new()
     };
+    let lod = if args.no_lod || args.shading_only {
+        None
+    } else {
+        note(&bar, "level of detail", args.json);
+        Some(run_lod_section(&ctx, &lod_config(args, &cfg)).context("the LOD section")?)
+    };
     bar.finish_and_clear();
     super::check_validation(&ctx)?;
     let results = BenchResults {
@@ -284,8 +297,24 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         stability,
         shadows,
         shadow_stability,
+        lod,
     };
     write_outputs(&args.out, &results, args.json)
+}
+
+/// The LOD section's settings: quick or full, with the sweep's methods when --methods names
+/// some, and its height format.
+fn lod_config(args: &BenchArgs, cfg: &SweepConfig) -> LodConfig {
+    let mut lod = if args.quick {
+        LodConfig::quick()
+    } else {
+        LodConfig::full()
+    };
+    if !args.methods.is_empty() {
+        lod.methods = cfg.methods.clone();
+    }
+    lod.format = cfg.format;
+    lod
 }
 
 fn write_outputs(out: &std::path::Path, results: &BenchResults, json: bool) -> anyhow::Result<()> {

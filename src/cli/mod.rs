@@ -4,6 +4,7 @@
 mod bench;
 mod devices;
 mod heightmap_args;
+mod lod_args;
 mod logger;
 mod maps;
 mod methods;

@@ -10,6 +10,7 @@ use relief::render::{HeightFormat, RenderOptions, Renderer};
 use relief::scene::{default_heightfield, default_scene, load_gltf, Scene, SceneOptions};
 
 use super::heightmap_args::HeightmapArgs;
+use super::lod_args::LodArgs;
 use super::pipeline_cache;
 use super::render_frames::{run_frames, CacheReport, FrameArgs};
 use super::shading_args::ShadingArgs;
@@ -68,6 +69,8 @@ pub struct RenderArgs {
     pub(super) explain: bool,
     #[command(flatten)]
     pub(super) frames: FrameArgs,
+    #[command(flatten)]
+    lod: LodArgs,
     /// Where compiled pipelines are kept between runs (default: relief/pipelines-VENDOR-DEVICE.bin
     /// under $XDG_CACHE_HOME or ~/.cache).
     #[arg(long, value_name = "PATH")]
@@ -139,6 +142,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let loaded = args.heights.load()?;
     let mut scene = build_scene(args, method, loaded.is_some())?;
     args.shading.apply(&mut scene)?;
+    args.lod.apply(&mut scene)?;
     let ctx = super::open_device(args.device.as_deref(), args.json)?;
     let (heights, source) = match loaded {
         Some((hf, source)) => (Some(hf), source),

@@ -18,6 +18,7 @@ struct PipelineEntry {
     double_sided: bool,
     blend: bool,
     shadows: &'static str,
+    lod: bool,
 }
 
 /// The explanation of what `plan` built; `maps` are the maps built for it and `created` what
@@ -34,6 +35,7 @@ pub fn explain(plan: &Plan, maps: &[BuiltMap], created: &ObjectCounts) -> Value 
             double_sided: p.double_sided,
             blend: p.blend,
             shadows: p.shadows.mode.id(),
+            lod: p.lod.is_some(),
         })
         .collect();
     let heights: Vec<Value> = plan
@@ -45,6 +47,7 @@ pub fn explain(plan: &Plan, maps: &[BuiltMap], created: &ObjectCounts) -> Value 
                 "size": [h.size.0, h.size.1],
                 "pyramid": h.pyramid,
                 "map": h.map.map(|m| m.name()),
+                "averaged_pyramid": h.mean_pyramid,
             })
         })
         .collect();

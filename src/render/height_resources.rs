@@ -1,6 +1,7 @@
 //! What every pass that traces rays binds: the height image with its pyramid (built on the GPU),
 //! the frame uniforms with this map's height info, and the method's precomputed map when it has
-//! one. Bindings 0..=3 of `shaders/include/bindings.glsl`. The uniforms come in one host-visible
+//! one. Bindings 0..=3 of `shaders/include/bindings.glsl`, plus binding 4 (the averaged pyramid,
+//! `shaders/include/lod.glsl`) for the LOD variants of pyramid methods. The uniforms come in one host-visible
 //! copy per frame in flight, so a frame can rewrite its copy while the GPU still reads another.
 
 use std::sync::Arc;
@@ -9,6 +10,7 @@ use ash::vk;
 
 use super::frame_uniforms::FrameUniforms;
 use super::gpu_heightfield::{GpuHeightfield, HeightFormat};
+use super::mean_pyramid_pass::MeanPyramid;
 use super::method_map::GpuMethodMap;
 use super::pyramid_pass::{PyramidJob, PyramidPass};
 use crate::heightfield::{Address, Heightfield, MapData};
@@ -21,6 +23,17 @@ pub struct HeightResources {
     pyramid: Option<(PyramidPass, PyramidJob)>,
     uniforms: Vec<Buffer>,
     map: Option<GpuMethodMap>,
+    mean: MeanBinding,
+}
+
+/// What binding 4 holds.
+enum MeanBinding {
+    /// No binding 4 (non-LOD or non-pyramid variants).
+    None,
+    /// The max pyramid stands in: the variants bind 4 but their materials never read it.
+    StandIn,
+    /// The averaged pyramid, built with the max one.
+    Built(Box<MeanPyramid>),
 }
 
 /// How a height map is stored and what comes with it.
@@ -35,6 +48,10 @@ pub struct HeightUpload<'a> {
     pub pyramid: bool,
     /// Copies of the uniforms, one per frame in flight.
     pub slots: usize,
+    /// Whether draws bind binding 4 (LOD variants of pyramid methods).
+    pub mean_binding: bool,
+    /// Whether binding 4 is the averaged pyramid, built here (else the max pyramid stands in).
+    pub mean_pyramid: bool,
 }
 
 impl HeightResources {
@@ -54,6 +71,8 @@ impl HeightResources {
             map,
             pyramid: true,
             slots: 1,
+            mean_binding: false,
+            mean_pyramid: false,
         };
         Self::upload(ctx, hf, &upload, frame)
     }
@@ -71,6 +90,8 @@ impl HeightResources {
             map,
             pyramid,
             slots,
+            mean_binding,
+            mean_pyramid,
         } = *upload;
         let (heights, pyramid) = if pyramid {
             let heights = GpuHeightfield::upload(ctx, hf, format, address)?;
@@ -95,11 +116,17 @@ impl HeightResources {
         let map = map
             .map(|m| GpuMethodMap::upload(ctx, m, address, "method map"))
             .transpose()?;
+        let mean = match (mean_binding, mean_pyramid) {
+            (false, _) => MeanBinding::None,
+            (true, false) => MeanBinding::StandIn,
+            (true, true) => MeanBinding::Built(Box::new(MeanPyramid::new(ctx, hf, format)?)),
+        };
         Ok(HeightResources {
             heights,
             pyramid,
             uniforms,
             map,
+            mean,
         })
     }
 
@@ -112,6 +139,9 @@ impl HeightResources {
         ];
         if self.map.is_some() {
             list.push((3, vk::DescriptorType::COMBINED_IMAGE_SAMPLER));
+        }
+        if self.has_mean_binding() {
+            list.push((4, vk::DescriptorType::COMBINED_IMAGE_SAMPLER));
         }
         list
     }
@@ -133,12 +163,21 @@ impl HeightResources {
         if let Some(map) = &self.map {
             list.push(Bind::Texture(3, map.image.view(), map.sampler.raw()));
         }
+        let point = self.heights.point.raw();
+        match &self.mean {
+            MeanBinding::None => {}
+            MeanBinding::StandIn => list.push(Bind::Texture(4, view, point)),
+            MeanBinding::Built(mean) => list.push(Bind::Texture(4, mean.view(), point)),
+        }
         list
     }
 
     /// Records the pyramid build (if there is one); afterwards the height image is ready for
     /// sampling.
     pub fn record_pyramid(&self, rec: &Recording) -> VkResult<()> {
+        if let MeanBinding::Built(mean) = &self.mean {
+            mean.record(rec)?;
+        }
         match &self.pyramid {
             Some((pass, job)) => pass.record(rec, &self.heights, job),
             None => Ok(()),
@@ -165,6 +204,16 @@ impl HeightResources {
     /// Whether a method map is bound (binding 3).
     pub fn has_map(&self) -> bool {
         self.map.is_some()
+    }
+
+    /// Whether binding 4 is bound (LOD variants of pyramid methods).
+    pub fn has_mean_binding(&self) -> bool {
+        !matches!(self.mean, MeanBinding::None)
+    }
+
+    /// Whether the averaged pyramid is built here.
+    pub fn has_mean_pyramid(&self) -> bool {
+        matches!(self.mean, MeanBinding::Built(_))
     }
 
     /// Whether the height image carries a max pyramid.

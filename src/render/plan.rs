@@ -6,11 +6,12 @@
 use serde::Serialize;
 
 use super::frame_uniforms::MAX_LIGHTS;
+use super::lod_note;
 use super::pass::Pass;
 use crate::heightfield::{Address, Channel, Heightfield};
 use crate::method::{MapKind, Method};
 use crate::scene::{
-    AlphaMode, AoMode, HeightSource, Light, Scene, ShadowMode, ShadowSettings, Wrap,
+    AlphaMode, AoMode, HeightSource, Light, Lod, Scene, ShadowMode, ShadowSettings, Wrap,
 };
 
 /// Where a planned height map comes from.
@@ -39,15 +40,23 @@ pub struct PipelineKey {
     /// How the height field shadows it (mode `none` without relief or without a shadow-casting
     /// light).
     pub shadows: ShadowSettings,
+    /// Level of detail (relief only): the `:lod` variant with these constants.
+    pub lod: Option<Lod>,
 }
 
 impl PipelineKey {
     /// The SPIR-V variant it is built from.
     pub fn shader(&self) -> String {
-        match self.method {
-            Some(m) => m.surface_shader_key(),
-            None => "surface.frag:plain".into(),
+        match (self.method, self.lod) {
+            (Some(m), None) => m.surface_shader_key(),
+            (Some(m), Some(_)) => format!("{}:lod", m.surface_shader_key()),
+            (None, _) => "surface.frag:plain".into(),
         }
+    }
+
+    /// Whether its set 0 has binding 4, the averaged pyramid (LOD variants of pyramid methods).
+    pub fn binds_mean_pyramid(&self) -> bool {
+        self.lod.is_some() && self.method.is_some_and(|m| m.info().reads_pyramid())
     }
 }
 
@@ -62,6 +71,10 @@ pub struct HeightPlan {
     pub map: Option<MapKind>,
     /// The method whose map it is (maps are built per method row).
     pub map_method: Option<Method>,
+    /// Its draws bind binding 4 (LOD pipelines of pyramid methods); uploads differ in this.
+    pub mean_binding: bool,
+    /// The averaged pyramid is built for binding 4 (else the max pyramid stands in, unread).
+    pub mean_pyramid: bool,
 }
 
 /// One mesh's draw: which pipeline, which height map (relief only), which material.
@@ -214,7 +227,9 @@ impl Plan {
                     } else {
                         ShadowMode::None
                     };
-                    Some(plan.height_for(key, source, size, relief.method, shadows, relief.ao))
+                    let mean = lod_mean(relief.method, relief.lod);
+                    let reads = (shadows, relief.ao, mean);
+                    Some(plan.height_for(key, source, size, relief.method, reads))
                 }
             };
             let ao = match (material.relief, heights) {
@@ -232,6 +247,7 @@ impl Plan {
                     Some(relief) if casts_shadows => relief.shadows,
                     _ => ShadowSettings::new(ShadowMode::None),
                 },
+                lod: material.relief.and_then(|r| r.lod),
             };
             let pipeline = match plan.pipelines.iter().position(|p| *p == pipeline) {
                 Some(k) => k,
@@ -260,8 +276,7 @@ impl Plan {
         source: String,
         size: (u32, u32),
         method: Method,
-        shadows: ShadowMode,
-        ao: AoMode,
+        (shadows, ao, (mean_binding, mean_pyramid)): (ShadowMode, AoMode, (bool, bool)),
     ) -> usize {
         let pyramid = method.info().reads_pyramid()
             || shadows.reads_pyramid()
@@ -270,10 +285,11 @@ impl Plan {
         let found = self
             .heights
             .iter()
-            .position(|h| h.key == key && h.map == map);
+            .position(|h| h.key == key && h.map == map && h.mean_binding == mean_binding);
         match found {
             Some(k) => {
                 self.heights[k].pyramid |= pyramid;
+                self.heights[k].mean_pyramid |= mean_pyramid;
                 k
             }
             None => {
@@ -284,6 +300,8 @@ impl Plan {
                     pyramid,
                     map,
                     map_method: map.map(|_| method),
+                    mean_binding,
+                    mean_pyramid,
                 });
                 self.heights.len() - 1
             }
@@ -361,7 +379,8 @@ impl Plan {
             self.passes.push(PassPlan {
                 pass: Pass::Pyramid,
                 why: format!(
-                    "{pyramids} height map(s) whose method, shadows or AO read the max pyramid"
+                    "{pyramids} height map(s) whose method, shadows or AO read the max pyramid{}",
+                    lod_note::built(&self.heights)
                 ),
             });
         }
@@ -380,6 +399,9 @@ impl Plan {
                     modes.join(", ")
                 ),
             });
+        }
+        if let Some(why) = lod_note::skipped(&self.pipelines, &self.heights) {
+            self.skip(lod_note::MEAN_PYRAMID, why);
         }
         self.passes.push(PassPlan {
             pass: Pass::Surface,
@@ -412,6 +434,15 @@ impl Plan {
             self.skip(Pass::SelfShadowRays.name(), "no light casts shadows");
         }
     }
+}
+
+/// Whether a material's draws bind binding 4 and whether they read the averaged pyramid there.
+fn lod_mean(method: Method, lod: Option<Lod>) -> (bool, bool) {
+    let binding = lod.is_some() && method.info().reads_pyramid();
+    (
+        binding,
+        binding && lod.is_some_and(|l| l.uses_mean_pyramid()),
+    )
 }
 
 fn unique_ids(methods: &[Method]) -> String {

@@ -296,6 +296,8 @@ fn upload_heights(
             map: map.as_ref().map(|built| &built.data),
             pyramid: hp.pyramid,
             slots: FRAMES_IN_FLIGHT,
+            mean_binding: hp.mean_binding,
+            mean_pyramid: hp.mean_pyramid,
         };
         heights.push(HeightResources::upload(ctx, &stored, &upload, uniforms)?);
     }

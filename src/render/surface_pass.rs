@@ -14,7 +14,7 @@ use super::material_set::{material_layout, MaterialSets};
 use super::plan::{PipelineKey, Plan};
 use super::scene_textures::SceneTextures;
 use crate::method::Method;
-use crate::scene::{Scene, Vertex};
+use crate::scene::{Lod, Scene, Vertex};
 use crate::shaders;
 use crate::vk::{
     graphics_pipeline, Bind, Buffer, Context, DescriptorLayout, DescriptorPool, DescriptorSet,
@@ -79,6 +79,15 @@ pub fn hard_shadow_texels(method: Method) -> f32 {
     }
 }
 
+/// The LOD variants' constants (ids 20..=24 of `shaders/include/lod.glsl`).
+fn lod_spec_constants(spec: SpecConstants, lod: &Lod) -> SpecConstants {
+    spec.f32(20, lod.factor)
+        .f32(21, lod.bias)
+        .f32(22, lod.fade_start)
+        .f32(23, lod.fade_end)
+        .u32(24, lod.average_below)
+}
+
 struct MeshDraw {
     vertices: Buffer,
     indices: Buffer,
@@ -104,11 +113,13 @@ pub struct SurfacePass {
     _layouts: Vec<DescriptorLayout>,
 }
 
-/// The set 0 layouts: plain (uniforms only), heights, heights with a method map.
+/// The set 0 layouts: plain (uniforms only), heights, heights with a method map, heights with
+/// the averaged pyramid (LOD variants of pyramid methods, binding 4).
 struct FrameLayouts {
     plain: DescriptorLayout,
     heights: DescriptorLayout,
     heights_and_map: DescriptorLayout,
+    heights_and_mean: DescriptorLayout,
 }
 
 fn frame_layouts(ctx: &Arc<Context>) -> VkResult<FrameLayouts> {
@@ -123,6 +134,12 @@ fn frame_layouts(ctx: &Arc<Context>) -> VkResult<FrameLayouts> {
             &[ubo, tex(1), tex(2), tex(3)],
             stages,
             "height and map layout",
+        )?,
+        heights_and_mean: DescriptorLayout::new(
+            ctx,
+            &[ubo, tex(1), tex(2), tex(4)],
+            stages,
+            "height and averaged pyramid layout",
         )?,
     })
 }
@@ -165,7 +182,9 @@ impl SurfacePass {
         let height_sets = heights
             .iter()
             .map(|h| {
-                let layout = if h.has_map() {
+                let layout = if h.has_mean_binding() {
+                    &layouts.heights_and_mean
+                } else if h.has_map() {
                     &layouts.heights_and_map
                 } else {
                     &layouts.heights
@@ -199,6 +218,7 @@ impl SurfacePass {
             .map(|key| {
                 let set0 = match key.method {
                     None => &layouts.plain,
+                    Some(_) if key.binds_mean_pyramid() => &layouts.heights_and_mean,
                     Some(m) if m.info().method_map().is_some() => &layouts.heights_and_map,
                     Some(_) => &layouts.heights,
                 };
@@ -249,6 +269,7 @@ impl SurfacePass {
                 layouts.plain,
                 layouts.heights,
                 layouts.heights_and_map,
+                layouts.heights_and_mean,
                 material_layout,
             ],
             _textures: textures,
@@ -318,6 +339,9 @@ fn create_pipeline(
             .u32(0, key.max_steps.unwrap_or(budget.max_steps))
             .u32(1, budget.refine_steps)
             .u32(2, budget.leaf.spec_value());
+    }
+    if let Some(lod) = key.lod {
+        spec = lod_spec_constants(spec, &lod);
     }
     let attributes = [
         (0, vk::Format::R32G32B32_SFLOAT, 0),

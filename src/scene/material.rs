@@ -1,5 +1,6 @@
 //! Materials: glTF metallic-roughness with textures, samplers and uv transforms, plus relief.
 
+use super::lod::Lod;
 use super::shading::{AoMode, ShadowSettings};
 use crate::heightfield::Channel;
 use crate::method::Method;
@@ -156,6 +157,8 @@ pub struct Relief {
     pub shadows: ShadowSettings,
     /// Ambient occlusion from the height field.
     pub ao: AoMode,
+    /// Level of detail; `None` traces every pixel at full detail.
+    pub lod: Option<Lod>,
 }
 
 impl Relief {
@@ -168,6 +171,7 @@ impl Relief {
             height: HeightSource::Frame,
             shadows: ShadowSettings::default(),
             ao: AoMode::default(),
+            lod: None,
         }
     }
 }

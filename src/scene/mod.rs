@@ -15,6 +15,7 @@ mod gltf_nodes;
 mod gltf_prepass;
 mod gltf_skin_check;
 mod light_extras;
+mod lod;
 mod material;
 mod primitives;
 mod relief_extras;
@@ -26,6 +27,7 @@ pub use camera::{Camera, Projection};
 pub use camera_path::{CameraPath, Interpolation, Keyed, Keyframe, NodeMotion, Track, TrackError};
 pub use gltf_load::{load_gltf, load_gltf_with_report, LoadReport, SceneError, SceneOptions};
 pub use light_extras::MAX_ANGULAR_RADIUS_DEG;
+pub use lod::Lod;
 pub use material::{
     AlphaMode, Filter, HeightSource, Material, Relief, SamplerDesc, TextureRef, TextureSlot,
     UvTransform, Wrap,

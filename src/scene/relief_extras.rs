@@ -4,7 +4,8 @@
 //! "extras": { "relief": {
 //!     "height": { "index": 3, "texCoord": 0, "channel": "a", "invert": false },
 //!     "depth_scale": 0.05, "method": "qdm", "budget": 64,
-//!     "shadows": "horizon", "shadow_steps": 5, "horizon_reach": 1.0, "ao": "horizon-8" } }
+//!     "shadows": "horizon", "shadow_steps": 5, "horizon_reach": 1.0, "ao": "horizon-8",
+//!     "lod": { "factor": 1, "bias": 0, "fade_start": 0, "fade_end": 0, "average_below": 16 } } }
 //! ```
 //!
 //! `depth_scale` is required (finite, > 0). Defaults: `method` "pom", `budget` none (the
@@ -12,7 +13,11 @@
 //! `shadow_steps` (samples or the cone walk's cap, 1..=4096; the mode's default) and
 //! `horizon_reach` (the horizon mode's light vector scale, > 0; 1), `ao` "none"
 //! (`horizon-4|8|16`, optionally `-rotated`, or `exact-horizon`), `height.texCoord` 0,
-//! `height.channel` "r", `height.invert` false. Without
+//! `height.channel` "r", `height.invert` false, `lod` off (`true` takes the defaults shown above;
+//! `false` is off; an object sets any of those fields: `factor` >= 0 scales the pixel's mip level
+//! into the traversal's stop level, `bias` is added to it, past `fade_start` world units from the
+//! eye the relief fades to normal mapping until `fade_end` (0: no fade), and stop levels below
+//! `average_below` end on the averaged pyramid, 0 never). Without
 //! `height` the material takes the frame's height map. Extras without `relief` are ignored;
 //! unknown keys inside `relief` are errors, so a misspelt setting is not silently dropped.
 
@@ -21,7 +26,7 @@ use std::str::FromStr;
 
 use serde_json::{Map, Value};
 
-use super::{AoMode, HeightSource, Relief, ShadowMode, ShadowSettings, TextureRef};
+use super::{AoMode, HeightSource, Lod, Relief, ShadowMode, ShadowSettings, TextureRef};
 use crate::heightfield::Channel;
 use crate::method::Method;
 
@@ -51,6 +56,7 @@ pub(super) fn parse_relief(
             "shadow_steps",
             "horizon_reach",
             "ao",
+            "lod",
         ],
     )?;
     let depth_scale = match relief.get("depth_scale") {
@@ -106,6 +112,10 @@ pub(super) fn parse_relief(
         None => AoMode::default(),
         Some(v) => parsed(v, "extras.relief.ao")?,
     };
+    let lod = match relief.get("lod") {
+        None => None,
+        Some(v) => Lod::from_json(v, "extras.relief.lod")?,
+    };
     Ok(Some(Relief {
         depth_scale,
         method,
@@ -113,6 +123,7 @@ pub(super) fn parse_relief(
         height,
         shadows,
         ao,
+        lod,
     }))
 }
 
@@ -250,6 +261,7 @@ mod tests {
         assert_eq!(r.budget, None);
         assert_eq!(r.height, HeightSource::Frame);
         assert_eq!((r.shadows, r.ao), (ShadowSettings::default(), AoMode::None));
+        assert_eq!(r.lod, None);
         let r = parse(r#"{"relief": {"depth_scale": 1, "height": {"index": 0}}}"#)
             .unwrap()
             .unwrap();
@@ -265,6 +277,23 @@ mod tests {
             (texture.image, texture.tex_coord, channel, invert),
             (10, 0, Channel::R, false)
         );
+    }
+
+    #[test]
+    fn lod_settings() {
+        let lod = |json: &str| parse(json).unwrap().unwrap().lod;
+        assert_eq!(
+            lod(r#"{"relief": {"depth_scale": 1, "lod": true}}"#),
+            Some(Lod::default())
+        );
+        assert_eq!(lod(r#"{"relief": {"depth_scale": 1, "lod": false}}"#), None);
+        let set = lod(r#"{"relief": {"depth_scale": 1, "lod": {"factor": 2, "fade_end": 9}}}"#);
+        let want = Lod {
+            factor: 2.0,
+            fade_end: 9.0,
+            ..Lod::default()
+        };
+        assert_eq!(set, Some(want));
     }
 
     #[test]
@@ -355,6 +384,10 @@ mod tests {
             (
                 r#"{"relief": {"depth_scale": 1, "ao": "horizon-3"}}"#,
                 "extras.relief.ao: unknown AO mode \"horizon-3\"",
+            ),
+            (
+                r#"{"relief": {"depth_scale": 1, "lod": {"fade": 2}}}"#,
+                "extras.relief.lod: unknown key \"fade\"",
             ),
             (
                 r#"{"relief": {"depth_scale": 1, "depthscale": 2}}"#,
