@@ -1,0 +1,230 @@
+#version 460
+// The exact-horizon AO map by line sweeps (Timonen and Westerholm 2010), one dispatch per azimuth:
+// every texel centre lies on exactly one line of lattice step `walk` (a primitive integer vector,
+// so each line passes through texel centres at every step), and one invocation walks one line.
+// Walking it, the points behind (toward the horizon direction -walk) are kept as their upper
+// convex hull on a stack: the point being visited pops every hull point that the one below it
+// hides, and its horizon is then the slope toward the top. Each point is pushed and popped at most
+// once, so a dispatch is linear in the points walked.
+//
+// The profile is the bilinear surface along the line: each texel centre on it plus every crossing
+// of a texel-centre grid line between two of them, where the bilinear surface is linear along the
+// crossed edge and so exact. (Between crossings it is a quadratic; its bulge above the chord is
+// the only thing the hull misses.)
+//
+// Addressing, as the CPU reference's: under repeat a line is an orbit of `walk` on the torus, of
+// `period` steps; it is walked twice and recorded on the second turn, when the hull holds a whole
+// period behind every point, which is all a repeating profile can add (a copy farther away of the
+// same height is seen lower). Under clamp a line starts where both coordinates have left the map
+// behind (from there on backward the clamped extension is constant, so one point stands for all
+// of it) and ends at its last texel inside the map.
+//
+// Modes: SWEEP adds weight * (slice occlusion) to each texel of the direction's lines in `accum`
+// (directions run as successive dispatches with a barrier between, so no two invocations ever
+// write one texel at once); RESOLVE writes ao = clamp(1 - accum, 0, 1) into the AO image, exactly
+// 1 where nothing occludes (every slope 0).
+#extension GL_GOOGLE_include_directive : require
+#include "ao.glsl"
+
+layout(local_size_x = 64) in;
+
+const uint MODE_SWEEP = 0u;
+const uint MODE_RESOLVE = 1u;
+// Hull entries kept per line (a power of two, render::ao_sweep::HULL_CAPACITY). A fuller stack
+// forgets its oldest, farthest entry: only a horizon seen more than 128 hull vertices away, always
+// a very flat one, can be lost.
+const uint HULL_CAPACITY = 128u;
+
+// Per line, a ring of hull entries: (lattice step as int bits, fraction of the step, height).
+layout(set = 0, binding = 2, std430) buffer Hulls {
+    vec4 hulls[];
+};
+
+// Per texel (row-major), the weighted occlusion summed over the directions done so far.
+layout(set = 0, binding = 3, std430) buffer Accum {
+    float accum[];
+};
+
+layout(push_constant, std430) uniform Params {
+    ivec2 size;
+    // The lattice step of the walk; the horizon looks the other way.
+    ivec2 walk;
+    // (x, y) with x * walk.y - y * walk.x = 1: line c of a clamped sweep passes through c * (x, y).
+    ivec2 euclid;
+    // Clamp: the first line's c = i * walk.y - j * walk.x. Repeat: unused.
+    int c_min;
+    uint lines;
+    uint repeat_address;
+    // Repeat: lattice steps around one orbit; the orbits start at (l % g_a, l / g_a).
+    uint period;
+    uint g_a;
+    uint mode;
+    float depth_scale;
+    // Length in uv of one lattice step.
+    float step_uv;
+    // The horizon's azimuth as a uv unit vector (-walk, normalised in uv).
+    vec2 dir;
+    // This azimuth's share of the circle (the weights of a sweep sum to 1).
+    float weight;
+    uint pad;
+} params;
+
+// floor(a / b) for b != 0, whatever the signs.
+int floor_div(int a, int b) {
+    int q = a / b;
+    return (q * b != a && ((a < 0) != (b < 0))) ? q - 1 : q;
+}
+
+// The lattice steps k at which coordinate p0 + k * rate lies in [0, n - 1]: (lo, hi), empty when
+// lo > hi; every k when rate is 0 and p0 is inside.
+ivec2 inside_steps(int p0, int rate, int n) {
+    if (rate == 0) {
+        return (p0 >= 0 && p0 < n) ? ivec2(-2147483647, 2147483647) : ivec2(1, 0);
+    }
+    int a = rate > 0 ? -p0 : n - 1 - p0;
+    int b = rate > 0 ? n - 1 - p0 : -p0;
+    // ceil(a / rate) .. floor(b / rate), for rate of either sign (a and b swap with it).
+    return ivec2(-floor_div(-a, rate), floor_div(b, rate));
+}
+
+struct Hull {
+    uint base;
+    uint top;
+    uint at;
+};
+
+vec4 hull_get(Hull hull, uint i) {
+    return hulls[hull.at + (i & (HULL_CAPACITY - 1u))];
+}
+
+// Visits profile point (step k + fraction f, height h): pops the hull points it hides and returns
+// the tangent of the horizon behind it (0 when nothing is above), then pushes it.
+float visit(inout Hull hull, int k, float f, float h) {
+    while (hull.top - hull.base >= 2u) {
+        vec4 t = hull_get(hull, hull.top - 1u);
+        vec4 b = hull_get(hull, hull.top - 2u);
+        float dt = float(k - floatBitsToInt(t.x)) + (f - t.y);
+        float db = float(k - floatBitsToInt(b.x)) + (f - b.y);
+        // t lies on or below the line from this point to b: it is no horizon, now or later.
+        if ((b.z - h) * dt < (t.z - h) * db) {
+            break;
+        }
+        hull.top -= 1u;
+    }
+    float tau = 0.0;
+    if (hull.top > hull.base) {
+        vec4 t = hull_get(hull, hull.top - 1u);
+        float dt = float(k - floatBitsToInt(t.x)) + (f - t.y);
+        tau = max(params.depth_scale * (t.z - h) / (dt * params.step_uv), 0.0);
+    }
+    if (hull.top - hull.base == HULL_CAPACITY) {
+        hull.base += 1u;
+    }
+    hulls[hull.at + (hull.top & (HULL_CAPACITY - 1u))] = vec4(intBitsToFloat(k), f, h, 0.0);
+    hull.top += 1u;
+    return tau;
+}
+
+// The bilinear height on the texel-centre grid line through lattice column (or row) `fixed_at`,
+// `q + r / d` along the other axis: linear along that edge, so exact.
+float edge_height(ivec2 fixed_at, ivec2 along, int r, int d, bool repeat) {
+    float h0 = ao_texel(fixed_at, 0, repeat);
+    float h1 = ao_texel(fixed_at + along, 0, repeat);
+    return h0 + (float(r) / float(d)) * (h1 - h0);
+}
+
+// Visits the crossings of grid lines strictly between lattice points p and p + walk, in order.
+void visit_crossings(inout Hull hull, ivec2 p, int k, bool repeat) {
+    ivec2 w = params.walk;
+    ivec2 aw = abs(w);
+    ivec2 sw = sign(w);
+    int mx = 1;
+    int my = 1;
+    while (mx < aw.x || my < aw.y) {
+        // mx / |w.x| < my / |w.y| without division (never equal: the walk is primitive).
+        bool column = my >= aw.y || (mx < aw.x && mx * aw.y < my * aw.x);
+        if (column) {
+            int across = mx * w.y;
+            int q = floor_div(across, aw.x);
+            visit(hull, k, float(mx) / float(aw.x),
+                  edge_height(p + ivec2(sw.x * mx, q), ivec2(0, 1), across - q * aw.x, aw.x, repeat));
+            ++mx;
+        } else {
+            int across = my * w.x;
+            int q = floor_div(across, aw.y);
+            visit(hull, k, float(my) / float(aw.y),
+                  edge_height(p + ivec2(q, sw.y * my), ivec2(1, 0), across - q * aw.y, aw.y, repeat));
+            ++my;
+        }
+    }
+}
+
+// The line's first lattice point, the step to start at and the steps [first, last] to record.
+void line_span(uint l, bool repeat, out ivec2 p0, out int start, out ivec2 record) {
+    if (repeat) {
+        p0 = ivec2(int(l % params.g_a), int(l / params.g_a));
+        start = 0;
+        record = ivec2(int(params.period), 2 * int(params.period) - 1);
+        return;
+    }
+    int c = params.c_min + int(l);
+    ivec2 origin = c * params.euclid;
+    ivec2 ix = inside_steps(origin.x, params.walk.x, params.size.x);
+    ivec2 iy = inside_steps(origin.y, params.walk.y, params.size.y);
+    record = ivec2(max(ix.x, iy.x), min(ix.y, iy.y));
+    // Back to where every moving coordinate is outside the map, the clamped extension constant.
+    int before_x = params.walk.x != 0 ? ix.x - 1 : 2147483647;
+    int before_y = params.walk.y != 0 ? iy.x - 1 : 2147483647;
+    start = min(before_x, before_y);
+    p0 = origin + start * params.walk;
+    record -= start;
+    start = 0;
+}
+
+void sweep() {
+    uint l = gl_GlobalInvocationID.x;
+    if (l >= params.lines) {
+        return;
+    }
+    bool repeat = params.repeat_address != 0u;
+    ivec2 p;
+    int start;
+    ivec2 record;
+    line_span(l, repeat, p, start, record);
+    if (record.x > record.y) {
+        return;
+    }
+    Hull hull = Hull(0u, 0u, l * HULL_CAPACITY);
+    for (int k = start; k <= record.y; ++k) {
+        float tau = visit(hull, k, 0.0, ao_texel(p, 0, repeat));
+        if (k >= record.x) {
+            vec3 n = ao_normal(p, params.size, params.depth_scale, repeat);
+            uint index = uint(p.y * params.size.x + p.x);
+            accum[index] += params.weight * ao_slice_occlusion(n, params.dir, tau);
+        }
+        if (k < record.y) {
+            visit_crossings(hull, p, k, repeat);
+        }
+        p += params.walk;
+        if (repeat) {
+            p = ivec2(ao_address(p.x, params.size.x, true), ao_address(p.y, params.size.y, true));
+        }
+    }
+}
+
+void resolve() {
+    ivec2 t = ivec2(gl_GlobalInvocationID.x % uint(params.size.x), gl_GlobalInvocationID.x / uint(params.size.x));
+    if (t.y >= params.size.y) {
+        return;
+    }
+    float ao = clamp(1.0 - accum[t.y * params.size.x + t.x], 0.0, 1.0);
+    imageStore(ao_out, t, vec4(ao));
+}
+
+void main() {
+    if (params.mode == MODE_SWEEP) {
+        sweep();
+    } else {
+        resolve();
+    }
+}

@@ -1,0 +1,247 @@
+//! The host side of the exact-horizon AO sweep (`shaders/passes/ao_sweep.comp`): which azimuths
+//! are swept and with what weight, and how one azimuth's lines are enumerated, one invocation each.
+//! Pure arithmetic, tested without a GPU.
+//!
+//! Azimuths are primitive integer steps `(a, b)` in texels (so a line through one texel centre
+//! meets another at every step and every texel lies on exactly one line); their uv angles
+//! `atan2(b / H, a / W)` are picked near `count` evenly spaced targets, preferring short steps
+//! (each step costs `|a| + |b|` profile points), and weighted by the share of the circle nearer to
+//! them than to their neighbours. The weights sum to 1.
+//!
+//! Lines under repeat are the orbits of the step on the W x H torus: the x coordinates of an orbit
+//! form a coset of `g_a = gcd(|a|, W)`, and at a fixed x its y coordinates a coset of
+//! `g_d = gcd(b * W / g_a mod H, H)`, so `(x mod g_a, y mod g_d)` names the orbit and each has
+//! `period = (W / g_a) (H / g_d)` texels. Under clamp, line `c` is the set of lattice points with
+//! `x b - y a = c`, which passes through `c * euclid` (`euclid.0 * b - euclid.1 * a = 1`).
+
+use std::f64::consts::TAU;
+
+/// Hull entries per line (`HULL_CAPACITY` in the shader).
+pub(crate) const HULL_CAPACITY: u64 = 128;
+
+/// The longest step component considered when picking directions.
+const MAX_STEP: i32 = 12;
+
+/// One swept azimuth.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct SweepDirection {
+    /// The horizon's direction as a primitive lattice step (the walk goes the other way).
+    pub step: [i32; 2],
+    /// The azimuth in uv, radians from +u toward +v, in [0, 2 pi).
+    pub angle: f64,
+    /// Its share of the circle; the weights of a set sum to 1.
+    pub weight: f64,
+}
+
+/// How one azimuth's lines are laid out for the shader.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) struct SweepLines {
+    pub lines: u32,
+    /// Clamp: `c` of line 0.
+    pub c_min: i32,
+    /// `(x, y)` with `x * walk.1 - y * walk.0 = 1`.
+    pub euclid: [i32; 2],
+    /// Repeat: steps around one orbit, and the x coset count.
+    pub period: u32,
+    pub g_a: u32,
+}
+
+fn gcd(a: u64, b: u64) -> u64 {
+    if b == 0 {
+        a
+    } else {
+        gcd(b, a % b)
+    }
+}
+
+/// The uv angle of lattice step `(a, b)` on a `w` x `h` map, in [0, 2 pi).
+fn uv_angle(step: [i32; 2], w: u32, h: u32) -> f64 {
+    let angle = (f64::from(step[1]) / f64::from(h)).atan2(f64::from(step[0]) / f64::from(w));
+    angle.rem_euclid(TAU)
+}
+
+/// The distance between two angles on the circle.
+fn angle_gap(a: f64, b: f64) -> f64 {
+    let d = (a - b).rem_euclid(TAU);
+    d.min(TAU - d)
+}
+
+/// About `count` azimuths for a `w` x `h` map (fewer when targets share a step), sorted by angle.
+pub(crate) fn sweep_directions(count: u32, w: u32, h: u32) -> Vec<SweepDirection> {
+    let mut steps: Vec<[i32; 2]> = Vec::new();
+    let candidates: Vec<[i32; 2]> = (-MAX_STEP..=MAX_STEP)
+        .flat_map(|a| (-MAX_STEP..=MAX_STEP).map(move |b| [a, b]))
+        .filter(|&[a, b]| gcd(a.unsigned_abs().into(), b.unsigned_abs().into()) == 1)
+        .collect();
+    let spacing = TAU / f64::from(count.max(1));
+    for k in 0..count.max(1) {
+        let target = spacing * (f64::from(k) + 0.5);
+        // Within a third of the spacing, the shortest step; else the nearest angle of all.
+        let cost = |s: &[i32; 2]| {
+            let gap = angle_gap(uv_angle(*s, w, h), target);
+            let short = (s[0].abs() + s[1].abs()) as f64;
+            if gap <= spacing / 3.0 {
+                (0.0, short, gap)
+            } else {
+                (1.0, gap, short)
+            }
+        };
+        let best = candidates.iter().min_by(|x, y| {
+            cost(x)
+                .partial_cmp(&cost(y))
+                .unwrap_or(std::cmp::Ordering::Equal)
+        });
+        if let Some(&s) = best {
+            if !steps.contains(&s) {
+                steps.push(s);
+            }
+        }
+    }
+    let mut dirs: Vec<SweepDirection> = steps
+        .into_iter()
+        .map(|step| SweepDirection {
+            step,
+            angle: uv_angle(step, w, h),
+            weight: 0.0,
+        })
+        .collect();
+    dirs.sort_by(|x, y| x.angle.total_cmp(&y.angle));
+    let n = dirs.len();
+    for k in 0..n {
+        let prev = dirs[(k + n - 1) % n].angle;
+        let next = dirs[(k + 1) % n].angle;
+        let here = dirs[k].angle;
+        let width = if n == 1 {
+            TAU
+        } else {
+            (angle_gap(here, prev) + angle_gap(next, here)) / 2.0
+        };
+        dirs[k].weight = width / TAU;
+    }
+    dirs
+}
+
+/// `(x, y)` with `x * b - y * a = 1` for a primitive `(a, b)` (extended Euclid).
+fn euclid(a: i32, b: i32) -> [i32; 2] {
+    // Solve x * b + y' * a = 1 with y' = -y.
+    let (mut r0, mut r1) = (i64::from(b), i64::from(a));
+    let (mut s0, mut s1) = (1i64, 0i64);
+    let (mut t0, mut t1) = (0i64, 1i64);
+    while r1 != 0 {
+        let q = r0.div_euclid(r1);
+        (r0, r1) = (r1, r0 - q * r1);
+        (s0, s1) = (s1, s0 - q * s1);
+        (t0, t1) = (t1, t0 - q * t1);
+    }
+    // r0 = s0 * b + t0 * a = +-1.
+    let sign = r0.signum();
+    [(s0 * sign) as i32, (-t0 * sign) as i32]
+}
+
+/// The lines of walk step `walk` over a `w` x `h` map under repeat (orbits) or clamp.
+pub(crate) fn sweep_lines(walk: [i32; 2], w: u32, h: u32, repeat: bool) -> SweepLines {
+    let [a, b] = walk;
+    let euclid = euclid(a, b);
+    if repeat {
+        let (w64, h64) = (u64::from(w), u64::from(h));
+        let g_a = gcd(u64::from(a.unsigned_abs()), w64);
+        let shift = (i64::from(b).rem_euclid(h64 as i64) as u64 * (w64 / g_a)) % h64;
+        let g_d = gcd(shift, h64);
+        return SweepLines {
+            lines: (g_a * g_d) as u32,
+            c_min: 0,
+            euclid,
+            period: ((w64 / g_a) * (h64 / g_d)) as u32,
+            g_a: g_a as u32,
+        };
+    }
+    let corners = [
+        (0, 0),
+        (w as i64 - 1, 0),
+        (0, h as i64 - 1),
+        (w as i64 - 1, h as i64 - 1),
+    ];
+    let cs = corners.map(|(x, y)| x * i64::from(b) - y * i64::from(a));
+    let (lo, hi) = (cs.iter().min(), cs.iter().max());
+    let (lo, hi) = (lo.copied().unwrap_or(0), hi.copied().unwrap_or(0));
+    SweepLines {
+        lines: (hi - lo + 1) as u32,
+        c_min: lo as i32,
+        euclid,
+        period: 0,
+        g_a: 1,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn directions_cover_the_circle_with_weights_summing_to_one() {
+        for (count, w, h) in [(64, 64, 64), (64, 3, 5), (16, 257, 129), (1, 1, 1)] {
+            let dirs = sweep_directions(count, w, h);
+            assert!(!dirs.is_empty() && dirs.len() <= count as usize);
+            let total: f64 = dirs.iter().map(|d| d.weight).sum();
+            assert!((total - 1.0).abs() < 1e-12, "{count} {w}x{h}: {total}");
+            assert!(dirs.windows(2).all(|p| p[0].angle < p[1].angle));
+        }
+        // On a square map 64 targets get 64 distinct steps, none wider than a twentieth of a turn.
+        let dirs = sweep_directions(64, 128, 128);
+        assert_eq!(dirs.len(), 64);
+        assert!(dirs.iter().all(|d| d.weight < 0.05), "{dirs:?}");
+    }
+
+    #[test]
+    fn euclid_solves_the_line_equation() {
+        for a in -MAX_STEP..=MAX_STEP {
+            for b in -MAX_STEP..=MAX_STEP {
+                if gcd(a.unsigned_abs().into(), b.unsigned_abs().into()) == 1 {
+                    let [x, y] = euclid(a, b);
+                    assert_eq!(x * b - y * a, 1, "({a}, {b})");
+                }
+            }
+        }
+    }
+
+    /// Walks every orbit from its named start and checks they partition the torus.
+    #[test]
+    fn repeat_orbits_partition_the_map() {
+        for (w, h) in [(1, 1), (3, 5), (8, 8), (12, 18), (7, 4)] {
+            for walk in [[1, 0], [0, -1], [3, 2], [-5, 7], [2, -9]] {
+                let lines = sweep_lines(walk, w, h, true);
+                let mut seen = vec![0u32; (w * h) as usize];
+                for l in 0..lines.lines {
+                    let (mut x, mut y) = ((l % lines.g_a) as i64, (l / lines.g_a) as i64);
+                    for _ in 0..lines.period {
+                        seen[(y * i64::from(w) + x) as usize] += 1;
+                        x = (x + i64::from(walk[0])).rem_euclid(w.into());
+                        y = (y + i64::from(walk[1])).rem_euclid(h.into());
+                    }
+                    assert_eq!((x, y), ((l % lines.g_a) as i64, (l / lines.g_a) as i64));
+                }
+                assert!(seen.iter().all(|&n| n == 1), "{w}x{h} {walk:?}: {seen:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn clamp_lines_reach_every_texel() {
+        let (w, h) = (5, 3);
+        for walk in [[1, 0], [0, 1], [3, -2], [-1, 4]] {
+            let lines = sweep_lines(walk, w, h, false);
+            let mut seen = [0u32; 15];
+            for l in 0..lines.lines as i64 {
+                let c = i64::from(lines.c_min) + l;
+                for y in 0..i64::from(h) {
+                    for x in 0..i64::from(w) {
+                        if x * i64::from(walk[1]) - y * i64::from(walk[0]) == c {
+                            seen[(y * 5 + x) as usize] += 1;
+                        }
+                    }
+                }
+            }
+            assert!(seen.iter().all(|&n| n == 1), "{walk:?}");
+        }
+    }
+}
