@@ -60,10 +60,13 @@ float bilinear_height(vec2 p, bool repeat) {
 }
 
 // The highest height near uv point p as seen from `distance` texels away: level 0's bilinear
-// surface close by, the max node of a coarser pyramid level farther out.
+// surface close by, the max node of a coarser pyramid level farther out. Beyond a clamped map's
+// edge the surface is the border's extension, which level 0 gives exactly; a border node of the
+// pyramid would also hold the interior behind the border, far higher than the extension.
 float horizon_sample(vec2 p, float distance, int levels, bool repeat) {
     int level = clamp(int(floor(log2(distance))) - params.level_bias, 0, levels - 1);
-    if (level == 0) {
+    bool outside = any(lessThan(p, vec2(0.0))) || any(greaterThan(p, vec2(1.0)));
+    if (level == 0 || (outside && !repeat)) {
         return bilinear_height(p, repeat);
     }
     ivec2 size = textureSize(heights, level);

@@ -37,12 +37,15 @@ pub const SWEEP_DIRECTIONS: u32 = 64;
 /// The format of the AO map's image.
 pub const AO_MAP_FORMAT: vk::Format = vk::Format::R32_SFLOAT;
 
-/// The horizon pass's sample pattern (tuned against the exact reference on fbm and bricks): the
-/// first sample a texel away, each next one `HORIZON_GROWTH` times farther, read from the pyramid
-/// level `HORIZON_LEVEL_BIAS` below the one whose nodes match the distance.
+/// The horizon pass's sample pattern: the first sample a texel away, each next one twice as far
+/// (log2 n samples per azimuth, the paper's count), read from the pyramid level two below the one
+/// whose nodes match the distance (nodes a quarter of the distance wide). Measured against the
+/// exact reference on 128x128 fbm and bricks at depth 0.05 and 0.1 (200 texels each): one level
+/// below gave mean errors up to 0.053 (the max nodes raise far horizons), two below at most 0.011,
+/// three below 0.022 (near features missed between samples).
 const HORIZON_FIRST_DISTANCE: f32 = 1.0;
 const HORIZON_GROWTH: f32 = 2.0;
-const HORIZON_LEVEL_BIAS: i32 = 1;
+const HORIZON_LEVEL_BIAS: i32 = 2;
 
 const HORIZON_GROUP: u32 = 8;
 const SWEEP_GROUP: u32 = 64;
