@@ -29,17 +29,24 @@ float ao_texel(ivec2 t, int level, bool repeat) {
     return texelFetch(heights, ivec2(ao_address(t.x, size.x, repeat), ao_address(t.y, size.y, repeat)), level).r;
 }
 
-// The unit normal at texel t in (u, v, up) units: (-s dh/du, -s dh/dv, 1) normalised, with
-// central differences of the texel values. A zero gradient gives exactly (0, 0, 1), so a flat
+// The unit normal at a texel in (u, v, up) units from its four neighbours' heights:
+// (-s dh/du, -s dh/dv, 1) normalised, with central differences of the texel values. A zero gradient gives exactly (0, 0, 1), so a flat
 // field's AO comes out exactly 1.
-vec3 ao_normal(ivec2 t, ivec2 size, float s, bool repeat) {
-    float dhdu = (ao_texel(t + ivec2(1, 0), 0, repeat) - ao_texel(t - ivec2(1, 0), 0, repeat)) * float(size.x) * 0.5;
-    float dhdv = (ao_texel(t + ivec2(0, 1), 0, repeat) - ao_texel(t - ivec2(0, 1), 0, repeat)) * float(size.y) * 0.5;
+vec3 ao_normal_of(float left, float right, float down, float up, ivec2 size, float s) {
+    float dhdu = (right - left) * float(size.x) * 0.5;
+    float dhdv = (up - down) * float(size.y) * 0.5;
     vec2 g = vec2(-s * dhdu, -s * dhdv);
     if (g == vec2(0.0)) {
         return vec3(0.0, 0.0, 1.0);
     }
     return normalize(vec3(g, 1.0));
+}
+
+// ao_normal_of with the neighbours fetched from the height image.
+vec3 ao_normal(ivec2 t, ivec2 size, float s, bool repeat) {
+    return ao_normal_of(ao_texel(t - ivec2(1, 0), 0, repeat), ao_texel(t + ivec2(1, 0), 0, repeat),
+                        ao_texel(t - ivec2(0, 1), 0, repeat), ao_texel(t + ivec2(0, 1), 0, repeat),
+                        size, s);
 }
 
 // What one azimuth slice loses: 1 - 2 * integral from t0 to pi/2 of (n_z sin t + c cos t) cos t dt,

@@ -19,7 +19,7 @@
 // behind (from there on backward the clamped extension is constant, so one point stands for all
 // of it) and ends at its last texel inside the map.
 //
-// Modes: SWEEP adds weight * (slice occlusion) to each texel of the direction's lines in `accum`
+// Modes: UNPACK copies level 0 of the height image into `field`; SWEEP adds weight * (slice occlusion) to each texel of the direction's lines in `accum`
 // (directions run as successive dispatches with a barrier between, so no two invocations ever
 // write one texel at once); RESOLVE writes ao = clamp(1 - accum, 0, 1) into the AO image, exactly
 // 1 where nothing occludes (every slope 0).
@@ -30,6 +30,7 @@ layout(local_size_x = 64) in;
 
 const uint MODE_SWEEP = 0u;
 const uint MODE_RESOLVE = 1u;
+const uint MODE_UNPACK = 2u;
 // Hull entries kept per line (a power of two, render::ao_sweep::HULL_CAPACITY). A fuller stack
 // forgets its oldest, farthest entry: only a horizon seen more than 128 hull vertices away, always
 // a very flat one, can be lost.
@@ -43,6 +44,26 @@ layout(set = 0, binding = 2, std430) buffer Hulls {
 // Per texel (row-major), the weighted occlusion summed over the directions done so far.
 layout(set = 0, binding = 3, std430) buffer Accum {
     float accum[];
+};
+
+// Level 0 of the height image, row-major, unpacked once: the walks read it at every profile
+// point, and a buffer load is far cheaper than a texel fetch on software rasterisers.
+layout(set = 0, binding = 4, std430) buffer Field {
+    float field[];
+};
+
+// The grid-line crossings inside one lattice step, per azimuth (render::ao_sweep::Crossing):
+// the crossed edge's lower end from the step's start, the edge's direction, and the fractions
+// along the step and along the edge. Listed by the host, so the walks divide no integers (a
+// vector integer division is a loop of scalar ones on CPU implementations).
+struct Crossing {
+    ivec2 offset;
+    ivec2 along;
+    vec2 fractions;
+};
+
+layout(set = 0, binding = 5, std430) readonly buffer Crossings {
+    Crossing crossings[];
 };
 
 layout(push_constant, std430) uniform Params {
@@ -66,6 +87,9 @@ layout(push_constant, std430) uniform Params {
     vec2 dir;
     // This azimuth's share of the circle (the weights of a sweep sum to 1).
     float weight;
+    // This azimuth's crossings: `crossing_count` entries of `crossings` from `crossing_base`.
+    uint crossing_base;
+    uint crossing_count;
     uint pad;
 } params;
 
@@ -85,6 +109,28 @@ ivec2 inside_steps(int p0, int rate, int n) {
     int b = rate > 0 ? n - 1 - p0 : -p0;
     // ceil(a / rate) .. floor(b / rate), for rate of either sign (a and b swap with it).
     return ivec2(-floor_div(-a, rate), floor_div(b, rate));
+}
+
+// Index k of an axis of n texels under the addressing, for k within a few steps of [0, n): the
+// walks keep their lattice point inside the map, so a wrap is a subtraction or two, not a `%`.
+int near_address(int k, int n, bool repeat) {
+    if (!repeat) {
+        return clamp(k, 0, n - 1);
+    }
+    while (k < 0) {
+        k += n;
+    }
+    while (k >= n) {
+        k -= n;
+    }
+    return k;
+}
+
+// The height of texel t (near the map) under the map's addressing.
+float height(ivec2 t, bool repeat) {
+    int x = near_address(t.x, params.size.x, repeat);
+    int y = near_address(t.y, params.size.y, repeat);
+    return field[y * params.size.x + x];
 }
 
 struct Hull {
@@ -125,37 +171,14 @@ float visit(inout Hull hull, int k, float f, float h) {
     return tau;
 }
 
-// The bilinear height on the texel-centre grid line through lattice column (or row) `fixed_at`,
-// `q + r / d` along the other axis: linear along that edge, so exact.
-float edge_height(ivec2 fixed_at, ivec2 along, int r, int d, bool repeat) {
-    float h0 = ao_texel(fixed_at, 0, repeat);
-    float h1 = ao_texel(fixed_at + along, 0, repeat);
-    return h0 + (float(r) / float(d)) * (h1 - h0);
-}
-
 // Visits the crossings of grid lines strictly between lattice points p and p + walk, in order.
+// The bilinear surface is linear along the crossed edge, so each height is exact.
 void visit_crossings(inout Hull hull, ivec2 p, int k, bool repeat) {
-    ivec2 w = params.walk;
-    ivec2 aw = abs(w);
-    ivec2 sw = sign(w);
-    int mx = 1;
-    int my = 1;
-    while (mx < aw.x || my < aw.y) {
-        // mx / |w.x| < my / |w.y| without division (never equal: the walk is primitive).
-        bool column = my >= aw.y || (mx < aw.x && mx * aw.y < my * aw.x);
-        if (column) {
-            int across = mx * w.y;
-            int q = floor_div(across, aw.x);
-            visit(hull, k, float(mx) / float(aw.x),
-                  edge_height(p + ivec2(sw.x * mx, q), ivec2(0, 1), across - q * aw.x, aw.x, repeat));
-            ++mx;
-        } else {
-            int across = my * w.x;
-            int q = floor_div(across, aw.y);
-            visit(hull, k, float(my) / float(aw.y),
-                  edge_height(p + ivec2(q, sw.y * my), ivec2(1, 0), across - q * aw.y, aw.y, repeat));
-            ++my;
-        }
+    for (uint c = 0u; c < params.crossing_count; ++c) {
+        Crossing x = crossings[params.crossing_base + c];
+        float h0 = height(p + x.offset, repeat);
+        float h1 = height(p + x.offset + x.along, repeat);
+        visit(hull, k, x.fractions.x, h0 + x.fractions.y * (h1 - h0));
     }
 }
 
@@ -196,9 +219,11 @@ void sweep() {
     }
     Hull hull = Hull(0u, 0u, l * HULL_CAPACITY);
     for (int k = start; k <= record.y; ++k) {
-        float tau = visit(hull, k, 0.0, ao_texel(p, 0, repeat));
+        float tau = visit(hull, k, 0.0, height(p, repeat));
         if (k >= record.x) {
-            vec3 n = ao_normal(p, params.size, params.depth_scale, repeat);
+            vec3 n = ao_normal_of(height(p - ivec2(1, 0), repeat), height(p + ivec2(1, 0), repeat),
+                                  height(p - ivec2(0, 1), repeat), height(p + ivec2(0, 1), repeat),
+                                  params.size, params.depth_scale);
             uint index = uint(p.y * params.size.x + p.x);
             accum[index] += params.weight * ao_slice_occlusion(n, params.dir, tau);
         }
@@ -207,7 +232,7 @@ void sweep() {
         }
         p += params.walk;
         if (repeat) {
-            p = ivec2(ao_address(p.x, params.size.x, true), ao_address(p.y, params.size.y, true));
+            p = ivec2(near_address(p.x, params.size.x, true), near_address(p.y, params.size.y, true));
         }
     }
 }
@@ -221,10 +246,20 @@ void resolve() {
     imageStore(ao_out, t, vec4(ao));
 }
 
+void unpack() {
+    ivec2 t = ivec2(gl_GlobalInvocationID.x % uint(params.size.x), gl_GlobalInvocationID.x / uint(params.size.x));
+    if (t.y >= params.size.y) {
+        return;
+    }
+    field[t.y * params.size.x + t.x] = texelFetch(heights, t, 0).r;
+}
+
 void main() {
     if (params.mode == MODE_SWEEP) {
         sweep();
-    } else {
+    } else if (params.mode == MODE_RESOLVE) {
         resolve();
+    } else {
+        unpack();
     }
 }

@@ -19,7 +19,10 @@ use std::sync::Arc;
 
 use ash::vk;
 
-use super::ao_sweep::{sweep_directions, sweep_lines, SweepDirection, HULL_CAPACITY};
+use super::ao_sweep::{
+    crossings, sweep_directions, sweep_lines, Crossing, SweepDirection, HULL_CAPACITY,
+    MAX_CROSSINGS,
+};
 use super::gpu_heightfield::{sampler_address_mode, GpuHeightfield, HeightFormat};
 use super::pyramid_pass::PyramidPass;
 use crate::heightfield::{Address, Heightfield};
@@ -51,6 +54,7 @@ const HORIZON_GROUP: u32 = 8;
 const SWEEP_GROUP: u32 = 64;
 const MODE_SWEEP: u32 = 0;
 const MODE_RESOLVE: u32 = 1;
+const MODE_UNPACK: u32 = 2;
 
 /// `Params` of ao_horizon.comp.
 #[repr(C)]
@@ -86,10 +90,12 @@ struct SweepParams {
     step_uv: f32,
     dir: [f32; 2],
     weight: f32,
+    crossing_base: u32,
+    crossing_count: u32,
     pad: u32,
 }
 
-const _: () = assert!(std::mem::size_of::<SweepParams>() == 72);
+const _: () = assert!(std::mem::size_of::<SweepParams>() == 80);
 
 /// A built AO map: `R32_SFLOAT`, one texel per height texel, in `SHADER_READ_ONLY_OPTIMAL`, with a
 /// sampler that filters linearly where the device can (else nearest) under the height field's
@@ -107,8 +113,8 @@ pub struct AoJob {
     map: AoMap,
     _pool: DescriptorPool,
     set: DescriptorSet,
-    // The sweep's hull stacks and per-texel sums (none for the horizon pass).
-    scratch: Option<(Buffer, Buffer)>,
+    // The sweep's scratch (none for the horizon pass).
+    scratch: Option<SweepScratch>,
     depth_scale: f32,
 }
 
@@ -151,6 +157,8 @@ impl AoMapPass {
         if mode == AoMode::ExactHorizon {
             bindings.push((2, vk::DescriptorType::STORAGE_BUFFER));
             bindings.push((3, vk::DescriptorType::STORAGE_BUFFER));
+            bindings.push((4, vk::DescriptorType::STORAGE_BUFFER));
+            bindings.push((5, vk::DescriptorType::STORAGE_BUFFER));
         }
         let name = format!("ao map {mode}");
         let layout = DescriptorLayout::new(
@@ -190,16 +198,18 @@ impl AoMapPass {
         }
         let ctx = &self.ctx;
         let map = new_map(ctx, hf, self.mode)?;
-        let pool = DescriptorPool::new(ctx, 1, 2, &format!("ao map {} sets", self.mode))?;
+        let pool = DescriptorPool::new(ctx, 1, 4, &format!("ao map {} sets", self.mode))?;
         let mut binds = vec![
             Bind::Texture(0, hf.image.view(), hf.point.raw()),
             Bind::StorageImage(1, map.image.view()),
         ];
         let scratch = if self.mode == AoMode::ExactHorizon {
-            let (hulls, accum) = sweep_scratch(ctx, hf)?;
-            binds.push(Bind::Storage(2, hulls.raw()));
-            binds.push(Bind::Storage(3, accum.raw()));
-            Some((hulls, accum))
+            let scratch = sweep_scratch(ctx, hf)?;
+            binds.push(Bind::Storage(2, scratch.hulls.raw()));
+            binds.push(Bind::Storage(3, scratch.accum.raw()));
+            binds.push(Bind::Storage(4, scratch.field.raw()));
+            binds.push(Bind::Storage(5, scratch.crossings.raw()));
+            Some(scratch)
         } else {
             None
         };
@@ -228,8 +238,8 @@ impl AoMapPass {
                 },
                 _,
             ) => self.record_horizon(rec, hf, job.depth_scale, directions, rotated)?,
-            (AoMode::ExactHorizon, Some((_, accum))) => {
-                self.record_sweep(rec, hf, job.depth_scale, accum)?
+            (AoMode::ExactHorizon, Some(scratch)) => {
+                self.record_sweep(rec, hf, job.depth_scale, scratch)?
             }
             _ => return Err(VkError::Invalid("AO job prepared for another mode".into())),
         }
@@ -278,11 +288,18 @@ impl AoMapPass {
         rec: &Recording,
         hf: &GpuHeightfield,
         depth_scale: f32,
-        accum: &Buffer,
+        scratch: &SweepScratch,
     ) -> VkResult<()> {
+        let accum = &scratch.accum;
         let (w, h) = (hf.image.desc().width, hf.image.desc().height);
         let rw = vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE;
         let compute = vk::PipelineStageFlags2::COMPUTE_SHADER;
+        let repeat = hf.address == Address::Repeat;
+        let texel_groups = (u64::from(w) * u64::from(h)).div_ceil(u64::from(SWEEP_GROUP)) as u32;
+        let mut whole_map = sweep_params(&scratch.directions[0], w, h, repeat, depth_scale);
+        whole_map.mode = MODE_UNPACK;
+        self.pipeline.push(rec, bytemuck::bytes_of(&whole_map))?;
+        rec.dispatch([texel_groups, 1, 1]);
         rec.fill_buffer(accum, 0, accum.size(), 0);
         memory_barrier(
             rec,
@@ -292,19 +309,18 @@ impl AoMapPass {
             ),
             (compute, rw),
         );
-        let repeat = hf.address == Address::Repeat;
-        for dir in sweep_directions(SWEEP_DIRECTIONS, w, h) {
-            let params = sweep_params(&dir, w, h, repeat, depth_scale);
+        memory_barrier(rec, (compute, rw), (compute, rw));
+        for (k, dir) in scratch.directions.iter().enumerate() {
+            let mut params = sweep_params(dir, w, h, repeat, depth_scale);
+            params.crossing_base = (k * MAX_CROSSINGS) as u32;
             self.pipeline.push(rec, bytemuck::bytes_of(&params))?;
             rec.dispatch([params.lines.div_ceil(SWEEP_GROUP), 1, 1]);
             // The next direction reuses the hull stacks and adds to the same sums.
             memory_barrier(rec, (compute, rw), (compute, rw));
         }
-        let mut resolve = sweep_params(&sweep_directions(1, w, h)[0], w, h, repeat, depth_scale);
-        resolve.mode = MODE_RESOLVE;
-        self.pipeline.push(rec, bytemuck::bytes_of(&resolve))?;
-        let texels = u64::from(w) * u64::from(h);
-        rec.dispatch([texels.div_ceil(u64::from(SWEEP_GROUP)) as u32, 1, 1]);
+        whole_map.mode = MODE_RESOLVE;
+        self.pipeline.push(rec, bytemuck::bytes_of(&whole_map))?;
+        rec.dispatch([texel_groups, 1, 1]);
         Ok(())
     }
 
@@ -356,6 +372,7 @@ fn sweep_params(
 ) -> SweepParams {
     let walk = [-dir.step[0], -dir.step[1]];
     let lines = sweep_lines(walk, w, h, repeat);
+    let crossing_count = crossings(walk).len() as u32;
     let step_u = f64::from(dir.step[0]) / f64::from(w);
     let step_v = f64::from(dir.step[1]) / f64::from(h);
     SweepParams {
@@ -372,15 +389,27 @@ fn sweep_params(
         step_uv: step_u.hypot(step_v) as f32,
         dir: [dir.angle.cos() as f32, dir.angle.sin() as f32],
         weight: dir.weight as f32,
+        crossing_base: 0,
+        crossing_count,
         pad: 0,
     }
 }
 
-/// The sweep's scratch: hull stacks for the most lines any azimuth has, and one sum per texel.
-fn sweep_scratch(ctx: &Arc<Context>, hf: &GpuHeightfield) -> VkResult<(Buffer, Buffer)> {
+/// The sweep's azimuths and buffers: hull stacks for the most lines any azimuth has, one sum per
+/// texel, level 0 of the heights unpacked, and each azimuth's crossings ([`MAX_CROSSINGS`] slots).
+struct SweepScratch {
+    directions: Vec<SweepDirection>,
+    hulls: Buffer,
+    accum: Buffer,
+    field: Buffer,
+    crossings: Buffer,
+}
+
+fn sweep_scratch(ctx: &Arc<Context>, hf: &GpuHeightfield) -> VkResult<SweepScratch> {
     let (w, h) = (hf.image.desc().width, hf.image.desc().height);
     let repeat = hf.address == Address::Repeat;
-    let most_lines = sweep_directions(SWEEP_DIRECTIONS, w, h)
+    let directions = sweep_directions(SWEEP_DIRECTIONS, w, h);
+    let most_lines = directions
         .iter()
         .map(|d| sweep_lines([-d.step[0], -d.step[1]], w, h, repeat).lines)
         .max()
@@ -393,14 +422,33 @@ fn sweep_scratch(ctx: &Arc<Context>, hf: &GpuHeightfield) -> VkResult<(Buffer, B
         MemoryLocation::GpuOnly,
         "ao sweep hulls",
     )?;
-    let accum = Buffer::new(
+    let per_texel = |name| {
+        Buffer::new(
+            ctx,
+            u64::from(w) * u64::from(h) * 4,
+            usage,
+            MemoryLocation::GpuOnly,
+            name,
+        )
+    };
+    let mut table = vec![Crossing::default(); directions.len() * MAX_CROSSINGS];
+    for (slots, dir) in table.chunks_mut(MAX_CROSSINGS).zip(&directions) {
+        let list = crossings([-dir.step[0], -dir.step[1]]);
+        slots[..list.len()].copy_from_slice(&list);
+    }
+    let crossings = Buffer::with_data(
         ctx,
-        u64::from(w) * u64::from(h) * 4,
-        usage,
-        MemoryLocation::GpuOnly,
-        "ao sweep sums",
+        bytemuck::cast_slice(&table),
+        vk::BufferUsageFlags::STORAGE_BUFFER,
+        "ao sweep crossings",
     )?;
-    Ok((hulls, accum))
+    Ok(SweepScratch {
+        directions,
+        crossings,
+        hulls,
+        accum: per_texel("ao sweep sums")?,
+        field: per_texel("ao sweep heights")?,
+    })
 }
 
 /// The map's image and sampler, checking the device can store and sample the format.

@@ -22,6 +22,61 @@ pub(crate) const HULL_CAPACITY: u64 = 128;
 /// The longest step component considered when picking directions.
 const MAX_STEP: i32 = 12;
 
+/// The most grid-line crossings inside one lattice step (`|a| + |b| - 2 < 2 MAX_STEP`).
+pub(crate) const MAX_CROSSINGS: usize = 2 * MAX_STEP as usize;
+
+/// One crossing of a texel-centre grid line strictly inside a lattice step (`Crossing` in
+/// ao_sweep.comp): the same for every step of every line of an azimuth, so the host lists them once
+/// and the walks do no integer division.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub(crate) struct Crossing {
+    /// The crossed edge's lower end, from the step's first lattice point, in texels.
+    pub offset: [i32; 2],
+    /// The edge's direction: (0, 1) for a column crossing, (1, 0) for a row.
+    pub along: [i32; 2],
+    /// Where along the step (0..1) and where along the edge (0..1) the crossing lies.
+    pub fractions: [f32; 2],
+}
+
+const _: () = assert!(std::mem::size_of::<Crossing>() == 24);
+
+/// The crossings inside one step of `walk`, in walking order.
+pub(crate) fn crossings(walk: [i32; 2]) -> Vec<Crossing> {
+    let [wx, wy] = walk;
+    let (ax, ay) = (wx.abs(), wy.abs());
+    let (mut mx, mut my) = (1, 1);
+    let mut out = Vec::with_capacity(MAX_CROSSINGS);
+    while mx < ax || my < ay {
+        // mx / ax < my / ay without division; never equal for a primitive step.
+        let column = my >= ay || (mx < ax && mx * ay < my * ax);
+        let (m, a, across) = if column {
+            (mx, ax, mx * wy)
+        } else {
+            (my, ay, my * wx)
+        };
+        let q = across.div_euclid(a);
+        let edge = (across - q * a) as f32 / a as f32;
+        let step = m as f32 / a as f32;
+        out.push(if column {
+            mx += 1;
+            Crossing {
+                offset: [wx.signum() * m, q],
+                along: [0, 1],
+                fractions: [step, edge],
+            }
+        } else {
+            my += 1;
+            Crossing {
+                offset: [q, wy.signum() * m],
+                along: [1, 0],
+                fractions: [step, edge],
+            }
+        });
+    }
+    out
+}
+
 /// One swept azimuth.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct SweepDirection {
@@ -190,6 +245,32 @@ mod tests {
         let dirs = sweep_directions(64, 128, 128);
         assert_eq!(dirs.len(), 64);
         assert!(dirs.iter().all(|d| d.weight < 0.05), "{dirs:?}");
+    }
+
+    #[test]
+    fn crossings_lie_on_the_step_in_order() {
+        for walk in [[1, 0], [0, -1], [3, 2], [-5, 7], [2, -9], [-12, 11]] {
+            let list = crossings(walk);
+            let expected = (walk[0].abs() - 1).max(0) + (walk[1].abs() - 1).max(0);
+            assert_eq!(list.len(), expected as usize, "{walk:?}");
+            assert!(list.len() <= MAX_CROSSINGS);
+            assert!(list
+                .windows(2)
+                .all(|p| p[0].fractions[0] < p[1].fractions[0]));
+            for c in &list {
+                // The crossing point, from the edge and from the step, is the same point.
+                let t = f64::from(c.fractions[0]);
+                let e = f64::from(c.fractions[1]);
+                let on_edge = [
+                    f64::from(c.offset[0]) + e * f64::from(c.along[0]),
+                    f64::from(c.offset[1]) + e * f64::from(c.along[1]),
+                ];
+                let on_step = [t * f64::from(walk[0]), t * f64::from(walk[1])];
+                assert!((on_edge[0] - on_step[0]).abs() < 1e-5, "{walk:?} {c:?}");
+                assert!((on_edge[1] - on_step[1]).abs() < 1e-5, "{walk:?} {c:?}");
+                assert!((0.0..1.0).contains(&e), "{walk:?} {c:?}");
+            }
+        }
     }
 
     #[test]
