@@ -144,6 +144,45 @@ fn exact_horizon_meets_the_reference_on_tiny_and_steep_fields() {
     common::assert_no_validation_errors(&ctx);
 }
 
+/// Mean absolute error of `ao` against the reference at `count` seeded texels.
+fn subset_error(hf: &Heightfield, s: f64, address: Address, ao: &[f32], count: u32) -> f64 {
+    let (w, n) = (hf.width(), hf.texel_count() as u64);
+    let mut state = 7u64;
+    let mut sum = 0.0;
+    for _ in 0..count {
+        // A linear congruential walk over the texels: seeded, spread, no extra crate.
+        state = state
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1);
+        let k = ((state >> 33) % n) as u32;
+        let reference = ao_at_texel(hf, s, address, (k % w, k / w), REFERENCE_AZIMUTHS);
+        sum += (f64::from(ao[k as usize]) - reference.expect("reference").value).abs();
+    }
+    sum / f64::from(count)
+}
+
+/// The horizon pass at the size it was tuned for (128x128), on a texel subset.
+#[test]
+fn horizon_8_meets_the_reference_at_128() {
+    let Some(ctx) = common::device("ao_map_gpu horizon 128") else {
+        return;
+    };
+    let pass = AoMapPass::new(&ctx, HORIZON_8).expect("horizon pipeline");
+    let cases = [
+        (Generator::Fbm, 0.1, Address::Repeat),
+        (Generator::Bricks, 0.05, Address::Clamp),
+    ];
+    for (generator, s, address) in cases {
+        let hf = generator.generate(128, 128, 21);
+        let ao = build(&pass, &hf, s, address);
+        let error = subset_error(&hf, s, address, &ao, 40);
+        let what = format!("{generator:?} 128x128 s={s} {address}");
+        eprintln!("{what}: horizon-8 mean abs error {error:.4} on 40 texels");
+        assert!(error <= 0.03, "{what}: mean abs error {error}");
+    }
+    common::assert_no_validation_errors(&ctx);
+}
+
 /// A small real depth map from the shared corpus, compared on 48 seeded texels.
 #[test]
 fn corpus_height_map_meets_the_reference_on_a_subset() {
@@ -169,20 +208,7 @@ fn corpus_height_map_meets_the_reference_on_a_subset() {
     let (s, address) = (0.05, Address::Repeat);
     let pass = AoMapPass::new(&ctx, HORIZON_8).expect("horizon pipeline");
     let ao = build(&pass, &hf, s, address);
-    let (w, n) = (hf.width(), hf.texel_count() as u64);
-    let mut state = 7u64;
-    let mut sum = 0.0;
-    for _ in 0..48 {
-        // A multiplicative congruential walk over the texels: seeded, spread, no extra crate.
-        state = state
-            .wrapping_mul(6_364_136_223_846_793_005)
-            .wrapping_add(1);
-        let k = ((state >> 33) % n) as u32;
-        let at = (k % w, k / w);
-        let reference = ao_at_texel(&hf, s, address, at, REFERENCE_AZIMUTHS).expect("reference");
-        sum += (f64::from(ao[k as usize]) - reference.value).abs();
-    }
-    let mean = sum / 48.0;
+    let mean = subset_error(&hf, s, address, &ao, 48);
     eprintln!("cube_depth.png 348x348: horizon-8 mean abs error {mean:.4} on 48 texels");
     assert!(mean <= 0.03, "horizon-8 mean abs error {mean}");
     assert!(ao.iter().all(|v| (0.0..=1.0).contains(v)));
