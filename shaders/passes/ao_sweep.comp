@@ -172,10 +172,19 @@ float visit(inout Hull hull, int k, float f, float h) {
 }
 
 // Visits the crossings of grid lines strictly between lattice points p and p + walk, in order.
-// The bilinear surface is linear along the crossed edge, so each height is exact.
+// The bilinear surface is linear along the crossed edge, so each height is exact. Under clamp, a
+// crossing of a column (row) outside the map lies where the extension is linear along the line
+// between the row (column) crossings around it: it can never be a hull vertex, so it is skipped,
+// which makes the long walks through the clamped extension one point per step.
 void visit_crossings(inout Hull hull, ivec2 p, int k, bool repeat) {
     for (uint c = 0u; c < params.crossing_count; ++c) {
         Crossing x = crossings[params.crossing_base + c];
+        ivec2 at = p + x.offset;
+        int across = x.along.y != 0 ? at.x : at.y;
+        int n = x.along.y != 0 ? params.size.x : params.size.y;
+        if (!repeat && (across < 0 || across >= n)) {
+            continue;
+        }
         float h0 = height(p + x.offset, repeat);
         float h1 = height(p + x.offset + x.along, repeat);
         visit(hull, k, x.fractions.x, h0 + x.fractions.y * (h1 - h0));

@@ -27,6 +27,8 @@ use super::heightmap_args::HeightmapArgs;
 const FULL_REFERENCE_TEXELS: usize = 64 * 64;
 /// The subset's size by default for larger maps.
 const DEFAULT_SUBSET: usize = 1024;
+/// Exact-horizon builds above this many texels get a note on stderr before they start.
+const LONG_SWEEP_TEXELS: usize = 128 * 128;
 /// The subset's seed (fixed, so runs are comparable).
 const SUBSET_SEED: u64 = 0x5eed_00a0;
 
@@ -165,6 +167,14 @@ pub fn run(args: &AoArgs) -> anyhow::Result<()> {
     let ctx = super::open_device(args.device.as_deref(), true)?;
     hf.check_max_dimension(ctx.info().max_image_dimension_2d, &source)?;
     let pass = AoMapPass::new(&ctx, mode).context("creating the AO pipeline")?;
+    if mode == AoMode::ExactHorizon && hf.texel_count() > LONG_SWEEP_TEXELS {
+        // One submission with no progress of its own: say that it may take a while.
+        eprintln!(
+            "building the exact-horizon AO map of {}x{} on the GPU (on lavapipe this takes seconds to minutes) ...",
+            hf.width(),
+            hf.height()
+        );
+    }
     let (ao, gpu_ms) = pass
         .build(&hf, args.depth_scale, args.address)
         .context("building the AO map on the GPU")?;
