@@ -8,10 +8,20 @@
 //! - `exact-horizon`: line sweeps with convex hulls (`shaders/passes/ao_sweep.comp`), one dispatch
 //!   per azimuth ([`SWEEP_DIRECTIONS`] of them, see `ao_sweep`) plus a resolve; reads level 0 only.
 //!
-//! Use from the renderer: `AoMapPass::new(ctx, mode)` once; per height field `prepare` (allocates
-//! the map and the job's scratch), `record` into any recording after the height image reached
-//! `SHADER_READ_ONLY_OPTIMAL`, then, once that submission has completed, `AoJob::into_map`. The
-//! map's image ends in `SHADER_READ_ONLY_OPTIMAL`, visible to fragment and compute shaders.
+//! Use from the renderer (the height field's `GpuHeightfield`, pyramid built, is `gpu`):
+//!
+//! ```no_run
+//! # use relief::render::{AoMapPass, GpuHeightfield};
+//! # fn f(ctx: &std::sync::Arc<relief::vk::Context>, gpu: &GpuHeightfield) -> relief::vk::VkResult<()> {
+//! let pass = AoMapPass::new(ctx, "horizon-8".parse().expect("an AO mode"))?; // once per mode
+//! let job = pass.prepare(gpu, 0.1)?; // the map, its set and scratch, for this field and depth
+//! ctx.one_shot(|rec| pass.record(rec, &job))?; // or inside any other recording
+//! let map = job.into_map(); // once that submission has completed
+//! // Bind map.image.view() with map.sampler as a combined image sampler; read .r at the uv.
+//! # Ok(()) }
+//! ```
+//!
+//! The map's image ends in `SHADER_READ_ONLY_OPTIMAL`, visible to fragment and compute shaders.
 //!
 //! Invariants: a flat field gives exactly 1.0 in every mode; every value is in [0, 1].
 
@@ -223,10 +233,11 @@ impl AoMapPass {
         })
     }
 
-    /// Records the build of `job`'s map from `hf` (the field `job` was prepared for). The height
-    /// image must be in `SHADER_READ_ONLY_OPTIMAL` (for horizon modes with its pyramid built) and
-    /// its writes visible to compute shaders; the map ends in `SHADER_READ_ONLY_OPTIMAL`.
-    pub fn record(&self, rec: &Recording, hf: &GpuHeightfield, job: &AoJob) -> VkResult<()> {
+    /// Records the build of `job`'s map from the height field it was prepared for, which must
+    /// outlive the submission. The height image must be in `SHADER_READ_ONLY_OPTIMAL` (for horizon
+    /// modes with its pyramid built; without one they read level 0 only, less accurately) and its
+    /// writes visible to compute shaders; the map ends in `SHADER_READ_ONLY_OPTIMAL`.
+    pub fn record(&self, rec: &Recording, job: &AoJob) -> VkResult<()> {
         let image = &job.map.image;
         transition_map(rec, image, true);
         self.pipeline.bind(rec, Some(job.set));
@@ -237,10 +248,8 @@ impl AoMapPass {
                     rotated,
                 },
                 _,
-            ) => self.record_horizon(rec, hf, job.depth_scale, directions, rotated)?,
-            (AoMode::ExactHorizon, Some(scratch)) => {
-                self.record_sweep(rec, hf, job.depth_scale, scratch)?
-            }
+            ) => self.record_horizon(rec, job, directions, rotated)?,
+            (AoMode::ExactHorizon, Some(scratch)) => self.record_sweep(rec, job, scratch)?,
             _ => return Err(VkError::Invalid("AO job prepared for another mode".into())),
         }
         transition_map(rec, image, false);
@@ -250,19 +259,18 @@ impl AoMapPass {
     fn record_horizon(
         &self,
         rec: &Recording,
-        hf: &GpuHeightfield,
-        depth_scale: f32,
+        job: &AoJob,
         directions: u32,
         rotated: bool,
     ) -> VkResult<()> {
-        let d = hf.image.desc();
-        let repeat = hf.address == Address::Repeat;
+        let d = job.map.image.desc();
+        let repeat = job.map.address == Address::Repeat;
         let params = HorizonParams {
             size: [d.width as i32, d.height as i32],
             repeat_address: u32::from(repeat),
             directions,
             rotated: u32::from(rotated),
-            depth_scale,
+            depth_scale: job.depth_scale,
             first_distance: HORIZON_FIRST_DISTANCE,
             growth: HORIZON_GROWTH,
             // A repeating profile comes back a tile on, seen lower; a clamped one ends at the
@@ -283,18 +291,13 @@ impl AoMapPass {
         Ok(())
     }
 
-    fn record_sweep(
-        &self,
-        rec: &Recording,
-        hf: &GpuHeightfield,
-        depth_scale: f32,
-        scratch: &SweepScratch,
-    ) -> VkResult<()> {
+    fn record_sweep(&self, rec: &Recording, job: &AoJob, scratch: &SweepScratch) -> VkResult<()> {
+        let depth_scale = job.depth_scale;
         let accum = &scratch.accum;
-        let (w, h) = (hf.image.desc().width, hf.image.desc().height);
+        let (w, h) = (job.map.image.desc().width, job.map.image.desc().height);
         let rw = vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE;
         let compute = vk::PipelineStageFlags2::COMPUTE_SHADER;
-        let repeat = hf.address == Address::Repeat;
+        let repeat = job.map.address == Address::Repeat;
         let texel_groups = (u64::from(w) * u64::from(h)).div_ceil(u64::from(SWEEP_GROUP)) as u32;
         let mut whole_map = sweep_params(&scratch.directions[0], w, h, repeat, depth_scale);
         whole_map.mode = MODE_UNPACK;
@@ -349,7 +352,7 @@ impl AoMapPass {
         let all = vk::PipelineStageFlags2::ALL_COMMANDS;
         ctx.one_shot(|rec| {
             timestamps.write(rec, all, 0)?;
-            self.record(rec, &gpu, &job)?;
+            self.record(rec, &job)?;
             timestamps.write(rec, all, 1)?;
             Ok(())
         })?;
