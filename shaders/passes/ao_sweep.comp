@@ -133,10 +133,13 @@ float height(ivec2 t, bool repeat) {
     return field[y * params.size.x + x];
 }
 
+// A line's hull: entries [base, top) of its ring at `at`, the newest also kept in registers, so
+// a visit that pops nothing reads one entry from memory.
 struct Hull {
     uint base;
     uint top;
     uint at;
+    vec4 last;
 };
 
 vec4 hull_get(Hull hull, uint i) {
@@ -147,26 +150,26 @@ vec4 hull_get(Hull hull, uint i) {
 // the tangent of the horizon behind it (0 when nothing is above), then pushes it.
 float visit(inout Hull hull, int k, float f, float h) {
     while (hull.top - hull.base >= 2u) {
-        vec4 t = hull_get(hull, hull.top - 1u);
         vec4 b = hull_get(hull, hull.top - 2u);
-        float dt = float(k - floatBitsToInt(t.x)) + (f - t.y);
+        float dt = float(k - floatBitsToInt(hull.last.x)) + (f - hull.last.y);
         float db = float(k - floatBitsToInt(b.x)) + (f - b.y);
-        // t lies on or below the line from this point to b: it is no horizon, now or later.
-        if ((b.z - h) * dt < (t.z - h) * db) {
+        // The newest lies on or below the line from this point to b: no horizon, now or later.
+        if ((b.z - h) * dt < (hull.last.z - h) * db) {
             break;
         }
         hull.top -= 1u;
+        hull.last = b;
     }
     float tau = 0.0;
     if (hull.top > hull.base) {
-        vec4 t = hull_get(hull, hull.top - 1u);
-        float dt = float(k - floatBitsToInt(t.x)) + (f - t.y);
-        tau = max(params.depth_scale * (t.z - h) / (dt * params.step_uv), 0.0);
+        float dt = float(k - floatBitsToInt(hull.last.x)) + (f - hull.last.y);
+        tau = max(params.depth_scale * (hull.last.z - h) / (dt * params.step_uv), 0.0);
     }
     if (hull.top - hull.base == HULL_CAPACITY) {
         hull.base += 1u;
     }
-    hulls[hull.at + (hull.top & (HULL_CAPACITY - 1u))] = vec4(intBitsToFloat(k), f, h, 0.0);
+    hull.last = vec4(intBitsToFloat(k), f, h, 0.0);
+    hulls[hull.at + (hull.top & (HULL_CAPACITY - 1u))] = hull.last;
     hull.top += 1u;
     return tau;
 }
@@ -226,7 +229,7 @@ void sweep() {
     if (record.x > record.y) {
         return;
     }
-    Hull hull = Hull(0u, 0u, l * HULL_CAPACITY);
+    Hull hull = Hull(0u, 0u, l * HULL_CAPACITY, vec4(0.0));
     for (int k = start; k <= record.y; ++k) {
         float tau = visit(hull, k, 0.0, height(p, repeat));
         if (k >= record.x) {
