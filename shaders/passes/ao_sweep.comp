@@ -19,10 +19,11 @@
 // behind (from there on backward the clamped extension is constant, so one point stands for all
 // of it) and ends at its last texel inside the map.
 //
-// Modes: UNPACK copies level 0 of the height image into `field`; SWEEP adds weight * (slice occlusion) to each texel of the direction's lines in `accum`
-// (directions run as successive dispatches with a barrier between, so no two invocations ever
-// write one texel at once); RESOLVE writes ao = clamp(1 - accum, 0, 1) into the AO image, exactly
-// 1 where nothing occludes (every slope 0).
+// Modes: UNPACK copies level 0 of the height image into `field`; SWEEP adds
+// weight * (slice occlusion) to each texel of the direction's lines in `accum` (directions run as
+// successive dispatches with a barrier between, so no two invocations ever write one texel at
+// once); RESOLVE writes ao = clamp(1 - accum, 0, 1) into the AO image, exactly 1 where nothing
+// occludes (every slope 0).
 #extension GL_GOOGLE_include_directive : require
 #include "ao.glsl"
 

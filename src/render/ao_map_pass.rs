@@ -160,20 +160,10 @@ impl AoMapPass {
         };
         let spirv =
             shaders::spirv(key).ok_or_else(|| VkError::Invalid(format!("no shader {key}")))?;
-        let mut bindings = vec![
-            (0, vk::DescriptorType::COMBINED_IMAGE_SAMPLER),
-            (1, vk::DescriptorType::STORAGE_IMAGE),
-        ];
-        if mode == AoMode::ExactHorizon {
-            bindings.push((2, vk::DescriptorType::STORAGE_BUFFER));
-            bindings.push((3, vk::DescriptorType::STORAGE_BUFFER));
-            bindings.push((4, vk::DescriptorType::STORAGE_BUFFER));
-            bindings.push((5, vk::DescriptorType::STORAGE_BUFFER));
-        }
         let name = format!("ao map {mode}");
         let layout = DescriptorLayout::new(
             ctx,
-            &bindings,
+            &layout_bindings(mode),
             vk::ShaderStageFlags::COMPUTE,
             &format!("{name} layout"),
         )?;
@@ -238,6 +228,12 @@ impl AoMapPass {
     /// modes with its pyramid built; without one they read level 0 only, less accurately) and its
     /// writes visible to compute shaders; the map ends in `SHADER_READ_ONLY_OPTIMAL`.
     pub fn record(&self, rec: &Recording, job: &AoJob) -> VkResult<()> {
+        if job.map.mode != self.mode {
+            return Err(VkError::Invalid(format!(
+                "AO job prepared for {} recorded by the {} pass",
+                job.map.mode, self.mode
+            )));
+        }
         let image = &job.map.image;
         transition_map(rec, image, true);
         self.pipeline.bind(rec, Some(job.set));
@@ -363,6 +359,19 @@ impl AoMapPass {
         let values = bytemuck::pod_collect_to_vec(&bytes);
         Ok((values, timestamps.ticks_to_ms(ticks[0], ticks[1])))
     }
+}
+
+/// The set layout of `mode`'s shader: heights and the map (ao.glsl), plus the sweep's buffers
+/// (hulls, sums, unpacked heights, crossings).
+fn layout_bindings(mode: AoMode) -> Vec<(u32, vk::DescriptorType)> {
+    let mut bindings = vec![
+        (0, vk::DescriptorType::COMBINED_IMAGE_SAMPLER),
+        (1, vk::DescriptorType::STORAGE_IMAGE),
+    ];
+    if mode == AoMode::ExactHorizon {
+        bindings.extend((2..=5).map(|b| (b, vk::DescriptorType::STORAGE_BUFFER)));
+    }
+    bindings
 }
 
 /// The push constants of one swept azimuth (the walk goes against the horizon's direction).
