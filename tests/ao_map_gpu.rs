@@ -11,9 +11,9 @@ use std::sync::Arc;
 
 use relief::heightfield::ambient_occlusion::{ao_at_texel, ao_reference};
 use relief::heightfield::{Address, Channel, Generator, Heightfield, LoadOptions};
-use relief::render::AoMapPass;
+use relief::render::{AoMapPass, GpuHeightfield, HeightFormat, PyramidPass};
 use relief::scene::AoMode;
-use relief::vk::Context;
+use relief::vk::{raw, read_mip, Context};
 
 const ADDRESSES: [Address; 2] = [Address::Repeat, Address::Clamp];
 const REFERENCE_AZIMUTHS: u32 = 256;
@@ -142,6 +142,52 @@ fn exact_horizon_meets_the_reference_on_tiny_and_steep_fields() {
         }
     }
     common::assert_no_validation_errors(&ctx);
+}
+
+/// The renderer's path: an R16 height image (with its pyramid for the horizon mode, without for
+/// the sweep), `prepare`, `record` into a submission, `into_map`; the map is read back from its
+/// image, which must be left in `SHADER_READ_ONLY_OPTIMAL`.
+#[test]
+fn renderer_path_with_r16_heights() {
+    let Some(ctx) = common::device("ao_map_gpu renderer path") else {
+        return;
+    };
+    let hf = Generator::Fbm.generate(24, 24, 31).quantized_unorm16();
+    let (s, address) = (0.08, Address::Repeat);
+    let reference = ao_reference(&hf, s, address, REFERENCE_AZIMUTHS).expect("reference");
+    for (mode, bound) in [(HORIZON_8, 0.03), (AoMode::ExactHorizon, 0.01)] {
+        let format = HeightFormat::R16Unorm;
+        let gpu = if mode == AoMode::ExactHorizon {
+            GpuHeightfield::upload_without_pyramid(&ctx, &hf, format, address).expect("upload")
+        } else {
+            let gpu = GpuHeightfield::upload(&ctx, &hf, format, address).expect("upload");
+            let pyramid = PyramidPass::new(&ctx, format.shader_suffix()).expect("pyramid");
+            let job = pyramid.prepare(&gpu).expect("pyramid job");
+            ctx.one_shot(|rec| pyramid.record(rec, &gpu, &job))
+                .expect("pyramid");
+            gpu
+        };
+        let pass = AoMapPass::new(&ctx, mode).expect("AO pipeline");
+        let job = pass.prepare(&gpu, s as f32).expect("AO job");
+        ctx.one_shot(|rec| pass.record(rec, &job))
+            .expect("AO build");
+        let map = job.into_map();
+        let layout = raw::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
+        let bytes = read_mip(&ctx, &map.image, 0, layout).expect("read back");
+        let ao = le_floats(&bytes);
+        let error = mean_abs(&ao, &reference);
+        eprintln!("{mode} through prepare/record, R16 heights: mean abs error {error:.4}");
+        assert!(error <= bound, "{mode}: mean abs error {error}");
+    }
+    common::assert_no_validation_errors(&ctx);
+}
+
+/// Little-endian f32s from bytes.
+fn le_floats(bytes: &[u8]) -> Vec<f32> {
+    bytes
+        .chunks_exact(4)
+        .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+        .collect()
 }
 
 /// Mean absolute error of `ao` against the reference at `count` seeded texels.
