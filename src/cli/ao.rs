@@ -158,6 +158,41 @@ fn check(args: &AoArgs) -> anyhow::Result<AoMode> {
     Ok(mode)
 }
 
+/// The error statistics of `ao` against the reference, and what the reference cost.
+fn compare(
+    hf: &Heightfield,
+    args: &AoArgs,
+    ao: &[f32],
+) -> anyhow::Result<(serde_json::Value, serde_json::Value)> {
+    let all = hf.texel_count();
+    let default = if all <= FULL_REFERENCE_TEXELS {
+        all
+    } else {
+        DEFAULT_SUBSET
+    };
+    let texels = subset(all, args.reference_texels.unwrap_or(default));
+    if texels.len() > 256 {
+        eprintln!(
+            "reference: {} texels x {} azimuths on the CPU ...",
+            texels.len(),
+            args.reference_azimuths
+        );
+    }
+    let started = Instant::now();
+    let reference = reference_at(hf, args, &texels)?;
+    let cpu_ms = started.elapsed().as_secs_f64() * 1e3;
+    let diffs = texels
+        .iter()
+        .zip(&reference)
+        .map(|(&k, &r)| f64::from((ao[k] - r).abs()))
+        .collect();
+    let cost = json!({
+        "texels": texels.len(), "of": all, "azimuths": args.reference_azimuths,
+        "seed": SUBSET_SEED, "cpu_ms": cpu_ms,
+    });
+    Ok((error_stats(diffs), cost))
+}
+
 pub fn run(args: &AoArgs) -> anyhow::Result<()> {
     let mode = check(args)?;
     let (hf, source) = args
@@ -183,39 +218,13 @@ pub fn run(args: &AoArgs) -> anyhow::Result<()> {
     if let Some(path) = &args.dump {
         write_npy_f32(path, &[h, w], &ao).with_context(|| format!("writing {}", path.display()))?;
     }
-    let wanted = args
-        .reference_texels
-        .unwrap_or(if hf.texel_count() <= FULL_REFERENCE_TEXELS {
-            hf.texel_count()
-        } else {
-            DEFAULT_SUBSET
-        });
-    let texels = subset(hf.texel_count(), wanted);
-    if texels.len() > 256 {
-        eprintln!(
-            "reference: {} texels x {} azimuths on the CPU ...",
-            texels.len(),
-            args.reference_azimuths
-        );
-    }
-    let started = Instant::now();
-    let reference = reference_at(&hf, args, &texels)?;
-    let reference_ms = started.elapsed().as_secs_f64() * 1e3;
-    let diffs = texels
-        .iter()
-        .zip(&reference)
-        .map(|(&k, &r)| f64::from((ao[k] - r).abs()))
-        .collect();
+    let comparison = compare(&hf, args, &ao)?;
     let gpu_nan = ao.iter().filter(|v| !v.is_finite()).count();
     let line = json!({
         "ao": mode.to_string(), "heightmap": source, "size": [w, h],
         "depth_scale": args.depth_scale, "address": args.address.to_string(),
         "gpu_ms": gpu_ms, "device": ctx.info().name,
-        "error": error_stats(diffs), "nan_texels": gpu_nan,
-        "reference": {
-            "texels": texels.len(), "of": hf.texel_count(), "azimuths": args.reference_azimuths,
-            "seed": SUBSET_SEED, "cpu_ms": reference_ms,
-        },
+        "error": comparison.0, "nan_texels": gpu_nan, "reference": comparison.1,
         "mean_ao": ao.iter().map(|&v| f64::from(v)).sum::<f64>() / ao.len() as f64,
     });
     println!("{line}");

@@ -123,36 +123,7 @@ fn angle_gap(a: f64, b: f64) -> f64 {
 
 /// About `count` azimuths for a `w` x `h` map (fewer when targets share a step), sorted by angle.
 pub(crate) fn sweep_directions(count: u32, w: u32, h: u32) -> Vec<SweepDirection> {
-    let mut steps: Vec<[i32; 2]> = Vec::new();
-    let candidates: Vec<[i32; 2]> = (-MAX_STEP..=MAX_STEP)
-        .flat_map(|a| (-MAX_STEP..=MAX_STEP).map(move |b| [a, b]))
-        .filter(|&[a, b]| gcd(a.unsigned_abs().into(), b.unsigned_abs().into()) == 1)
-        .collect();
-    let spacing = TAU / f64::from(count.max(1));
-    for k in 0..count.max(1) {
-        let target = spacing * (f64::from(k) + 0.5);
-        // Within a third of the spacing, the shortest step; else the nearest angle of all.
-        let cost = |s: &[i32; 2]| {
-            let gap = angle_gap(uv_angle(*s, w, h), target);
-            let short = (s[0].abs() + s[1].abs()) as f64;
-            if gap <= spacing / 3.0 {
-                (0.0, short, gap)
-            } else {
-                (1.0, gap, short)
-            }
-        };
-        let best = candidates.iter().min_by(|x, y| {
-            cost(x)
-                .partial_cmp(&cost(y))
-                .unwrap_or(std::cmp::Ordering::Equal)
-        });
-        if let Some(&s) = best {
-            if !steps.contains(&s) {
-                steps.push(s);
-            }
-        }
-    }
-    let mut dirs: Vec<SweepDirection> = steps
+    let mut dirs: Vec<SweepDirection> = pick_steps(count.max(1), w, h)
         .into_iter()
         .map(|step| SweepDirection {
             step,
@@ -161,6 +132,7 @@ pub(crate) fn sweep_directions(count: u32, w: u32, h: u32) -> Vec<SweepDirection
         })
         .collect();
     dirs.sort_by(|x, y| x.angle.total_cmp(&y.angle));
+    // Each azimuth stands for the arc nearer to it than to either neighbour.
     let n = dirs.len();
     for k in 0..n {
         let prev = dirs[(k + n - 1) % n].angle;
@@ -174,6 +146,38 @@ pub(crate) fn sweep_directions(count: u32, w: u32, h: u32) -> Vec<SweepDirection
         dirs[k].weight = width / TAU;
     }
     dirs
+}
+
+/// For each of `count` evenly spaced target angles, the shortest primitive step within a third of
+/// the spacing (else the nearest in angle), without repeats.
+fn pick_steps(count: u32, w: u32, h: u32) -> Vec<[i32; 2]> {
+    let candidates: Vec<[i32; 2]> = (-MAX_STEP..=MAX_STEP)
+        .flat_map(|a| (-MAX_STEP..=MAX_STEP).map(move |b| [a, b]))
+        .filter(|&[a, b]| gcd(a.unsigned_abs().into(), b.unsigned_abs().into()) == 1)
+        .collect();
+    let spacing = TAU / f64::from(count);
+    let mut steps: Vec<[i32; 2]> = Vec::new();
+    for k in 0..count {
+        let target = spacing * (f64::from(k) + 0.5);
+        let cost = |s: &[i32; 2]| {
+            let gap = angle_gap(uv_angle(*s, w, h), target);
+            let short = f64::from(s[0].abs() + s[1].abs());
+            if gap <= spacing / 3.0 {
+                (0.0, short, gap)
+            } else {
+                (1.0, gap, short)
+            }
+        };
+        let best = candidates.iter().min_by(|x, y| {
+            cost(x)
+                .partial_cmp(&cost(y))
+                .unwrap_or(std::cmp::Ordering::Equal)
+        });
+        if let Some(&s) = best.filter(|s| !steps.contains(s)) {
+            steps.push(s);
+        }
+    }
+    steps
 }
 
 /// `(x, y)` with `x * b - y * a = 1` for a primitive `(a, b)` (extended Euclid).
