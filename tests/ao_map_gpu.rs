@@ -131,6 +131,8 @@ fn exact_horizon_meets_the_reference_on_tiny_and_steep_fields() {
         (Generator::Fbm.generate(3, 5, 5), 0.1),
         (Generator::Spikes.generate(17, 9, 6), 0.1),
         (Generator::Fbm.generate(16, 16, 8), 2.0),
+        // Coprime sides: diagonal orbits run around the whole map and are walked in segments.
+        (Generator::Bricks.generate(37, 23, 9), 0.1),
     ];
     for (hf, s) in &cases {
         for address in ADDRESSES {

@@ -15,7 +15,9 @@
 // Addressing, as the CPU reference's: under repeat a line is an orbit of `walk` on the torus, of
 // `period` steps; it is walked twice and recorded on the second turn, when the hull holds a whole
 // period behind every point, which is all a repeating profile can add (a copy farther away of the
-// same height is seen lower). Under clamp a line starts where both coordinates have left the map
+// same height is seen lower). (Orbits longer than 4 map sides, from sizes with few common factors,
+// are cut into segments warmed by 4 sides of profile: there a horizon more than 4 sides away is
+// missed, which is at most atan(s / 4) high.) Under clamp a line starts where both coordinates have left the map
 // behind (from there on backward the clamped extension is constant, so one point stands for all
 // of it) and ends at its last texel inside the map.
 //
@@ -91,7 +93,11 @@ layout(push_constant, std430) uniform Params {
     // This azimuth's crossings: `crossing_count` entries of `crossings` from `crossing_base`.
     uint crossing_base;
     uint crossing_count;
-    uint pad;
+    // Repeat: line l is segment l % segments of orbit l / segments: it records segment_steps
+    // texels after warm_steps steps of warm-up (a whole period unless the orbit is very long).
+    uint segments;
+    uint segment_steps;
+    uint warm_steps;
 } params;
 
 // floor(a / b) for b != 0, whatever the signs.
@@ -198,9 +204,15 @@ void visit_crossings(inout Hull hull, ivec2 p, int k, bool repeat) {
 // The line's first lattice point, the step to start at and the steps [first, last] to record.
 void line_span(uint l, bool repeat, out ivec2 p0, out int start, out ivec2 record) {
     if (repeat) {
-        p0 = ivec2(int(l % params.g_a), int(l / params.g_a));
+        uint orbit = l / params.segments;
+        int first = int((l % params.segments) * params.segment_steps);
+        int count = min(int(params.segment_steps), int(params.period) - first);
+        int warm = int(params.warm_steps);
+        // The orbit's start moved on to `first - warm` steps (an exact wrap of a bounded product).
+        ivec2 from = ivec2(int(orbit % params.g_a), int(orbit / params.g_a)) + (first - warm) * params.walk;
+        p0 = ivec2(ao_address(from.x, params.size.x, true), ao_address(from.y, params.size.y, true));
         start = 0;
-        record = ivec2(int(params.period), 2 * int(params.period) - 1);
+        record = ivec2(warm, warm + count - 1);
         return;
     }
     int c = params.c_min + int(l);

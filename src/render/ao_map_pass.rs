@@ -102,10 +102,12 @@ struct SweepParams {
     weight: f32,
     crossing_base: u32,
     crossing_count: u32,
-    pad: u32,
+    segments: u32,
+    segment_steps: u32,
+    warm_steps: u32,
 }
 
-const _: () = assert!(std::mem::size_of::<SweepParams>() == 80);
+const _: () = assert!(std::mem::size_of::<SweepParams>() == 88);
 
 /// A built AO map: `R32_SFLOAT`, one texel per height texel, in `SHADER_READ_ONLY_OPTIMAL`, with a
 /// sampler that filters linearly where the device can (else nearest) under the height field's
@@ -403,7 +405,9 @@ fn sweep_params(
         weight: dir.weight as f32,
         crossing_base: 0,
         crossing_count,
-        pad: 0,
+        segments: lines.segments,
+        segment_steps: lines.segment_steps,
+        warm_steps: lines.warm_steps,
     }
 }
 

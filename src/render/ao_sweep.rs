@@ -19,6 +19,9 @@ use std::f64::consts::TAU;
 /// Hull entries per line (`HULL_CAPACITY` in the shader).
 pub(crate) const HULL_CAPACITY: u64 = 128;
 
+/// Orbits longer than this many map sides are walked in segments (see [`SweepLines`]).
+const LONG_ORBIT: u64 = 4;
+
 /// The longest step component considered when picking directions.
 const MAX_STEP: i32 = 12;
 
@@ -99,6 +102,12 @@ pub(crate) struct SweepLines {
     /// Repeat: steps around one orbit, and the x coset count.
     pub period: u32,
     pub g_a: u32,
+    /// Repeat: each orbit is walked as `segments` lines (one invocation each) recording
+    /// `segment_steps` texels after `warm_steps` steps of warm-up (line `l` is segment
+    /// `l % segments` of orbit `l / segments`).
+    pub segments: u32,
+    pub segment_steps: u32,
+    pub warm_steps: u32,
 }
 
 fn gcd(a: u64, b: u64) -> u64 {
@@ -206,12 +215,25 @@ pub(crate) fn sweep_lines(walk: [i32; 2], w: u32, h: u32, repeat: bool) -> Sweep
         let g_a = gcd(u64::from(a.unsigned_abs()), w64);
         let shift = (i64::from(b).rem_euclid(h64 as i64) as u64 * (w64 / g_a)) % h64;
         let g_d = gcd(shift, h64);
+        let period = (w64 / g_a) * (h64 / g_d);
+        // A whole period of warm-up is exact; an orbit longer than LONG_ORBIT sides (sizes with
+        // few common factors) would leave one invocation walking most of the map, so it is cut
+        // into side-long segments, each warmed by LONG_ORBIT sides of profile only.
+        let side = w64.max(h64);
+        let (segments, segment_steps, warm_steps) = if period > LONG_ORBIT * side {
+            (period.div_ceil(side), side, LONG_ORBIT * side)
+        } else {
+            (1, period, period)
+        };
         return SweepLines {
-            lines: (g_a * g_d) as u32,
+            lines: (g_a * g_d * segments) as u32,
             c_min: 0,
             euclid,
-            period: ((w64 / g_a) * (h64 / g_d)) as u32,
+            period: period as u32,
             g_a: g_a as u32,
+            segments: segments as u32,
+            segment_steps: segment_steps as u32,
+            warm_steps: warm_steps as u32,
         };
     }
     let corners = [
@@ -229,6 +251,9 @@ pub(crate) fn sweep_lines(walk: [i32; 2], w: u32, h: u32, repeat: bool) -> Sweep
         euclid,
         period: 0,
         g_a: 1,
+        segments: 1,
+        segment_steps: 0,
+        warm_steps: 0,
     }
 }
 
@@ -292,22 +317,33 @@ mod tests {
     /// Walks every orbit from its named start and checks they partition the torus.
     #[test]
     fn repeat_orbits_partition_the_map() {
-        for (w, h) in [(1, 1), (3, 5), (8, 8), (12, 18), (7, 4)] {
-            for walk in [[1, 0], [0, -1], [3, 2], [-5, 7], [2, -9]] {
+        for (w, h) in [(1, 1), (3, 5), (8, 8), (12, 18), (7, 4), (37, 23)] {
+            for walk in [[1, 0], [0, -1], [3, 2], [-5, 7], [2, -9], [1, 1]] {
                 let lines = sweep_lines(walk, w, h, true);
                 let mut seen = vec![0u32; (w * h) as usize];
                 for l in 0..lines.lines {
-                    let (mut x, mut y) = ((l % lines.g_a) as i64, (l / lines.g_a) as i64);
-                    for _ in 0..lines.period {
+                    let (orbit, segment) = (l / lines.segments, l % lines.segments);
+                    let (mut x, mut y) = ((orbit % lines.g_a) as i64, (orbit / lines.g_a) as i64);
+                    let first = segment * lines.segment_steps;
+                    let steps = lines.segment_steps.min(lines.period - first);
+                    x = (x + i64::from(walk[0]) * i64::from(first)).rem_euclid(w.into());
+                    y = (y + i64::from(walk[1]) * i64::from(first)).rem_euclid(h.into());
+                    for _ in 0..steps {
                         seen[(y * i64::from(w) + x) as usize] += 1;
                         x = (x + i64::from(walk[0])).rem_euclid(w.into());
                         y = (y + i64::from(walk[1])).rem_euclid(h.into());
                     }
-                    assert_eq!((x, y), ((l % lines.g_a) as i64, (l / lines.g_a) as i64));
                 }
                 assert!(seen.iter().all(|&n| n == 1), "{w}x{h} {walk:?}: {seen:?}");
             }
         }
+        // 37x23 along the diagonal: one orbit of 851 texels, cut into side-long segments.
+        let long = sweep_lines([1, 1], 37, 23, true);
+        assert_eq!(
+            (long.period, long.segments, long.segment_steps),
+            (851, 23, 37)
+        );
+        assert_eq!(long.warm_steps, 148);
     }
 
     #[test]
