@@ -7,10 +7,11 @@
 // hides, and its horizon is then the slope toward the top. Each point is pushed and popped at most
 // once, so a dispatch is linear in the points walked.
 //
-// The profile is the bilinear surface along the line: each texel centre on it plus every crossing
-// of a texel-centre grid line between two of them, where the bilinear surface is linear along the
-// crossed edge and so exact. (Between crossings it is a quadratic; its bulge above the chord is
-// the only thing the hull misses.)
+// The profile is the bilinear surface along the line: each texel centre on it and every crossing
+// of a texel-centre grid line between two of them (where the bilinear surface is linear along the
+// crossed edge, so exact). Between crossings it is a quadratic whose bulge above the chord the
+// hull misses; at the recorded point itself the horizon also takes the surface's tangent toward
+// the horizon, the limit the reference includes, which no chord reaches where the profile bulges.
 //
 // Addressing, as the CPU reference's: under repeat a line is an orbit of `walk` on the torus, of
 // `period` steps; it is walked twice and recorded on the second turn, when the hull holds a whole
@@ -55,18 +56,22 @@ layout(set = 0, binding = 4, std430) buffer Field {
     float field[];
 };
 
-// The grid-line crossings inside one lattice step, per azimuth (render::ao_sweep::Crossing):
-// the crossed edge's lower end from the step's start, the edge's direction, and the fractions
-// along the step and along the edge. Listed by the host, so the walks divide no integers (a
-// vector integer division is a loop of scalar ones on CPU implementations).
-struct Crossing {
-    ivec2 offset;
-    ivec2 along;
-    vec2 fractions;
+// The profile points inside one lattice step, per azimuth (render::ao_sweep::ProfilePoint): the
+// bilinear cell's lower corner from the step's start, the place in it, the fraction of the step,
+// and the kind. Listed by the host, so the walks divide no integers (a vector integer division is
+// a loop of scalar ones on CPU implementations).
+const uint POINT_COLUMN = 0u;
+const uint POINT_ROW = 1u;
+
+struct ProfilePoint {
+    ivec2 cell;
+    vec2 local;
+    float step;
+    uint kind;
 };
 
-layout(set = 0, binding = 5, std430) readonly buffer Crossings {
-    Crossing crossings[];
+layout(set = 0, binding = 5, std430) readonly buffer ProfilePoints {
+    ProfilePoint points[];
 };
 
 layout(push_constant, std430) uniform Params {
@@ -90,9 +95,9 @@ layout(push_constant, std430) uniform Params {
     vec2 dir;
     // This azimuth's share of the circle (the weights of a sweep sum to 1).
     float weight;
-    // This azimuth's crossings: `crossing_count` entries of `crossings` from `crossing_base`.
-    uint crossing_base;
-    uint crossing_count;
+    // This azimuth's profile points: `point_count` entries of `points` from `point_base`.
+    uint point_base;
+    uint point_count;
     // Repeat: line l is segment l % segments of orbit l / segments: it records segment_steps
     // texels after warm_steps steps of warm-up (a whole period unless the orbit is very long).
     uint segments;
@@ -181,23 +186,33 @@ float visit(inout Hull hull, int k, float f, float h) {
     return tau;
 }
 
-// Visits the crossings of grid lines strictly between lattice points p and p + walk, in order.
-// The bilinear surface is linear along the crossed edge, so each height is exact. Under clamp, a
-// crossing of a column (row) outside the map lies where the extension is linear along the line
-// between the row (column) crossings around it: it can never be a hull vertex, so it is skipped,
-// which makes the long walks through the clamped extension one point per step.
-void visit_crossings(inout Hull hull, ivec2 p, int k, bool repeat) {
-    for (uint c = 0u; c < params.crossing_count; ++c) {
-        Crossing x = crossings[params.crossing_base + c];
-        ivec2 at = p + x.offset;
-        int across = x.along.y != 0 ? at.x : at.y;
-        int n = x.along.y != 0 ? params.size.x : params.size.y;
-        if (!repeat && (across < 0 || across >= n)) {
+// Under clamp, whether a profile point lies where the clamped extension makes the profile linear
+// between its neighbours (it then never is a hull vertex): a column (row) crossed outside the map,
+// where the surface varies along rows (columns) only. Skipping those makes the long walks through
+// the extension about one point per step.
+bool redundant(ivec2 cell, uint kind) {
+    if (kind == POINT_COLUMN) {
+        return cell.x < 0 || cell.x >= params.size.x;
+    }
+    return cell.y < 0 || cell.y >= params.size.y;
+}
+
+// Visits the profile points strictly between lattice points p and p + walk, in order.
+void visit_between(inout Hull hull, ivec2 p, int k, bool repeat) {
+    for (uint c = 0u; c < params.point_count; ++c) {
+        ProfilePoint x = points[params.point_base + c];
+        ivec2 cell = p + x.cell;
+        if (!repeat && redundant(cell, x.kind)) {
             continue;
         }
-        float h0 = height(p + x.offset, repeat);
-        float h1 = height(p + x.offset + x.along, repeat);
-        visit(hull, k, x.fractions.x, h0 + x.fractions.y * (h1 - h0));
+        float h00 = height(cell, repeat);
+        float h10 = height(cell + ivec2(1, 0), repeat);
+        float h01 = height(cell + ivec2(0, 1), repeat);
+        float h11 = height(cell + ivec2(1, 1), repeat);
+        // a + f (b - a): equal corners give exactly their value, which keeps a flat field exact.
+        float bottom = h00 + x.local.x * (h10 - h00);
+        float top = h01 + x.local.x * (h11 - h01);
+        visit(hull, k, x.step, bottom + x.local.y * (top - bottom));
     }
 }
 
@@ -229,6 +244,18 @@ void line_span(uint l, bool repeat, out ivec2 p0, out int start, out ivec2 recor
     start = 0;
 }
 
+// The tangent of the surface's slope at texel centre p (height hp) toward the horizon: the
+// derivative of the bilinear cell behind p along -walk, per uv. The reference's horizon includes
+// this limit of the slope as the distance goes to 0, which no chord to a later point reaches
+// where the profile bulges up.
+float tangent(ivec2 p, float hp, bool repeat) {
+    ivec2 back = -sign(params.walk);
+    ivec2 w = abs(params.walk);
+    float rise = float(w.x) * (height(p + ivec2(back.x, 0), repeat) - hp)
+               + float(w.y) * (height(p + ivec2(0, back.y), repeat) - hp);
+    return params.depth_scale * rise / params.step_uv;
+}
+
 void sweep() {
     uint l = gl_GlobalInvocationID.x;
     if (l >= params.lines) {
@@ -244,8 +271,10 @@ void sweep() {
     }
     Hull hull = Hull(0u, 0u, l * HULL_CAPACITY, vec4(0.0));
     for (int k = start; k <= record.y; ++k) {
-        float tau = visit(hull, k, 0.0, height(p, repeat));
+        float hp = height(p, repeat);
+        float tau = visit(hull, k, 0.0, hp);
         if (k >= record.x) {
+            tau = max(tau, tangent(p, hp, repeat));
             vec3 n = ao_normal_of(height(p - ivec2(1, 0), repeat), height(p + ivec2(1, 0), repeat),
                                   height(p - ivec2(0, 1), repeat), height(p + ivec2(0, 1), repeat),
                                   params.size, params.depth_scale);
@@ -253,7 +282,7 @@ void sweep() {
             accum[index] += params.weight * ao_slice_occlusion(n, params.dir, tau);
         }
         if (k < record.y) {
-            visit_crossings(hull, p, k, repeat);
+            visit_between(hull, p, k, repeat);
         }
         p += params.walk;
         if (repeat) {
