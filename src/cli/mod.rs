@@ -1,6 +1,7 @@
 //! Argument parsing (clap), logging, and the mapping of failures to exit codes: 0 success,
 //! 1 failure, 2 bad usage (clap), 77 no Vulkan device (with the install line).
 
+mod ao;
 mod bench;
 mod devices;
 mod heightmap_args;
@@ -38,6 +39,8 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
+    /// Build a height field's ambient-occlusion map on the GPU and measure it against the exact reference.
+    Ao(ao::AoArgs),
     /// Time every method and measure its error against the exact reference; write a report.
     Bench(bench::BenchArgs),
     /// List the Vulkan devices relief can use, best first.
@@ -57,6 +60,7 @@ pub fn run() -> ExitCode {
     let cli = Cli::parse();
     logger::init(cli.verbose);
     let result = match cli.command {
+        Command::Ao(args) => ao::run(&args),
         Command::Bench(args) => bench::run(&args),
         Command::Devices(args) => devices::run(&args),
         Command::Render(args) => render::run(&args),

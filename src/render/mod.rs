@@ -3,8 +3,10 @@
 //! (the pyramid, the surface) are timed by timestamp scopes and read a frame later. Also where a
 //! method's map is built (`map_builder`: on the GPU where a builder exists, else `heightfield`'s
 //! CPU build) and where the height field's `Address` becomes a sampler address mode
-//! (`gpu_heightfield`).
+//! (`gpu_heightfield`). The texture-space AO map is built here too (`ao_map_pass`).
 
+mod ao_map_pass;
+mod ao_sweep;
 mod bench_pass;
 mod cone_map_pass;
 mod explain;
@@ -29,6 +31,7 @@ mod targets;
 mod texture_mips;
 mod trace_pass;
 
+pub use ao_map_pass::{AoJob, AoMap, AoMapPass, AO_MAP_FORMAT, SWEEP_DIRECTIONS};
 pub use bench_pass::{time_method, BenchRequest, BenchTiming};
 pub use cone_map_pass::{
     build_cone_map_on_gpu, ConeMapPass, MAX_SIDE as CONE_MAP_GPU_MAX_SIDE, RATIO_TOLERANCE,
