@@ -19,6 +19,8 @@ const int SLOT_NORMAL = 2;
 const int SLOT_OCCLUSION = 3;
 const int SLOT_EMISSIVE = 4;
 const int SLOT_HEIGHT = 5;
+// Not a texture slot: bit 6 of `textures.x` says the relief's AO map is bound (binding 6).
+const int SLOT_RELIEF_AO = 6;
 
 // Mirrors `MaterialUniform` in src/render/material_set.rs.
 layout(set = 1, binding = 5, std140) uniform MaterialParams {
@@ -36,6 +38,8 @@ layout(set = 1, binding = 1) uniform sampler2D tex_metallic_roughness;
 layout(set = 1, binding = 2) uniform sampler2D tex_normal;
 layout(set = 1, binding = 3) uniform sampler2D tex_occlusion;
 layout(set = 1, binding = 4) uniform sampler2D tex_emissive;
+// The relief's texture-space AO map (one value per height texel, read at the hit's height uv).
+layout(set = 1, binding = 6) uniform sampler2D tex_relief_ao;
 
 bool has_texture(int slot) {
     return (material.textures.x & (1u << uint(slot))) != 0u;

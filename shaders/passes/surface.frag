@@ -133,6 +133,12 @@ void main() {
         float ao = texture(tex_occlusion, slot_uv(SLOT_OCCLUSION, uv0, uv1)).r;
         occlusion = mix(1.0, ao, material.pbr.w);
     }
+#ifndef PLAIN_SURFACE
+    if (has_texture(SLOT_RELIEF_AO)) {
+        // The field's own occlusion at the hit; the glTF occlusion texture multiplies it.
+        occlusion *= texture(tex_relief_ao, uv_hit).r;
+    }
+#endif
     vec3 emissive = material.emissive.rgb;
     if (has_texture(SLOT_EMISSIVE)) {
         emissive *= texture(tex_emissive, slot_uv(SLOT_EMISSIVE, uv0, uv1)).rgb;

@@ -1,5 +1,6 @@
-//! Set 1 of the surface pass: per material, its parameter block and its five textures (the white
-//! texture fills empty slots). Mirrors `MaterialParams` in `shaders/include/draw.glsl`.
+//! Set 1 of the surface pass: per material, its parameter block, its five textures and the AO map
+//! of its relief (the white texture fills empty slots). Mirrors `MaterialParams` in
+//! `shaders/include/draw.glsl`.
 
 use std::sync::Arc;
 
@@ -24,6 +25,8 @@ const _: () = assert!(std::mem::size_of::<MaterialUniform>() == 272);
 
 /// Index of the height map's uv transform after the five texture slots.
 const HEIGHT_SLOT: usize = 5;
+/// Bit of `textures.x` and binding of the relief AO map (`SLOT_RELIEF_AO` in draw.glsl).
+const RELIEF_AO_SLOT: u32 = 6;
 
 fn uv_rows(transform: &UvTransform, tex_coord: u32) -> [[f32; 4]; 2] {
     let [r0, r1] = transform.rows();
@@ -89,6 +92,7 @@ pub fn material_layout(ctx: &Arc<Context>) -> VkResult<DescriptorLayout> {
         .map(|b| (b, vk::DescriptorType::COMBINED_IMAGE_SAMPLER))
         .collect();
     bindings.push((5, vk::DescriptorType::UNIFORM_BUFFER));
+    bindings.push((RELIEF_AO_SLOT, vk::DescriptorType::COMBINED_IMAGE_SAMPLER));
     let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
     DescriptorLayout::new(ctx, &bindings, stages, "material layout")
 }
@@ -102,31 +106,37 @@ pub struct MaterialSets {
 }
 
 impl MaterialSets {
-    /// Sets for the materials `drawn` marks, uploading the textures they read.
+    /// Sets for the materials `drawn` marks, uploading the textures they read; `relief_ao[k]` is
+    /// material k's AO map, if its relief has one.
     pub fn new(
         ctx: &Arc<Context>,
         layout: &DescriptorLayout,
         materials: &[Material],
         images: &[SceneImage],
         drawn: &[bool],
+        relief_ao: &[Option<(vk::ImageView, vk::Sampler)>],
         textures: &mut SceneTextures,
     ) -> VkResult<MaterialSets> {
         let count = drawn.iter().filter(|d| **d).count().max(1) as u32;
-        let pool = DescriptorPool::new(ctx, count, 5 * count, "material sets")?;
+        let pool = DescriptorPool::new(ctx, count, 6 * count, "material sets")?;
         let mut buffers = Vec::new();
         let mut sets = vec![None; materials.len()];
         for (index, material) in materials.iter().enumerate() {
             if !drawn.get(index).copied().unwrap_or(false) {
                 continue;
             }
-            let uniform = MaterialUniform::of(material);
+            let ao = relief_ao.get(index).copied().flatten();
+            let mut uniform = MaterialUniform::of(material);
+            if ao.is_some() {
+                uniform.textures[0] |= 1 << RELIEF_AO_SLOT;
+            }
             let buffer = Buffer::with_data(
                 ctx,
                 bytemuck::bytes_of(&uniform),
                 vk::BufferUsageFlags::UNIFORM_BUFFER,
                 &format!("material {:?}", material.name),
             )?;
-            let mut binds = Vec::with_capacity(6);
+            let mut binds = Vec::with_capacity(7);
             for (k, slot) in TextureSlot::ALL.iter().enumerate() {
                 let (view, sampler) = match material.texture(*slot) {
                     Some(t) => textures.bind(images, t, slot.is_color())?,
@@ -135,6 +145,11 @@ impl MaterialSets {
                 binds.push(Bind::Texture(k as u32, view, sampler));
             }
             binds.push(Bind::Uniform(5, buffer.raw()));
+            let (view, sampler) = match ao {
+                Some(bound) => bound,
+                None => textures.white()?,
+            };
+            binds.push(Bind::Texture(RELIEF_AO_SLOT, view, sampler));
             sets[index] = Some(pool.allocate(layout, &binds)?);
             buffers.push(buffer);
         }

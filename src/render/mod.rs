@@ -25,6 +25,7 @@ mod pass_timer;
 mod plan;
 mod pyramid_pass;
 mod renderer;
+mod scene_ao;
 mod scene_textures;
 mod surface_pass;
 mod targets;

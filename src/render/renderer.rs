@@ -19,6 +19,7 @@ use super::map_builder::{build_method_map_with, MapBuilder};
 use super::pass::Pass;
 use super::pass_timer::{per_pass, PassTimer, PassTiming, Scope};
 use super::plan::{HeightKey, Plan};
+use super::scene_ao::SceneAo;
 use super::surface_pass::SurfacePass;
 use super::targets::Targets;
 use crate::heightfield::Heightfield;
@@ -64,6 +65,7 @@ pub struct Renderer {
     maps: Vec<BuiltMap>,
     upload_ms: f64,
     heights: Vec<HeightResources>,
+    ao: SceneAo,
     surface: SurfacePass,
     targets: Targets,
     slots: Vec<FrameSlot>,
@@ -91,10 +93,19 @@ impl Renderer {
         let started = Instant::now();
         let (heights, maps) = upload_heights(ctx, scene, &plan, frame_heights, opts, uniforms)?;
         let upload_ms = started.elapsed().as_secs_f64() * 1e3;
-        let surface = SurfacePass::new(ctx, scene, &plan, &heights, &uniforms, FRAMES_IN_FLIGHT)?;
+        let ao = SceneAo::new(ctx, &plan, &heights)?;
+        let surface = SurfacePass::new(
+            ctx,
+            scene,
+            &plan,
+            &heights,
+            &ao,
+            &uniforms,
+            FRAMES_IN_FLIGHT,
+        )?;
         let targets = Targets::new(ctx, opts.width, opts.height)?;
-        // One scope per pyramid build plus the surface pass.
-        let scopes = plan.heights.len() as u32 + 1;
+        // One scope per pyramid build and per AO map, plus the surface pass.
+        let scopes = (plan.heights.len() + ao.len()) as u32 + 1;
         let slots = (0..FRAMES_IN_FLIGHT)
             .map(|k| {
                 Ok(FrameSlot {
@@ -112,6 +123,7 @@ impl Renderer {
             maps,
             upload_ms,
             heights,
+            ao,
             surface,
             targets,
             slots,
@@ -170,7 +182,8 @@ impl Renderer {
         let eye = request.camera.eye();
         let slot = &mut self.slots[k];
         let readback = slot.readback.as_ref().filter(|_| request.read_back);
-        let (heights, surface, targets) = (&self.heights, &self.surface, &self.targets);
+        let (heights, ao, surface, targets) =
+            (&self.heights, &self.ao, &self.surface, &self.targets);
         let timer = &mut slot.timer;
         slot.commands.submit(|rec| {
             if build_pyramids {
@@ -180,6 +193,13 @@ impl Renderer {
                         part: Some(part),
                     };
                     timer.scope(rec, scope, |rec| h.record_pyramid(rec))?;
+                }
+                for part in 0..ao.len() {
+                    let scope = Scope {
+                        pass: Pass::AmbientOcclusion,
+                        part: Some(part),
+                    };
+                    timer.scope(rec, scope, |rec| ao.record(rec, part))?;
                 }
             }
             let scope = Scope {
@@ -233,6 +253,7 @@ impl Renderer {
         };
         if index == 0 {
             self.note_pyramids(&scopes);
+            self.note_ao_maps(&scopes);
         }
         Ok(Some(FrameOutput {
             index,
@@ -241,6 +262,29 @@ impl Renderer {
             width: self.width,
             height: self.height,
         }))
+    }
+
+    /// Lists the AO maps the first frame built, with their GPU time.
+    fn note_ao_maps(&mut self, scopes: &[(Scope, f64)]) {
+        for (scope, ms) in scopes
+            .iter()
+            .filter(|(s, _)| s.pass == Pass::AmbientOcclusion)
+        {
+            let Some(ao) = scope.part.and_then(|p| self.plan.ao_maps.get(p)) else {
+                continue;
+            };
+            let hp = &self.plan.heights[ao.heights];
+            self.maps.push(BuiltMap {
+                kind: "ao",
+                source: format!(
+                    "{} ({}, depth scale {})",
+                    hp.source, ao.mode, ao.depth_scale
+                ),
+                size: [hp.size.0, hp.size.1],
+                ms: *ms,
+                on: "gpu",
+            });
+        }
     }
 
     /// Lists the pyramids the first frame built, with their GPU time.

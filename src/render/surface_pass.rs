@@ -12,6 +12,7 @@ use super::frame_uniforms::FrameUniforms;
 use super::height_resources::HeightResources;
 use super::material_set::{material_layout, MaterialSets};
 use super::plan::{PipelineKey, Plan};
+use super::scene_ao::SceneAo;
 use super::scene_textures::SceneTextures;
 use crate::method::Method;
 use crate::scene::{Lod, Scene, Vertex};
@@ -147,12 +148,13 @@ fn frame_layouts(ctx: &Arc<Context>) -> VkResult<FrameLayouts> {
 impl SurfacePass {
     /// Uploads what `plan` draws of `scene` and builds the pipelines it lists, with set 0 for
     /// each of `slots` frame slots. `heights[k]` is the uploaded height map of
-    /// `plan.heights[k]`, with uniforms for every slot.
+    /// `plan.heights[k]`, with uniforms for every slot; `ao` holds the AO maps the materials read.
     pub fn new(
         ctx: &Arc<Context>,
         scene: &Scene,
         plan: &Plan,
         heights: &[HeightResources],
+        ao: &SceneAo,
         uniforms: &FrameUniforms,
         slots: usize,
     ) -> VkResult<SurfacePass> {
@@ -165,8 +167,10 @@ impl SurfacePass {
         let layouts = frame_layouts(ctx)?;
         let material_layout = material_layout(ctx)?;
         let mut drawn = vec![false; scene.materials.len()];
+        let mut relief_ao = vec![None; scene.materials.len()];
         for d in &plan.draws {
             drawn[d.material] = true;
+            relief_ao[d.material] = d.ao.and_then(|k| ao.binding(k));
         }
         let mut textures = SceneTextures::new(ctx)?;
         let materials = MaterialSets::new(
@@ -175,6 +179,7 @@ impl SurfacePass {
             &scene.materials,
             &scene.images,
             &drawn,
+            &relief_ao,
             &mut textures,
         )?;
         let sets = (heights.len() as u32 + 1) * slots as u32;
