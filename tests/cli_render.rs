@@ -11,17 +11,17 @@ fn relief(args: &[&str]) -> std::process::Output {
         .expect("binary runs")
 }
 
-/// Renders the default scene at `width` x `height` with `method` and a flag that makes the CLI
-/// print one JSON object; returns that object and the PNG's path.
+/// Renders the default scene at `width` x `height` with `method` and flags, one of which makes
+/// the CLI print one JSON object; returns that object and the PNG's path.
 fn render_default(
     name: &str,
     width: &str,
     height: &str,
     method: &str,
-    flag: &str,
+    flags: &[&str],
 ) -> (serde_json::Value, std::path::PathBuf) {
     let out = common::scratch_dir(name).join("frame.png");
-    let run = relief(&[
+    let mut args = vec![
         "render",
         "--out",
         out.to_str().expect("utf-8"),
@@ -31,10 +31,11 @@ fn render_default(
         height,
         "--method",
         method,
-        flag,
-    ]);
+    ];
+    args.extend_from_slice(flags);
+    let run = relief(&args);
     let err = String::from_utf8_lossy(&run.stderr);
-    assert!(run.status.success(), "render {flag} failed:\n{err}");
+    assert!(run.status.success(), "render {flags:?} failed:\n{err}");
     let json = serde_json::from_slice(&run.stdout).expect("one JSON object");
     (json, out)
 }
@@ -44,14 +45,15 @@ fn render_default_scene_reports_passes() {
     if common::device("render_default_scene_reports_passes").is_none() {
         return;
     }
-    let (report, out) = render_default("render-json", "96", "64", "qdm", "--json");
+    let (report, out) = render_default("render-json", "96", "64", "qdm", &["--json"]);
     assert!(report["device"]["name"]
         .as_str()
         .is_some_and(|n| !n.is_empty()));
     let passes = report["passes"].as_array().expect("passes");
     let names: Vec<&str> = passes.iter().filter_map(|p| p["pass"].as_str()).collect();
-    // QDM reads the max pyramid, so its build is a pass of its own.
-    assert_eq!(names, ["pyramid", "surface"]);
+    // QDM reads the max pyramid, so its build is a pass of its own; the default scene's bricks
+    // ask for horizon AO, built once after it.
+    assert_eq!(names, ["pyramid", "ao map", "surface"]);
     assert!(
         passes
             .iter()
@@ -131,7 +133,10 @@ fn explain_prints_the_plan() {
     if common::device("explain_prints_the_plan").is_none() {
         return;
     }
-    let (plan, _) = render_default("explain", "64", "48", "csm", "--explain");
+    // Hard shadows and no AO: then csm needs its cone map and nothing else (the default scene's
+    // cone shadows and horizon AO would read the pyramid).
+    let flags = ["--explain", "--shadows", "hard", "--ao", "none"];
+    let (plan, _) = render_default("explain", "64", "48", "csm", &flags);
     let shaders: Vec<&str> = plan["pipelines"]
         .as_array()
         .expect("pipelines")
@@ -145,7 +150,7 @@ fn explain_prints_the_plan() {
     assert_eq!(maps[0]["size"], serde_json::json!([256, 256]));
     assert!(maps[0]["ms"].as_f64().is_some_and(|ms| ms > 0.0));
     let skipped = plan["skipped"].as_array().expect("skipped");
-    for what in ["max_pyramid", "quadric_map", "relaxed_cone_map"] {
+    for what in ["max_pyramid", "quadric_map", "relaxed_cone_map", "ao map"] {
         let entry = skipped.iter().find(|s| s["what"] == what);
         assert!(
             entry.is_some_and(|e| e["why"].as_str().is_some_and(|w| !w.is_empty())),
@@ -201,8 +206,8 @@ fn a_frame_sequence_reuses_its_resources_and_reports_steady_statistics() {
         .collect();
     assert_eq!(
         first,
-        ["pyramid", "surface"],
-        "the first frame builds the pyramid"
+        ["pyramid", "ao map", "surface"],
+        "the first frame builds the pyramid and the AO map"
     );
     let steady = report["steady"].as_array().expect("steady statistics");
     assert_eq!(
@@ -292,8 +297,8 @@ fn the_pipeline_cache_persists_between_runs_and_a_corrupt_one_is_ignored() {
     let path = cache.to_str().expect("utf-8");
     let (first, _) = run(&["--pipeline-cache", path]);
     assert_eq!(first["seeded"], false, "{first}");
-    // The slab (qdm), the plain pedestal and the pyramid build.
-    assert_eq!(first["pipelines"], 3, "{first}");
+    // The slab (qdm), the plain pedestal, the pyramid build and the horizon AO build.
+    assert_eq!(first["pipelines"], 4, "{first}");
     assert!(cache.exists(), "the cache was written");
     let (second, _) = run(&["--pipeline-cache", path]);
     assert_eq!(second["seeded"], true, "{second}");

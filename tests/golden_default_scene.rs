@@ -5,7 +5,7 @@ mod common;
 
 use relief::method::Method;
 use relief::render::{render, RenderOptions};
-use relief::scene::{default_heightfield, default_scene};
+use relief::scene::{default_heightfield, default_scene, DEFAULT_SCENE_METHOD};
 
 const WIDTH: u32 = 192;
 const HEIGHT: u32 = 108;
@@ -22,7 +22,7 @@ fn default_scene_matches_golden() {
     };
     let frame = render(
         &ctx,
-        &default_scene(Method::POM),
+        &default_scene(DEFAULT_SCENE_METHOD),
         Some(&default_heightfield()),
         &opts,
     )

@@ -1,5 +1,5 @@
-//! The persistent renderer: resources made once and reused by every frame, the pyramid built by
-//! the first frame only, frames in flight that come back in order, and frames that equal the
+//! The persistent renderer: resources made once and reused by every frame, the pyramid and the AO
+//! map built by the first frame only, frames in flight that come back in order, and frames that equal the
 //! one-shot render of the same view.
 
 mod common;
@@ -47,10 +47,18 @@ fn frames_reuse_every_resource_and_build_the_pyramid_once() {
     assert_eq!(indices, (0..u64::from(frames)).collect::<Vec<_>>());
     let has = |k: usize, pass| outputs[k].timings.iter().any(|t| t.pass == pass);
     assert!(has(0, Pass::Pyramid), "the first frame builds the pyramid");
+    assert!(
+        has(0, Pass::AmbientOcclusion),
+        "the first frame builds the AO map"
+    );
     for k in 1..frames as usize {
         assert!(
             !has(k, Pass::Pyramid),
             "frame {k} rebuilt the static pyramid"
+        );
+        assert!(
+            !has(k, Pass::AmbientOcclusion),
+            "frame {k} rebuilt the static AO map"
         );
         assert!(has(k, Pass::Surface), "frame {k} has no surface time");
     }
@@ -66,7 +74,8 @@ fn frames_reuse_every_resource_and_build_the_pyramid_once() {
         mean > 2.0,
         "the orbit did not move the camera (mean {mean:.2})"
     );
-    assert_eq!(renderer.maps().len(), 1, "{:?}", renderer.maps());
+    let kinds: Vec<&str> = renderer.maps().iter().map(|m| m.kind).collect();
+    assert_eq!(kinds, ["max_pyramid", "ao"], "{:?}", renderer.maps());
     common::assert_no_validation_errors(&ctx);
 }
 

@@ -7,7 +7,9 @@ use clap::{Args, ValueEnum};
 use relief::heightfield::Address;
 use relief::method::Method;
 use relief::render::{HeightFormat, RenderOptions, Renderer};
-use relief::scene::{default_heightfield, default_scene, load_gltf, Scene, SceneOptions};
+use relief::scene::{
+    default_heightfield, default_scene, load_gltf, Scene, SceneOptions, DEFAULT_SCENE_METHOD,
+};
 
 use super::heightmap_args::HeightmapArgs;
 use super::lod_args::LodArgs;
@@ -39,10 +41,10 @@ pub struct RenderArgs {
     /// Depth of height 0 below the surface, in uv units (0.05 = a twentieth of the texture).
     #[arg(long, value_name = "S")]
     depth_scale: Option<f32>,
-    /// Displacement method id (see `relief methods`) for the default scene and for materials
-    /// given relief by --heightmap.
-    #[arg(long, default_value = "pom")]
-    method: String,
+    /// Displacement method id (see `relief methods`) for the default scene (default qdm) and for
+    /// materials given relief by --heightmap (default pom).
+    #[arg(long)]
+    method: Option<String>,
     /// Which materials --heightmap displaces: a material name, or `all`.
     #[arg(long, value_name = "NAME|all", default_value = "all")]
     material: String,
@@ -138,7 +140,11 @@ fn build_scene(args: &RenderArgs, method: Method, heights: bool) -> anyhow::Resu
 
 pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     check_inputs(args)?;
-    let method: Method = args.method.parse()?;
+    let method: Method = match &args.method {
+        Some(id) => id.parse()?,
+        None if args.scene.is_none() => DEFAULT_SCENE_METHOD,
+        None => Method::POM,
+    };
     let loaded = args.heights.load()?;
     let mut scene = build_scene(args, method, loaded.is_some())?;
     args.shading.apply(&mut scene)?;

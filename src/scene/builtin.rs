@@ -1,15 +1,23 @@
 //! The built-in default scene: a displaced brick slab on a pedestal, seen at an oblique angle, with
-//! a plain cube and a ground plane around it for context. `relief render` draws it with no input.
+//! a plain cube and a ground plane around it for context. `relief render` draws it with no input,
+//! with QDM, cone soft shadows from a low sun of 2 degrees' angular radius, and horizon-8 AO.
 
 use glam::{Mat4, Vec3};
 
-use super::{box_mesh, quad_mesh, Camera, Light, Material, Mesh, Relief, Scene};
+use super::{
+    box_mesh, quad_mesh, AoMode, Camera, Light, Material, Mesh, Relief, Scene, ShadowMode,
+    ShadowSettings,
+};
 use crate::heightfield::{Generator, Heightfield};
 use crate::method::Method;
 
 /// Size, seed and depth scale of the default scene's height field.
 pub const DEFAULT_HEIGHTFIELD: (Generator, u32, u64) = (Generator::Bricks, 256, 1);
 const DEFAULT_DEPTH_SCALE: f32 = 0.06;
+/// The default scene's method when none is asked for.
+pub const DEFAULT_SCENE_METHOD: Method = Method::QDM;
+/// The default light's angular radius: wide enough that the penumbrae show at this view.
+const DEFAULT_LIGHT_RADIUS_DEG: f32 = 2.0;
 
 /// The height field the default scene is displaced with.
 pub fn default_heightfield() -> Heightfield {
@@ -43,7 +51,14 @@ fn without_top(mut mesh: Mesh) -> Mesh {
 
 /// The default scene, displaced with `method`.
 pub fn default_scene(method: Method) -> Scene {
-    let relief = Relief::new(DEFAULT_DEPTH_SCALE, method);
+    let relief = Relief {
+        shadows: ShadowSettings::new(ShadowMode::Cone),
+        ao: AoMode::Horizon {
+            directions: 8,
+            rotated: false,
+        },
+        ..Relief::new(DEFAULT_DEPTH_SCALE, method)
+    };
     let materials = vec![
         material("bricks", [0.62, 0.26, 0.17], 0.7, Some(relief)),
         material("pedestal", [0.55, 0.55, 0.58], 0.5, None),
@@ -71,7 +86,9 @@ pub fn default_scene(method: Method) -> Scene {
         // The one light casts shadows, so the default scene shows relief self-shadowing.
         lights: vec![Light {
             casts_shadows: true,
-            radius: 0.0,
+            // Low (about 27 degrees), so the bricks cast shadows longer than the mortar is wide.
+            direction: -Vec3::new(-0.62, 0.45, 0.64).normalize(),
+            radius: DEFAULT_LIGHT_RADIUS_DEG.to_radians(),
             ..Light::default_light()
         }],
         images: Vec::new(),

@@ -22,7 +22,7 @@ mod relief_extras;
 mod shading;
 mod tangents;
 
-pub use builtin::{default_heightfield, default_scene, DEFAULT_HEIGHTFIELD};
+pub use builtin::{default_heightfield, default_scene, DEFAULT_HEIGHTFIELD, DEFAULT_SCENE_METHOD};
 pub use camera::{Camera, Projection};
 pub use camera_path::{CameraPath, Interpolation, Keyed, Keyframe, NodeMotion, Track, TrackError};
 pub use gltf_load::{load_gltf, load_gltf_with_report, LoadReport, SceneError, SceneOptions};
