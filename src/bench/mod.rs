@@ -1,6 +1,7 @@
 //! Measuring methods: rays from view angles, error against the exact reference, statistics,
 //! and the files the tools write (`.npy` dumps).
 
+mod ao;
 mod lod;
 mod npy;
 mod report;
@@ -16,6 +17,7 @@ mod svg;
 mod sweep;
 mod trace_stats;
 
+pub use ao::{measure_ao, AoConfig, AoRun};
 pub use lod::{
     downsample, image_error, receding_plane, render_interleaved, render_timed, run_lod_section,
     ImageError, LodConfig, LodRun, LodScaling, LodSection,

@@ -38,6 +38,7 @@ pub fn render_report(results: &BenchResults) -> (String, Vec<(String, String)>) 
     stability(&mut md, &results.stability);
     super::shading_report::shadows(&mut md, &results.shadows);
     super::shading_report::shadow_stability(&mut md, &results.shadow_stability);
+    super::shading_report::ambient_occlusion(&mut md, &results.ao);
     if let Some(lod) = &results.lod {
         super::lod::report(&mut md, lod);
     }

@@ -3,6 +3,7 @@
 
 use serde::Serialize;
 
+use super::ao::AoRun;
 use super::shading::ShadowRun;
 use super::shadow_stability::ShadowStabilityCell;
 use super::subgroup_steps::TimedSteps;
@@ -109,6 +110,8 @@ pub struct BenchResults {
     pub shadows: Vec<ShadowRun>,
     /// Shadow modes under extreme lights on degenerate fields.
     pub shadow_stability: Vec<ShadowStabilityCell>,
+    /// The AO modes' maps against the exact AO, with their build times.
+    pub ao: Vec<AoRun>,
     /// The level-of-detail section (`None` when skipped, e.g. `--no-lod`).
     pub lod: Option<super::lod::LodSection>,
 }

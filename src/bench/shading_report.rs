@@ -5,6 +5,7 @@
 
 use std::fmt::Write as _;
 
+use super::ao::AoRun;
 use super::shading::ShadowRun;
 use super::shadow_stability::ShadowStabilityCell;
 
@@ -178,6 +179,49 @@ pub fn shadow_stability(md: &mut String, cells: &[ShadowStabilityCell]) {
             c.mode,
             c.case,
             c.failed.as_deref().unwrap_or("")
+        );
+    }
+    md.push('\n');
+}
+
+/// Writes the AO table (nothing when AO was not measured).
+pub fn ambient_occlusion(md: &mut String, runs: &[AoRun]) {
+    if runs.is_empty() {
+        return;
+    }
+    let _ = writeln!(md, "## 7. Ambient occlusion maps against the exact AO\n");
+    let _ = writeln!(
+        md,
+        "Each mode's texture-space AO map, built on the GPU, against the exact AO at every texel centre \
+         (DESIGN.md section 2: cosine-weighted over the hemisphere about the texel normal, from exact horizons). \
+         Build times are GPU time of the one-off build.\n"
+    );
+    let _ = writeln!(
+        md,
+        "| field | mode | mean | p99 | max | build ms | build ms at main size |"
+    );
+    let _ = writeln!(md, "|---|---|---|---|---|---|---|");
+    for r in runs {
+        let main = match (r.main_size, r.main_build_ms) {
+            (Some(size), Some(ms)) => format!("{ms:.1} ({}x{})", size[0], size[1]),
+            _ => "-".into(),
+        };
+        let bad = if r.bad_values > 0 {
+            format!(" (bad {})", r.bad_values)
+        } else {
+            String::new()
+        };
+        let _ = writeln!(
+            md,
+            "| {} {}x{} | {}{bad} | {:.4} | {:.4} | {:.4} | {:.1} | {main} |",
+            r.heightfield,
+            r.size[0],
+            r.size[1],
+            r.mode,
+            r.error.mean,
+            r.error.p99,
+            r.error.max,
+            r.build_ms
         );
     }
     md.push('\n');

@@ -9,12 +9,14 @@ use std::io::IsTerminal;
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use relief::bench::{
-    measure_shadows, plan_jobs, render_report, run_lod_section, run_stiff_case, stiff_cases,
-    BenchResults, FieldSource, LodConfig, Runner, ShadingConfig, SweepConfig,
+    measure_ao, measure_shadows, plan_jobs, render_report, run_lod_section, run_stiff_case,
+    stiff_cases, AoConfig, BenchResults, FieldSource, LodConfig, Runner, ShadingConfig,
+    SweepConfig,
 };
 use relief::heightfield::{Address, Generator};
 use relief::method::Method;
 use relief::render::HeightFormat;
+use relief::scene::AoMode;
 
 use super::render::FormatArg;
 
@@ -221,8 +223,14 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     } else {
         Vec::new()
     };
+    let ao_config = if cfg.quick {
+        AoConfig::quick()
+    } else {
+        AoConfig::full()
+    };
+    let ao_modes = AoMode::all().len();
     let shading_steps = shading.as_ref().map_or(0, |s| {
-        cfg.fields.len() * s.elevations.len() * s.radii.len() * (s.modes.len() + 1)
+        cfg.fields.len() * (s.elevations.len() * s.radii.len() * (s.modes.len() + 1) + ao_modes)
     });
     let bar = progress(
         jobs.len() + cases.len() * cfg.methods.len() + shading_steps,
@@ -263,6 +271,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         }
     }
     let mut shadows = Vec::new();
+    let mut ao = Vec::new();
     if let Some(shading) = &shading {
         for field in &cfg.fields {
             let mut note_step = |what: &str| {
@@ -272,6 +281,10 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
             shadows.extend(
                 measure_shadows(&mut runner, shading, field, &mut note_step)
                     .with_context(|| format!("measuring shadows on {}", field.name()))?,
+            );
+            ao.extend(
+                measure_ao(&mut runner, &ao_config, field, &mut note_step)
+                    .with_context(|| format!("measuring AO on {}", field.name()))?,
             );
         }
     }
@@ -297,6 +310,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         stability,
         shadows,
         shadow_stability,
+        ao,
         lod,
     };
     write_outputs(&args.out, &results, args.json)
