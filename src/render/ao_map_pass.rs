@@ -30,8 +30,8 @@ use std::sync::Arc;
 use ash::vk;
 
 use super::ao_sweep::{
-    profile_points, sweep_directions, sweep_lines, ProfilePoint, SweepDirection, HULL_CAPACITY,
-    MAX_PROFILE_POINTS,
+    crossings, sweep_directions, sweep_lines, Crossing, SweepDirection, HULL_CAPACITY,
+    MAX_CROSSINGS,
 };
 use super::gpu_heightfield::{sampler_address_mode, GpuHeightfield, HeightFormat};
 use super::pyramid_pass::PyramidPass;
@@ -100,8 +100,8 @@ struct SweepParams {
     step_uv: f32,
     dir: [f32; 2],
     weight: f32,
-    point_base: u32,
-    point_count: u32,
+    crossing_base: u32,
+    crossing_count: u32,
     segments: u32,
     segment_steps: u32,
     warm_steps: u32,
@@ -210,7 +210,7 @@ impl AoMapPass {
             binds.push(Bind::Storage(2, scratch.hulls.raw()));
             binds.push(Bind::Storage(3, scratch.accum.raw()));
             binds.push(Bind::Storage(4, scratch.field.raw()));
-            binds.push(Bind::Storage(5, scratch.points.raw()));
+            binds.push(Bind::Storage(5, scratch.crossings.raw()));
             Some(scratch)
         } else {
             None
@@ -313,7 +313,7 @@ impl AoMapPass {
         memory_barrier(rec, (compute, rw), (compute, rw));
         for (k, dir) in scratch.directions.iter().enumerate() {
             let mut params = sweep_params(dir, w, h, repeat, depth_scale);
-            params.point_base = (k * MAX_PROFILE_POINTS) as u32;
+            params.crossing_base = (k * MAX_CROSSINGS) as u32;
             self.pipeline.push(rec, bytemuck::bytes_of(&params))?;
             rec.dispatch([params.lines.div_ceil(SWEEP_GROUP), 1, 1]);
             // The next direction reuses the hull stacks and adds to the same sums.
@@ -364,7 +364,7 @@ impl AoMapPass {
 }
 
 /// The set layout of `mode`'s shader: heights and the map (ao.glsl), plus the sweep's buffers
-/// (hulls, sums, unpacked heights, profile points).
+/// (hulls, sums, unpacked heights, crossings).
 fn layout_bindings(mode: AoMode) -> Vec<(u32, vk::DescriptorType)> {
     let mut bindings = vec![
         (0, vk::DescriptorType::COMBINED_IMAGE_SAMPLER),
@@ -386,7 +386,7 @@ fn sweep_params(
 ) -> SweepParams {
     let walk = [-dir.step[0], -dir.step[1]];
     let lines = sweep_lines(walk, w, h, repeat);
-    let point_count = profile_points(walk).len() as u32;
+    let crossing_count = crossings(walk).len() as u32;
     let step_u = f64::from(dir.step[0]) / f64::from(w);
     let step_v = f64::from(dir.step[1]) / f64::from(h);
     SweepParams {
@@ -403,8 +403,8 @@ fn sweep_params(
         step_uv: step_u.hypot(step_v) as f32,
         dir: [dir.angle.cos() as f32, dir.angle.sin() as f32],
         weight: dir.weight as f32,
-        point_base: 0,
-        point_count,
+        crossing_base: 0,
+        crossing_count,
         segments: lines.segments,
         segment_steps: lines.segment_steps,
         warm_steps: lines.warm_steps,
@@ -412,13 +412,13 @@ fn sweep_params(
 }
 
 /// The sweep's azimuths and buffers: hull stacks for the most lines any azimuth has, one sum per
-/// texel, level 0 of the heights unpacked, and each azimuth's profile points ([`MAX_PROFILE_POINTS`] slots).
+/// texel, level 0 of the heights unpacked, and each azimuth's crossings ([`MAX_CROSSINGS`] slots).
 struct SweepScratch {
     directions: Vec<SweepDirection>,
     hulls: Buffer,
     accum: Buffer,
     field: Buffer,
-    points: Buffer,
+    crossings: Buffer,
 }
 
 fn sweep_scratch(ctx: &Arc<Context>, hf: &GpuHeightfield) -> VkResult<SweepScratch> {
@@ -447,20 +447,20 @@ fn sweep_scratch(ctx: &Arc<Context>, hf: &GpuHeightfield) -> VkResult<SweepScrat
             name,
         )
     };
-    let mut table = vec![ProfilePoint::default(); directions.len() * MAX_PROFILE_POINTS];
-    for (slots, dir) in table.chunks_mut(MAX_PROFILE_POINTS).zip(&directions) {
-        let list = profile_points([-dir.step[0], -dir.step[1]]);
+    let mut table = vec![Crossing::default(); directions.len() * MAX_CROSSINGS];
+    for (slots, dir) in table.chunks_mut(MAX_CROSSINGS).zip(&directions) {
+        let list = crossings([-dir.step[0], -dir.step[1]]);
         slots[..list.len()].copy_from_slice(&list);
     }
-    let points = Buffer::with_data(
+    let crossings = Buffer::with_data(
         ctx,
         bytemuck::cast_slice(&table),
         vk::BufferUsageFlags::STORAGE_BUFFER,
-        "ao sweep profile points",
+        "ao sweep crossings",
     )?;
     Ok(SweepScratch {
         directions,
-        points,
+        crossings,
         hulls,
         accum: per_texel("ao sweep sums")?,
         field: per_texel("ao sweep heights")?,
