@@ -24,6 +24,12 @@
 //! The map's image ends in `SHADER_READ_ONLY_OPTIMAL`, visible to fragment and compute shaders.
 //!
 //! Invariants: a flat field gives exactly 1.0 in every mode; every value is in [0, 1].
+//!
+//! Accuracy and cost (mean absolute error against the reference at 256 azimuths; lavapipe on two
+//! busy cores, 128x128, depth 0.1): `horizon-8` 0.007-0.008 in tens of ms; `exact-horizon`
+//! 0.0002-0.0006 in 2-6 s, linear in texels x azimuths, in one submission. The sweep's scratch is
+//! `HULL_CAPACITY` x 16 bytes per line (about `(W + H) x 12` lines for the steepest azimuth under
+//! clamp) plus 8 bytes per texel.
 
 use std::sync::Arc;
 
@@ -55,7 +61,8 @@ pub const AO_MAP_FORMAT: vk::Format = vk::Format::R32_SFLOAT;
 /// whose nodes match the distance (nodes a quarter of the distance wide). Measured against the
 /// exact reference on 128x128 fbm and bricks at depth 0.05 and 0.1 (200 texels each): one level
 /// below gave mean errors up to 0.053 (the max nodes raise far horizons), two below at most 0.011,
-/// three below 0.022 (near features missed between samples).
+/// three below 0.022 (near features missed between samples); starting each horizon from the
+/// surface's tangent then brought two below to at most 0.009.
 const HORIZON_FIRST_DISTANCE: f32 = 1.0;
 const HORIZON_GROWTH: f32 = 2.0;
 const HORIZON_LEVEL_BIAS: i32 = 2;
