@@ -278,8 +278,9 @@ void sweep() {
 }
 
 void resolve() {
-    ivec2 t = ivec2(gl_GlobalInvocationID.x % uint(params.size.x), gl_GlobalInvocationID.x / uint(params.size.x));
-    if (t.y >= params.size.y) {
+    // Dispatched as rows of 64-texel groups (x) by rows (y), within the group count limits.
+    ivec2 t = ivec2(gl_GlobalInvocationID.xy);
+    if (t.x >= params.size.x || t.y >= params.size.y) {
         return;
     }
     float ao = clamp(1.0 - accum[t.y * params.size.x + t.x], 0.0, 1.0);
@@ -287,8 +288,9 @@ void resolve() {
 }
 
 void unpack() {
-    ivec2 t = ivec2(gl_GlobalInvocationID.x % uint(params.size.x), gl_GlobalInvocationID.x / uint(params.size.x));
-    if (t.y >= params.size.y) {
+    // Dispatched as rows of 64-texel groups (x) by rows (y), within the group count limits.
+    ivec2 t = ivec2(gl_GlobalInvocationID.xy);
+    if (t.x >= params.size.x || t.y >= params.size.y) {
         return;
     }
     field[t.y * params.size.x + t.x] = texelFetch(heights, t, 0).r;

@@ -303,11 +303,12 @@ impl AoMapPass {
         let rw = vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE;
         let compute = vk::PipelineStageFlags2::COMPUTE_SHADER;
         let repeat = job.map.address == Address::Repeat;
-        let texel_groups = (u64::from(w) * u64::from(h)).div_ceil(u64::from(SWEEP_GROUP)) as u32;
+        // Per-texel passes: a group per 64 texels of a row, a row of groups per map row.
+        let texel_groups = [w.div_ceil(SWEEP_GROUP), h, 1];
         let mut whole_map = sweep_params(&scratch.directions[0], w, h, repeat, depth_scale);
         whole_map.mode = MODE_UNPACK;
         self.pipeline.push(rec, bytemuck::bytes_of(&whole_map))?;
-        rec.dispatch([texel_groups, 1, 1]);
+        rec.dispatch(texel_groups);
         rec.fill_buffer(accum, 0, accum.size(), 0);
         memory_barrier(
             rec,
@@ -328,7 +329,7 @@ impl AoMapPass {
         }
         whole_map.mode = MODE_RESOLVE;
         self.pipeline.push(rec, bytemuck::bytes_of(&whole_map))?;
-        rec.dispatch([texel_groups, 1, 1]);
+        rec.dispatch(texel_groups);
         Ok(())
     }
 
