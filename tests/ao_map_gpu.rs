@@ -242,6 +242,25 @@ fn maps_meet_the_reference_at_128() {
     common::assert_no_validation_errors(&ctx);
 }
 
+/// Known issue, kept as a failing check: under repeat, maps of 192x192 and more get too little
+/// occlusion from the sweep (mean error 0.012 at 192, 0.06 on bricks at 256), while clamp stays at
+/// 0.0005 and repeat up to 160x160 at 0.0004. The orbit enumeration partitions the map (checked
+/// in `ao_sweep`'s tests for these sizes too); the cause is not found yet.
+#[test]
+#[ignore = "known issue: exact-horizon under repeat loses occlusion at 192x192 and above"]
+fn exact_horizon_repeat_at_256() {
+    let Some(ctx) = common::device("ao_map_gpu repeat 256") else {
+        return;
+    };
+    let exact = AoMapPass::new(&ctx, AoMode::ExactHorizon).expect("sweep pipeline");
+    let hf = Generator::Bricks.generate(256, 256, 1);
+    let (s, address) = (0.1, Address::Repeat);
+    let error = subset_error(&hf, s, address, &build(&exact, &hf, s, address), 40);
+    eprintln!("bricks 256x256 repeat: exact-horizon mean abs error {error:.4} on 40 texels");
+    assert!(error <= 0.002, "mean abs error {error}");
+    common::assert_no_validation_errors(&ctx);
+}
+
 /// A small real depth map from the shared corpus, compared on 48 seeded texels.
 #[test]
 fn corpus_height_map_meets_the_reference_on_a_subset() {

@@ -40,7 +40,9 @@ const uint MODE_UNPACK = 2u;
 // a very flat one, can be lost.
 const uint HULL_CAPACITY = 128u;
 
-// Per line, a ring of hull entries: (lattice step as int bits, fraction of the step, height).
+// Per line, a ring of hull entries: (lattice step, fraction of the step, height). The step is a
+// plain float, exact below 2^24 (walks are far shorter): its int bits would be a denormal, which
+// implementations may flush to zero on the way through memory.
 layout(set = 0, binding = 2, std430) buffer Hulls {
     vec4 hulls[];
 };
@@ -159,8 +161,8 @@ vec4 hull_get(Hull hull, uint i) {
 float visit(inout Hull hull, int k, float f, float h) {
     while (hull.top - hull.base >= 2u) {
         vec4 b = hull_get(hull, hull.top - 2u);
-        float dt = float(k - floatBitsToInt(hull.last.x)) + (f - hull.last.y);
-        float db = float(k - floatBitsToInt(b.x)) + (f - b.y);
+        float dt = (float(k) - hull.last.x) + (f - hull.last.y);
+        float db = (float(k) - b.x) + (f - b.y);
         // The newest lies on or below the line from this point to b: no horizon, now or later.
         if ((b.z - h) * dt < (hull.last.z - h) * db) {
             break;
@@ -170,13 +172,13 @@ float visit(inout Hull hull, int k, float f, float h) {
     }
     float tau = 0.0;
     if (hull.top > hull.base) {
-        float dt = float(k - floatBitsToInt(hull.last.x)) + (f - hull.last.y);
+        float dt = (float(k) - hull.last.x) + (f - hull.last.y);
         tau = max(params.depth_scale * (hull.last.z - h) / (dt * params.step_uv), 0.0);
     }
     if (hull.top - hull.base == HULL_CAPACITY) {
         hull.base += 1u;
     }
-    hull.last = vec4(intBitsToFloat(k), f, h, 0.0);
+    hull.last = vec4(float(k), f, h, 0.0);
     hulls[hull.at + (hull.top & (HULL_CAPACITY - 1u))] = hull.last;
     hull.top += 1u;
     return tau;
