@@ -209,25 +209,55 @@ fn subset_error(hf: &Heightfield, s: f64, address: Address, ao: &[f32], count: u
     sum / f64::from(count)
 }
 
-/// The horizon pass at the size it was tuned for (128x128), on a texel subset.
+/// Both passes at the size the horizon pass was tuned for (128x128), on a texel subset. The
+/// sweep's bound is tighter than its 0.01 target: it measures about 0.0002 here, and a version
+/// that drifted to 0.006 at this size (but not at 64) must not pass.
 #[test]
-fn horizon_8_meets_the_reference_at_128() {
-    let Some(ctx) = common::device("ao_map_gpu horizon 128") else {
+fn maps_meet_the_reference_at_128() {
+    let Some(ctx) = common::device("ao_map_gpu 128") else {
         return;
     };
-    let pass = AoMapPass::new(&ctx, HORIZON_8).expect("horizon pipeline");
+    let horizon = AoMapPass::new(&ctx, HORIZON_8).expect("horizon pipeline");
+    let exact = AoMapPass::new(&ctx, AoMode::ExactHorizon).expect("sweep pipeline");
     let cases = [
         (Generator::Fbm, 0.1, Address::Repeat),
         (Generator::Bricks, 0.05, Address::Clamp),
     ];
     for (generator, s, address) in cases {
         let hf = generator.generate(128, 128, 21);
-        let ao = build(&pass, &hf, s, address);
-        let error = subset_error(&hf, s, address, &ao, 40);
         let what = format!("{generator:?} 128x128 s={s} {address}");
-        eprintln!("{what}: horizon-8 mean abs error {error:.4} on 40 texels");
-        assert!(error <= 0.03, "{what}: mean abs error {error}");
+        for (pass, bound) in [(&horizon, 0.03), (&exact, 0.002)] {
+            let error = subset_error(&hf, s, address, &build(pass, &hf, s, address), 40);
+            eprintln!(
+                "{what}: {} mean abs error {error:.4} on 40 texels",
+                pass.mode()
+            );
+            assert!(
+                error <= bound,
+                "{what}: {} mean abs error {error}",
+                pass.mode()
+            );
+        }
     }
+    common::assert_no_validation_errors(&ctx);
+}
+
+/// Known issue, kept as a failing check: under repeat, maps of 192x192 and more get too little
+/// occlusion from the sweep (mean error 0.012 at 192, 0.06 on bricks at 256), while clamp stays at
+/// 0.0005 and repeat up to 160x160 at 0.0004. The orbit enumeration partitions the map (checked
+/// in `ao_sweep`'s tests for these sizes too); the cause is not found yet.
+#[test]
+#[ignore = "known issue: exact-horizon under repeat loses occlusion at 192x192 and above"]
+fn exact_horizon_repeat_at_256() {
+    let Some(ctx) = common::device("ao_map_gpu repeat 256") else {
+        return;
+    };
+    let exact = AoMapPass::new(&ctx, AoMode::ExactHorizon).expect("sweep pipeline");
+    let hf = Generator::Bricks.generate(256, 256, 1);
+    let (s, address) = (0.1, Address::Repeat);
+    let error = subset_error(&hf, s, address, &build(&exact, &hf, s, address), 40);
+    eprintln!("bricks 256x256 repeat: exact-horizon mean abs error {error:.4} on 40 texels");
+    assert!(error <= 0.002, "mean abs error {error}");
     common::assert_no_validation_errors(&ctx);
 }
 

@@ -73,10 +73,21 @@ float horizon_sample(vec2 p, float distance, int levels, bool repeat) {
     return ao_texel(ivec2(floor(p * vec2(size))), level, repeat);
 }
 
+// The slope of the bilinear surface leaving texel t (height hp) along uv direction dir: the cell
+// on that side's derivative at its corner. The exact horizon includes this limit at distance 0,
+// which matters beside steep cells (a wall's foot); samples a texel or more away miss it.
+float tangent(ivec2 t, float hp, vec2 dir, bool repeat) {
+    vec2 rate = abs(dir) * vec2(params.size);
+    ivec2 side = ivec2(sign(dir));
+    float rise = rate.x * (ao_texel(t + ivec2(side.x, 0), 0, repeat) - hp)
+               + rate.y * (ao_texel(t + ivec2(0, side.y), 0, repeat) - hp);
+    return params.depth_scale * rise;
+}
+
 // The horizon tangent along uv unit direction dir from the texel centre p (height hp).
 float horizon(vec2 p, float hp, vec2 dir, int levels, bool repeat) {
     float texel_uv = 1.0 / float(max(params.size.x, params.size.y));
-    float tau = 0.0;
+    float tau = max(tangent(ivec2(floor(p * vec2(params.size))), hp, dir, repeat), 0.0);
     float d = params.first_distance;
     for (int m = 0; m < MAX_SAMPLES && d * texel_uv <= params.reach_uv; ++m) {
         float x = d * texel_uv;

@@ -7,11 +7,11 @@
 // hides, and its horizon is then the slope toward the top. Each point is pushed and popped at most
 // once, so a dispatch is linear in the points walked.
 //
-// The profile is the bilinear surface along the line: each texel centre on it and every crossing
-// of a texel-centre grid line between two of them (where the bilinear surface is linear along the
-// crossed edge, so exact). Between crossings it is a quadratic whose bulge above the chord the
-// hull misses; at the recorded point itself the horizon also takes the surface's tangent toward
-// the horizon, the limit the reference includes, which no chord reaches where the profile bulges.
+// The profile is the bilinear surface along the line: each texel centre on it plus every crossing
+// of a texel-centre grid line between two of them, where the bilinear surface is linear along the
+// crossed edge and so exact. (Between crossings it is a quadratic; its bulge above the chord is
+// the only thing the hull misses.) At each recorded texel the horizon also takes the surface's
+// tangent toward it, the limit at distance 0 that the reference includes and no chord reaches.
 //
 // Addressing, as the CPU reference's: under repeat a line is an orbit of `walk` on the torus, of
 // `period` steps; it is walked twice and recorded on the second turn, when the hull holds a whole
@@ -40,7 +40,9 @@ const uint MODE_UNPACK = 2u;
 // a very flat one, can be lost.
 const uint HULL_CAPACITY = 128u;
 
-// Per line, a ring of hull entries: (lattice step as int bits, fraction of the step, height).
+// Per line, a ring of hull entries: (lattice step, fraction of the step, height). The step is a
+// plain float, exact below 2^24 (walks are far shorter): its int bits would be a denormal, which
+// implementations may flush to zero on the way through memory.
 layout(set = 0, binding = 2, std430) buffer Hulls {
     vec4 hulls[];
 };
@@ -56,22 +58,18 @@ layout(set = 0, binding = 4, std430) buffer Field {
     float field[];
 };
 
-// The profile points inside one lattice step, per azimuth (render::ao_sweep::ProfilePoint): the
-// bilinear cell's lower corner from the step's start, the place in it, the fraction of the step,
-// and the kind. Listed by the host, so the walks divide no integers (a vector integer division is
-// a loop of scalar ones on CPU implementations).
-const uint POINT_COLUMN = 0u;
-const uint POINT_ROW = 1u;
-
-struct ProfilePoint {
-    ivec2 cell;
-    vec2 local;
-    float step;
-    uint kind;
+// The grid-line crossings inside one lattice step, per azimuth (render::ao_sweep::Crossing):
+// the crossed edge's lower end from the step's start, the edge's direction, and the fractions
+// along the step and along the edge. Listed by the host, so the walks divide no integers (a
+// vector integer division is a loop of scalar ones on CPU implementations).
+struct Crossing {
+    ivec2 offset;
+    ivec2 along;
+    vec2 fractions;
 };
 
-layout(set = 0, binding = 5, std430) readonly buffer ProfilePoints {
-    ProfilePoint points[];
+layout(set = 0, binding = 5, std430) readonly buffer Crossings {
+    Crossing crossings[];
 };
 
 layout(push_constant, std430) uniform Params {
@@ -95,9 +93,9 @@ layout(push_constant, std430) uniform Params {
     vec2 dir;
     // This azimuth's share of the circle (the weights of a sweep sum to 1).
     float weight;
-    // This azimuth's profile points: `point_count` entries of `points` from `point_base`.
-    uint point_base;
-    uint point_count;
+    // This azimuth's crossings: `crossing_count` entries of `crossings` from `crossing_base`.
+    uint crossing_base;
+    uint crossing_count;
     // Repeat: line l is segment l % segments of orbit l / segments: it records segment_steps
     // texels after warm_steps steps of warm-up (a whole period unless the orbit is very long).
     uint segments;
@@ -163,8 +161,8 @@ vec4 hull_get(Hull hull, uint i) {
 float visit(inout Hull hull, int k, float f, float h) {
     while (hull.top - hull.base >= 2u) {
         vec4 b = hull_get(hull, hull.top - 2u);
-        float dt = float(k - floatBitsToInt(hull.last.x)) + (f - hull.last.y);
-        float db = float(k - floatBitsToInt(b.x)) + (f - b.y);
+        float dt = (float(k) - hull.last.x) + (f - hull.last.y);
+        float db = (float(k) - b.x) + (f - b.y);
         // The newest lies on or below the line from this point to b: no horizon, now or later.
         if ((b.z - h) * dt < (hull.last.z - h) * db) {
             break;
@@ -174,45 +172,35 @@ float visit(inout Hull hull, int k, float f, float h) {
     }
     float tau = 0.0;
     if (hull.top > hull.base) {
-        float dt = float(k - floatBitsToInt(hull.last.x)) + (f - hull.last.y);
+        float dt = (float(k) - hull.last.x) + (f - hull.last.y);
         tau = max(params.depth_scale * (hull.last.z - h) / (dt * params.step_uv), 0.0);
     }
     if (hull.top - hull.base == HULL_CAPACITY) {
         hull.base += 1u;
     }
-    hull.last = vec4(intBitsToFloat(k), f, h, 0.0);
+    hull.last = vec4(float(k), f, h, 0.0);
     hulls[hull.at + (hull.top & (HULL_CAPACITY - 1u))] = hull.last;
     hull.top += 1u;
     return tau;
 }
 
-// Under clamp, whether a profile point lies where the clamped extension makes the profile linear
-// between its neighbours (it then never is a hull vertex): a column (row) crossed outside the map,
-// where the surface varies along rows (columns) only. Skipping those makes the long walks through
-// the extension about one point per step.
-bool redundant(ivec2 cell, uint kind) {
-    if (kind == POINT_COLUMN) {
-        return cell.x < 0 || cell.x >= params.size.x;
-    }
-    return cell.y < 0 || cell.y >= params.size.y;
-}
-
-// Visits the profile points strictly between lattice points p and p + walk, in order.
-void visit_between(inout Hull hull, ivec2 p, int k, bool repeat) {
-    for (uint c = 0u; c < params.point_count; ++c) {
-        ProfilePoint x = points[params.point_base + c];
-        ivec2 cell = p + x.cell;
-        if (!repeat && redundant(cell, x.kind)) {
+// Visits the crossings of grid lines strictly between lattice points p and p + walk, in order.
+// The bilinear surface is linear along the crossed edge, so each height is exact. Under clamp, a
+// crossing of a column (row) outside the map lies where the extension is linear along the line
+// between the row (column) crossings around it: it can never be a hull vertex, so it is skipped,
+// which makes the long walks through the clamped extension one point per step.
+void visit_crossings(inout Hull hull, ivec2 p, int k, bool repeat) {
+    for (uint c = 0u; c < params.crossing_count; ++c) {
+        Crossing x = crossings[params.crossing_base + c];
+        ivec2 at = p + x.offset;
+        int across = x.along.y != 0 ? at.x : at.y;
+        int n = x.along.y != 0 ? params.size.x : params.size.y;
+        if (!repeat && (across < 0 || across >= n)) {
             continue;
         }
-        float h00 = height(cell, repeat);
-        float h10 = height(cell + ivec2(1, 0), repeat);
-        float h01 = height(cell + ivec2(0, 1), repeat);
-        float h11 = height(cell + ivec2(1, 1), repeat);
-        // a + f (b - a): equal corners give exactly their value, which keeps a flat field exact.
-        float bottom = h00 + x.local.x * (h10 - h00);
-        float top = h01 + x.local.x * (h11 - h01);
-        visit(hull, k, x.step, bottom + x.local.y * (top - bottom));
+        float h0 = height(p + x.offset, repeat);
+        float h1 = height(p + x.offset + x.along, repeat);
+        visit(hull, k, x.fractions.x, h0 + x.fractions.y * (h1 - h0));
     }
 }
 
@@ -282,7 +270,7 @@ void sweep() {
             accum[index] += params.weight * ao_slice_occlusion(n, params.dir, tau);
         }
         if (k < record.y) {
-            visit_between(hull, p, k, repeat);
+            visit_crossings(hull, p, k, repeat);
         }
         p += params.walk;
         if (repeat) {
@@ -292,8 +280,9 @@ void sweep() {
 }
 
 void resolve() {
-    ivec2 t = ivec2(gl_GlobalInvocationID.x % uint(params.size.x), gl_GlobalInvocationID.x / uint(params.size.x));
-    if (t.y >= params.size.y) {
+    // Dispatched as rows of 64-texel groups (x) by rows (y), within the group count limits.
+    ivec2 t = ivec2(gl_GlobalInvocationID.xy);
+    if (t.x >= params.size.x || t.y >= params.size.y) {
         return;
     }
     float ao = clamp(1.0 - accum[t.y * params.size.x + t.x], 0.0, 1.0);
@@ -301,8 +290,9 @@ void resolve() {
 }
 
 void unpack() {
-    ivec2 t = ivec2(gl_GlobalInvocationID.x % uint(params.size.x), gl_GlobalInvocationID.x / uint(params.size.x));
-    if (t.y >= params.size.y) {
+    // Dispatched as rows of 64-texel groups (x) by rows (y), within the group count limits.
+    ivec2 t = ivec2(gl_GlobalInvocationID.xy);
+    if (t.x >= params.size.x || t.y >= params.size.y) {
         return;
     }
     field[t.y * params.size.x + t.x] = texelFetch(heights, t, 0).r;
