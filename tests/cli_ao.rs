@@ -17,28 +17,6 @@ fn relief(args: &[&str]) -> Output {
         .expect("binary runs")
 }
 
-/// Parses a little-endian float32 `.npy` file: (shape, values).
-fn read_npy(bytes: &[u8]) -> (Vec<usize>, Vec<f32>) {
-    assert_eq!(&bytes[..6], b"\x93NUMPY", "npy magic");
-    let header_len = u16::from_le_bytes([bytes[8], bytes[9]]) as usize;
-    let header = std::str::from_utf8(&bytes[10..10 + header_len]).expect("ascii header");
-    assert!(header.contains("'descr': '<f4'"), "{header}");
-    let inside = header
-        .split("'shape': (")
-        .nth(1)
-        .and_then(|t| t.split(')').next())
-        .expect("shape");
-    let shape = inside
-        .split(',')
-        .filter_map(|d| d.trim().parse().ok())
-        .collect();
-    let values = bytes[10 + header_len..]
-        .chunks_exact(4)
-        .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
-        .collect();
-    (shape, values)
-}
-
 /// Runs `relief ao` on `map` and checks the dump and the printed statistics against the reference.
 fn check_dump(map: &Path, hf: &Heightfield, mode: &str, address: Address, bound: f64) {
     let dump = map.with_extension(format!("{mode}.{address}.npy"));
@@ -58,7 +36,7 @@ fn check_dump(map: &Path, hf: &Heightfield, mode: &str, address: Address, bound:
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(out.status.success(), "{err}");
     let printed: serde_json::Value = serde_json::from_slice(&out.stdout).expect("one JSON line");
-    let (shape, values) = read_npy(&std::fs::read(&dump).expect("dump written"));
+    let (shape, values) = common::npy::read_npy(&std::fs::read(&dump).expect("dump written"));
     assert_eq!(shape, [hf.height() as usize, hf.width() as usize]);
     assert!(values.iter().all(|v| (0.0..=1.0).contains(v)));
     let reference = ao_reference(hf, 0.08, address, 256).expect("reference");

@@ -10,28 +10,6 @@ use relief::heightfield::reference::{trace, RefRay, SurfaceModel};
 use relief::heightfield::Address;
 use relief::heightfield::Generator;
 
-/// Parses a little-endian float32 `.npy` file: (shape, values).
-fn read_npy(bytes: &[u8]) -> (Vec<usize>, Vec<f32>) {
-    assert_eq!(&bytes[..6], b"\x93NUMPY", "npy magic");
-    let header_len = u16::from_le_bytes([bytes[8], bytes[9]]) as usize;
-    let header = std::str::from_utf8(&bytes[10..10 + header_len]).expect("ascii header");
-    assert!(header.contains("'descr': '<f4'"), "{header}");
-    let inside = header
-        .split("'shape': (")
-        .nth(1)
-        .and_then(|t| t.split(')').next())
-        .expect("shape");
-    let shape: Vec<usize> = inside
-        .split(',')
-        .filter_map(|d| d.trim().parse().ok())
-        .collect();
-    let values = bytes[10 + header_len..]
-        .chunks_exact(4)
-        .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
-        .collect();
-    (shape, values)
-}
-
 #[test]
 fn printed_errors_match_the_dump() {
     check_dump(Address::Repeat);
@@ -82,7 +60,7 @@ fn check_dump(address: Address) {
         String::from_utf8_lossy(&out.stderr)
     );
     let printed: serde_json::Value = serde_json::from_slice(&out.stdout).expect("one JSON line");
-    let (shape, values) = read_npy(&std::fs::read(&dump).expect("dump written"));
+    let (shape, values) = common::npy::read_npy(&std::fs::read(&dump).expect("dump written"));
     assert_eq!(shape, [16, 24, 8]);
 
     let hf = Generator::Fbm
@@ -166,7 +144,7 @@ fn shadow_dump_has_the_visible_fraction() {
         String::from_utf8_lossy(&out.stderr)
     );
     let printed: serde_json::Value = serde_json::from_slice(&out.stdout).expect("one JSON line");
-    let (shape, values) = read_npy(&std::fs::read(&dump).expect("dump written"));
+    let (shape, values) = common::npy::read_npy(&std::fs::read(&dump).expect("dump written"));
     assert_eq!(shape, [10, 12, 9]);
     let hf = Generator::Bricks.generate(64, 64, 1).quantized_unorm16();
     let light = relief::heightfield::visibility::LightDir {

@@ -12,18 +12,24 @@ ivec2 address_cell(vec2 cell, vec2 size) {
     return ivec2(t);
 }
 
+// The four texel heights at the corners of bilinear cell `cell` (texel centres (i, j) to
+// (i+1, j+1)), by the addressing: x = h00, y = h10, z = h01, w = h11.
+vec4 bilinear_corners(vec2 cell) {
+    vec2 size = height_size();
+    return vec4(texelFetch(height_point, address_cell(cell, size), 0).r,
+                texelFetch(height_point, address_cell(cell + vec2(1.0, 0.0), size), 0).r,
+                texelFetch(height_point, address_cell(cell + vec2(0.0, 1.0), size), 0).r,
+                texelFetch(height_point, address_cell(cell + vec2(1.0), size), 0).r);
+}
+
 // Bilinear height at uv computed from the four texels around it in full float precision,
 // unlike the filtering hardware, which weighs with a few bits of sub-texel precision.
 float height_bilinear_exact(vec2 uv) {
-    vec2 size = height_size();
-    vec2 g = uv * size - 0.5;
+    vec2 g = uv * height_size() - 0.5;
     vec2 cell = floor(g);
     vec2 f = g - cell;
-    float h00 = texelFetch(height_point, address_cell(cell, size), 0).r;
-    float h10 = texelFetch(height_point, address_cell(cell + vec2(1.0, 0.0), size), 0).r;
-    float h01 = texelFetch(height_point, address_cell(cell + vec2(0.0, 1.0), size), 0).r;
-    float h11 = texelFetch(height_point, address_cell(cell + vec2(1.0), size), 0).r;
-    return mix(mix(h00, h10, f.x), mix(h01, h11, f.x), f.y);
+    vec4 h = bilinear_corners(cell);
+    return mix(mix(h.x, h.y, f.x), mix(h.z, h.w, f.x), f.y);
 }
 
 // Bilinear height at uv (level 0): the true surface.

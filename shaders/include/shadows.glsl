@@ -96,11 +96,8 @@ vec2 bilinear_gradient(vec2 uv) {
     vec2 g = uv * size - 0.5;
     vec2 cell = floor(g);
     vec2 f = g - cell;
-    float h00 = texelFetch(height_point, address_cell(cell, size), 0).r;
-    float h10 = texelFetch(height_point, address_cell(cell + vec2(1.0, 0.0), size), 0).r;
-    float h01 = texelFetch(height_point, address_cell(cell + vec2(0.0, 1.0), size), 0).r;
-    float h11 = texelFetch(height_point, address_cell(cell + vec2(1.0), size), 0).r;
-    return vec2(mix(h10 - h00, h11 - h01, f.y), mix(h01 - h00, h11 - h10, f.x)) * size;
+    vec4 h = bilinear_corners(cell);
+    return vec2(mix(h.y - h.x, h.w - h.z, f.y), mix(h.z - h.x, h.w - h.y, f.x)) * size;
 }
 
 // The horizon right at the hit: the surface's own rise toward the light (its tangent plane), so
@@ -172,13 +169,9 @@ float node_height(vec2 uv, int level) {
 // The largest rise tangent over [xa, xe] inside bilinear cell `cell`, where the ray's offset in
 // cell units is f0 + x * df. `at_hit`: the span starts at the hit, which lies on this surface.
 float cell_max_tangent(ShadowQuery q, vec2 cell, vec2 f0, vec2 df, float xa, float xe, bool at_hit) {
-    vec2 size = height_size();
-    float h00 = texelFetch(height_point, address_cell(cell, size), 0).r;
-    float h10 = texelFetch(height_point, address_cell(cell + vec2(1.0, 0.0), size), 0).r;
-    float h01 = texelFetch(height_point, address_cell(cell + vec2(0.0, 1.0), size), 0).r;
-    float h11 = texelFetch(height_point, address_cell(cell + vec2(1.0), size), 0).r;
-    float a = h10 - h00, b = h01 - h00, c = h11 - h10 - h01 + h00;
-    float A = h00 + a * f0.x + b * f0.y + c * f0.x * f0.y;
+    vec4 h = bilinear_corners(cell);
+    float a = h.y - h.x, b = h.z - h.x, c = h.w - h.y - h.z + h.x;
+    float A = h.x + a * f0.x + b * f0.y + c * f0.x * f0.y;
     float B = a * df.x + b * df.y + c * (f0.x * df.y + f0.y * df.x);
     float C = c * df.x * df.y;
     float K = at_hit ? 0.0 : q.s * A - q.zp;

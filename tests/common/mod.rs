@@ -5,6 +5,7 @@
 pub mod base64;
 pub mod corpus;
 pub mod golden;
+pub mod npy;
 
 use std::path::PathBuf;
 use std::sync::Arc;
