@@ -22,6 +22,15 @@
 // behind (from there on backward the clamped extension is constant, so one point stands for all
 // of it) and ends at its last texel inside the map.
 //
+// Walks are resumable: one dispatch walks at most `chunk_steps` lattice steps of every line and
+// saves where it stopped (lattice point, hull extent) after the line's hull entries (the hull
+// itself stays in its ring); the host dispatches each azimuth until its longest line is done. Lavapipe (llvmpipe's
+// gallivm) gives an invocation 65535 loop iterations in all, shared by every loop in the shader,
+// and then silently ends every loop: whole walks of the steepest azimuths (a dozen profile points
+// a step, each a pop loop and a crossing loop iteration) ran out at about 360 steps, so long
+// repeat orbits lost the occlusion of their last texels (a row pattern at 192^2 and above). For
+// the same reason the addressing below wraps with conditionals, not loops.
+//
 // Modes: UNPACK copies level 0 of the height image into `field`; SWEEP adds
 // weight * (slice occlusion) to each texel of the direction's lines in `accum` (directions run as
 // successive dispatches with a barrier between, so no two invocations ever write one texel at
@@ -39,9 +48,13 @@ const uint MODE_UNPACK = 2u;
 // forgets its oldest, farthest entry: only a horizon seen more than 128 hull vertices away, always
 // a very flat one, can be lost.
 const uint HULL_CAPACITY = 128u;
+// Slots per line after the ring (render::ao_sweep::STATE_SLOTS).
+const uint STATE_SLOTS = 2u;
 
-// Per line, a ring of hull entries: (lattice step, fraction of the step, height). The step is a
-// plain float, exact below 2^24 (walks are far shorter): its int bits would be a denormal, which
+// Per line, a ring of hull entries: (lattice step, fraction of the step, height), then two slots
+// of walk state saved between dispatches (STATE_SLOTS): (next step, lattice point, hull top) and
+// (hull base); the newest hull entry is the ring's at top - 1. Steps, points and counts are plain
+// floats, exact below 2^24 (walks are far shorter): their int bits would be denormals, which
 // implementations may flush to zero on the way through memory.
 layout(set = 0, binding = 2, std430) buffer Hulls {
     vec4 hulls[];
@@ -101,6 +114,9 @@ layout(push_constant, std430) uniform Params {
     uint segments;
     uint segment_steps;
     uint warm_steps;
+    // This dispatch walks steps [chunk * chunk_steps, (chunk + 1) * chunk_steps) of every line.
+    uint chunk;
+    uint chunk_steps;
 } params;
 
 // floor(a / b) for b != 0, whatever the signs.
@@ -121,19 +137,22 @@ ivec2 inside_steps(int p0, int rate, int n) {
     return ivec2(-floor_div(-a, rate), floor_div(b, rate));
 }
 
-// Index k of an axis of n texels under the addressing, for k within a few steps of [0, n): the
-// walks keep their lattice point inside the map, so a wrap is a subtraction or two, not a `%`.
+// The most a wrapped coordinate is ever off the map: a lattice step (|walk| <= 12, ao_sweep's
+// MAX_STEP) plus a neighbour.
+const int NEAR_REACH = 16;
+
+// Index k of an axis of n texels under the addressing, for k within NEAR_REACH of [0, n): the
+// walks keep their lattice point inside the map, so a wrap is one conditional add or subtract,
+// not a `%` (nor a loop, see the lavapipe note above); only maps narrower than that take the `%`.
 int near_address(int k, int n, bool repeat) {
     if (!repeat) {
         return clamp(k, 0, n - 1);
     }
-    while (k < 0) {
-        k += n;
+    if (n < NEAR_REACH) {
+        return ao_address(k, n, true);
     }
-    while (k >= n) {
-        k -= n;
-    }
-    return k;
+    k += k < 0 ? n : 0;
+    return k >= n ? k - n : k;
 }
 
 // The height of texel t (near the map) under the map's addressing.
@@ -257,8 +276,23 @@ void sweep() {
     if (record.x > record.y) {
         return;
     }
-    Hull hull = Hull(0u, 0u, l * HULL_CAPACITY, vec4(0.0));
-    for (int k = start; k <= record.y; ++k) {
+    int first = start + int(params.chunk * params.chunk_steps);
+    int last = min(record.y, first + int(params.chunk_steps) - 1);
+    if (first > last) {
+        return;
+    }
+    uint at = l * (HULL_CAPACITY + STATE_SLOTS);
+    uint state = at + HULL_CAPACITY;
+    Hull hull = Hull(0u, 0u, at, vec4(0.0));
+    if (params.chunk > 0u) {
+        // Resume where the previous dispatch stopped (at step `first`, which it saved).
+        vec4 s = hulls[state];
+        p = ivec2(s.yz);
+        hull.top = uint(s.w);
+        hull.base = uint(hulls[state + 1u].x);
+        hull.last = hull_get(hull, hull.top - 1u);
+    }
+    for (int k = first; k <= last; ++k) {
         float hp = height(p, repeat);
         float tau = visit(hull, k, 0.0, hp);
         if (k >= record.x) {
@@ -276,6 +310,10 @@ void sweep() {
         if (repeat) {
             p = ivec2(near_address(p.x, params.size.x, true), near_address(p.y, params.size.y, true));
         }
+    }
+    if (last < record.y) {
+        hulls[state] = vec4(float(last + 1), vec2(p), float(hull.top));
+        hulls[state + 1u] = vec4(float(hull.base), 0.0, 0.0, 0.0);
     }
 }
 

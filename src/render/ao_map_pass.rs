@@ -28,7 +28,7 @@
 //! Accuracy and cost (mean absolute error against the reference at 256 azimuths; lavapipe on two
 //! busy cores, 128x128, depth 0.1): `horizon-8` 0.007-0.008 in tens of ms; `exact-horizon`
 //! 0.0002-0.0006 in 2-6 s, linear in texels x azimuths, in one submission. The sweep's scratch is
-//! `HULL_CAPACITY` x 16 bytes per line (about `(W + H) x 12` lines for the steepest azimuth under
+//! `HULL_CAPACITY + 2` x 16 bytes per line (about `(W + H) x 12` lines for the steepest azimuth under
 //! clamp) plus 8 bytes per texel.
 
 use std::sync::Arc;
@@ -36,8 +36,8 @@ use std::sync::Arc;
 use ash::vk;
 
 use super::ao_sweep::{
-    crossings, sweep_directions, sweep_lines, Crossing, SweepDirection, HULL_CAPACITY,
-    MAX_CROSSINGS,
+    crossings, sweep_directions, sweep_lines, Crossing, SweepDirection, CHUNK_STEPS, HULL_CAPACITY,
+    MAX_CROSSINGS, STATE_SLOTS,
 };
 use super::gpu_heightfield::{sampler_address_mode, GpuHeightfield, HeightFormat};
 use super::pyramid_pass::PyramidPass;
@@ -112,9 +112,11 @@ struct SweepParams {
     segments: u32,
     segment_steps: u32,
     warm_steps: u32,
+    chunk: u32,
+    chunk_steps: u32,
 }
 
-const _: () = assert!(std::mem::size_of::<SweepParams>() == 88);
+const _: () = assert!(std::mem::size_of::<SweepParams>() == 96);
 
 /// A built AO map: `R32_SFLOAT`, one texel per height texel, in `SHADER_READ_ONLY_OPTIMAL`, with a
 /// sampler that filters linearly where the device can (else nearest) under the height field's
@@ -322,10 +324,16 @@ impl AoMapPass {
         for (k, dir) in scratch.directions.iter().enumerate() {
             let mut params = sweep_params(dir, w, h, repeat, depth_scale);
             params.crossing_base = (k * MAX_CROSSINGS) as u32;
-            self.pipeline.push(rec, bytemuck::bytes_of(&params))?;
-            rec.dispatch([params.lines.div_ceil(SWEEP_GROUP), 1, 1]);
-            // The next direction reuses the hull stacks and adds to the same sums.
-            memory_barrier(rec, (compute, rw), (compute, rw));
+            // Each dispatch walks CHUNK_STEPS steps of every line and saves where it stopped.
+            let chunks = sweep_lines(params.walk, w, h, repeat).chunks();
+            for chunk in 0..chunks {
+                params.chunk = chunk;
+                self.pipeline.push(rec, bytemuck::bytes_of(&params))?;
+                rec.dispatch([params.lines.div_ceil(SWEEP_GROUP), 1, 1]);
+                // The next chunk resumes from the hull stacks, the next direction reuses them,
+                // and both add to the same sums.
+                memory_barrier(rec, (compute, rw), (compute, rw));
+            }
         }
         whole_map.mode = MODE_RESOLVE;
         self.pipeline.push(rec, bytemuck::bytes_of(&whole_map))?;
@@ -416,6 +424,8 @@ fn sweep_params(
         segments: lines.segments,
         segment_steps: lines.segment_steps,
         warm_steps: lines.warm_steps,
+        chunk: 0,
+        chunk_steps: CHUNK_STEPS,
     }
 }
 
@@ -441,7 +451,7 @@ fn sweep_scratch(ctx: &Arc<Context>, hf: &GpuHeightfield) -> VkResult<SweepScrat
     let usage = vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST;
     let hulls = Buffer::new(
         ctx,
-        u64::from(most_lines) * HULL_CAPACITY * 16,
+        u64::from(most_lines) * (HULL_CAPACITY + STATE_SLOTS) * 16,
         usage,
         MemoryLocation::GpuOnly,
         "ao sweep hulls",

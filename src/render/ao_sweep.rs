@@ -19,6 +19,17 @@ use std::f64::consts::TAU;
 /// Hull entries per line (`HULL_CAPACITY` in the shader).
 pub(crate) const HULL_CAPACITY: u64 = 128;
 
+/// Slots of 16 bytes per line after its hull ring: the walk's state between dispatches
+/// (`STATE_SLOTS` in the shader).
+pub(crate) const STATE_SLOTS: u64 = 2;
+
+/// Lattice steps one invocation walks per dispatch: a longer walk is resumed by the next dispatch
+/// from the state it saved. Lavapipe (llvmpipe's gallivm) gives a shader invocation 65535 loop
+/// iterations in all, shared by every loop in it, and silently ends every loop once they are
+/// spent; a step of the steepest azimuth costs a few dozen (its crossings, hull pops), so whole
+/// walks of 2 x 256 steps under repeat ran out and lost the rest of their texels' occlusion.
+pub(crate) const CHUNK_STEPS: u32 = 256;
+
 /// Orbits longer than this many map sides are walked in segments (see [`SweepLines`]).
 const LONG_ORBIT: u64 = 4;
 
@@ -108,6 +119,16 @@ pub(crate) struct SweepLines {
     pub segments: u32,
     pub segment_steps: u32,
     pub warm_steps: u32,
+    /// The most lattice steps any line walks (warm-up included): the walk takes
+    /// `ceil(max_steps / CHUNK_STEPS)` dispatches.
+    pub max_steps: u32,
+}
+
+impl SweepLines {
+    /// Dispatches one azimuth's walks take, [`CHUNK_STEPS`] steps per line each.
+    pub(crate) fn chunks(&self) -> u32 {
+        self.max_steps.div_ceil(CHUNK_STEPS).max(1)
+    }
 }
 
 fn gcd(a: u64, b: u64) -> u64 {
@@ -234,6 +255,7 @@ pub(crate) fn sweep_lines(walk: [i32; 2], w: u32, h: u32, repeat: bool) -> Sweep
             segments: segments as u32,
             segment_steps: segment_steps as u32,
             warm_steps: warm_steps as u32,
+            max_steps: (warm_steps + segment_steps.min(period)) as u32,
         };
     }
     let corners = [
@@ -245,6 +267,10 @@ pub(crate) fn sweep_lines(walk: [i32; 2], w: u32, h: u32, repeat: bool) -> Sweep
     let cs = corners.map(|(x, y)| x * i64::from(b) - y * i64::from(a));
     let (lo, hi) = (cs.iter().min(), cs.iter().max());
     let (lo, hi) = (lo.copied().unwrap_or(0), hi.copied().unwrap_or(0));
+    // A line starts one step before entering the map along its last-entered moving axis and ends
+    // at its last texel inside: at most (n - 1) / |w| + 2 steps for each moving axis.
+    let axis = |n: u32, w: i32| (w != 0).then(|| (n - 1) / w.unsigned_abs() + 2);
+    let max_steps = axis(w, a).into_iter().chain(axis(h, b)).max().unwrap_or(1);
     SweepLines {
         lines: (hi - lo + 1) as u32,
         c_min: lo as i32,
@@ -254,6 +280,7 @@ pub(crate) fn sweep_lines(walk: [i32; 2], w: u32, h: u32, repeat: bool) -> Sweep
         segments: 1,
         segment_steps: 0,
         warm_steps: 0,
+        max_steps,
     }
 }
 
@@ -344,6 +371,57 @@ mod tests {
             (851, 23, 37)
         );
         assert_eq!(long.warm_steps, 148);
+    }
+
+    /// The clamp walks' lengths (from the shader's `line_span`) stay within `max_steps`, which the
+    /// host's dispatch count rests on.
+    #[test]
+    fn clamp_walks_fit_max_steps() {
+        // The steps k at which p0 + k * rate lies in [0, n - 1] (`inside_steps` in the shader).
+        let inside = |p0: i64, rate: i64, n: i64| -> Option<(i64, i64)> {
+            if rate == 0 {
+                return None;
+            }
+            let (a, b) = if rate > 0 {
+                (-p0, n - 1 - p0)
+            } else {
+                (n - 1 - p0, -p0)
+            };
+            // floor(x / rate) for either sign (div_euclid floors only for rate > 0).
+            let floor = |x: i64| (x as f64 / rate as f64).floor() as i64;
+            Some((-floor(-a), floor(b)))
+        };
+        for (w, h) in [(5, 3), (64, 64), (37, 23), (256, 256)] {
+            for walk in [[1, 0], [0, -1], [3, -2], [-1, 4], [-12, -1], [7, 6]] {
+                let lines = sweep_lines(walk, w, h, false);
+                let mut longest = 0;
+                for l in 0..i64::from(lines.lines) {
+                    let c = i64::from(lines.c_min) + l;
+                    let origin = [
+                        c * i64::from(lines.euclid[0]),
+                        c * i64::from(lines.euclid[1]),
+                    ];
+                    let ix = inside(origin[0], walk[0].into(), w.into());
+                    let iy = inside(origin[1], walk[1].into(), h.into());
+                    let lo = ix.iter().chain(&iy).map(|r| r.0).max().unwrap_or(0);
+                    let hi = ix.iter().chain(&iy).map(|r| r.1).min().unwrap_or(0);
+                    if lo > hi {
+                        continue;
+                    }
+                    let start = ix.iter().chain(&iy).map(|r| r.0 - 1).min().unwrap_or(0);
+                    longest = longest.max(hi - start + 1);
+                }
+                assert!(longest > 0, "{w}x{h} {walk:?}");
+                assert!(
+                    longest <= i64::from(lines.max_steps),
+                    "{w}x{h} {walk:?}: {longest} > {}",
+                    lines.max_steps
+                );
+            }
+        }
+        // Under repeat: a whole period of warm-up, then the period (or one segment) recorded.
+        let lines = sweep_lines([-12, -1], 256, 256, true);
+        assert_eq!((lines.max_steps, lines.chunks()), (512, 2));
     }
 
     #[test]
