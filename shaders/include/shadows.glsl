@@ -55,7 +55,7 @@ float disk_above_edge(float delta, float r) {
 // The light as the horizon searches see it, from a hit at height `zp` above the bottom plane.
 struct ShadowQuery {
     vec2 uv;          // the hit
-    float zp;         // its height above the bottom plane, in uv units (depth_scale - z_hit)
+    float zp;         // the surface's height above the bottom plane there, uv units (s * h)
     vec2 d;           // unit uv direction toward the light
     float elevation;  // of the light's centre, radians
     float radius;     // angular radius, radians
