@@ -84,11 +84,6 @@ pub struct ShadowRun {
     pub error: ShadowStats,
 }
 
-/// The method whose hits are shaded.
-fn view_method() -> Method {
-    "qdm".parse().unwrap_or(Method::POM)
-}
-
 /// Measures every mode of `cfg` under every light on `field`; `note` hears what runs next.
 pub fn measure_shadows(
     runner: &mut Runner,
@@ -99,7 +94,8 @@ pub fn measure_shadows(
     let sweep = runner.config().clone();
     let size = sweep.main_size();
     let hf = runner.field(field, size)?;
-    let method = view_method();
+    // The default scene's method: its hits are the ones shaded.
+    let method = Method::QDM;
     let map = runner.map(field, size, method, &hf)?;
     let depth_scale = sweep.main_depth_scale();
     let view = TraceRequest {

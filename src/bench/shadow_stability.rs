@@ -114,7 +114,7 @@ fn run(
     light: LightDir,
 ) -> anyhow::Result<ShadowStabilityCell> {
     let hf = field.hf.quantized_unorm16();
-    let method: Method = "qdm".parse().map_err(anyhow::Error::msg)?;
+    let method = Method::QDM;
     let map = build_method_map(method, &hf, Address::Repeat);
     let req = TraceRequest {
         method,
