@@ -362,9 +362,7 @@ fn measure_method(
 }
 
 fn measure_scaling(ctx: &Arc<Context>, cfg: &LodConfig) -> Result<Option<LodScaling>, RenderError> {
-    let Ok(qdm) = "qdm".parse::<Method>() else {
-        return Ok(None);
-    };
+    let qdm = Method::QDM;
     let (small, large) = cfg.scaling_sizes;
     let large = large.min(ctx.info().max_image_dimension_2d);
     let mut off = [0.0; 2];
