@@ -195,12 +195,7 @@ fn compare(
 
 pub fn run(args: &AoArgs) -> anyhow::Result<()> {
     let mode = check(args)?;
-    let (hf, source) = args
-        .heights
-        .load()?
-        .ok_or_else(|| anyhow::anyhow!("give a height map: --heightmap FILE or --field NAME"))?;
-    let ctx = super::open_device(args.device.as_deref(), true)?;
-    hf.check_max_dimension(ctx.info().max_image_dimension_2d, &source)?;
+    let (hf, source, ctx) = args.heights.load_on_device(args.device.as_deref(), true)?;
     let pass = AoMapPass::new(&ctx, mode).context("creating the AO pipeline")?;
     if mode == AoMode::ExactHorizon && hf.texel_count() > LONG_SWEEP_TEXELS {
         // One submission with no progress of its own: say that it may take a while.

@@ -28,6 +28,21 @@ pub struct HeightmapArgs {
 }
 
 impl HeightmapArgs {
+    /// The height field asked for (an error if none was), and a device it fits on: the commands
+    /// that work on one map (`maps`, `trace`, `ao`) start this way.
+    pub fn load_on_device(
+        &self,
+        device: Option<&str>,
+        quiet: bool,
+    ) -> anyhow::Result<(Heightfield, String, std::sync::Arc<relief::vk::Context>)> {
+        let (hf, source) = self.load()?.ok_or_else(|| {
+            anyhow::anyhow!("give a height map: --heightmap FILE or --field NAME")
+        })?;
+        let ctx = super::open_device(device, quiet)?;
+        hf.check_max_dimension(ctx.info().max_image_dimension_2d, &source)?;
+        Ok((hf, source, ctx))
+    }
+
     /// The height field asked for, with a name for messages, or `None` if none was asked for.
     pub fn load(&self) -> anyhow::Result<Option<(Heightfield, String)>> {
         if let Some(path) = &self.heightmap {

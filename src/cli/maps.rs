@@ -81,12 +81,7 @@ fn write_method_map(
 }
 
 pub fn run(args: &MapsArgs) -> anyhow::Result<()> {
-    let (hf, source) = args
-        .heights
-        .load()?
-        .ok_or_else(|| anyhow::anyhow!("give a height map: --heightmap FILE or --field NAME"))?;
-    let ctx = super::open_device(args.device.as_deref(), false)?;
-    hf.check_max_dimension(ctx.info().max_image_dimension_2d, &source)?;
+    let (hf, source, ctx) = args.heights.load_on_device(args.device.as_deref(), false)?;
     let (levels, gpu_ms) = build_pyramid_on_gpu(&ctx, &hf, HeightFormat::R16Unorm, args.address)?;
     // The GPU pyramid is checked against the CPU builder on the same 16-bit values.
     let wrap = args.address == Address::Repeat;

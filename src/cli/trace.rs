@@ -165,12 +165,7 @@ pub fn run(args: &TraceArgs) -> anyhow::Result<()> {
     check(args)?;
     let grid = parse_grid(&args.grid)?;
     let method: Method = args.method.parse()?;
-    let (hf, source) = args
-        .heights
-        .load()?
-        .ok_or_else(|| anyhow::anyhow!("give a height map: --heightmap FILE or --field NAME"))?;
-    let ctx = super::open_device(args.device.as_deref(), true)?;
-    hf.check_max_dimension(ctx.info().max_image_dimension_2d, &source)?;
+    let (hf, source, ctx) = args.heights.load_on_device(args.device.as_deref(), true)?;
     let defaults = method.info().default_budget;
     let budget = Budget {
         max_steps: args.budget.unwrap_or(defaults.max_steps),
