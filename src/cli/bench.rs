@@ -18,7 +18,7 @@ use relief::method::Method;
 use relief::render::HeightFormat;
 use relief::scene::AoMode;
 
-use super::render::FormatArg;
+use super::scene_args::FormatArg;
 
 #[derive(Args)]
 pub struct BenchArgs {

@@ -12,6 +12,7 @@ mod methods;
 mod pipeline_cache;
 mod render;
 mod render_frames;
+mod scene_args;
 mod shading_args;
 mod trace;
 

@@ -1,4 +1,4 @@
-//! Where `relief render` keeps compiled pipelines between runs, and reading and writing that file.
+//! Where `relief render` and `relief view` keep compiled pipelines between runs, and reading and writing that file.
 //! This is policy, so it lives in the CLI; `relief::vk` checks the bytes (header, device, driver
 //! build) before Vulkan sees them, so whatever is in the file can at worst cost a warning.
 //!
@@ -6,13 +6,65 @@
 //! once the device, and so `default_path`, is known) -> render -> `save(path,
 //! &ctx.pipeline_cache_data()?)`.
 
-// Used by `relief render --pipeline-cache PATH / --no-pipeline-cache`, which is wired separately.
-
 use std::ffi::OsString;
 use std::path::{Path, PathBuf};
 
 use anyhow::Context as _;
-use relief::vk::DeviceInfo;
+use clap::Args;
+use relief::vk::{Context, DeviceInfo};
+
+/// The pipeline cache flags of `relief render` and `relief view`.
+#[derive(Args)]
+pub struct CacheArgs {
+    /// Where compiled pipelines are kept between runs (default: relief/pipelines-VENDOR-DEVICE.bin
+    /// under $XDG_CACHE_HOME or ~/.cache).
+    #[arg(long, value_name = "PATH")]
+    pipeline_cache: Option<PathBuf>,
+    /// Neither read nor write a pipeline cache file.
+    #[arg(long, conflicts_with = "pipeline_cache")]
+    no_pipeline_cache: bool,
+}
+
+impl CacheArgs {
+    /// The pipeline cache file this run reads and writes, if any.
+    pub fn file(&self, ctx: &Context) -> Option<PathBuf> {
+        if self.no_pipeline_cache {
+            return None;
+        }
+        self.pipeline_cache
+            .clone()
+            .or_else(|| default_path(ctx.info()))
+    }
+}
+
+/// Merges the cache file into the context's pipeline cache; whether it was used. A missing file
+/// is a first run; an unreadable, corrupt or foreign one is ignored with a warning.
+pub fn seed(ctx: &Context, path: Option<&Path>) -> bool {
+    let Some(bytes) = path.and_then(load) else {
+        return false;
+    };
+    match ctx.merge_pipeline_cache(&bytes) {
+        Ok(seeded) => seeded,
+        Err(e) => {
+            log::warn!("ignoring the pipeline cache: {e}");
+            false
+        }
+    }
+}
+
+/// Writes the pipeline cache back; a failure costs the next run its head start, not this one.
+pub fn persist(ctx: &Context, path: &Path) {
+    let saved = ctx
+        .pipeline_cache_data()
+        .map_err(anyhow::Error::from)
+        .and_then(|bytes| save(path, &bytes));
+    if let Err(e) = saved {
+        log::warn!(
+            "could not save the pipeline cache to {}: {e:#}",
+            path.display()
+        );
+    }
+}
 
 /// The cache file for `info`'s device: `$XDG_CACHE_HOME/relief/pipelines-<vendor>-<device>.bin`,
 /// else `~/.cache/relief/...`; `None` when neither variable is set.

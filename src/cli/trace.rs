@@ -14,7 +14,7 @@ use relief::scene::ShadowMode;
 use serde_json::json;
 
 use super::heightmap_args::HeightmapArgs;
-use super::render::FormatArg;
+use super::scene_args::FormatArg;
 
 #[derive(Args)]
 pub struct TraceArgs {

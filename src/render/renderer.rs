@@ -25,7 +25,7 @@ use super::targets::Targets;
 use crate::heightfield::Heightfield;
 use crate::method::MapKind;
 use crate::scene::{Camera, Light, Scene};
-use crate::vk::{CommandSlot, Context, Readback, VkResult};
+use crate::vk::{CommandSlot, Context, Image, Readback, VkError, VkResult};
 
 /// How many frames may be recorded or running at once.
 pub const FRAMES_IN_FLIGHT: usize = 2;
@@ -160,6 +160,33 @@ impl Renderer {
         (self.width, self.height)
     }
 
+    /// The colour target frames are drawn into (sRGB RGBA8). After a submitted frame that was not
+    /// read back it is in `COLOR_ATTACHMENT_OPTIMAL`; work submitted after the frame on the same
+    /// queue (a presenter's blit) may read it once a barrier from colour attachment output makes
+    /// it available. The next frame waits for transfers from it before clearing it.
+    pub fn color_target(&self) -> &Image {
+        &self.targets.color
+    }
+
+    /// Draws later frames at `width` x `height` (a resized window): waits for the frames in
+    /// flight, which are returned, then replaces the targets and the read-back buffers. Nothing
+    /// else depends on the size.
+    pub fn resize(&mut self, width: u32, height: u32) -> Result<Vec<FrameOutput>, RenderError> {
+        if (width, height) == (self.width, self.height) {
+            return Ok(Vec::new());
+        }
+        if width == 0 || height == 0 {
+            return Err(VkError::Invalid(format!("a {width}x{height} frame")).into());
+        }
+        let retired = self.finish()?;
+        self.targets = Targets::new(&self.ctx, width, height)?;
+        for slot in &mut self.slots {
+            slot.readback = None;
+        }
+        (self.width, self.height) = (width, height);
+        Ok(retired)
+    }
+
     /// Records and submits one frame. If the slot it takes still held an older frame, that frame
     /// is retired first and returned.
     pub fn submit(&mut self, request: &FrameRequest) -> Result<Option<FrameOutput>, RenderError> {
@@ -235,7 +262,7 @@ impl Renderer {
         self.submit(request)?;
         self.finish()?
             .pop()
-            .ok_or_else(|| RenderError::Vulkan(crate::vk::VkError::Invalid("no frame".into())))
+            .ok_or_else(|| RenderError::Vulkan(VkError::Invalid("no frame".into())))
     }
 
     /// Waits for slot `k`'s frame, if any, and reads its timings and pixels.

@@ -68,8 +68,9 @@ impl Targets {
     /// copying them (same queue), so the transitions wait for those stages; the old contents are
     /// discarded.
     pub fn begin(&self, rec: &Recording) {
-        let color_stages =
-            vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT | vk::PipelineStageFlags2::COPY;
+        // ALL_TRANSFER: a presenter may have blitted the previous frame out of the colour target.
+        let color_stages = vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT
+            | vk::PipelineStageFlags2::ALL_TRANSFER;
         let depth_stages = vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS
             | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS;
         let depth_access = vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE

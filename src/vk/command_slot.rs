@@ -11,6 +11,15 @@ use super::context::Context;
 use super::counters::Created;
 use super::error::{Named, VkError, VkResult};
 use super::recording::Recording;
+use super::semaphore::Semaphore;
+
+/// What a submission waits for before its commands reach `stage`, and what it signals when they
+/// finish: a swapchain image's acquisition and its presentation.
+#[derive(Clone, Copy, Default)]
+pub struct SubmitSync<'a> {
+    pub wait: Option<(&'a Semaphore, vk::PipelineStageFlags)>,
+    pub signal: Option<&'a Semaphore>,
+}
 
 /// A reusable command buffer with its pool and fence.
 pub struct CommandSlot {
@@ -78,6 +87,15 @@ impl CommandSlot {
     /// Waits for the slot's previous work, records new commands with `record` and submits them.
     /// The recording lives only inside `record`.
     pub fn submit<R>(&mut self, record: impl FnOnce(&Recording) -> VkResult<R>) -> VkResult<R> {
+        self.submit_synced(SubmitSync::default(), record)
+    }
+
+    /// As [`CommandSlot::submit`], ordered after and before other work by `sync`'s semaphores.
+    pub fn submit_synced<R>(
+        &mut self,
+        sync: SubmitSync<'_>,
+        record: impl FnOnce(&Recording) -> VkResult<R>,
+    ) -> VkResult<R> {
         self.wait()?;
         let device = self.ctx.device();
         // SAFETY: the slot's previous submission has completed, so its pool's buffer is idle.
@@ -94,7 +112,14 @@ impl CommandSlot {
         let value = recorded?;
         ended?;
         let cmds = [self.cmd];
-        let submit = vk::SubmitInfo::default().command_buffers(&cmds);
+        let waits: Vec<_> = sync.wait.iter().map(|(s, _)| s.raw()).collect();
+        let stages: Vec<_> = sync.wait.iter().map(|&(_, stage)| stage).collect();
+        let signals: Vec<_> = sync.signal.iter().map(|s| s.raw()).collect();
+        let submit = vk::SubmitInfo::default()
+            .command_buffers(&cmds)
+            .wait_semaphores(&waits)
+            .wait_dst_stage_mask(&stages)
+            .signal_semaphores(&signals);
         let queue = self
             .ctx
             .queue()

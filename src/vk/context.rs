@@ -7,7 +7,7 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex, RwLock};
 use std::time::Duration;
 
-use ash::{ext, vk};
+use ash::{ext, khr, vk};
 use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
 use gpu_allocator::{AllocationSizes, AllocatorDebugSettings};
 
@@ -17,6 +17,7 @@ use super::fence::gpu_timeout_from_env;
 use super::instance::{create_instance, InstanceParts, MessageCounts, Validation};
 use super::physical::{choose_physical_device, DeviceInfo};
 use super::pipeline_cache::{CacheIdentity, PipelineCache};
+use super::surface::{surface_extensions, WindowHandles, WindowSurface};
 
 /// What the caller wants from [`Context::new`].
 #[derive(Debug, Clone, Default)]
@@ -112,14 +113,63 @@ impl Context {
     /// Creates the instance, picks a device (discrete > integrated > virtual > CPU, or by name) and
     /// creates the logical device with the features relief uses.
     pub fn new(options: &ContextOptions) -> VkResult<Arc<Context>> {
+        // SAFETY: no window, so no handle to keep alive.
+        unsafe { Self::create(options, None) }
+    }
+
+    /// As [`Context::new`], for a context that also presents to `window`: the instance gets the
+    /// window system's surface extensions, the context owns the window's surface
+    /// ([`Context::present_surface`]), the device chosen can present to it and has
+    /// `VK_KHR_swapchain` enabled.
+    ///
+    /// # Safety
+    /// The window behind `window` must outlive the returned context (and every clone of its `Arc`).
+    pub unsafe fn new_presenting(
+        options: &ContextOptions,
+        window: &WindowHandles,
+    ) -> VkResult<Arc<Context>> {
+        // SAFETY: the caller's contract.
+        unsafe { Self::create(options, Some(window)) }
+    }
+
+    /// # Safety
+    /// As [`Context::new_presenting`] when `window` is given.
+    unsafe fn create(
+        options: &ContextOptions,
+        window: Option<&WindowHandles>,
+    ) -> VkResult<Arc<Context>> {
         let gpu_timeout = match options.gpu_timeout {
             Some(t) => t,
             None => gpu_timeout_from_env()?,
         };
         let counts = Box::<MessageCounts>::default();
         let validation = options.validation.unwrap_or_else(Validation::from_env);
-        let parts = create_instance(validation, &counts)?;
-        let chosen = choose_physical_device(&parts.instance, options.device_filter.as_deref());
+        let extensions = match window {
+            Some(w) => surface_extensions(w.display)?,
+            None => &[],
+        };
+        let mut parts = create_instance(validation, &counts, extensions)?;
+        if let Some(handles) = window {
+            // SAFETY: the caller keeps the window alive; the instance has its extensions.
+            match unsafe { WindowSurface::new(&parts.entry, &parts.instance, handles) } {
+                Ok(surface) => parts.surface = Some(surface),
+                Err(e) => {
+                    destroy_instance_parts(&parts);
+                    return Err(e);
+                }
+            }
+        }
+        let presents = |pd: vk::PhysicalDevice, info: &DeviceInfo| {
+            parts
+                .surface
+                .as_ref()
+                .is_none_or(|s| s.supports(pd, info.queue_family))
+        };
+        let chosen = choose_physical_device(
+            &parts.instance,
+            options.device_filter.as_deref(),
+            &presents,
+        );
         let (physical, info) = match chosen {
             Ok(pair) => pair,
             Err(e) => {
@@ -226,6 +276,11 @@ impl Context {
         self.queue_family
     }
 
+    /// The window surface of a context made by [`Context::new_presenting`].
+    pub(crate) fn present_surface(&self) -> Option<&WindowSurface> {
+        self.parts.surface.as_ref()
+    }
+
     pub(crate) fn queue(&self) -> &Mutex<vk::Queue> {
         &self.queue
     }
@@ -319,6 +374,9 @@ impl Drop for Context {
 fn destroy_instance_parts(parts: &InstanceParts) {
     // SAFETY: called once, after every child object of the instance is destroyed.
     unsafe {
+        if let Some(surface) = &parts.surface {
+            surface.destroy();
+        }
         if let Some((loader, messenger)) = &parts.debug_utils {
             loader.destroy_debug_utils_messenger(*messenger, None);
         }
@@ -344,8 +402,15 @@ fn create_device(
         .shader_demote_to_helper_invocation(true);
     let features = vk::PhysicalDeviceFeatures::default()
         .shader_storage_image_extended_formats(info.storage_r16);
+    let swapchain = [khr::swapchain::NAME.as_ptr()];
+    let extensions: &[*const std::ffi::c_char] = if parts.surface.is_some() {
+        &swapchain
+    } else {
+        &[]
+    };
     let info = vk::DeviceCreateInfo::default()
         .queue_create_infos(&queues)
+        .enabled_extension_names(extensions)
         .enabled_features(&features)
         .push_next(&mut v12)
         .push_next(&mut v13);

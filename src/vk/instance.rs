@@ -1,13 +1,14 @@
 //! The Vulkan instance: loader, optional Khronos validation, and a debug messenger that counts what
 //! the validation layer reports, so tests can demand zero errors at teardown.
 
-use std::ffi::{c_void, CStr};
+use std::ffi::{c_char, c_void, CStr};
 use std::sync::atomic::{AtomicU32, Ordering};
 use std::sync::Mutex;
 
 use ash::{ext, vk};
 
 use super::error::{Named, VkError, VkResult};
+use super::surface::WindowSurface;
 
 const VALIDATION_LAYER: &CStr = c"VK_LAYER_KHRONOS_validation";
 /// How many validation messages are kept verbatim for reports; the rest are only counted.
@@ -83,16 +84,20 @@ impl MessageCounts {
 /// The instance and what hangs off it; destroyed by [`super::Context`] in its written-out order.
 pub(crate) struct InstanceParts {
     /// Keeps the loader library loaded for as long as the instance lives.
-    pub _entry: ash::Entry,
+    pub entry: ash::Entry,
     pub instance: ash::Instance,
     pub debug_utils: Option<(ext::debug_utils::Instance, vk::DebugUtilsMessengerEXT)>,
     pub validation_enabled: bool,
+    /// The window surface, for a context that presents.
+    pub surface: Option<WindowSurface>,
 }
 
-/// Loads Vulkan and creates the instance. `counts` must outlive the messenger: the context owns both.
+/// Loads Vulkan and creates the instance with `extensions` (a window system's) besides relief's
+/// own. `counts` must outlive the messenger: the context owns both.
 pub(crate) fn create_instance(
     validation: Validation,
     counts: &MessageCounts,
+    extensions: &[*const c_char],
 ) -> VkResult<InstanceParts> {
     // SAFETY: loading the system loader library runs its initialisers; nothing else is shared yet.
     let entry = unsafe { ash::Entry::load() }.map_err(|e| VkError::Loader(e.to_string()))?;
@@ -119,11 +124,10 @@ pub(crate) fn create_instance(
     } else {
         vec![]
     };
-    let extensions = if debug_utils_present {
-        vec![ext::debug_utils::NAME.as_ptr()]
-    } else {
-        vec![]
-    };
+    let mut extensions = extensions.to_vec();
+    if debug_utils_present {
+        extensions.push(ext::debug_utils::NAME.as_ptr());
+    }
     let info = vk::InstanceCreateInfo::default()
         .application_info(&app)
         .enabled_layer_names(&layers)
@@ -148,10 +152,11 @@ pub(crate) fn create_instance(
         None
     };
     Ok(InstanceParts {
-        _entry: entry,
+        entry,
         instance,
         debug_utils,
         validation_enabled,
+        surface: None,
     })
 }
 

@@ -1,5 +1,5 @@
 //! Vulkan only: instance and validation, device choice, memory, buffers, images, samplers,
-//! pipelines, descriptors, timestamps and transfers. Knows nothing of height fields or scenes.
+//! pipelines, descriptors, timestamps, transfers, and presentation to a window. Knows nothing of height fields or scenes.
 //!
 //! Ownership: every object holds an `Arc<Context>`; the context is destroyed last, in the one
 //! order written out in its `Drop`.
@@ -20,10 +20,13 @@ mod pipeline_cache;
 mod query;
 mod readback;
 mod recording;
+mod semaphore;
+mod surface;
+mod swapchain;
 mod transfer;
 
 pub use buffer::Buffer;
-pub use command_slot::CommandSlot;
+pub use command_slot::{CommandSlot, SubmitSync};
 pub use commands::{memory_barrier, transition_images, ImageTransition};
 pub use context::{Context, ContextOptions};
 pub use counters::ObjectCounts;
@@ -40,6 +43,9 @@ pub use pipeline_cache::{
 pub use query::TimestampPool;
 pub use readback::{host_read_barrier, Readback};
 pub use recording::Recording;
+pub use semaphore::Semaphore;
+pub use surface::WindowHandles;
+pub use swapchain::{Acquired, PresentMode, Swapchain, SwapchainLost};
 pub use transfer::{read_mip, texel_size, upload_mips};
 
 pub use ash::vk as raw;

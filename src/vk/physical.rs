@@ -136,14 +136,28 @@ pub fn list_devices(instance: &ash::Instance) -> VkResult<Vec<(vk::PhysicalDevic
     Ok(usable.into_iter().map(|(_, pd, info)| (pd, info)).collect())
 }
 
-/// Picks the best device, or the first whose name contains `filter` (case-insensitive).
+/// Picks the best device that `accepts` (a window's presentation support), or the first whose
+/// name contains `filter` (case-insensitive).
 pub(crate) fn choose_physical_device(
     instance: &ash::Instance,
     filter: Option<&str>,
+    accepts: &dyn Fn(vk::PhysicalDevice, &DeviceInfo) -> bool,
 ) -> VkResult<(vk::PhysicalDevice, DeviceInfo)> {
-    let devices = list_devices(instance)?;
-    if devices.is_empty() {
+    let all = list_devices(instance)?;
+    if all.is_empty() {
         return Err(VkError::NoDevice);
+    }
+    let devices: Vec<_> = all
+        .iter()
+        .filter(|(pd, info)| accepts(*pd, info))
+        .cloned()
+        .collect();
+    if devices.is_empty() {
+        let names: Vec<_> = all.iter().map(|(_, i)| i.name.as_str()).collect();
+        return Err(VkError::Unsupported(format!(
+            "presenting to this window from any device ({})",
+            names.join(", ")
+        )));
     }
     let Some(filter) = filter else {
         return devices.into_iter().next().ok_or(VkError::NoDevice);

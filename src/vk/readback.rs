@@ -75,8 +75,18 @@ impl Readback {
         image: &Image,
         region: vk::BufferImageCopy,
     ) {
+        self.record_copy_from_raw_image(rec, image.raw(), region);
+    }
+
+    /// As [`Readback::record_copy_from_image`], for an image relief does not own (a swapchain's).
+    pub fn record_copy_from_raw_image(
+        &self,
+        rec: &Recording,
+        raw: vk::Image,
+        region: vk::BufferImageCopy,
+    ) {
         let layout = vk::ImageLayout::TRANSFER_SRC_OPTIMAL;
-        let (raw, dst) = (image.raw(), self.buffer.raw());
+        let dst = self.buffer.raw();
         // SAFETY: `rec` is recording; the caller's region lies within the image and the buffer.
         unsafe {
             rec.device()

@@ -189,4 +189,36 @@ impl<'a> Recording<'a> {
         // SAFETY: the buffer is recording inside dynamic rendering.
         unsafe { self.device.cmd_end_rendering(self.cmd) };
     }
+
+    /// Blits the whole colour image `src` (in `TRANSFER_SRC_OPTIMAL`) onto the whole of `dst`
+    /// (in `TRANSFER_DST_OPTIMAL`), filtering linearly where the sizes differ and converting
+    /// formats (sRGB decoded, then encoded).
+    pub fn blit_whole(&self, src: (vk::Image, vk::Extent2D), dst: (vk::Image, vk::Extent2D)) {
+        let corner = |e: vk::Extent2D| vk::Offset3D {
+            x: e.width as i32,
+            y: e.height as i32,
+            z: 1,
+        };
+        let layers = vk::ImageSubresourceLayers::default()
+            .aspect_mask(vk::ImageAspectFlags::COLOR)
+            .layer_count(1);
+        let region = vk::ImageBlit::default()
+            .src_subresource(layers)
+            .src_offsets([vk::Offset3D::default(), corner(src.1)])
+            .dst_subresource(layers)
+            .dst_offsets([vk::Offset3D::default(), corner(dst.1)]);
+        // SAFETY: the buffer is recording; the images' layouts are the caller's contract,
+        // checked by the validation layer.
+        unsafe {
+            self.device.cmd_blit_image(
+                self.cmd,
+                src.0,
+                vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                dst.0,
+                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                &[region],
+                vk::Filter::LINEAR,
+            )
+        };
+    }
 }

@@ -1,0 +1,179 @@
+//! The flags that say what to draw and how, shared by `relief render` and `relief view`: the
+//! scene (a glTF file or the built-in default), its relief (height map, method, depth scale,
+//! shading, LOD), the image size, height storage and addressing, and the device.
+
+use std::path::PathBuf;
+use std::sync::Arc;
+
+use clap::{Args, ValueEnum};
+use relief::heightfield::{Address, Heightfield};
+use relief::method::Method;
+use relief::render::{HeightFormat, RenderOptions};
+use relief::scene::{
+    default_heightfield, default_scene, load_gltf, Scene, SceneOptions, DEFAULT_SCENE_METHOD,
+};
+use relief::vk::Context;
+
+use super::heightmap_args::HeightmapArgs;
+use super::lod_args::LodArgs;
+use super::shading_args::ShadingArgs;
+
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum FormatArg {
+    R16,
+    R32f,
+}
+
+#[derive(Args)]
+pub struct SceneArgs {
+    /// glTF scene (.gltf or .glb); the built-in default scene when left out.
+    scene: Option<PathBuf>,
+    #[arg(long, default_value_t = 960)]
+    pub(super) width: u32,
+    #[arg(long, default_value_t = 540)]
+    pub(super) height: u32,
+    #[command(flatten)]
+    heights: HeightmapArgs,
+    #[command(flatten)]
+    shading: ShadingArgs,
+    /// Depth of height 0 below the surface, in uv units (0.05 = a twentieth of the texture).
+    #[arg(long, value_name = "S")]
+    depth_scale: Option<f32>,
+    /// Displacement method id (see `relief methods`) for the default scene (default qdm) and for
+    /// materials given relief by --heightmap (default pom).
+    #[arg(long)]
+    method: Option<String>,
+    /// Which materials --heightmap displaces: a material name, or `all`.
+    #[arg(long, value_name = "NAME|all", default_value = "all")]
+    material: String,
+    /// Which scene of the glTF file (default: the file's default scene).
+    #[arg(long = "scene", value_name = "N")]
+    scene_index: Option<usize>,
+    /// Which camera of the scene, in node order (default: the first; none frames the scene).
+    #[arg(long, value_name = "N")]
+    camera: Option<usize>,
+    /// Storage of heights on the GPU.
+    #[arg(long, value_enum, default_value = "r16")]
+    height_format: FormatArg,
+    /// Height map addressing.
+    #[arg(long, value_name = "repeat|clamp", default_value_t = Address::Repeat)]
+    address: Address,
+    /// Pick the Vulkan device whose name contains this text.
+    #[arg(long, value_name = "SUBSTRING")]
+    pub(super) device: Option<String>,
+    #[command(flatten)]
+    lod: LodArgs,
+}
+
+/// A scene ready for a renderer: the scene with every flag applied, the height map relief
+/// materials without their own read (if any), and what that map is, for reports.
+pub struct LoadedScene {
+    pub scene: Scene,
+    pub heights: Option<Heightfield>,
+    pub source: String,
+}
+
+const DEFAULT_GLTF_DEPTH_SCALE: f32 = 0.05;
+const MAX_SIDE: u32 = 16384;
+
+impl SceneArgs {
+    /// Checks the flags, loads the scene and the height map, and applies shading and LOD.
+    pub fn load(&self) -> anyhow::Result<LoadedScene> {
+        self.check()?;
+        let method: Method = match &self.method {
+            Some(id) => id.parse()?,
+            None if self.scene.is_none() => DEFAULT_SCENE_METHOD,
+            None => Method::POM,
+        };
+        let loaded = self.heights.load()?;
+        let mut scene = self.build_scene(method, loaded.is_some())?;
+        self.shading.apply(&mut scene)?;
+        self.lod.apply(&mut scene)?;
+        let (heights, source) = match loaded {
+            Some((hf, source)) => (Some(hf), source),
+            None if self.scene.is_none() => (
+                Some(default_heightfield()),
+                "built-in bricks 256x256".to_owned(),
+            ),
+            None => (None, "the scene's own".to_owned()),
+        };
+        Ok(LoadedScene {
+            scene,
+            heights,
+            source,
+        })
+    }
+
+    /// The render options at `width` x `height` (the flags' size, or a window's).
+    pub fn render_options(&self, width: u32, height: u32) -> RenderOptions {
+        RenderOptions {
+            width,
+            height,
+            height_format: match self.height_format {
+                FormatArg::R16 => HeightFormat::R16Unorm,
+                FormatArg::R32f => HeightFormat::R32Float,
+            },
+            address: self.address,
+        }
+    }
+
+    fn check(&self) -> anyhow::Result<()> {
+        let (w, h) = (self.width, self.height);
+        if w == 0 || h == 0 || w > MAX_SIDE || h > MAX_SIDE {
+            anyhow::bail!("--width and --height must be within 1..={MAX_SIDE}, got {w}x{h}");
+        }
+        if let Some(s) = self.depth_scale {
+            if !(s.is_finite() && s > 0.0) {
+                anyhow::bail!("--depth-scale must be a finite number above 0, got {s}");
+            }
+        }
+        Ok(())
+    }
+
+    fn build_scene(&self, method: Method, heights: bool) -> anyhow::Result<Scene> {
+        let Some(path) = &self.scene else {
+            let mut scene = default_scene(method);
+            if let Some(s) = self.depth_scale {
+                scene
+                    .materials
+                    .iter_mut()
+                    .filter_map(|m| m.relief.as_mut())
+                    .for_each(|r| r.depth_scale = s);
+            }
+            return Ok(scene);
+        };
+        let options = SceneOptions {
+            scene: self.scene_index,
+            camera: self.camera,
+        };
+        let mut scene = load_gltf(path, &options)?;
+        let filter = (self.material != "all").then_some(self.material.as_str());
+        if heights {
+            let depth = self.depth_scale.unwrap_or(DEFAULT_GLTF_DEPTH_SCALE);
+            if scene.apply_relief(depth, method, filter) == 0 {
+                let names: Vec<&str> = scene.materials.iter().map(|m| m.name.as_str()).collect();
+                anyhow::bail!(
+                    "--material {:?} names no material of {}; its materials: {}",
+                    self.material,
+                    path.display(),
+                    names.join(", ")
+                );
+            }
+        } else if filter.is_some() {
+            anyhow::bail!(
+                "--material chooses which materials --heightmap displaces; give --heightmap FILE"
+            );
+        }
+        Ok(scene)
+    }
+}
+
+impl LoadedScene {
+    /// Fails if the height map is larger than the device takes.
+    pub fn check_device(&self, ctx: &Arc<Context>) -> anyhow::Result<()> {
+        if let Some(hf) = &self.heights {
+            hf.check_max_dimension(ctx.info().max_image_dimension_2d, &self.source)?;
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,44 @@
+//! A binary semaphore: orders one submission or presentation after another on the device.
+
+use std::sync::Arc;
+
+use ash::vk;
+
+use super::context::Context;
+use super::error::{Named, VkResult};
+
+/// An owned binary semaphore.
+pub struct Semaphore {
+    ctx: Arc<Context>,
+    raw: vk::Semaphore,
+}
+
+impl Semaphore {
+    /// Creates an unsignalled semaphore named `name`.
+    pub fn new(ctx: &Arc<Context>, name: &str) -> VkResult<Semaphore> {
+        // SAFETY: valid device and create info.
+        let raw = unsafe {
+            ctx.device()
+                .create_semaphore(&vk::SemaphoreCreateInfo::default(), None)
+        }
+        .named("vkCreateSemaphore")?;
+        ctx.set_name(raw, name);
+        Ok(Semaphore {
+            ctx: ctx.clone(),
+            raw,
+        })
+    }
+
+    /// The raw handle, for submissions and presentation.
+    pub fn raw(&self) -> vk::Semaphore {
+        self.raw
+    }
+}
+
+impl Drop for Semaphore {
+    fn drop(&mut self) {
+        // SAFETY: owners drop semaphores only after the work that waits on or signals them has
+        // finished (a fence wait, or the device idle before a swapchain goes).
+        unsafe { self.ctx.device().destroy_semaphore(self.raw, None) };
+    }
+}
