@@ -2,7 +2,7 @@
 //!
 //! Layers, data flowing one way: [`heightfield`] (CPU height fields, pyramids, the exact
 //! reference) and [`scene`] (glTF to plain data) know nothing of Vulkan; [`vk`] knows nothing of
-//! relief; [`render`] joins them.
+//! relief; [`render`] joins them; [`view`] puts the renderer in a window.
 #![deny(unsafe_op_in_unsafe_fn)]
 
 pub mod bench;
@@ -11,4 +11,5 @@ pub mod method;
 pub mod render;
 pub mod scene;
 pub mod shaders;
+pub mod view;
 pub mod vk;

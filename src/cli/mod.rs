@@ -15,6 +15,7 @@ mod render_frames;
 mod scene_args;
 mod shading_args;
 mod trace;
+mod view;
 
 use std::process::ExitCode;
 
@@ -54,6 +55,8 @@ enum Command {
     Methods(methods::MethodsArgs),
     /// Trace parallel rays on the GPU with one method and measure them against the exact reference.
     Trace(trace::TraceArgs),
+    /// Show a scene in a window: orbit or fly, switch methods, shadows, AO and LOD, read GPU times.
+    View(view::ViewArgs),
 }
 
 /// Runs the tool and turns any error into one line on stderr and an exit code.
@@ -68,6 +71,7 @@ pub fn run() -> ExitCode {
         Command::Maps(args) => maps::run(&args),
         Command::Methods(args) => methods::run(&args),
         Command::Trace(args) => trace::run(&args),
+        Command::View(args) => view::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
