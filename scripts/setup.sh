@@ -35,6 +35,21 @@ if ((${#missing[@]} > 0)); then
     apt-get install -y -qq --no-install-recommends "${packages[@]}" >/dev/null
 fi
 
+# Xvfb and the X11 libraries the viewer's window (winit) loads at run time.
+view_packages=(xvfb libx11-6 libxcursor1 libxrandr2 libxi6 libxkbcommon-x11-0 libxcb1)
+if ! command -v Xvfb >/dev/null 2>&1; then
+    if [[ $(id -u) -eq 0 ]] && command -v apt-get >/dev/null 2>&1; then
+        echo "relief setup: installing ${view_packages[*]} (for the relief view tests)" >&2
+        export DEBIAN_FRONTEND=noninteractive
+        { apt-get install -y -qq --no-install-recommends "${view_packages[@]}" >/dev/null 2>&1 ||
+            { apt-get update -qq && apt-get install -y -qq --no-install-recommends "${view_packages[@]}" >/dev/null; }; } ||
+            echo "relief setup: could not install xvfb; the relief view tests will be skipped" >&2
+    else
+        echo "relief setup: no Xvfb, so the relief view tests will be skipped; install it with:" >&2
+        echo "  sudo apt-get install -y ${view_packages[*]}" >&2
+    fi
+fi
+
 if ! command -v cargo >/dev/null 2>&1; then
     echo "relief setup: cargo not found; install Rust from https://rustup.rs" >&2
     exit 1

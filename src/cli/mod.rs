@@ -106,18 +106,7 @@ pub fn open_device(filter: Option<&str>, quiet: bool) -> anyhow::Result<std::syn
     };
     let ctx = Context::new(&options)?;
     if !quiet {
-        let i = ctx.info();
-        eprintln!(
-            "device: {} ({}; Vulkan {}; validation {})",
-            i.name,
-            i.driver.trim(),
-            i.api,
-            if ctx.validation_enabled() {
-                "on"
-            } else {
-                "off"
-            }
-        );
+        eprintln!("device: {}", ctx.describe());
     }
     Ok(ctx)
 }

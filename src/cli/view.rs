@@ -36,7 +36,9 @@ fn parse_resize(text: &str) -> Result<(u64, (u32, u32)), String> {
     let at: u64 = at.parse().map_err(|_| bad())?;
     let (w, h): (u32, u32) = (w.parse().map_err(|_| bad())?, h.parse().map_err(|_| bad())?);
     if w == 0 || h == 0 || w > 16384 || h > 16384 {
-        return Err(format!("the size must be within 1..=16384 each way, got {w}x{h}"));
+        return Err(format!(
+            "the size must be within 1..=16384 each way, got {w}x{h}"
+        ));
     }
     Ok((at, (w, h)))
 }
@@ -74,7 +76,10 @@ pub fn run(args: &ViewArgs) -> anyhow::Result<()> {
         anyhow::bail!(
             "the validation layer reported {} error(s); first: {}",
             report.validation_errors,
-            report.validation_messages.first().map_or("", String::as_str)
+            report
+                .validation_messages
+                .first()
+                .map_or("", String::as_str)
         );
     }
     Ok(())

@@ -237,15 +237,8 @@ impl Running {
         // SAFETY: `Running` declares the window after everything holding the context, so the
         // window outlives the context (see `close` for the explicit order).
         let ctx = unsafe { Context::new_presenting(&setup.context, &handles) }?;
-        let info = ctx.info();
-        let device = info.name.clone();
-        eprintln!(
-            "device: {} ({}; Vulkan {}; validation {})",
-            info.name,
-            info.driver.trim(),
-            info.api,
-            if ctx.validation_enabled() { "on" } else { "off" }
-        );
+        let device = ctx.info().name.clone();
+        eprintln!("device: {}", ctx.describe());
         let inner = window.inner_size();
         let presenter = Presenter::new(&ctx, (inner.width, inner.height), setup.present)?;
         let (width, height) = presenter.extent();
@@ -453,8 +446,10 @@ impl Running {
     /// `before` and the old renderer stays.
     fn rebuild_renderer(&mut self, setup: &ViewSetup, before: Knobs) -> Result<(), ViewError> {
         let scene = self.knobs.apply(&self.base);
-        self.window
-            .set_title(&format!("relief | building {}", self.knobs.describe(&self.base)));
+        self.window.set_title(&format!(
+            "relief | building {}",
+            self.knobs.describe(&self.base)
+        ));
         for done in self.gpu.renderer.finish()? {
             self.note(done);
         }

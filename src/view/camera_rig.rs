@@ -38,7 +38,11 @@ impl CameraRig {
     /// axis as far away is the orbit's target, so the first drag does not jump).
     pub fn new(camera: Camera, center: Vec3) -> CameraRig {
         let eye = camera.eye();
-        let forward = camera.view.inverse().transform_vector3(-Vec3::Z).normalize();
+        let forward = camera
+            .view
+            .inverse()
+            .transform_vector3(-Vec3::Z)
+            .normalize();
         let distance = (center - eye).length().max(1e-3);
         let target = eye + forward * distance;
         let (yaw, pitch) = angles_of(forward);
@@ -133,7 +137,11 @@ impl CameraRig {
             return self.start;
         }
         Camera {
-            view: Mat4::look_at_rh(self.eye, self.eye + direction(self.yaw, self.pitch), Vec3::Y),
+            view: Mat4::look_at_rh(
+                self.eye,
+                self.eye + direction(self.yaw, self.pitch),
+                Vec3::Y,
+            ),
             projection: self.start.projection,
         }
     }
@@ -195,7 +203,10 @@ mod tests {
         assert!(((cam.eye() - rig.target).length() - before).abs() < 1e-3);
         // The camera still looks at the target.
         let seen = cam.view.transform_point3(rig.target);
-        assert!(seen.x.abs() < 1e-3 && seen.y.abs() < 1e-3 && seen.z < 0.0, "{seen}");
+        assert!(
+            seen.x.abs() < 1e-3 && seen.y.abs() < 1e-3 && seen.z < 0.0,
+            "{seen}"
+        );
     }
 
     #[test]

@@ -103,7 +103,9 @@ mod tests {
         assert_eq!(action(&ch("w")), None, "W flies, it is no action");
         assert_eq!(fly_axis(&ch("W")), Some((2, 1.0)));
         assert_eq!(fly_axis(&ch("a")), Some((0, -1.0)));
-        for key in ["Tab", "W/S", "M / N", "X ", "O ", "L ", "[ / ]", "V ", "P ", "Esc"] {
+        for key in [
+            "Tab", "W/S", "M / N", "X ", "O ", "L ", "[ / ]", "V ", "P ", "Esc",
+        ] {
             assert!(HELP.contains(key), "help names {key}");
         }
     }

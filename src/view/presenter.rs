@@ -118,7 +118,10 @@ impl Presenter {
     ) -> VkResult<Presented> {
         let k = self.next;
         self.slots[k].commands.wait()?;
-        let chain = self.swapchain.as_ref().expect("a swapchain between rebuilds");
+        let chain = self
+            .swapchain
+            .as_ref()
+            .expect("a swapchain between rebuilds");
         let acquired = match chain.acquire(&self.slots[k].acquired)? {
             Ok(acquired) => acquired,
             Err(_lost) => {
@@ -200,7 +203,10 @@ fn to_transfer(rec: &crate::vk::Recording, color: vk::Image, target: vk::Image) 
                 old: vk::ImageLayout::UNDEFINED,
                 new: vk::ImageLayout::TRANSFER_DST_OPTIMAL,
                 // Chained to the acquire semaphore's wait, which is at the transfer stage.
-                src: (vk::PipelineStageFlags2::ALL_TRANSFER, vk::AccessFlags2::NONE),
+                src: (
+                    vk::PipelineStageFlags2::ALL_TRANSFER,
+                    vk::AccessFlags2::NONE,
+                ),
                 dst: (blit, vk::AccessFlags2::TRANSFER_WRITE),
             },
         ],

@@ -165,11 +165,8 @@ impl Context {
                 .as_ref()
                 .is_none_or(|s| s.supports(pd, info.queue_family))
         };
-        let chosen = choose_physical_device(
-            &parts.instance,
-            options.device_filter.as_deref(),
-            &presents,
-        );
+        let chosen =
+            choose_physical_device(&parts.instance, options.device_filter.as_deref(), &presents);
         let (physical, info) = match chosen {
             Ok(pair) => pair,
             Err(e) => {
@@ -250,6 +247,22 @@ impl Context {
     /// Name, driver, API version, limits of the chosen device.
     pub fn info(&self) -> &DeviceInfo {
         &self.info
+    }
+
+    /// One line for people: name (driver; Vulkan version; validation on|off).
+    pub fn describe(&self) -> String {
+        let i = &self.info;
+        let validation = if self.validation_enabled() {
+            "on"
+        } else {
+            "off"
+        };
+        format!(
+            "{} ({}; Vulkan {}; validation {validation})",
+            i.name,
+            i.driver.trim(),
+            i.api
+        )
     }
 
     /// Whether the Khronos validation layer is active.

@@ -128,8 +128,8 @@ impl Swapchain {
             mode: present_mode,
         };
         // SAFETY: the swapchain was just created on this device.
-        chain.images = unsafe { chain.loader.get_swapchain_images(raw) }
-            .named("vkGetSwapchainImagesKHR")?;
+        chain.images =
+            unsafe { chain.loader.get_swapchain_images(raw) }.named("vkGetSwapchainImagesKHR")?;
         for (k, &image) in chain.images.iter().enumerate() {
             ctx.set_name(image, &format!("swapchain image {k}"));
             let semaphore = Semaphore::new(ctx, &format!("swapchain image {k} filled"))?;
@@ -252,9 +252,11 @@ fn choose_format(
             .contains(vk::FormatFeatureFlags::BLIT_DST)
     };
     let srgb = [vk::Format::B8G8R8A8_SRGB, vk::Format::R8G8B8A8_SRGB];
-    if let Some(f) = formats.iter().filter(blittable).find(|f| {
-        srgb.contains(&f.format) && f.color_space == vk::ColorSpaceKHR::SRGB_NONLINEAR
-    }) {
+    if let Some(f) = formats
+        .iter()
+        .filter(blittable)
+        .find(|f| srgb.contains(&f.format) && f.color_space == vk::ColorSpaceKHR::SRGB_NONLINEAR)
+    {
         return Ok(*f);
     }
     let any = formats.iter().find(blittable).copied().ok_or_else(|| {
@@ -291,13 +293,19 @@ mod tests {
         use vk::PresentModeKHR as M;
         let all = [M::FIFO, M::MAILBOX, M::IMMEDIATE];
         assert_eq!(choose_present_mode(&all, PresentMode::Vsync), M::FIFO);
-        assert_eq!(choose_present_mode(&all, PresentMode::Unpaced), M::IMMEDIATE);
+        assert_eq!(
+            choose_present_mode(&all, PresentMode::Unpaced),
+            M::IMMEDIATE
+        );
         let no_immediate = [M::FIFO, M::MAILBOX];
         assert_eq!(
             choose_present_mode(&no_immediate, PresentMode::Unpaced),
             M::MAILBOX
         );
-        assert_eq!(choose_present_mode(&[M::FIFO], PresentMode::Unpaced), M::FIFO);
+        assert_eq!(
+            choose_present_mode(&[M::FIFO], PresentMode::Unpaced),
+            M::FIFO
+        );
     }
 
     #[test]
