@@ -440,6 +440,7 @@ fn budgets_are_honoured() {
             grid: (16, 16),
             budget: Budget {
                 max_steps: 1,
+                extent_limit: 0,
                 ..method.info().default_budget
             },
             address: Address::Repeat,

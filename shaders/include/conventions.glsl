@@ -29,6 +29,9 @@ layout(constant_id = 1) const uint BUDGET_REFINE_STEPS = 5;
 // without a leaf stage ignore it. The default is exact because the surface pass sets only
 // constants 0 and 1, and the renderer wants the accurate answer.
 layout(constant_id = 2) const uint BUDGET_LEAF_EXACT = 1;
+// 0: BUDGET_MAX_STEPS is the cap. Otherwise each ray's cap grows by the texels its path crosses,
+// up to this many steps (`ray_budget` in heightfield.glsl; Budget::extent_limit in Rust).
+layout(constant_id = 3) const uint BUDGET_EXTENT_LIMIT = 0;
 
 struct Budget {
     uint max_steps;

@@ -6,6 +6,21 @@ vec2 height_size() {
     return frame.height_info.xy;
 }
 
+// The budget for `ray`: the fixed cap, or (BUDGET_EXTENT_LIMIT set: the accurate methods'
+// default) the cap plus one step per texel boundary the ray crosses between the top and bottom
+// planes, up to the limit. A grazing ray over a deep field crosses thousands of texels, and a
+// tree walk that finds a spike in every coarse node pays a step for every few of them.
+Budget ray_budget(Ray ray) {
+    Budget b = default_budget();
+    if (BUDGET_EXTENT_LIMIT > b.max_steps) {
+        vec2 crossed = abs(ray_delta(ray)) * height_size();
+        float grown = float(b.max_steps) + ceil(crossed.x + crossed.y);
+        // Also catches inf and NaN from a ray that barely descends.
+        b.max_steps = grown < float(BUDGET_EXTENT_LIMIT) ? uint(grown) : BUDGET_EXTENT_LIMIT;
+    }
+    return b;
+}
+
 // The texel of a level holding cell `cell` (which may lie outside the map), by the addressing.
 ivec2 address_cell(vec2 cell, vec2 size) {
     vec2 t = frame.height_info.w > 0.5 ? cell - size * floor(cell / size) : clamp(cell, vec2(0.0), size - 1.0);

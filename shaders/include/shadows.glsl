@@ -259,7 +259,7 @@ float shadow_hard(ShadowQuery q, vec2 uv_hit, float z_hit, vec3 l, float s) {
     }
     vec3 dir = normalize(vec3(-l.xy, max(l.z, 1e-3 * length(l.xy))));
     Ray ray = Ray(uv_hit - (z_hit / dir.z) * dir.xy, dir, s);
-    Hit hit = METHOD_TRACE(ray, default_budget());
+    Hit hit = METHOD_TRACE(ray, ray_budget(ray));
     vec3 gap = vec3(ray_uv(ray, hit.z) - uv_hit, hit.z - z_hit) * height_size().x;
     return hit.z < z_hit && length(gap) > HARD_SHADOW_TEXELS ? 0.0 : 1.0;
 }

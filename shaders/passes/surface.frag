@@ -78,11 +78,11 @@ void main() {
     lod_begin(uv_h, distance(in_world, frame.eye.xyz));
     Hit hit = Hit(0.0, 0u, false);
     if (lod_fade < 1.0) {
-        hit = METHOD_TRACE(ray, lod_budget(default_budget(), ray));
+        hit = METHOD_TRACE(ray, lod_budget(ray_budget(ray), ray));
     }
     hit.z *= 1.0 - lod_fade;
 #else
-    Hit hit = METHOD_TRACE(ray, default_budget());
+    Hit hit = METHOD_TRACE(ray, ray_budget(ray));
 #endif
     float z = clamp(hit.z, 0.0, depth_scale);
     vec2 uv_hit = ray_uv(ray, z);

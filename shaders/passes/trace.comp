@@ -33,7 +33,7 @@ void main() {
     }
     vec2 origin = (vec2(cell) + 0.5) / vec2(params.grid.xy);
     Ray ray = Ray(origin, params.dir.xyz, params.dir.w);
-    Hit hit = METHOD_TRACE(ray, default_budget());
+    Hit hit = METHOD_TRACE(ray, ray_budget(ray));
     vec2 uv = ray_uv(ray, hit.z);
     uint k = cell.y * params.grid.x + cell.x;
     hits[8u * k + 0u] = origin.x;

@@ -37,7 +37,8 @@ pub struct TraceArgs {
     /// Ray grid, COLSxROWS; ray (c, r) enters at the cell centre.
     #[arg(long, default_value = "64x64")]
     grid: String,
-    /// Iteration cap (the method's default when left out).
+    /// Iteration cap, fixed (when left out, the method's default: for the accurate methods 256
+    /// plus one step per texel the ray crosses, up to 8192).
     #[arg(long)]
     budget: Option<u32>,
     /// Refinement steps (the method's default when left out).
@@ -171,6 +172,8 @@ pub fn run(args: &TraceArgs) -> anyhow::Result<()> {
         max_steps: args.budget.unwrap_or(defaults.max_steps),
         refine_steps: args.refine.unwrap_or(defaults.refine_steps),
         leaf: args.leaf.unwrap_or(defaults.leaf),
+        // --budget is a fixed cap; the default grows with the ray.
+        extent_limit: args.budget.map_or(defaults.extent_limit, |_| 0),
     };
     let (format, stored) = match args.height_format {
         FormatArg::R16 => (HeightFormat::R16Unorm, hf.quantized_unorm16()),

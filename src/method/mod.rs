@@ -99,10 +99,11 @@ impl Serialize for Leaf {
 
 impl Serialize for Budget {
     fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        let mut b = s.serialize_struct("Budget", 3)?;
+        let mut b = s.serialize_struct("Budget", 4)?;
         b.serialize_field("max_steps", &self.max_steps)?;
         b.serialize_field("refine_steps", &self.refine_steps)?;
         b.serialize_field("leaf", &self.leaf)?;
+        b.serialize_field("extent_limit", &self.extent_limit)?;
         b.end()
     }
 }
@@ -227,9 +228,13 @@ mod tests {
             max_steps: 8,
             refine_steps: 2,
             leaf: Leaf::Exact,
+            extent_limit: 0,
         })
         .expect("serializes");
-        assert_eq!(json, r#"{"max_steps":8,"refine_steps":2,"leaf":"exact"}"#);
+        assert_eq!(
+            json,
+            r#"{"max_steps":8,"refine_steps":2,"leaf":"exact","extent_limit":0}"#
+        );
         let kinds = serde_json::to_string(&MapKind::ALL).expect("serializes");
         assert_eq!(
             kinds,

@@ -343,7 +343,9 @@ fn create_pipeline(
             .f32(HARD_SHADOW_TEXELS_ID, hard_shadow_texels(method))
             .u32(0, key.max_steps.unwrap_or(budget.max_steps))
             .u32(1, budget.refine_steps)
-            .u32(2, budget.leaf.spec_value());
+            .u32(2, budget.leaf.spec_value())
+            // A material's own budget is a fixed cap.
+            .u32(3, key.max_steps.map_or(budget.extent_limit, |_| 0));
     }
     if let Some(lod) = key.lod {
         spec = lod_spec_constants(spec, &lod);

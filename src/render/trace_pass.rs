@@ -206,7 +206,8 @@ pub fn trace_repeated(
     let spec = SpecConstants::default()
         .u32(0, req.budget.max_steps)
         .u32(1, req.budget.refine_steps)
-        .u32(2, req.budget.leaf.spec_value());
+        .u32(2, req.budget.leaf.spec_value())
+        .u32(3, req.budget.extent_limit);
     let (spec, light) = match req.shadow {
         None => (spec, [0.0, 0.0, 1.0, 0.0]),
         Some(s) => (
