@@ -420,7 +420,7 @@ fn stability(md: &mut String, cells: &[StabilityCell]) {
     let methods = unique_in_order(cells.iter().map(|c| c.method.as_str()));
     let cases = unique_in_order(cells.iter().map(|c| c.case.as_str()));
     let _ = writeln!(md, "## 5. Stability matrix\n");
-    let _ = writeln!(md, "Each cell: gross rate and worst error in texels over 32x32 rays at default budgets; `NaN n` and `capped x%` when they happen; `FAILED` with the reason below the table when the case could not run.\n");
+    let _ = writeln!(md, "Each cell: gross rate and worst error in texels over 32x32 rays at default budgets (the accurate methods' cap grows with the ray's extent in texels, up to 8192 steps), then the trace's GPU time; `NaN n` and `capped x%` when they happen; `FAILED` with the reason below the table when the case could not run. Sparse spikes (one-texel spikes, a spike under every coarse pyramid node) at grazing views over deep fields are the cases where a fixed cap of 256 steps used to run out.\n");
     let _ = writeln!(md, "| case | {} |", methods.join(" | "));
     let _ = writeln!(md, "|---|{}", "---|".repeat(methods.len()));
     let mut failures = Vec::new();
@@ -460,6 +460,9 @@ fn stability_cell(c: &StabilityCell, failures: &mut Vec<String>) -> String {
     let mut text = format!("{:.1}% / {:.2}", 100.0 * c.gross_rate, c.max_error_texels);
     if c.capped_rate > 0.0 {
         let _ = write!(text, ", capped {:.1}%", 100.0 * c.capped_rate);
+    }
+    if let Some(ms) = c.gpu_ms {
+        let _ = write!(text, ", {ms:.1} ms");
     }
     if c.nan_pixels > 0 {
         let _ = write!(text, ", **NaN {}**", c.nan_pixels);

@@ -94,6 +94,8 @@ pub struct StabilityCell {
     pub capped_rate: f64,
     pub gross_rate: f64,
     pub max_error_texels: f64,
+    /// The trace's GPU time (the fastest timed dispatch), in ms.
+    pub gpu_ms: Option<f64>,
     /// Why the case could not run for this method (an error), if it could not.
     pub failed: Option<String>,
 }

@@ -19,6 +19,8 @@ pub struct StiffCase {
     pub field: Generator,
     pub size: (u32, u32),
     pub angle: f64,
+    /// Degrees; 30 unless a case needs another (the sparse spikes use 71, off the grid's axes).
+    pub azimuth: f64,
     pub depth_scale: f64,
     pub format: HeightFormat,
     pub address: Address,
@@ -34,14 +36,22 @@ fn case(name: &str, field: Generator, size: (u32, u32), angle: f64, depth_scale:
         field,
         size,
         angle,
+        azimuth: 30.0,
         depth_scale,
         format: HeightFormat::R16Unorm,
         address: Address::Repeat,
     }
 }
 
-/// The cases, in matrix order. `largest` is the biggest map side to try (8192, or what fits).
-pub fn stiff_cases(largest: u32) -> Vec<StiffCase> {
+/// Views and depth scales of the sparse-spike rows: one-texel spikes put a spike under every
+/// coarse pyramid node, and a grazing ray over a deep field crosses thousands of texels before
+/// it can reach the floor. The quick bench keeps the first of each.
+const SPIKE_ANGLES: [f64; 3] = [1.0, 0.5, 2.0];
+const SPIKE_DEPTHS: [f64; 3] = [0.5, 1.0, 2.0];
+
+/// The cases, in matrix order. `largest` is the biggest map side to try (8192, or what fits);
+/// `quick` keeps one sparse-spike row of nine.
+pub fn stiff_cases(largest: u32, quick: bool) -> Vec<StiffCase> {
     let fbm = Generator::Fbm;
     let mut cases = vec![
         case("view 0.5 deg", fbm, (128, 128), 0.5, 0.1),
@@ -80,6 +90,15 @@ pub fn stiff_cases(largest: u32) -> Vec<StiffCase> {
     let mut clamp = case("clamp addressing", fbm, (128, 128), 30.0, 0.1);
     clamp.address = Address::Clamp;
     cases.extend([r32, clamp]);
+    let keep = if quick { 1 } else { SPIKE_ANGLES.len() };
+    for angle in SPIKE_ANGLES.into_iter().take(keep) {
+        for depth in SPIKE_DEPTHS.into_iter().take(keep) {
+            let name = format!("sparse spikes 256^2, {angle} deg, depth {depth}");
+            let mut spikes = case(&name, Generator::Spikes, (256, 256), angle, depth);
+            spikes.azimuth = 71.0;
+            cases.push(spikes);
+        }
+    }
     cases
 }
 
@@ -92,6 +111,7 @@ pub fn run_stiff_case(ctx: &Arc<Context>, case: &StiffCase, method: Method) -> S
         capped_rate: 0.0,
         gross_rate: 0.0,
         max_error_texels: 0.0,
+        gpu_ms: None,
         failed,
     };
     let texels = u64::from(case.size.0) * u64::from(case.size.1);
@@ -110,7 +130,7 @@ pub fn run_stiff_case(ctx: &Arc<Context>, case: &StiffCase, method: Method) -> S
     let map = build_method_map(method, &hf, case.address);
     let req = TraceRequest {
         method,
-        dir: ray_direction(case.angle, 30.0).map(|x| x as f32),
+        dir: ray_direction(case.angle, case.azimuth).map(|x| x as f32),
         depth_scale: case.depth_scale as f32,
         grid: RAYS,
         budget: method.info().default_budget,
@@ -134,6 +154,7 @@ pub fn run_stiff_case(ctx: &Arc<Context>, case: &StiffCase, method: Method) -> S
                 capped_rate: s.capped_rate,
                 gross_rate: s.gross_rate,
                 max_error_texels: s.error_texels.max,
+                gpu_ms: out.frame_ms.iter().copied().reduce(f64::min),
                 ..cell(None)
             }
         }

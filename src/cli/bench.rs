@@ -61,6 +61,9 @@ pub struct BenchArgs {
     /// Skip the stability matrix.
     #[arg(long)]
     no_stability: bool,
+    /// Run only the stability matrix (stiff and extreme cases, sparse spikes included).
+    #[arg(long, conflicts_with_all = ["no_stability", "shading_only", "lod_only"])]
+    stability_only: bool,
     /// Skip the shading section (shadow modes against the exact visible fraction).
     #[arg(long)]
     no_shading: bool,
@@ -200,13 +203,13 @@ fn note(bar: &ProgressBar, what: &str, quiet: bool) {
 pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     let cfg = config(args)?;
     let ctx = super::open_device(args.device.as_deref(), args.json)?;
-    let only_other = args.shading_only || args.lod_only;
+    let only_other = args.shading_only || args.lod_only || args.stability_only;
     let jobs = if only_other {
         Vec::new()
     } else {
         plan_jobs(&cfg)
     };
-    let shading = (!args.no_shading && !args.lod_only).then(|| {
+    let shading = (!args.no_shading && !args.lod_only && !args.stability_only).then(|| {
         if cfg.quick {
             ShadingConfig::quick()
         } else {
@@ -218,8 +221,8 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     } else {
         8192.min(ctx.info().max_image_dimension_2d)
     };
-    let cases = if cfg.stability && !only_other {
-        stiff_cases(largest)
+    let cases = if cfg.stability && !(args.shading_only || args.lod_only) {
+        stiff_cases(largest, cfg.quick)
     } else {
         Vec::new()
     };
@@ -294,7 +297,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     } else {
         Vec::new()
     };
-    let lod = if args.no_lod || args.shading_only {
+    let lod = if args.no_lod || args.shading_only || args.stability_only {
         None
     } else {
         note(&bar, "level of detail", args.json);
