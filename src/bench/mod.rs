@@ -2,6 +2,7 @@
 //! and the files the tools write (`.npy` dumps).
 
 mod ao;
+mod depth_match;
 mod lod;
 mod npy;
 mod report;
@@ -18,6 +19,7 @@ mod sweep;
 mod trace_stats;
 
 pub use ao::{measure_ao, AoConfig, AoRun};
+pub use depth_match::{settled as depth_match_settled, MAX_COST_RATIO, MAX_STEP_BUDGET};
 pub use lod::{
     downsample, image_error, receding_plane, render_interleaved, render_timed, run_lod_section,
     ImageError, LodConfig, LodRun, LodScaling, LodSection,

@@ -7,6 +7,7 @@
 use std::collections::BTreeSet;
 use std::fmt::Write as _;
 
+use super::depth_match::{MAX_COST_RATIO, MAX_STEP_BUDGET};
 use super::results::{BenchResults, Run, StabilityCell};
 use super::runner::Section;
 use super::svg::{Plot, Series};
@@ -320,21 +321,29 @@ fn depth_scale(md: &mut String, results: &BenchResults) {
         step.sort_by(|a, b| a.gpu_ms.median.total_cmp(&b.gpu_ms.median));
         let matched = step
             .iter()
-            .find(|r| r.error_texels.mean <= tree.error_texels.mean)
-            .or_else(|| {
-                step.iter()
-                    .min_by(|a, b| a.error_texels.mean.total_cmp(&b.error_texels.mean))
-            });
-        let Some(p) = matched else { continue };
+            .find(|r| r.error_texels.mean <= tree.error_texels.mean);
+        let best = || {
+            step.iter()
+                .min_by(|a, b| a.error_texels.mean.total_cmp(&b.error_texels.mean))
+        };
+        let Some(p) = matched.or_else(best) else {
+            continue;
+        };
+        let tried: Vec<String> = step.iter().map(|r| r.budget.max_steps.to_string()).collect();
+        let label = if matched.is_some() {
+            budget_label(p)
+        } else {
+            format!("{} (not matched)", budget_label(p))
+        };
         let _ = writeln!(
             md,
-            "| {s} | {:.3} | {:.4} | {} | {:.3} | {:.4} | {:.2}x |",
+            "| {s} | {:.3} | {:.4} | {label} | {:.3} | {:.4} | {:.2}x | {} |",
             tree.gpu_ms.median,
             tree.error_texels.mean,
-            budget_label(p),
             p.gpu_ms.median,
             p.error_texels.mean,
-            p.gpu_ms.median / tree.gpu_ms.median.max(1e-9)
+            p.gpu_ms.median / tree.gpu_ms.median.max(1e-9),
+            tried.join(", ")
         );
     }
     md.push('\n');
@@ -343,12 +352,12 @@ fn depth_scale(md: &mut String, results: &BenchResults) {
 /// Title, text and table head of section 3, naming the step (`s`) and tree (`t`) baselines.
 fn depth_scale_head(md: &mut String, s: &str, t: &str) {
     let _ = writeln!(md, "## 3. Depth scale: {s} against {t} at matched error\n");
-    let _ = writeln!(md, "At 30 deg. For each depth scale, {t} at its default budget, and the cheapest {s} budget whose mean error is no worse (or {s}'s most accurate budget when none is); the shape of paper 001, Tables 1.3 and 1.4.\n");
+    let _ = writeln!(md, "At 30 deg. For each depth scale, {t} at its default budget, and the cheapest {s} budget whose mean error is no worse (or, marked not matched, {s}'s most accurate budget when none is); the shape of paper 001, Tables 1.3 and 1.4. {s}'s cap doubles up to {MAX_STEP_BUDGET} and stops at a depth scale once a cap matched or cost more than {MAX_COST_RATIO}x {t}'s time; the last column lists the caps run.\n");
     let _ = writeln!(
         md,
-        "| depth scale | {t} ms | {t} error | {s} budget | {s} ms | {s} error | {s} / {t} time |"
+        "| depth scale | {t} ms | {t} error | {s} budget | {s} ms | {s} error | {s} / {t} time | {s} caps run |"
     );
-    let _ = writeln!(md, "|---|---|---|---|---|---|---|");
+    let _ = writeln!(md, "|---|---|---|---|---|---|---|---|");
 }
 
 /// The methods that read a cone or quadric map (binding 3), in table order.

@@ -8,6 +8,7 @@ use std::time::Instant;
 
 use anyhow::Context as _;
 
+use super::depth_match::depth_budgets;
 use super::results::{GpuMs, MapBuild, Run};
 use super::subgroup_steps::subgroup_steps;
 use super::sweep::{FieldSource, SweepConfig};
@@ -132,19 +133,24 @@ pub fn plan_jobs(cfg: &SweepConfig) -> Vec<Job> {
                 }
             }
         }
-        if role.is_some() {
-            for &d in cfg.depth_scales.iter().skip(1) {
-                for b in cfg.budgets_for(method) {
-                    jobs.push(base(
-                        Section::DepthScale,
-                        &first,
-                        size,
-                        method,
-                        b,
-                        middle,
-                        d,
-                    ));
-                }
+    }
+    // Section 3, the tree baseline first: the step baseline's larger caps are skipped at run time
+    // once one has matched it (`depth_match::settled`).
+    for role in [BenchRole::TreeBaseline, BenchRole::StepBaseline] {
+        let Some(method) = Method::with_role(role).filter(|m| cfg.methods.contains(m)) else {
+            continue;
+        };
+        for &d in cfg.depth_scales.iter().skip(1) {
+            for b in depth_budgets(method, cfg.budgets_for(method)) {
+                jobs.push(base(
+                    Section::DepthScale,
+                    &first,
+                    size,
+                    method,
+                    b,
+                    middle,
+                    d,
+                ));
             }
         }
     }

@@ -69,7 +69,7 @@ impl SweepConfig {
             sizes: vec![1024, 256, 512, 2048, 4096],
             angles: vec![5.0, 15.0, 30.0, 45.0, 60.0, 75.0, 90.0],
             azimuths: vec![30.0],
-            depth_scales: vec![0.1, 0.02, 0.05, 0.2, 0.5],
+            depth_scales: vec![0.1, 0.02, 0.05, 0.2, 0.5, 1.0],
             // POM's quality tiers in engines (o3de: 16, 32, 64, 128 steps).
             budgets: vec![16, 32, 64, 128],
             resolution: (1024, 1024),

@@ -9,7 +9,7 @@ use std::io::IsTerminal;
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use relief::bench::{
-    measure_ao, measure_shadows, plan_jobs, render_report, run_lod_section, run_stiff_case,
+    depth_match_settled, measure_ao, measure_shadows, plan_jobs, render_report, run_lod_section, run_stiff_case,
     stiff_cases, AoConfig, BenchResults, FieldSource, LodConfig, Runner, ShadingConfig,
     SweepConfig,
 };
@@ -242,6 +242,10 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     let mut runner = Runner::new(ctx.clone(), cfg.clone());
     let mut runs = Vec::with_capacity(jobs.len());
     for job in &jobs {
+        if depth_match_settled(job, &runs) {
+            bar.inc(1);
+            continue;
+        }
         let what = format!(
             "{} {} {}^2 {} deg",
             job.method,

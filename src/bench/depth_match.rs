@@ -1,0 +1,87 @@
+//! Section 3 (depth scale) matches the fixed-step baseline (POM) to the tree baseline (QDM) for
+//! error at every depth scale: the step method's cap doubles from its default up to
+//! `MAX_STEP_BUDGET`, and stops growing at a depth scale once a cap has matched the tree's mean
+//! error or cost more than `MAX_COST_RATIO` times its time (paper 001 compares them at equal
+//! quality: Tables 1.3 and 1.4). The tree baseline's jobs run first so the step jobs can stop.
+
+use super::results::Run;
+use super::runner::{Job, Section};
+use crate::method::{BenchRole, Budget, Method};
+
+/// The largest cap tried on the step baseline.
+pub const MAX_STEP_BUDGET: u32 = 2048;
+/// Past this multiple of the tree baseline's time, larger caps are not tried.
+pub const MAX_COST_RATIO: f64 = 20.0;
+
+/// The caps section 3 tries for `method` besides `listed`: for the step baseline, doubling from
+/// the largest listed cap up to [`MAX_STEP_BUDGET`].
+pub fn depth_budgets(method: Method, listed: Vec<Budget>) -> Vec<Budget> {
+    if method.info().bench_role != Some(BenchRole::StepBaseline) {
+        return listed;
+    }
+    let mut list = listed;
+    let default = method.info().default_budget;
+    let largest = list.iter().map(|b| b.max_steps).max().unwrap_or(1).max(1);
+    let more = std::iter::successors(Some(largest * 2), |c| Some(c * 2))
+        .take_while(|&c| c <= MAX_STEP_BUDGET)
+        .map(|max_steps| Budget {
+            max_steps,
+            ..default
+        });
+    list.extend(more);
+    list
+}
+
+/// Whether `job` need not run: a step-baseline job of section 3 whose depth scale already has a
+/// step run at a smaller cap that matched the tree baseline's error or cost too much.
+pub fn settled(job: &Job, runs: &[Run]) -> bool {
+    if job.section != Section::DepthScale
+        || job.method.info().bench_role != Some(BenchRole::StepBaseline)
+    {
+        return false;
+    }
+    let Some(tree) = Method::with_role(BenchRole::TreeBaseline) else {
+        return false;
+    };
+    let same_view = |r: &&Run| r.section == Section::DepthScale && r.depth_scale == job.depth_scale;
+    let Some(tree_run) = runs
+        .iter()
+        .filter(same_view)
+        .find(|r| r.method == tree.id() && r.budget == tree.info().default_budget)
+    else {
+        return false;
+    };
+    runs.iter()
+        .filter(same_view)
+        .filter(|r| r.method == job.method.id() && r.budget.max_steps < job.budget.max_steps)
+        .any(|r| {
+            r.error_texels.mean <= tree_run.error_texels.mean
+                || r.gpu_ms.median > MAX_COST_RATIO * tree_run.gpu_ms.median
+        })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_step_baseline_doubles_up_to_the_largest_cap_and_others_keep_theirs() {
+        let pom = Method::with_role(BenchRole::StepBaseline).unwrap();
+        let listed = vec![
+            pom.info().default_budget,
+            Budget {
+                max_steps: 128,
+                ..pom.info().default_budget
+            },
+        ];
+        let caps: Vec<u32> = depth_budgets(pom, listed)
+            .iter()
+            .map(|b| b.max_steps)
+            .collect();
+        assert_eq!(caps.last(), Some(&MAX_STEP_BUDGET));
+        assert!(caps.ends_with(&[128, 256, 512, 1024, 2048]), "{caps:?}");
+        let qdm = Method::with_role(BenchRole::TreeBaseline).unwrap();
+        let own = vec![qdm.info().default_budget];
+        assert_eq!(depth_budgets(qdm, own.clone()), own);
+    }
+}
