@@ -28,8 +28,10 @@ pub enum FormatArg {
 pub struct SceneArgs {
     /// glTF scene (.gltf or .glb); the built-in default scene when left out.
     scene: Option<PathBuf>,
+    /// Image width in pixels (`view`: the window's first width).
     #[arg(long, default_value_t = 960)]
     pub(super) width: u32,
+    /// Image height in pixels (`view`: the window's first height).
     #[arg(long, default_value_t = 540)]
     pub(super) height: u32,
     #[command(flatten)]
