@@ -1,0 +1,295 @@
+#version 460
+#extension GL_GOOGLE_include_directive : require
+// The quadric map on the GPU (heightfield::quadric_map, paper 004): per texel the profile
+// [a, b, c, h] of a cone continued by a parabola and a flat cap, F(r) = b r / a up to a, then
+// b + (r - a)(2c - r - a) up to c, then b + (c - a)^2, such that the bilinear surface B never
+// rises above B(q) + F(|x - q|) for any q in the texel's footprint.
+//
+// The bound rests on the same radial facts as the CPU builder: per texel its least bilinear
+// height h_lo on the footprint and its steepest bilinear gradient L within one texel; a group of
+// texels at uv distance >= d (between the footprint and their bilinear supports) whose heights
+// are <= m contributes the point (max(d, reach(m - h_lo)), m - h_lo), which dominates every one
+// of them because F is non-decreasing. The CPU prunes a concave hull of such points through its
+// pyramid; here every texel instead takes a fixed covering of the plane by pyramid nodes, a ring
+// of nodes per level (those within `ring` nodes of the texel's own node, Chebyshev, on the torus
+// under Repeat, that have a child outside the ring of the level below), which covers each texel
+// of the map exactly once or more: a texel is in the node of the first level whose ring holds
+// it. Nodes then are at least about ring / 2 of their own sides away, so the points are the
+// CPU's within a factor of about 1 + 2.8 / ring in distance.
+//
+// The profile is fitted to the points directly, with no hull: the cone's slope is the steepest
+// value / r (a its r, the farthest among ties), and c the least value that lifts F above every
+// point beyond a, exactly (for a point (r, v) with x = r - a, y = v - b > 0 that is
+// a + x / 2 + y / (2 x) when y >= x^2, else a + sqrt(y), where the cap meets it); the two-branch
+// threshold increases with y and decreases with x, so rounding y up and x down keeps it safe.
+//
+// Rounding (the guarantee: an upper bound despite f32): h_lo is lowered by 2^-22 unless the 3x3
+// texels around are equal (then it is exact), L raised by 1e-5 relative, node distances and
+// gradient reaches lowered by 1e-6 relative, b raised by 1.2e-4 relative (NEAR_CONE) and c by 1e-6, more than
+// the few-ulp errors of the f32 arithmetic under the Vulkan precision rules. These margins lift
+// the GPU profile a little above the exact one for the same points.
+//
+// Two modes, chosen per dispatch by params.mode:
+//  REDUCE: level L of the max pyramid of the heights (buffer_pyramid.glsl) from level L - 1.
+//  QUADRIC: one invocation per texel of rows [row0, row0 + rows): two passes over its rings,
+//    about 2 (levels) (2 ring + 1)^2 loop iterations (lavapipe ends every loop of an invocation
+//    after 65535 iterations in all: 15 levels and ring 8 stay far below).
+layout(local_size_x = 8, local_size_y = 8) in;
+
+const uint MODE_REDUCE = 0u;
+const uint MODE_QUADRIC = 1u;
+const uint MAX_LEVELS = 15u;
+
+// All pyramid levels back to back, level 0 (the heights, width x height) first.
+layout(set = 0, binding = 0, std430) buffer Pyramid {
+    float pyramid[];
+};
+
+// Per texel [a, b, c, h] (QuadricMap's texel), row-major.
+layout(set = 0, binding = 1, std430) writeonly buffer QuadricMap {
+    vec4 quadric_map[];
+};
+
+layout(push_constant, std430) uniform Params {
+    uint mode;
+    // Level 0 size in texels.
+    uint width;
+    uint height;
+    // 1 for Repeat, 0 for Clamp.
+    uint repeat_address;
+    // REDUCE: the level written. QUADRIC: the first row of this dispatch.
+    uint level;
+    uint row0;
+    // Nodes on each side of the texel's node in every level's ring.
+    int ring;
+    // The level whose single node covers the map.
+    uint top;
+    // Where each level starts in `pyramid` (the host computes them once).
+    uint offsets[MAX_LEVELS];
+} params;
+
+// Reads and writes `pyramid` above.
+#include "buffer_pyramid.glsl"
+
+bool repeat_address() {
+    return params.repeat_address != 0u;
+}
+
+ivec2 level_nodes(uint level) {
+    return ivec2(pyramid_level_size(uvec2(params.width, params.height), level));
+}
+
+// Height of texel q (any integers within two texels of the map), addressed.
+float height_at(ivec2 q) {
+    ivec2 n = ivec2(params.width, params.height);
+    ivec2 t = repeat_address() ? ivec2(uvec2(q + 4 * n) % uvec2(n)) : clamp(q, ivec2(0), n - 1);
+    return pyramid[t.y * n.x + t.x];
+}
+
+// What the radial bound of texel p rests on: x = h_lo (rounded down), y = L (rounded up).
+vec2 texel_bound(ivec2 p) {
+    float c = height_at(p);
+    float lo = c;
+    bool flat3 = true;
+    for (int d = -1; d <= 1; d += 2) {
+        float hu = height_at(p + ivec2(d, 0));
+        float hv = height_at(p + ivec2(0, d));
+        lo = min(lo, min(0.5 * (c + hu), 0.5 * (c + hv)));
+        for (int e = -1; e <= 1; e += 2) {
+            float he = height_at(p + ivec2(0, e));
+            float hc = height_at(p + ivec2(d, e));
+            lo = min(lo, 0.25 * (c + hu + he + hc));
+            flat3 = flat3 && hu == c && hv == c && hc == c;
+        }
+    }
+    // The means round; equal heights give exact ones.
+    lo = flat3 ? lo : lo - 1.0 / 4194304.0;
+    float w = float(params.width);
+    float h = float(params.height);
+    float lip = 0.0;
+    for (int l = -2; l <= 1; ++l) {
+        for (int k = -2; k <= 1; ++k) {
+            float h00 = height_at(p + ivec2(k, l));
+            float h10 = height_at(p + ivec2(k + 1, l));
+            float h01 = height_at(p + ivec2(k, l + 1));
+            float h11 = height_at(p + ivec2(k + 1, l + 1));
+            float gu = w * max(abs(h10 - h00), abs(h11 - h01));
+            float gv = h * max(abs(h01 - h00), abs(h11 - h10));
+            lip = max(lip, length(vec2(gu, gv)));
+        }
+    }
+    return vec2(lo, lip * (1.0 + 1.0e-5));
+}
+
+// Torus (Repeat) or plain (Clamp) distance in nodes along one axis of `count` nodes.
+int node_distance(int m, int n, int count) {
+    int d = abs(m - n);
+    return repeat_address() ? min(d, count - d) : d;
+}
+
+// Gap in texels between footprint [i, i + 1] and the supports (k0 - 1/2, k1 + 3/2) of texels
+// k0..k1 along an axis of n texels, the shortest way round under Repeat (as PyramidAxis::gap).
+float axis_gap(int i, int k0, int k1, int n) {
+    float after = float(k0 - i) - 1.5;
+    float before = float(i - k1) - 1.5;
+    float gap = max(max(after, before), 0.0);
+    if (repeat_address()) {
+        float fn = float(n);
+        gap = min(gap, max(max(after + fn, before - fn), 0.0));
+        gap = min(gap, max(max(after - fn, before + fn), 0.0));
+    }
+    return gap;
+}
+
+// One point of the radial bound: r (uv, rounded down) and value (height above h_lo).
+struct Point {
+    float r;
+    float value;
+};
+
+// The point of node m of `level` for texel p with bound `tb`.
+Point node_point(ivec2 p, vec2 tb, uint level, ivec2 m, ivec2 nodes) {
+    ivec2 n0 = ivec2(params.width, params.height);
+    ivec2 k0 = m << level;
+    ivec2 k1 = min((m + 1) << level, n0) - 1;
+    float gu = axis_gap(p.x, k0.x, k1.x, n0.x) / float(n0.x);
+    float gv = axis_gap(p.y, k0.y, k1.y, n0.y) / float(n0.y);
+    float dist = length(vec2(gu, gv)) * (1.0 - 1.0e-6);
+    Point pt;
+    pt.value = pyramid[params.offsets[level] + uint(m.y * nodes.x + m.x)] - tb.x;
+    // Within one texel of the footprint the surface rises at most L per uv.
+    float lip_radius = 1.0 / float(max(params.width, params.height));
+    float reach = tb.y * lip_radius <= pt.value ? lip_radius : pt.value / tb.y * (1.0 - 1.0e-6);
+    pt.r = max(dist, reach);
+    return pt;
+}
+
+// The ring's half width at `level`: wider on the two finest levels, whose nodes are near the
+// texel, so that they are refined to texels about where the CPU's hull search refines them.
+int ring_at(uint level) {
+    return params.ring + max(2 - int(level), 0);
+}
+
+// Node indices of `level`'s ring along one axis: `first` and `count` (wrapped when used).
+ivec2 ring_span(int n, int nodes, uint level) {
+    int k = ring_at(level);
+    if (repeat_address() && nodes <= 2 * k + 1) {
+        return ivec2(0, nodes);
+    }
+    if (repeat_address()) {
+        return ivec2(n - k, 2 * k + 1);
+    }
+    int first = max(n - k, 0);
+    return ivec2(first, min(n + k, nodes - 1) - first + 1);
+}
+
+// Whether node index m (a level above 0) has a child outside the ring of the level below, along
+// one axis whose texel index is i.
+bool child_outside(int m, int i, uint level, int fine_nodes) {
+    int n = i >> (level - 1u);
+    int c0 = 2 * m;
+    int c1 = min(2 * m + 1, fine_nodes - 1);
+    int k = ring_at(level - 1u);
+    return node_distance(c0, n, fine_nodes) > k || node_distance(c1, n, fine_nodes) > k;
+}
+
+// Calls VISIT(pt) for the point of every node of the covering of texel p (see the header), level
+// by level from the finest, until STOP(level) says no point of that level or above can matter.
+#define FOR_EACH_POINT(p, tb, STOP, VISIT)                                                          \
+    for (uint level = 0u; level <= params.top; ++level) {                                   \
+        ivec2 nodes = level_nodes(level);                                                   \
+        ivec2 fine = level == 0u ? nodes : level_nodes(level - 1u);                         \
+        ivec2 su = ring_span(p.x >> level, nodes.x, level);                                 \
+        ivec2 sv = ring_span(p.y >> level, nodes.y, level);                                 \
+        if (STOP(level)) {                                                                  \
+            break;                                                                          \
+        }                                                                                   \
+        for (int dv = 0; dv < sv.y; ++dv) {                                                 \
+            int mv = sv.x + dv;                                                             \
+            mv = mv < 0 ? mv + nodes.y : (mv >= nodes.y ? mv - nodes.y : mv);               \
+            bool out_v = level > 0u && child_outside(mv, p.y, level, fine.y);               \
+            for (int du = 0; du < su.y; ++du) {                                             \
+                int mu = su.x + du;                                                         \
+                mu = mu < 0 ? mu + nodes.x : (mu >= nodes.x ? mu - nodes.x : mu);           \
+                if (level > 0u && !out_v && !child_outside(mu, p.x, level, fine.x)) {       \
+                    continue;                                                               \
+                }                                                                           \
+                Point pt = node_point(p, tb, level, ivec2(mu, mv), nodes);                  \
+                if (pt.value > 0.0) {                                                       \
+                    VISIT(pt)                                                               \
+                }                                                                           \
+            }                                                                               \
+        }                                                                                   \
+    }
+
+// Pass 1: the steepest value / r, and the farthest r that reaches it (ties within 1e-6).
+#define VISIT_SLOPE(pt)                                                                     \
+    float s = pt.value / pt.r;                                                              \
+    if (s > slope * (1.0 + 1.0e-6)) {                                                       \
+        slope = s;                                                                          \
+        a = pt.r;                                                                           \
+    } else if (s >= slope * (1.0 - 1.0e-6)) {                                               \
+        slope = max(slope, s);                                                              \
+        a = max(a, pt.r);                                                                   \
+    }
+
+// Points with r in (a, a (1 + NEAR_CONE)] are left to the rim height b (see quadric()).
+const float NEAR_CONE = 1.0e-4;
+
+// Pass 2: the least c lifting the parabola above the point (see the header for the rounding).
+#define VISIT_APEX(pt)                                                                      \
+    float x = (pt.r - a) * (1.0 - 2.4e-7);                                                  \
+    float y = (pt.value * (1.0 + 2.4e-7) - b) * (1.0 + 2.4e-7);                             \
+    if (pt.r > a * (1.0 + NEAR_CONE) && y > 0.0) {                                          \
+        float lift = y >= x * x ? 0.5 * x + y / (2.0 * x) * (1.0 + 4.0e-7) : sqrt(y);       \
+        c = max(c, a + lift);                                                               \
+    }
+
+// A lower bound on r for the points of `level` >= 1 (0 for level 0): such a node has a child
+// more than k = ring_at(level - 1) nodes away along an axis, so its nearest texel is at least
+// (k - 1) 2^(level - 1) + 1 texels away along it, one node less across the seam of a Repeat map
+// whose last node is partial; less the 1.5 texels of footprint and support.
+float min_r(uint level) {
+    if (level == 0u) {
+        return 0.0;
+    }
+    float gap = float(ring_at(level - 1u) - 2) * float(1u << (level - 1u)) - 0.5;
+    return max(gap, 0.0) / float(max(params.width, params.height)) * (1.0 - 1.0e-6);
+}
+
+void quadric() {
+    ivec2 p = ivec2(gl_GlobalInvocationID.x, gl_GlobalInvocationID.y + params.row0);
+    if (p.x >= int(params.width) || p.y >= int(params.height)) {
+        return;
+    }
+    vec2 tb = texel_bound(p);
+    float slope = 0.0;
+    float a = 0.0;
+    float top_value = pyramid[params.offsets[params.top]] - tb.x;
+#define STOP_SLOPE(level) slope * (1.0 - 2.0e-6) >= top_value * (1.0 + 1.0e-6) / min_r(level)
+    FOR_EACH_POINT(p, tb, STOP_SLOPE, VISIT_SLOPE)
+    uint index = uint(p.y) * params.width + uint(p.x);
+    float h = pyramid[index];
+    if (!(slope > 0.0)) {
+        // Nothing rises above the texel's lowest point: the flat profile, as on the CPU.
+        quadric_map[index] = vec4(1.0, 0.0, 1.0, h);
+        return;
+    }
+    // Points within NEAR_CONE of a (relative) lie under b, so pass 2 never divides by a tiny x.
+    float b = slope * a * (1.0 + NEAR_CONE + 2.0e-5);
+    float c = a;
+#define NEVER(level) false
+    FOR_EACH_POINT(p, tb, NEVER, VISIT_APEX)
+    c = c > a ? c * (1.0 + 1.0e-6) : a;
+    quadric_map[index] = vec4(a, b, c, h);
+}
+
+void main() {
+    if (params.mode == MODE_REDUCE) {
+        uint level = params.level;
+        pyramid_reduce(uvec2(params.width, params.height), level, params.offsets[level - 1u],
+                       params.offsets[level], gl_GlobalInvocationID.xy);
+    } else {
+        quadric();
+    }
+}
