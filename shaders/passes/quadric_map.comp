@@ -11,10 +11,11 @@
 // are <= m contributes the point (max(d, reach(m - h_lo)), m - h_lo), which dominates every one
 // of them because F is non-decreasing. The CPU prunes a concave hull of such points through its
 // pyramid; here every texel instead takes a fixed covering of the plane by pyramid nodes, a ring
-// of nodes per level (those within `ring` nodes of the texel's own node, Chebyshev, on the torus
-// under Repeat, that have a child outside the ring of the level below), which covers each texel
-// of the map exactly once or more: a texel is in the node of the first level whose ring holds
-// it. Nodes then are at least about ring / 2 of their own sides away, so the points are the
+// of nodes per level (those within ring_at(level) nodes of the texel's own node, Chebyshev, on
+// the torus under Repeat, that have a child outside the ring of the level below), which covers
+// each texel of the map at least once: a texel is in the node of the first level whose ring
+// holds it. The rings need not nest, so the finest levels, whose nodes lie nearest, take wider
+// rings. Nodes then lie at least about ring / 2 of their own sides away, so the points are the
 // CPU's within a factor of about 1 + 2.8 / ring in distance.
 //
 // The profile is fitted to the points directly, with no hull: the cone's slope is the steepest
@@ -22,6 +23,8 @@
 // point beyond a, exactly (for a point (r, v) with x = r - a, y = v - b > 0 that is
 // a + x / 2 + y / (2 x) when y >= x^2, else a + sqrt(y), where the cap meets it); the two-branch
 // threshold increases with y and decreases with x, so rounding y up and x down keeps it safe.
+// The cone is first fitted to the texels within NEAR_RING, then one pass over all points finds
+// c and checks the slope; the rare texel with a steeper point farther out takes a second pass.
 //
 // Rounding (the guarantee: an upper bound despite f32): h_lo is lowered by 2^-22 unless the 3x3
 // texels around are equal (then it is exact), L raised by 1e-5 relative, node distances and
@@ -31,9 +34,9 @@
 //
 // Two modes, chosen per dispatch by params.mode:
 //  REDUCE: level L of the max pyramid of the heights (buffer_pyramid.glsl) from level L - 1.
-//  QUADRIC: one invocation per texel of rows [row0, row0 + rows): two passes over its rings,
-//    about 2 (levels) (2 ring + 1)^2 loop iterations (lavapipe ends every loop of an invocation
-//    after 65535 iterations in all: 15 levels and ring 8 stay far below).
+//  QUADRIC: one invocation per texel of rows [row0, row0 + rows): one or two passes over its
+//    rings, at most about 2 (levels) (2 ring + 7)^2 loop iterations (lavapipe ends every loop of
+//    an invocation after 65535 iterations in all: 15 levels and ring 8 stay far below).
 layout(local_size_x = 8, local_size_y = 8) in;
 
 const uint MODE_REDUCE = 0u;
@@ -79,10 +82,20 @@ ivec2 level_nodes(uint level) {
     return ivec2(pyramid_level_size(uvec2(params.width, params.height), level));
 }
 
-// Height of texel q (any integers within two texels of the map), addressed.
+// Height of texel q (any integers within two texels of the map), addressed. Wrapped by two
+// conditional steps rather than `%`: llvmpipe has no vector integer division and splits one
+// into a scalar division per lane.
 float height_at(ivec2 q) {
     ivec2 n = ivec2(params.width, params.height);
-    ivec2 t = repeat_address() ? ivec2(uvec2(q + 4 * n) % uvec2(n)) : clamp(q, ivec2(0), n - 1);
+    ivec2 t = q;
+    if (repeat_address()) {
+        t = mix(t, t + n, lessThan(t, ivec2(0)));
+        t = mix(t, t + n, lessThan(t, ivec2(0)));
+        t = mix(t, t - n, greaterThanEqual(t, n));
+        t = mix(t, t - n, greaterThanEqual(t, n));
+    } else {
+        t = clamp(t, ivec2(0), n - 1);
+    }
     return pyramid[t.y * n.x + t.x];
 }
 
@@ -147,27 +160,38 @@ struct Point {
     float value;
 };
 
-// The point of node m of `level` for texel p with bound `tb`.
-Point node_point(ivec2 p, vec2 tb, uint level, ivec2 m, ivec2 nodes) {
-    ivec2 n0 = ivec2(params.width, params.height);
-    ivec2 k0 = m << level;
-    ivec2 k1 = min((m + 1) << level, n0) - 1;
-    float gu = axis_gap(p.x, k0.x, k1.x, n0.x) / float(n0.x);
-    float gv = axis_gap(p.y, k0.y, k1.y, n0.y) / float(n0.y);
-    float dist = length(vec2(gu, gv)) * (1.0 - 1.0e-6);
+// The gap (uv) between texel i's footprint and the supports of node m of `level` along an axis
+// of n texels.
+float node_gap(int i, int m, uint level, int n) {
+    int k0 = m << level;
+    int k1 = min((m + 1) << level, n) - 1;
+    // The reciprocal is uniform, so it is computed once; its rounding is within the margin on
+    // the distance (radial_point).
+    return axis_gap(i, k0, k1, n) * (1.0 / float(n));
+}
+
+// The point of a node with gaps gu, gv and maximum height `top`, for a texel with bound `tb`.
+Point radial_point(float gu, float gv, float top, vec2 tb) {
     Point pt;
-    pt.value = pyramid[params.offsets[level] + uint(m.y * nodes.x + m.x)] - tb.x;
+    pt.value = top - tb.x;
     // Within one texel of the footprint the surface rises at most L per uv.
     float lip_radius = 1.0 / float(max(params.width, params.height));
-    float reach = tb.y * lip_radius <= pt.value ? lip_radius : pt.value / tb.y * (1.0 - 1.0e-6);
-    pt.r = max(dist, reach);
+    // value / L, lowered past the rounding of the reciprocal and the product.
+    float reach = tb.y * lip_radius <= pt.value ? lip_radius : pt.value * (1.0 / tb.y) * (1.0 - 1.0e-6);
+    pt.r = max(length(vec2(gu, gv)) * (1.0 - 1.0e-6), reach);
     return pt;
 }
 
-// The ring's half width at `level`: wider on the two finest levels, whose nodes are near the
-// texel, so that they are refined to texels about where the CPU's hull search refines them.
+// When >= 0, the half width of level 0's ring instead of ring_at's (the first, near pass).
+int near_ring = -1;
+
+// The ring's half width at `level`: wider on the three finest levels, whose nodes are near the
+// texel, so that they are refined about where the CPU's hull search refines them.
 int ring_at(uint level) {
-    return params.ring + max(2 - int(level), 0);
+    if (level == 0u && near_ring >= 0) {
+        return near_ring;
+    }
+    return params.ring + max(3 - int(level), 0);
 }
 
 // Node indices of `level`'s ring along one axis: `first` and `count` (wrapped when used).
@@ -193,28 +217,49 @@ bool child_outside(int m, int i, uint level, int fine_nodes) {
     return node_distance(c0, n, fine_nodes) > k || node_distance(c1, n, fine_nodes) > k;
 }
 
+// Where a run of ring columns that the level below covers ends, as an offset from `first` (the
+// ring's first column, unwrapped), for texel index i; -1 where torus distances could differ from
+// plain ones (small Repeat levels), so that each column is tested on its own. Columns whose two
+// children lie within the ring below form one run, from the first such column up to
+// floor((n + k - 1) / 2) with n and k the finer level's node index and ring.
+int covered_run_end(int i, int first, uint level, int fine_nodes) {
+    int k = ring_at(level - 1u);
+    if (repeat_address() && fine_nodes <= 4 * k + 4) {
+        return -1;
+    }
+    return ((i >> (level - 1u)) + k - 1) / 2 - first;
+}
+
+int wrap_index(int m, int nodes) {
+    return m < 0 ? m + nodes : (m >= nodes ? m - nodes : m);
+}
+
 // Calls VISIT(pt) for the point of every node of the covering of texel p (see the header), level
 // by level from the finest, until STOP(level) says no point of that level or above can matter.
-#define FOR_EACH_POINT(p, tb, STOP, VISIT)                                                          \
+// Row quantities are computed once per row, and runs of covered columns are skipped at once.
+#define FOR_EACH_POINT(p, tb, STOP, VISIT)                                                  \
     for (uint level = 0u; level <= params.top; ++level) {                                   \
+        if (STOP(level)) {                                                                  \
+            break;                                                                          \
+        }                                                                                   \
         ivec2 nodes = level_nodes(level);                                                   \
         ivec2 fine = level == 0u ? nodes : level_nodes(level - 1u);                         \
         ivec2 su = ring_span(p.x >> level, nodes.x, level);                                 \
         ivec2 sv = ring_span(p.y >> level, nodes.y, level);                                 \
-        if (STOP(level)) {                                                                  \
-            break;                                                                          \
-        }                                                                                   \
+        int run_end = level == 0u ? -1 : covered_run_end(p.x, su.x, level, fine.x);         \
         for (int dv = 0; dv < sv.y; ++dv) {                                                 \
-            int mv = sv.x + dv;                                                             \
-            mv = mv < 0 ? mv + nodes.y : (mv >= nodes.y ? mv - nodes.y : mv);               \
-            bool out_v = level > 0u && child_outside(mv, p.y, level, fine.y);               \
+            int mv = wrap_index(sv.x + dv, nodes.y);                                        \
+            bool out_v = level == 0u || child_outside(mv, p.y, level, fine.y);              \
+            float gv = node_gap(p.y, mv, level, int(params.height));                        \
+            uint row = params.offsets[level] + uint(mv * nodes.x);                          \
             for (int du = 0; du < su.y; ++du) {                                             \
-                int mu = su.x + du;                                                         \
-                mu = mu < 0 ? mu + nodes.x : (mu >= nodes.x ? mu - nodes.x : mu);           \
-                if (level > 0u && !out_v && !child_outside(mu, p.x, level, fine.x)) {       \
+                int mu = wrap_index(su.x + du, nodes.x);                                    \
+                if (!out_v && !child_outside(mu, p.x, level, fine.x)) {                     \
+                    du = max(du, run_end);                                                  \
                     continue;                                                               \
                 }                                                                           \
-                Point pt = node_point(p, tb, level, ivec2(mu, mv), nodes);                  \
+                float gu = node_gap(p.x, mu, level, int(params.width));                     \
+                Point pt = radial_point(gu, gv, pyramid[row + uint(mu)], tb);               \
                 if (pt.value > 0.0) {                                                       \
                     VISIT(pt)                                                               \
                 }                                                                           \
@@ -222,40 +267,37 @@ bool child_outside(int m, int i, uint level, int fine_nodes) {
         }                                                                                   \
     }
 
-// Pass 1: the steepest value / r, and the farthest r that reaches it (ties within 1e-6).
+// The steepest value / r, and the farthest r that reaches it (ties within 1e-6); compared by
+// products, so that only a point that changes the slope pays a division.
 #define VISIT_SLOPE(pt)                                                                     \
-    float s = pt.value / pt.r;                                                              \
-    if (s > slope * (1.0 + 1.0e-6)) {                                                       \
-        slope = s;                                                                          \
+    float level_r = slope * pt.r;                                                           \
+    if (pt.value > level_r * (1.0 + 1.0e-6)) {                                              \
+        slope = pt.value / pt.r;                                                            \
         a = pt.r;                                                                           \
-    } else if (s >= slope * (1.0 - 1.0e-6)) {                                               \
-        slope = max(slope, s);                                                              \
+    } else if (pt.value >= level_r * (1.0 - 1.0e-6)) {                                      \
+        slope = max(slope, pt.value / pt.r);                                                \
         a = max(a, pt.r);                                                                   \
     }
+
+// Texels on each side of the texel's own that the first pass looks at for the cone.
+const int NEAR_RING = 2;
 
 // Points with r in (a, a (1 + NEAR_CONE)] are left to the rim height b (see quadric()).
 const float NEAR_CONE = 1.0e-4;
 
-// Pass 2: the least c lifting the parabola above the point (see the header for the rounding).
-#define VISIT_APEX(pt)                                                                      \
+// The least c lifting the parabola above the point (see the header for the rounding). The
+// threshold a + lift exceeds c, with m = c - a, only if y > m^2 (x >= m) or y > x (2m - x)
+// (x < m): tested first, with a margin for its rounding, so that most points pay no sqrt or
+// division.
+#define VISIT_APEX_OF(pt, a)                                                                \
     float x = (pt.r - a) * (1.0 - 2.4e-7);                                                  \
     float y = (pt.value * (1.0 + 2.4e-7) - b) * (1.0 + 2.4e-7);                             \
-    if (pt.r > a * (1.0 + NEAR_CONE) && y > 0.0) {                                          \
+    float m = c - a;                                                                        \
+    float needs = x >= m ? m * m : x * (2.0 * m - x);                                       \
+    if (pt.r > a * (1.0 + NEAR_CONE) && y > 0.0 && y > needs * (1.0 - 1.0e-5)) {            \
         float lift = y >= x * x ? 0.5 * x + y / (2.0 * x) * (1.0 + 4.0e-7) : sqrt(y);       \
         c = max(c, a + lift);                                                               \
     }
-
-// A lower bound on r for the points of `level` >= 1 (0 for level 0): such a node has a child
-// more than k = ring_at(level - 1) nodes away along an axis, so its nearest texel is at least
-// (k - 1) 2^(level - 1) + 1 texels away along it, one node less across the seam of a Repeat map
-// whose last node is partial; less the 1.5 texels of footprint and support.
-float min_r(uint level) {
-    if (level == 0u) {
-        return 0.0;
-    }
-    float gap = float(ring_at(level - 1u) - 2) * float(1u << (level - 1u)) - 0.5;
-    return max(gap, 0.0) / float(max(params.width, params.height)) * (1.0 - 1.0e-6);
-}
 
 void quadric() {
     ivec2 p = ivec2(gl_GlobalInvocationID.x, gl_GlobalInvocationID.y + params.row0);
@@ -263,23 +305,36 @@ void quadric() {
         return;
     }
     vec2 tb = texel_bound(p);
-    float slope = 0.0;
-    float a = 0.0;
-    float top_value = pyramid[params.offsets[params.top]] - tb.x;
-#define STOP_SLOPE(level) slope * (1.0 - 2.0e-6) >= top_value * (1.0 + 1.0e-6) / min_r(level)
-    FOR_EACH_POINT(p, tb, STOP_SLOPE, VISIT_SLOPE)
     uint index = uint(p.y) * params.width + uint(p.x);
     float h = pyramid[index];
+    // The steepest point is nearly always a texel within NEAR_RING texels: fit the cone to those
+    // first, then take every point once, for c and for the steepest slope of all; in the rare
+    // case that a farther point is steeper (or as steep and farther), c is found again for it.
+    float slope = 0.0;
+    float a = 0.0;
+#define FINEST_ONLY(level) level > 0u
+    near_ring = NEAR_RING;
+    FOR_EACH_POINT(p, tb, FINEST_ONLY, VISIT_SLOPE)
+    near_ring = -1;
+    float near_slope = slope;
+    float near_a = a;
+    // Points within NEAR_CONE of a (relative) lie under b, so c never divides by a tiny x.
+    float b = slope * a * (1.0 + NEAR_CONE + 2.0e-5);
+    float c = a;
+#define NEVER(level) false
+#define VISIT_BOTH(pt) { VISIT_SLOPE(pt) } { VISIT_APEX_OF(pt, near_a) }
+    FOR_EACH_POINT(p, tb, NEVER, VISIT_BOTH)
+    if (slope != near_slope || a != near_a) {
+        b = slope * a * (1.0 + NEAR_CONE + 2.0e-5);
+        c = a;
+#define VISIT_APEX(pt) { VISIT_APEX_OF(pt, a) }
+        FOR_EACH_POINT(p, tb, NEVER, VISIT_APEX)
+    }
     if (!(slope > 0.0)) {
         // Nothing rises above the texel's lowest point: the flat profile, as on the CPU.
         quadric_map[index] = vec4(1.0, 0.0, 1.0, h);
         return;
     }
-    // Points within NEAR_CONE of a (relative) lie under b, so pass 2 never divides by a tiny x.
-    float b = slope * a * (1.0 + NEAR_CONE + 2.0e-5);
-    float c = a;
-#define NEVER(level) false
-    FOR_EACH_POINT(p, tb, NEVER, VISIT_APEX)
     c = c > a ? c * (1.0 + 1.0e-6) : a;
     quadric_map[index] = vec4(a, b, c, h);
 }
