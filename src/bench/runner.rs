@@ -13,7 +13,7 @@ use super::subgroup_steps::subgroup_steps;
 use super::sweep::{FieldSource, SweepConfig};
 use super::trace_stats::{ray_direction, trace_stats};
 use crate::heightfield::{build_method_map, Heightfield, LoadOptions, MapData};
-use crate::method::{BenchRole, Budget, Method};
+use crate::method::{BenchRole, Budget, MapKind, Method};
 use crate::render::{
     build_method_map_with, build_pyramid_on_gpu, time_method, trace_on_gpu, BenchRequest,
     HeightFormat, MapBuilder, TraceRequest,
@@ -203,7 +203,8 @@ impl Runner {
 
     /// The method's map, built once per field and size: on the GPU where a GPU builder exists
     /// (the entry in `map_builds` says which), then, for the table's comparison, once more on the
-    /// CPU right after (its map is dropped: the bench traces the GPU's).
+    /// CPU right after where [`cpu_reference_wanted`] (its map is dropped: the bench traces the
+    /// GPU's).
     pub(crate) fn map(
         &mut self,
         field: &FieldSource,
@@ -223,7 +224,7 @@ impl Runner {
             return Ok(None);
         };
         self.record_map_build(method, field, hf, built.ms, built.on);
-        if built.on == "gpu" {
+        if built.on == "gpu" && cpu_reference_wanted(method, hf) {
             if let Some((_, took)) = build_method_map(method, hf, self.cfg.address) {
                 self.record_map_build(method, field, hf, took.as_secs_f64() * 1e3, "cpu");
             }
@@ -329,4 +330,16 @@ impl Runner {
     pub fn config(&self) -> &SweepConfig {
         &self.cfg
     }
+}
+
+/// The largest side at which the bench also builds a conservative cone map on the CPU: beyond it
+/// the CPU takes over a minute (75 s at 4096^2) that the bench has not spent since the GPU
+/// builder landed. The other maps were always built on the CPU at every size, so they keep
+/// their CPU row everywhere.
+const CPU_CONE_MAP_MAX_SIDE: u32 = 1024;
+
+/// Whether the bench rebuilds `method`'s map of `hf` on the CPU for the map table.
+fn cpu_reference_wanted(method: Method, hf: &Heightfield) -> bool {
+    method.info().method_map() != Some(MapKind::ConservativeCone)
+        || hf.width().max(hf.height()) <= CPU_CONE_MAP_MAX_SIDE
 }
