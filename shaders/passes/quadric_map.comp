@@ -279,8 +279,10 @@ int wrap_index(int m, int nodes) {
         a = max(a, pt.r);                                                                   \
     }
 
-// Texels on each side of the texel's own that the first pass looks at for the cone.
-const int NEAR_RING = 2;
+// Texels on each side of the texel's own that the first pass looks at for the cone. A second
+// pass runs for a whole SIMD vector of invocations when one of them needs it, so this pays for
+// itself: on fbm at 1024^2 (lavapipe, CPU time) 2 took 1.25x the time of 4, and 6 1.5x.
+const int NEAR_RING = 4;
 
 // Points with r in (a, a (1 + NEAR_CONE)] are left to the rim height b (see quadric()).
 const float NEAR_CONE = 1.0e-4;
