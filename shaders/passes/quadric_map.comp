@@ -23,8 +23,8 @@
 // point beyond a, exactly (for a point (r, v) with x = r - a, y = v - b > 0 that is
 // a + x / 2 + y / (2 x) when y >= x^2, else a + sqrt(y), where the cap meets it); the two-branch
 // threshold increases with y and decreases with x, so rounding y up and x down keeps it safe.
-// The cone is first fitted to the texels within NEAR_RING, then one pass over all points finds
-// c and checks the slope; the rare texel with a steeper point farther out takes a second pass.
+// The cone is fitted to the texels within NEAR_RING only, then one pass over all points finds c
+// (see quadric()).
 //
 // Rounding (the guarantee: an upper bound despite f32): h_lo is lowered by 2^-22 unless the 3x3
 // texels around are equal (then it is exact), L raised by 1e-5 relative, node distances and
@@ -34,8 +34,8 @@
 //
 // Two modes, chosen per dispatch by params.mode:
 //  REDUCE: level L of the max pyramid of the heights (buffer_pyramid.glsl) from level L - 1.
-//  QUADRIC: one invocation per texel of rows [row0, row0 + rows): one or two passes over its
-//    rings, at most about 2 (levels) (2 ring + 7)^2 loop iterations (lavapipe ends every loop of
+//  QUADRIC: one invocation per texel of rows [row0, row0 + rows): the near texels, then one
+//    pass over its rings, at most about (levels) (2 ring + 7)^2 loop iterations (lavapipe ends every loop of
 //    an invocation after 65535 iterations in all: 15 levels and ring 8 stay far below).
 layout(local_size_x = 8, local_size_y = 8) in;
 
@@ -279,9 +279,7 @@ int wrap_index(int m, int nodes) {
         a = max(a, pt.r);                                                                   \
     }
 
-// Texels on each side of the texel's own that the first pass looks at for the cone. A second
-// pass runs for a whole SIMD vector of invocations when one of them needs it, so this pays for
-// itself: on fbm at 1024^2 (lavapipe, CPU time) 2 took 1.25x the time of 4, and 6 1.5x.
+// Texels on each side of the texel's own that the cone is fitted to.
 const int NEAR_RING = 4;
 
 // Points with r in (a, a (1 + NEAR_CONE)] are left to the rim height b (see quadric()).
@@ -309,30 +307,33 @@ void quadric() {
     vec2 tb = texel_bound(p);
     uint index = uint(p.y) * params.width + uint(p.x);
     float h = pyramid[index];
-    // The steepest point is nearly always a texel within NEAR_RING texels: fit the cone to those
-    // first, then take every point once, for c and for the steepest slope of all; in the rare
-    // case that a farther point is steeper (or as steep and farther), c is found again for it.
+    // The cone is fitted to the texels within NEAR_RING (its slope the steepest of theirs, a the
+    // farthest r reaching it); every point beyond a then goes to the parabola, however steep
+    // (c lifts F above it), and a point at or inside the cone's end steeper than the near texels
+    // (rare) makes the cone steeper after the pass: a larger b only lowers the thresholds c was
+    // fitted to, so c stays valid. One pass over the rings, with no second pass.
     float slope = 0.0;
     float a = 0.0;
 #define FINEST_ONLY(level) level > 0u
     near_ring = NEAR_RING;
     FOR_EACH_POINT(p, tb, FINEST_ONLY, VISIT_SLOPE)
     near_ring = -1;
-    float near_slope = slope;
-    float near_a = a;
+    // Nothing near rises above the texel's lowest point: any short cone will do.
+    a = slope > 0.0 ? a : 0.5 / float(max(params.width, params.height));
     // Points within NEAR_CONE of a (relative) lie under b, so c never divides by a tiny x.
     float b = slope * a * (1.0 + NEAR_CONE + 2.0e-5);
     float c = a;
+    float steep = 0.0;
 #define NEVER(level) false
-#define VISIT_BOTH(pt) { VISIT_SLOPE(pt) } { VISIT_APEX_OF(pt, near_a) }
-    FOR_EACH_POINT(p, tb, NEVER, VISIT_BOTH)
-    if (slope != near_slope || a != near_a) {
-        b = slope * a * (1.0 + NEAR_CONE + 2.0e-5);
-        c = a;
-#define VISIT_APEX(pt) { VISIT_APEX_OF(pt, a) }
-        FOR_EACH_POINT(p, tb, NEVER, VISIT_APEX)
+#define VISIT_MAIN(pt)                                                                      \
+    if (pt.r <= a * (1.0 + NEAR_CONE)) {                                                    \
+        steep = max(steep, pt.value / pt.r);                                                \
+    } else {                                                                                \
+        VISIT_APEX_OF(pt, a)                                                                \
     }
-    if (!(slope > 0.0)) {
+    FOR_EACH_POINT(p, tb, NEVER, VISIT_MAIN)
+    b = max(b, steep * a * (1.0 + NEAR_CONE + 2.0e-5));
+    if (!(b > 0.0) && !(c > a)) {
         // Nothing rises above the texel's lowest point: the flat profile, as on the CPU.
         quadric_map[index] = vec4(1.0, 0.0, 1.0, h);
         return;

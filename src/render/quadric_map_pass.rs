@@ -5,9 +5,10 @@
 //!
 //! Not the CPU's numbers: the CPU prunes a concave hull of the radial bound through its pyramid,
 //! the GPU covers the plane per texel with fixed rings of pyramid nodes ([`RING`] nodes each side,
-//! per level) and fits the profile to their points directly. Its points stand for their texels
-//! from a little nearer than the CPU's (see the shader's header), so its profiles are a little
-//! higher: the tests bound how much, and check the upper bound itself point by point.
+//! per level) and fits the profile to their points directly, its cone to the near texels only.
+//! Its points stand for their texels from a little nearer than the CPU's (see the shader's
+//! header), so its profiles are a little higher: the tests bound how much (and the steps a tracer
+//! takes through it), and check the upper bound itself point by point.
 //!
 //! Builds run through `map_search` (upload, pyramid, row-by-row submissions) like the cone map.
 
@@ -27,7 +28,8 @@ use crate::vk::{
 /// 3, 2 and 1): the points stand for their nodes from about `1 + 2.8 / RING` times nearer than
 /// the nodes' farthest texels, and each texel visits about `levels (2 RING + 1)^2` nodes. 3 is
 /// where lavapipe's build time and the profiles' excess over the CPU's balance (measured at
-/// 1024^2, fbm: 4 costs about 1.3x the time of 3, 2 about 0.75x with twice the excess at p99).
+/// 1024^2, fbm: 4 costs about 1.3x the time of 3; 2 about 0.75x, with a p99 excess of 3.9x on
+/// fbm at 257x129).
 pub const RING: i32 = 3;
 
 /// The shader's push constants (`Params` in quadric_map.comp).
