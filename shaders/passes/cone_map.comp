@@ -1,4 +1,5 @@
 #version 460
+#extension GL_GOOGLE_include_directive : require
 // The conservative cone map on the GPU (heightfield::cone_map, "Conservative cone"): per texel p
 // of the bilinear bound's box surface (level 0 of `pyramid`, computed exactly on the CPU),
 //   c(p) = min over texels q with h(q) > h(p) of dist(p_c, box(q)) / (h(q) - h(p)),
@@ -8,10 +9,7 @@
 // copies are never nearer than the border texels). Capped at CONE_RATIO_MAX.
 //
 // Two modes, chosen per dispatch by params.mode:
-//  REDUCE: level L of a max pyramid from level L - 1, where node (i, j) of level L covers the
-//    level-0 texels [i, i + 1) * 2^L (clipped to the map) along each axis; levels shrink to 1x1.
-//    (Not the Vulkan mip rule of the height image: aligned power-of-two spans give the search
-//    exact node rectangles with no tables.)
+//  REDUCE: level L of the max pyramid (buffer_pyramid.glsl) from level L - 1.
 //  CONE: one invocation per texel of rows [row0, row0 + rows): the best seeded with the 8
 //    neighbours, then a depth-first search of each tile's pyramid, lowest-bound child first,
 //    skipping every node whose bound (its rectangle's distance over its maximum's rise) is no
@@ -65,28 +63,17 @@ layout(push_constant, std430) uniform Params {
     uint offsets[MAX_LEVELS];
 } params;
 
+// Reads and writes `pyramid` above.
+#include "buffer_pyramid.glsl"
+
 uvec2 level_size(uint level) {
-    uint n = 1u << level;
-    return uvec2((params.width + n - 1u) >> level, (params.height + n - 1u) >> level);
+    return pyramid_level_size(uvec2(params.width, params.height), level);
 }
 
 void reduce() {
-    uvec2 size = level_size(params.level);
-    uvec2 at = gl_GlobalInvocationID.xy;
-    if (any(greaterThanEqual(at, size))) {
-        return;
-    }
-    uvec2 fine = level_size(params.level - 1u);
-    uint base = params.offsets[params.level - 1u];
-    uvec2 first = at * 2u;
-    uvec2 last = min(first + 1u, fine - 1u);
-    float h = 0.0;
-    for (uint y = first.y; y <= last.y; ++y) {
-        for (uint x = first.x; x <= last.x; ++x) {
-            h = max(h, pyramid[base + y * fine.x + x]);
-        }
-    }
-    pyramid[params.offsets[params.level] + at.y * size.x + at.x] = h;
+    uint level = params.level;
+    pyramid_reduce(uvec2(params.width, params.height), level, params.offsets[level - 1u],
+                   params.offsets[level], gl_GlobalInvocationID.xy);
 }
 
 // The computed value of a node: its rectangle [lo, hi] (u-texels, v-texels; closed) seen from

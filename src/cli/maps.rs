@@ -1,7 +1,7 @@
 //! `relief maps`: the max pyramid of a height map, built on the GPU, one 16-bit PNG per level;
 //! with `--method`, also that method's precomputed map (cone ratios, quadric coefficients) as
-//! `map.npy`, with its build time: the conservative cone map on the GPU unless `--map-on cpu`,
-//! the others on the CPU. Both are built with the same addressing (`--address`, repeat by default
+//! `map.npy`, with its build time: the conservative cone map and the quadric map on the GPU
+//! unless `--map-on cpu`, the others on the CPU. Both are built with the same addressing (`--address`, repeat by default
 //! as for `render`).
 
 use std::path::PathBuf;

@@ -11,37 +11,26 @@
 //! least `(1 - RATIO_TOLERANCE)` times the CPU builder's ratio; the shader's header derives it
 //! from the Vulkan precision rules.
 //!
-//! Large maps run as several submissions of [`ROWS_TEXELS`] texels each, so no submission holds
-//! the queue for seconds (real GPUs reset a device that does; lavapipe has no such watchdog).
+//! The upload, the pyramid and the row-by-row submissions are `map_search`'s, shared with the
+//! quadric map.
 
 use std::sync::Arc;
 
 use ash::vk;
 
+pub use super::map_search::MAX_SIDE;
+use super::map_search::{level_offsets, top_level, MapSearch, MAX_LEVELS, MODE_REDUCE};
 use crate::heightfield::cone_map::bilinear_box_bound;
 use crate::heightfield::{Address, Heightfield, MapData};
 use crate::shaders;
 use crate::vk::{
-    compute_pipeline, memory_barrier, Bind, Buffer, Context, DescriptorLayout, DescriptorPool,
-    DescriptorSet, MemoryLocation, Pipeline, Readback, Recording, SpecConstants, TimestampPool,
-    VkError, VkResult,
+    compute_pipeline, Context, DescriptorLayout, DescriptorPool, DescriptorSet, Pipeline,
+    SpecConstants, VkError, VkResult,
 };
 
-/// The workgroup is 8x8 texels.
-const GROUP: u32 = 8;
-/// About this many texels per submission of the search.
-const ROWS_TEXELS: u32 = 1 << 20;
-/// The largest side the GPU builder takes: the stack packs texel indices in 14 bits (and the push
-/// constants hold 15 level offsets). Larger maps are built on the CPU.
-pub const MAX_SIDE: u32 = 16384;
-/// `MAX_LEVELS` in the shader: levels of a `MAX_SIDE` map.
-const MAX_LEVELS: usize = 15;
 /// Relative amount by which a GPU ratio may fall short of the CPU's (never exceed it): the f32
 /// search's error plus the step down that makes it conservative (see `cone_map.comp`).
 pub const RATIO_TOLERANCE: f32 = 1.0 / 32768.0;
-
-const MODE_REDUCE: u32 = 0;
-const MODE_CONE: u32 = 1;
 
 /// The shader's push constants (`Params` in cone_map.comp).
 #[repr(C)]
@@ -116,37 +105,7 @@ impl ConeMapPass {
             )));
         }
         let bound = bilinear_box_bound(hf, address);
-        let ctx = &self.ctx;
-        let texels = u64::from(w) * u64::from(h);
-        let staging = Buffer::with_data(
-            ctx,
-            bytemuck::cast_slice(bound.data()),
-            vk::BufferUsageFlags::TRANSFER_SRC,
-            "cone map heights",
-        )?;
-        let pyramid = Buffer::new(
-            ctx,
-            pyramid_floats(w, h) * 4,
-            vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
-            MemoryLocation::GpuOnly,
-            "cone map pyramid",
-        )?;
-        let out = Buffer::new(
-            ctx,
-            texels * 8,
-            vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC,
-            MemoryLocation::GpuOnly,
-            "cone map",
-        )?;
-        let back = Readback::new(ctx, texels * 8, "cone map readback")?;
-        self.set.rewrite(
-            ctx,
-            &[Bind::Storage(0, pyramid.raw()), Bind::Storage(1, out.raw())],
-        );
-        let rows = rows_per_submission(w, h);
-        let chunks = h.div_ceil(rows);
-        let timestamps = TimestampPool::new(ctx, 2 * (chunks + 1), "cone map timestamps")?;
-        let params = Params {
+        let base = Params {
             mode: MODE_REDUCE,
             width: w,
             height: h,
@@ -157,93 +116,27 @@ impl ConeMapPass {
             top: top_level(w, h),
             offsets: level_offsets(w, h),
         };
-        let all = vk::PipelineStageFlags2::ALL_COMMANDS;
-        ctx.one_shot(|rec| {
-            timestamps.write(rec, all, 0)?;
-            self.record_pyramid(rec, &staging, &pyramid, params)?;
-            timestamps.write(rec, all, 1)?;
-            Ok(())
-        })?;
-        for chunk in 0..chunks {
-            let row0 = chunk * rows;
-            let count = rows.min(h - row0);
-            let mut rows_params = params;
-            rows_params.row0 = row0;
-            ctx.one_shot(|rec| {
-                timestamps.write(rec, all, 2 * chunk + 2)?;
-                self.record_rows(rec, rows_params, count)?;
-                timestamps.write(rec, all, 2 * chunk + 3)?;
-                Ok(())
-            })?;
-        }
-        // Outside the timed submissions: the map reaches the host by a copy and the host barrier.
-        let written = (
-            vk::PipelineStageFlags2::COMPUTE_SHADER,
-            vk::AccessFlags2::SHADER_STORAGE_WRITE,
-        );
-        ctx.one_shot(|rec| back.record_copy_from_buffer(rec, &out, written))?;
-        let ticks = timestamps.read_ticks(2 * (chunks + 1))?;
-        let gpu_ms = ticks
-            .chunks_exact(2)
-            .map(|t| timestamps.ticks_to_ms(t[0], t[1]))
-            .sum();
+        let params = |mode, level, row0| Params {
+            mode,
+            level,
+            row0,
+            ..base
+        };
+        let search = MapSearch {
+            pipeline: &self.pipeline,
+            set: self.set,
+            channels: 2,
+            name: "cone map",
+            params: &params,
+        };
+        let (texels, gpu_ms) = search.run(&self.ctx, bound.data(), w, h)?;
         let map = MapData {
             width: w,
             height: h,
             channels: 2,
-            texels: bytemuck::pod_collect_to_vec(back.bytes()?),
+            texels,
         };
         Ok((map, gpu_ms))
-    }
-
-    /// Copies level 0 in and reduces it to 1x1, a barrier after every step.
-    fn record_pyramid(
-        &self,
-        rec: &Recording,
-        staging: &Buffer,
-        pyramid: &Buffer,
-        params: Params,
-    ) -> VkResult<()> {
-        rec.copy_buffer(staging, pyramid);
-        let write_read =
-            vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE;
-        let compute = vk::PipelineStageFlags2::COMPUTE_SHADER;
-        memory_barrier(
-            rec,
-            (
-                vk::PipelineStageFlags2::COPY,
-                vk::AccessFlags2::TRANSFER_WRITE,
-            ),
-            (compute, write_read),
-        );
-        self.pipeline.bind(rec, Some(self.set));
-        for level in 1..=top_level(params.width, params.height) {
-            let (lw, lh) = level_size(params.width, params.height, level);
-            let mut level_params = params;
-            level_params.level = level;
-            self.pipeline.push(rec, bytemuck::bytes_of(&level_params))?;
-            rec.dispatch([lw.div_ceil(GROUP), lh.div_ceil(GROUP), 1]);
-            memory_barrier(rec, (compute, write_read), (compute, write_read));
-        }
-        Ok(())
-    }
-
-    /// Searches `count` rows from `params.row0`, then makes the results visible to the host.
-    fn record_rows(&self, rec: &Recording, params: Params, count: u32) -> VkResult<()> {
-        self.pipeline.bind(rec, Some(self.set));
-        let mut params = params;
-        params.mode = MODE_CONE;
-        self.pipeline.push(rec, bytemuck::bytes_of(&params))?;
-        rec.dispatch([params.width.div_ceil(GROUP), count.div_ceil(GROUP), 1]);
-        memory_barrier(
-            rec,
-            (
-                vk::PipelineStageFlags2::COMPUTE_SHADER,
-                vk::AccessFlags2::SHADER_STORAGE_WRITE,
-            ),
-            (vk::PipelineStageFlags2::HOST, vk::AccessFlags2::HOST_READ),
-        );
-        Ok(())
     }
 }
 
@@ -255,70 +148,4 @@ pub fn build_cone_map_on_gpu(
     address: Address,
 ) -> VkResult<(MapData, f64)> {
     ConeMapPass::new(ctx)?.build(hf, address)
-}
-
-/// The level whose single node covers the map (`top_level` in the shader).
-fn top_level(w: u32, h: u32) -> u32 {
-    w.max(h).max(1).next_power_of_two().trailing_zeros()
-}
-
-/// Level `level` of the shader's pyramid: node `i` covers level-0 texels `[i, i + 1) * 2^level`.
-fn level_size(w: u32, h: u32, level: u32) -> (u32, u32) {
-    (w.div_ceil(1 << level), h.div_ceil(1 << level))
-}
-
-/// Where each level starts in the pyramid buffer, in floats (zero past the top).
-fn level_offsets(w: u32, h: u32) -> [u32; MAX_LEVELS] {
-    let mut offsets = [0; MAX_LEVELS];
-    let mut at = 0;
-    for (l, slot) in offsets
-        .iter_mut()
-        .enumerate()
-        .take(top_level(w, h) as usize + 1)
-    {
-        *slot = at;
-        let (lw, lh) = level_size(w, h, l as u32);
-        at += lw * lh;
-    }
-    offsets
-}
-
-fn pyramid_floats(w: u32, h: u32) -> u64 {
-    (0..=top_level(w, h))
-        .map(|l| {
-            let (lw, lh) = level_size(w, h, l);
-            u64::from(lw) * u64::from(lh)
-        })
-        .sum()
-}
-
-/// Rows per search submission: about [`ROWS_TEXELS`] texels, whole workgroups, at least one.
-fn rows_per_submission(w: u32, h: u32) -> u32 {
-    let rows = (ROWS_TEXELS / w.max(1)).max(GROUP);
-    (rows.div_ceil(GROUP) * GROUP).min(h.div_ceil(GROUP) * GROUP)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn pyramid_sizes_halve_up_to_one_node() {
-        assert_eq!(top_level(1, 1), 0);
-        assert_eq!(top_level(3, 5), 3);
-        assert_eq!(top_level(256, 256), 8);
-        assert_eq!(top_level(257, 129), 9);
-        assert_eq!(level_size(257, 129, 9), (1, 1));
-        assert_eq!(level_size(3, 5, 1), (2, 3));
-        assert_eq!(pyramid_floats(3, 5), 15 + 6 + 2 + 1);
-        assert_eq!(level_offsets(3, 5)[..5], [0, 15, 21, 23, 0]);
-        assert_eq!(top_level(MAX_SIDE, 1) as usize, MAX_LEVELS - 1);
-    }
-
-    #[test]
-    fn submissions_cover_every_row_in_whole_groups() {
-        assert_eq!(rows_per_submission(4096, 4096), 256);
-        assert_eq!(rows_per_submission(3, 5), 8);
-        assert_eq!(rows_per_submission(1 << 20, 4), 8);
-    }
 }

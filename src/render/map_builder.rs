@@ -1,10 +1,12 @@
 //! Building a method's map (binding 3) where it is cheapest: on the GPU where a GPU builder
-//! exists and takes the map's size (the conservative cone map), else on the CPU with
+//! exists and takes the map's size (the conservative cone map, the quadric map), else on the CPU with
 //! `heightfield::build_method_map`, the reference the GPU builders are tested against.
 
 use std::sync::Arc;
 
-use super::cone_map_pass::{build_cone_map_on_gpu, MAX_SIDE as CONE_MAP_GPU_MAX_SIDE};
+use super::cone_map_pass::build_cone_map_on_gpu;
+use super::map_search::MAX_SIDE;
+use super::quadric_map_pass::build_quadric_map_on_gpu;
 use crate::heightfield::{build_method_map, Address, Heightfield, MapData};
 use crate::method::{MapKind, Method};
 use crate::vk::{Context, VkResult};
@@ -35,16 +37,20 @@ pub fn build_method_map_with(
     address: Address,
     builder: MapBuilder<'_>,
 ) -> VkResult<Option<BuiltMethodMap>> {
-    let fits = hf.width().max(hf.height()) <= CONE_MAP_GPU_MAX_SIDE;
-    if let (Some(MapKind::ConservativeCone), MapBuilder::Gpu(ctx), true) =
-        (method.info().method_map(), builder, fits)
-    {
-        let (data, ms) = build_cone_map_on_gpu(ctx, hf, address)?;
-        return Ok(Some(BuiltMethodMap {
-            data,
-            ms,
-            on: "gpu",
-        }));
+    let fits = hf.width().max(hf.height()) <= MAX_SIDE;
+    if let (Some(kind), MapBuilder::Gpu(ctx), true) = (method.info().method_map(), builder, fits) {
+        let gpu = match kind {
+            MapKind::ConservativeCone => Some(build_cone_map_on_gpu(ctx, hf, address)?),
+            MapKind::Quadric => Some(build_quadric_map_on_gpu(ctx, hf, address)?),
+            MapKind::RelaxedCone | MapKind::MaxPyramid => None,
+        };
+        if let Some((data, ms)) = gpu {
+            return Ok(Some(BuiltMethodMap {
+                data,
+                ms,
+                on: "gpu",
+            }));
+        }
     }
     Ok(
         build_method_map(method, hf, address).map(|(data, took)| BuiltMethodMap {

@@ -1,0 +1,228 @@
+//! The host side shared by the GPU map builders that search a max pyramid per texel
+//! (`cone_map.comp`, `quadric_map.comp`): the pyramid's layout in one storage buffer
+//! (`shaders/include/buffer_pyramid.glsl`), and one build: upload level 0, reduce it to 1x1 (a
+//! dispatch per level), search the texels in submissions of about [`ROWS_TEXELS`] texels (so no
+//! submission holds the queue for seconds: real GPUs reset a device that does; lavapipe has no
+//! such watchdog), read the map back, and sum the GPU time of every submission.
+//!
+//! Each shader's push constants start with `mode, width, height, repeat_address, level, row0`;
+//! the builder fills in the rest. Binding 0 is the pyramid, binding 1 the map.
+
+use std::sync::Arc;
+
+use ash::vk;
+
+use crate::vk::{
+    memory_barrier, Bind, Buffer, Context, DescriptorSet, MemoryLocation, Pipeline, Readback,
+    Recording, TimestampPool, VkResult,
+};
+
+/// The workgroup is 8x8 texels.
+pub(super) const GROUP: u32 = 8;
+/// About this many texels per submission of the search.
+const ROWS_TEXELS: u32 = 1 << 20;
+/// The largest side the GPU builders take: the cone search packs texel indices in 14 bits, and
+/// the push constants hold [`MAX_LEVELS`] level offsets. Larger maps are built on the CPU.
+pub const MAX_SIDE: u32 = 16384;
+/// Levels of a [`MAX_SIDE`] map (`MAX_LEVELS` in the shaders).
+pub(super) const MAX_LEVELS: usize = 15;
+
+/// The shaders' `mode` for a reduction dispatch.
+pub(super) const MODE_REDUCE: u32 = 0;
+/// The shaders' `mode` for a search dispatch.
+pub(super) const MODE_SEARCH: u32 = 1;
+
+/// What one build dispatches: the pipeline, its set (rewritten for the build's buffers) and the
+/// push constants for a mode, a level and a first row.
+pub(super) struct MapSearch<'a, P> {
+    pub pipeline: &'a Pipeline,
+    pub set: DescriptorSet,
+    /// Floats per texel of the map.
+    pub channels: u32,
+    /// Names the buffers (validation messages show it).
+    pub name: &'a str,
+    pub params: &'a dyn Fn(u32, u32, u32) -> P,
+}
+
+impl<P: bytemuck::Pod> MapSearch<'_, P> {
+    /// Builds the map of level 0 (`width` x `height` floats): its texels and the GPU ms (the
+    /// pyramid and every search submission; not the transfers).
+    pub fn run(
+        &self,
+        ctx: &Arc<Context>,
+        level0: &[f32],
+        w: u32,
+        h: u32,
+    ) -> VkResult<(Vec<f32>, f64)> {
+        let texels = u64::from(w) * u64::from(h);
+        let staging = Buffer::with_data(
+            ctx,
+            bytemuck::cast_slice(level0),
+            vk::BufferUsageFlags::TRANSFER_SRC,
+            &format!("{} heights", self.name),
+        )?;
+        let pyramid = Buffer::new(
+            ctx,
+            pyramid_floats(w, h) * 4,
+            vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_DST,
+            MemoryLocation::GpuOnly,
+            &format!("{} pyramid", self.name),
+        )?;
+        let bytes = texels * u64::from(self.channels) * 4;
+        let out = Buffer::new(
+            ctx,
+            bytes,
+            vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC,
+            MemoryLocation::GpuOnly,
+            self.name,
+        )?;
+        let back = Readback::new(ctx, bytes, &format!("{} readback", self.name))?;
+        self.set.rewrite(
+            ctx,
+            &[Bind::Storage(0, pyramid.raw()), Bind::Storage(1, out.raw())],
+        );
+        let rows = rows_per_submission(w, h);
+        let chunks = h.div_ceil(rows);
+        let timestamps =
+            TimestampPool::new(ctx, 2 * (chunks + 1), &format!("{} timestamps", self.name))?;
+        let all = vk::PipelineStageFlags2::ALL_COMMANDS;
+        ctx.one_shot(|rec| {
+            timestamps.write(rec, all, 0)?;
+            self.record_pyramid(rec, &staging, &pyramid, w, h)?;
+            timestamps.write(rec, all, 1)
+        })?;
+        for chunk in 0..chunks {
+            let row0 = chunk * rows;
+            let count = rows.min(h - row0);
+            ctx.one_shot(|rec| {
+                timestamps.write(rec, all, 2 * chunk + 2)?;
+                self.record_rows(rec, w, row0, count)?;
+                timestamps.write(rec, all, 2 * chunk + 3)
+            })?;
+        }
+        // Outside the timed submissions: the map reaches the host by a copy and the host barrier.
+        let written = (
+            vk::PipelineStageFlags2::COMPUTE_SHADER,
+            vk::AccessFlags2::SHADER_STORAGE_WRITE,
+        );
+        ctx.one_shot(|rec| back.record_copy_from_buffer(rec, &out, written))?;
+        let ticks = timestamps.read_ticks(2 * (chunks + 1))?;
+        let gpu_ms = ticks
+            .chunks_exact(2)
+            .map(|t| timestamps.ticks_to_ms(t[0], t[1]))
+            .sum();
+        Ok((bytemuck::pod_collect_to_vec(back.bytes()?), gpu_ms))
+    }
+
+    /// Copies level 0 in and reduces it to 1x1, a barrier after every step.
+    fn record_pyramid(
+        &self,
+        rec: &Recording,
+        staging: &Buffer,
+        pyramid: &Buffer,
+        w: u32,
+        h: u32,
+    ) -> VkResult<()> {
+        rec.copy_buffer(staging, pyramid);
+        let write_read =
+            vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE;
+        let compute = vk::PipelineStageFlags2::COMPUTE_SHADER;
+        let copied = (
+            vk::PipelineStageFlags2::COPY,
+            vk::AccessFlags2::TRANSFER_WRITE,
+        );
+        memory_barrier(rec, copied, (compute, write_read));
+        self.pipeline.bind(rec, Some(self.set));
+        for level in 1..=top_level(w, h) {
+            let (lw, lh) = level_size(w, h, level);
+            let params = (self.params)(MODE_REDUCE, level, 0);
+            self.pipeline.push(rec, bytemuck::bytes_of(&params))?;
+            rec.dispatch([lw.div_ceil(GROUP), lh.div_ceil(GROUP), 1]);
+            memory_barrier(rec, (compute, write_read), (compute, write_read));
+        }
+        Ok(())
+    }
+
+    /// Searches `count` rows from `row0`, then makes the results visible to the host.
+    fn record_rows(&self, rec: &Recording, w: u32, row0: u32, count: u32) -> VkResult<()> {
+        self.pipeline.bind(rec, Some(self.set));
+        let params = (self.params)(MODE_SEARCH, 0, row0);
+        self.pipeline.push(rec, bytemuck::bytes_of(&params))?;
+        rec.dispatch([w.div_ceil(GROUP), count.div_ceil(GROUP), 1]);
+        memory_barrier(
+            rec,
+            (
+                vk::PipelineStageFlags2::COMPUTE_SHADER,
+                vk::AccessFlags2::SHADER_STORAGE_WRITE,
+            ),
+            (vk::PipelineStageFlags2::HOST, vk::AccessFlags2::HOST_READ),
+        );
+        Ok(())
+    }
+}
+
+/// The level whose single node covers the map (`top` in the shaders).
+pub(super) fn top_level(w: u32, h: u32) -> u32 {
+    w.max(h).max(1).next_power_of_two().trailing_zeros()
+}
+
+/// Level `level` of the pyramid: node `i` covers level-0 texels `[i, i + 1) * 2^level`.
+fn level_size(w: u32, h: u32, level: u32) -> (u32, u32) {
+    (w.div_ceil(1 << level), h.div_ceil(1 << level))
+}
+
+/// Where each level starts in the pyramid buffer, in floats (zero past the top).
+pub(super) fn level_offsets(w: u32, h: u32) -> [u32; MAX_LEVELS] {
+    let mut offsets = [0; MAX_LEVELS];
+    let mut at = 0;
+    for (l, slot) in offsets
+        .iter_mut()
+        .enumerate()
+        .take(top_level(w, h) as usize + 1)
+    {
+        *slot = at;
+        let (lw, lh) = level_size(w, h, l as u32);
+        at += lw * lh;
+    }
+    offsets
+}
+
+fn pyramid_floats(w: u32, h: u32) -> u64 {
+    (0..=top_level(w, h))
+        .map(|l| {
+            let (lw, lh) = level_size(w, h, l);
+            u64::from(lw) * u64::from(lh)
+        })
+        .sum()
+}
+
+/// Rows per search submission: about [`ROWS_TEXELS`] texels, whole workgroups, at least one.
+fn rows_per_submission(w: u32, h: u32) -> u32 {
+    let rows = (ROWS_TEXELS / w.max(1)).max(GROUP);
+    (rows.div_ceil(GROUP) * GROUP).min(h.div_ceil(GROUP) * GROUP)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn pyramid_sizes_halve_up_to_one_node() {
+        assert_eq!(top_level(1, 1), 0);
+        assert_eq!(top_level(3, 5), 3);
+        assert_eq!(top_level(256, 256), 8);
+        assert_eq!(top_level(257, 129), 9);
+        assert_eq!(level_size(257, 129, 9), (1, 1));
+        assert_eq!(level_size(3, 5, 1), (2, 3));
+        assert_eq!(pyramid_floats(3, 5), 15 + 6 + 2 + 1);
+        assert_eq!(level_offsets(3, 5)[..5], [0, 15, 21, 23, 0]);
+        assert_eq!(top_level(MAX_SIDE, 1) as usize, MAX_LEVELS - 1);
+    }
+
+    #[test]
+    fn submissions_cover_every_row_in_whole_groups() {
+        assert_eq!(rows_per_submission(4096, 4096), 256);
+        assert_eq!(rows_per_submission(3, 5), 8);
+        assert_eq!(rows_per_submission(1 << 20, 4), 8);
+    }
+}
