@@ -36,6 +36,12 @@ Hit trace_quadric(Ray ray, Budget budget) {
     uint steps = 0u;
     bool capped = true;
     for (uint i = 0u; i <= budget.max_steps; ++i) {
+        // Steps never pass the first hit, and nothing lies below the bottom plane: a ray that
+        // reached it (a flat floor, a zero depth scale) hit there. Without this the leaf over
+        // the zero span left would be retried until the budget ran out.
+        if (z >= s) {
+            return Hit(s, steps, false);
+        }
         vec2 uv = ray.origin + z * slope;
         gap = s * (1.0 - height_bilinear_exact(uv)) - z;
         if (gap <= eps && !budget.exact_leaf) {
