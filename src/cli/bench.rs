@@ -9,9 +9,9 @@ use std::io::IsTerminal;
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use relief::bench::{
-    depth_match_settled, measure_ao, measure_shadows, plan_jobs, render_report, run_lod_section, run_stiff_case,
-    stiff_cases, AoConfig, BenchResults, FieldSource, LodConfig, Runner, ShadingConfig,
-    SweepConfig,
+    depth_match_settled, measure_ao, measure_shadows, plan_jobs, render_report, run_lod_section,
+    run_stiff_case, stiff_cases, AoConfig, BenchResults, FieldSource, LodConfig, Runner,
+    ShadingConfig, SweepConfig,
 };
 use relief::heightfield::{Address, Generator};
 use relief::method::Method;

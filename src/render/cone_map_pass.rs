@@ -16,17 +16,13 @@
 
 use std::sync::Arc;
 
-use ash::vk;
-
 pub use super::map_search::MAX_SIDE;
-use super::map_search::{level_offsets, top_level, MapSearch, MAX_LEVELS, MODE_REDUCE};
+use super::map_search::{
+    level_offsets, top_level, MapSearch, SearchPipeline, MAX_LEVELS, MODE_REDUCE,
+};
 use crate::heightfield::cone_map::bilinear_box_bound;
 use crate::heightfield::{Address, Heightfield, MapData};
-use crate::shaders;
-use crate::vk::{
-    compute_pipeline, Context, DescriptorLayout, DescriptorPool, DescriptorSet, Pipeline,
-    SpecConstants, VkError, VkResult,
-};
+use crate::vk::{Context, VkError, VkResult};
 
 /// Relative amount by which a GPU ratio may fall short of the CPU's (never exceed it): the f32
 /// search's error plus the step down that makes it conservative (see `cone_map.comp`).
@@ -55,42 +51,16 @@ const _: () = assert!(MAX_LEVELS == 15, "Params::offsets holds MAX_LEVELS offset
 /// wait for their submissions, so the set is never in use when it is rewritten).
 pub struct ConeMapPass {
     ctx: Arc<Context>,
-    _layout: DescriptorLayout,
-    _pool: DescriptorPool,
-    set: DescriptorSet,
-    pipeline: Pipeline,
+    search: SearchPipeline,
 }
 
 impl ConeMapPass {
     /// Creates the pipeline, its layout and its set.
     pub fn new(ctx: &Arc<Context>) -> VkResult<ConeMapPass> {
-        let key = "cone_map.comp";
-        let spirv =
-            shaders::spirv(key).ok_or_else(|| VkError::Invalid(format!("no shader {key}")))?;
-        let storage = vk::DescriptorType::STORAGE_BUFFER;
-        let layout = DescriptorLayout::new(
-            ctx,
-            &[(0, storage), (1, storage)],
-            vk::ShaderStageFlags::COMPUTE,
-            "cone map layout",
-        )?;
         let push = std::mem::size_of::<Params>() as u32;
-        let pipeline = compute_pipeline(
-            ctx,
-            spirv,
-            &[layout.raw()],
-            push,
-            &SpecConstants::default(),
-            "cone map",
-        )?;
-        let pool = DescriptorPool::new(ctx, 1, 2, "cone map sets")?;
-        let set = pool.allocate(&layout, &[])?;
         Ok(ConeMapPass {
             ctx: ctx.clone(),
-            _layout: layout,
-            _pool: pool,
-            set,
-            pipeline,
+            search: SearchPipeline::new(ctx, "cone_map.comp", push, "cone map")?,
         })
     }
 
@@ -123,8 +93,8 @@ impl ConeMapPass {
             ..base
         };
         let search = MapSearch {
-            pipeline: &self.pipeline,
-            set: self.set,
+            pipeline: &self.search.pipeline,
+            set: self.search.set,
             channels: 2,
             name: "cone map",
             params: &params,

@@ -12,9 +12,11 @@ use std::sync::Arc;
 
 use ash::vk;
 
+use crate::shaders;
 use crate::vk::{
-    memory_barrier, Bind, Buffer, Context, DescriptorSet, MemoryLocation, Pipeline, Readback,
-    Recording, TimestampPool, VkResult,
+    compute_pipeline, memory_barrier, Bind, Buffer, Context, DescriptorLayout, DescriptorPool,
+    DescriptorSet, MemoryLocation, Pipeline, Readback, Recording, SpecConstants, TimestampPool,
+    VkError, VkResult,
 };
 
 /// The workgroup is 8x8 texels.
@@ -31,6 +33,47 @@ pub(super) const MAX_LEVELS: usize = 15;
 pub(super) const MODE_REDUCE: u32 = 0;
 /// The shaders' `mode` for a search dispatch.
 pub(super) const MODE_SEARCH: u32 = 1;
+
+/// A search shader's pipeline with its layout (bindings 0 and 1, storage buffers) and one
+/// descriptor set, rewritten for every build (builds wait for their submissions, so the set is
+/// never in use when it is rewritten).
+pub(super) struct SearchPipeline {
+    _layout: DescriptorLayout,
+    _pool: DescriptorPool,
+    pub set: DescriptorSet,
+    pub pipeline: Pipeline,
+}
+
+impl SearchPipeline {
+    /// The pipeline of shader `key` with `push` bytes of push constants, named `name`.
+    pub fn new(ctx: &Arc<Context>, key: &str, push: u32, name: &str) -> VkResult<SearchPipeline> {
+        let spirv =
+            shaders::spirv(key).ok_or_else(|| VkError::Invalid(format!("no shader {key}")))?;
+        let storage = vk::DescriptorType::STORAGE_BUFFER;
+        let layout = DescriptorLayout::new(
+            ctx,
+            &[(0, storage), (1, storage)],
+            vk::ShaderStageFlags::COMPUTE,
+            &format!("{name} layout"),
+        )?;
+        let pipeline = compute_pipeline(
+            ctx,
+            spirv,
+            &[layout.raw()],
+            push,
+            &SpecConstants::default(),
+            name,
+        )?;
+        let pool = DescriptorPool::new(ctx, 1, 2, &format!("{name} sets"))?;
+        let set = pool.allocate(&layout, &[])?;
+        Ok(SearchPipeline {
+            _layout: layout,
+            _pool: pool,
+            set,
+            pipeline,
+        })
+    }
+}
 
 /// What one build dispatches: the pipeline, its set (rewritten for the build's buffers) and the
 /// push constants for a mode, a level and a first row.

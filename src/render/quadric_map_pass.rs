@@ -14,15 +14,11 @@
 
 use std::sync::Arc;
 
-use ash::vk;
-
-use super::map_search::{level_offsets, top_level, MapSearch, MAX_SIDE, MODE_REDUCE};
-use crate::heightfield::{Address, Heightfield, MapData};
-use crate::shaders;
-use crate::vk::{
-    compute_pipeline, Context, DescriptorLayout, DescriptorPool, DescriptorSet, Pipeline,
-    SpecConstants, VkError, VkResult,
+use super::map_search::{
+    level_offsets, top_level, MapSearch, SearchPipeline, MAX_SIDE, MODE_REDUCE,
 };
+use crate::heightfield::{Address, Heightfield, MapData};
+use crate::vk::{Context, VkError, VkResult};
 
 /// Nodes on each side of a texel's own node in every level's ring (the three finest levels add
 /// 3, 2 and 1): the points stand for their nodes from about `1 + 2.8 / RING` times nearer than
@@ -51,42 +47,16 @@ struct Params {
 /// (builds wait for their submissions, so the set is never in use when it is rewritten).
 pub struct QuadricMapPass {
     ctx: Arc<Context>,
-    _layout: DescriptorLayout,
-    _pool: DescriptorPool,
-    set: DescriptorSet,
-    pipeline: Pipeline,
+    search: SearchPipeline,
 }
 
 impl QuadricMapPass {
     /// Creates the pipeline, its layout and its set.
     pub fn new(ctx: &Arc<Context>) -> VkResult<QuadricMapPass> {
-        let key = "quadric_map.comp";
-        let spirv =
-            shaders::spirv(key).ok_or_else(|| VkError::Invalid(format!("no shader {key}")))?;
-        let storage = vk::DescriptorType::STORAGE_BUFFER;
-        let layout = DescriptorLayout::new(
-            ctx,
-            &[(0, storage), (1, storage)],
-            vk::ShaderStageFlags::COMPUTE,
-            "quadric map layout",
-        )?;
         let push = std::mem::size_of::<Params>() as u32;
-        let pipeline = compute_pipeline(
-            ctx,
-            spirv,
-            &[layout.raw()],
-            push,
-            &SpecConstants::default(),
-            "quadric map",
-        )?;
-        let pool = DescriptorPool::new(ctx, 1, 2, "quadric map sets")?;
-        let set = pool.allocate(&layout, &[])?;
         Ok(QuadricMapPass {
             ctx: ctx.clone(),
-            _layout: layout,
-            _pool: pool,
-            set,
-            pipeline,
+            search: SearchPipeline::new(ctx, "quadric_map.comp", push, "quadric map")?,
         })
     }
 
@@ -117,8 +87,8 @@ impl QuadricMapPass {
             ..base
         };
         let search = MapSearch {
-            pipeline: &self.pipeline,
-            set: self.set,
+            pipeline: &self.search.pipeline,
+            set: self.search.set,
             channels: 4,
             name: "quadric map",
             params: &params,
