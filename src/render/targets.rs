@@ -8,7 +8,8 @@ use ash::vk;
 
 use super::surface_pass::{COLOR_FORMAT, DEPTH_FORMAT};
 use crate::vk::{
-    transition_images, Context, Image, ImageDesc, ImageTransition, Readback, Recording, VkResult,
+    transition_images, whole_color_region, Context, Image, ImageDesc, ImageTransition, Readback,
+    Recording, VkResult,
 };
 
 /// Background colour (linear).
@@ -136,17 +137,7 @@ impl Targets {
             }],
         );
         let desc = self.color.desc();
-        let region = vk::BufferImageCopy::default()
-            .image_subresource(
-                vk::ImageSubresourceLayers::default()
-                    .aspect_mask(vk::ImageAspectFlags::COLOR)
-                    .layer_count(1),
-            )
-            .image_extent(vk::Extent3D {
-                width: desc.width,
-                height: desc.height,
-                depth: 1,
-            });
+        let region = whole_color_region(desc.width, desc.height);
         buffer.record_copy_from_image(rec, &self.color, region);
     }
 }

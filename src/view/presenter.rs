@@ -13,8 +13,8 @@ use ash::vk;
 
 use crate::render::FRAMES_IN_FLIGHT;
 use crate::vk::{
-    transition_images, CommandSlot, Context, Image, ImageTransition, PresentMode, Readback,
-    Semaphore, SubmitSync, Swapchain, VkResult,
+    transition_images, whole_color_region, CommandSlot, Context, Image, ImageTransition,
+    PresentMode, Readback, Recording, Semaphore, SubmitSync, Swapchain, VkResult,
 };
 
 /// A presented image read back: RGBA8 (sRGB), rows top to bottom.
@@ -177,59 +177,48 @@ impl Presenter {
 }
 
 /// The colour target from drawing to blit source, the acquired image from nothing to blit target.
-fn to_transfer(rec: &crate::vk::Recording, color: vk::Image, target: vk::Image) {
+fn to_transfer(rec: &Recording, color: vk::Image, target: vk::Image) {
     let blit = vk::PipelineStageFlags2::BLIT;
     transition_images(
         rec,
         &[
-            ImageTransition {
-                image: color,
-                aspect: vk::ImageAspectFlags::COLOR,
-                base_mip: 0,
-                mip_count: 1,
-                old: vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-                new: vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                src: (
+            ImageTransition::color(
+                color,
+                (
+                    vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+                    vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                ),
+                (
                     vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
                     vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
                 ),
-                dst: (blit, vk::AccessFlags2::TRANSFER_READ),
-            },
-            ImageTransition {
-                image: target,
-                aspect: vk::ImageAspectFlags::COLOR,
-                base_mip: 0,
-                mip_count: 1,
-                old: vk::ImageLayout::UNDEFINED,
-                new: vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                (blit, vk::AccessFlags2::TRANSFER_READ),
+            ),
+            ImageTransition::color(
+                target,
+                (
+                    vk::ImageLayout::UNDEFINED,
+                    vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+                ),
                 // Chained to the acquire semaphore's wait, which is at the transfer stage.
-                src: (
+                (
                     vk::PipelineStageFlags2::ALL_TRANSFER,
                     vk::AccessFlags2::NONE,
                 ),
-                dst: (blit, vk::AccessFlags2::TRANSFER_WRITE),
-            },
+                (blit, vk::AccessFlags2::TRANSFER_WRITE),
+            ),
         ],
     );
 }
 
 /// The blitted image to presentation, through a copy into `readback` when given.
 fn finish_image(
-    rec: &crate::vk::Recording,
+    rec: &Recording,
     target: vk::Image,
     extent: vk::Extent2D,
     readback: Option<&Readback>,
 ) {
-    let transition = |old, new, src, dst| ImageTransition {
-        image: target,
-        aspect: vk::ImageAspectFlags::COLOR,
-        base_mip: 0,
-        mip_count: 1,
-        old,
-        new,
-        src,
-        dst,
-    };
+    use vk::ImageLayout as L;
     let written = (
         vk::PipelineStageFlags2::BLIT,
         vk::AccessFlags2::TRANSFER_WRITE,
@@ -238,15 +227,14 @@ fn finish_image(
         vk::PipelineStageFlags2::BOTTOM_OF_PIPE,
         vk::AccessFlags2::NONE,
     );
+    let step = |layouts, src, dst| {
+        transition_images(rec, &[ImageTransition::color(target, layouts, src, dst)]);
+    };
     let Some(buffer) = readback else {
-        transition_images(
-            rec,
-            &[transition(
-                vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-                vk::ImageLayout::PRESENT_SRC_KHR,
-                written,
-                presented,
-            )],
+        step(
+            (L::TRANSFER_DST_OPTIMAL, L::PRESENT_SRC_KHR),
+            written,
+            presented,
         );
         return;
     };
@@ -254,34 +242,16 @@ fn finish_image(
         vk::PipelineStageFlags2::COPY,
         vk::AccessFlags2::TRANSFER_READ,
     );
-    transition_images(
-        rec,
-        &[transition(
-            vk::ImageLayout::TRANSFER_DST_OPTIMAL,
-            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-            written,
-            copied,
-        )],
+    step(
+        (L::TRANSFER_DST_OPTIMAL, L::TRANSFER_SRC_OPTIMAL),
+        written,
+        copied,
     );
-    let region = vk::BufferImageCopy::default()
-        .image_subresource(
-            vk::ImageSubresourceLayers::default()
-                .aspect_mask(vk::ImageAspectFlags::COLOR)
-                .layer_count(1),
-        )
-        .image_extent(vk::Extent3D {
-            width: extent.width,
-            height: extent.height,
-            depth: 1,
-        });
+    let region = whole_color_region(extent.width, extent.height);
     buffer.record_copy_from_raw_image(rec, target, region);
-    transition_images(
-        rec,
-        &[transition(
-            vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-            vk::ImageLayout::PRESENT_SRC_KHR,
-            (vk::PipelineStageFlags2::COPY, vk::AccessFlags2::NONE),
-            presented,
-        )],
+    step(
+        (L::TRANSFER_SRC_OPTIMAL, L::PRESENT_SRC_KHR),
+        (vk::PipelineStageFlags2::COPY, vk::AccessFlags2::NONE),
+        presented,
     );
 }

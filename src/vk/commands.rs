@@ -94,6 +94,43 @@ pub struct ImageTransition {
     pub dst: (vk::PipelineStageFlags2, vk::AccessFlags2),
 }
 
+impl ImageTransition {
+    /// The transition of a single-mip colour image.
+    pub fn color(
+        image: vk::Image,
+        (old, new): (vk::ImageLayout, vk::ImageLayout),
+        src: (vk::PipelineStageFlags2, vk::AccessFlags2),
+        dst: (vk::PipelineStageFlags2, vk::AccessFlags2),
+    ) -> ImageTransition {
+        ImageTransition {
+            image,
+            aspect: vk::ImageAspectFlags::COLOR,
+            base_mip: 0,
+            mip_count: 1,
+            old,
+            new,
+            src,
+            dst,
+        }
+    }
+}
+
+/// The copy region of a whole single-mip colour image of `width` x `height` to or from the start
+/// of a tightly packed buffer.
+pub fn whole_color_region(width: u32, height: u32) -> vk::BufferImageCopy {
+    vk::BufferImageCopy::default()
+        .image_subresource(
+            vk::ImageSubresourceLayers::default()
+                .aspect_mask(vk::ImageAspectFlags::COLOR)
+                .layer_count(1),
+        )
+        .image_extent(vk::Extent3D {
+            width,
+            height,
+            depth: 1,
+        })
+}
+
 /// Records a set of image transitions as one synchronization2 barrier.
 pub fn transition_images(rec: &Recording, list: &[ImageTransition]) {
     let barriers: Vec<_> = list

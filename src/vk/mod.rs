@@ -27,7 +27,7 @@ mod transfer;
 
 pub use buffer::Buffer;
 pub use command_slot::{CommandSlot, SubmitSync};
-pub use commands::{memory_barrier, transition_images, ImageTransition};
+pub use commands::{memory_barrier, transition_images, whole_color_region, ImageTransition};
 pub use context::{Context, ContextOptions};
 pub use counters::ObjectCounts;
 pub use descriptors::{Bind, DescriptorLayout, DescriptorPool, DescriptorSet};
