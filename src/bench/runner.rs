@@ -134,14 +134,20 @@ pub fn plan_jobs(cfg: &SweepConfig) -> Vec<Job> {
             }
         }
     }
-    // Section 3, the tree baseline first: the step baseline's larger caps are skipped at run time
-    // once one has matched it (`depth_match::settled`).
+    // Section 3 at every depth scale (the first too: section 1 does not try the larger caps), the
+    // tree baseline first: the step baseline's larger caps are skipped at run time once one has
+    // matched it (`depth_match::settled`).
     for role in [BenchRole::TreeBaseline, BenchRole::StepBaseline] {
         let Some(method) = Method::with_role(role).filter(|m| cfg.methods.contains(m)) else {
             continue;
         };
-        for &d in cfg.depth_scales.iter().skip(1) {
-            for b in depth_budgets(method, cfg.budgets_for(method)) {
+        let budgets = if cfg.quick {
+            cfg.budgets_for(method)
+        } else {
+            depth_budgets(method, cfg.budgets_for(method))
+        };
+        for &d in &cfg.depth_scales {
+            for b in budgets.iter().copied() {
                 jobs.push(base(
                     Section::DepthScale,
                     &first,
