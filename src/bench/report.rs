@@ -328,7 +328,10 @@ fn depth_scale(md: &mut String, results: &BenchResults) {
         let Some(p) = matched.or_else(best) else {
             continue;
         };
-        let tried: Vec<String> = step.iter().map(|r| r.budget.max_steps.to_string()).collect();
+        let tried: Vec<String> = step
+            .iter()
+            .map(|r| r.budget.max_steps.to_string())
+            .collect();
         let label = if matched.is_some() {
             budget_label(p)
         } else {

@@ -552,15 +552,6 @@ fn transition_map(rec: &Recording, image: &Image, to_write: bool) {
     };
     transition_images(
         rec,
-        &[ImageTransition {
-            image: image.raw(),
-            aspect: vk::ImageAspectFlags::COLOR,
-            base_mip: 0,
-            mip_count: 1,
-            old,
-            new,
-            src,
-            dst,
-        }],
+        &[ImageTransition::color(image.raw(), (old, new), src, dst)],
     );
 }
