@@ -42,7 +42,13 @@ pub fn settled(job: &Job, runs: &[Run]) -> bool {
     {
         return false;
     }
-    let same_view = |r: &&Run| r.section == Section::DepthScale && r.depth_scale == job.depth_scale;
+    let field = job.field.name();
+    let same_view = |r: &&Run| {
+        r.section == Section::DepthScale
+            && r.depth_scale == job.depth_scale
+            && r.angle_deg == job.angle
+            && r.heightfield == field
+    };
     let Some(target) = match_target(runs.iter().filter(same_view)) else {
         return false;
     };
@@ -56,7 +62,8 @@ pub fn settled(job: &Job, runs: &[Run]) -> bool {
 }
 
 /// Among runs of one view, the tree baseline's run whose error the step baseline must match: the
-/// paper's refinement if it ran, else the default budget.
+/// paper's refinement if it ran and holds up (gross misses on at most `PAPER_GROSS_LIMIT` of the
+/// rays: on one-texel spikes it misses nearly all), else the default budget.
 pub fn match_target<'a>(runs: impl Iterator<Item = &'a Run>) -> Option<&'a Run> {
     let tree = Method::with_role(BenchRole::TreeBaseline)?;
     let default = tree.info().default_budget;
@@ -66,8 +73,13 @@ pub fn match_target<'a>(runs: impl Iterator<Item = &'a Run>) -> Option<&'a Run> 
     };
     let ours: Vec<&Run> = runs.filter(|r| r.method == tree.id()).collect();
     let pick = |b: Budget| ours.iter().copied().find(|r| r.budget == b);
-    pick(paper).or_else(|| pick(default))
+    pick(paper)
+        .filter(|r| r.gross_rate <= PAPER_GROSS_LIMIT)
+        .or_else(|| pick(default))
 }
+
+/// The share of gross misses above which the paper's refinement is no quality to match.
+pub const PAPER_GROSS_LIMIT: f64 = 0.01;
 
 #[cfg(test)]
 mod tests {

@@ -54,6 +54,11 @@ pub struct Job {
     pub depth_scale: f64,
 }
 
+/// Section 3's stiff view: one-texel spikes (every coarse pyramid node holds one) seen at a
+/// grazing 5 degrees, at the sweep's main depth scale.
+const STIFF_FIELD: FieldSource = FieldSource::Synthetic(crate::heightfield::Generator::Spikes);
+const STIFF_ANGLE: f64 = 5.0;
+
 /// Every job of `cfg`'s sweep, in run order.
 pub fn plan_jobs(cfg: &SweepConfig) -> Vec<Job> {
     let base =
@@ -158,6 +163,17 @@ pub fn plan_jobs(cfg: &SweepConfig) -> Vec<Job> {
                     d,
                 ));
             }
+        }
+        for b in budgets.iter().copied() {
+            jobs.push(base(
+                Section::DepthScale,
+                &STIFF_FIELD,
+                size,
+                method,
+                b,
+                STIFF_ANGLE,
+                depth,
+            ));
         }
     }
     jobs
