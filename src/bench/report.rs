@@ -327,9 +327,7 @@ fn depth_scale(md: &mut String, results: &BenchResults) {
         let at: Vec<&Run> = list
             .iter()
             .copied()
-            .filter(|r| {
-                r.depth_scale == s && r.heightfield == field && r.angle_deg == angle
-            })
+            .filter(|r| r.depth_scale == s && r.heightfield == field && r.angle_deg == angle)
             .collect();
         let Some(target) = match_target(at.iter().copied()) else {
             continue;
