@@ -18,11 +18,11 @@ use std::sync::Arc;
 
 pub use super::map_search::MAX_SIDE;
 use super::map_search::{
-    level_offsets, top_level, MapSearch, SearchPipeline, MAX_LEVELS, MODE_REDUCE,
+    check_side, level_offsets, top_level, SearchPipeline, MAX_LEVELS, MODE_REDUCE,
 };
 use crate::heightfield::cone_map::bilinear_box_bound;
 use crate::heightfield::{Address, Heightfield, MapData};
-use crate::vk::{Context, VkError, VkResult};
+use crate::vk::{Context, VkResult};
 
 /// Relative amount by which a GPU ratio may fall short of the CPU's (never exceed it): the f32
 /// search's error plus the step down that makes it conservative (see `cone_map.comp`).
@@ -69,11 +69,7 @@ impl ConeMapPass {
     /// it).
     pub fn build(&self, hf: &Heightfield, address: Address) -> VkResult<(MapData, f64)> {
         let (w, h) = (hf.width(), hf.height());
-        if w > MAX_SIDE || h > MAX_SIDE {
-            return Err(VkError::Invalid(format!(
-                "cone map of {w}x{h}: the GPU builder takes at most {MAX_SIDE} texels a side"
-            )));
-        }
+        check_side("cone map", w, h)?;
         let bound = bilinear_box_bound(hf, address);
         let base = Params {
             mode: MODE_REDUCE,
@@ -92,21 +88,8 @@ impl ConeMapPass {
             row0,
             ..base
         };
-        let search = MapSearch {
-            pipeline: &self.search.pipeline,
-            set: self.search.set,
-            channels: 2,
-            name: "cone map",
-            params: &params,
-        };
-        let (texels, gpu_ms) = search.run(&self.ctx, bound.data(), w, h)?;
-        let map = MapData {
-            width: w,
-            height: h,
-            channels: 2,
-            texels,
-        };
-        Ok((map, gpu_ms))
+        self.search
+            .build(&self.ctx, (bound.data(), w, h), 2, "cone map", &params)
     }
 }
 

@@ -12,6 +12,7 @@ use std::sync::Arc;
 
 use ash::vk;
 
+use crate::heightfield::MapData;
 use crate::shaders;
 use crate::vk::{
     compute_pipeline, memory_barrier, Bind, Buffer, Context, DescriptorLayout, DescriptorPool,
@@ -73,6 +74,43 @@ impl SearchPipeline {
             pipeline,
         })
     }
+
+    /// Builds a map of `channels` floats per texel from `level0` (`w` x `h`) with the push
+    /// constants `params` gives per mode, level and first row: the map and the GPU ms.
+    pub fn build<P: bytemuck::Pod>(
+        &self,
+        ctx: &Arc<Context>,
+        (level0, w, h): (&[f32], u32, u32),
+        channels: u32,
+        name: &str,
+        params: &dyn Fn(u32, u32, u32) -> P,
+    ) -> VkResult<(MapData, f64)> {
+        let search = MapSearch {
+            pipeline: &self.pipeline,
+            set: self.set,
+            channels,
+            name,
+            params,
+        };
+        let (texels, gpu_ms) = search.run(ctx, level0, w, h)?;
+        let map = MapData {
+            width: w,
+            height: h,
+            channels,
+            texels,
+        };
+        Ok((map, gpu_ms))
+    }
+}
+
+/// Fails for maps wider or taller than the GPU builders take; `what` names the map.
+pub(super) fn check_side(what: &str, w: u32, h: u32) -> VkResult<()> {
+    if w > MAX_SIDE || h > MAX_SIDE {
+        return Err(VkError::Invalid(format!(
+            "{what} of {w}x{h}: the GPU builder takes at most {MAX_SIDE} texels a side"
+        )));
+    }
+    Ok(())
 }
 
 /// What one build dispatches: the pipeline, its set (rewritten for the build's buffers) and the

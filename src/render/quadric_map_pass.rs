@@ -14,11 +14,9 @@
 
 use std::sync::Arc;
 
-use super::map_search::{
-    level_offsets, top_level, MapSearch, SearchPipeline, MAX_SIDE, MODE_REDUCE,
-};
+use super::map_search::{check_side, level_offsets, top_level, SearchPipeline, MODE_REDUCE};
 use crate::heightfield::{Address, Heightfield, MapData};
-use crate::vk::{Context, VkError, VkResult};
+use crate::vk::{Context, VkResult};
 
 /// Nodes on each side of a texel's own node in every level's ring (the three finest levels add
 /// 3, 2 and 1): the points stand for their nodes from about `1 + 2.8 / RING` times nearer than
@@ -64,11 +62,7 @@ impl QuadricMapPass {
     /// every search submission; the transfers are not in it).
     pub fn build(&self, hf: &Heightfield, address: Address) -> VkResult<(MapData, f64)> {
         let (w, h) = (hf.width(), hf.height());
-        if w > MAX_SIDE || h > MAX_SIDE {
-            return Err(VkError::Invalid(format!(
-                "quadric map of {w}x{h}: the GPU builder takes at most {MAX_SIDE} texels a side"
-            )));
-        }
+        check_side("quadric map", w, h)?;
         let base = Params {
             mode: MODE_REDUCE,
             width: w,
@@ -86,21 +80,8 @@ impl QuadricMapPass {
             row0,
             ..base
         };
-        let search = MapSearch {
-            pipeline: &self.search.pipeline,
-            set: self.search.set,
-            channels: 4,
-            name: "quadric map",
-            params: &params,
-        };
-        let (texels, gpu_ms) = search.run(&self.ctx, hf.data(), w, h)?;
-        let map = MapData {
-            width: w,
-            height: h,
-            channels: 4,
-            texels,
-        };
-        Ok((map, gpu_ms))
+        self.search
+            .build(&self.ctx, (hf.data(), w, h), 4, "quadric map", &params)
     }
 }
 
