@@ -28,12 +28,7 @@ layout(local_size_x = 8, local_size_y = 8) in;
 
 const uint MODE_REDUCE = 0u;
 const uint MODE_CONE = 1u;
-const float CONE_RATIO_MAX = 64.0;
-// Entries a search stack can hold: a pop pushes at most 4 children, so a depth-first search over
-// L levels holds at most 3 L + 1; 48 covers the 15 levels of maps up to 16384 texels a side.
-const int STACK = 48;
 const uint MAX_LEVELS = 15u;
-const uint STEP_DOWN = 128u;
 
 // All pyramid levels back to back, level 0 (the bound heights, width x height) first.
 layout(set = 0, binding = 0, std430) buffer Pyramid {
@@ -65,6 +60,8 @@ layout(push_constant, std430) uniform Params {
 
 // Reads and writes `pyramid` above.
 #include "buffer_pyramid.glsl"
+// Values, node rectangles and stack entries (needs `params`).
+#include "cone_search.glsl"
 
 uvec2 level_size(uint level) {
     return pyramid_level_size(uvec2(params.width, params.height), level);
@@ -76,54 +73,6 @@ void reduce() {
                    params.offsets[level], gl_GlobalInvocationID.xy);
 }
 
-// The computed value of a node: its rectangle [lo, hi] (u-texels, v-texels; closed) seen from
-// the centre c over the rise of its maximum. dx and dy are exact (half-integers below 2^22); the
-// error is one rounding each for dx^2, aspect, dy * aspect, its square, the sum, rise, w * rise,
-// plus sqrt (5 ULP) and the division (2.5 ULP): about 12.5 units of 2^-23, so EPS_ULPS = 16.
-// STEP_DOWN ulps of the result are at least STEP_DOWN * 2^-24 relative, 4x that error.
-float cone_map_value(vec2 c, vec2 lo, vec2 hi, float rise) {
-    float dx = max(max(lo.x - c.x, c.x - hi.x), 0.0);
-    float dy = max(max(lo.y - c.y, c.y - hi.y), 0.0) * params.aspect;
-    float den = float(params.width) * rise;
-    // Division has no precision guarantee below 2^-126; there the true value (at least half a
-    // texel over den) is far above the cap anyway, so the candidate is dropped.
-    if (!(den > 1.0e-30)) {
-        return 3.0e38;
-    }
-    return sqrt(dx * dx + dy * dy) / den;
-}
-
-struct Node {
-    // Level-0 rectangle of the node in its tile, in texels (lo inclusive, hi exclusive edges).
-    vec2 lo;
-    vec2 hi;
-};
-
-Node node_rect(uint level, uvec2 at, vec2 tile) {
-    uint n = 1u << level;
-    uvec2 lo = at * n;
-    uvec2 hi = min(lo + n, uvec2(params.width, params.height));
-    Node node;
-    node.lo = vec2(lo) + tile;
-    node.hi = vec2(hi) + tile;
-    return node;
-}
-
-// Largest f32 at least `ulps` ulps below a positive finite x (stays positive: bits only shrink).
-float step_down(float x, uint ulps) {
-    uint bits = floatBitsToUint(x);
-    return uintBitsToFloat(bits > ulps ? bits - ulps : 0u);
-}
-
-// A stack entry: level | i << 4 | j << 18 (sides below 2^14, levels below 16) and the bound's bits,
-// re-checked on pop since the best may have improved after the push.
-uvec2 entry(uint level, uint i, uint j, float bound) {
-    return uvec2(level | (i << 4) | (j << 18), floatBitsToUint(bound));
-}
-
-// The bits of a bound no candidate has: above every finite float.
-const uint NO_BOUND = 0xffffffffu;
-
 // Child (x, y) of `level` as a stack entry, or NO_BOUND when it holds nothing higher than hp or
 // its bound cannot beat `best`.
 uvec2 kid(uint level, uvec2 at, uvec2 size, vec2 tile, vec2 centre, float hp, float best) {
@@ -132,17 +81,8 @@ uvec2 kid(uint level, uvec2 at, uvec2 size, vec2 tile, vec2 centre, float hp, fl
         return uvec2(0u, NO_BOUND);
     }
     Node n = node_rect(level, at, tile);
-    float b = cone_map_value(centre, n.lo, n.hi, h - hp);
+    float b = cone_map_value(centre, n.lo, n.hi, h - hp, 0.0);
     return b < best ? entry(level, at.x, at.y, b) : uvec2(0u, NO_BOUND);
-}
-
-// Puts the larger bound first (NO_BOUND counts as the largest).
-void order(inout uvec2 a, inout uvec2 b) {
-    if (a.y < b.y) {
-        uvec2 t = a;
-        a = b;
-        b = t;
-    }
 }
 
 void cone() {
@@ -174,7 +114,7 @@ void cone() {
         float h = pyramid[uint(wrapped.y) * params.width + uint(wrapped.x)];
         if (h > hp) {
             Node node = node_rect(0u, uvec2(wrapped), vec2(q - wrapped));
-            best = min(best, cone_map_value(centre, node.lo, node.hi, h - hp));
+            best = min(best, cone_map_value(centre, node.lo, node.hi, h - hp, 0.0));
         }
     }
     int tiles = params.repeat_address != 0u && top_height > hp ? 9 : (top_height > hp ? 1 : 0);
@@ -183,7 +123,7 @@ void cone() {
         int slot = (t + 4) % 9;
         vec2 tile = vec2(float(slot % 3 - 1) * float(params.width), float(slot / 3 - 1) * float(params.height));
         Node root = node_rect(top, uvec2(0u), tile);
-        float root_bound = cone_map_value(centre, root.lo, root.hi, top_height - hp);
+        float root_bound = cone_map_value(centre, root.lo, root.hi, top_height - hp, 0.0);
         int sp = 0;
         if (root_bound < best) {
             stack[0] = entry(top, 0u, 0u, root_bound);
@@ -196,8 +136,8 @@ void cone() {
             if (!(bound < best)) {
                 continue;
             }
-            uint level = e.x & 15u;
-            uvec2 at = uvec2((e.x >> 4) & 0x3fffu, e.x >> 18);
+            uint level = entry_level(e.x);
+            uvec2 at = entry_at(e.x);
             if (level == 0u) {
                 best = bound;
                 continue;

@@ -151,6 +151,7 @@ mod tests {
             api: "1.3.0".into(),
             kind: "cpu",
             max_image_dimension_2d: 4096,
+            max_storage_buffer_range: u32::MAX,
             timestamp_period_ns: 1.0,
             timestamp_valid_bits: 64,
             queue_family: 0,

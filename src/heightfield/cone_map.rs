@@ -32,7 +32,8 @@
 //! A step may now enter the solid but never leave it again, so the step that first lands inside brackets
 //! the first hit with a single crossing, which binary search then finds. The *reach* `r(q, S)` of texel `q` in
 //! direction sector `S` is the distance from `box(q)` to the nearest region lower than `q` that a straight
-//! line leaving `box(q)` with a direction in `S` can enter (capped at 0.25 uv): a ray inside `q`'s solid cannot
+//! line leaving `box(q)` with a direction in `S` can enter (capped at 0.25 uv or 16 texels, whichever is
+//! less): a ray inside `q`'s solid cannot
 //! get out within that distance. Sectors: 16, four per quadrant, cut at slopes 1/3, 1 and 3. Then
 //! `c(p) = max(conservative c(p), min over q with h(q) > h(p) of
 //! (dist(p_c, box(q)) + min over sectors S from box(p) to box(q) of r(q, S)) / (h(q) - h(p)))`,
@@ -67,6 +68,7 @@ mod search;
 mod sectors;
 
 use search::{par_rows, Field, ReachPyramid};
+pub use search::{REACH_CAP_TEXELS, REACH_CAP_UV};
 
 /// The largest stored ratio (uv per unit height), given to texels nothing limits (the global maximum) and
 /// to any wider cone. At depth scale 0.01 it still means a cone 6400 times wider than deep.
@@ -122,7 +124,7 @@ impl ConeMap {
                         .flat_map(|i| search::reach(&field, i, j))
                         .collect()
                 });
-                let reach = ReachPyramid::new(&field.main, texels);
+                let reach = ReachPyramid::new(&field.main, texels, field.reach_unit());
                 par_rows(hf.height(), |j| {
                     (0..width)
                         .map(|i| {

@@ -21,10 +21,14 @@ use super::sectors::{direction_mask, Mask, Rect, SECTORS};
 use crate::heightfield::reference::Address;
 use crate::heightfield::{covered_range, Heightfield, MaxPyramid};
 
-/// Reaches (see [`reach`]) are capped here, in uv: a cap only shortens them, which is always safe.
-pub(super) const REACH_CAP: f64 = 0.25;
-/// Reaches are stored as `u16` multiples of this (rounded down, so stored values never exceed true ones).
-pub(super) const REACH_UNIT: f64 = REACH_CAP / 65535.0;
+/// Reaches (see [`reach`]) are capped at the lesser of this, in uv, and [`REACH_CAP_TEXELS`]: a cap only
+/// shortens them, which is always safe.
+pub const REACH_CAP_UV: f64 = 0.25;
+/// ... and of this many texels along u. The search for a reach visits every node within the cap that
+/// holds a lower texel in an open sector, so its cost grows with the cap: with 0.25 uv alone a 256^2
+/// step field took 48 s and a 1024^2 one would take about an hour, while on rough fields (fbm) no
+/// reach is longer than 16 texels at 1024^2.
+pub const REACH_CAP_TEXELS: f64 = 16.0;
 /// The uv coordinate standing in for infinity on the open side of a clamp strip.
 const FAR: f64 = 1e6;
 
@@ -186,6 +190,17 @@ impl<'a> Field<'a> {
             step_v: 1.0 / f64::from(hf.height()),
             top,
         }
+    }
+
+    /// The reach cap in uv: [`REACH_CAP_UV`] or [`REACH_CAP_TEXELS`] texels, whichever is less.
+    pub fn reach_cap(&self) -> f64 {
+        REACH_CAP_UV.min(REACH_CAP_TEXELS * self.step_u)
+    }
+
+    /// Reaches are stored as `u16` multiples of this (rounded down, so stored values never exceed true
+    /// ones).
+    pub fn reach_unit(&self) -> f64 {
+        self.reach_cap() / 65535.0
     }
 
     pub fn texel_rect(&self, i: u32, j: u32) -> Rect {
@@ -408,12 +423,12 @@ fn seed(
 
 /// The reach of texel `q` per sector (see the module docs of `cone_map`): for each sector `S`, the distance
 /// from `box(q)` to the nearest region lower than `q` that a ray leaving `q` in a direction of `S` can enter,
-/// capped at [`REACH_CAP`] and stored as a `u16` multiple of [`REACH_UNIT`] (rounded down).
+/// capped at [`Field::reach_cap`] and stored as a `u16` multiple of [`Field::reach_unit`] (rounded down).
 pub(super) fn reach(f: &Field<'_>, i: u32, j: u32) -> [u16; SECTORS] {
     let hq = f.hf.get(i, j);
     let g = 1.0 - hq;
     let q = f.texel_rect(i, j);
-    let reach = Cell::new([REACH_CAP; SECTORS]);
+    let reach = Cell::new([f.reach_cap(); SECTORS]);
     let live = |mask: Mask, d: f64| {
         let e = reach.get();
         (0..SECTORS).any(|k| mask & (1 << k) != 0 && e[k] > d)
@@ -453,7 +468,7 @@ pub(super) fn reach(f: &Field<'_>, i: u32, j: u32) -> [u16; SECTORS] {
     }
     reach
         .get()
-        .map(|x| (x / REACH_UNIT).floor().min(65535.0) as u16)
+        .map(|x| (x / f.reach_unit()).floor().min(65535.0) as u16)
 }
 
 /// Per-sector reaches of every texel (level 0) and their per-node minima (levels above), laid out like
@@ -461,10 +476,12 @@ pub(super) fn reach(f: &Field<'_>, i: u32, j: u32) -> [u16; SECTORS] {
 pub(super) struct ReachPyramid {
     levels: Vec<Vec<u16>>,
     widths: Vec<u32>,
+    /// uv per stored unit ([`Field::reach_unit`]).
+    unit: f64,
 }
 
 impl ReachPyramid {
-    pub fn new(main: &Tree, texels: Vec<u16>) -> ReachPyramid {
+    pub fn new(main: &Tree, texels: Vec<u16>, unit: f64) -> ReachPyramid {
         let mut levels = vec![texels];
         let mut widths = vec![main.size(0).0];
         for level in 1..=main.top_level() {
@@ -486,7 +503,11 @@ impl ReachPyramid {
             levels.push(out);
             widths.push(w);
         }
-        ReachPyramid { levels, widths }
+        ReachPyramid {
+            levels,
+            widths,
+            unit,
+        }
     }
 
     /// The smallest reach (uv) over the sectors in `mask` at node `(i, j)` of `level`.
@@ -499,7 +520,7 @@ impl ReachPyramid {
             .map(|k| row[k])
             .min()
             .unwrap_or(0);
-        f64::from(q) * REACH_UNIT
+        f64::from(q) * self.unit
     }
 }
 

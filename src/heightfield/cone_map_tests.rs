@@ -1,4 +1,4 @@
-use super::search::{self, Field, ReachPyramid, REACH_CAP, REACH_UNIT};
+use super::search::{self, Field, ReachPyramid, REACH_CAP_UV};
 use super::sectors::{direction_mask, SECTORS};
 use super::*;
 use crate::heightfield::reference::{trace, SurfaceModel};
@@ -38,7 +38,7 @@ fn brute_conservative(f: &Field<'_>, i: u32, j: u32) -> f64 {
 fn brute_reach(f: &Field<'_>, i: u32, j: u32) -> [u16; SECTORS] {
     let hq = f.hf.get(i, j);
     let q = f.texel_rect(i, j);
-    let mut e = [REACH_CAP; SECTORS];
+    let mut e = [f.reach_cap(); SECTORS];
     for r in 0.. {
         let Some((gap, regions)) = f.ring(r, true) else {
             break;
@@ -63,7 +63,7 @@ fn brute_reach(f: &Field<'_>, i: u32, j: u32) -> [u16; SECTORS] {
             }
         }
     }
-    e.map(|x| (x / REACH_UNIT).floor().min(65535.0) as u16)
+    e.map(|x| (x / f.reach_unit()).floor().min(65535.0) as u16)
 }
 
 /// Brute force of [`search::relaxed`] given the reach table.
@@ -144,7 +144,7 @@ fn fast_builders_equal_brute_force_bit_for_bit() {
                     "{at}"
                 );
             }
-            let pyramid = ReachPyramid::new(&f.main, reach);
+            let pyramid = ReachPyramid::new(&f.main, reach, f.reach_unit());
             for (n, &(i, j)) in texels.iter().enumerate() {
                 let fast = search::relaxed(&f, &pyramid, (i, j), cons[n], CAP);
                 let slow = brute_relaxed(&f, &pyramid, i, j, cons[n]);
@@ -189,14 +189,14 @@ fn hand_computed_ratios() {
     let f = Field::new(&hf, Address::Repeat);
     let reach = search::reach(&f, 1, 0);
     for (k, &r) in reach.iter().enumerate() {
-        // Rightward sectors see texel 7 at 5/8 uv, capped at REACH_CAP; the rest touch texel 0.
+        // Rightward sectors see texel 7 at 5/8 uv, capped at REACH_CAP_UV; the rest touch texel 0.
         let expect = if !(4..12).contains(&k) {
-            REACH_CAP.min(0.625)
+            REACH_CAP_UV.min(0.625)
         } else {
             0.0
         };
         assert!(
-            (f64::from(r) * REACH_UNIT - expect).abs() < 1e-4,
+            (f64::from(r) * f.reach_unit() - expect).abs() < 1e-4,
             "sector {k}: {r}"
         );
     }
@@ -205,7 +205,7 @@ fn hand_computed_ratios() {
     assert_eq!(cons.get(0, 0), 0.125);
     // Texel 1 limits it at (1/16 + reach) / 0.5 (the other plateau texels give at least as much as long as
     // the reach cap is below 5/8), five times the conservative ratio with a cap of 1/4.
-    let expect = (0.0625 + REACH_CAP.min(0.625)) / 0.5;
+    let expect = (0.0625 + REACH_CAP_UV.min(0.625)) / 0.5;
     assert!(
         (f64::from(relaxed.get(0, 0)) - expect).abs() < 1e-4,
         "{}",

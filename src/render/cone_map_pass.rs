@@ -60,7 +60,7 @@ impl ConeMapPass {
         let push = std::mem::size_of::<Params>() as u32;
         Ok(ConeMapPass {
             ctx: ctx.clone(),
-            search: SearchPipeline::new(ctx, "cone_map.comp", push, "cone map")?,
+            search: SearchPipeline::new(ctx, "cone_map.comp", push, 2, "cone map")?,
         })
     }
 

@@ -1,5 +1,6 @@
 //! Building a method's map (binding 3) where it is cheapest: on the GPU where a GPU builder
-//! exists and takes the map's size (the conservative cone map, the quadric map), else on the CPU with
+//! exists and takes the map's size (the conservative and relaxed cone maps, the quadric map),
+//! else on the CPU with
 //! `heightfield::build_method_map`, the reference the GPU builders are tested against.
 
 use std::sync::Arc;
@@ -7,6 +8,7 @@ use std::sync::Arc;
 use super::cone_map_pass::build_cone_map_on_gpu;
 use super::map_search::MAX_SIDE;
 use super::quadric_map_pass::build_quadric_map_on_gpu;
+use super::relaxed_cone_map_pass::{build_relaxed_cone_map_on_gpu, RelaxedConeMapPass};
 use crate::heightfield::{build_method_map, Address, Heightfield, MapData};
 use crate::method::{MapKind, Method};
 use crate::vk::{Context, VkResult};
@@ -42,6 +44,9 @@ pub fn build_method_map_with(
         let gpu = match kind {
             MapKind::ConservativeCone => Some(build_cone_map_on_gpu(ctx, hf, address)?),
             MapKind::Quadric => Some(build_quadric_map_on_gpu(ctx, hf, address)?),
+            MapKind::RelaxedCone if RelaxedConeMapPass::fits(ctx, hf.width(), hf.height()) => {
+                Some(build_relaxed_cone_map_on_gpu(ctx, hf, address)?)
+            }
             MapKind::RelaxedCone | MapKind::MaxPyramid => None,
         };
         if let Some((data, ms)) = gpu {

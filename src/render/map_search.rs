@@ -46,14 +46,22 @@ pub(super) struct SearchPipeline {
 }
 
 impl SearchPipeline {
-    /// The pipeline of shader `key` with `push` bytes of push constants, named `name`.
-    pub fn new(ctx: &Arc<Context>, key: &str, push: u32, name: &str) -> VkResult<SearchPipeline> {
+    /// The pipeline of shader `key` with `push` bytes of push constants, named `name`, and
+    /// storage buffers at bindings `0..bindings`.
+    pub fn new(
+        ctx: &Arc<Context>,
+        key: &str,
+        push: u32,
+        bindings: u32,
+        name: &str,
+    ) -> VkResult<SearchPipeline> {
         let spirv =
             shaders::spirv(key).ok_or_else(|| VkError::Invalid(format!("no shader {key}")))?;
         let storage = vk::DescriptorType::STORAGE_BUFFER;
+        let slots: Vec<_> = (0..bindings).map(|b| (b, storage)).collect();
         let layout = DescriptorLayout::new(
             ctx,
-            &[(0, storage), (1, storage)],
+            &slots,
             vk::ShaderStageFlags::COMPUTE,
             &format!("{name} layout"),
         )?;
@@ -65,7 +73,7 @@ impl SearchPipeline {
             &SpecConstants::default(),
             name,
         )?;
-        let pool = DescriptorPool::new(ctx, 1, 2, &format!("{name} sets"))?;
+        let pool = DescriptorPool::new(ctx, 1, bindings, &format!("{name} sets"))?;
         let set = pool.allocate(&layout, &[])?;
         Ok(SearchPipeline {
             _layout: layout,
@@ -162,66 +170,23 @@ impl<P: bytemuck::Pod> MapSearch<'_, P> {
             ctx,
             &[Bind::Storage(0, pyramid.raw()), Bind::Storage(1, out.raw())],
         );
-        let rows = rows_per_submission(w, h);
-        let chunks = h.div_ceil(rows);
-        let timestamps =
-            TimestampPool::new(ctx, 2 * (chunks + 1), &format!("{} timestamps", self.name))?;
-        let all = vk::PipelineStageFlags2::ALL_COMMANDS;
-        ctx.one_shot(|rec| {
-            timestamps.write(rec, all, 0)?;
-            self.record_pyramid(rec, &staging, &pyramid, w, h)?;
-            timestamps.write(rec, all, 1)
+        let chunks = row_chunks(w, h);
+        let mut timed = TimedSubmissions::new(ctx, 1 + chunks.len() as u32, self.name)?;
+        timed.submit(ctx, |rec| {
+            rec.copy_buffer(&staging, &pyramid);
+            memory_barrier(rec, COPIED, COMPUTE_RW);
+            self.pipeline.bind(rec, Some(self.set));
+            record_reductions(rec, self.pipeline, w, h, |level| {
+                (self.params)(MODE_REDUCE, level, 0)
+            })
         })?;
-        for chunk in 0..chunks {
-            let row0 = chunk * rows;
-            let count = rows.min(h - row0);
-            ctx.one_shot(|rec| {
-                timestamps.write(rec, all, 2 * chunk + 2)?;
-                self.record_rows(rec, w, row0, count)?;
-                timestamps.write(rec, all, 2 * chunk + 3)
-            })?;
+        for (row0, count) in chunks {
+            timed.submit(ctx, |rec| self.record_rows(rec, w, row0, count))?;
         }
         // Outside the timed submissions: the map reaches the host by a copy and the host barrier.
-        let written = (
-            vk::PipelineStageFlags2::COMPUTE_SHADER,
-            vk::AccessFlags2::SHADER_STORAGE_WRITE,
-        );
-        ctx.one_shot(|rec| back.record_copy_from_buffer(rec, &out, written))?;
-        let ticks = timestamps.read_ticks(2 * (chunks + 1))?;
-        let gpu_ms = ticks
-            .chunks_exact(2)
-            .map(|t| timestamps.ticks_to_ms(t[0], t[1]))
-            .sum();
+        ctx.one_shot(|rec| back.record_copy_from_buffer(rec, &out, SHADER_WROTE))?;
+        let gpu_ms = timed.total_ms()?;
         Ok((bytemuck::pod_collect_to_vec(back.bytes()?), gpu_ms))
-    }
-
-    /// Copies level 0 in and reduces it to 1x1, a barrier after every step.
-    fn record_pyramid(
-        &self,
-        rec: &Recording,
-        staging: &Buffer,
-        pyramid: &Buffer,
-        w: u32,
-        h: u32,
-    ) -> VkResult<()> {
-        rec.copy_buffer(staging, pyramid);
-        let write_read =
-            vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE;
-        let compute = vk::PipelineStageFlags2::COMPUTE_SHADER;
-        let copied = (
-            vk::PipelineStageFlags2::COPY,
-            vk::AccessFlags2::TRANSFER_WRITE,
-        );
-        memory_barrier(rec, copied, (compute, write_read));
-        self.pipeline.bind(rec, Some(self.set));
-        for level in 1..=top_level(w, h) {
-            let (lw, lh) = level_size(w, h, level);
-            let params = (self.params)(MODE_REDUCE, level, 0);
-            self.pipeline.push(rec, bytemuck::bytes_of(&params))?;
-            rec.dispatch([lw.div_ceil(GROUP), lh.div_ceil(GROUP), 1]);
-            memory_barrier(rec, (compute, write_read), (compute, write_read));
-        }
-        Ok(())
     }
 
     /// Searches `count` rows from `row0`, then makes the results visible to the host.
@@ -230,15 +195,92 @@ impl<P: bytemuck::Pod> MapSearch<'_, P> {
         let params = (self.params)(MODE_SEARCH, 0, row0);
         self.pipeline.push(rec, bytemuck::bytes_of(&params))?;
         rec.dispatch([w.div_ceil(GROUP), count.div_ceil(GROUP), 1]);
-        memory_barrier(
-            rec,
-            (
-                vk::PipelineStageFlags2::COMPUTE_SHADER,
-                vk::AccessFlags2::SHADER_STORAGE_WRITE,
-            ),
-            (vk::PipelineStageFlags2::HOST, vk::AccessFlags2::HOST_READ),
-        );
+        memory_barrier(rec, SHADER_WROTE, HOST_READS);
         Ok(())
+    }
+}
+
+/// A copy's writes, for the shader reads and writes after it.
+pub(super) const COPIED: (vk::PipelineStageFlags2, vk::AccessFlags2) = (
+    vk::PipelineStageFlags2::COPY,
+    vk::AccessFlags2::TRANSFER_WRITE,
+);
+/// Compute-shader reads and writes of storage buffers.
+pub(super) const COMPUTE_RW: (vk::PipelineStageFlags2, vk::AccessFlags2) = (
+    vk::PipelineStageFlags2::COMPUTE_SHADER,
+    vk::AccessFlags2::from_raw(
+        vk::AccessFlags2::SHADER_STORAGE_READ.as_raw()
+            | vk::AccessFlags2::SHADER_STORAGE_WRITE.as_raw(),
+    ),
+);
+/// Compute-shader writes of storage buffers.
+pub(super) const SHADER_WROTE: (vk::PipelineStageFlags2, vk::AccessFlags2) = (
+    vk::PipelineStageFlags2::COMPUTE_SHADER,
+    vk::AccessFlags2::SHADER_STORAGE_WRITE,
+);
+/// Host reads.
+pub(super) const HOST_READS: (vk::PipelineStageFlags2, vk::AccessFlags2) =
+    (vk::PipelineStageFlags2::HOST, vk::AccessFlags2::HOST_READ);
+
+/// Records one dispatch per level 1..=top of a `w` x `h` pyramid with the push constants
+/// `params(level)` gives (the pipeline already bound), a barrier after each.
+pub(super) fn record_reductions<P: bytemuck::Pod>(
+    rec: &Recording,
+    pipeline: &Pipeline,
+    w: u32,
+    h: u32,
+    params: impl Fn(u32) -> P,
+) -> VkResult<()> {
+    for level in 1..=top_level(w, h) {
+        let (lw, lh) = level_size(w, h, level);
+        pipeline.push(rec, bytemuck::bytes_of(&params(level)))?;
+        rec.dispatch([lw.div_ceil(GROUP), lh.div_ceil(GROUP), 1]);
+        memory_barrier(rec, COMPUTE_RW, COMPUTE_RW);
+    }
+    Ok(())
+}
+
+/// Submissions that each wait for their work and are timed start to end; the builders' GPU time
+/// is their sum (not the transfers to and from the host between them).
+pub(super) struct TimedSubmissions {
+    timestamps: TimestampPool,
+    used: u32,
+}
+
+impl TimedSubmissions {
+    /// Room for `count` submissions.
+    pub fn new(ctx: &Arc<Context>, count: u32, name: &str) -> VkResult<TimedSubmissions> {
+        let timestamps = TimestampPool::new(ctx, 2 * count, &format!("{name} timestamps"))?;
+        Ok(TimedSubmissions {
+            timestamps,
+            used: 0,
+        })
+    }
+
+    /// Records `record` between two timestamps, submits it and waits.
+    pub fn submit(
+        &mut self,
+        ctx: &Arc<Context>,
+        record: impl FnOnce(&Recording) -> VkResult<()>,
+    ) -> VkResult<()> {
+        let all = vk::PipelineStageFlags2::ALL_COMMANDS;
+        let first = 2 * self.used;
+        ctx.one_shot(|rec| {
+            self.timestamps.write(rec, all, first)?;
+            record(rec)?;
+            self.timestamps.write(rec, all, first + 1)
+        })?;
+        self.used += 1;
+        Ok(())
+    }
+
+    /// The GPU ms of every submission so far, summed.
+    pub fn total_ms(&self) -> VkResult<f64> {
+        let ticks = self.timestamps.read_ticks(2 * self.used)?;
+        Ok(ticks
+            .chunks_exact(2)
+            .map(|t| self.timestamps.ticks_to_ms(t[0], t[1]))
+            .sum())
     }
 }
 
@@ -268,7 +310,8 @@ pub(super) fn level_offsets(w: u32, h: u32) -> [u32; MAX_LEVELS] {
     offsets
 }
 
-fn pyramid_floats(w: u32, h: u32) -> u64 {
+/// Nodes of every level of a `w` x `h` pyramid.
+pub(super) fn pyramid_floats(w: u32, h: u32) -> u64 {
     (0..=top_level(w, h))
         .map(|l| {
             let (lw, lh) = level_size(w, h, l);
@@ -281,6 +324,14 @@ fn pyramid_floats(w: u32, h: u32) -> u64 {
 fn rows_per_submission(w: u32, h: u32) -> u32 {
     let rows = (ROWS_TEXELS / w.max(1)).max(GROUP);
     (rows.div_ceil(GROUP) * GROUP).min(h.div_ceil(GROUP) * GROUP)
+}
+
+/// The search submissions of a `w` x `h` map: `(first row, rows)` each.
+pub(super) fn row_chunks(w: u32, h: u32) -> Vec<(u32, u32)> {
+    let rows = rows_per_submission(w, h);
+    (0..h.div_ceil(rows))
+        .map(|chunk| (chunk * rows, rows.min(h - chunk * rows)))
+        .collect()
 }
 
 #[cfg(test)]

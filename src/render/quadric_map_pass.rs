@@ -54,7 +54,7 @@ impl QuadricMapPass {
         let push = std::mem::size_of::<Params>() as u32;
         Ok(QuadricMapPass {
             ctx: ctx.clone(),
-            search: SearchPipeline::new(ctx, "quadric_map.comp", push, "quadric map")?,
+            search: SearchPipeline::new(ctx, "quadric_map.comp", push, 2, "quadric map")?,
         })
     }
 

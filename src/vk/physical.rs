@@ -21,6 +21,8 @@ pub struct DeviceInfo {
     pub kind: &'static str,
     /// Largest 2D image side (`maxImageDimension2D`).
     pub max_image_dimension_2d: u32,
+    /// Largest range of a storage buffer binding, in bytes (`maxStorageBufferRange`).
+    pub max_storage_buffer_range: u32,
     /// Nanoseconds per timestamp tick.
     pub timestamp_period_ns: f32,
     /// Valid bits of timestamps on the chosen queue family (0: no timestamps).
@@ -111,6 +113,7 @@ fn describe(instance: &ash::Instance, pd: vk::PhysicalDevice) -> Option<(u32, De
         api: version_string(props.api_version),
         kind,
         max_image_dimension_2d: props.limits.max_image_dimension2_d,
+        max_storage_buffer_range: props.limits.max_storage_buffer_range,
         timestamp_period_ns: props.limits.timestamp_period,
         timestamp_valid_bits: fprops.timestamp_valid_bits,
         queue_family: family as u32,
