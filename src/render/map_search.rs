@@ -39,7 +39,7 @@ pub(super) const MODE_SEARCH: u32 = 1;
 /// descriptor set, rewritten for every build (builds wait for their submissions, so the set is
 /// never in use when it is rewritten).
 pub(super) struct SearchPipeline {
-    _layout: DescriptorLayout,
+    layout: DescriptorLayout,
     _pool: DescriptorPool,
     pub set: DescriptorSet,
     pub pipeline: Pipeline,
@@ -76,11 +76,28 @@ impl SearchPipeline {
         let pool = DescriptorPool::new(ctx, 1, bindings, &format!("{name} sets"))?;
         let set = pool.allocate(&layout, &[])?;
         Ok(SearchPipeline {
-            _layout: layout,
+            layout,
             _pool: pool,
             set,
             pipeline,
         })
+    }
+
+    /// Another pipeline of shader `key` over the same set layout (one set serves both),
+    /// specialized by `spec`: a shader whose modes are specialization constants gets each mode
+    /// compiled alone, which lavapipe runs several times faster than one shader branching on a
+    /// push constant.
+    pub fn specialized(
+        &self,
+        ctx: &Arc<Context>,
+        key: &str,
+        push: u32,
+        spec: &SpecConstants,
+        name: &str,
+    ) -> VkResult<Pipeline> {
+        let spirv =
+            shaders::spirv(key).ok_or_else(|| VkError::Invalid(format!("no shader {key}")))?;
+        compute_pipeline(ctx, spirv, &[self.layout.raw()], push, spec, name)
     }
 
     /// Builds a map of `channels` floats per texel from `level0` (`w` x `h`) with the push
@@ -245,6 +262,7 @@ pub(super) fn record_reductions<P: bytemuck::Pod>(
 pub(super) struct TimedSubmissions {
     timestamps: TimestampPool,
     used: u32,
+    name: String,
 }
 
 impl TimedSubmissions {
@@ -254,6 +272,7 @@ impl TimedSubmissions {
         Ok(TimedSubmissions {
             timestamps,
             used: 0,
+            name: name.to_owned(),
         })
     }
 
@@ -277,10 +296,12 @@ impl TimedSubmissions {
     /// The GPU ms of every submission so far, summed.
     pub fn total_ms(&self) -> VkResult<f64> {
         let ticks = self.timestamps.read_ticks(2 * self.used)?;
-        Ok(ticks
+        let each: Vec<f64> = ticks
             .chunks_exact(2)
             .map(|t| self.timestamps.ticks_to_ms(t[0], t[1]))
-            .sum())
+            .collect();
+        log::debug!("{}: GPU ms per submission {each:.1?}", self.name);
+        Ok(each.iter().sum())
     }
 }
 

@@ -32,13 +32,12 @@ use super::map_search::{
 use crate::heightfield::cone_map::{REACH_CAP_TEXELS, REACH_CAP_UV};
 use crate::heightfield::{Address, Heightfield, MapData};
 use crate::vk::{
-    memory_barrier, Bind, Buffer, Context, MemoryLocation, Readback, Recording, VkError, VkResult,
+    memory_barrier, Bind, Buffer, Context, MemoryLocation, Pipeline, Readback, Recording,
+    SpecConstants, VkError, VkResult,
 };
 
-/// Words per pyramid node of the reach buffer: 16 sectors of u16.
-const REACH_WORDS: u64 = 8;
-/// Words per pyramid node of the reach buffer in all: the sectors' and their least.
-const REACH_NODE_WORDS: u64 = REACH_WORDS + 1;
+/// Words per pyramid node of the reach buffer: 4 quadrants of u16.
+const REACH_WORDS: u64 = 2;
 
 const MODE_REDUCE: u32 = 0;
 const MODE_REACH: u32 = 1;
@@ -60,7 +59,6 @@ struct Params {
     min_base: u32,
     reach_unit: f32,
     reach_cap: f32,
-    any_base: u32,
     offsets: [u32; 15],
 }
 
@@ -71,17 +69,30 @@ const _: () = assert!(MAX_LEVELS == 15, "Params::offsets holds MAX_LEVELS offset
 pub struct RelaxedConeMapPass {
     ctx: Arc<Context>,
     conservative: ConeMapPass,
+    /// The set and the REDUCE pipeline.
     search: SearchPipeline,
+    reach: Pipeline,
+    reach_reduce: Pipeline,
+    relaxed: Pipeline,
 }
 
 impl RelaxedConeMapPass {
-    /// Creates both pipelines, their layouts and sets.
+    /// Creates the pipelines (the conservative map's and one per mode), their layouts and sets.
     pub fn new(ctx: &Arc<Context>) -> VkResult<RelaxedConeMapPass> {
         let push = std::mem::size_of::<Params>() as u32;
+        let key = "relaxed_cone_map.comp";
+        let search = SearchPipeline::new(ctx, key, push, 3, "relaxed cone map")?;
+        let mode = |mode, name| {
+            let spec = SpecConstants::default().u32(0, mode);
+            search.specialized(ctx, key, push, &spec, name)
+        };
         Ok(RelaxedConeMapPass {
             ctx: ctx.clone(),
             conservative: ConeMapPass::new(ctx)?,
-            search: SearchPipeline::new(ctx, "relaxed_cone_map.comp", push, 3, "relaxed cone map")?,
+            reach: mode(MODE_REACH, "relaxed cone map reaches")?,
+            reach_reduce: mode(MODE_REACH_REDUCE, "relaxed cone map reach pyramid")?,
+            relaxed: mode(MODE_RELAXED, "relaxed cone map search")?,
+            search,
         })
     }
 
@@ -122,7 +133,6 @@ impl RelaxedConeMapPass {
             min_base,
             reach_unit: (reach_cap_texels(w) / 65535.0) as f32,
             reach_cap: reach_cap_texels(w) as f32,
-            any_base: min_base * REACH_WORDS as u32,
             offsets: level_offsets(w, h),
         };
         let params = |mode, level, row0| Params {
@@ -140,7 +150,6 @@ impl RelaxedConeMapPass {
                 Bind::Storage(2, buffers.map.raw()),
             ],
         );
-        let pipeline = &self.search.pipeline;
         let set = Some(self.search.set);
         let chunks = row_chunks(w, h);
         let submissions = 2 + 2 * chunks.len() as u32;
@@ -149,10 +158,16 @@ impl RelaxedConeMapPass {
             rec.copy_buffer(&buffers.pyramid_staging, &buffers.pyramid);
             rec.copy_buffer(&buffers.map_staging, &buffers.map);
             memory_barrier(rec, COPIED, COMPUTE_RW);
-            pipeline.bind(rec, set);
-            record_reductions(rec, pipeline, w, h, |level| params(MODE_REDUCE, level, 0))
+            let reduce = &self.search.pipeline;
+            reduce.bind(rec, set);
+            record_reductions(rec, reduce, w, h, |level| params(MODE_REDUCE, level, 0))
         })?;
         let record_rows = |rec: &Recording, mode, (row0, count): (u32, u32)| {
+            let pipeline = if mode == MODE_REACH {
+                &self.reach
+            } else {
+                &self.relaxed
+            };
             pipeline.bind(rec, set);
             pipeline.push(rec, bytemuck::bytes_of(&params(mode, 0, row0)))?;
             rec.dispatch([w.div_ceil(GROUP), count.div_ceil(GROUP), 1]);
@@ -163,8 +178,8 @@ impl RelaxedConeMapPass {
             timed.submit(&self.ctx, |rec| record_rows(rec, MODE_REACH, chunk))?;
         }
         timed.submit(&self.ctx, |rec| {
-            pipeline.bind(rec, set);
-            record_reductions(rec, pipeline, w, h, |level| {
+            self.reach_reduce.bind(rec, set);
+            record_reductions(rec, &self.reach_reduce, w, h, |level| {
                 params(MODE_REACH_REDUCE, level, 0)
             })
         })?;
@@ -190,7 +205,7 @@ fn reach_cap_texels(w: u32) -> f64 {
 
 /// Bytes of the reach pyramid of a `w` x `h` map.
 fn reach_bytes(w: u32, h: u32) -> u64 {
-    pyramid_floats(w, h) * REACH_NODE_WORDS * 4
+    pyramid_floats(w, h) * REACH_WORDS * 4
 }
 
 /// The pass's buffers for one build.
@@ -235,7 +250,7 @@ impl Buffers {
             )?,
             reach: Buffer::new(
                 ctx,
-                nodes * REACH_NODE_WORDS * 4,
+                nodes * REACH_WORDS * 4,
                 storage,
                 gpu,
                 "relaxed cone map reaches",
