@@ -2,18 +2,20 @@
 #extension GL_GOOGLE_include_directive : require
 // The relaxed cone map on the GPU (heightfield::cone_map, "Relaxed cone"): the CPU builder's two
 // searches per texel over the bilinear bound's box surface (level 0 of `pyramid`, computed on
-// the CPU), with its conservative map (cone_map.comp) as the floor, but with the directions cut
-// into the four quadrants, each the union of four of the CPU's sectors:
+// the CPU), but with the directions cut into the four quadrants, each the union of four of the
+// CPU's sectors:
 //   reach(q, Q) = distance from box(q) to the nearest texel lower than q whose direction from
 //                 box(q) may lie in quadrant Q (by the signs of the offsets alone), capped at
 //                 0.25 uv or 16 texels;
-//   c(p) = max(conservative c(p), min over q with h(q) > h(p) of
-//              (dist(p_c, box(q)) + min over quadrants Q the offsets from box(p) to box(q) allow
-//               of reach(q, Q)) / (h(q) - h(p))),
+//   c(p) = min over q with h(q) > h(p) of
+//          (dist(p_c, box(q)) + min over quadrants Q the offsets from box(p) to box(q) allow
+//           of reach(q, Q)) / (h(q) - h(p)),
 // over the 3x3 tiles around the map under Repeat (farther tiles are at least 1 uv away, while a
 // copy of the global maximum lies within sqrt(0.5) + 0.25 < 1 uv), and under Clamp over the
 // map and the border: four strips (a border row or column extended to infinity) and four corner
-// quadrants, which hold no reach (0) as on the CPU.
+// quadrants, which hold no reach (0) as on the CPU. The CPU takes the larger of this and the
+// conservative ratio, but with reaches never negative this is never below the conservative
+// minimum, so the GPU needs no conservative pass.
 //
 // Why quadrants: every quadrant the signs allow holds a CPU sector the CPU allows, and every
 // texel counted for a CPU sector is counted for its quadrant, so a quadrant's reach is at most
@@ -28,14 +30,13 @@
 //  REACH: rows [row0, row0 + rows): each texel's 4 reaches, as u16 multiples of a 65535th of
 //    the cap (rounded down, like the CPU's), into level 0 of `reach`.
 //  REACH_REDUCE: level L of `reach`: per node and quadrant the least reach under it.
-//  RELAXED: rows [row0, row0 + rows): each texel's ratio, written over the conservative one.
+//  RELAXED: rows [row0, row0 + rows): each texel's ratio and bound height.
 // Both searches are depth-first over the pyramid, nearest bound first, and exact; only the
 // arithmetic is f32.
 //
 // Rounding: a reach is stepped down by REACH_DOWN ulps (more than its distance's error and the
 // pruning's) before it is rounded down to a unit; a ratio is computed like the conservative one
-// (cone_search.glsl) and stepped down by STEP_DOWN ulps; the floor is the GPU conservative map,
-// never above the CPU's.
+// (cone_search.glsl) and stepped down by STEP_DOWN ulps.
 layout(local_size_x = 8, local_size_y = 8) in;
 
 const uint MODE_REDUCE = 0u;
@@ -70,9 +71,8 @@ layout(set = 0, binding = 1, std430) buffer Reach {
     uint reach[];
 };
 
-// Per texel of level 0: the ratio and the bound height (MapData's two channels), row-major. Holds
-// the conservative map on entry; RELAXED writes the relaxed ratio over it.
-layout(set = 0, binding = 2, std430) buffer ConeMap {
+// Per texel of level 0: the ratio and the bound height (MapData's two channels), row-major.
+layout(set = 0, binding = 2, std430) writeonly buffer ConeMap {
     vec2 cone_map[];
 };
 
@@ -376,7 +376,6 @@ void relaxed_texel() {
     }
     uint index = p.y * params.width + p.x;
     float hp = pyramid[index];
-    float floor_ratio = cone_map[index].x;
     uint top = params.top;
     float top_height = pyramid[params.offsets[top]];
     float best = CONE_RATIO_MAX;
@@ -397,7 +396,7 @@ void relaxed_texel() {
         best = e.y != NO_BOUND ? uintBitsToFloat(e.y) : best;
     }
     uvec2 stack[STACK];
-    for (int r = 0; r < 9 && top_height > hp && best > floor_ratio; ++r) {
+    for (int r = 0; r < 9 && top_height > hp; ++r) {
         ivec2 axes = region_axes(r);
         uvec2 root = relaxed_kid(axes, top, uvec2(0u), prect, centre, hp, best);
         int sp = 0;
@@ -405,8 +404,7 @@ void relaxed_texel() {
             stack[0] = root;
             sp = 1;
         }
-        // At or below the floor the answer is the floor, whatever else is found.
-        while (sp > 0 && best > floor_ratio) {
+        while (sp > 0) {
             --sp;
             uvec2 e = stack[sp];
             float bound = uintBitsToFloat(e.y);
@@ -444,7 +442,7 @@ void relaxed_texel() {
         }
     }
     float ratio = best < CONE_RATIO_MAX ? step_down(best, STEP_DOWN) : CONE_RATIO_MAX;
-    cone_map[index].x = max(ratio, floor_ratio);
+    cone_map[index] = vec2(ratio, hp);
 }
 
 void main() {

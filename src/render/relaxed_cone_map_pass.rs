@@ -1,35 +1,33 @@
-//! The relaxed cone map built on the GPU (`shaders/passes/relaxed_cone_map.comp`): the same map
-//! as `ConeMap::build(hf, ConeKind::Relaxed, address)` in the same `MapData` layout (ratio, bound
-//! height), from below.
+//! The relaxed cone map built on the GPU (`shaders/passes/relaxed_cone_map.comp`): a map in the
+//! layout of `ConeMap::build(hf, ConeKind::Relaxed, address)` (`MapData`: ratio, bound height),
+//! never wider than the CPU's.
 //!
-//! Steps: the conservative map on the GPU (`cone_map_pass`, which also computes the bilinear
-//! bound on the CPU); the bound and `1 - bound` uploaded into one storage buffer and reduced to
-//! a max and a min pyramid; per texel, the 16 sector reaches (the CPU's `reach`), reduced to a
-//! pyramid of per-sector minima; per texel, the relaxed ratio (the CPU's `relaxed`) over the
-//! conservative floor. The searches are exact, their arithmetic f32, and every rounding goes
-//! toward a narrower cone, so a cone is never wider than the CPU's: the relaxed property (a ray
-//! crosses the surface at most once inside the cone) holds for the GPU map as for the CPU's.
+//! Steps: the bilinear bound (`bilinear_box_bound`, on the CPU, so the surface channel is the
+//! CPU's bit for bit) and `1 - bound` uploaded into one storage buffer and reduced to a max and a
+//! min pyramid; per texel, the reaches (the CPU's `reach`), reduced to a pyramid of minima; per
+//! texel, the relaxed ratio (the CPU's `relaxed`). The searches are exact, their arithmetic f32.
 //!
-//! Guarantee: every GPU ratio is at most the CPU builder's. On every test field it is also within
-//! `RATIO_TOLERANCE` below it (`tests/relaxed_cone_map_gpu.rs`); in principle a ratio can fall a
-//! little further, where f32 rounding drops a reach by one unit (a 65535th of the reach cap) or
-//! the wider f32 sector slack lets a neighbouring sector's reach count (the shader's header).
+//! Not the CPU's numbers: the GPU cuts directions into quadrants, not the CPU's 16 sectors (the
+//! shader's header says why). A quadrant's reach is at most each of its sectors', and every
+//! rounding goes toward a narrower cone, so every ratio is at most the CPU's and the relaxed
+//! property (a ray crosses the surface at most once inside the cone) holds as for the CPU's map.
+//! On every test field each ratio is also within `RATIO_TOLERANCE` below the CPU's
+//! (`tests/relaxed_cone_map_gpu.rs`), and on fbm at 1024^2 too.
 //!
-//! Cost (lavapipe, two cores, fbm 1024^2): about 12 s of GPU time, 1.2x faster than the CPU
-//! builder (15 s): the conservative map 1.3 s, the reaches 2.6 s, the relaxed search 9 s. The
-//! relaxed search is the CPU's, node for node; its per-texel work grows with the cones' span in
-//! texels (about 3x per texel from 256^2 to 1024^2 on fbm).
+//! Cost (lavapipe, two cores, fbm 1024^2): the reaches about 2 s and the relaxed search about 5 s
+//! of GPU time, against 15 s for the CPU builder; the relaxed search opens about as many nodes
+//! per texel as the conservative one but each bound costs more, and its work per texel grows with
+//! the cones' span in texels (about 3x per texel from 256^2 to 1024^2 on fbm).
 
 use std::sync::Arc;
 
 use ash::vk;
 
-use super::cone_map_pass::ConeMapPass;
 use super::map_search::{
     check_side, level_offsets, pyramid_floats, record_reductions, row_chunks, top_level,
     SearchPipeline, TimedSubmissions, COMPUTE_RW, COPIED, GROUP, MAX_LEVELS, SHADER_WROTE,
 };
-use crate::heightfield::cone_map::{REACH_CAP_TEXELS, REACH_CAP_UV};
+use crate::heightfield::cone_map::{bilinear_box_bound, REACH_CAP_TEXELS, REACH_CAP_UV};
 use crate::heightfield::{Address, Heightfield, MapData};
 use crate::vk::{
     memory_barrier, Bind, Buffer, Context, MemoryLocation, Pipeline, Readback, Recording,
@@ -64,11 +62,10 @@ struct Params {
 
 const _: () = assert!(MAX_LEVELS == 15, "Params::offsets holds MAX_LEVELS offsets");
 
-/// The relaxed-cone pipeline (and the conservative one it starts from), with one descriptor set
-/// rewritten for every build.
+/// The relaxed-cone pipelines (one per mode) with one descriptor set rewritten for every build
+/// (builds wait for their submissions, so the set is never in use when it is rewritten).
 pub struct RelaxedConeMapPass {
     ctx: Arc<Context>,
-    conservative: ConeMapPass,
     /// The set and the REDUCE pipeline.
     search: SearchPipeline,
     reach: Pipeline,
@@ -77,7 +74,7 @@ pub struct RelaxedConeMapPass {
 }
 
 impl RelaxedConeMapPass {
-    /// Creates the pipelines (the conservative map's and one per mode), their layouts and sets.
+    /// Creates the pipelines (one per mode), their layout and set.
     pub fn new(ctx: &Arc<Context>) -> VkResult<RelaxedConeMapPass> {
         let push = std::mem::size_of::<Params>() as u32;
         let key = "relaxed_cone_map.comp";
@@ -88,7 +85,6 @@ impl RelaxedConeMapPass {
         };
         Ok(RelaxedConeMapPass {
             ctx: ctx.clone(),
-            conservative: ConeMapPass::new(ctx)?,
             reach: mode(MODE_REACH, "relaxed cone map reaches")?,
             reach_reduce: mode(MODE_REACH_REDUCE, "relaxed cone map reach pyramid")?,
             relaxed: mode(MODE_RELAXED, "relaxed cone map search")?,
@@ -102,9 +98,8 @@ impl RelaxedConeMapPass {
         reach_bytes(w, h) <= u64::from(ctx.info().max_storage_buffer_range)
     }
 
-    /// Builds the relaxed cone map of `hf` under `address`, with the GPU time in ms (the
-    /// conservative map's and every submission of this pass; the CPU's bilinear bound and the
-    /// transfers are not in it).
+    /// Builds the relaxed cone map of `hf` under `address`, with the GPU time in ms (every
+    /// submission; the CPU's bilinear bound and the transfers are not in it).
     pub fn build(&self, hf: &Heightfield, address: Address) -> VkResult<(MapData, f64)> {
         let (w, h) = (hf.width(), hf.height());
         check_side("relaxed cone map", w, h)?;
@@ -116,7 +111,7 @@ impl RelaxedConeMapPass {
                 self.ctx.info().max_storage_buffer_range >> 20
             )));
         }
-        let (conservative, conservative_ms) = self.conservative.build(hf, address)?;
+        let bound = bilinear_box_bound(hf, address);
         let nodes = pyramid_floats(w, h);
         let min_base = u32::try_from(nodes).map_err(|_| {
             VkError::Invalid(format!("relaxed cone map of {w}x{h}: pyramid too large"))
@@ -141,7 +136,7 @@ impl RelaxedConeMapPass {
             row0,
             ..base
         };
-        let buffers = Buffers::new(&self.ctx, &conservative, nodes)?;
+        let buffers = Buffers::new(&self.ctx, bound.data(), nodes)?;
         self.search.set.rewrite(
             &self.ctx,
             &[
@@ -156,7 +151,6 @@ impl RelaxedConeMapPass {
         let mut timed = TimedSubmissions::new(&self.ctx, submissions, "relaxed cone map")?;
         timed.submit(&self.ctx, |rec| {
             rec.copy_buffer(&buffers.pyramid_staging, &buffers.pyramid);
-            rec.copy_buffer(&buffers.map_staging, &buffers.map);
             memory_barrier(rec, COPIED, COMPUTE_RW);
             let reduce = &self.search.pipeline;
             reduce.bind(rec, set);
@@ -189,10 +183,12 @@ impl RelaxedConeMapPass {
         let back = Readback::new(&self.ctx, buffers.map.size(), "relaxed cone map readback")?;
         self.ctx
             .one_shot(|rec| back.record_copy_from_buffer(rec, &buffers.map, SHADER_WROTE))?;
-        let gpu_ms = conservative_ms + timed.total_ms()?;
+        let gpu_ms = timed.total_ms()?;
         let map = MapData {
+            width: w,
+            height: h,
+            channels: 2,
             texels: bytemuck::pod_collect_to_vec(back.bytes()?),
-            ..conservative
         };
         Ok((map, gpu_ms))
     }
@@ -214,37 +210,31 @@ struct Buffers {
     pyramid_staging: Buffer,
     pyramid: Buffer,
     reach: Buffer,
-    map_staging: Buffer,
     map: Buffer,
 }
 
 impl Buffers {
-    fn new(ctx: &Arc<Context>, conservative: &MapData, nodes: u64) -> VkResult<Buffers> {
-        let texels = conservative.width as usize * conservative.height as usize;
+    fn new(ctx: &Arc<Context>, bound: &[f32], nodes: u64) -> VkResult<Buffers> {
         let mut levels = vec![0.0f32; 2 * nodes as usize];
-        let bound = conservative.texels.iter().skip(1).step_by(2);
-        for (k, &h) in bound.enumerate() {
+        for (k, &h) in bound.iter().enumerate() {
             levels[k] = h;
             // Rounded as the shader computes 1 - h for the texel searched, so h < hq gives
             // 1 - h >= 1 - hq.
             levels[nodes as usize + k] = 1.0 - h;
         }
-        debug_assert_eq!(conservative.texels.len(), 2 * texels);
         let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
-        let src = vk::BufferUsageFlags::TRANSFER_SRC;
-        let dst = vk::BufferUsageFlags::TRANSFER_DST;
         let gpu = MemoryLocation::GpuOnly;
         Ok(Buffers {
             pyramid_staging: Buffer::with_data(
                 ctx,
                 bytemuck::cast_slice(&levels),
-                src,
+                vk::BufferUsageFlags::TRANSFER_SRC,
                 "relaxed cone map levels",
             )?,
             pyramid: Buffer::new(
                 ctx,
                 levels.len() as u64 * 4,
-                storage | dst,
+                storage | vk::BufferUsageFlags::TRANSFER_DST,
                 gpu,
                 "relaxed cone map pyramid",
             )?,
@@ -255,16 +245,10 @@ impl Buffers {
                 gpu,
                 "relaxed cone map reaches",
             )?,
-            map_staging: Buffer::with_data(
-                ctx,
-                bytemuck::cast_slice(&conservative.texels),
-                src,
-                "relaxed cone map floor",
-            )?,
             map: Buffer::new(
                 ctx,
-                conservative.texels.len() as u64 * 4,
-                storage | dst | src,
+                bound.len() as u64 * 2 * 4,
+                storage | vk::BufferUsageFlags::TRANSFER_SRC,
                 gpu,
                 "relaxed cone map",
             )?,
