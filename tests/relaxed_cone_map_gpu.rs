@@ -63,8 +63,8 @@ fn check(pass: &RelaxedConeMapPass, hf: &Heightfield, address: Address, what: &s
             g <= c,
             "{what} {texel:?}: GPU cone {g} wider than the CPU's {c}"
         );
-        // The shader's sector slack and its reach rounding could each cost a little more than
-        // this; on these fields neither does.
+        // Quadrants for sectors and the reach rounding could cost more than this in principle;
+        // on these fields neither does.
         assert!(
             g >= c * (1.0 - RATIO_TOLERANCE),
             "{what} {texel:?}: GPU ratio {g} too far below the CPU's {c}"

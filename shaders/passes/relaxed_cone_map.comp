@@ -361,11 +361,8 @@ uvec2 relaxed_kid(ivec2 axes, uint level, uvec2 at, Node prect, vec2 centre, flo
         return none;
     }
     Node rect = region_rect(axes, level, at);
-    float b = cone_map_value(centre, rect.lo, rect.hi, h - hp, 0.0);
-    if (region_real(axes) && b < best) {
-        float extra = least_reach(level, at, quadrants_between(prect, rect));
-        b = cone_map_value(centre, rect.lo, rect.hi, h - hp, extra);
-    }
+    float extra = region_real(axes) ? least_reach(level, at, quadrants_between(prect, rect)) : 0.0;
+    float b = cone_map_value(centre, rect.lo, rect.hi, h - hp, extra);
     return b < best ? entry(level, at.x, at.y, b) : none;
 }
 

@@ -1,8 +1,8 @@
 //! `relief maps`: the max pyramid of a height map, built on the GPU, one 16-bit PNG per level;
 //! with `--method`, also that method's precomputed map (cone ratios, quadric coefficients) as
-//! `map.npy`, with its build time: the conservative cone map and the quadric map on the GPU
-//! unless `--map-on cpu`, the others on the CPU. Both are built with the same addressing (`--address`, repeat by default
-//! as for `render`).
+//! `map.npy`, with its build time: on the GPU (every map has a GPU builder, for maps the device
+//! takes) unless `--map-on cpu`. Both are built with the same addressing (`--address`, repeat by
+//! default as for `render`).
 
 use std::path::PathBuf;
 
