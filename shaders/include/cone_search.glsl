@@ -76,3 +76,24 @@ void order(inout uvec2 a, inout uvec2 b) {
         b = t;
     }
 }
+
+// The depth-first search's stack: one array of packed entries (private arrays indexed at run
+// time are costly on some implementations; lavapipe spills them to memory, so a search keeps just
+// this one).
+uvec2 search_stack[STACK];
+
+// Pushes a node's children (entries, NO_BOUND for none) sorted by a fixed network of swaps, the
+// nearest last so it is searched next. sp < STACK always holds (see STACK); the check only keeps
+// the accesses in bounds.
+void push_children(inout int sp, uvec2 e0, uvec2 e1, uvec2 e2, uvec2 e3) {
+    // Descending by bound (positive floats order as their bits).
+    order(e0, e1);
+    order(e2, e3);
+    order(e0, e2);
+    order(e1, e3);
+    order(e1, e2);
+    if (e0.y != NO_BOUND && sp < STACK) { search_stack[sp++] = e0; }
+    if (e1.y != NO_BOUND && sp < STACK) { search_stack[sp++] = e1; }
+    if (e2.y != NO_BOUND && sp < STACK) { search_stack[sp++] = e2; }
+    if (e3.y != NO_BOUND && sp < STACK) { search_stack[sp++] = e3; }
+}

@@ -97,9 +97,6 @@ void cone() {
     float best = CONE_RATIO_MAX;
     // Centre in texels; the v axis is scaled to u-texel units only inside cone_map_value.
     vec2 centre = vec2(p) + 0.5;
-    // One array of packed entries: private arrays indexed at run time are costly on some
-    // implementations (lavapipe spills them to memory), so the search keeps just this one.
-    uvec2 stack[STACK];
     // Seed the best with the 8 neighbours (genuine candidates, so the minimum is unchanged) so
     // that most of the pyramid is pruned from the first node on, as the CPU search does.
     for (int n = 0; n < 9 && top_height > hp; ++n) {
@@ -126,12 +123,12 @@ void cone() {
         float root_bound = cone_map_value(centre, root.lo, root.hi, top_height - hp, 0.0);
         int sp = 0;
         if (root_bound < best) {
-            stack[0] = entry(top, 0u, 0u, root_bound);
+            search_stack[0] = entry(top, 0u, 0u, root_bound);
             sp = 1;
         }
         while (sp > 0) {
             --sp;
-            uvec2 e = stack[sp];
+            uvec2 e = search_stack[sp];
             float bound = uintBitsToFloat(e.y);
             if (!(bound < best)) {
                 continue;
@@ -143,8 +140,7 @@ void cone() {
                 continue;
             }
             // The children on the level below (clipped to it), with their bounds in registers
-            // (a node that cannot improve the best gets NO_BOUND), sorted by a fixed network of
-            // swaps, so that the nearest is pushed last and searched next without any array.
+            // (a node that cannot improve the best gets NO_BOUND), pushed nearest last.
             uint child = level - 1u;
             uvec2 size = level_size(child);
             uvec2 first = at * 2u;
@@ -156,17 +152,7 @@ void cone() {
                 : kid(child, uvec2(first.x, last.y), size, tile, centre, hp, best);
             uvec2 e3 = first.x == last.x || first.y == last.y ? uvec2(0u, NO_BOUND)
                 : kid(child, last, size, tile, centre, hp, best);
-            // Descending by bound (positive floats order as their bits).
-            order(e0, e1);
-            order(e2, e3);
-            order(e0, e2);
-            order(e1, e3);
-            order(e1, e2);
-            // sp < STACK always holds (see STACK); the tests only keep the accesses in bounds.
-            if (e0.y != NO_BOUND && sp < STACK) { stack[sp++] = e0; }
-            if (e1.y != NO_BOUND && sp < STACK) { stack[sp++] = e1; }
-            if (e2.y != NO_BOUND && sp < STACK) { stack[sp++] = e2; }
-            if (e3.y != NO_BOUND && sp < STACK) { stack[sp++] = e3; }
+            push_children(sp, e0, e1, e2, e3);
         }
     }
     // Below the minimum of the computed values by more than their error (see the header); a

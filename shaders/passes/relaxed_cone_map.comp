@@ -260,18 +260,17 @@ void reach_texel() {
     float cap = params.reach_cap;
     vec4 reaches = vec4(cap);
     Node q = node_rect(0u, p, vec2(0.0));
-    uvec2 stack[STACK];
     for (int r = 0; r < 9; ++r) {
         ivec2 axes = region_axes(r);
         uvec2 root = reach_kid(axes, params.top, uvec2(0u), q, g, reaches);
         int sp = 0;
         if (root.y != NO_BOUND) {
-            stack[0] = root;
+            search_stack[0] = root;
             sp = 1;
         }
         while (sp > 0) {
             --sp;
-            uvec2 e = stack[sp];
+            uvec2 e = search_stack[sp];
             float d = uintBitsToFloat(e.y);
             uint level = entry_level(e.x);
             uvec2 at = entry_at(e.x);
@@ -289,22 +288,13 @@ void reach_texel() {
             uvec2 size = level_size(child);
             uvec2 xs = axis_children(axes.x, child, at.x, size.x, params.width);
             uvec2 ys = axis_children(axes.y, child, at.y, size.y, params.height);
-            // One call site in a loop, not four inlined copies (lavapipe runs the smaller code
-            // faster); each child is inserted so that the nearest ends on top.
-            int first = sp;
-            for (uint k = 0u; k < 4u; ++k) {
-                bool twin = ((k & 1u) != 0u && xs.x == xs.y) || ((k & 2u) != 0u && ys.x == ys.y);
-                uvec2 c = uvec2((k & 1u) != 0u ? xs.y : xs.x, (k & 2u) != 0u ? ys.y : ys.x);
-                uvec2 kid = twin ? uvec2(0u, NO_BOUND) : reach_kid(axes, child, c, q, g, reaches);
-                if (kid.y != NO_BOUND && sp < STACK) {
-                    int slot = sp++;
-                    while (slot > first && stack[slot - 1].y < kid.y) {
-                        stack[slot] = stack[slot - 1];
-                        --slot;
-                    }
-                    stack[slot] = kid;
-                }
-            }
+            uvec2 none = uvec2(0u, NO_BOUND);
+            uvec2 e0 = reach_kid(axes, child, uvec2(xs.x, ys.x), q, g, reaches);
+            uvec2 e1 = xs.x == xs.y ? none : reach_kid(axes, child, uvec2(xs.y, ys.x), q, g, reaches);
+            uvec2 e2 = ys.x == ys.y ? none : reach_kid(axes, child, uvec2(xs.x, ys.y), q, g, reaches);
+            uvec2 e3 = xs.x == xs.y || ys.x == ys.y ? none
+                : reach_kid(axes, child, uvec2(xs.y, ys.y), q, g, reaches);
+            push_children(sp, e0, e1, e2, e3);
         }
     }
     reach[2u * index] = reach_units(reaches.x, cap) | (reach_units(reaches.y, cap) << 16);
@@ -339,9 +329,8 @@ void reach_reduce() {
 
 // ---- RELAXED ------------------------------------------------------------------------------------
 
-// The least reach, in u-texels, over the quadrants in `mask` of node `at` on `level`.
-float least_reach(uint level, uvec2 at, uint mask) {
-    uint node = node_index(level, at);
+// The least reach, in u-texels, over the quadrants in `mask` of node `node` (node_index).
+float least_reach(uint node, uint mask) {
     uvec2 words = uvec2(reach[2u * node], reach[2u * node + 1u]);
     uvec4 quadrants = uvec4(words.x & 0xffffu, words.x >> 16, words.y & 0xffffu, words.y >> 16);
     uvec4 counted = mix(uvec4(0xffffu), quadrants, quadrant_bits(mask));
@@ -356,12 +345,13 @@ float least_reach(uint level, uvec2 at, uint mask) {
 uvec2 relaxed_kid(ivec2 axes, uint level, uvec2 at, Node prect, vec2 centre, float hp,
                   float best) {
     uvec2 none = uvec2(0u, NO_BOUND);
-    float h = pyramid[node_index(level, at)];
+    uint node = node_index(level, at);
+    float h = pyramid[node];
     if (!(h > hp)) {
         return none;
     }
     Node rect = region_rect(axes, level, at);
-    float extra = region_real(axes) ? least_reach(level, at, quadrants_between(prect, rect)) : 0.0;
+    float extra = region_real(axes) ? least_reach(node, quadrants_between(prect, rect)) : 0.0;
     float b = cone_map_value(centre, rect.lo, rect.hi, h - hp, extra);
     return b < best ? entry(level, at.x, at.y, b) : none;
 }
@@ -392,18 +382,17 @@ void relaxed_texel() {
         uvec2 e = relaxed_kid(axes, 0u, uvec2(wrapped), prect, centre, hp, best);
         best = e.y != NO_BOUND ? uintBitsToFloat(e.y) : best;
     }
-    uvec2 stack[STACK];
     for (int r = 0; r < 9 && top_height > hp; ++r) {
         ivec2 axes = region_axes(r);
         uvec2 root = relaxed_kid(axes, top, uvec2(0u), prect, centre, hp, best);
         int sp = 0;
         if (root.y != NO_BOUND) {
-            stack[0] = root;
+            search_stack[0] = root;
             sp = 1;
         }
         while (sp > 0) {
             --sp;
-            uvec2 e = stack[sp];
+            uvec2 e = search_stack[sp];
             float bound = uintBitsToFloat(e.y);
             if (!(bound < best)) {
                 continue;
@@ -418,24 +407,15 @@ void relaxed_texel() {
             uvec2 size = level_size(child);
             uvec2 xs = axis_children(axes.x, child, at.x, size.x, params.width);
             uvec2 ys = axis_children(axes.y, child, at.y, size.y, params.height);
-            // One call site in a loop, not four inlined copies: lavapipe runs the smaller code
-            // far faster. Pushed, then ordered on the stack so the nearest is popped first.
-            int first = sp;
-            for (uint k = 0u; k < 4u; ++k) {
-                uvec2 c = uvec2((k & 1u) != 0u ? xs.y : xs.x, (k & 2u) != 0u ? ys.y : ys.x);
-                bool duplicate = ((k & 1u) != 0u && xs.x == xs.y) || ((k & 2u) != 0u && ys.x == ys.y);
-                uvec2 kid = duplicate ? uvec2(0u, NO_BOUND)
-                    : relaxed_kid(axes, child, c, prect, centre, hp, best);
-                if (kid.y != NO_BOUND && sp < STACK) {
-                    // Insertion: larger bounds deeper, so the nearest ends on top.
-                    int at_k = sp++;
-                    while (at_k > first && stack[at_k - 1].y < kid.y) {
-                        stack[at_k] = stack[at_k - 1];
-                        --at_k;
-                    }
-                    stack[at_k] = kid;
-                }
-            }
+            uvec2 none = uvec2(0u, NO_BOUND);
+            uvec2 e0 = relaxed_kid(axes, child, uvec2(xs.x, ys.x), prect, centre, hp, best);
+            uvec2 e1 = xs.x == xs.y ? none
+                : relaxed_kid(axes, child, uvec2(xs.y, ys.x), prect, centre, hp, best);
+            uvec2 e2 = ys.x == ys.y ? none
+                : relaxed_kid(axes, child, uvec2(xs.x, ys.y), prect, centre, hp, best);
+            uvec2 e3 = xs.x == xs.y || ys.x == ys.y ? none
+                : relaxed_kid(axes, child, uvec2(xs.y, ys.y), prect, centre, hp, best);
+            push_children(sp, e0, e1, e2, e3);
         }
     }
     float ratio = best < CONE_RATIO_MAX ? step_down(best, STEP_DOWN) : CONE_RATIO_MAX;
