@@ -10,10 +10,12 @@ mod common;
 use std::sync::Arc;
 
 use relief::heightfield::quadric_map::{profile_height, trace_quadric_cpu, QuadricMap};
-use relief::heightfield::reference::{surface_depth, trace, Address, RefRay, SurfaceModel};
+use relief::heightfield::reference::{surface_depth, trace, Address, SurfaceModel};
 use relief::heightfield::{Generator, Heightfield, MapData};
 use relief::render::QuadricMapPass;
 use relief::vk::Context;
+
+use common::rays::Rng;
 
 const FIELDS: [Generator; 5] = [
     Generator::Fbm,
@@ -108,36 +110,6 @@ fn check(pass: &QuadricMapPass, hf: &Heightfield, address: Address, what: &str) 
         }
     }
     gpu
-}
-
-/// A small deterministic generator (SplitMix64).
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    }
-
-    fn range(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.next()
-    }
-
-    /// Elevation in [5, 90] degrees, any azimuth, entry anywhere in the first tile.
-    fn ray(&mut self) -> RefRay {
-        let e = self.range(5.0, 90.0).to_radians();
-        let a = self.range(0.0, 360.0).to_radians();
-        RefRay {
-            u0: self.next(),
-            v0: self.next(),
-            dx: e.cos() * a.cos(),
-            dy: e.cos() * a.sin(),
-            dz: e.sin(),
-        }
-    }
 }
 
 fn bilinear(hf: &Heightfield, p: (f64, f64), address: Address) -> f64 {

@@ -12,7 +12,7 @@
 //! rounding goes toward a narrower cone, so every ratio is at most the CPU's and the relaxed
 //! property (a ray crosses the surface at most once inside the cone) holds as for the CPU's map.
 //! On every test field each ratio is also within `RATIO_TOLERANCE` below the CPU's
-//! (`tests/relaxed_cone_map_gpu.rs`), and on fbm at 1024^2 too.
+//! (`tests/cone_map_gpu.rs`), and on fbm at 1024^2 too.
 //!
 //! Cost (lavapipe, two cores, fbm 1024^2): the reaches about 2 s and the relaxed search about 5 s
 //! of GPU time, against 15 s for the CPU builder; the relaxed search opens about as many nodes

@@ -6,6 +6,7 @@ pub mod base64;
 pub mod corpus;
 pub mod golden;
 pub mod npy;
+pub mod rays;
 
 use std::path::PathBuf;
 use std::sync::Arc;
