@@ -14,10 +14,11 @@
 //! On every test field each ratio is also within `RATIO_TOLERANCE` below the CPU's
 //! (`tests/cone_map_gpu.rs`), and on fbm at 1024^2 too.
 //!
-//! Cost (lavapipe, two cores, fbm 1024^2): the reaches about 2 s and the relaxed search about 5 s
-//! of GPU time, against 15 s for the CPU builder; the relaxed search opens about as many nodes
-//! per texel as the conservative one but each bound costs more, and its work per texel grows with
-//! the cones' span in texels (about 3x per texel from 256^2 to 1024^2 on fbm).
+//! Cost (lavapipe, two cores, fbm 1024^2, release): 4.0-4.4 s of GPU time against 16 s for the
+//! CPU builder run right after (the README's map table): the reaches about 1.7 s, the ratios about
+//! 3 s. The relaxed search opens about as many nodes per texel as the conservative one, but each
+//! bound costs more, and its work per texel grows with the cones' span in texels (about 3x per
+//! texel from 256^2 to 1024^2 on fbm).
 
 use std::sync::Arc;
 
@@ -34,8 +35,9 @@ use crate::vk::{
     SpecConstants, VkError, VkResult,
 };
 
-/// Words per pyramid node of the reach buffer: 4 quadrants of u16.
-const REACH_WORDS: u64 = 2;
+/// Bytes per pyramid node: the maximum height, the maximum of 1 - height (f32 bits each) and
+/// the least reach of each quadrant (u16).
+const NODE_BYTES: u64 = 16;
 
 const MODE_REDUCE: u32 = 0;
 const MODE_REACH: u32 = 1;
@@ -54,7 +56,6 @@ struct Params {
     row0: u32,
     aspect: f32,
     top: u32,
-    min_base: u32,
     reach_unit: f32,
     reach_cap: f32,
     offsets: [u32; 15],
@@ -78,7 +79,7 @@ impl RelaxedConeMapPass {
     pub fn new(ctx: &Arc<Context>) -> VkResult<RelaxedConeMapPass> {
         let push = std::mem::size_of::<Params>() as u32;
         let key = "relaxed_cone_map.comp";
-        let search = SearchPipeline::new(ctx, key, push, 3, "relaxed cone map")?;
+        let search = SearchPipeline::new(ctx, key, push, 2, "relaxed cone map")?;
         let mode = |mode, name| {
             let spec = SpecConstants::default().u32(0, mode);
             search.specialized(ctx, key, push, &spec, name)
@@ -92,10 +93,10 @@ impl RelaxedConeMapPass {
         })
     }
 
-    /// Whether the device takes the reach pyramid of a `w` x `h` map in one storage buffer (32
-    /// bytes a node: about 700 MB at 4096^2).
+    /// Whether the device takes the pyramid of a `w` x `h` map in one storage buffer (16 bytes a
+    /// node: about 360 MB at 4096^2).
     pub fn fits(ctx: &Context, w: u32, h: u32) -> bool {
-        reach_bytes(w, h) <= u64::from(ctx.info().max_storage_buffer_range)
+        pyramid_bytes(w, h) <= u64::from(ctx.info().max_storage_buffer_range)
     }
 
     /// Builds the relaxed cone map of `hf` under `address`, with the GPU time in ms (every
@@ -105,17 +106,14 @@ impl RelaxedConeMapPass {
         check_side("relaxed cone map", w, h)?;
         if !Self::fits(&self.ctx, w, h) {
             return Err(VkError::Invalid(format!(
-                "relaxed cone map of {w}x{h}: its reach pyramid ({} MiB) exceeds the device's \
-                 largest storage buffer ({} MiB)",
-                reach_bytes(w, h) >> 20,
+                "relaxed cone map of {w}x{h}: its pyramid ({} MiB) exceeds the device's largest \
+                 storage buffer ({} MiB)",
+                pyramid_bytes(w, h) >> 20,
                 self.ctx.info().max_storage_buffer_range >> 20
             )));
         }
         let bound = bilinear_box_bound(hf, address);
         let nodes = pyramid_floats(w, h);
-        let min_base = u32::try_from(nodes).map_err(|_| {
-            VkError::Invalid(format!("relaxed cone map of {w}x{h}: pyramid too large"))
-        })?;
         let base = Params {
             mode: MODE_REDUCE,
             width: w,
@@ -125,7 +123,6 @@ impl RelaxedConeMapPass {
             row0: 0,
             aspect: (f64::from(w) / f64::from(h)) as f32,
             top: top_level(w, h),
-            min_base,
             reach_unit: (reach_cap_texels(w) / 65535.0) as f32,
             reach_cap: reach_cap_texels(w) as f32,
             offsets: level_offsets(w, h),
@@ -140,9 +137,8 @@ impl RelaxedConeMapPass {
         self.search.set.rewrite(
             &self.ctx,
             &[
-                Bind::Storage(0, buffers.pyramid.raw()),
-                Bind::Storage(1, buffers.reach.raw()),
-                Bind::Storage(2, buffers.map.raw()),
+                Bind::Storage(0, buffers.nodes.raw()),
+                Bind::Storage(1, buffers.map.raw()),
             ],
         );
         let set = Some(self.search.set);
@@ -150,7 +146,7 @@ impl RelaxedConeMapPass {
         let submissions = 2 + 2 * chunks.len() as u32;
         let mut timed = TimedSubmissions::new(&self.ctx, submissions, "relaxed cone map")?;
         timed.submit(&self.ctx, |rec| {
-            rec.copy_buffer(&buffers.pyramid_staging, &buffers.pyramid);
+            rec.copy_buffer(&buffers.staging, &buffers.nodes);
             memory_barrier(rec, COPIED, COMPUTE_RW);
             let reduce = &self.search.pipeline;
             reduce.bind(rec, set);
@@ -199,51 +195,43 @@ fn reach_cap_texels(w: u32) -> f64 {
     (REACH_CAP_UV * f64::from(w)).min(REACH_CAP_TEXELS)
 }
 
-/// Bytes of the reach pyramid of a `w` x `h` map.
-fn reach_bytes(w: u32, h: u32) -> u64 {
-    pyramid_floats(w, h) * REACH_WORDS * 4
+/// Bytes of the node pyramid of a `w` x `h` map.
+fn pyramid_bytes(w: u32, h: u32) -> u64 {
+    pyramid_floats(w, h) * NODE_BYTES
 }
 
 /// The pass's buffers for one build.
 struct Buffers {
-    /// The bound heights at 0 and `1 - bound` at the min pyramid's start, zeros elsewhere.
-    pyramid_staging: Buffer,
-    pyramid: Buffer,
-    reach: Buffer,
+    /// Level 0 of `nodes` (heights and 1 - heights, no reaches yet), zeros above.
+    staging: Buffer,
+    nodes: Buffer,
     map: Buffer,
 }
 
 impl Buffers {
     fn new(ctx: &Arc<Context>, bound: &[f32], nodes: u64) -> VkResult<Buffers> {
-        let mut levels = vec![0.0f32; 2 * nodes as usize];
-        for (k, &h) in bound.iter().enumerate() {
-            levels[k] = h;
+        let mut words = vec![0u32; 4 * nodes as usize];
+        for (node, &h) in words.chunks_exact_mut(4).zip(bound) {
+            node[0] = h.to_bits();
             // Rounded as the shader computes 1 - h for the texel searched, so h < hq gives
             // 1 - h >= 1 - hq.
-            levels[nodes as usize + k] = 1.0 - h;
+            node[1] = (1.0 - h).to_bits();
         }
         let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
         let gpu = MemoryLocation::GpuOnly;
         Ok(Buffers {
-            pyramid_staging: Buffer::with_data(
+            staging: Buffer::with_data(
                 ctx,
-                bytemuck::cast_slice(&levels),
+                bytemuck::cast_slice(&words),
                 vk::BufferUsageFlags::TRANSFER_SRC,
                 "relaxed cone map levels",
             )?,
-            pyramid: Buffer::new(
+            nodes: Buffer::new(
                 ctx,
-                levels.len() as u64 * 4,
+                nodes * NODE_BYTES,
                 storage | vk::BufferUsageFlags::TRANSFER_DST,
                 gpu,
                 "relaxed cone map pyramid",
-            )?,
-            reach: Buffer::new(
-                ctx,
-                nodes * REACH_WORDS * 4,
-                storage,
-                gpu,
-                "relaxed cone map reaches",
             )?,
             map: Buffer::new(
                 ctx,
