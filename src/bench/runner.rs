@@ -14,7 +14,7 @@ use super::subgroup_steps::subgroup_steps;
 use super::sweep::{FieldSource, SweepConfig};
 use super::trace_stats::{ray_direction, trace_stats};
 use crate::heightfield::{build_method_map, Heightfield, LoadOptions, MapData};
-use crate::method::{BenchRole, Budget, MapKind, Method};
+use crate::method::{BenchRole, Budget, Method};
 use crate::render::{
     build_method_map_with, build_pyramid_on_gpu, time_method, trace_on_gpu, BenchRequest,
     HeightFormat, MapBuilder, TraceRequest,
@@ -252,7 +252,7 @@ impl Runner {
             return Ok(None);
         };
         self.record_map_build(method, field, hf, built.ms, built.on);
-        if built.on == "gpu" && cpu_reference_wanted(method, hf) {
+        if built.on == "gpu" && cpu_reference_wanted(hf) {
             if let Some((_, took)) = build_method_map(method, hf, self.cfg.address) {
                 self.record_map_build(method, field, hf, took.as_secs_f64() * 1e3, "cpu");
             }
@@ -360,14 +360,13 @@ impl Runner {
     }
 }
 
-/// The largest side at which the bench also builds a conservative cone map on the CPU: beyond it
-/// the CPU takes over a minute (75 s at 4096^2) that the bench has not spent since the GPU
-/// builder landed. The other maps were always built on the CPU at every size, so they keep
-/// their CPU row everywhere.
-const CPU_CONE_MAP_MAX_SIDE: u32 = 1024;
+/// The largest side at which the bench also builds a map on the CPU after its GPU build: beyond
+/// it the CPU builders take minutes (at 4096^2 about 75 s for the conservative cone map, 100 s for
+/// the quadric map and over ten minutes for the relaxed cone map) that only repeat the comparison
+/// the smaller sizes already make.
+const CPU_MAP_MAX_SIDE: u32 = 1024;
 
-/// Whether the bench rebuilds `method`'s map of `hf` on the CPU for the map table.
-fn cpu_reference_wanted(method: Method, hf: &Heightfield) -> bool {
-    method.info().method_map() != Some(MapKind::ConservativeCone)
-        || hf.width().max(hf.height()) <= CPU_CONE_MAP_MAX_SIDE
+/// Whether the bench rebuilds `hf`'s map on the CPU, after a GPU build, for the map table.
+fn cpu_reference_wanted(hf: &Heightfield) -> bool {
+    hf.width().max(hf.height()) <= CPU_MAP_MAX_SIDE
 }
