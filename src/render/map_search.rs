@@ -206,15 +206,30 @@ impl<P: bytemuck::Pod> MapSearch<'_, P> {
         Ok((bytemuck::pod_collect_to_vec(back.bytes()?), gpu_ms))
     }
 
-    /// Searches `count` rows from `row0`, then makes the results visible to the host.
+    /// Searches `count` rows from `row0`.
     fn record_rows(&self, rec: &Recording, w: u32, row0: u32, count: u32) -> VkResult<()> {
-        self.pipeline.bind(rec, Some(self.set));
         let params = (self.params)(MODE_SEARCH, 0, row0);
-        self.pipeline.push(rec, bytemuck::bytes_of(&params))?;
-        rec.dispatch([w.div_ceil(GROUP), count.div_ceil(GROUP), 1]);
-        memory_barrier(rec, SHADER_WROTE, HOST_READS);
-        Ok(())
+        let push = bytemuck::bytes_of(&params);
+        record_row_dispatch(rec, self.pipeline, self.set, push, w, count)
     }
+}
+
+/// Binds `pipeline` and `set`, pushes `push` and dispatches one invocation per texel of `count`
+/// rows of a `w`-wide map (the push constants say which), then a barrier for the dispatches
+/// after it (the read-back copy adds its own).
+pub(super) fn record_row_dispatch(
+    rec: &Recording,
+    pipeline: &Pipeline,
+    set: DescriptorSet,
+    push: &[u8],
+    w: u32,
+    count: u32,
+) -> VkResult<()> {
+    pipeline.bind(rec, Some(set));
+    pipeline.push(rec, push)?;
+    rec.dispatch([w.div_ceil(GROUP), count.div_ceil(GROUP), 1]);
+    memory_barrier(rec, COMPUTE_RW, COMPUTE_RW);
+    Ok(())
 }
 
 /// A copy's writes, for the shader reads and writes after it.
@@ -235,9 +250,6 @@ pub(super) const SHADER_WROTE: (vk::PipelineStageFlags2, vk::AccessFlags2) = (
     vk::PipelineStageFlags2::COMPUTE_SHADER,
     vk::AccessFlags2::SHADER_STORAGE_WRITE,
 );
-/// Host reads.
-pub(super) const HOST_READS: (vk::PipelineStageFlags2, vk::AccessFlags2) =
-    (vk::PipelineStageFlags2::HOST, vk::AccessFlags2::HOST_READ);
 
 /// Records one dispatch per level 1..=top of a `w` x `h` pyramid with the push constants
 /// `params(level)` gives (the pipeline already bound), a barrier after each.

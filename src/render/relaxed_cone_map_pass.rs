@@ -25,8 +25,9 @@ use std::sync::Arc;
 use ash::vk;
 
 use super::map_search::{
-    check_side, level_offsets, pyramid_floats, record_reductions, row_chunks, top_level,
-    SearchPipeline, TimedSubmissions, COMPUTE_RW, COPIED, GROUP, MAX_LEVELS, SHADER_WROTE,
+    check_side, level_offsets, pyramid_floats, record_reductions, record_row_dispatch, row_chunks,
+    top_level, SearchPipeline, TimedSubmissions, COMPUTE_RW, COPIED, MAX_LEVELS, MODE_REDUCE,
+    SHADER_WROTE,
 };
 use crate::heightfield::cone_map::{bilinear_box_bound, REACH_CAP_TEXELS, REACH_CAP_UV};
 use crate::heightfield::{Address, Heightfield, MapData};
@@ -39,7 +40,7 @@ use crate::vk::{
 /// the least reach of each quadrant (u16).
 const NODE_BYTES: u64 = 16;
 
-const MODE_REDUCE: u32 = 0;
+// The shader's modes after MODE_REDUCE (0, map_search's), one pipeline each.
 const MODE_REACH: u32 = 1;
 const MODE_REACH_REDUCE: u32 = 2;
 const MODE_RELAXED: u32 = 3;
@@ -158,11 +159,15 @@ impl RelaxedConeMapPass {
             } else {
                 &self.relaxed
             };
-            pipeline.bind(rec, set);
-            pipeline.push(rec, bytemuck::bytes_of(&params(mode, 0, row0)))?;
-            rec.dispatch([w.div_ceil(GROUP), count.div_ceil(GROUP), 1]);
-            memory_barrier(rec, COMPUTE_RW, COMPUTE_RW);
-            Ok(())
+            let push = params(mode, 0, row0);
+            record_row_dispatch(
+                rec,
+                pipeline,
+                self.search.set,
+                bytemuck::bytes_of(&push),
+                w,
+                count,
+            )
         };
         for &chunk in &chunks {
             timed.submit(&self.ctx, |rec| record_rows(rec, MODE_REACH, chunk))?;
