@@ -28,13 +28,14 @@ ivec2 address_cell(vec2 cell, vec2 size) {
 }
 
 // The four texel heights at the corners of bilinear cell `cell` (texel centres (i, j) to
-// (i+1, j+1)), by the addressing: x = h00, y = h10, z = h01, w = h11.
+// (i+1, j+1)), by the addressing: x = h00, y = h10, z = h01, w = h11. One gather instead of four
+// fetches: it is taken at the cell's centre, half a texel from every texel line, so the sampler's
+// sub-texel rounding cannot pick another cell; the point sampler's own addressing (repeat or
+// clamp to edge, as the map's) wraps or clamps, and a gather reads the view's base level.
 vec4 bilinear_corners(vec2 cell) {
-    vec2 size = height_size();
-    return vec4(texelFetch(height_point, address_cell(cell, size), 0).r,
-                texelFetch(height_point, address_cell(cell + vec2(1.0, 0.0), size), 0).r,
-                texelFetch(height_point, address_cell(cell + vec2(0.0, 1.0), size), 0).r,
-                texelFetch(height_point, address_cell(cell + vec2(1.0), size), 0).r);
+    vec4 h = textureGather(height_point, (cell + 1.0) / height_size(), 0);
+    // A gather returns (i, j+1), (i+1, j+1), (i+1, j), (i, j).
+    return h.wzxy;
 }
 
 // Bilinear height at uv computed from the four texels around it in full float precision,

@@ -129,10 +129,8 @@ bool leaf_exact(Ray ray, float z0, float z1, out float hit) {
         vec2 f0 = g - cell;
         vec2 lines = next_line_depths(ray, cell, size, 0.5, z);
         float z_exit = min(z1, min(lines.x, lines.y));
-        float h00 = texelFetch(height_point, address_cell(cell, size), 0).r;
-        float h10 = texelFetch(height_point, address_cell(cell + vec2(1.0, 0.0), size), 0).r;
-        float h01 = texelFetch(height_point, address_cell(cell + vec2(0.0, 1.0), size), 0).r;
-        float h11 = texelFetch(height_point, address_cell(cell + vec2(1.0), size), 0).r;
+        vec4 corners = bilinear_corners(cell);
+        float h00 = corners.x, h10 = corners.y, h01 = corners.z, h11 = corners.w;
         float p = h10 - h00, q = h01 - h00, r = h00 - h10 - h01 + h11;
         float hc = h00 + p * f0.x + q * f0.y + r * f0.x * f0.y;
         float A = s * r * a.x * a.y;

@@ -173,21 +173,33 @@ pub fn bilinear_box_bound(hf: &Heightfield, address: Address) -> Heightfield {
     let mut data = Vec::with_capacity(hf.data().len());
     for j in 0..h {
         for i in 0..w {
-            let centre = at(i, j);
-            let mut top = centre;
-            for (di, dj) in [(-1, -1), (-1, 1), (1, -1), (1, 1)] {
-                let (side_u, side_v) = (at(i + di, j), at(i, j + dj));
-                let corner = 0.25 * (centre + side_u + side_v + at(i + di, j + dj));
-                top = top
-                    .max(0.5 * (centre + side_u))
-                    .max(0.5 * (centre + side_v))
-                    .max(corner);
-            }
+            let (_, top) = footprint_range(|di, dj| at(i + di, j + dj));
             data.push(round_up(top));
         }
     }
     Heightfield::new(hf.width(), hf.height(), data)
         .expect("means of valid heights are valid heights")
+}
+
+/// The least and the highest point of the bilinear surface over one texel's box, from the heights `h(di, dj)` of
+/// the texel's 3x3 neighbourhood (already addressed): on each quarter of the box the surface is one bilinear
+/// patch, extreme at the quarter's corners, so both are among nine values: the texel, the means with its four edge
+/// neighbours and the means of the four 2x2 blocks around the box's corners.
+pub(crate) fn footprint_range(h: impl Fn(i64, i64) -> f64) -> (f64, f64) {
+    let centre = h(0, 0);
+    let (mut lo, mut hi) = (centre, centre);
+    for (di, dj) in [(-1, -1), (-1, 1), (1, -1), (1, 1)] {
+        let (side_u, side_v) = (h(di, 0), h(0, dj));
+        for value in [
+            0.5 * (centre + side_u),
+            0.5 * (centre + side_v),
+            0.25 * (centre + side_u + side_v + h(di, dj)),
+        ] {
+            lo = lo.min(value);
+            hi = hi.max(value);
+        }
+    }
+    (lo, hi)
 }
 
 /// The smallest `f32` not below `x` in `[0, 1]`.

@@ -75,6 +75,7 @@
 use std::sync::{Mutex, PoisonError};
 use std::thread;
 
+use super::cone_map::footprint_range;
 use super::pyramid::{covered_range, MaxPyramid};
 use super::reference::{surface_depth, Address, RefRay, SurfaceModel};
 use super::stable_quadratic::smaller_root;
@@ -501,16 +502,7 @@ impl<'a> Builder<'a> {
     fn texel_bound(&self, i: u32, j: u32) -> TexelBound {
         let (ii, jj) = (i64::from(i), i64::from(j));
         let h = |di: i64, dj: i64| self.at(ii + di, jj + dj);
-        // On each quarter of the footprint B is one bilinear patch, extreme at the quarter's corners.
-        let mut h_lo = h(0, 0);
-        for d in [-1, 1] {
-            h_lo = h_lo
-                .min(0.5 * (h(0, 0) + h(d, 0)))
-                .min(0.5 * (h(0, 0) + h(0, d)));
-            for e in [-1, 1] {
-                h_lo = h_lo.min(0.25 * (h(0, 0) + h(d, 0) + h(0, e) + h(d, e)));
-            }
-        }
+        let (h_lo, _) = footprint_range(h);
         // The 4x4 cells between texel centres i-2..i+2 cover the footprint grown by one texel.
         let (w, ht) = (f64::from(self.hf.width()), f64::from(self.hf.height()));
         let mut lipschitz: f64 = 0.0;
