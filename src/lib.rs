@@ -1,11 +1,13 @@
 //! relief: a low-level Vulkan renderer for per-pixel displacement mapping.
 //!
 //! Layers, data flowing one way: [`heightfield`] (CPU height fields, pyramids, the exact
-//! reference) and [`scene`] (glTF to plain data) know nothing of Vulkan; [`vk`] knows nothing of
-//! relief; [`render`] joins them; [`view`] puts the renderer in a window.
+//! reference), [`cells`] (cubic cell complexes, paper 002) and [`scene`] (glTF to plain data) know
+//! nothing of Vulkan; [`vk`] knows nothing of relief; [`render`] joins them; [`view`] puts the
+//! renderer in a window.
 #![deny(unsafe_op_in_unsafe_fn)]
 
 pub mod bench;
+pub mod cells;
 pub mod heightfield;
 pub mod method;
 pub mod render;

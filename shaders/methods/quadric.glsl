@@ -92,7 +92,7 @@ Hit trace_quadric_paper(Ray ray, Budget budget) {
     return Hit(z, steps, true);
 }
 
-// The march with box steps and the exact leaf (see the header).
+// The march and the exact leaf (see the header).
 Hit trace_quadric_exact(Ray ray, Budget budget) {
     float s = ray.depth_scale;
     vec2 size = height_size();

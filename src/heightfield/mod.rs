@@ -18,7 +18,7 @@ pub mod method_map;
 pub mod pyramid;
 pub mod quadric_map;
 pub mod reference;
-mod rng;
+pub(crate) mod rng;
 pub mod stable_quadratic;
 pub mod synthetic;
 #[cfg(test)]

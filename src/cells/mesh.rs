@@ -1,0 +1,403 @@
+//! A closed, consistently oriented triangle mesh: what a cell complex is built from (paper 002 needs a closed
+//! boundary so that every cell is inside, outside or on it).
+//!
+//! Vertices with equal positions are welded before the checks, since meshes from glTF split vertices along
+//! normal and texture seams. A mesh is accepted when every edge of the welded mesh belongs to exactly two
+//! triangles that run along it in opposite directions. Degenerate triangles (two equal corners) are dropped.
+
+use std::collections::HashMap;
+
+/// Why a mesh cannot carry a cell complex. Every message names the mesh (`origin`: a file and mesh name, or a
+/// description of a procedural mesh) and is one line.
+#[derive(Debug, thiserror::Error, PartialEq)]
+pub enum MeshError {
+    #[error("mesh \"{origin}\": has no triangles")]
+    Empty { origin: String },
+    #[error("mesh \"{origin}\": triangle {triangle} refers to vertex {vertex}, but there are {count} vertices")]
+    BadIndex {
+        origin: String,
+        triangle: usize,
+        vertex: u32,
+        count: usize,
+    },
+    #[error("mesh \"{origin}\": vertex {vertex} is not finite ({position:?})")]
+    NotFinite {
+        origin: String,
+        vertex: usize,
+        position: [f64; 3],
+    },
+    #[error("mesh \"{origin}\": is open: the edge from {a:?} to {b:?} borders one triangle only; a cell complex needs a closed mesh")]
+    Open {
+        origin: String,
+        a: [f64; 3],
+        b: [f64; 3],
+    },
+    #[error("mesh \"{origin}\": is not manifold: the edge from {a:?} to {b:?} borders {count} triangles")]
+    NonManifold {
+        origin: String,
+        a: [f64; 3],
+        b: [f64; 3],
+        count: usize,
+    },
+    #[error("mesh \"{origin}\": is not consistently oriented: two triangles run the same way along the edge from {a:?} to {b:?}")]
+    Inconsistent {
+        origin: String,
+        a: [f64; 3],
+        b: [f64; 3],
+    },
+}
+
+/// A checked closed mesh (see the module docs); positions welded, triangles as index triples.
+#[derive(Debug, Clone)]
+pub struct ClosedMesh {
+    positions: Vec<[f64; 3]>,
+    triangles: Vec<[u32; 3]>,
+}
+
+impl ClosedMesh {
+    /// Welds, checks and keeps the mesh; `origin` names it in errors.
+    pub fn new(
+        origin: &str,
+        positions: &[[f64; 3]],
+        triangles: &[[u32; 3]],
+    ) -> Result<ClosedMesh, MeshError> {
+        let origin = origin.to_string();
+        if let Some((vertex, &position)) = positions
+            .iter()
+            .enumerate()
+            .find(|(_, p)| !p.iter().all(|c| c.is_finite()))
+        {
+            return Err(MeshError::NotFinite {
+                origin,
+                vertex,
+                position,
+            });
+        }
+        // Welding: the first vertex at each position stands for all of them (-0.0 and 0.0 are one position).
+        let key = |p: [f64; 3]| p.map(|c| (c + 0.0).to_bits());
+        let mut welded_index = HashMap::new();
+        let mut welded = Vec::new();
+        let remap: Vec<u32> = positions
+            .iter()
+            .map(|&p| {
+                *welded_index.entry(key(p)).or_insert_with(|| {
+                    welded.push(p);
+                    (welded.len() - 1) as u32
+                })
+            })
+            .collect();
+        let mut kept = Vec::with_capacity(triangles.len());
+        for (triangle, corners) in triangles.iter().enumerate() {
+            if let Some(&vertex) = corners.iter().find(|&&v| v as usize >= positions.len()) {
+                return Err(MeshError::BadIndex {
+                    origin,
+                    triangle,
+                    vertex,
+                    count: positions.len(),
+                });
+            }
+            let [a, b, c] = corners.map(|v| remap[v as usize]);
+            if a != b && b != c && c != a {
+                kept.push([a, b, c]);
+            }
+        }
+        if kept.is_empty() {
+            return Err(MeshError::Empty { origin });
+        }
+        check_closed(&origin, &welded, &kept)?;
+        Ok(ClosedMesh {
+            positions: welded,
+            triangles: kept,
+        })
+    }
+
+    pub fn positions(&self) -> &[[f64; 3]] {
+        &self.positions
+    }
+
+    pub fn triangles(&self) -> &[[u32; 3]] {
+        &self.triangles
+    }
+
+    /// The corners of triangle `t`.
+    pub fn triangle(&self, t: usize) -> [[f64; 3]; 3] {
+        self.triangles[t].map(|v| self.positions[v as usize])
+    }
+
+    /// The axis-aligned bounds: (least corner, greatest corner).
+    pub fn bounds(&self) -> ([f64; 3], [f64; 3]) {
+        self.positions.iter().fold(
+            ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]),
+            |(lo, hi), p| {
+                (
+                    [0, 1, 2].map(|k| lo[k].min(p[k])),
+                    [0, 1, 2].map(|k| hi[k].max(p[k])),
+                )
+            },
+        )
+    }
+
+    /// The generalized winding number of the mesh around `p` (the solid angle of all triangles over 4 pi): +-1
+    /// inside, 0 outside, its sign the orientation's; well conditioned away from the surface.
+    pub fn winding_number(&self, p: [f64; 3]) -> f64 {
+        let mut total = 0.0;
+        for t in 0..self.triangles.len() {
+            let [a, b, c] = self.triangle(t).map(|q| sub(q, p));
+            let (la, lb, lc) = (norm(a), norm(b), norm(c));
+            let numerator = dot(a, cross(b, c));
+            let denominator = la * lb * lc + dot(a, b) * lc + dot(a, c) * lb + dot(b, c) * la;
+            // Van Oosterom and Strackee: the signed solid angle of the triangle seen from p.
+            total += 2.0 * numerator.atan2(denominator);
+        }
+        total / (4.0 * std::f64::consts::PI)
+    }
+}
+
+/// Every undirected edge must border exactly two triangles, once in each direction.
+fn check_closed(
+    origin: &str,
+    positions: &[[f64; 3]],
+    triangles: &[[u32; 3]],
+) -> Result<(), MeshError> {
+    // Per undirected edge (low, high): how often it runs low -> high and high -> low.
+    let mut edges: HashMap<(u32, u32), (usize, usize)> = HashMap::new();
+    for &[a, b, c] in triangles {
+        for (from, to) in [(a, b), (b, c), (c, a)] {
+            let entry = edges.entry((from.min(to), from.max(to))).or_default();
+            if from < to {
+                entry.0 += 1;
+            } else {
+                entry.1 += 1;
+            }
+        }
+    }
+    // Sorted, so that the error names the same edge on every run.
+    let mut sorted: Vec<_> = edges.into_iter().collect();
+    sorted.sort_unstable_by_key(|&(edge, _)| edge);
+    for ((low, high), (forward, backward)) in sorted {
+        let origin = origin.to_string();
+        let (a, b) = (positions[low as usize], positions[high as usize]);
+        match forward + backward {
+            1 => return Err(MeshError::Open { origin, a, b }),
+            2 if forward == 1 => {}
+            2 => return Err(MeshError::Inconsistent { origin, a, b }),
+            count => {
+                return Err(MeshError::NonManifold {
+                    origin,
+                    a,
+                    b,
+                    count,
+                })
+            }
+        }
+    }
+    Ok(())
+}
+
+pub(crate) fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+pub(crate) fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+pub(crate) fn cross(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+pub(crate) fn norm(a: [f64; 3]) -> f64 {
+    dot(a, a).sqrt()
+}
+
+#[cfg(test)]
+pub(crate) mod shapes {
+    //! Procedural closed meshes with analytic answers, for the tests of the cells module.
+
+    /// An icosahedron subdivided `levels` times, projected onto the sphere of `radius` around `centre`;
+    /// triangles wound counter-clockwise seen from outside.
+    pub fn icosphere(centre: [f64; 3], radius: f64, levels: u32) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
+        let t = (1.0 + 5f64.sqrt()) / 2.0;
+        let mut unit: Vec<[f64; 3]> = vec![
+            [-1.0, t, 0.0],
+            [1.0, t, 0.0],
+            [-1.0, -t, 0.0],
+            [1.0, -t, 0.0],
+            [0.0, -1.0, t],
+            [0.0, 1.0, t],
+            [0.0, -1.0, -t],
+            [0.0, 1.0, -t],
+            [t, 0.0, -1.0],
+            [t, 0.0, 1.0],
+            [-t, 0.0, -1.0],
+            [-t, 0.0, 1.0],
+        ];
+        let mut triangles: Vec<[u32; 3]> = vec![
+            [0, 11, 5],
+            [0, 5, 1],
+            [0, 1, 7],
+            [0, 7, 10],
+            [0, 10, 11],
+            [1, 5, 9],
+            [5, 11, 4],
+            [11, 10, 2],
+            [10, 7, 6],
+            [7, 1, 8],
+            [3, 9, 4],
+            [3, 4, 2],
+            [3, 2, 6],
+            [3, 6, 8],
+            [3, 8, 9],
+            [4, 9, 5],
+            [2, 4, 11],
+            [6, 2, 10],
+            [8, 6, 7],
+            [9, 8, 1],
+        ];
+        let normalize = |p: [f64; 3]| {
+            let l = super::norm(p);
+            p.map(|c| c / l)
+        };
+        unit = unit.into_iter().map(normalize).collect();
+        for _ in 0..levels {
+            let mut midpoints = std::collections::HashMap::new();
+            let mut next = Vec::with_capacity(triangles.len() * 4);
+            let mut midpoint = |a: u32, b: u32, unit: &mut Vec<[f64; 3]>| -> u32 {
+                *midpoints.entry((a.min(b), a.max(b))).or_insert_with(|| {
+                    let (p, q) = (unit[a as usize], unit[b as usize]);
+                    unit.push(normalize([0, 1, 2].map(|k| 0.5 * (p[k] + q[k]))));
+                    (unit.len() - 1) as u32
+                })
+            };
+            for [a, b, c] in triangles {
+                let ab = midpoint(a, b, &mut unit);
+                let bc = midpoint(b, c, &mut unit);
+                let ca = midpoint(c, a, &mut unit);
+                next.extend([[a, ab, ca], [b, bc, ab], [c, ca, bc], [ab, bc, ca]]);
+            }
+            triangles = next;
+        }
+        let positions = unit
+            .into_iter()
+            .map(|p| [0, 1, 2].map(|k| centre[k] + radius * p[k]))
+            .collect();
+        (positions, triangles)
+    }
+
+    /// A torus around the z axis through `centre`: tube radius `minor` around the circle of radius `major`, with
+    /// `segments` quads around the circle and `sides` around the tube; wound outward.
+    pub fn torus(
+        centre: [f64; 3],
+        major: f64,
+        minor: f64,
+        segments: u32,
+        sides: u32,
+    ) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
+        let tau = std::f64::consts::TAU;
+        let mut positions = Vec::new();
+        for i in 0..segments {
+            let phi = tau * f64::from(i) / f64::from(segments);
+            for j in 0..sides {
+                let theta = tau * f64::from(j) / f64::from(sides);
+                let r = major + minor * theta.cos();
+                positions.push([
+                    centre[0] + r * phi.cos(),
+                    centre[1] + r * phi.sin(),
+                    centre[2] + minor * theta.sin(),
+                ]);
+            }
+        }
+        let index = |i: u32, j: u32| (i % segments) * sides + (j % sides);
+        let mut triangles = Vec::new();
+        for i in 0..segments {
+            for j in 0..sides {
+                let (a, b, c, d) = (
+                    index(i, j),
+                    index(i + 1, j),
+                    index(i + 1, j + 1),
+                    index(i, j + 1),
+                );
+                triangles.extend([[a, b, c], [a, c, d]]);
+            }
+        }
+        (positions, triangles)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::shapes::*;
+    use super::*;
+
+    #[test]
+    fn procedural_shapes_are_closed_and_wind_outward() {
+        let (p, t) = icosphere([0.1, 0.2, 0.3], 1.0, 2);
+        let sphere = ClosedMesh::new("icosphere", &p, &t).expect("closed");
+        assert!((sphere.winding_number([0.1, 0.2, 0.3]) - 1.0).abs() < 1e-9);
+        assert!(sphere.winding_number([2.0, 0.0, 0.0]).abs() < 1e-9);
+        let (p, t) = torus([0.0; 3], 1.0, 0.3, 24, 12);
+        let ring = ClosedMesh::new("torus", &p, &t).expect("closed");
+        assert!((ring.winding_number([1.0, 0.0, 0.0]) - 1.0).abs() < 1e-9);
+        assert!(
+            ring.winding_number([0.0, 0.0, 0.0]).abs() < 1e-9,
+            "the hole is outside"
+        );
+    }
+
+    #[test]
+    fn seams_are_welded() {
+        // Every triangle with its own three vertices, as a glTF mesh with flat normals stores it.
+        let (p, t) = icosphere([0.0; 3], 1.0, 1);
+        let split: Vec<[f64; 3]> = t
+            .iter()
+            .flat_map(|tri| tri.map(|v| p[v as usize]))
+            .collect();
+        let indices: Vec<[u32; 3]> = (0..t.len() as u32)
+            .map(|k| [3 * k, 3 * k + 1, 3 * k + 2])
+            .collect();
+        let mesh = ClosedMesh::new("split", &split, &indices).expect("welded into a closed mesh");
+        assert_eq!(mesh.positions().len(), p.len());
+    }
+
+    #[test]
+    fn bad_meshes_are_named_and_explained() {
+        let (p, t) = icosphere([0.0; 3], 1.0, 1);
+        let open = ClosedMesh::new("cup", &p, &t[1..]).unwrap_err();
+        assert!(matches!(open, MeshError::Open { .. }), "{open}");
+        assert!(
+            open.to_string().starts_with("mesh \"cup\": is open"),
+            "{open}"
+        );
+        let mut doubled = t.clone();
+        doubled.push(t[0]);
+        let error = ClosedMesh::new("doubled", &p, &doubled).unwrap_err();
+        assert!(
+            matches!(error, MeshError::NonManifold { count: 3, .. }),
+            "{error}"
+        );
+        let mut flipped = t.clone();
+        flipped[0] = [t[0][0], t[0][2], t[0][1]];
+        let error = ClosedMesh::new("flipped", &p, &flipped).unwrap_err();
+        assert!(matches!(error, MeshError::Inconsistent { .. }), "{error}");
+        let error = ClosedMesh::new("short", &p, &[[0, 1, 999]]).unwrap_err();
+        assert!(
+            error.to_string().contains("refers to vertex 999"),
+            "{error}"
+        );
+        let mut nan = p.clone();
+        nan[3][1] = f64::NAN;
+        let error = ClosedMesh::new("nan", &nan, &t).unwrap_err();
+        assert!(
+            matches!(error, MeshError::NotFinite { vertex: 3, .. }),
+            "{error}"
+        );
+        assert!(matches!(
+            ClosedMesh::new("none", &p, &[]),
+            Err(MeshError::Empty { .. })
+        ));
+    }
+}

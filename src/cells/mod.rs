@@ -1,0 +1,17 @@
+//! Relief mapping on cubic cell complexes (Apaza and Andújar, paper 002): a closed mesh is replaced by the grey
+//! cells of an N^3 grid over its bounding cube, each carrying distance maps on its domain faces. No Vulkan here.
+//!
+//! Built so far: the checked closed mesh ([`mesh`]), the grid and its cells' colours ([`grid`]), the cells' face
+//! configurations and their ten base cases ([`case`]), and each case's projection of the cell onto its domain
+//! faces with its inverse ([`projection`]). Not built yet: the distance maps, the grid-size selection, the
+//! rendering and the `relief cells` command.
+
+pub mod case;
+pub mod grid;
+pub mod mesh;
+pub mod projection;
+
+pub use case::{Axis, Case, Face, FaceSet};
+pub use grid::{CellGrid, CellIndex, Colour};
+pub use mesh::{ClosedMesh, MeshError};
+pub use projection::{domain_faces, Image, Projection};
