@@ -7,9 +7,11 @@ use std::sync::Arc;
 
 use super::results::StabilityCell;
 use super::trace_stats::{ray_direction, trace_stats};
-use crate::heightfield::{build_method_map, Address, Generator};
+use crate::heightfield::{Address, Generator};
 use crate::method::Method;
-use crate::render::{trace_on_gpu, HeightFormat, TraceRequest};
+use crate::render::{
+    build_method_map_with, gpu_builds, trace_on_gpu, HeightFormat, MapBuilder, TraceRequest,
+};
 use crate::vk::Context;
 
 /// One named stiff case.
@@ -27,7 +29,8 @@ pub struct StiffCase {
 }
 
 const RAYS: (u32, u32) = (32, 32);
-/// Largest map whose CPU-built method maps (cone, quadric) the matrix builds.
+/// Largest map whose method maps (cone, quadric) the matrix builds on the CPU, where the device's
+/// GPU builders do not take them.
 const CPU_MAP_TEXELS: u64 = 2048 * 2048;
 
 fn case(name: &str, field: Generator, size: (u32, u32), angle: f64, depth_scale: f64) -> StiffCase {
@@ -114,20 +117,26 @@ pub fn run_stiff_case(ctx: &Arc<Context>, case: &StiffCase, method: Method) -> S
         gpu_ms: None,
         failed,
     };
-    let texels = u64::from(case.size.0) * u64::from(case.size.1);
-    let cpu_map = method.info().method_map().is_some();
-    if cpu_map && texels > CPU_MAP_TEXELS {
-        return cell(Some(format!(
-            "its CPU-built map is not built above {}^2 texels (minutes to hours on 2 cores; see the map build times)",
-            (CPU_MAP_TEXELS as f64).sqrt()
-        )));
+    let (w, h) = case.size;
+    if let Some(kind) = method.info().method_map() {
+        let cpu_only = u64::from(w) * u64::from(h) > CPU_MAP_TEXELS;
+        if cpu_only && !gpu_builds(ctx, kind, w, h) {
+            return cell(Some(format!(
+                "its map at {w}x{h} exceeds what this device's GPU builder takes (largest storage buffer {} MiB), and the CPU builder is not run above {}^2 texels (minutes to hours on 2 cores; see the map build times)",
+                ctx.info().max_storage_buffer_range >> 20,
+                (CPU_MAP_TEXELS as f64).sqrt()
+            )));
+        }
     }
-    let raw = case.field.generate(case.size.0, case.size.1, 1);
+    let raw = case.field.generate(w, h, 1);
     let hf = match case.format {
         HeightFormat::R16Unorm => raw.quantized_unorm16(),
         HeightFormat::R32Float => raw,
     };
-    let map = build_method_map(method, &hf, case.address);
+    let map = match build_method_map_with(method, &hf, case.address, MapBuilder::Gpu(ctx)) {
+        Ok(map) => map,
+        Err(e) => return cell(Some(format!("building its map: {e}"))),
+    };
     let req = TraceRequest {
         method,
         dir: ray_direction(case.angle, case.azimuth).map(|x| x as f32),
@@ -136,7 +145,7 @@ pub fn run_stiff_case(ctx: &Arc<Context>, case: &StiffCase, method: Method) -> S
         budget: method.info().default_budget,
         address: case.address,
         format: case.format,
-        map: map.as_ref().map(|(m, _)| m),
+        map: map.as_ref().map(|m| &m.data),
         shadow: None,
     };
     match trace_on_gpu(ctx, &hf, &req) {

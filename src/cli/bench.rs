@@ -235,8 +235,14 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     let shading_steps = shading.as_ref().map_or(0, |s| {
         cfg.fields.len() * (s.elevations.len() * s.radii.len() * (s.modes.len() + 1) + ao_modes)
     });
+    let shadow_stability_wanted = shading.is_some() && cfg.stability;
+    let lod_wanted = !(args.no_lod || args.shading_only || args.stability_only);
     let bar = progress(
-        jobs.len() + cases.len() * cfg.methods.len() + shading_steps,
+        jobs.len()
+            + cases.len() * cfg.methods.len()
+            + shading_steps
+            + usize::from(shadow_stability_wanted)
+            + usize::from(lod_wanted),
         args.json,
     );
     let mut runner = Runner::new(ctx.clone(), cfg.clone());
@@ -295,17 +301,21 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
             );
         }
     }
-    let shadow_stability = if shading.is_some() && cfg.stability {
+    let shadow_stability = if shadow_stability_wanted {
         note(&bar, "stability: shadows under extreme lights", args.json);
-        relief::bench::shadow_stability(&ctx)
+        let rows = relief::bench::shadow_stability(&ctx);
+        bar.inc(1);
+        rows
     } else {
         Vec::new()
     };
-    let lod = if args.no_lod || args.shading_only || args.stability_only {
-        None
-    } else {
+    let lod = if lod_wanted {
         note(&bar, "level of detail", args.json);
-        Some(run_lod_section(&ctx, &lod_config(args, &cfg)).context("the LOD section")?)
+        let section = run_lod_section(&ctx, &lod_config(args, &cfg)).context("the LOD section")?;
+        bar.inc(1);
+        Some(section)
+    } else {
+        None
     };
     bar.finish_and_clear();
     super::check_validation(&ctx)?;

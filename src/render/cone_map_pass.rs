@@ -18,7 +18,7 @@ use std::sync::Arc;
 
 pub use super::map_search::MAX_SIDE;
 use super::map_search::{
-    check_side, level_offsets, top_level, SearchPipeline, MAX_LEVELS, MODE_REDUCE,
+    level_offsets, top_level, SearchBuffers, SearchPipeline, MAX_LEVELS, MODE_REDUCE,
 };
 use crate::heightfield::cone_map::bilinear_box_bound;
 use crate::heightfield::{Address, Heightfield, MapData};
@@ -26,6 +26,12 @@ use crate::vk::{Context, VkResult};
 
 /// Relative amount by which a GPU ratio may fall short of the CPU's (never exceed it): the f32
 /// search's error plus the step down that makes it conservative (see `cone_map.comp`).
+/// A float per pyramid node; ratio and box height per texel.
+const BUFFERS: SearchBuffers = SearchBuffers {
+    node_bytes: 4,
+    channels: 2,
+};
+
 pub const RATIO_TOLERANCE: f32 = 1.0 / 32768.0;
 
 /// The shader's push constants (`Params` in cone_map.comp).
@@ -64,12 +70,17 @@ impl ConeMapPass {
         })
     }
 
+    /// Whether this device takes the build of a `w` x `h` map.
+    pub fn fits(ctx: &Context, w: u32, h: u32) -> bool {
+        BUFFERS.fit(ctx, w, h)
+    }
+
     /// Builds the conservative cone map of `hf` under `address`, with the GPU time in ms (the
     /// pyramid and every search submission; the CPU's bilinear bound and the transfers are not in
     /// it).
     pub fn build(&self, hf: &Heightfield, address: Address) -> VkResult<(MapData, f64)> {
         let (w, h) = (hf.width(), hf.height());
-        check_side("cone map", w, h)?;
+        BUFFERS.check(&self.ctx, "cone map", w, h)?;
         let bound = bilinear_box_bound(hf, address);
         let base = Params {
             mode: MODE_REDUCE,

@@ -5,9 +5,8 @@
 
 use std::sync::Arc;
 
-use super::cone_map_pass::build_cone_map_on_gpu;
-use super::map_search::MAX_SIDE;
-use super::quadric_map_pass::build_quadric_map_on_gpu;
+use super::cone_map_pass::{build_cone_map_on_gpu, ConeMapPass};
+use super::quadric_map_pass::{build_quadric_map_on_gpu, QuadricMapPass};
 use super::relaxed_cone_map_pass::{build_relaxed_cone_map_on_gpu, RelaxedConeMapPass};
 use crate::heightfield::{build_method_map, Address, Heightfield, MapData};
 use crate::method::{MapKind, Method};
@@ -32,6 +31,17 @@ pub struct BuiltMethodMap {
     pub on: &'static str,
 }
 
+/// Whether `ctx` has a GPU builder for maps of `kind` that takes a `w` x `h` map (its buffers
+/// within the device's storage buffer range).
+pub fn gpu_builds(ctx: &Context, kind: MapKind, w: u32, h: u32) -> bool {
+    match kind {
+        MapKind::ConservativeCone => ConeMapPass::fits(ctx, w, h),
+        MapKind::RelaxedCone => RelaxedConeMapPass::fits(ctx, w, h),
+        MapKind::Quadric => QuadricMapPass::fits(ctx, w, h),
+        MapKind::MaxPyramid => false,
+    }
+}
+
 /// The method's map for `hf` built by `builder`, or `None` if it reads none.
 pub fn build_method_map_with(
     method: Method,
@@ -39,15 +49,18 @@ pub fn build_method_map_with(
     address: Address,
     builder: MapBuilder<'_>,
 ) -> VkResult<Option<BuiltMethodMap>> {
-    let fits = hf.width().max(hf.height()) <= MAX_SIDE;
-    if let (Some(kind), MapBuilder::Gpu(ctx), true) = (method.info().method_map(), builder, fits) {
+    let gpu = match (method.info().method_map(), builder) {
+        (Some(kind), MapBuilder::Gpu(ctx)) if gpu_builds(ctx, kind, hf.width(), hf.height()) => {
+            Some((kind, ctx))
+        }
+        _ => None,
+    };
+    if let Some((kind, ctx)) = gpu {
         let gpu = match kind {
             MapKind::ConservativeCone => Some(build_cone_map_on_gpu(ctx, hf, address)?),
             MapKind::Quadric => Some(build_quadric_map_on_gpu(ctx, hf, address)?),
-            MapKind::RelaxedCone if RelaxedConeMapPass::fits(ctx, hf.width(), hf.height()) => {
-                Some(build_relaxed_cone_map_on_gpu(ctx, hf, address)?)
-            }
-            MapKind::RelaxedCone | MapKind::MaxPyramid => None,
+            MapKind::RelaxedCone => Some(build_relaxed_cone_map_on_gpu(ctx, hf, address)?),
+            MapKind::MaxPyramid => None,
         };
         if let Some((data, ms)) = gpu {
             return Ok(Some(BuiltMethodMap {

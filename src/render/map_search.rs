@@ -128,14 +128,47 @@ impl SearchPipeline {
     }
 }
 
-/// Fails for maps wider or taller than the GPU builders take; `what` names the map.
-pub(super) fn check_side(what: &str, w: u32, h: u32) -> VkResult<()> {
-    if w > MAX_SIDE || h > MAX_SIDE {
-        return Err(VkError::Invalid(format!(
-            "{what} of {w}x{h}: the GPU builder takes at most {MAX_SIDE} texels a side"
-        )));
+/// What one build holds in single storage buffers: its pyramid of `node_bytes` a node and its
+/// map of `channels` floats a texel.
+#[derive(Clone, Copy)]
+pub(super) struct SearchBuffers {
+    pub node_bytes: u64,
+    pub channels: u32,
+}
+
+impl SearchBuffers {
+    /// The largest buffer a `w` x `h` build needs, in bytes.
+    pub fn largest(self, w: u32, h: u32) -> u64 {
+        let map = u64::from(w) * u64::from(h) * u64::from(self.channels) * 4;
+        (pyramid_floats(w, h) * self.node_bytes).max(map)
     }
-    Ok(())
+
+    /// Whether this device takes a `w` x `h` build: sides up to [`MAX_SIDE`] and every buffer
+    /// within its largest storage buffer (lavapipe's 256 MiB hold a 4096^2 quadric map but no
+    /// 8192^2 pyramid).
+    pub fn fit(self, ctx: &Context, w: u32, h: u32) -> bool {
+        w <= MAX_SIDE
+            && h <= MAX_SIDE
+            && self.largest(w, h) <= u64::from(ctx.info().max_storage_buffer_range)
+    }
+
+    /// Fails for builds [`SearchBuffers::fit`] refuses; `what` names the map.
+    pub fn check(self, ctx: &Context, what: &str, w: u32, h: u32) -> VkResult<()> {
+        if w > MAX_SIDE || h > MAX_SIDE {
+            return Err(VkError::Invalid(format!(
+                "{what} of {w}x{h}: the GPU builder takes at most {MAX_SIDE} texels a side"
+            )));
+        }
+        if !self.fit(ctx, w, h) {
+            return Err(VkError::Invalid(format!(
+                "{what} of {w}x{h}: a buffer of {} MiB exceeds the device's largest storage \
+                 buffer ({} MiB)",
+                self.largest(w, h) >> 20,
+                ctx.info().max_storage_buffer_range >> 20
+            )));
+        }
+        Ok(())
+    }
 }
 
 /// What one build dispatches: the pipeline, its set (rewritten for the build's buffers) and the

@@ -46,7 +46,7 @@ pub use frame_stats::{sequence_stats, PassStats, SequenceStats};
 pub use frame_uniforms::{frame_camera, FrameUniforms, LightUniform, MAX_LIGHTS};
 pub use gpu_heightfield::{GpuHeightfield, HeightFormat};
 pub use height_resources::{HeightResources, HeightUpload};
-pub use map_builder::{build_method_map_with, BuiltMethodMap, MapBuilder};
+pub use map_builder::{build_method_map_with, gpu_builds, BuiltMethodMap, MapBuilder};
 pub use mean_pyramid_pass::{build_mean_pyramid_on_gpu, MeanPyramid};
 pub use method_map::GpuMethodMap;
 pub use pass::Pass;

@@ -14,7 +14,7 @@
 
 use std::sync::Arc;
 
-use super::map_search::{check_side, level_offsets, top_level, SearchPipeline, MODE_REDUCE};
+use super::map_search::{level_offsets, top_level, SearchBuffers, SearchPipeline, MODE_REDUCE};
 use crate::heightfield::{Address, Heightfield, MapData};
 use crate::vk::{Context, VkResult};
 
@@ -25,6 +25,12 @@ use crate::vk::{Context, VkResult};
 /// 1024^2, fbm: 4 costs about 1.3x the time of 3; 2 about 0.75x, with a p99 excess of 3.9x on
 /// fbm at 257x129).
 pub const RING: i32 = 3;
+
+/// A float per pyramid node; `[a, b, c, h]` per texel.
+const BUFFERS: SearchBuffers = SearchBuffers {
+    node_bytes: 4,
+    channels: 4,
+};
 
 /// The shader's push constants (`Params` in quadric_map.comp).
 #[repr(C)]
@@ -58,11 +64,16 @@ impl QuadricMapPass {
         })
     }
 
+    /// Whether this device takes the build of a `w` x `h` map.
+    pub fn fits(ctx: &Context, w: u32, h: u32) -> bool {
+        BUFFERS.fit(ctx, w, h)
+    }
+
     /// Builds the quadric map of `hf` under `address`, with the GPU time in ms (the pyramid and
     /// every search submission; the transfers are not in it).
     pub fn build(&self, hf: &Heightfield, address: Address) -> VkResult<(MapData, f64)> {
         let (w, h) = (hf.width(), hf.height());
-        check_side("quadric map", w, h)?;
+        BUFFERS.check(&self.ctx, "quadric map", w, h)?;
         let base = Params {
             mode: MODE_REDUCE,
             width: w,

@@ -25,20 +25,26 @@ use std::sync::Arc;
 use ash::vk;
 
 use super::map_search::{
-    check_side, level_offsets, pyramid_floats, record_reductions, record_row_dispatch, row_chunks,
-    top_level, SearchPipeline, TimedSubmissions, COMPUTE_RW, COPIED, MAX_LEVELS, MODE_REDUCE,
+    level_offsets, pyramid_floats, record_reductions, record_row_dispatch, row_chunks, top_level,
+    SearchBuffers, SearchPipeline, TimedSubmissions, COMPUTE_RW, COPIED, MAX_LEVELS, MODE_REDUCE,
     SHADER_WROTE,
 };
 use crate::heightfield::cone_map::{bilinear_box_bound, REACH_CAP_TEXELS, REACH_CAP_UV};
 use crate::heightfield::{Address, Heightfield, MapData};
 use crate::vk::{
     memory_barrier, Bind, Buffer, Context, MemoryLocation, Pipeline, Readback, Recording,
-    SpecConstants, VkError, VkResult,
+    SpecConstants, VkResult,
 };
 
 /// Bytes per pyramid node: the maximum height, the maximum of 1 - height (f32 bits each) and
 /// the least reach of each quadrant (u16).
 const NODE_BYTES: u64 = 16;
+
+/// The node records; ratio and box height per texel.
+const BUFFERS: SearchBuffers = SearchBuffers {
+    node_bytes: NODE_BYTES,
+    channels: 2,
+};
 
 // The shader's modes after MODE_REDUCE (0, map_search's), one pipeline each.
 const MODE_REACH: u32 = 1;
@@ -97,22 +103,14 @@ impl RelaxedConeMapPass {
     /// Whether the device takes the pyramid of a `w` x `h` map in one storage buffer (16 bytes a
     /// node: about 360 MB at 4096^2).
     pub fn fits(ctx: &Context, w: u32, h: u32) -> bool {
-        pyramid_bytes(w, h) <= u64::from(ctx.info().max_storage_buffer_range)
+        BUFFERS.fit(ctx, w, h)
     }
 
     /// Builds the relaxed cone map of `hf` under `address`, with the GPU time in ms (every
     /// submission; the CPU's bilinear bound and the transfers are not in it).
     pub fn build(&self, hf: &Heightfield, address: Address) -> VkResult<(MapData, f64)> {
         let (w, h) = (hf.width(), hf.height());
-        check_side("relaxed cone map", w, h)?;
-        if !Self::fits(&self.ctx, w, h) {
-            return Err(VkError::Invalid(format!(
-                "relaxed cone map of {w}x{h}: its pyramid ({} MiB) exceeds the device's largest \
-                 storage buffer ({} MiB)",
-                pyramid_bytes(w, h) >> 20,
-                self.ctx.info().max_storage_buffer_range >> 20
-            )));
-        }
+        BUFFERS.check(&self.ctx, "relaxed cone map", w, h)?;
         let bound = bilinear_box_bound(hf, address);
         let nodes = pyramid_floats(w, h);
         let base = Params {
@@ -198,11 +196,6 @@ impl RelaxedConeMapPass {
 /// The CPU's reach cap in u-texels (`Field::reach_cap`), whose 65535th part is a reach unit.
 fn reach_cap_texels(w: u32) -> f64 {
     (REACH_CAP_UV * f64::from(w)).min(REACH_CAP_TEXELS)
-}
-
-/// Bytes of the node pyramid of a `w` x `h` map.
-fn pyramid_bytes(w: u32, h: u32) -> u64 {
-    pyramid_floats(w, h) * NODE_BYTES
 }
 
 /// The pass's buffers for one build.
