@@ -258,9 +258,10 @@ int wrap_index(int m, int nodes) {
                     du = max(du, run_end);                                                  \
                     continue;                                                               \
                 }                                                                           \
-                float gu = node_gap(p.x, mu, level, int(params.width));                     \
-                Point pt = radial_point(gu, gv, pyramid[row + uint(mu)], tb);               \
-                if (pt.value > 0.0) {                                                       \
+                float top = pyramid[row + uint(mu)];                                        \
+                if (top > tb.x) {                                                           \
+                    float gu = node_gap(p.x, mu, level, int(params.width));                 \
+                    Point pt = radial_point(gu, gv, top, tb);                               \
                     VISIT(pt)                                                               \
                 }                                                                           \
             }                                                                               \
