@@ -7,6 +7,8 @@
 //! misses it too), so one winding-number test per component colours it. That also finds white cavities that a
 //! flood fill from the grid's border would call black.
 
+use std::collections::HashMap;
+
 use super::case::{Face, FaceSet};
 use super::mesh::{cross, dot, sub, ClosedMesh};
 
@@ -28,6 +30,8 @@ pub struct CellGrid {
     origin: [f64; 3],
     cell_size: f64,
     colours: Vec<Colour>,
+    /// Per grey cell (by index), the triangles that meet it: what its distance maps sample.
+    triangles: HashMap<usize, Vec<u32>>,
 }
 
 impl CellGrid {
@@ -45,6 +49,7 @@ impl CellGrid {
             origin,
             cell_size: side / f64::from(n),
             colours: vec![Colour::White; (n as usize).pow(3)],
+            triangles: HashMap::new(),
         };
         grid.mark_grey(mesh);
         grid.colour_components(mesh);
@@ -89,6 +94,18 @@ impl CellGrid {
 
     pub fn grey_cells(&self) -> impl Iterator<Item = CellIndex> + '_ {
         self.cells().filter(|&c| self.colour(c) == Colour::Grey)
+    }
+
+    /// The mesh triangles that meet a grey cell (none for other cells).
+    pub fn triangles_in(&self, cell: CellIndex) -> &[u32] {
+        self.triangles
+            .get(&self.index(cell))
+            .map_or(&[], Vec::as_slice)
+    }
+
+    /// A point in grid units (cell `[i, j, k]` spans `[i, i + 1] x ...`) from a point in the mesh's space.
+    pub fn to_grid(&self, p: [f64; 3]) -> [f64; 3] {
+        [0, 1, 2].map(|a| (p[a] - self.origin[a]) / self.cell_size)
     }
 
     /// How many cells have each colour: (white, grey, black).
@@ -150,12 +167,11 @@ impl CellGrid {
                 for j in y.0..=y.1 {
                     for i in x.0..=x.1 {
                         let cell = [i, j, k];
-                        let index = self.index(cell);
-                        if self.colours[index] != Colour::Grey {
-                            let (lo, hi) = self.cell_box(cell);
-                            if triangle_meets_box(corners, lo, hi) {
-                                self.colours[index] = Colour::Grey;
-                            }
+                        let (lo, hi) = self.cell_box(cell);
+                        if triangle_meets_box(corners, lo, hi) {
+                            let index = self.index(cell);
+                            self.colours[index] = Colour::Grey;
+                            self.triangles.entry(index).or_default().push(t as u32);
                         }
                     }
                 }
@@ -229,7 +245,7 @@ pub fn triangle_meets_box(triangle: [[f64; 3]; 3], lo: [f64; 3], hi: [f64; 3]) -
 #[cfg(test)]
 mod tests {
     use super::super::mesh::norm;
-    use super::super::mesh::shapes::{icosphere, torus};
+    use super::super::mesh::shapes::{icosphere, inscribed_radius, torus};
     use super::*;
 
     fn mesh(shape: (Vec<[f64; 3]>, Vec<[u32; 3]>), name: &str) -> ClosedMesh {
@@ -261,13 +277,7 @@ mod tests {
         let centre = [0.3, -0.2, 0.1];
         let sphere = mesh(icosphere(centre, 1.0, 3), "sphere");
         // The polyhedron lies between its inscribed sphere and the unit sphere.
-        let inscribed = (0..sphere.triangles().len())
-            .map(|t| {
-                let [a, b, c] = sphere.triangle(t).map(|p| sub(p, centre));
-                let normal = cross(sub(b, a), sub(c, a));
-                dot(a, normal) / norm(normal)
-            })
-            .fold(f64::INFINITY, f64::min);
+        let inscribed = inscribed_radius(&sphere, centre);
         assert!(inscribed > 0.98 && inscribed < 1.0);
         for n in [1, 2, 5, 16] {
             let grid = CellGrid::classify(&sphere, n);

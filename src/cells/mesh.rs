@@ -288,6 +288,18 @@ pub(crate) mod shapes {
         (positions, triangles)
     }
 
+    /// The radius of the largest sphere around `centre` inside the closed convex mesh: the least distance from
+    /// `centre` to a triangle's plane.
+    pub fn inscribed_radius(mesh: &super::ClosedMesh, centre: [f64; 3]) -> f64 {
+        (0..mesh.triangles().len())
+            .map(|t| {
+                let [a, b, c] = mesh.triangle(t).map(|p| super::sub(p, centre));
+                let normal = super::cross(super::sub(b, a), super::sub(c, a));
+                super::dot(a, normal) / super::norm(normal)
+            })
+            .fold(f64::INFINITY, f64::min)
+    }
+
     /// A torus around the z axis through `centre`: tube radius `minor` around the circle of radius `major`, with
     /// `segments` quads around the circle and `sides` around the tube; wound outward.
     pub fn torus(

@@ -2,16 +2,19 @@
 //! cells of an N^3 grid over its bounding cube, each carrying distance maps on its domain faces. No Vulkan here.
 //!
 //! Built so far: the checked closed mesh ([`mesh`]), the grid and its cells' colours ([`grid`]), the cells' face
-//! configurations and their ten base cases ([`case`]), and each case's projection of the cell onto its domain
-//! faces with its inverse ([`projection`]). Not built yet: the distance maps, the grid-size selection, the
-//! rendering and the `relief cells` command.
+//! configurations and their ten base cases ([`case`]), each case's projection of the cell onto its domain faces
+//! with its inverse ([`projection`]), and the distance maps sampled on the CPU with the overlap ratio that picks
+//! the grid size ([`distance_map`]). Not built yet: colour and normal maps, GPU sampling, the rendering and the
+//! `relief cells` command.
 
 pub mod case;
+pub mod distance_map;
 pub mod grid;
 pub mod mesh;
 pub mod projection;
 
 pub use case::{Axis, Case, Face, FaceSet};
+pub use distance_map::{choose_grid, CellMaps, FaceMap};
 pub use grid::{CellGrid, CellIndex, Colour};
 pub use mesh::{ClosedMesh, MeshError};
 pub use projection::{domain_faces, Image, Projection};

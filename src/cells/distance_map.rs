@@ -1,0 +1,288 @@
+//! Distance maps on the domain faces of grey cells (paper 002, sections 3.3.2 and 3.3.3), sampled on the CPU by
+//! casting each texel's projection line into its cell: the reference for a GPU sampler, and where the overlap ratio
+//! that picks the grid size is counted.
+//!
+//! A texel's face point `q` (its centre on the face, in cell-local coordinates) lies on one projection line, which
+//! runs from `q` into the cell to the projection's centre, axis or plane (for a parallel projection, across the
+//! cell). The texel stores the distance from `q` to the line's first crossing of the surface, the nearest surface
+//! point that projects onto the texel as in the paper's depth-tested rendering, or the line's whole length where it
+//! crosses none. The paper counts the fragments that the depth test hides; here that is every crossing of a line
+//! after its first, over all crossings: the overlap ratio. Distances are in cell sides.
+
+use super::case::Face;
+use super::grid::{CellGrid, CellIndex};
+use super::mesh::{cross, dot, sub, ClosedMesh};
+use super::projection::{domain_faces, Projection};
+
+/// Crossings along one line closer than this (cell sides) are one: a line through an edge or a vertex meets
+/// every triangle around it at the same point.
+const SAME_CROSSING: f64 = 1e-9;
+
+/// One domain face's distance map.
+#[derive(Debug, Clone)]
+pub struct FaceMap {
+    pub cell: CellIndex,
+    pub face: Face,
+    /// Row-major `resolution`^2 distances; texel `(a, b)` sits at face coordinates `((a + 0.5) / R, (b + 0.5) / R)`
+    /// along the face's [`Face::span`] axes.
+    pub distances: Vec<f32>,
+}
+
+/// Every grey cell's distance maps at one resolution.
+#[derive(Debug, Clone)]
+pub struct CellMaps {
+    pub resolution: u32,
+    pub faces: Vec<FaceMap>,
+    /// How many grey cells carry the maps.
+    pub grey_cells: usize,
+    /// Crossings after the first along the texels' lines, over all crossings (0 when nothing crosses).
+    pub overlap_ratio: f64,
+}
+
+impl CellMaps {
+    /// Samples the maps of every grey cell of `grid` (classified from `mesh`) at `resolution`^2 texels a face.
+    pub fn sample(mesh: &ClosedMesh, grid: &CellGrid, resolution: u32) -> CellMaps {
+        assert!(resolution >= 1, "a distance map needs at least one texel");
+        let mut faces = Vec::new();
+        let (mut crossings, mut hidden) = (0u64, 0u64);
+        let mut grey_cells = 0;
+        for cell in grid.grey_cells() {
+            grey_cells += 1;
+            let internal = grid.internal_faces(cell);
+            let projection = Projection::for_cell(internal);
+            let local = |p: [f64; 3]| {
+                let g = grid.to_grid(p);
+                [0, 1, 2].map(|a| g[a] - f64::from(cell[a]))
+            };
+            let triangles: Vec<[[f64; 3]; 3]> = grid
+                .triangles_in(cell)
+                .iter()
+                .map(|&t| mesh.triangle(t as usize).map(local))
+                .collect();
+            for face in domain_faces(internal).faces() {
+                let mut distances = Vec::with_capacity((resolution as usize).pow(2));
+                for b in 0..resolution {
+                    for a in 0..resolution {
+                        let uv = [a, b].map(|x| (f64::from(x) + 0.5) / f64::from(resolution));
+                        let line = Line::new(&projection, face, uv);
+                        let hits = line.crossings(&triangles);
+                        crossings += hits.len() as u64;
+                        hidden += hits.len().saturating_sub(1) as u64;
+                        distances.push(hits.first().copied().unwrap_or(line.length) as f32);
+                    }
+                }
+                faces.push(FaceMap {
+                    cell,
+                    face,
+                    distances,
+                });
+            }
+        }
+        CellMaps {
+            resolution,
+            faces,
+            grey_cells,
+            overlap_ratio: if crossings == 0 {
+                0.0
+            } else {
+                hidden as f64 / crossings as f64
+            },
+        }
+    }
+
+    /// Bytes of the maps as 16-bit distances (the paper's storage), one layer of `resolution`^2 a domain face.
+    pub fn bytes(&self) -> u64 {
+        self.faces.len() as u64 * u64::from(self.resolution).pow(2) * 2
+    }
+}
+
+/// The grid and maps the paper's size choice ends at: N doubles from 1 while the maps' overlap ratio is above
+/// `threshold`, up to `max_n`.
+pub fn choose_grid(
+    mesh: &ClosedMesh,
+    resolution: u32,
+    threshold: f64,
+    max_n: u32,
+) -> (CellGrid, CellMaps) {
+    let mut n = 1;
+    loop {
+        let grid = CellGrid::classify(mesh, n);
+        let maps = CellMaps::sample(mesh, &grid, resolution);
+        if maps.overlap_ratio <= threshold || n * 2 > max_n {
+            return (grid, maps);
+        }
+        n *= 2;
+    }
+}
+
+/// One texel's projection line in cell-local coordinates: from `start` on the face along the unit `dir` into the
+/// cell, `length` long.
+struct Line {
+    start: [f64; 3],
+    dir: [f64; 3],
+    length: f64,
+}
+
+impl Line {
+    fn new(projection: &Projection, face: Face, uv: [f64; 2]) -> Line {
+        let mut start = [0.0; 3];
+        start[face.axis] = face.offset();
+        let [u, v] = face.span();
+        start[u] = uv[0];
+        start[v] = uv[1];
+        // The projection moves points outward to the face; the line runs back against it.
+        let outward = projection.direction(start);
+        let size = dot(outward, outward).sqrt();
+        let dir = outward.map(|c| -c / size);
+        let length = match *projection {
+            Projection::Perspective { .. } | Projection::Axial { .. } => size,
+            Projection::Planar { axis, offset } => (start[axis] - offset).abs(),
+            Projection::Parallel { .. } => 1.0,
+        };
+        Line { start, dir, length }
+    }
+
+    /// The distances along the line at which it crosses the triangles, ascending, equal ones merged.
+    fn crossings(&self, triangles: &[[[f64; 3]; 3]]) -> Vec<f64> {
+        let mut hits: Vec<f64> = triangles
+            .iter()
+            .filter_map(|&t| ray_triangle(self.start, self.dir, t))
+            .filter(|&t| t <= self.length)
+            .collect();
+        hits.sort_by(f64::total_cmp);
+        hits.dedup_by(|b, a| *b - *a < SAME_CROSSING);
+        hits
+    }
+}
+
+/// Where the ray `origin + t dir` (t >= 0) meets the closed triangle, by Möller and Trumbore's test; `None` for a
+/// ray in the triangle's plane.
+fn ray_triangle(origin: [f64; 3], dir: [f64; 3], [a, b, c]: [[f64; 3]; 3]) -> Option<f64> {
+    let (e1, e2) = (sub(b, a), sub(c, a));
+    let p = cross(dir, e2);
+    let det = dot(e1, p);
+    if det.abs() < 1e-300 {
+        return None;
+    }
+    let s = sub(origin, a);
+    let u = dot(s, p) / det;
+    let q = cross(s, e1);
+    let v = dot(dir, q) / det;
+    let t = dot(e2, q) / det;
+    (u >= 0.0 && v >= 0.0 && u + v <= 1.0 && t >= 0.0).then_some(t)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::mesh::norm;
+    use super::super::mesh::shapes::{icosphere, inscribed_radius, torus};
+    use super::super::projection::Image;
+    use super::*;
+
+    fn mesh(shape: (Vec<[f64; 3]>, Vec<[u32; 3]>), name: &str) -> ClosedMesh {
+        ClosedMesh::new(name, &shape.0, &shape.1).expect("closed")
+    }
+
+    /// The mesh-space point of texel `(a, b)` of `map` at its stored distance.
+    fn surface_point(grid: &CellGrid, map: &FaceMap, resolution: u32, a: u32, b: u32) -> [f64; 3] {
+        let projection = Projection::for_cell(grid.internal_faces(map.cell));
+        let image = Image {
+            face: map.face,
+            uv: [a, b].map(|x| (f64::from(x) + 0.5) / f64::from(resolution)),
+            distance: f64::from(map.distances[(b * resolution + a) as usize]),
+        };
+        let local = projection.unproject(&image);
+        let origin = grid.origin();
+        [0, 1, 2].map(|k| origin[k] + (f64::from(map.cell[k]) + local[k]) * grid.cell_size())
+    }
+
+    #[test]
+    fn sphere_maps_rebuild_points_of_the_sphere() {
+        let centre = [0.2, 0.1, -0.3];
+        let sphere = mesh(icosphere(centre, 1.0, 3), "sphere");
+        let inscribed = inscribed_radius(&sphere, centre);
+        let resolution = 12;
+        for n in [1, 3, 4] {
+            let grid = CellGrid::classify(&sphere, n);
+            let maps = CellMaps::sample(&sphere, &grid, resolution);
+            let mut on_surface = 0;
+            for map in &maps.faces {
+                let internal = grid.internal_faces(map.cell);
+                let external = internal.complement();
+                let projection = Projection::for_cell(internal);
+                for b in 0..resolution {
+                    for a in 0..resolution {
+                        let d = f64::from(map.distances[(b * resolution + a) as usize]);
+                        let uv = [a, b].map(|x| (f64::from(x) + 0.5) / f64::from(resolution));
+                        let full = Line::new(&projection, map.face, uv).length;
+                        let p = surface_point(&grid, map, resolution, a, b);
+                        let r = norm(sub(p, centre));
+                        if d < full - 1e-6 {
+                            // A crossing: on the polyhedron, which lies between its inscribed sphere and the sphere.
+                            assert!(r > inscribed - 1e-6 && r < 1.0 + 1e-6, "n = {n}: r = {r}");
+                            on_surface += 1;
+                        } else if !external.is_empty() {
+                            // No crossing: the whole line lies outside, as its face point on an external face does.
+                            let winding = sphere.winding_number(p);
+                            assert!(
+                                winding.abs() < 0.5,
+                                "n = {n}: a line's end inside ({winding})"
+                            );
+                        }
+                    }
+                }
+            }
+            assert!(on_surface > 0);
+            // From the centre of a single cell the sphere is star-shaped: every line crosses it once.
+            if n == 1 {
+                assert_eq!(maps.grey_cells, 1);
+                assert_eq!(maps.faces.len(), 6);
+                assert_eq!(maps.overlap_ratio, 0.0);
+            }
+            assert_eq!(maps.bytes(), maps.faces.len() as u64 * 12 * 12 * 2);
+        }
+    }
+
+    #[test]
+    fn the_grid_doubles_until_the_torus_stops_overlapping() {
+        let ring = mesh(torus([0.0; 3], 1.0, 0.4, 32, 16), "torus");
+        // One cell sees the torus's outer and inner walls along the same lines.
+        let whole = CellMaps::sample(&ring, &CellGrid::classify(&ring, 1), 8);
+        assert!(whole.overlap_ratio > 0.2, "{}", whole.overlap_ratio);
+        let (grid, maps) = choose_grid(&ring, 8, 0.05, 16);
+        assert!(grid.n() > 1);
+        assert!(
+            maps.overlap_ratio <= 0.05,
+            "n = {}: {}",
+            grid.n(),
+            maps.overlap_ratio
+        );
+        assert!(maps.overlap_ratio < whole.overlap_ratio);
+        // The choice stops at the first N that qualifies: half of it did not.
+        let coarser = CellMaps::sample(&ring, &CellGrid::classify(&ring, grid.n() / 2), 8);
+        assert!(coarser.overlap_ratio > 0.05);
+    }
+
+    #[test]
+    fn ray_triangle_hits_inside_and_on_the_border_only() {
+        let t = [[0.0, 0.0, 1.0], [1.0, 0.0, 1.0], [0.0, 1.0, 1.0]];
+        let down = [0.0, 0.0, 1.0];
+        assert_eq!(ray_triangle([0.2, 0.2, 0.0], down, t), Some(1.0));
+        assert_eq!(
+            ray_triangle([0.5, 0.5, 0.0], down, t),
+            Some(1.0),
+            "on the hypotenuse"
+        );
+        assert_eq!(ray_triangle([0.6, 0.6, 0.0], down, t), None);
+        assert_eq!(
+            ray_triangle([0.2, 0.2, 2.0], down, t),
+            None,
+            "behind the origin"
+        );
+        assert_eq!(
+            ray_triangle([0.2, 0.2, 1.0], [1.0, 0.0, 0.0], t),
+            None,
+            "in the plane"
+        );
+    }
+}
