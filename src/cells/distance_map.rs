@@ -11,7 +11,7 @@
 
 use super::case::Face;
 use super::grid::{CellGrid, CellIndex};
-use super::mesh::{cross, dot, sub, ClosedMesh};
+use super::mesh::{cross, dot, norm, sub, ClosedMesh};
 use super::projection::{domain_faces, Projection};
 
 /// Crossings along one line closer than this (cell sides) are one: a line through an edge or a vertex meets
@@ -50,14 +50,10 @@ impl CellMaps {
             grey_cells += 1;
             let internal = grid.internal_faces(cell);
             let projection = Projection::for_cell(internal);
-            let local = |p: [f64; 3]| {
-                let g = grid.to_grid(p);
-                [0, 1, 2].map(|a| g[a] - f64::from(cell[a]))
-            };
             let triangles: Vec<[[f64; 3]; 3]> = grid
                 .triangles_in(cell)
                 .iter()
-                .map(|&t| mesh.triangle(t as usize).map(local))
+                .map(|&t| mesh.triangle(t as usize).map(|p| grid.to_cell(cell, p)))
                 .collect();
             for face in domain_faces(internal).faces() {
                 let mut distances = Vec::with_capacity((resolution as usize).pow(2));
@@ -132,7 +128,7 @@ impl Line {
         start[v] = uv[1];
         // The projection moves points outward to the face; the line runs back against it.
         let outward = projection.direction(start);
-        let size = dot(outward, outward).sqrt();
+        let size = norm(outward);
         let dir = outward.map(|c| -c / size);
         let length = match *projection {
             Projection::Perspective { .. } | Projection::Axial { .. } => size,
@@ -174,7 +170,6 @@ fn ray_triangle(origin: [f64; 3], dir: [f64; 3], [a, b, c]: [[f64; 3]; 3]) -> Op
 
 #[cfg(test)]
 mod tests {
-    use super::super::mesh::norm;
     use super::super::mesh::shapes::{icosphere, inscribed_radius, torus};
     use super::super::projection::Image;
     use super::*;
@@ -191,9 +186,7 @@ mod tests {
             uv: [a, b].map(|x| (f64::from(x) + 0.5) / f64::from(resolution)),
             distance: f64::from(map.distances[(b * resolution + a) as usize]),
         };
-        let local = projection.unproject(&image);
-        let origin = grid.origin();
-        [0, 1, 2].map(|k| origin[k] + (f64::from(map.cell[k]) + local[k]) * grid.cell_size())
+        grid.from_cell(map.cell, projection.unproject(&image))
     }
 
     #[test]

@@ -103,9 +103,14 @@ impl CellGrid {
             .map_or(&[], Vec::as_slice)
     }
 
-    /// A point in grid units (cell `[i, j, k]` spans `[i, i + 1] x ...`) from a point in the mesh's space.
-    pub fn to_grid(&self, p: [f64; 3]) -> [f64; 3] {
-        [0, 1, 2].map(|a| (p[a] - self.origin[a]) / self.cell_size)
+    /// A mesh-space point in `cell`'s local coordinates (the cell spans `[0, 1]^3`).
+    pub fn to_cell(&self, cell: CellIndex, p: [f64; 3]) -> [f64; 3] {
+        [0, 1, 2].map(|a| (p[a] - self.origin[a]) / self.cell_size - f64::from(cell[a]))
+    }
+
+    /// The mesh-space point at `local` coordinates in `cell` ([`Self::to_cell`]'s inverse).
+    pub fn from_cell(&self, cell: CellIndex, local: [f64; 3]) -> [f64; 3] {
+        [0, 1, 2].map(|a| self.origin[a] + (f64::from(cell[a]) + local[a]) * self.cell_size)
     }
 
     /// How many cells have each colour: (white, grey, black).
