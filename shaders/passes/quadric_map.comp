@@ -1,5 +1,6 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
+#extension GL_EXT_control_flow_attributes : require
 // The quadric map on the GPU (heightfield::quadric_map, paper 004): per texel the profile
 // [a, b, c, h] of a cone continued by a parabola and a flat cap, F(r) = b r / a up to a, then
 // b + (r - a)(2c - r - a) up to c, then b + (c - a)^2, such that the bilinear surface B never
@@ -63,8 +64,6 @@ layout(push_constant, std430) uniform Params {
     // REDUCE: the level written. QUADRIC: the first row of this dispatch.
     uint level;
     uint row0;
-    // Nodes on each side of the texel's node in every level's ring.
-    int ring;
     // The level whose single node covers the map.
     uint top;
     // Where each level starts in `pyramid` (the host computes them once).
@@ -99,18 +98,26 @@ float height_at(ivec2 q) {
     return pyramid[t.y * n.x + t.x];
 }
 
-// What the radial bound of texel p rests on: x = h_lo (rounded down), y = L (rounded up).
+// What the radial bound of texel p rests on: x = h_lo (rounded down), y = L (rounded up). The
+// 5x5 texels around p are read once (every bilinear cell within a texel of the footprint).
 vec2 texel_bound(ivec2 p) {
-    float c = height_at(p);
+    float t[5][5];
+    [[unroll]] for (int l = 0; l < 5; ++l) {
+        [[unroll]] for (int k = 0; k < 5; ++k) {
+            ivec2 d = ivec2(k - 2, l - 2);
+            t[l][k] = height_at(p + d);
+        }
+    }
+    float c = t[2][2];
     float lo = c;
     bool flat3 = true;
     for (int d = -1; d <= 1; d += 2) {
-        float hu = height_at(p + ivec2(d, 0));
-        float hv = height_at(p + ivec2(0, d));
+        float hu = t[2][2 + d];
+        float hv = t[2 + d][2];
         lo = min(lo, min(0.5 * (c + hu), 0.5 * (c + hv)));
         for (int e = -1; e <= 1; e += 2) {
-            float he = height_at(p + ivec2(0, e));
-            float hc = height_at(p + ivec2(d, e));
+            float he = t[2 + e][2];
+            float hc = t[2 + e][2 + d];
             lo = min(lo, 0.25 * (c + hu + he + hc));
             flat3 = flat3 && hu == c && hv == c && hc == c;
         }
@@ -120,12 +127,12 @@ vec2 texel_bound(ivec2 p) {
     float w = float(params.width);
     float h = float(params.height);
     float lip = 0.0;
-    for (int l = -2; l <= 1; ++l) {
-        for (int k = -2; k <= 1; ++k) {
-            float h00 = height_at(p + ivec2(k, l));
-            float h10 = height_at(p + ivec2(k + 1, l));
-            float h01 = height_at(p + ivec2(k, l + 1));
-            float h11 = height_at(p + ivec2(k + 1, l + 1));
+    [[unroll]] for (int l = 0; l < 4; ++l) {
+        [[unroll]] for (int k = 0; k < 4; ++k) {
+            float h00 = t[l][k];
+            float h10 = t[l][k + 1];
+            float h01 = t[l + 1][k];
+            float h11 = t[l + 1][k + 1];
             float gu = w * max(abs(h10 - h00), abs(h11 - h01));
             float gv = h * max(abs(h01 - h00), abs(h11 - h10));
             lip = max(lip, length(vec2(gu, gv)));
@@ -182,6 +189,25 @@ Point radial_point(float gu, float gv, float top, vec2 tb) {
     return pt;
 }
 
+// Nodes on each side of the texel's own node in every level's ring (the three finest levels add
+// 3, 2 and 1): the points stand for their nodes from about 1 + 2.8 / RING times nearer than the
+// nodes' farthest texels, and each texel visits about levels (2 RING + 1)^2 nodes. 3 is where
+// lavapipe's build time and the profiles' excess over the CPU's balance (measured at 1024^2,
+// fbm: 4 cost about 1.3x the time of 3; 2 about 0.75x, with a p99 excess of 3.9x on fbm at
+// 257x129).
+const int RING = 3;
+
+// Level 0's ring in the main pass (ring_at(0)).
+const int FINE_RING = RING + 3;
+
+// Whether level 0 may be read as rows of texels around the texel (FOR_EACH_TEXEL_POINT): the map
+// is wide enough that no two offsets within FINE_RING wrap onto one texel and every wrapped gap
+// equals the plain one.
+bool texel_rows_fit() {
+    uint side = uint(2 * FINE_RING + 1);
+    return params.width > side && params.height > side;
+}
+
 // When >= 0, the half width of level 0's ring instead of ring_at's (the first, near pass).
 int near_ring = -1;
 
@@ -191,7 +217,7 @@ int ring_at(uint level) {
     if (level == 0u && near_ring >= 0) {
         return near_ring;
     }
-    return params.ring + max(3 - int(level), 0);
+    return RING + max(3 - int(level), 0);
 }
 
 // Node indices of `level`'s ring along one axis: `first` and `count` (wrapped when used).
@@ -235,12 +261,16 @@ int wrap_index(int m, int nodes) {
 }
 
 // Calls VISIT(pt) for the point of every node of the covering of texel p (see the header), level
-// by level from the finest, until STOP(level) says no point of that level or above can matter.
-// Row quantities are computed once per row, and runs of covered columns are skipped at once.
-#define FOR_EACH_POINT(p, tb, STOP, VISIT)                                                  \
+// by level from the finest, until STOP(level) says no point of that level or above can matter,
+// passing over the levels where SKIP(p, tb, level) says none can. Row quantities are computed
+// once per row, and runs of covered columns are skipped at once.
+#define FOR_EACH_POINT(p, tb, STOP, SKIP, VISIT)                                            \
     for (uint level = 0u; level <= params.top; ++level) {                                   \
         if (STOP(level)) {                                                                  \
             break;                                                                          \
+        }                                                                                   \
+        if (SKIP(p, tb, level)) {                                                           \
+            continue;                                                                       \
         }                                                                                   \
         ivec2 nodes = level_nodes(level);                                                   \
         ivec2 fine = level == 0u ? nodes : level_nodes(level - 1u);                         \
@@ -268,6 +298,30 @@ int wrap_index(int m, int nodes) {
         }                                                                                   \
     }
 
+// FOR_EACH_POINT's level 0 for a ring of k <= FINE_RING texels where texel_rows_fit(): the same
+// points in the same order (node_gap of a texel offset d is then max(|d| - 3/2, 0) texels), but
+// each row's texels are read first and visited after, both unrolled, with no coverage tests;
+// on lavapipe that makes level 0, most of a texel's points, several times cheaper. Under Clamp
+// the offsets outside the map are not in the ring.
+#define FOR_EACH_TEXEL_POINT(p, tb, k, VISIT)                                              \
+    for (int dv = -k; dv <= k; ++dv) {                                                      \
+        float gv = max(max(float(dv) - 1.5, float(-dv) - 1.5), 0.0) * (1.0 / float(params.height)); \
+        bool in_v = repeat_address() || uint(p.y + dv) < params.height;                     \
+        float row_tops[2 * k + 1];                                                          \
+        [[unroll]] for (int du = -k; du <= k; ++du) {                                       \
+            row_tops[du + k] = height_at(p + ivec2(du, dv));                                \
+        }                                                                                   \
+        [[unroll]] for (int du = -k; du <= k; ++du) {                                       \
+            float top = row_tops[du + k];                                                   \
+            bool in_u = repeat_address() || uint(p.x + du) < params.width;                  \
+            if (top > tb.x && in_u && in_v) {                                               \
+                float gu = max(max(float(du) - 1.5, float(-du) - 1.5), 0.0) * (1.0 / float(params.width)); \
+                Point pt = radial_point(gu, gv, top, tb);                                   \
+                VISIT(pt)                                                                   \
+            }                                                                               \
+        }                                                                                   \
+    }
+
 // The steepest value / r, and the farthest r that reaches it (ties within 1e-6); compared by
 // products, so that only a point that changes the slope pays a division.
 #define VISIT_SLOPE(pt)                                                                     \
@@ -290,18 +344,96 @@ const float NEAR_CONE = 1.0e-4;
 // threshold a + lift exceeds c, with m = c - a, only if y > m^2 (x >= m) or y > x (2m - x)
 // (x < m): tested first, with a margin for its rounding, so that most points pay no sqrt or
 // division.
-#define VISIT_APEX_OF(pt, a)                                                                \
+#define APEX_TEST(pt, a, margin, raises)                                                    \
     float x = (pt.r - a) * (1.0 - 2.4e-7);                                                  \
     float y = (pt.value * (1.0 + 2.4e-7) - b) * (1.0 + 2.4e-7);                             \
     float m = c - a;                                                                        \
     float needs = x >= m ? m * m : x * (2.0 * m - x);                                       \
-    if (pt.r > a * (1.0 + NEAR_CONE) && y > 0.0 && y > needs * (1.0 - 1.0e-5)) {            \
+    bool raises = pt.r > a * (1.0 + NEAR_CONE) && y > 0.0 && y > needs * (1.0 - margin);
+
+#define VISIT_APEX_OF(pt, a)                                                                \
+    APEX_TEST(pt, a, 1.0e-5, raises)                                                        \
+    if (raises) {                                                                           \
         float lift = y >= x * x ? 0.5 * x + y / (2.0 * x) * (1.0 + 4.0e-7) : sqrt(y);       \
         c = max(c, a + lift);                                                               \
     }
 
+// The highest node of `level` that the ring of texel p can visit: the ring's span of 2k + 1
+// nodes lies within at most two nodes per axis of the level `up` levels coarser (2^up > 2k + 1),
+// whose maximum bounds it; one wrap under Repeat reaches them, since 2^up > k.
+float ring_max(ivec2 p, uint level) {
+    int k = ring_at(level);
+    uint up = 2 * k + 1 <= 8 ? 3u : 4u;
+    if (level + up >= params.top) {
+        // The top's single node.
+        return pyramid[params.offsets[params.top]];
+    }
+    uint coarse = level + up;
+    uint shift = up;
+    ivec2 nodes = level_nodes(coarse);
+    ivec2 first = (p >> level) - k;
+    ivec2 last = (p >> level) + k;
+    ivec2 lo = first >> shift;
+    ivec2 hi = last >> shift;
+    ivec2 fine = level_nodes(level);
+    bool wraps = any(lessThan(first, ivec2(0))) || any(greaterThanEqual(last, fine));
+    bool ragged = any(notEqual(fine & ((1 << shift) - 1), ivec2(0)));
+    if (repeat_address() && wraps && ragged) {
+        // A wrapped span may touch three coarse nodes where the last one is partial.
+        return pyramid[params.offsets[params.top]];
+    }
+    if (repeat_address()) {
+        lo = ivec2(wrap_index(lo.x, nodes.x), wrap_index(lo.y, nodes.y));
+        hi = ivec2(wrap_index(hi.x, nodes.x), wrap_index(hi.y, nodes.y));
+    } else {
+        lo = clamp(lo, ivec2(0), nodes - 1);
+        hi = clamp(hi, ivec2(0), nodes - 1);
+    }
+    uint base = params.offsets[coarse];
+    float m = max(pyramid[base + uint(lo.y * nodes.x + lo.x)], pyramid[base + uint(lo.y * nodes.x + hi.x)]);
+    return max(m, max(pyramid[base + uint(hi.y * nodes.x + lo.x)], pyramid[base + uint(hi.y * nodes.x + hi.x)]));
+}
+
+// Whether no point of `level` can change the profile [a, b, c] of texel p. A ring whose highest
+// node is no higher than the texel's lowest point has no point at all (every node is dropped).
+// Otherwise, above level 0, every node the covering visits has a child outside the ring of the
+// level below, so its gap along one axis is at least (k - 1) 2^(level - 1) - 1/2 texels with k
+// that ring's half width (its other child may lie just inside that ring); with the ring's
+// highest value that gives one point dominating all of the level's points, and F is
+// non-decreasing while the apex test's threshold grows with r and with c, so a level whose
+// dominating point fails the test now fails it for every later c as well. Either way skipping
+// the level leaves the map bit for bit unchanged.
+bool level_under_parabola(ivec2 p, vec2 tb, uint level, float a, float b, float c) {
+    float top = ring_max(p, level);
+    if (top <= tb.x) {
+        return true;
+    }
+    if (level == 0u) {
+        return false;
+    }
+    int k = ring_at(level - 1u);
+    float gap = float((k - 1) << (level - 1u)) - 0.5;
+    float r_min = max(gap, 0.0) / float(max(params.width, params.height)) * (1.0 - 1.0e-5);
+    if (!(r_min > a * (1.0 + NEAR_CONE))) {
+        return false;
+    }
+    Point pt;
+    pt.r = r_min;
+    pt.value = top - tb.x;
+    // A wider margin than the visit's: the rounded threshold may dip an ulp as x grows.
+    APEX_TEST(pt, a, 2.0e-5, raises)
+    return !raises;
+}
+
+// Whether the near pass can pass over level 0: no texel of its ring rises above the texel's
+// lowest point, so no slope.
+bool ring_below_texel(ivec2 p, vec2 tb, uint level) {
+    return ring_max(p, level) <= tb.x;
+}
+
 void quadric() {
     ivec2 p = ivec2(gl_GlobalInvocationID.x, gl_GlobalInvocationID.y + params.row0);
+    bool texel_rows = texel_rows_fit();
     if (p.x >= int(params.width) || p.y >= int(params.height)) {
         return;
     }
@@ -317,7 +449,11 @@ void quadric() {
     float a = 0.0;
 #define FINEST_ONLY(level) level > 0u
     near_ring = NEAR_RING;
-    FOR_EACH_POINT(p, tb, FINEST_ONLY, VISIT_SLOPE)
+    if (!texel_rows) {
+        FOR_EACH_POINT(p, tb, FINEST_ONLY, ring_below_texel, VISIT_SLOPE)
+    } else if (!ring_below_texel(p, tb, 0u)) {
+        FOR_EACH_TEXEL_POINT(p, tb, NEAR_RING, VISIT_SLOPE)
+    }
     near_ring = -1;
     // Nothing near rises above the texel's lowest point: any short cone will do.
     a = slope > 0.0 ? a : 0.5 / float(max(params.width, params.height));
@@ -326,13 +462,18 @@ void quadric() {
     float c = a;
     float steep = 0.0;
 #define NEVER(level) false
+#define LEVEL_UNDER_PARABOLA(p, tb, level)                                                  \
+    ((texel_rows && level == 0u) || level_under_parabola(p, tb, level, a, b, c))
 #define VISIT_MAIN(pt)                                                                      \
     if (pt.r <= a * (1.0 + NEAR_CONE)) {                                                    \
         steep = max(steep, pt.value / pt.r);                                                \
     } else {                                                                                \
         VISIT_APEX_OF(pt, a)                                                                \
     }
-    FOR_EACH_POINT(p, tb, NEVER, VISIT_MAIN)
+    if (texel_rows && !level_under_parabola(p, tb, 0u, a, b, c)) {
+        FOR_EACH_TEXEL_POINT(p, tb, FINE_RING, VISIT_MAIN)
+    }
+    FOR_EACH_POINT(p, tb, NEVER, LEVEL_UNDER_PARABOLA, VISIT_MAIN)
     b = max(b, steep * a * (1.0 + NEAR_CONE + 2.0e-5));
     if (!(b > 0.0) && !(c > a)) {
         // Nothing rises above the texel's lowest point: the flat profile, as on the CPU.

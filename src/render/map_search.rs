@@ -220,6 +220,8 @@ impl<P: bytemuck::Pod> MapSearch<'_, P> {
             ctx,
             &[Bind::Storage(0, pyramid.raw()), Bind::Storage(1, out.raw())],
         );
+        let past_end = (self.params)(MODE_SEARCH, 0, h);
+        warm_up(ctx, self.pipeline, self.set, bytemuck::bytes_of(&past_end))?;
         let chunks = row_chunks(w, h);
         let mut timed = TimedSubmissions::new(ctx, 1 + chunks.len() as u32, self.name)?;
         timed.submit(ctx, |rec| {
@@ -263,6 +265,25 @@ pub(super) fn record_row_dispatch(
     rec.dispatch([w.div_ceil(GROUP), count.div_ceil(GROUP), 1]);
     memory_barrier(rec, COMPUTE_RW, COMPUTE_RW);
     Ok(())
+}
+
+/// Dispatches one workgroup of `pipeline` whose rows lie past the map's end (`push` says so), in a
+/// submission of its own before the timed ones. Every invocation returns at once, but llvmpipe
+/// compiles a pipeline at its first dispatch (over half a second for the quadric search with
+/// Mesa's shader cache cold), and a driver's compile is not the build's GPU time; drivers that
+/// compile at pipeline creation pay for an empty dispatch.
+pub(super) fn warm_up(
+    ctx: &Arc<Context>,
+    pipeline: &Pipeline,
+    set: DescriptorSet,
+    push: &[u8],
+) -> VkResult<()> {
+    ctx.one_shot(|rec| {
+        pipeline.bind(rec, Some(set));
+        pipeline.push(rec, push)?;
+        rec.dispatch([1, 1, 1]);
+        Ok(())
+    })
 }
 
 /// A copy's writes, for the shader reads and writes after it.

@@ -53,7 +53,7 @@ pub use pass::Pass;
 pub use pass_timer::{PassTiming, Scope};
 pub use plan::{DrawPlan, HeightKey, HeightPlan, PassPlan, PipelineKey, Plan, PlanError, Skipped};
 pub use pyramid_pass::{build_pyramid_on_gpu, PyramidJob, PyramidPass};
-pub use quadric_map_pass::{build_quadric_map_on_gpu, QuadricMapPass, RING as QUADRIC_MAP_RING};
+pub use quadric_map_pass::{build_quadric_map_on_gpu, QuadricMapPass};
 pub use relaxed_cone_map_pass::{build_relaxed_cone_map_on_gpu, RelaxedConeMapPass};
 pub use renderer::{FrameOutput, FrameRequest, Renderer, FRAMES_IN_FLIGHT};
 pub use surface_pass::{describe as describe_pipeline, COLOR_FORMAT, DEPTH_FORMAT};

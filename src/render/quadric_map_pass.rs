@@ -4,8 +4,8 @@
 //! each texel, for maps where the CPU's seconds to minutes would dominate a run.
 //!
 //! Not the CPU's numbers: the CPU prunes a concave hull of the radial bound through its pyramid,
-//! the GPU covers the plane per texel with fixed rings of pyramid nodes ([`RING`] nodes each side,
-//! per level) and fits the profile to their points directly, its cone to the near texels only.
+//! the GPU covers the plane per texel with fixed rings of pyramid nodes (the shader's `RING`
+//! nodes each side, per level) and fits the profile to their points directly, its cone to the near texels only.
 //! Its points stand for their texels from a little nearer than the CPU's (see the shader's
 //! header), so its profiles are a little higher: the tests bound how much (and the steps a tracer
 //! takes through it), and check the upper bound itself point by point.
@@ -17,14 +17,6 @@ use std::sync::Arc;
 use super::map_search::{level_offsets, top_level, SearchBuffers, SearchPipeline, MODE_REDUCE};
 use crate::heightfield::{Address, Heightfield, MapData};
 use crate::vk::{Context, VkResult};
-
-/// Nodes on each side of a texel's own node in every level's ring (the three finest levels add
-/// 3, 2 and 1): the points stand for their nodes from about `1 + 2.8 / RING` times nearer than
-/// the nodes' farthest texels, and each texel visits about `levels (2 RING + 1)^2` nodes. 3 is
-/// where lavapipe's build time and the profiles' excess over the CPU's balance (measured at
-/// 1024^2, fbm: 4 costs about 1.3x the time of 3; 2 about 0.75x, with a p99 excess of 3.9x on
-/// fbm at 257x129).
-pub const RING: i32 = 3;
 
 /// A float per pyramid node; `[a, b, c, h]` per texel.
 const BUFFERS: SearchBuffers = SearchBuffers {
@@ -42,7 +34,6 @@ struct Params {
     repeat_address: u32,
     level: u32,
     row0: u32,
-    ring: i32,
     top: u32,
     offsets: [u32; 15],
 }
@@ -81,7 +72,6 @@ impl QuadricMapPass {
             repeat_address: u32::from(address == Address::Repeat),
             level: 0,
             row0: 0,
-            ring: RING,
             top: top_level(w, h),
             offsets: level_offsets(w, h),
         };

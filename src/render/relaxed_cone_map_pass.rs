@@ -26,8 +26,8 @@ use ash::vk;
 
 use super::map_search::{
     level_offsets, pyramid_floats, record_reductions, record_row_dispatch, row_chunks, top_level,
-    SearchBuffers, SearchPipeline, TimedSubmissions, COMPUTE_RW, COPIED, MAX_LEVELS, MODE_REDUCE,
-    SHADER_WROTE,
+    warm_up, SearchBuffers, SearchPipeline, TimedSubmissions, COMPUTE_RW, COPIED, MAX_LEVELS,
+    MODE_REDUCE, SHADER_WROTE,
 };
 use crate::heightfield::cone_map::{bilinear_box_bound, REACH_CAP_TEXELS, REACH_CAP_UV};
 use crate::heightfield::{Address, Heightfield, MapData};
@@ -141,6 +141,15 @@ impl RelaxedConeMapPass {
             ],
         );
         let set = Some(self.search.set);
+        for (pipeline, mode) in [(&self.reach, MODE_REACH), (&self.relaxed, MODE_RELAXED)] {
+            let past_end = params(mode, 0, h);
+            warm_up(
+                &self.ctx,
+                pipeline,
+                self.search.set,
+                bytemuck::bytes_of(&past_end),
+            )?;
+        }
         let chunks = row_chunks(w, h);
         let submissions = 2 + 2 * chunks.len() as u32;
         let mut timed = TimedSubmissions::new(&self.ctx, submissions, "relaxed cone map")?;
