@@ -303,13 +303,18 @@ int wrap_index(int m, int nodes) {
 // each row's texels are read first and visited after, both unrolled, with no coverage tests;
 // on lavapipe that makes level 0, most of a texel's points, several times cheaper. Under Clamp
 // the offsets outside the map are not in the ring.
-#define FOR_EACH_TEXEL_POINT(p, tb, k, VISIT)                                              \
+#define FOR_EACH_TEXEL_POINT(p, tb, k, ROW_SKIP, VISIT)                                    \
     for (int dv = -k; dv <= k; ++dv) {                                                      \
         float gv = max(max(float(dv) - 1.5, float(-dv) - 1.5), 0.0) * (1.0 / float(params.height)); \
         bool in_v = repeat_address() || uint(p.y + dv) < params.height;                     \
         float row_tops[2 * k + 1];                                                          \
+        float row_top = tb.x;                                                               \
         [[unroll]] for (int du = -k; du <= k; ++du) {                                       \
             row_tops[du + k] = height_at(p + ivec2(du, dv));                                \
+            row_top = max(row_top, row_tops[du + k]);                                       \
+        }                                                                                   \
+        if (!in_v || ROW_SKIP(gv, row_top)) {                                               \
+            continue;                                                                       \
         }                                                                                   \
         [[unroll]] for (int du = -k; du <= k; ++du) {                                       \
             float top = row_tops[du + k];                                                   \
@@ -425,6 +430,23 @@ bool level_under_parabola(ivec2 p, vec2 tb, uint level, float a, float b, float 
     return !raises;
 }
 
+// Whether no texel of a level-0 row at gap gv (uv, across rows) whose highest texel is row_top can
+// change the profile: as level_under_parabola, with the row's gap for the dominating point's r
+// (a texel's r is at least its gap's length, which is at least gv).
+bool row_under_parabola(float gv, float row_top, vec2 tb, float a, float b, float c) {
+    if (row_top <= tb.x) {
+        return true;
+    }
+    Point pt;
+    pt.r = gv * (1.0 - 1.0e-6) * (1.0 - 1.0e-6);
+    pt.value = row_top - tb.x;
+    if (!(pt.r > a * (1.0 + NEAR_CONE))) {
+        return false;
+    }
+    APEX_TEST(pt, a, 2.0e-5, raises)
+    return !raises;
+}
+
 // Whether the near pass can pass over level 0: no texel of its ring rises above the texel's
 // lowest point, so no slope.
 bool ring_below_texel(ivec2 p, vec2 tb, uint level) {
@@ -448,11 +470,12 @@ void quadric() {
     float slope = 0.0;
     float a = 0.0;
 #define FINEST_ONLY(level) level > 0u
+#define ROW_BELOW_TEXEL(gv, row_top) (row_top <= tb.x)
     near_ring = NEAR_RING;
     if (!texel_rows) {
         FOR_EACH_POINT(p, tb, FINEST_ONLY, ring_below_texel, VISIT_SLOPE)
     } else if (!ring_below_texel(p, tb, 0u)) {
-        FOR_EACH_TEXEL_POINT(p, tb, NEAR_RING, VISIT_SLOPE)
+        FOR_EACH_TEXEL_POINT(p, tb, NEAR_RING, ROW_BELOW_TEXEL, VISIT_SLOPE)
     }
     near_ring = -1;
     // Nothing near rises above the texel's lowest point: any short cone will do.
@@ -462,6 +485,7 @@ void quadric() {
     float c = a;
     float steep = 0.0;
 #define NEVER(level) false
+#define ROW_UNDER_PARABOLA(gv, row_top) row_under_parabola(gv, row_top, tb, a, b, c)
 #define LEVEL_UNDER_PARABOLA(p, tb, level)                                                  \
     ((texel_rows && level == 0u) || level_under_parabola(p, tb, level, a, b, c))
 #define VISIT_MAIN(pt)                                                                      \
@@ -471,7 +495,7 @@ void quadric() {
         VISIT_APEX_OF(pt, a)                                                                \
     }
     if (texel_rows && !level_under_parabola(p, tb, 0u, a, b, c)) {
-        FOR_EACH_TEXEL_POINT(p, tb, FINE_RING, VISIT_MAIN)
+        FOR_EACH_TEXEL_POINT(p, tb, FINE_RING, ROW_UNDER_PARABOLA, VISIT_MAIN)
     }
     FOR_EACH_POINT(p, tb, NEVER, LEVEL_UNDER_PARABOLA, VISIT_MAIN)
     b = max(b, steep * a * (1.0 + NEAR_CONE + 2.0e-5));
