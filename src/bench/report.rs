@@ -439,6 +439,13 @@ fn maps(md: &mut String, results: &BenchResults) {
         return;
     }
     let _ = writeln!(md, "## Map build times\n");
+    let _ = writeln!(
+        md,
+        "GPU ms for GPU builds, CPU wall ms for CPU builds. Where a map is built on both (sides up to 1024), the \
+         {} GPU and {} CPU builds alternate and each row is their median.\n",
+        super::runner::MAP_BUILD_ROUNDS,
+        super::runner::MAP_BUILD_ROUNDS
+    );
     let _ = writeln!(md, "| map | height field | size | built on | ms |");
     let _ = writeln!(md, "|---|---|---|---|---|");
     for m in &results.maps {
