@@ -12,7 +12,7 @@
 use super::case::Face;
 use super::grid::{CellGrid, CellIndex};
 use super::mesh::{cross, dot, norm, sub, ClosedMesh};
-use super::projection::{domain_faces, Projection};
+use super::projection::{domain_faces, face_point, Projection};
 
 /// Crossings along one line closer than this (cell sides) are one: a line through an edge or a vertex meets
 /// every triangle around it at the same point.
@@ -26,6 +26,19 @@ pub struct FaceMap {
     /// Row-major `resolution`^2 distances; texel `(a, b)` sits at face coordinates `((a + 0.5) / R, (b + 0.5) / R)`
     /// along the face's [`Face::span`] axes.
     pub distances: Vec<f32>,
+    /// Per texel, whether its face point lies inside the mesh; empty when none does. Only an interior grey cell
+    /// (case 6) has domain faces shared with grey cells, whose points may lie on either side; an external face
+    /// borders a white cell, whose closed box misses the surface, so its points are all outside.
+    pub inside_at_face: Vec<bool>,
+}
+
+impl FaceMap {
+    /// Whether the point at `distance` along texel `texel`'s line lies inside the mesh, given the surface's
+    /// distance `surface` there: past the first crossing the line has changed sides.
+    pub fn inside(&self, texel: usize, distance: f64, surface: f64) -> bool {
+        let face_inside = self.inside_at_face.get(texel).copied().unwrap_or(false);
+        face_inside != (distance > surface)
+    }
 }
 
 /// Every grey cell's distance maps at one resolution.
@@ -55,8 +68,17 @@ impl CellMaps {
                 .iter()
                 .map(|&t| mesh.triangle(t as usize).map(|p| grid.to_cell(cell, p)))
                 .collect();
+            // An interior cell's lines all end at its centre: one winding number there, and each line's crossings,
+            // say on which side each face point lies.
+            let centre_inside = internal
+                .complement()
+                .is_empty()
+                .then(|| mesh.winding_number(grid.from_cell(cell, [0.5; 3])).abs() > 0.5);
             for face in domain_faces(internal).faces() {
-                let mut distances = Vec::with_capacity((resolution as usize).pow(2));
+                let texels = (resolution as usize).pow(2);
+                let mut distances = Vec::with_capacity(texels);
+                let mut inside_at_face =
+                    Vec::with_capacity(if centre_inside.is_some() { texels } else { 0 });
                 for b in 0..resolution {
                     for a in 0..resolution {
                         let uv = [a, b].map(|x| (f64::from(x) + 0.5) / f64::from(resolution));
@@ -65,12 +87,16 @@ impl CellMaps {
                         crossings += hits.len() as u64;
                         hidden += hits.len().saturating_sub(1) as u64;
                         distances.push(hits.first().copied().unwrap_or(line.length) as f32);
+                        if let Some(centre) = centre_inside {
+                            inside_at_face.push(centre != (hits.len() % 2 == 1));
+                        }
                     }
                 }
                 faces.push(FaceMap {
                     cell,
                     face,
                     distances,
+                    inside_at_face,
                 });
             }
         }
@@ -121,20 +147,12 @@ struct Line {
 
 impl Line {
     fn new(projection: &Projection, face: Face, uv: [f64; 2]) -> Line {
-        let mut start = [0.0; 3];
-        start[face.axis] = face.offset();
-        let [u, v] = face.span();
-        start[u] = uv[0];
-        start[v] = uv[1];
+        let start = face_point(face, uv);
         // The projection moves points outward to the face; the line runs back against it.
         let outward = projection.direction(start);
         let size = norm(outward);
         let dir = outward.map(|c| -c / size);
-        let length = match *projection {
-            Projection::Perspective { .. } | Projection::Axial { .. } => size,
-            Projection::Planar { axis, offset } => (start[axis] - offset).abs(),
-            Projection::Parallel { .. } => 1.0,
-        };
+        let length = projection.line_length(face, uv);
         Line { start, dir, length }
     }
 
@@ -153,7 +171,11 @@ impl Line {
 
 /// Where the ray `origin + t dir` (t >= 0) meets the closed triangle, by Möller and Trumbore's test; `None` for a
 /// ray in the triangle's plane.
-fn ray_triangle(origin: [f64; 3], dir: [f64; 3], [a, b, c]: [[f64; 3]; 3]) -> Option<f64> {
+pub(crate) fn ray_triangle(
+    origin: [f64; 3],
+    dir: [f64; 3],
+    [a, b, c]: [[f64; 3]; 3],
+) -> Option<f64> {
     let (e1, e2) = (sub(b, a), sub(c, a));
     let p = cross(dir, e2);
     let det = dot(e1, p);

@@ -153,6 +153,50 @@ impl ClosedMesh {
     }
 }
 
+impl ClosedMesh {
+    /// The distance from `p` to the nearest point of the mesh's surface.
+    pub fn distance(&self, p: [f64; 3]) -> f64 {
+        (0..self.triangles.len())
+            .map(|t| norm(sub(p, closest_on_triangle(p, self.triangle(t)))))
+            .fold(f64::INFINITY, f64::min)
+    }
+}
+
+/// The point of the closed triangle nearest to `p` (by the triangle's Voronoi regions: corners, edges, face).
+fn closest_on_triangle(p: [f64; 3], [a, b, c]: [[f64; 3]; 3]) -> [f64; 3] {
+    let along = |o: [f64; 3], d: [f64; 3], t: f64| [0, 1, 2].map(|k| o[k] + t * d[k]);
+    let (ab, ac, ap) = (sub(b, a), sub(c, a), sub(p, a));
+    let (d1, d2) = (dot(ab, ap), dot(ac, ap));
+    if d1 <= 0.0 && d2 <= 0.0 {
+        return a;
+    }
+    let bp = sub(p, b);
+    let (d3, d4) = (dot(ab, bp), dot(ac, bp));
+    if d3 >= 0.0 && d4 <= d3 {
+        return b;
+    }
+    let vc = d1 * d4 - d3 * d2;
+    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
+        return along(a, ab, d1 / (d1 - d3));
+    }
+    let cp = sub(p, c);
+    let (d5, d6) = (dot(ab, cp), dot(ac, cp));
+    if d6 >= 0.0 && d5 <= d6 {
+        return c;
+    }
+    let vb = d5 * d2 - d1 * d6;
+    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
+        return along(a, ac, d2 / (d2 - d6));
+    }
+    let va = d3 * d6 - d5 * d4;
+    if va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0 {
+        return along(b, sub(c, b), (d4 - d3) / ((d4 - d3) + (d5 - d6)));
+    }
+    let denom = 1.0 / (va + vb + vc);
+    let (v, w) = (vb * denom, vc * denom);
+    [0, 1, 2].map(|k| a[k] + ab[k] * v + ac[k] * w)
+}
+
 /// Every undirected edge must border exactly two triangles, once in each direction.
 fn check_closed(
     origin: &str,
@@ -214,9 +258,8 @@ pub(crate) fn norm(a: [f64; 3]) -> f64 {
     dot(a, a).sqrt()
 }
 
-#[cfg(test)]
-pub(crate) mod shapes {
-    //! Procedural closed meshes with analytic answers, for the tests of the cells module.
+pub mod shapes {
+    //! Procedural closed meshes with analytic answers: the cells module's test shapes (`relief cells --shape`).
 
     /// An icosahedron subdivided `levels` times, projected onto the sphere of `radius` around `centre`;
     /// triangles wound counter-clockwise seen from outside.
@@ -338,12 +381,55 @@ pub(crate) mod shapes {
         }
         (positions, triangles)
     }
+
+    /// An icosphere of `levels` subdivisions whose radius swells and sinks by up to `amplitude` (a fraction of
+    /// `radius`) in `lobes` bumps around each axis: a closed star-shaped surface with concave folds, the paper's
+    /// kind of detail that one cell sees overlapping.
+    pub fn bumpy_sphere(
+        centre: [f64; 3],
+        radius: f64,
+        levels: u32,
+        amplitude: f64,
+        lobes: f64,
+    ) -> (Vec<[f64; 3]>, Vec<[u32; 3]>) {
+        let (positions, triangles) = icosphere([0.0; 3], 1.0, levels);
+        let positions = positions
+            .into_iter()
+            .map(|p| {
+                let bump = (lobes * p[0]).sin() * (lobes * p[1]).sin() * (lobes * p[2]).cos();
+                let r = radius * (1.0 + amplitude * bump);
+                [0, 1, 2].map(|k| centre[k] + r * p[k])
+            })
+            .collect();
+        (positions, triangles)
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::shapes::*;
     use super::*;
+
+    #[test]
+    fn distance_reaches_corners_edges_and_faces() {
+        let (p, t) = icosphere([0.0; 3], 1.0, 2);
+        let sphere = ClosedMesh::new("icosphere", &p, &t).expect("closed");
+        let inscribed = inscribed_radius(&sphere, [0.0; 3]);
+        assert!((sphere.distance([0.0; 3]) - inscribed).abs() < 1e-12);
+        // Off a vertex, straight out: the vertex is nearest.
+        let v = sphere.positions()[0];
+        assert!((sphere.distance(v.map(|c| 3.0 * c)) - 2.0).abs() < 1e-12);
+        // A point of an edge, moved out along the edge's outward bisector, is nearest to the edge.
+        let [a, b, _] = sphere.triangle(0);
+        let m = [0, 1, 2].map(|k| 0.5 * (a[k] + b[k]));
+        let out = m.map(|c| c / norm(m));
+        let q = [0, 1, 2].map(|k| m[k] + 0.25 * out[k]);
+        assert!(
+            (sphere.distance(q) - 0.25).abs() < 1e-9,
+            "{}",
+            sphere.distance(q)
+        );
+    }
 
     #[test]
     fn procedural_shapes_are_closed_and_wind_outward() {

@@ -10,11 +10,17 @@
 pub mod case;
 pub mod distance_map;
 pub mod grid;
+pub mod measure;
 pub mod mesh;
 pub mod projection;
+pub mod reconstruct;
+pub mod trace;
 
 pub use case::{Axis, Case, Face, FaceSet};
 pub use distance_map::{choose_grid, CellMaps, FaceMap};
 pub use grid::{CellGrid, CellIndex, Colour};
-pub use mesh::{ClosedMesh, MeshError};
+pub use measure::{measure_hits, HitAgreement, RayOutcome};
+pub use mesh::{shapes, ClosedMesh, MeshError};
 pub use projection::{domain_faces, Image, Projection};
+pub use reconstruct::{rebuild, RebuiltMesh};
+pub use trace::{exact_hits, CellComplex, CellHit, MarchSettings};

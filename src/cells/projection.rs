@@ -57,6 +57,16 @@ pub fn domain_faces(internal: FaceSet) -> FaceSet {
     }
 }
 
+/// The cell-local point at coordinates `uv` (along its [`Face::span`] axes) of `face`.
+pub fn face_point(face: Face, uv: [f64; 2]) -> [f64; 3] {
+    let mut q = [0.0; 3];
+    let [u, v] = face.span();
+    q[face.axis] = face.offset();
+    q[u] = uv[0];
+    q[v] = uv[1];
+    q
+}
+
 /// The midpoint of the edge where faces `a` and `b` (on different axes) meet.
 fn edge_midpoint(a: Face, b: Face) -> [f64; 3] {
     let mut p = [0.5; 3];
@@ -131,6 +141,22 @@ impl Projection {
         }
     }
 
+    /// The length of the projection line through point `uv` of `face`: from the face back to the projection's
+    /// centre, axis or plane, or across the cell for a parallel projection.
+    pub fn line_length(&self, face: Face, uv: [f64; 2]) -> f64 {
+        let start = face_point(face, uv);
+        match *self {
+            Projection::Perspective { .. } | Projection::Axial { .. } => self
+                .direction(start)
+                .iter()
+                .map(|c| c * c)
+                .sum::<f64>()
+                .sqrt(),
+            Projection::Planar { axis, offset } => (start[axis] - offset).abs(),
+            Projection::Parallel { .. } => 1.0,
+        }
+    }
+
     /// The projection's direction at `p` (not normalized), or zero where it has none.
     pub fn direction(&self, p: [f64; 3]) -> [f64; 3] {
         match *self {
@@ -181,11 +207,7 @@ impl Projection {
     /// The point at `image.distance` back along the projection line from `image`'s face point: the inverse of
     /// [`Projection::project`].
     pub fn unproject(&self, image: &Image) -> [f64; 3] {
-        let mut q = [0.0; 3];
-        let [u, v] = image.face.span();
-        q[image.face.axis] = image.face.offset();
-        q[u] = image.uv[0];
-        q[v] = image.uv[1];
+        let q = face_point(image.face, image.uv);
         // Every projection line through q points the same way along its whole length: away from the centre, the
         // axis or the plane, or along the parallel direction.
         let d = self.direction(q);

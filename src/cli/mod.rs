@@ -3,6 +3,7 @@
 
 mod ao;
 mod bench;
+mod cells;
 mod devices;
 mod heightmap_args;
 mod lod_args;
@@ -45,6 +46,8 @@ enum Command {
     Ao(ao::AoArgs),
     /// Time every method and measure its error against the exact reference; write a report.
     Bench(bench::BenchArgs),
+    /// Replace a closed mesh by a cubic cell complex with distance maps (paper 002) and measure its hits.
+    Cells(cells::CellsArgs),
     /// List the Vulkan devices relief can use, best first.
     Devices(devices::DevicesArgs),
     /// Render a glTF scene (or the built-in default scene) to a PNG, offscreen.
@@ -66,6 +69,7 @@ pub fn run() -> ExitCode {
     let result = match cli.command {
         Command::Ao(args) => ao::run(&args),
         Command::Bench(args) => bench::run(&args),
+        Command::Cells(args) => cells::run(&args),
         Command::Devices(args) => devices::run(&args),
         Command::Render(args) => render::run(&args),
         Command::Maps(args) => maps::run(&args),
