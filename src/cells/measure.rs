@@ -46,17 +46,9 @@ pub struct HitAgreement {
     pub rays_per_second: f64,
 }
 
-/// Marches `side` x `side` parallel rays along `dir` through the complex of `grid` and `maps` (built from `mesh`),
-/// over a square that covers the mesh's bounding sphere, and compares each with the exact hits.
-pub fn measure_hits(
-    mesh: &ClosedMesh,
-    grid: &CellGrid,
-    maps: &CellMaps,
-    dir: [f64; 3],
-    side: u32,
-) -> (HitAgreement, Vec<RayOutcome>) {
-    let complex = CellComplex::new(grid, maps);
-    let size = grid.cell_size();
+/// `side` x `side` parallel rays along `dir` (normalized) over a square that covers the mesh's bounding sphere,
+/// starting a sphere's diameter before it: (origin, direction) each.
+pub fn parallel_rays(mesh: &ClosedMesh, dir: [f64; 3], side: u32) -> Vec<([f64; 3], [f64; 3])> {
     let dir = dir.map(|c| c / norm(dir));
     let helper = if dir[0].abs() < 0.9 {
         [1.0, 0.0, 0.0]
@@ -69,19 +61,51 @@ pub fn measure_hits(
     let (lo, hi) = mesh.bounds();
     let centre = [0, 1, 2].map(|k| 0.5 * (lo[k] + hi[k]));
     let radius = 0.5 * norm([0, 1, 2].map(|k| hi[k] - lo[k]));
-    let rays: Vec<[f64; 3]> = (0..side * side)
+    (0..side * side)
         .map(|i| {
             let [a, b] = [i % side, i / side]
                 .map(|x| (2.0 * (f64::from(x) + 0.5) / f64::from(side) - 1.0) * radius);
-            [0, 1, 2].map(|k| centre[k] + a * u[k] + b * v[k] - 2.0 * radius * dir[k])
+            let origin = [0, 1, 2].map(|k| centre[k] + a * u[k] + b * v[k] - 2.0 * radius * dir[k]);
+            (origin, dir)
         })
-        .collect();
+        .collect()
+}
+
+/// Marches `side` x `side` parallel rays along `dir` ([`parallel_rays`]) through the complex of `grid` and `maps`
+/// (built from `mesh`) on the CPU and compares each with the exact hits.
+pub fn measure_hits(
+    mesh: &ClosedMesh,
+    grid: &CellGrid,
+    maps: &CellMaps,
+    dir: [f64; 3],
+    side: u32,
+) -> (HitAgreement, Vec<RayOutcome>) {
+    let complex = CellComplex::new(grid, maps);
+    let rays = parallel_rays(mesh, dir, side);
     let started = Instant::now();
     let marched: Vec<_> = rays
         .iter()
-        .map(|&origin| complex.march(origin, dir, MarchSettings::default()))
+        .map(|&(origin, dir)| {
+            complex
+                .march(origin, dir, MarchSettings::default())
+                .map(|h| (h.t, h.samples))
+        })
         .collect();
-    let march_seconds = started.elapsed().as_secs_f64();
+    let seconds = started.elapsed().as_secs_f64();
+    compare_hits(mesh, grid, maps.resolution, &rays, &marched, seconds)
+}
+
+/// Compares marched hits (t and samples, `None` for a miss) of `rays` through the complex of `grid` with maps
+/// of `resolution`^2 with the exact hits; `march_seconds` is what the march took, for the rays per second.
+pub fn compare_hits(
+    mesh: &ClosedMesh,
+    grid: &CellGrid,
+    resolution: u32,
+    rays: &[([f64; 3], [f64; 3])],
+    marched: &[Option<(f64, u32)>],
+    march_seconds: f64,
+) -> (HitAgreement, Vec<RayOutcome>) {
+    let size = grid.cell_size();
     let mut out = HitAgreement {
         rays: rays.len(),
         ..HitAgreement::default()
@@ -89,33 +113,33 @@ pub fn measure_hits(
     let mut errors = Vec::new();
     let mut outcomes = Vec::with_capacity(rays.len());
     let mut samples = 0u64;
-    for (&origin, hit) in rays.iter().zip(&marched) {
+    for (&(origin, dir), &hit) in rays.iter().zip(marched) {
         let (first, second) = exact_hits(mesh, origin, dir);
         let chord = match (first, second) {
             (Some(f), Some(s)) => s - f,
             _ => 0.0,
         };
-        samples += u64::from(hit.map_or(0, |h| h.samples));
+        samples += u64::from(hit.map_or(0, |h| h.1));
         outcomes.push(RayOutcome {
             exact: first.unwrap_or(f64::NAN),
             chord,
-            marched: hit.map_or(f64::NAN, |h| h.t),
-            samples: hit.map_or(0, |h| h.samples),
+            marched: hit.map_or(f64::NAN, |h| h.0),
+            samples: hit.map_or(0, |h| h.1),
         });
-        let solid = first.is_some() && chord >= 2.0 * size / f64::from(maps.resolution);
+        let solid = first.is_some() && chord >= 2.0 * size / f64::from(resolution);
         if solid {
             out.solid += 1;
         }
         match (first, hit) {
-            (Some(t), Some(hit)) if solid => errors.push((hit.t - t).abs() / size),
+            (Some(t), Some((ht, _))) if solid => errors.push((ht - t).abs() / size),
             (Some(_), None) if solid => out.missed_solid += 1,
-            (Some(t), Some(hit)) => {
-                out.graze_max_error = out.graze_max_error.max((hit.t - t).abs() / size)
+            (Some(t), Some((ht, _))) => {
+                out.graze_max_error = out.graze_max_error.max((ht - t).abs() / size)
             }
             (Some(_), None) => out.grazing_missed += 1,
-            (None, Some(hit)) => {
+            (None, Some((ht, _))) => {
                 out.false_hits += 1;
-                let p = [0, 1, 2].map(|k| origin[k] + hit.t * dir[k]);
+                let p = [0, 1, 2].map(|k| origin[k] + ht * dir[k]);
                 out.false_hit_max_distance =
                     out.false_hit_max_distance.max(mesh.distance(p) / size);
             }

@@ -1,6 +1,7 @@
 //! `relief cells`: a closed mesh (the meshes of a glTF file, or a procedural shape) replaced by a cubic cell
 //! complex (paper 002): the grid chosen as the paper does, the grey cells' distance maps, statistics like the
-//! paper's Table 1, and the complex's hits measured against exact ray/triangle intersection. CPU only.
+//! paper's Table 1, and the complex's hits measured against exact ray/triangle intersection: the CPU march, and
+//! with `--gpu` the GPU's (its rays per second, as the paper's Table 2 reports them).
 
 use std::io::BufWriter;
 use std::path::{Path, PathBuf};
@@ -10,8 +11,10 @@ use anyhow::Context as _;
 use clap::{Args, ValueEnum};
 use relief::bench::write_npy_f32;
 use relief::cells::{
-    choose_grid, measure_hits, rebuild, shapes, CellGrid, CellMaps, ClosedMesh, HitAgreement,
+    choose_grid, compare_hits, measure_hits, parallel_rays, rebuild, shapes, CellGrid, CellMaps,
+    ClosedMesh, HitAgreement, MarchSettings, PackedComplex,
 };
+use relief::render::march_cells_on_gpu;
 use relief::scene::{load_gltf, SceneOptions};
 use serde_json::json;
 
@@ -67,6 +70,12 @@ pub struct CellsArgs {
     /// Mip level of the maps the rebuilt mesh is made from (0: full resolution).
     #[arg(long, default_value_t = 0)]
     mesh_level: u32,
+    /// Also march the rays on the GPU: the same measurement, and the GPU's rays per second.
+    #[arg(long)]
+    gpu: bool,
+    /// Pick the Vulkan device whose name contains this text (with --gpu).
+    #[arg(long, value_name = "SUBSTRING")]
+    device: Option<String>,
 }
 
 /// Reads the mesh the arguments name, checked closed.
@@ -202,6 +211,25 @@ pub fn run(args: &CellsArgs) -> anyhow::Result<()> {
     } else {
         None
     };
+    let gpu_measured = if args.gpu && args.rays > 0 {
+        let ctx = super::open_device(args.device.as_deref(), false)?;
+        let rays = parallel_rays(&mesh, dir, args.rays);
+        let packed = PackedComplex::new(&grid, &maps);
+        let traced = march_cells_on_gpu(&ctx, &packed, &rays, MarchSettings::default())
+            .context("marching the rays on the GPU")?;
+        super::check_validation(&ctx)?;
+        let (agreement, _) = compare_hits(
+            &mesh,
+            &grid,
+            maps.resolution,
+            &rays,
+            &traced.hits,
+            traced.gpu_ms / 1e3,
+        );
+        Some(agreement)
+    } else {
+        None
+    };
     if let Some(path) = &args.mesh_out {
         let rebuilt = rebuild(&grid, &maps, args.mesh_level);
         let file =
@@ -235,11 +263,18 @@ pub fn run(args: &CellsArgs) -> anyhow::Result<()> {
         "overlap_ratio": maps.overlap_ratio,
         "build_ms": build_ms,
         "hits": measured,
+        "gpu_hits": gpu_measured,
     });
     let path = args.out.join("cells.json");
     std::fs::write(&path, serde_json::to_string_pretty(&stats)?)
         .with_context(|| format!("writing {}", path.display()))?;
     print_summary(&name, &mesh, &grid, &maps, build_ms, measured.as_ref());
+    if let Some(h) = &gpu_measured {
+        println!(
+            "GPU march: {} of {} rays cross the solid, {} missed; error mean {:.5}, max {:.5} cell sides; {:.0} rays/s",
+            h.solid, h.rays, h.missed_solid, h.mean_error, h.max_error, h.rays_per_second
+        );
+    }
     println!("wrote {}", path.display());
     Ok(())
 }

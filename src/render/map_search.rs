@@ -267,11 +267,11 @@ pub(super) fn record_row_dispatch(
     Ok(())
 }
 
-/// Dispatches one workgroup of `pipeline` whose rows lie past the map's end (`push` says so), in a
-/// submission of its own before the timed ones. Every invocation returns at once, but llvmpipe
-/// compiles a pipeline at its first dispatch (over half a second for the quadric search with
-/// Mesa's shader cache cold), and a driver's compile is not the build's GPU time; drivers that
-/// compile at pipeline creation pay for an empty dispatch.
+/// Dispatches one workgroup of `pipeline` whose work lies past the end (`push` says so: rows past
+/// the map's, no rays), in a submission of its own before the timed ones. Every invocation returns
+/// at once, but llvmpipe compiles a pipeline at its first dispatch (over half a second for the
+/// quadric search with Mesa's shader cache cold), and a driver's compile is not the build's GPU
+/// time; drivers that compile at pipeline creation pay for an empty dispatch.
 pub(super) fn warm_up(
     ctx: &Arc<Context>,
     pipeline: &Pipeline,

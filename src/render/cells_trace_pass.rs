@@ -1,0 +1,145 @@
+//! Rays through a cell complex on the GPU (`shaders/passes/cells_trace.comp`): the CPU march of
+//! `cells::trace` over the arrays of `cells::PackedComplex`, one invocation per ray, timed with
+//! timestamps. What the renderer's cell pass will run per fragment, and the GPU rays per second
+//! paper 002's Table 2 reports.
+
+use std::sync::Arc;
+
+use ash::vk;
+
+use super::map_search::{warm_up, SearchPipeline, TimedSubmissions, SHADER_WROTE};
+use crate::cells::{MarchSettings, PackedComplex};
+use crate::vk::{Bind, Buffer, Context, MemoryLocation, Readback, VkResult};
+
+/// The shader's push constants (`Params` in cells_trace.comp).
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct Params {
+    origin_size: [f32; 4],
+    n: u32,
+    resolution: u32,
+    ray_count: u32,
+    refinements: u32,
+    samples_per_texel: f32,
+}
+
+/// Invocations per workgroup (`local_size_x`).
+const GROUP: u32 = 64;
+
+/// One ray: origin and unit direction, as the shader reads it.
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct GpuRay {
+    origin: [f32; 4],
+    dir: [f32; 4],
+}
+
+/// Where each ray hit (`None`: it missed) with its samples, and the GPU ms of the march.
+pub struct CellsTrace {
+    pub hits: Vec<Option<(f64, u32)>>,
+    pub gpu_ms: f64,
+}
+
+/// Marches `rays` (origin, direction) through `complex` on the GPU.
+pub fn march_cells_on_gpu(
+    ctx: &Arc<Context>,
+    complex: &PackedComplex,
+    rays: &[([f64; 3], [f64; 3])],
+    settings: MarchSettings,
+) -> VkResult<CellsTrace> {
+    let push = std::mem::size_of::<Params>() as u32;
+    let search = SearchPipeline::new(ctx, "cells_trace.comp", push, 5, "cells trace")?;
+    let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
+    // Storage buffers may not be empty: a complex with no grey cell still binds one record.
+    let nonempty = |bytes: &[u8]| {
+        if bytes.is_empty() {
+            vec![0u8; 64]
+        } else {
+            bytes.to_vec()
+        }
+    };
+    let cells = Buffer::with_data(
+        ctx,
+        &nonempty(bytemuck::cast_slice(&complex.cells)),
+        storage,
+        "cells",
+    )?;
+    let grey = Buffer::with_data(
+        ctx,
+        &nonempty(bytemuck::cast_slice(&complex.grey)),
+        storage,
+        "grey cells",
+    )?;
+    let maps = Buffer::with_data(
+        ctx,
+        &nonempty(bytemuck::cast_slice(&complex.maps)),
+        storage,
+        "cell maps",
+    )?;
+    let gpu_rays: Vec<GpuRay> = rays
+        .iter()
+        .map(|(o, d)| GpuRay {
+            origin: [o[0] as f32, o[1] as f32, o[2] as f32, 0.0],
+            dir: [d[0] as f32, d[1] as f32, d[2] as f32, 0.0],
+        })
+        .collect();
+    let ray_buffer = Buffer::with_data(
+        ctx,
+        &nonempty(bytemuck::cast_slice(&gpu_rays)),
+        storage,
+        "cell rays",
+    )?;
+    let hit_bytes = (rays.len().max(1) * 8) as u64;
+    let hits = Buffer::new(
+        ctx,
+        hit_bytes,
+        storage | vk::BufferUsageFlags::TRANSFER_SRC,
+        MemoryLocation::GpuOnly,
+        "cell hits",
+    )?;
+    search.set.rewrite(
+        ctx,
+        &[
+            Bind::Storage(0, cells.raw()),
+            Bind::Storage(1, grey.raw()),
+            Bind::Storage(2, maps.raw()),
+            Bind::Storage(3, ray_buffer.raw()),
+            Bind::Storage(4, hits.raw()),
+        ],
+    );
+    let params = Params {
+        origin_size: [
+            complex.origin[0],
+            complex.origin[1],
+            complex.origin[2],
+            complex.cell_size,
+        ],
+        n: complex.n,
+        resolution: complex.resolution,
+        ray_count: rays.len() as u32,
+        refinements: settings.refinements,
+        samples_per_texel: settings.samples_per_texel as f32,
+    };
+    let idle = Params {
+        ray_count: 0,
+        ..params
+    };
+    warm_up(ctx, &search.pipeline, search.set, bytemuck::bytes_of(&idle))?;
+    let mut timed = TimedSubmissions::new(ctx, 1, "cells trace")?;
+    timed.submit(ctx, |rec| {
+        search.pipeline.bind(rec, Some(search.set));
+        search.pipeline.push(rec, bytemuck::bytes_of(&params))?;
+        rec.dispatch([(rays.len() as u32).div_ceil(GROUP).max(1), 1, 1]);
+        Ok(())
+    })?;
+    let back = Readback::new(ctx, hit_bytes, "cell hits readback")?;
+    ctx.one_shot(|rec| back.record_copy_from_buffer(rec, &hits, SHADER_WROTE))?;
+    let gpu_ms = timed.total_ms()?;
+    let values: Vec<f32> = bytemuck::pod_collect_to_vec(back.bytes()?);
+    let hits = values
+        .chunks_exact(2)
+        .take(rays.len())
+        .map(|h| (h[0] >= 0.0).then_some((f64::from(h[0]), h[1] as u32)))
+        .collect();
+    Ok(CellsTrace { hits, gpu_ms })
+}
