@@ -12,6 +12,7 @@
 use super::case::Face;
 use super::grid::{CellGrid, CellIndex};
 use super::mesh::{cross, dot, norm, sub, ClosedMesh};
+use super::parallel::map_in_parallel;
 use super::projection::{domain_faces, face_point, Projection};
 
 /// Crossings along one line closer than this (cell sides) are one: a line through an edge or a vertex meets
@@ -53,57 +54,27 @@ pub struct CellMaps {
 }
 
 impl CellMaps {
-    /// Samples the maps of every grey cell of `grid` (classified from `mesh`) at `resolution`^2 texels a face.
+    /// Samples the maps of every grey cell of `grid` (classified from `mesh`) at `resolution`^2 texels a face, the
+    /// faces shared among the machine's cores (no map depends on another).
     pub fn sample(mesh: &ClosedMesh, grid: &CellGrid, resolution: u32) -> CellMaps {
         assert!(resolution >= 1, "a distance map needs at least one texel");
-        let mut faces = Vec::new();
-        let (mut crossings, mut hidden) = (0u64, 0u64);
-        let mut grey_cells = 0;
-        for cell in grid.grey_cells() {
-            grey_cells += 1;
-            let internal = grid.internal_faces(cell);
-            let projection = Projection::for_cell(internal);
-            let triangles: Vec<[[f64; 3]; 3]> = grid
-                .triangles_in(cell)
-                .iter()
-                .map(|&t| mesh.triangle(t as usize).map(|p| grid.to_cell(cell, p)))
-                .collect();
-            // An interior cell's lines all end at its centre: one winding number there, and each line's crossings,
-            // say on which side each face point lies.
-            let centre_inside = internal
-                .complement()
-                .is_empty()
-                .then(|| mesh.winding_number(grid.from_cell(cell, [0.5; 3])).abs() > 0.5);
-            for face in domain_faces(internal).faces() {
-                let texels = (resolution as usize).pow(2);
-                let mut distances = Vec::with_capacity(texels);
-                let mut inside_at_face =
-                    Vec::with_capacity(if centre_inside.is_some() { texels } else { 0 });
-                for b in 0..resolution {
-                    for a in 0..resolution {
-                        let uv = [a, b].map(|x| (f64::from(x) + 0.5) / f64::from(resolution));
-                        let line = Line::new(&projection, face, uv);
-                        let hits = line.crossings(&triangles);
-                        crossings += hits.len() as u64;
-                        hidden += hits.len().saturating_sub(1) as u64;
-                        distances.push(hits.first().copied().unwrap_or(line.length) as f32);
-                        if let Some(centre) = centre_inside {
-                            inside_at_face.push(centre != (hits.len() % 2 == 1));
-                        }
-                    }
-                }
-                faces.push(FaceMap {
-                    cell,
-                    face,
-                    distances,
-                    inside_at_face,
-                });
-            }
-        }
+        let faces: Vec<(CellIndex, Face)> = grid
+            .grey_cells()
+            .flat_map(|cell| {
+                domain_faces(grid.internal_faces(cell))
+                    .faces()
+                    .map(move |f| (cell, f))
+            })
+            .collect();
+        let sampled = map_in_parallel(&faces, |&(cell, face)| {
+            sample_face(mesh, grid, cell, face, resolution)
+        });
+        let crossings: u64 = sampled.iter().map(|s| s.crossings).sum();
+        let hidden: u64 = sampled.iter().map(|s| s.hidden).sum();
         CellMaps {
             resolution,
-            faces,
-            grey_cells,
+            faces: sampled.into_iter().map(|s| s.map).collect(),
+            grey_cells: grid.grey_cells().count(),
             overlap_ratio: if crossings == 0 {
                 0.0
             } else {
@@ -115,6 +86,63 @@ impl CellMaps {
     /// Bytes of the maps as 16-bit distances (the paper's storage), one layer of `resolution`^2 a domain face.
     pub fn bytes(&self) -> u64 {
         self.faces.len() as u64 * u64::from(self.resolution).pow(2) * 2
+    }
+}
+
+/// One domain face's map and its lines' crossings.
+struct FaceSample {
+    map: FaceMap,
+    crossings: u64,
+    hidden: u64,
+}
+
+/// Samples the map of domain face `face` of grey cell `cell`: each texel's line against the cell's triangles.
+fn sample_face(
+    mesh: &ClosedMesh,
+    grid: &CellGrid,
+    cell: CellIndex,
+    face: Face,
+    resolution: u32,
+) -> FaceSample {
+    let internal = grid.internal_faces(cell);
+    let projection = Projection::for_cell(internal);
+    let triangles: Vec<[[f64; 3]; 3]> = grid
+        .triangles_in(cell)
+        .iter()
+        .map(|&t| mesh.triangle(t as usize).map(|p| grid.to_cell(cell, p)))
+        .collect();
+    // An interior cell's lines all end at its centre: one winding number there, and each line's crossings, say on
+    // which side each face point lies.
+    let centre_inside = internal
+        .complement()
+        .is_empty()
+        .then(|| mesh.winding_number(grid.from_cell(cell, [0.5; 3])).abs() > 0.5);
+    let texels = (resolution as usize).pow(2);
+    let mut distances = Vec::with_capacity(texels);
+    let mut inside_at_face = Vec::with_capacity(if centre_inside.is_some() { texels } else { 0 });
+    let (mut crossings, mut hidden) = (0, 0);
+    for b in 0..resolution {
+        for a in 0..resolution {
+            let uv = [a, b].map(|x| (f64::from(x) + 0.5) / f64::from(resolution));
+            let line = Line::new(&projection, face, uv);
+            let hits = line.crossings(&triangles);
+            crossings += hits.len() as u64;
+            hidden += hits.len().saturating_sub(1) as u64;
+            distances.push(hits.first().copied().unwrap_or(line.length) as f32);
+            if let Some(centre) = centre_inside {
+                inside_at_face.push(centre != (hits.len() % 2 == 1));
+            }
+        }
+    }
+    FaceSample {
+        map: FaceMap {
+            cell,
+            face,
+            distances,
+            inside_at_face,
+        },
+        crossings,
+        hidden,
     }
 }
 

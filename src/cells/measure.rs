@@ -7,6 +7,7 @@ use std::time::Instant;
 use super::distance_map::CellMaps;
 use super::grid::CellGrid;
 use super::mesh::{cross, norm, ClosedMesh};
+use super::parallel::map_in_parallel;
 use super::trace::{exact_hits, CellComplex, MarchSettings};
 
 /// One ray's outcome: the exact first hit, the exact chord through the solid behind it, and the march's hit
@@ -113,8 +114,8 @@ pub fn compare_hits(
     let mut errors = Vec::new();
     let mut outcomes = Vec::with_capacity(rays.len());
     let mut samples = 0u64;
-    for (&(origin, dir), &hit) in rays.iter().zip(marched) {
-        let (first, second) = exact_hits(mesh, origin, dir);
+    let exact = map_in_parallel(rays, |&(origin, dir)| exact_hits(mesh, origin, dir));
+    for ((&(origin, dir), &hit), &(first, second)) in rays.iter().zip(marched).zip(&exact) {
         let chord = match (first, second) {
             (Some(f), Some(s)) => s - f,
             _ => 0.0,

@@ -3,9 +3,11 @@
 //!
 //! Built so far: the checked closed mesh ([`mesh`]), the grid and its cells' colours ([`grid`]), the cells' face
 //! configurations and their ten base cases ([`case`]), each case's projection of the cell onto its domain faces
-//! with its inverse ([`projection`]), and the distance maps sampled on the CPU with the overlap ratio that picks
-//! the grid size ([`distance_map`]). Not built yet: colour and normal maps, GPU sampling, the rendering and the
-//! `relief cells` command.
+//! with its inverse ([`projection`]), the distance maps sampled on the CPU with the overlap ratio that picks the
+//! grid size ([`distance_map`]), rays marched through the complex ([`trace`]) and measured against exact
+//! ray/triangle intersection ([`measure`]), the layout the GPU march reads ([`packed`]) and the surface rebuilt
+//! from the maps ([`reconstruct`]). Not built yet: colour and normal maps, sampling on the GPU and the renderer's
+//! pass that draws a complex.
 
 pub mod case;
 pub mod distance_map;
@@ -13,6 +15,7 @@ pub mod grid;
 pub mod measure;
 pub mod mesh;
 pub mod packed;
+mod parallel;
 pub mod projection;
 pub mod reconstruct;
 pub mod trace;

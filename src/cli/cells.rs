@@ -289,8 +289,9 @@ fn print_summary(
 ) {
     let (_, grey, _) = grid.counts();
     println!(
-        "{name}: {} triangles, grid {n}^3 ({grey} grey cells), {} domain faces, maps {r}^2 ({:.0} KiB), overlap {:.3}, built in {build_ms:.0} ms",
+        "{name}: {} triangles, grid {n}^3 ({grey} grey cell{}), {} domain faces, maps {r}^2 ({:.0} KiB), overlap {:.3}, built in {build_ms:.0} ms",
         mesh.triangles().len(),
+        if grey == 1 { "" } else { "s" },
         maps.faces.len(),
         maps.bytes() as f64 / 1024.0,
         maps.overlap_ratio,
