@@ -202,6 +202,19 @@ fn bad_arguments_are_refused_with_one_line() {
         out_dir,
     ]);
     assert_clean_failure(&out, &["missing.gltf"]);
+    // Maps that would not fit in memory are refused before any is sampled.
+    let out = relief(&[
+        "cells",
+        "--shape",
+        "sphere",
+        "--out",
+        out_dir,
+        "--grid",
+        "128",
+        "--resolution",
+        "1024",
+    ]);
+    assert_clean_failure(&out, &["sphere", "MiB", "--grid"]);
 }
 
 #[test]

@@ -146,23 +146,67 @@ fn sample_face(
     }
 }
 
+/// The most memory the doubling lets one grid's maps take while they are sampled (f32 distances): past it the
+/// next grid is not tried (a detailed mesh at 64^3 could otherwise ask for gigabytes).
+pub const MAP_MEMORY_LIMIT: u64 = 1 << 30;
+
+/// Why the grid's doubling stopped.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum GridStop {
+    /// The maps' overlap ratio fell to the threshold.
+    Overlap,
+    /// The next grid would exceed the largest size allowed.
+    MaxGrid,
+    /// The next grid's maps would take `bytes`, more than the memory limit.
+    Memory { next_n: u32, bytes: u64 },
+}
+
+/// Bytes the maps of `grid` take while sampled at `resolution`^2 (f32 distances), known before sampling them.
+pub fn sampled_bytes(grid: &CellGrid, resolution: u32) -> u64 {
+    let faces: u64 = grid
+        .grey_cells()
+        .map(|cell| u64::from(domain_faces(grid.internal_faces(cell)).len()))
+        .sum();
+    faces * u64::from(resolution).pow(2) * 4
+}
+
 /// The grid and maps the paper's size choice ends at: N doubles from 1 while the maps' overlap ratio is above
-/// `threshold`, up to `max_n`.
+/// `threshold`, up to `max_n` and while the next grid's maps stay within `max_bytes`; and why it stopped.
+pub fn choose_grid_within(
+    mesh: &ClosedMesh,
+    resolution: u32,
+    threshold: f64,
+    max_n: u32,
+    max_bytes: u64,
+) -> (CellGrid, CellMaps, GridStop) {
+    let mut grid = CellGrid::classify(mesh, 1);
+    loop {
+        let maps = CellMaps::sample(mesh, &grid, resolution);
+        if maps.overlap_ratio <= threshold {
+            return (grid, maps, GridStop::Overlap);
+        }
+        let next_n = grid.n() * 2;
+        if next_n > max_n {
+            return (grid, maps, GridStop::MaxGrid);
+        }
+        let next = CellGrid::classify(mesh, next_n);
+        let bytes = sampled_bytes(&next, resolution);
+        if bytes > max_bytes {
+            return (grid, maps, GridStop::Memory { next_n, bytes });
+        }
+        grid = next;
+    }
+}
+
+/// [`choose_grid_within`] with [`MAP_MEMORY_LIMIT`], without the reason.
 pub fn choose_grid(
     mesh: &ClosedMesh,
     resolution: u32,
     threshold: f64,
     max_n: u32,
 ) -> (CellGrid, CellMaps) {
-    let mut n = 1;
-    loop {
-        let grid = CellGrid::classify(mesh, n);
-        let maps = CellMaps::sample(mesh, &grid, resolution);
-        if maps.overlap_ratio <= threshold || n * 2 > max_n {
-            return (grid, maps);
-        }
-        n *= 2;
-    }
+    let (grid, maps, _) = choose_grid_within(mesh, resolution, threshold, max_n, MAP_MEMORY_LIMIT);
+    (grid, maps)
 }
 
 /// One texel's projection line in cell-local coordinates: from `start` on the face along the unit `dir` into the
@@ -304,6 +348,27 @@ mod tests {
         // The choice stops at the first N that qualifies: half of it did not.
         let coarser = CellMaps::sample(&ring, &CellGrid::classify(&ring, grid.n() / 2), 8);
         assert!(coarser.overlap_ratio > 0.05);
+    }
+
+    #[test]
+    fn the_doubling_stops_before_maps_outgrow_the_memory_limit() {
+        let ring = mesh(torus([0.0; 3], 1.0, 0.4, 32, 16), "torus");
+        let (free, _, why) = choose_grid_within(&ring, 8, 0.05, 16, u64::MAX);
+        assert_eq!(why, GridStop::Overlap);
+        assert!(free.n() > 1);
+        // Room for the first grid's maps only: it stops there and says what the next would take.
+        let one = sampled_bytes(&CellGrid::classify(&ring, 1), 8);
+        let (grid, maps, why) = choose_grid_within(&ring, 8, 0.05, 16, one);
+        assert_eq!(grid.n(), 1);
+        assert_eq!(maps.faces.len() as u64 * 64 * 4, one);
+        let GridStop::Memory { next_n, bytes } = why else {
+            panic!("{why:?}");
+        };
+        assert_eq!(next_n, 2);
+        assert_eq!(bytes, sampled_bytes(&CellGrid::classify(&ring, 2), 8));
+        assert!(bytes > one);
+        let (_, _, why) = choose_grid_within(&ring, 8, 0.05, 1, u64::MAX);
+        assert_eq!(why, GridStop::MaxGrid);
     }
 
     #[test]

@@ -21,7 +21,9 @@ pub mod reconstruct;
 pub mod trace;
 
 pub use case::{Axis, Case, Face, FaceSet};
-pub use distance_map::{choose_grid, CellMaps, FaceMap};
+pub use distance_map::{
+    choose_grid, choose_grid_within, sampled_bytes, CellMaps, FaceMap, GridStop, MAP_MEMORY_LIMIT,
+};
 pub use grid::{CellGrid, CellIndex, Colour};
 pub use measure::{compare_hits, measure_hits, parallel_rays, HitAgreement, RayOutcome};
 pub use mesh::{shapes, ClosedMesh, MeshError};

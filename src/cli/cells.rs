@@ -11,8 +11,9 @@ use anyhow::Context as _;
 use clap::{Args, ValueEnum};
 use relief::bench::write_npy_f32;
 use relief::cells::{
-    choose_grid, compare_hits, measure_hits, parallel_rays, rebuild, shapes, CellGrid, CellMaps,
-    ClosedMesh, HitAgreement, MarchSettings, PackedComplex,
+    choose_grid_within, compare_hits, measure_hits, parallel_rays, rebuild, sampled_bytes, shapes,
+    CellGrid, CellMaps, ClosedMesh, GridStop, HitAgreement, MarchSettings, PackedComplex,
+    MAP_MEMORY_LIMIT,
 };
 use relief::render::march_cells_on_gpu;
 use relief::scene::{load_gltf, SceneOptions};
@@ -183,10 +184,44 @@ pub fn run(args: &CellsArgs) -> anyhow::Result<()> {
     let (grid, maps) = match args.grid {
         Some(n) => {
             let grid = CellGrid::classify(&mesh, n);
+            let bytes = sampled_bytes(&grid, args.resolution);
+            if bytes > MAP_MEMORY_LIMIT {
+                anyhow::bail!(
+                    "{name}: a {n}^3 grid's maps at {r}^2 would take {} MiB while sampled (at most {} MiB); lower --grid or --resolution",
+                    bytes >> 20,
+                    MAP_MEMORY_LIMIT >> 20,
+                    r = args.resolution
+                );
+            }
             let maps = CellMaps::sample(&mesh, &grid, args.resolution);
             (grid, maps)
         }
-        None => choose_grid(&mesh, args.resolution, args.overlap, args.max_grid.max(1)),
+        None => {
+            let (grid, maps, why) = choose_grid_within(
+                &mesh,
+                args.resolution,
+                args.overlap,
+                args.max_grid.max(1),
+                MAP_MEMORY_LIMIT,
+            );
+            match why {
+                GridStop::Overlap => {}
+                GridStop::MaxGrid => eprintln!(
+                    "note: the grid stopped at --max-grid {} with overlap {:.3} above --overlap {}",
+                    grid.n(),
+                    maps.overlap_ratio,
+                    args.overlap
+                ),
+                GridStop::Memory { next_n, bytes } => eprintln!(
+                    "note: the grid stopped at {}^3 with overlap {:.3}: a {next_n}^3 grid's maps would take {} MiB (at most {} MiB)",
+                    grid.n(),
+                    maps.overlap_ratio,
+                    bytes >> 20,
+                    MAP_MEMORY_LIMIT >> 20
+                ),
+            }
+            (grid, maps)
+        }
     };
     let build_ms = started.elapsed().as_secs_f64() * 1e3;
     let (white, grey, black) = grid.counts();
