@@ -36,7 +36,7 @@
 // Two modes, chosen per dispatch by params.mode:
 //  REDUCE: level L of the max pyramid of the heights (buffer_pyramid.glsl) from level L - 1.
 //  QUADRIC: one invocation per texel of rows [row0, row0 + rows): the near texels, then one
-//    pass over its rings, at most about (levels) (2 ring + 7)^2 loop iterations (lavapipe ends every loop of
+//    pass over its rings, at most about (levels) (2 RING + 5)^2 loop iterations (lavapipe ends every loop of
 //    an invocation after 65535 iterations in all: 15 levels and ring 8 stay far below).
 layout(local_size_x = 8, local_size_y = 8) in;
 
@@ -189,16 +189,17 @@ Point radial_point(float gu, float gv, float top, vec2 tb) {
     return pt;
 }
 
-// Nodes on each side of the texel's own node in every level's ring (the three finest levels add
-// 3, 2 and 1): the points stand for their nodes from about 1 + 2.8 / RING times nearer than the
-// nodes' farthest texels, and each texel visits about levels (2 RING + 1)^2 nodes. 3 is where
-// lavapipe's build time and the profiles' excess over the CPU's balance (measured at 1024^2,
-// fbm: 4 cost about 1.3x the time of 3; 2 about 0.75x, with a p99 excess of 3.9x on fbm at
-// 257x129).
-const int RING = 3;
+// Nodes on each side of the texel's own node in every level's ring (the two finest levels add 2
+// and 1): the points stand for their nodes from about 1 + 2.8 / RING times nearer than the
+// nodes' farthest texels, and each texel visits about levels (2 RING + 1)^2 nodes. Grazing rays
+// step by the far profile, which the coarse levels bound: at 5 degrees on fbm 1024^2, quadric
+// tracing through this map takes 25.5 steps against csm's 28.6, where 3 on the levels from 3 up
+// gave 26.3 (8% fewer, against the paper's 5-20% and the CPU map's 13%); it costs about 10% more
+// build time, which passing over rows (row_under_parabola) pays back.
+const int RING = 4;
 
 // Level 0's ring in the main pass (ring_at(0)).
-const int FINE_RING = RING + 3;
+const int FINE_RING = RING + 2;
 
 // Whether level 0 may be read as rows of texels around the texel (FOR_EACH_TEXEL_POINT): the map
 // is wide enough that no two offsets within FINE_RING wrap onto one texel and every wrapped gap
@@ -211,13 +212,13 @@ bool texel_rows_fit() {
 // When >= 0, the half width of level 0's ring instead of ring_at's (the first, near pass).
 int near_ring = -1;
 
-// The ring's half width at `level`: wider on the three finest levels, whose nodes are near the
+// The ring's half width at `level`: wider on the two finest levels, whose nodes are near the
 // texel, so that they are refined about where the CPU's hull search refines them.
 int ring_at(uint level) {
     if (level == 0u && near_ring >= 0) {
         return near_ring;
     }
-    return RING + max(3 - int(level), 0);
+    return RING + max(2 - int(level), 0);
 }
 
 // Node indices of `level`'s ring along one axis: `first` and `count` (wrapped when used).
@@ -264,12 +265,13 @@ int wrap_index(int m, int nodes) {
 // by level from the finest, until STOP(level) says no point of that level or above can matter,
 // passing over the levels where SKIP(p, tb, level) says none can. Row quantities are computed
 // once per row, and runs of covered columns are skipped at once.
-#define FOR_EACH_POINT(p, tb, STOP, SKIP, VISIT)                                            \
+#define FOR_EACH_POINT(p, tb, STOP, SKIP, ROW_SKIP, VISIT)                                  \
     for (uint level = 0u; level <= params.top; ++level) {                                   \
         if (STOP(level)) {                                                                  \
             break;                                                                          \
         }                                                                                   \
-        if (SKIP(p, tb, level)) {                                                           \
+        float level_top = ring_max(p, level);                                               \
+        if (SKIP(level_top, tb, level)) {                                                   \
             continue;                                                                       \
         }                                                                                   \
         ivec2 nodes = level_nodes(level);                                                   \
@@ -281,6 +283,9 @@ int wrap_index(int m, int nodes) {
             int mv = wrap_index(sv.x + dv, nodes.y);                                        \
             bool out_v = level == 0u || child_outside(mv, p.y, level, fine.y);              \
             float gv = node_gap(p.y, mv, level, int(params.height));                        \
+            if (ROW_SKIP(gv, level_top)) {                                                  \
+                continue;                                                                   \
+            }                                                                               \
             uint row = params.offsets[level] + uint(mv * nodes.x);                          \
             for (int du = 0; du < su.y; ++du) {                                             \
                 int mu = wrap_index(su.x + du, nodes.x);                                    \
@@ -364,11 +369,12 @@ const float NEAR_CONE = 1.0e-4;
     }
 
 // The highest node of `level` that the ring of texel p can visit: the ring's span of 2k + 1
-// nodes lies within at most two nodes per axis of the level `up` levels coarser (2^up > 2k + 1),
-// whose maximum bounds it; one wrap under Repeat reaches them, since 2^up > k.
+// nodes lies within at most two nodes per axis of the level `up` levels coarser (2k + 1
+// consecutive nodes touch at most two aligned blocks of 2^up >= 2k), whose maximum bounds it;
+// one wrap under Repeat reaches them, since 2^up > k.
 float ring_max(ivec2 p, uint level) {
     int k = ring_at(level);
-    uint up = 2 * k + 1 <= 8 ? 3u : 4u;
+    uint up = 2 * k <= 8 ? 3u : 4u;
     if (level + up >= params.top) {
         // The top's single node.
         return pyramid[params.offsets[params.top]];
@@ -408,8 +414,7 @@ float ring_max(ivec2 p, uint level) {
 // non-decreasing while the apex test's threshold grows with r and with c, so a level whose
 // dominating point fails the test now fails it for every later c as well. Either way skipping
 // the level leaves the map bit for bit unchanged.
-bool level_under_parabola(ivec2 p, vec2 tb, uint level, float a, float b, float c) {
-    float top = ring_max(p, level);
+bool level_under_parabola(float top, vec2 tb, uint level, float a, float b, float c) {
     if (top <= tb.x) {
         return true;
     }
@@ -447,10 +452,10 @@ bool row_under_parabola(float gv, float row_top, vec2 tb, float a, float b, floa
     return !raises;
 }
 
-// Whether the near pass can pass over level 0: no texel of its ring rises above the texel's
-// lowest point, so no slope.
-bool ring_below_texel(ivec2 p, vec2 tb, uint level) {
-    return ring_max(p, level) <= tb.x;
+// Whether the near pass can pass over level 0, whose ring's highest node is `top`: no texel of
+// it rises above the texel's lowest point, so no slope.
+bool ring_below_texel(float top, vec2 tb, uint level) {
+    return top <= tb.x;
 }
 
 void quadric() {
@@ -471,10 +476,11 @@ void quadric() {
     float a = 0.0;
 #define FINEST_ONLY(level) level > 0u
 #define ROW_BELOW_TEXEL(gv, row_top) (row_top <= tb.x)
+#define NO_ROW_SKIP(gv, level_top) false
     near_ring = NEAR_RING;
     if (!texel_rows) {
-        FOR_EACH_POINT(p, tb, FINEST_ONLY, ring_below_texel, VISIT_SLOPE)
-    } else if (!ring_below_texel(p, tb, 0u)) {
+        FOR_EACH_POINT(p, tb, FINEST_ONLY, ring_below_texel, NO_ROW_SKIP, VISIT_SLOPE)
+    } else if (!ring_below_texel(ring_max(p, 0u), tb, 0u)) {
         FOR_EACH_TEXEL_POINT(p, tb, NEAR_RING, ROW_BELOW_TEXEL, VISIT_SLOPE)
     }
     near_ring = -1;
@@ -486,18 +492,18 @@ void quadric() {
     float steep = 0.0;
 #define NEVER(level) false
 #define ROW_UNDER_PARABOLA(gv, row_top) row_under_parabola(gv, row_top, tb, a, b, c)
-#define LEVEL_UNDER_PARABOLA(p, tb, level)                                                  \
-    ((texel_rows && level == 0u) || level_under_parabola(p, tb, level, a, b, c))
+#define LEVEL_UNDER_PARABOLA(level_top, tb, level)                                          \
+    ((texel_rows && level == 0u) || level_under_parabola(level_top, tb, level, a, b, c))
 #define VISIT_MAIN(pt)                                                                      \
     if (pt.r <= a * (1.0 + NEAR_CONE)) {                                                    \
         steep = max(steep, pt.value / pt.r);                                                \
     } else {                                                                                \
         VISIT_APEX_OF(pt, a)                                                                \
     }
-    if (texel_rows && !level_under_parabola(p, tb, 0u, a, b, c)) {
+    if (texel_rows && !level_under_parabola(ring_max(p, 0u), tb, 0u, a, b, c)) {
         FOR_EACH_TEXEL_POINT(p, tb, FINE_RING, ROW_UNDER_PARABOLA, VISIT_MAIN)
     }
-    FOR_EACH_POINT(p, tb, NEVER, LEVEL_UNDER_PARABOLA, VISIT_MAIN)
+    FOR_EACH_POINT(p, tb, NEVER, LEVEL_UNDER_PARABOLA, ROW_UNDER_PARABOLA, VISIT_MAIN)
     b = max(b, steep * a * (1.0 + NEAR_CONE + 2.0e-5));
     if (!(b > 0.0) && !(c > a)) {
         // Nothing rises above the texel's lowest point: the flat profile, as on the CPU.
