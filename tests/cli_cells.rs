@@ -16,6 +16,18 @@ fn relief(args: &[&str]) -> Output {
         .expect("binary runs")
 }
 
+/// `relief cells MESH --out OUT EXTRA...`.
+fn cells_of(mesh: &Path, out: &Path, extra: &[&str]) -> Output {
+    let mut args = vec![
+        "cells",
+        mesh.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    args.extend_from_slice(extra);
+    relief(&args)
+}
+
 fn text(bytes: &[u8]) -> String {
     String::from_utf8_lossy(bytes).into_owned()
 }
@@ -104,17 +116,11 @@ fn a_closed_gltf_mesh_becomes_cells_that_hit_where_it_does() {
     let dir = common::scratch_dir("cells-tetrahedron");
     let mesh = write_mesh(&dir, "tetrahedron", &TETRAHEDRON, &TETRAHEDRON_FACES);
     let out_dir = dir.join("out");
-    let out = relief(&[
-        "cells",
-        mesh.to_str().unwrap(),
-        "--out",
-        out_dir.to_str().unwrap(),
-        "--resolution",
-        "32",
-        "--rays",
-        "32",
-        "--dump",
-    ]);
+    let out = cells_of(
+        &mesh,
+        &out_dir,
+        &["--resolution", "32", "--rays", "32", "--dump"],
+    );
     assert!(out.status.success(), "{}", text(&out.stderr));
     let s = stats(&out_dir);
     assert_eq!(s["triangles"], 4);
@@ -167,12 +173,7 @@ fn the_torus_shape_chooses_its_grid_and_rebuilds_a_mesh() {
 fn an_open_mesh_is_refused_with_one_line() {
     let dir = common::scratch_dir("cells-open");
     let mesh = write_mesh(&dir, "open", &TETRAHEDRON, &TETRAHEDRON_FACES[..3]);
-    let out = relief(&[
-        "cells",
-        mesh.to_str().unwrap(),
-        "--out",
-        dir.join("out").to_str().unwrap(),
-    ]);
+    let out = cells_of(&mesh, &dir.join("out"), &[]);
     assert_clean_failure(&out, &["open.gltf", "is open", "closed mesh"]);
 }
 
@@ -225,26 +226,12 @@ fn corpus_meshes_are_built_or_refused_cleanly() {
     let dir = common::scratch_dir("cells-corpus");
     let helmet = gltf.join("gltf/FlightHelmet/FlightHelmet.gltf");
     if helmet.is_file() {
-        let out = relief(&[
-            "cells",
-            helmet.to_str().unwrap(),
-            "--out",
-            dir.to_str().unwrap(),
-        ]);
+        let out = cells_of(&helmet, &dir, &[]);
         assert_clean_failure(&out, &["FlightHelmet.gltf", "is open"]);
     }
     let sphere = gltf.join("gltf/blender-io-roundtrip/01_textured_sphere/01_textured_sphere.gltf");
     if sphere.is_file() {
-        let out = relief(&[
-            "cells",
-            sphere.to_str().unwrap(),
-            "--out",
-            dir.to_str().unwrap(),
-            "--resolution",
-            "32",
-            "--rays",
-            "32",
-        ]);
+        let out = cells_of(&sphere, &dir, &["--resolution", "32", "--rays", "32"]);
         assert!(out.status.success(), "{}", text(&out.stderr));
         let hits = &stats(&dir)["hits"];
         assert_eq!(hits["missed_solid"], 0, "{hits}");

@@ -262,11 +262,11 @@ int wrap_index(int m, int nodes) {
 }
 
 // Calls VISIT(pt) for the point of every node of the covering of texel p (see the header), level
-// by level from the finest, until STOP(level) says no point of that level or above can matter,
+// by level from FIRST, until STOP(level) says no point of that level or above can matter,
 // passing over the levels where SKIP(p, tb, level) says none can. Row quantities are computed
 // once per row, and runs of covered columns are skipped at once.
-#define FOR_EACH_POINT(p, tb, STOP, SKIP, ROW_SKIP, VISIT)                                  \
-    for (uint level = 0u; level <= params.top; ++level) {                                   \
+#define FOR_EACH_POINT(p, tb, FIRST, STOP, SKIP, ROW_SKIP, VISIT)                           \
+    for (uint level = FIRST; level <= params.top; ++level) {                                \
         if (STOP(level)) {                                                                  \
             break;                                                                          \
         }                                                                                   \
@@ -479,7 +479,7 @@ void quadric() {
 #define NO_ROW_SKIP(gv, level_top) false
     near_ring = NEAR_RING;
     if (!texel_rows) {
-        FOR_EACH_POINT(p, tb, FINEST_ONLY, ring_below_texel, NO_ROW_SKIP, VISIT_SLOPE)
+        FOR_EACH_POINT(p, tb, 0u, FINEST_ONLY, ring_below_texel, NO_ROW_SKIP, VISIT_SLOPE)
     } else if (!ring_below_texel(ring_max(p, 0u), tb, 0u)) {
         FOR_EACH_TEXEL_POINT(p, tb, NEAR_RING, ROW_BELOW_TEXEL, VISIT_SLOPE)
     }
@@ -493,7 +493,7 @@ void quadric() {
 #define NEVER(level) false
 #define ROW_UNDER_PARABOLA(gv, row_top) row_under_parabola(gv, row_top, tb, a, b, c)
 #define LEVEL_UNDER_PARABOLA(level_top, tb, level)                                          \
-    ((texel_rows && level == 0u) || level_under_parabola(level_top, tb, level, a, b, c))
+    level_under_parabola(level_top, tb, level, a, b, c)
 #define VISIT_MAIN(pt)                                                                      \
     if (pt.r <= a * (1.0 + NEAR_CONE)) {                                                    \
         steep = max(steep, pt.value / pt.r);                                                \
@@ -503,7 +503,8 @@ void quadric() {
     if (texel_rows && !level_under_parabola(ring_max(p, 0u), tb, 0u, a, b, c)) {
         FOR_EACH_TEXEL_POINT(p, tb, FINE_RING, ROW_UNDER_PARABOLA, VISIT_MAIN)
     }
-    FOR_EACH_POINT(p, tb, NEVER, LEVEL_UNDER_PARABOLA, ROW_UNDER_PARABOLA, VISIT_MAIN)
+    // Level 0 came from the texel rows above where they fit.
+    FOR_EACH_POINT(p, tb, texel_rows ? 1u : 0u, NEVER, LEVEL_UNDER_PARABOLA, ROW_UNDER_PARABOLA, VISIT_MAIN)
     b = max(b, steep * a * (1.0 + NEAR_CONE + 2.0e-5));
     if (!(b > 0.0) && !(c > a)) {
         // Nothing rises above the texel's lowest point: the flat profile, as on the CPU.
