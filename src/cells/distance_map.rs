@@ -9,7 +9,7 @@
 //! crosses none. The paper counts the fragments that the depth test hides; here that is every crossing of a line
 //! after its first, over all crossings: the overlap ratio. Distances are in cell sides.
 
-use super::case::Face;
+use super::case::{Face, FaceSet};
 use super::grid::{CellGrid, CellIndex};
 use super::mesh::{cross, dot, norm, sub, ClosedMesh};
 use super::parallel::map_in_parallel;
@@ -58,23 +58,23 @@ impl CellMaps {
     /// faces shared among the machine's cores (no map depends on another).
     pub fn sample(mesh: &ClosedMesh, grid: &CellGrid, resolution: u32) -> CellMaps {
         assert!(resolution >= 1, "a distance map needs at least one texel");
-        let faces: Vec<(CellIndex, Face)> = grid
-            .grey_cells()
-            .flat_map(|cell| {
-                domain_faces(grid.internal_faces(cell))
+        let cells: Vec<CellIndex> = grid.grey_cells().collect();
+        let prepared = map_in_parallel(&cells, |&cell| GreyCellLines::new(mesh, grid, cell));
+        let faces: Vec<(&GreyCellLines, Face)> = prepared
+            .iter()
+            .flat_map(|lines| {
+                domain_faces(lines.internal)
                     .faces()
-                    .map(move |f| (cell, f))
+                    .map(move |f| (lines, f))
             })
             .collect();
-        let sampled = map_in_parallel(&faces, |&(cell, face)| {
-            sample_face(mesh, grid, cell, face, resolution)
-        });
+        let sampled = map_in_parallel(&faces, |&(lines, face)| lines.sample_face(face, resolution));
         let crossings: u64 = sampled.iter().map(|s| s.crossings).sum();
         let hidden: u64 = sampled.iter().map(|s| s.hidden).sum();
         CellMaps {
             resolution,
             faces: sampled.into_iter().map(|s| s.map).collect(),
-            grey_cells: grid.grey_cells().count(),
+            grey_cells: cells.len(),
             overlap_ratio: if crossings == 0 {
                 0.0
             } else {
@@ -96,53 +96,70 @@ struct FaceSample {
     hidden: u64,
 }
 
-/// Samples the map of domain face `face` of grey cell `cell`: each texel's line against the cell's triangles.
-fn sample_face(
-    mesh: &ClosedMesh,
-    grid: &CellGrid,
+/// What every projection line of one grey cell is crossed with: the cell's triangles in cell-local coordinates
+/// and its projection, prepared once for all its domain faces.
+struct GreyCellLines {
     cell: CellIndex,
-    face: Face,
-    resolution: u32,
-) -> FaceSample {
-    let internal = grid.internal_faces(cell);
-    let projection = Projection::for_cell(internal);
-    let triangles: Vec<[[f64; 3]; 3]> = grid
-        .triangles_in(cell)
-        .iter()
-        .map(|&t| mesh.triangle(t as usize).map(|p| grid.to_cell(cell, p)))
-        .collect();
-    // An interior cell's lines all end at its centre: one winding number there, and each line's crossings, say on
-    // which side each face point lies.
-    let centre_inside = internal
-        .complement()
-        .is_empty()
-        .then(|| mesh.winding_number(grid.from_cell(cell, [0.5; 3])).abs() > 0.5);
-    let texels = (resolution as usize).pow(2);
-    let mut distances = Vec::with_capacity(texels);
-    let mut inside_at_face = Vec::with_capacity(if centre_inside.is_some() { texels } else { 0 });
-    let (mut crossings, mut hidden) = (0, 0);
-    for b in 0..resolution {
-        for a in 0..resolution {
-            let uv = [a, b].map(|x| (f64::from(x) + 0.5) / f64::from(resolution));
-            let line = Line::new(&projection, face, uv);
-            let hits = line.crossings(&triangles);
-            crossings += hits.len() as u64;
-            hidden += hits.len().saturating_sub(1) as u64;
-            distances.push(hits.first().copied().unwrap_or(line.length) as f32);
-            if let Some(centre) = centre_inside {
-                inside_at_face.push(centre != (hits.len() % 2 == 1));
-            }
+    internal: FaceSet,
+    projection: Projection,
+    triangles: Vec<[[f64; 3]; 3]>,
+    /// For an interior cell, whose lines all end at its centre, whether the centre is inside: with each line's
+    /// crossings it says on which side each face point lies.
+    centre_inside: Option<bool>,
+}
+
+impl GreyCellLines {
+    fn new(mesh: &ClosedMesh, grid: &CellGrid, cell: CellIndex) -> GreyCellLines {
+        let internal = grid.internal_faces(cell);
+        GreyCellLines {
+            cell,
+            internal,
+            projection: Projection::for_cell(internal),
+            triangles: grid
+                .triangles_in(cell)
+                .iter()
+                .map(|&t| mesh.triangle(t as usize).map(|p| grid.to_cell(cell, p)))
+                .collect(),
+            centre_inside: internal
+                .complement()
+                .is_empty()
+                .then(|| mesh.winding_number(grid.from_cell(cell, [0.5; 3])).abs() > 0.5),
         }
     }
-    FaceSample {
-        map: FaceMap {
-            cell,
-            face,
-            distances,
-            inside_at_face,
-        },
-        crossings,
-        hidden,
+
+    /// Samples the map of domain face `face`: each texel's line against the cell's triangles.
+    fn sample_face(&self, face: Face, resolution: u32) -> FaceSample {
+        let texels = (resolution as usize).pow(2);
+        let mut distances = Vec::with_capacity(texels);
+        let mut inside_at_face = Vec::with_capacity(if self.centre_inside.is_some() {
+            texels
+        } else {
+            0
+        });
+        let (mut crossings, mut hidden) = (0, 0);
+        for b in 0..resolution {
+            for a in 0..resolution {
+                let uv = [a, b].map(|x| (f64::from(x) + 0.5) / f64::from(resolution));
+                let line = Line::new(&self.projection, face, uv);
+                let hits = line.crossings(&self.triangles);
+                crossings += hits.len() as u64;
+                hidden += hits.len().saturating_sub(1) as u64;
+                distances.push(hits.first().copied().unwrap_or(line.length) as f32);
+                if let Some(centre) = self.centre_inside {
+                    inside_at_face.push(centre != (hits.len() % 2 == 1));
+                }
+            }
+        }
+        FaceSample {
+            map: FaceMap {
+                cell: self.cell,
+                face,
+                distances,
+                inside_at_face,
+            },
+            crossings,
+            hidden,
+        }
     }
 }
 
