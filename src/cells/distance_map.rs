@@ -31,6 +31,25 @@ pub struct FaceMap {
     /// (case 6) has domain faces shared with grey cells, whose points may lie on either side; an external face
     /// borders a white cell, whose closed box misses the surface, so its points are all outside.
     pub inside_at_face: Vec<bool>,
+    /// Per texel, the surface point its distance stops at: which of the mesh's triangles, where in it. What the
+    /// attribute maps ([`super::attributes`]) interpolate the mesh's normals, uvs and colours at.
+    pub surface: Vec<SurfacePoint>,
+}
+
+/// Where a texel's line first crosses the surface: a triangle of the [`ClosedMesh`] and barycentric weights of
+/// its second and third corners; `triangle` is [`SurfacePoint::NONE`] for a line that crosses nothing.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SurfacePoint {
+    pub triangle: u32,
+    pub barycentric: [f32; 2],
+}
+
+impl SurfacePoint {
+    pub const NONE: u32 = u32::MAX;
+
+    pub fn is_hit(&self) -> bool {
+        self.triangle != SurfacePoint::NONE
+    }
 }
 
 impl FaceMap {
@@ -103,6 +122,8 @@ struct GreyCellLines {
     internal: FaceSet,
     projection: Projection,
     triangles: Vec<[[f64; 3]; 3]>,
+    /// The mesh's index of each of `triangles`.
+    triangle_ids: Vec<u32>,
     /// For an interior cell, whose lines all end at its centre, whether the centre is inside: with each line's
     /// crossings it says on which side each face point lies.
     centre_inside: Option<bool>,
@@ -120,6 +141,7 @@ impl GreyCellLines {
                 .iter()
                 .map(|&t| mesh.triangle(t as usize).map(|p| grid.to_cell(cell, p)))
                 .collect(),
+            triangle_ids: grid.triangles_in(cell).to_vec(),
             centre_inside: internal
                 .complement()
                 .is_empty()
@@ -131,6 +153,7 @@ impl GreyCellLines {
     fn sample_face(&self, face: Face, resolution: u32) -> FaceSample {
         let texels = (resolution as usize).pow(2);
         let mut distances = Vec::with_capacity(texels);
+        let mut surface = Vec::with_capacity(texels);
         let mut inside_at_face = Vec::with_capacity(if self.centre_inside.is_some() {
             texels
         } else {
@@ -144,7 +167,17 @@ impl GreyCellLines {
                 let hits = line.crossings(&self.triangles);
                 crossings += hits.len() as u64;
                 hidden += hits.len().saturating_sub(1) as u64;
-                distances.push(hits.first().copied().unwrap_or(line.length) as f32);
+                distances.push(hits.first().map_or(line.length, |h| h.t) as f32);
+                surface.push(hits.first().map_or(
+                    SurfacePoint {
+                        triangle: SurfacePoint::NONE,
+                        barycentric: [0.0; 2],
+                    },
+                    |h| SurfacePoint {
+                        triangle: self.triangle_ids[h.triangle],
+                        barycentric: h.barycentric.map(|w| w as f32),
+                    },
+                ));
                 if let Some(centre) = self.centre_inside {
                     inside_at_face.push(centre != (hits.len() % 2 == 1));
                 }
@@ -156,6 +189,7 @@ impl GreyCellLines {
                 face,
                 distances,
                 inside_at_face,
+                surface,
             },
             crossings,
             hidden,
@@ -178,14 +212,19 @@ pub enum GridStop {
     Memory { next_n: u32, bytes: u64 },
 }
 
-/// Bytes the maps of `grid` take while sampled at `resolution`^2 (f32 distances), known before sampling them.
+/// Bytes the maps of `grid` take while sampled at `resolution`^2 (f32 distances and their surface points), known
+/// before sampling them.
 pub fn sampled_bytes(grid: &CellGrid, resolution: u32) -> u64 {
     let faces: u64 = grid
         .grey_cells()
         .map(|cell| u64::from(domain_faces(grid.internal_faces(cell)).len()))
         .sum();
-    faces * u64::from(resolution).pow(2) * 4
+    faces * u64::from(resolution).pow(2) * SAMPLED_TEXEL_BYTES
 }
+
+/// A sampled texel's distance and surface point.
+const SAMPLED_TEXEL_BYTES: u64 =
+    (std::mem::size_of::<f32>() + std::mem::size_of::<SurfacePoint>()) as u64;
 
 /// The grid and maps the paper's size choice ends at: N doubles from 1 while the maps' overlap ratio is above
 /// `threshold`, up to `max_n` and while the next grid's maps stay within `max_bytes`; and why it stopped.
@@ -245,17 +284,31 @@ impl Line {
         Line { start, dir, length }
     }
 
-    /// The distances along the line at which it crosses the triangles, ascending, equal ones merged.
-    fn crossings(&self, triangles: &[[[f64; 3]; 3]]) -> Vec<f64> {
-        let mut hits: Vec<f64> = triangles
+    /// Where the line crosses the triangles, ascending, equal distances merged.
+    fn crossings(&self, triangles: &[[[f64; 3]; 3]]) -> Vec<Crossing> {
+        let mut hits: Vec<Crossing> = triangles
             .iter()
-            .filter_map(|&t| ray_triangle(self.start, self.dir, t))
-            .filter(|&t| t <= self.length)
+            .enumerate()
+            .filter_map(|(k, &t)| {
+                ray_triangle_at(self.start, self.dir, t).map(|(t, barycentric)| Crossing {
+                    t,
+                    triangle: k,
+                    barycentric,
+                })
+            })
+            .filter(|c| c.t <= self.length)
             .collect();
-        hits.sort_by(f64::total_cmp);
-        hits.dedup_by(|b, a| *b - *a < SAME_CROSSING);
+        hits.sort_by(|a, b| a.t.total_cmp(&b.t));
+        hits.dedup_by(|b, a| b.t - a.t < SAME_CROSSING);
         hits
     }
+}
+
+/// A line's crossing of one of a cell's triangles: its distance, which triangle, and where in it.
+struct Crossing {
+    t: f64,
+    triangle: usize,
+    barycentric: [f64; 2],
 }
 
 /// Where the ray `origin + t dir` (t >= 0) meets the closed triangle, by Möller and Trumbore's test; `None` for a
@@ -263,8 +316,17 @@ impl Line {
 pub(crate) fn ray_triangle(
     origin: [f64; 3],
     dir: [f64; 3],
-    [a, b, c]: [[f64; 3]; 3],
+    triangle: [[f64; 3]; 3],
 ) -> Option<f64> {
+    ray_triangle_at(origin, dir, triangle).map(|(t, _)| t)
+}
+
+/// [`ray_triangle`] with the hit's barycentric weights of the second and third corners.
+fn ray_triangle_at(
+    origin: [f64; 3],
+    dir: [f64; 3],
+    [a, b, c]: [[f64; 3]; 3],
+) -> Option<(f64, [f64; 2])> {
     let (e1, e2) = (sub(b, a), sub(c, a));
     let p = cross(dir, e2);
     let det = dot(e1, p);
@@ -276,7 +338,7 @@ pub(crate) fn ray_triangle(
     let q = cross(s, e1);
     let v = dot(dir, q) / det;
     let t = dot(e2, q) / det;
-    (u >= 0.0 && v >= 0.0 && u + v <= 1.0 && t >= 0.0).then_some(t)
+    (u >= 0.0 && v >= 0.0 && u + v <= 1.0 && t >= 0.0).then_some((t, [u, v]))
 }
 
 #[cfg(test)]
@@ -377,7 +439,7 @@ mod tests {
         let one = sampled_bytes(&CellGrid::classify(&ring, 1), 8);
         let (grid, maps, why) = choose_grid_within(&ring, 8, 0.05, 16, one);
         assert_eq!(grid.n(), 1);
-        assert_eq!(maps.faces.len() as u64 * 64 * 4, one);
+        assert_eq!(maps.faces.len() as u64 * 64 * 16, one);
         let GridStop::Memory { next_n, bytes } = why else {
             panic!("{why:?}");
         };

@@ -52,6 +52,8 @@ pub enum MeshError {
 pub struct ClosedMesh {
     positions: Vec<[f64; 3]>,
     triangles: Vec<[u32; 3]>,
+    /// Each kept triangle's index in the triangles it was made from (degenerate ones are dropped).
+    sources: Vec<u32>,
 }
 
 impl ClosedMesh {
@@ -87,6 +89,7 @@ impl ClosedMesh {
             })
             .collect();
         let mut kept = Vec::with_capacity(triangles.len());
+        let mut sources = Vec::with_capacity(triangles.len());
         for (triangle, corners) in triangles.iter().enumerate() {
             if let Some(&vertex) = corners.iter().find(|&&v| v as usize >= positions.len()) {
                 return Err(MeshError::BadIndex {
@@ -99,6 +102,7 @@ impl ClosedMesh {
             let [a, b, c] = corners.map(|v| remap[v as usize]);
             if a != b && b != c && c != a {
                 kept.push([a, b, c]);
+                sources.push(triangle as u32);
             }
         }
         if kept.is_empty() {
@@ -108,6 +112,7 @@ impl ClosedMesh {
         Ok(ClosedMesh {
             positions: welded,
             triangles: kept,
+            sources,
         })
     }
 
@@ -117,6 +122,11 @@ impl ClosedMesh {
 
     pub fn triangles(&self) -> &[[u32; 3]] {
         &self.triangles
+    }
+
+    /// Which of the triangles given to [`ClosedMesh::new`] triangle `t` is.
+    pub fn source_triangle(&self, t: usize) -> usize {
+        self.sources[t] as usize
     }
 
     /// The corners of triangle `t`.

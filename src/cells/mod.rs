@@ -5,10 +5,11 @@
 //! configurations and their ten base cases ([`case`]), each case's projection of the cell onto its domain faces
 //! with its inverse ([`projection`]), the distance maps sampled on the CPU with the overlap ratio that picks the
 //! grid size ([`distance_map`]), rays marched through the complex ([`trace`]) and measured against exact
-//! ray/triangle intersection ([`measure`]), the layout the GPU march reads ([`packed`]) and the surface rebuilt
-//! from the maps ([`reconstruct`]). Not built yet: colour and normal maps, sampling on the GPU and the renderer's
-//! pass that draws a complex.
+//! ray/triangle intersection ([`measure`]), the layout the GPU march reads ([`packed`]), the surface's attributes on
+//! the maps' texels ([`attributes`]) and the surface rebuilt from the maps ([`reconstruct`]). The renderer's pass
+//! that draws a complex is `render::cells_pass`.
 
+pub mod attributes;
 pub mod case;
 pub mod distance_map;
 pub mod grid;
@@ -20,9 +21,11 @@ pub mod projection;
 pub mod reconstruct;
 pub mod trace;
 
+pub use attributes::{attribute_maps, AttributeTexel, SurfaceAttributes};
 pub use case::{Axis, Case, Face, FaceSet};
 pub use distance_map::{
-    choose_grid, choose_grid_within, sampled_bytes, CellMaps, FaceMap, GridStop, MAP_MEMORY_LIMIT,
+    choose_grid, choose_grid_within, sampled_bytes, CellMaps, FaceMap, GridStop, SurfacePoint,
+    MAP_MEMORY_LIMIT,
 };
 pub use grid::{CellGrid, CellIndex, Colour};
 pub use measure::{compare_hits, measure_hits, parallel_rays, HitAgreement, RayOutcome};
