@@ -12,6 +12,7 @@ const OPTS: RenderOptions = RenderOptions {
     height: 90,
     height_format: relief::render::HeightFormat::R16Unorm,
     address: relief::heightfield::Address::Repeat,
+    cells: None,
 };
 
 #[test]

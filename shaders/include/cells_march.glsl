@@ -77,10 +77,12 @@ float cells_texel_distance(uint index) {
 }
 
 // Where cell-local p of grey cell g projects: the domain face its projection line leaves through
-// (its map layer, -1 where the face carries none), the texel coordinates of the face point (texel
-// centres at whole numbers) and how far along the line p lies from the face.
+// (its map layer, -1 where the face carries none), the face point in the face's coordinates (0 to
+// 1) and in texel coordinates clamped to the texel centres (centres at whole numbers), and how far
+// along the line p lies from the face.
 struct CellFacePoint {
     int layer;
+    vec2 uv;
     vec2 at;
     float along;
 };
@@ -89,7 +91,7 @@ CellFacePoint cells_face_point(GreyCell g, vec3 p) {
     vec3 d = cells_projection_direction(g, p);
     float len = length(d);
     if (!(len > 0.0)) {
-        return CellFacePoint(-1, vec2(0.0), 0.0);
+        return CellFacePoint(-1, vec2(0.0), vec2(0.0), 0.0);
     }
     d /= len;
     float best = 1.0e30;
@@ -110,7 +112,7 @@ CellFacePoint cells_face_point(GreyCell g, vec3 p) {
     vec2 uv = axis == 0u ? q.yz : (axis == 1u ? q.xz : q.xy);
     float last = float(CELLS_GRID.resolution) - 1.0;
     vec2 at = clamp(uv * float(CELLS_GRID.resolution) - 0.5, vec2(0.0), vec2(last));
-    return CellFacePoint(g.layers[face], at, best);
+    return CellFacePoint(g.layers[face], uv, at, best);
 }
 
 // The four texels around `at` in layer `layer` (index order: (a0, b0), (a1, b0), (a0, b1),

@@ -12,6 +12,7 @@
 #include "bindings.glsl"
 #include "draw.glsl"
 #include "lighting.glsl"
+#include "material_sample.glsl"
 #include "punctual.glsl"
 #ifndef PLAIN_SURFACE
 #include "heightfield.glsl"
@@ -40,14 +41,6 @@ layout(depth_greater) out float gl_FragDepth;
 // Smallest dir.z of a ray per unit of its xy length (about 0.06 degrees): grazing views stay
 // finite instead of producing inf offsets.
 const float MIN_DIR_Z = 1e-3;
-
-vec3 tangent_frame_normal(vec3 n, vec2 uv0, vec2 uv1) {
-    vec3 t = normalize(in_tangent.xyz - n * dot(n, in_tangent.xyz));
-    vec3 b = cross(n, t) * (in_tangent.w < 0.0 ? -1.0 : 1.0);
-    vec3 m = texture(tex_normal, slot_uv(SLOT_NORMAL, uv0, uv1)).xyz * 2.0 - 1.0;
-    m.xy *= material.pbr.z;
-    return normalize(t * m.x + b * m.y + n * m.z);
-}
 
 #ifndef PLAIN_SURFACE
 vec3 height_space_ray_dir(vec3 d) {
@@ -109,40 +102,25 @@ void main() {
     gl_FragDepth = max(gl_FragCoord.z, clamp(clip.z / clip.w, 0.0, 1.0));
 #endif
 
-    vec4 base = material.base_color * in_color;
-    if (has_texture(SLOT_BASE_COLOR)) {
-        base *= texture(tex_base_color, slot_uv(SLOT_BASE_COLOR, uv0, uv1));
-    }
-    float cutoff = material.emissive.w;
-    if (cutoff >= 0.0 && base.a < cutoff) {
+    MaterialSample m = sample_material(uv0, uv1, in_color);
+    if (material_cut(m)) {
         discard;
-    }
-    float roughness = material.pbr.x;
-    float metallic = material.pbr.y;
-    if (has_texture(SLOT_METALLIC_ROUGHNESS)) {
-        vec4 mr = texture(tex_metallic_roughness, slot_uv(SLOT_METALLIC_ROUGHNESS, uv0, uv1));
-        roughness *= mr.g;
-        metallic *= mr.b;
     }
     if (has_texture(SLOT_NORMAL)) {
         // The normal map is the surface's finer detail; without one, the height field's own.
-        normal = tangent_frame_normal(relief_normal ? normal : n, uv0, uv1);
+        normal = tangent_frame_normal(relief_normal ? normal : n, in_tangent, uv0, uv1);
     }
-    float occlusion = 1.0;
-    if (has_texture(SLOT_OCCLUSION)) {
-        float ao = texture(tex_occlusion, slot_uv(SLOT_OCCLUSION, uv0, uv1)).r;
-        occlusion = mix(1.0, ao, material.pbr.w);
-    }
+    float occlusion = m.occlusion;
 #ifndef PLAIN_SURFACE
     if (has_texture(SLOT_RELIEF_AO)) {
         // The field's own occlusion at the hit; the glTF occlusion texture multiplies it.
         occlusion *= texture(tex_relief_ao, uv_hit).r;
     }
 #endif
-    vec3 emissive = material.emissive.rgb;
-    if (has_texture(SLOT_EMISSIVE)) {
-        emissive *= texture(tex_emissive, slot_uv(SLOT_EMISSIVE, uv0, uv1)).rgb;
-    }
+    vec4 base = m.base;
+    vec3 emissive = m.emissive;
+    float roughness = m.roughness;
+    float metallic = m.metallic;
 
     vec3 v = -view;
     vec3 color = frame.ambient.rgb * base.rgb * occlusion + emissive;

@@ -209,6 +209,7 @@ pub fn render_interleaved(
         height: size.1,
         height_format: format,
         address: Address::Repeat,
+        cells: None,
     };
     let mut renderers = scenes
         .iter()

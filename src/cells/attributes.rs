@@ -117,7 +117,7 @@ const UNLIT: SurfaceAttributes = SurfaceAttributes {
 /// `unpackSnorm2x16` reads them.
 pub fn encode_octahedral(v: [f32; 3]) -> u32 {
     let l1 = v[0].abs() + v[1].abs() + v[2].abs();
-    if !(l1 > 0.0) {
+    if l1.is_nan() || l1 <= 0.0 {
         return encode_octahedral([0.0, 0.0, 1.0]);
     }
     let [x, y, z] = v.map(|c| c / l1);

@@ -19,6 +19,7 @@ pub mod packed;
 mod parallel;
 pub mod projection;
 pub mod reconstruct;
+pub mod scene_mesh;
 pub mod trace;
 
 pub use attributes::{attribute_maps, AttributeTexel, SurfaceAttributes};
@@ -33,4 +34,5 @@ pub use mesh::{shapes, ClosedMesh, MeshError};
 pub use packed::{GreyRecord, PackedComplex};
 pub use projection::{domain_faces, Image, Projection};
 pub use reconstruct::{rebuild, RebuiltMesh};
+pub use scene_mesh::{MeshSelection, SceneMesh};
 pub use trace::{exact_hits, CellComplex, CellHit, MarchSettings};

@@ -12,8 +12,8 @@ use clap::{Args, ValueEnum};
 use relief::bench::write_npy_f32;
 use relief::cells::{
     choose_grid_within, compare_hits, measure_hits, parallel_rays, rebuild, sampled_bytes, shapes,
-    CellGrid, CellMaps, ClosedMesh, GridStop, HitAgreement, MarchSettings, PackedComplex,
-    MAP_MEMORY_LIMIT,
+    CellGrid, CellMaps, ClosedMesh, GridStop, HitAgreement, MarchSettings, MeshSelection,
+    PackedComplex, SceneMesh, MAP_MEMORY_LIMIT,
 };
 use relief::render::march_cells_on_gpu;
 use relief::scene::{load_gltf, SceneOptions};
@@ -94,34 +94,25 @@ fn load_mesh(args: &CellsArgs) -> anyhow::Result<(String, ClosedMesh)> {
     }
     let path = args.mesh.as_deref().context("no mesh given")?;
     let scene = load_gltf(path, &SceneOptions::default())?;
-    let mut positions = Vec::new();
-    let mut triangles = Vec::new();
-    for mesh in &scene.meshes {
-        if args.node.as_deref().is_some_and(|name| name != mesh.name) {
-            continue;
-        }
-        let base = positions.len() as u32;
-        positions.extend(mesh.vertices.iter().map(|v| {
-            let p = mesh.transform.transform_point3(v.position.into());
-            [p.x, p.y, p.z].map(f64::from)
-        }));
-        triangles.extend(
-            mesh.indices
-                .chunks_exact(3)
-                .map(|t| [t[0] + base, t[1] + base, t[2] + base]),
-        );
-    }
+    // Without --node every mesh of the file is one complex.
+    let selection = args
+        .node
+        .clone()
+        .map_or(MeshSelection::All, MeshSelection::Named);
+    let members: Vec<usize> = selection
+        .groups(&scene)
+        .into_iter()
+        .flat_map(|(_, members)| members)
+        .collect();
     let origin = match &args.node {
         Some(name) => format!("{} (meshes named {name:?})", path.display()),
         None => path.display().to_string(),
     };
-    if triangles.is_empty() {
+    if members.is_empty() {
         anyhow::bail!("{origin}: no triangles to build cells from");
     }
-    Ok((
-        origin.clone(),
-        ClosedMesh::new(&origin, &positions, &triangles)?,
-    ))
+    let gathered = SceneMesh::gather(&scene, &members, &origin)?;
+    Ok((origin, gathered.mesh))
 }
 
 fn parse_dir(text: &str) -> anyhow::Result<[f64; 3]> {

@@ -4,6 +4,7 @@
 mod ao;
 mod bench;
 mod cells;
+mod cells_render_args;
 mod devices;
 mod heightmap_args;
 mod lod_args;

@@ -214,7 +214,10 @@ pub fn run_frames(
     let stats = sequence_stats(&drawn.timings);
     if args.explain {
         let created = ctx.created() - before;
-        println!("{}", explain(renderer.plan(), renderer.maps(), &created));
+        println!(
+            "{}",
+            explain(renderer.plan(), renderer.maps(), renderer.cells(), &created)
+        );
         return Ok(());
     }
     let methods = methods_drawn(renderer);
@@ -229,6 +232,7 @@ pub fn run_frames(
             "upload_ms": renderer.upload_ms(),
             "passes": stats.first,
             "maps": renderer.maps(),
+            "cells": renderer.cells(),
             "frames": stats.frames,
             "steady": stats.steady,
             "created_after_first_frame": drawn.created_after_first,
@@ -289,6 +293,19 @@ fn report_files(args: &RenderArgs, renderer: &Renderer, methods: &str, source: &
         )
     };
     eprintln!("{what} ({w}x{h}, relief: {methods}, heights: {source})");
+    for c in renderer.cells() {
+        eprintln!(
+            "cells {:?}: {n}^3 grid ({}), {} grey cells, {} domain faces at {r}^2, {:.1} MiB of maps, built on the cpu in {:.0} ms",
+            c.name,
+            c.grid_stop,
+            c.grey_cells,
+            c.domain_faces,
+            (c.distance_bytes + c.attribute_bytes) as f64 / f64::from(1u32 << 20),
+            c.build_ms,
+            n = c.grid,
+            r = c.resolution,
+        );
+    }
     if frames > 1 {
         let same = d.created_after_first == ObjectCounts::default();
         eprintln!(

@@ -14,6 +14,7 @@ use relief::scene::{
 };
 use relief::vk::Context;
 
+use super::cells_render_args::CellsRenderArgs;
 use super::heightmap_args::HeightmapArgs;
 use super::lod_args::LodArgs;
 use super::shading_args::ShadingArgs;
@@ -65,6 +66,8 @@ pub struct SceneArgs {
     pub(super) device: Option<String>,
     #[command(flatten)]
     lod: LodArgs,
+    #[command(flatten)]
+    cells: CellsRenderArgs,
 }
 
 /// A scene ready for a renderer: the scene with every flag applied, the height map relief
@@ -116,10 +119,12 @@ impl SceneArgs {
                 FormatArg::R32f => HeightFormat::R32Float,
             },
             address: self.address,
+            cells: self.cells.options(),
         }
     }
 
     fn check(&self) -> anyhow::Result<()> {
+        self.cells.check()?;
         let (w, h) = (self.width, self.height);
         if w == 0 || h == 0 || w > MAX_SIDE || h > MAX_SIDE {
             anyhow::bail!("--width and --height must be within 1..={MAX_SIDE}, got {w}x{h}");

@@ -40,6 +40,56 @@ pub struct CellsTrace {
     pub gpu_ms: f64,
 }
 
+/// A complex's arrays on the device (bindings 0-2 of `cells_march.glsl`).
+pub(super) struct ComplexBuffers {
+    cells: Buffer,
+    grey: Buffer,
+    maps: Buffer,
+}
+
+impl ComplexBuffers {
+    /// Uploads `complex`'s arrays; `name` labels them.
+    pub(super) fn upload(
+        ctx: &Arc<Context>,
+        complex: &PackedComplex,
+        name: &str,
+    ) -> VkResult<ComplexBuffers> {
+        let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
+        let upload = |bytes: &[u8], what: &str| {
+            Buffer::with_data(
+                ctx,
+                &Self::nonempty(bytes),
+                storage,
+                &format!("{name} {what}"),
+            )
+        };
+        Ok(ComplexBuffers {
+            cells: upload(bytemuck::cast_slice(&complex.cells), "cells")?,
+            grey: upload(bytemuck::cast_slice(&complex.grey), "grey cells")?,
+            maps: upload(bytemuck::cast_slice(&complex.maps), "cell maps")?,
+        })
+    }
+
+    /// Their bindings, 0 to 2.
+    pub(super) fn binds(&self) -> [Bind; 3] {
+        [
+            Bind::Storage(0, self.cells.raw()),
+            Bind::Storage(1, self.grey.raw()),
+            Bind::Storage(2, self.maps.raw()),
+        ]
+    }
+
+    /// `bytes`, or one 64-byte record where there are none: storage buffers may not be empty (a
+    /// complex with no grey cell still binds one record).
+    pub(super) fn nonempty(bytes: &[u8]) -> Vec<u8> {
+        if bytes.is_empty() {
+            vec![0u8; 64]
+        } else {
+            bytes.to_vec()
+        }
+    }
+}
+
 /// Marches `rays` (origin, direction) through `complex` on the GPU.
 pub fn march_cells_on_gpu(
     ctx: &Arc<Context>,
@@ -49,33 +99,8 @@ pub fn march_cells_on_gpu(
 ) -> VkResult<CellsTrace> {
     let push = std::mem::size_of::<Params>() as u32;
     let search = SearchPipeline::new(ctx, "cells_trace.comp", push, 5, "cells trace")?;
+    let arrays = ComplexBuffers::upload(ctx, complex, "cells trace")?;
     let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
-    // Storage buffers may not be empty: a complex with no grey cell still binds one record.
-    let nonempty = |bytes: &[u8]| {
-        if bytes.is_empty() {
-            vec![0u8; 64]
-        } else {
-            bytes.to_vec()
-        }
-    };
-    let cells = Buffer::with_data(
-        ctx,
-        &nonempty(bytemuck::cast_slice(&complex.cells)),
-        storage,
-        "cells",
-    )?;
-    let grey = Buffer::with_data(
-        ctx,
-        &nonempty(bytemuck::cast_slice(&complex.grey)),
-        storage,
-        "grey cells",
-    )?;
-    let maps = Buffer::with_data(
-        ctx,
-        &nonempty(bytemuck::cast_slice(&complex.maps)),
-        storage,
-        "cell maps",
-    )?;
     let gpu_rays: Vec<GpuRay> = rays
         .iter()
         .map(|(o, d)| GpuRay {
@@ -85,7 +110,7 @@ pub fn march_cells_on_gpu(
         .collect();
     let ray_buffer = Buffer::with_data(
         ctx,
-        &nonempty(bytemuck::cast_slice(&gpu_rays)),
+        &ComplexBuffers::nonempty(bytemuck::cast_slice(&gpu_rays)),
         storage,
         "cell rays",
     )?;
@@ -97,16 +122,10 @@ pub fn march_cells_on_gpu(
         MemoryLocation::GpuOnly,
         "cell hits",
     )?;
-    search.set.rewrite(
-        ctx,
-        &[
-            Bind::Storage(0, cells.raw()),
-            Bind::Storage(1, grey.raw()),
-            Bind::Storage(2, maps.raw()),
-            Bind::Storage(3, ray_buffer.raw()),
-            Bind::Storage(4, hits.raw()),
-        ],
-    );
+    let mut binds = arrays.binds().to_vec();
+    binds.push(Bind::Storage(3, ray_buffer.raw()));
+    binds.push(Bind::Storage(4, hits.raw()));
+    search.set.rewrite(ctx, &binds);
     let params = Params {
         origin_size: [
             complex.origin[0],

@@ -1,9 +1,11 @@
 //! The plan as `relief render --explain` prints it: one JSON object with the pipelines built, the
-//! maps built (kind, size, ms), the passes recorded and what was skipped, and why.
+//! maps built (kind, size, ms), the cell complexes built, the passes recorded and what was
+//! skipped, and why.
 
 use serde::Serialize;
 use serde_json::{json, Value};
 
+use super::cells_pass::BuiltComplex;
 use super::frame::BuiltMap;
 use super::plan::Plan;
 use super::surface_pass::describe;
@@ -21,9 +23,14 @@ struct PipelineEntry {
     lod: bool,
 }
 
-/// The explanation of what `plan` built; `maps` are the maps built for it and `created` what
-/// was created on the device.
-pub fn explain(plan: &Plan, maps: &[BuiltMap], created: &ObjectCounts) -> Value {
+/// The explanation of what `plan` built; `maps` are the maps built for it, `cells` its cell
+/// complexes and `created` what was created on the device.
+pub fn explain(
+    plan: &Plan,
+    maps: &[BuiltMap],
+    cells: &[BuiltComplex],
+    created: &ObjectCounts,
+) -> Value {
     let pipelines: Vec<PipelineEntry> = plan
         .pipelines
         .iter()
@@ -67,6 +74,7 @@ pub fn explain(plan: &Plan, maps: &[BuiltMap], created: &ObjectCounts) -> Value 
         "maps": maps,
         "heights": heights,
         "ao_maps": ao_maps,
+        "cells": cells,
         "passes": plan.passes,
         "skipped": plan.skipped,
         "draws": plan.draws.len(),

@@ -6,6 +6,7 @@ use std::sync::Arc;
 
 use serde::Serialize;
 
+use super::cells_pass::{BuiltComplex, CellsOptions};
 use super::gpu_heightfield::HeightFormat;
 use super::pass_timer::PassTiming;
 use super::plan::{HeightKey, HeightPlan, Plan, PlanError};
@@ -15,12 +16,14 @@ use crate::scene::Scene;
 use crate::vk::{Context, VkError};
 
 /// What to render.
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone)]
 pub struct RenderOptions {
     pub width: u32,
     pub height: u32,
     pub height_format: HeightFormat,
     pub address: Address,
+    /// Meshes drawn through cell complexes (`--cells`), none when `None`.
+    pub cells: Option<CellsOptions>,
 }
 
 impl Default for RenderOptions {
@@ -30,6 +33,7 @@ impl Default for RenderOptions {
             height: 540,
             height_format: HeightFormat::R16Unorm,
             address: Address::Repeat,
+            cells: None,
         }
     }
 }
@@ -60,6 +64,8 @@ pub struct Frame {
     pub upload_ms: f64,
     pub plan: Plan,
     pub maps: Vec<BuiltMap>,
+    /// The cell complexes built.
+    pub cells: Vec<BuiltComplex>,
 }
 
 /// Why a frame could not be rendered.
@@ -71,6 +77,8 @@ pub enum RenderError {
     Height(#[from] HeightfieldError),
     #[error(transparent)]
     Vulkan(#[from] VkError),
+    #[error(transparent)]
+    Cells(#[from] crate::cells::MeshError),
 }
 
 /// The heights of one planned height map, as stored on the GPU. The frame's own map is borrowed
@@ -134,5 +142,6 @@ pub fn render(
         upload_ms: renderer.upload_ms(),
         plan: renderer.plan().clone(),
         maps: renderer.maps().to_vec(),
+        cells: renderer.cells().to_vec(),
     })
 }

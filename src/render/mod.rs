@@ -8,6 +8,8 @@
 mod ao_map_pass;
 mod ao_sweep;
 mod bench_pass;
+mod cells_pass;
+mod cells_plan;
 mod cells_trace_pass;
 mod cone_map_pass;
 mod explain;
@@ -38,6 +40,8 @@ mod trace_pass;
 
 pub use ao_map_pass::{AoJob, AoMap, AoMapPass, AO_MAP_FORMAT, SWEEP_DIRECTIONS};
 pub use bench_pass::{time_method, BenchRequest, BenchTiming};
+pub use cells_pass::{BuiltComplex, CellsOptions};
+pub use cells_plan::CellsPlan;
 pub use cells_trace_pass::{march_cells_on_gpu, CellsTrace};
 pub use cone_map_pass::{
     build_cone_map_on_gpu, ConeMapPass, MAX_SIDE as CONE_MAP_GPU_MAX_SIDE, RATIO_TOLERANCE,

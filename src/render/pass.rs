@@ -12,6 +12,9 @@ pub enum Pass {
     /// Builds the texture-space AO map of every height map a material asks AO of (first frame
     /// only, after the pyramids).
     AmbientOcclusion,
+    /// Draws the meshes replaced by cell complexes: each grey cell's front faces, a ray marched
+    /// through the complex per fragment (paper 002).
+    Cells,
     /// Draws the scene: rasterises the meshes and traces each relief fragment's view ray.
     Surface,
     /// Rays from each relief hit toward the shadow-casting lights, traced inside the surface
@@ -21,9 +24,10 @@ pub enum Pass {
 
 impl Pass {
     /// Every pass, in recording order.
-    pub const ALL: [Pass; 4] = [
+    pub const ALL: [Pass; 5] = [
         Pass::Pyramid,
         Pass::AmbientOcclusion,
+        Pass::Cells,
         Pass::Surface,
         Pass::SelfShadowRays,
     ];
@@ -33,6 +37,7 @@ impl Pass {
         match self {
             Pass::Pyramid => "pyramid",
             Pass::AmbientOcclusion => "ao map",
+            Pass::Cells => "cells",
             Pass::Surface => "surface",
             Pass::SelfShadowRays => "self-shadow rays",
         }

@@ -5,9 +5,11 @@
 
 use serde::Serialize;
 
+use super::cells_plan::{plan_cells, CellsPlan};
 use super::frame_uniforms::MAX_LIGHTS;
 use super::lod_note;
 use super::pass::Pass;
+use crate::cells::MeshSelection;
 use crate::heightfield::{Address, Channel, Heightfield};
 use crate::method::{MapKind, Method};
 use crate::scene::{
@@ -120,6 +122,8 @@ pub struct Plan {
     /// AO maps, built once in the first frame.
     pub ao_maps: Vec<AoPlan>,
     pub draws: Vec<DrawPlan>,
+    /// Meshes drawn through cell complexes instead of the surface pass (`--cells`).
+    pub cells: Vec<CellsPlan>,
     pub passes: Vec<PassPlan>,
     pub skipped: Vec<Skipped>,
     /// The lights the frame is lit by (the scene's, or the default one).
@@ -137,6 +141,10 @@ pub enum PlanError {
         material: usize,
         count: usize,
     },
+    #[error("--cells {name:?}: the scene has no mesh of that name (its meshes: {names})")]
+    NoCellsMesh { name: String, names: String },
+    #[error("--cells: the meshes named {name:?} use {count} materials; a cell complex is shaded with one")]
+    CellsMaterials { name: String, count: usize },
     #[error(
         "material {material:?}: height texture names image {image}, but the scene has {count}"
     )]
@@ -159,6 +167,19 @@ impl Plan {
     /// Plans `scene`; `frame_heights` is the height map of materials whose relief has no
     /// texture of its own.
     pub fn derive(scene: &Scene, frame_heights: Option<&Heightfield>) -> Result<Plan, PlanError> {
+        Plan::derive_with_cells(scene, frame_heights, None)
+    }
+
+    /// [`Plan::derive`], drawing the meshes `cells` selects through cell complexes.
+    pub fn derive_with_cells(
+        scene: &Scene,
+        frame_heights: Option<&Heightfield>,
+        cells: Option<&MeshSelection>,
+    ) -> Result<Plan, PlanError> {
+        let cells = match cells {
+            Some(selection) => plan_cells(scene, selection)?,
+            None => Vec::new(),
+        };
         let lights = scene.effective_lights();
         let casts_shadows = lights.iter().take(MAX_LIGHTS).any(|l| l.casts_shadows);
         let mut plan = Plan {
@@ -166,12 +187,19 @@ impl Plan {
             heights: Vec::new(),
             ao_maps: Vec::new(),
             draws: Vec::new(),
+            cells,
             passes: Vec::new(),
             skipped: Vec::new(),
             lights,
         };
         let mut used = vec![false; scene.materials.len()];
+        for c in &plan.cells {
+            used[c.material] = true;
+        }
         for (index, mesh) in scene.meshes.iter().enumerate() {
+            if plan.cells.iter().any(|c| c.meshes.contains(&index)) {
+                continue;
+            }
             if mesh.indices.is_empty() {
                 plan.skip(format!("mesh {:?}", mesh.name), "it has no triangles");
                 continue;
@@ -266,6 +294,7 @@ impl Plan {
         }
         plan.note_unused(scene, &used);
         plan.note_passes(casts_shadows);
+        plan.note_cells(scene);
         Ok(plan)
     }
 
@@ -324,7 +353,7 @@ impl Plan {
         }
     }
 
-    fn skip(&mut self, what: impl Into<String>, why: impl Into<String>) {
+    pub(super) fn skip(&mut self, what: impl Into<String>, why: impl Into<String>) {
         self.skipped.push(Skipped {
             what: what.into(),
             why: why.into(),

@@ -12,6 +12,7 @@
 use std::sync::Arc;
 use std::time::Instant;
 
+use super::cells_pass::{BuiltComplex, CellsPass};
 use super::frame::{planned_heights, BuiltMap, RenderError, RenderOptions};
 use super::frame_uniforms::{frame_camera, FrameUniforms};
 use super::height_resources::{HeightResources, HeightUpload};
@@ -67,6 +68,7 @@ pub struct Renderer {
     heights: Vec<HeightResources>,
     ao: SceneAo,
     surface: SurfacePass,
+    cells: CellsPass,
     targets: Targets,
     slots: Vec<FrameSlot>,
     lights: Vec<Light>,
@@ -86,7 +88,8 @@ impl Renderer {
         frame_heights: Option<&Heightfield>,
         opts: &RenderOptions,
     ) -> Result<Renderer, RenderError> {
-        let plan = Plan::derive(scene, frame_heights)?;
+        let selection = opts.cells.as_ref().map(|c| &c.selection);
+        let plan = Plan::derive_with_cells(scene, frame_heights, selection)?;
         let default_camera = frame_camera(scene);
         let aspect = opts.width as f32 / opts.height as f32;
         let uniforms = FrameUniforms::new(&default_camera, &plan.lights, aspect);
@@ -103,9 +106,10 @@ impl Renderer {
             &uniforms,
             FRAMES_IN_FLIGHT,
         )?;
+        let cells = CellsPass::new(ctx, scene, &plan, opts.cells.as_ref())?;
         let targets = Targets::new(ctx, opts.width, opts.height)?;
-        // One scope per pyramid build and per AO map, plus the surface pass.
-        let scopes = (plan.heights.len() + ao.len()) as u32 + 1;
+        // One scope per pyramid build and per AO map, plus the cells and surface passes.
+        let scopes = (plan.heights.len() + ao.len()) as u32 + 2;
         let slots = (0..FRAMES_IN_FLIGHT)
             .map(|k| {
                 Ok(FrameSlot {
@@ -125,6 +129,7 @@ impl Renderer {
             heights,
             ao,
             surface,
+            cells,
             targets,
             slots,
             default_camera,
@@ -143,6 +148,11 @@ impl Renderer {
     /// The maps built so far (pyramids appear once the first frame has finished).
     pub fn maps(&self) -> &[BuiltMap] {
         &self.maps
+    }
+
+    /// The cell complexes built (`--cells`), with their statistics.
+    pub fn cells(&self) -> &[BuiltComplex] {
+        self.cells.built()
     }
 
     /// CPU wall time of uploading height maps and building their precomputed maps, in ms.
@@ -209,8 +219,13 @@ impl Renderer {
         let eye = request.camera.eye();
         let slot = &mut self.slots[k];
         let readback = slot.readback.as_ref().filter(|_| request.read_back);
-        let (heights, ao, surface, targets) =
-            (&self.heights, &self.ao, &self.surface, &self.targets);
+        let (heights, ao, surface, cells, targets) = (
+            &self.heights,
+            &self.ao,
+            &self.surface,
+            &self.cells,
+            &self.targets,
+        );
         let timer = &mut slot.timer;
         slot.commands.submit(|rec| {
             if build_pyramids {
@@ -229,16 +244,29 @@ impl Renderer {
                     timer.scope(rec, scope, |rec| ao.record(rec, part))?;
                 }
             }
-            let scope = Scope {
-                pass: Pass::Surface,
-                part: None,
-            };
-            timer.scope(rec, scope, |rec| {
-                targets.begin(rec);
-                let drawn = surface.record_draws(rec, k, eye);
-                targets.end(rec, readback);
-                drawn
-            })
+            let scope = |pass| Scope { pass, part: None };
+            if cells.is_empty() {
+                timer.scope(rec, scope(Pass::Surface), |rec| {
+                    targets.begin(rec);
+                    let drawn = surface.record_draws(rec, k, eye);
+                    targets.end(rec, readback);
+                    drawn
+                })
+            } else {
+                // The complexes first (opaque), then the surface pass's draws, blended ones last.
+                timer.scope(rec, scope(Pass::Cells), |rec| {
+                    targets.begin(rec);
+                    let frame_set = surface
+                        .plain_set(k)
+                        .ok_or_else(|| VkError::Invalid("no plain frame set".into()))?;
+                    cells.record(rec, frame_set, |m| surface.material_set(m))
+                })?;
+                timer.scope(rec, scope(Pass::Surface), |rec| {
+                    let drawn = surface.record_draws(rec, k, eye);
+                    targets.end(rec, readback);
+                    drawn
+                })
+            }
         })?;
         slot.pending = Some((self.submitted, request.read_back));
         self.pyramids_built = true;

@@ -31,7 +31,7 @@ pub const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
 /// made once per object here rather than per vertex in the shader.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
-struct DrawPush {
+pub(super) struct DrawPush {
     model: [[f32; 4]; 4],
     /// Columns of the inverse transpose of the model's 3x3; `normal[0][3]` is the mirror sign.
     normal: [[f32; 4]; 3],
@@ -39,7 +39,7 @@ struct DrawPush {
 const _: () = assert!(std::mem::size_of::<DrawPush>() == 112);
 
 impl DrawPush {
-    fn of(model: Mat4) -> DrawPush {
+    pub(super) fn of(model: Mat4) -> DrawPush {
         let linear = Mat3::from_mat4(model);
         let normal = linear.inverse().transpose();
         let mirror = if linear.determinant() < 0.0 {
@@ -106,11 +106,13 @@ struct MeshDraw {
 pub struct SurfacePass {
     pipelines: Vec<Pipeline>,
     draws: Vec<MeshDraw>,
-    _materials: MaterialSets,
+    materials: MaterialSets,
     _textures: SceneTextures,
     _frame_pool: DescriptorPool,
     /// The plain variant's uniforms, one per frame slot (empty when nothing is drawn plain).
     plain_uniforms: Vec<Buffer>,
+    /// Set 0 over them, per frame slot.
+    plain_sets: Vec<DescriptorSet>,
     _layouts: Vec<DescriptorLayout>,
 }
 
@@ -123,12 +125,19 @@ struct FrameLayouts {
     heights_and_mean: DescriptorLayout,
 }
 
+/// Set 0 of draws without relief: the frame uniforms alone.
+pub(super) fn plain_frame_layout(ctx: &Arc<Context>) -> VkResult<DescriptorLayout> {
+    let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
+    let ubo = (0, vk::DescriptorType::UNIFORM_BUFFER);
+    DescriptorLayout::new(ctx, &[ubo], stages, "plain frame layout")
+}
+
 fn frame_layouts(ctx: &Arc<Context>) -> VkResult<FrameLayouts> {
     let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
     let ubo = (0, vk::DescriptorType::UNIFORM_BUFFER);
     let tex = |b| (b, vk::DescriptorType::COMBINED_IMAGE_SAMPLER);
     Ok(FrameLayouts {
-        plain: DescriptorLayout::new(ctx, &[ubo], stages, "plain frame layout")?,
+        plain: plain_frame_layout(ctx)?,
         heights: DescriptorLayout::new(ctx, &[ubo, tex(1), tex(2)], stages, "height layout")?,
         heights_and_map: DescriptorLayout::new(
             ctx,
@@ -172,6 +181,9 @@ impl SurfacePass {
             drawn[d.material] = true;
             relief_ao[d.material] = d.ao.and_then(|k| ao.binding(k));
         }
+        for c in &plan.cells {
+            drawn[c.material] = true;
+        }
         let mut textures = SceneTextures::new(ctx)?;
         let materials = MaterialSets::new(
             ctx,
@@ -199,7 +211,9 @@ impl SurfacePass {
                     .collect::<VkResult<Vec<_>>>()
             })
             .collect::<VkResult<Vec<_>>>()?;
-        let plain_uniforms = if plan.pipelines.iter().any(|p| p.method.is_none()) {
+        // The cells pass reads the plain set too.
+        let plain = plan.pipelines.iter().any(|p| p.method.is_none()) || !plan.cells.is_empty();
+        let plain_uniforms = if plain {
             (0..slots)
                 .map(|slot| {
                     Buffer::with_data(
@@ -267,9 +281,10 @@ impl SurfacePass {
         Ok(SurfacePass {
             pipelines,
             draws,
-            _materials: materials,
+            materials,
             _frame_pool: frame_pool,
             plain_uniforms,
+            plain_sets,
             _layouts: vec![
                 layouts.plain,
                 layouts.heights,
@@ -279,6 +294,16 @@ impl SurfacePass {
             ],
             _textures: textures,
         })
+    }
+
+    /// Set 0 without heights for frame slot `slot` (none when nothing reads it).
+    pub fn plain_set(&self, slot: usize) -> Option<DescriptorSet> {
+        self.plain_sets.get(slot).copied()
+    }
+
+    /// The set of material `index`, if a draw of the plan reads it.
+    pub fn material_set(&self, index: usize) -> Option<DescriptorSet> {
+        self.materials.set(index)
     }
 
     /// Writes the plain variant's uniforms of frame slot `slot` (the height maps' own are

@@ -245,7 +245,7 @@ impl Running {
         let options = RenderOptions {
             width,
             height,
-            ..setup.options
+            ..setup.options.clone()
         };
         let renderer = Renderer::new(&ctx, &setup.scene, setup.heights.as_ref(), &options)?;
         let center = setup
@@ -457,7 +457,7 @@ impl Running {
         let options = RenderOptions {
             width,
             height,
-            ..setup.options
+            ..setup.options.clone()
         };
         let started = Instant::now();
         match Renderer::new(&self.ctx, &scene, setup.heights.as_ref(), &options) {

@@ -1,0 +1,208 @@
+//! A scene's meshes as the closed mesh a cell complex is built from, in world space (the complex's grid is
+//! aligned with the world's axes), with each triangle's vertices kept to interpolate the shading attributes at
+//! the surface points of the maps ([`super::attributes`]). Meshes are chosen by name, as `--cells NODE` and
+//! `relief cells --node` name them: every primitive of a glTF node carries the node's name.
+
+use glam::{Mat3, Mat4, Vec3, Vec4};
+
+use super::attributes::SurfaceAttributes;
+use super::distance_map::SurfacePoint;
+use super::mesh::{ClosedMesh, MeshError};
+use crate::scene::{Scene, Vertex};
+
+/// Which meshes of a scene become cell complexes.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum MeshSelection {
+    /// Every mesh, one complex per name.
+    All,
+    /// The meshes with this name, as one complex.
+    Named(String),
+}
+
+impl std::str::FromStr for MeshSelection {
+    type Err = std::convert::Infallible;
+
+    fn from_str(text: &str) -> Result<MeshSelection, Self::Err> {
+        Ok(match text {
+            "all" => MeshSelection::All,
+            name => MeshSelection::Named(name.to_owned()),
+        })
+    }
+}
+
+impl MeshSelection {
+    /// The scene's meshes it selects, grouped by name in first-seen order; meshes without triangles are left out.
+    pub fn groups(&self, scene: &Scene) -> Vec<(String, Vec<usize>)> {
+        let mut groups: Vec<(String, Vec<usize>)> = Vec::new();
+        for (k, mesh) in scene.meshes.iter().enumerate() {
+            if mesh.indices.is_empty() {
+                continue;
+            }
+            if let MeshSelection::Named(name) = self {
+                if *name != mesh.name {
+                    continue;
+                }
+            }
+            match groups.iter_mut().find(|(name, _)| *name == mesh.name) {
+                Some((_, members)) => members.push(k),
+                None => groups.push((mesh.name.clone(), vec![k])),
+            }
+        }
+        groups
+    }
+}
+
+/// One group of a scene's meshes welded and checked closed, with the world-space vertices of each of its
+/// triangles.
+pub struct SceneMesh {
+    pub mesh: ClosedMesh,
+    /// Per triangle given to [`ClosedMesh::new`] (in mesh, then index order), its corners in world space.
+    corners: Vec<[Vertex; 3]>,
+}
+
+impl SceneMesh {
+    /// The meshes `members` of `scene` as one closed mesh; `origin` names it in errors.
+    pub fn gather(scene: &Scene, members: &[usize], origin: &str) -> Result<SceneMesh, MeshError> {
+        let mut positions = Vec::new();
+        let mut triangles = Vec::new();
+        let mut corners = Vec::new();
+        for mesh in members.iter().map(|&k| &scene.meshes[k]) {
+            let world: Vec<Vertex> = mesh
+                .vertices
+                .iter()
+                .map(|v| to_world(v, mesh.transform))
+                .collect();
+            let base = positions.len() as u32;
+            positions.extend(world.iter().map(|v| v.position.map(f64::from)));
+            for t in mesh.indices.chunks_exact(3) {
+                triangles.push([t[0] + base, t[1] + base, t[2] + base]);
+                corners
+                    .push([0, 1, 2].map(|c| world.get(t[c] as usize).copied().unwrap_or(world[0])));
+            }
+        }
+        let mesh = ClosedMesh::new(origin, &positions, &triangles)?;
+        Ok(SceneMesh { mesh, corners })
+    }
+
+    /// The shading attributes at a surface point of the mesh: its triangle's vertex attributes, interpolated.
+    pub fn attributes(&self, point: SurfacePoint) -> SurfaceAttributes {
+        let [a, b, c] = &self.corners[self.mesh.source_triangle(point.triangle as usize)];
+        let [u, v] = point.barycentric;
+        let w = [1.0 - u - v, u, v];
+        let mix2 = |f: fn(&Vertex) -> [f32; 2]| -> [f32; 2] {
+            std::array::from_fn(|k| w[0] * f(a)[k] + w[1] * f(b)[k] + w[2] * f(c)[k])
+        };
+        let mix4 = |f: fn(&Vertex) -> [f32; 4]| -> [f32; 4] {
+            std::array::from_fn(|k| w[0] * f(a)[k] + w[1] * f(b)[k] + w[2] * f(c)[k])
+        };
+        let normal =
+            Vec3::from(a.normal) * w[0] + Vec3::from(b.normal) * w[1] + Vec3::from(c.normal) * w[2];
+        let tangent = mix4(|v| v.tangent);
+        SurfaceAttributes {
+            uv0: mix2(|v| v.uv),
+            uv1: mix2(|v| v.uv1),
+            normal: normal.normalize_or(Vec3::Z).to_array(),
+            tangent: {
+                let t = Vec3::new(tangent[0], tangent[1], tangent[2]).normalize_or(Vec3::X);
+                [t.x, t.y, t.z, a.tangent[3]]
+            },
+            colour: mix4(|v| v.color),
+        }
+    }
+}
+
+/// A vertex carried into world space as `mesh.vert` carries it: normals by the inverse transpose, tangents by the
+/// linear part, the bitangent's sign flipped by a mirroring transform.
+fn to_world(v: &Vertex, transform: Mat4) -> Vertex {
+    let linear = Mat3::from_mat4(transform);
+    let mirror = if linear.determinant() < 0.0 {
+        -1.0
+    } else {
+        1.0
+    };
+    let tangent = linear * Vec3::new(v.tangent[0], v.tangent[1], v.tangent[2]);
+    Vertex {
+        position: transform
+            .transform_point3(Vec3::from(v.position))
+            .to_array(),
+        normal: (linear.inverse().transpose() * Vec3::from(v.normal))
+            .normalize_or(Vec3::Z)
+            .to_array(),
+        tangent: Vec4::from((tangent, v.tangent[3] * mirror)).to_array(),
+        ..*v
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{box_mesh, Material, Mesh};
+
+    fn scene_of(meshes: Vec<Mesh>) -> Scene {
+        Scene {
+            meshes,
+            materials: vec![Material::default()],
+            ..Scene::default()
+        }
+    }
+
+    fn cube(name: &str, transform: Mat4) -> Mesh {
+        Mesh {
+            transform,
+            ..box_mesh(name, Vec3::splat(0.5), 0)
+        }
+    }
+
+    #[test]
+    fn selections_group_meshes_by_name() {
+        let scene = scene_of(vec![
+            cube("a", Mat4::IDENTITY),
+            cube("b", Mat4::IDENTITY),
+            cube("a", Mat4::IDENTITY),
+        ]);
+        let all: MeshSelection = "all".parse().unwrap();
+        assert_eq!(
+            all.groups(&scene),
+            vec![("a".into(), vec![0, 2]), ("b".into(), vec![1])]
+        );
+        let b: MeshSelection = "b".parse().unwrap();
+        assert_eq!(b.groups(&scene), vec![("b".into(), vec![1])]);
+        let none: MeshSelection = "c".parse().unwrap();
+        assert!(none.groups(&scene).is_empty());
+    }
+
+    #[test]
+    fn attributes_come_from_the_triangle_in_world_space() {
+        let turn = Mat4::from_translation(Vec3::new(3.0, 0.0, 0.0))
+            * Mat4::from_rotation_z(std::f32::consts::FRAC_PI_2);
+        let scene = scene_of(vec![cube("box", turn)]);
+        let gathered = SceneMesh::gather(&scene, &[0], "box").expect("a box is closed");
+        let (lo, hi) = gathered.mesh.bounds();
+        assert!(
+            (lo[0] - 2.5).abs() < 1e-6 && (hi[0] - 3.5).abs() < 1e-6,
+            "{lo:?} {hi:?}"
+        );
+        for t in 0..gathered.mesh.triangles().len() {
+            let corners = gathered.mesh.triangle(t);
+            // The face's world normal: every corner of a box face shares it.
+            let e1 = Vec3::from_array(std::array::from_fn(|k| {
+                (corners[1][k] - corners[0][k]) as f32
+            }));
+            let e2 = Vec3::from_array(std::array::from_fn(|k| {
+                (corners[2][k] - corners[0][k]) as f32
+            }));
+            let face_normal = e1.cross(e2).normalize();
+            let at = gathered.attributes(SurfacePoint {
+                triangle: t as u32,
+                barycentric: [0.25, 0.25],
+            });
+            let n = Vec3::from(at.normal);
+            assert!(
+                n.dot(face_normal) > 0.999,
+                "triangle {t}: {n} against {face_normal}"
+            );
+            let tangent = Vec3::new(at.tangent[0], at.tangent[1], at.tangent[2]);
+            assert!(tangent.dot(n).abs() < 1e-4, "the tangent lies in the face");
+        }
+    }
+}

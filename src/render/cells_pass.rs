@@ -1,0 +1,408 @@
+//! The cells pass (paper 002): meshes drawn through their cell complexes. Built once per scene:
+//! for each complex the plan lists, the mesh is gathered in world space and checked closed, the
+//! grid chosen by doubling (`cells::choose_grid_within`), the distance and attribute maps sampled
+//! on the CPU and uploaded as storage buffers with the faces of the grey cells that border the
+//! outside; one pipeline (`cells.vert`, `cells.frag`) draws them all. Its set 0 and set 1 are the
+//! surface pass's plain frame set and the mesh's material set.
+
+use std::sync::Arc;
+use std::time::Instant;
+
+use ash::vk;
+use glam::Mat4;
+use serde::Serialize;
+
+use super::cells_plan::CellsPlan;
+use super::cells_trace_pass::ComplexBuffers;
+use super::frame::RenderError;
+use super::material_set::material_layout;
+use super::plan::Plan;
+use super::surface_pass::{plain_frame_layout, DrawPush, COLOR_FORMAT, DEPTH_FORMAT};
+use crate::cells::{
+    attribute_maps, choose_grid_within, CellGrid, Colour, Face, GridStop, MarchSettings,
+    MeshSelection, PackedComplex, SceneMesh, MAP_MEMORY_LIMIT,
+};
+use crate::scene::Scene;
+use crate::shaders;
+use crate::vk::{
+    graphics_pipeline, Bind, Buffer, Context, DescriptorLayout, DescriptorPool, DescriptorSet,
+    GraphicsDesc, Pipeline, Recording, SpecConstants, VkError, VkResult,
+};
+
+/// How meshes become cell complexes (`relief render --cells`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct CellsOptions {
+    pub selection: MeshSelection,
+    /// Texels a side of each domain face's maps.
+    pub resolution: u32,
+    /// The grid doubles while the maps' overlap ratio is above this.
+    pub overlap: f64,
+    /// The largest grid (cells a side) the doubling may reach.
+    pub max_grid: u32,
+}
+
+impl CellsOptions {
+    /// Every mesh named `selection`, with the defaults of `relief cells`.
+    pub fn new(selection: MeshSelection) -> CellsOptions {
+        CellsOptions {
+            selection,
+            resolution: 32,
+            overlap: 0.05,
+            max_grid: 32,
+        }
+    }
+}
+
+/// What was built for one complex, for `--explain`.
+#[derive(Debug, Clone, Serialize)]
+pub struct BuiltComplex {
+    pub name: String,
+    pub triangles: usize,
+    /// Cells a side.
+    pub grid: u32,
+    pub grey_cells: usize,
+    pub domain_faces: usize,
+    pub resolution: u32,
+    /// Why the grid's doubling stopped.
+    pub grid_stop: String,
+    /// The faces drawn: grey cells' faces on the complex's outside.
+    pub faces_drawn: usize,
+    /// Distance maps as the GPU reads them (16-bit texels).
+    pub distance_bytes: u64,
+    /// Attribute maps (32 bytes a texel).
+    pub attribute_bytes: u64,
+    /// CPU wall time of classifying, sampling and packing.
+    pub build_ms: f64,
+}
+
+/// Mirrors `CellsParams` in `cells.frag` (std140).
+#[repr(C)]
+#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct CellsUniform {
+    origin_size: [f32; 4],
+    n: u32,
+    resolution: u32,
+    refinements: u32,
+    samples_per_texel: f32,
+}
+
+/// Set 2: the complex's arrays (bindings 0-2), its uniform (3), its attribute maps (4).
+const CELLS_SET_BINDINGS: [(u32, vk::DescriptorType); 5] = [
+    (0, vk::DescriptorType::STORAGE_BUFFER),
+    (1, vk::DescriptorType::STORAGE_BUFFER),
+    (2, vk::DescriptorType::STORAGE_BUFFER),
+    (3, vk::DescriptorType::UNIFORM_BUFFER),
+    (4, vk::DescriptorType::STORAGE_BUFFER),
+];
+
+struct ComplexDraw {
+    faces: Buffer,
+    indices: Buffer,
+    index_count: u32,
+    material: usize,
+    set: DescriptorSet,
+    _arrays: ComplexBuffers,
+    _uniform: Buffer,
+    _attributes: Buffer,
+}
+
+/// The complexes of a scene and the pipeline that draws them; empty when the plan has none.
+pub struct CellsPass {
+    pipeline: Option<Pipeline>,
+    draws: Vec<ComplexDraw>,
+    built: Vec<BuiltComplex>,
+    _pool: Option<DescriptorPool>,
+    _layouts: Vec<DescriptorLayout>,
+}
+
+impl CellsPass {
+    /// Builds the complexes `plan.cells` lists with `options`; nothing at all when it lists none.
+    pub fn new(
+        ctx: &Arc<Context>,
+        scene: &Scene,
+        plan: &Plan,
+        options: Option<&CellsOptions>,
+    ) -> Result<CellsPass, RenderError> {
+        let Some(options) = options.filter(|_| !plan.cells.is_empty()) else {
+            return Ok(CellsPass {
+                pipeline: None,
+                draws: Vec::new(),
+                built: Vec::new(),
+                _pool: None,
+                _layouts: Vec::new(),
+            });
+        };
+        let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
+        let cells_layout = DescriptorLayout::new(ctx, &CELLS_SET_BINDINGS, stages, "cells layout")?;
+        let frame_layout = plain_frame_layout(ctx)?;
+        let material_layout = material_layout(ctx)?;
+        let pipeline = create_pipeline(
+            ctx,
+            &[
+                frame_layout.raw(),
+                material_layout.raw(),
+                cells_layout.raw(),
+            ],
+        )?;
+        let count = plan.cells.len() as u32;
+        let pool = DescriptorPool::new(ctx, count, 4 * count, "cells sets")?;
+        let mut draws = Vec::with_capacity(plan.cells.len());
+        let mut built = Vec::with_capacity(plan.cells.len());
+        for c in &plan.cells {
+            let (draw, stats) = build_complex(ctx, scene, c, options, &pool, &cells_layout)?;
+            draws.push(draw);
+            built.push(stats);
+        }
+        Ok(CellsPass {
+            pipeline: Some(pipeline),
+            draws,
+            built,
+            _pool: Some(pool),
+            _layouts: vec![cells_layout, frame_layout, material_layout],
+        })
+    }
+
+    /// What was built, one entry per complex.
+    pub fn built(&self) -> &[BuiltComplex] {
+        &self.built
+    }
+
+    /// Whether there is anything to draw.
+    pub fn is_empty(&self) -> bool {
+        self.draws.is_empty()
+    }
+
+    /// Records every complex's draw with `frame_set` as set 0 and its material's set (from
+    /// `material_set`) as set 1. Rendering must have begun with the targets' formats.
+    pub fn record(
+        &self,
+        rec: &Recording,
+        frame_set: DescriptorSet,
+        material_set: impl Fn(usize) -> Option<DescriptorSet>,
+    ) -> VkResult<()> {
+        let Some(pipeline) = &self.pipeline else {
+            return Ok(());
+        };
+        for draw in &self.draws {
+            let material = material_set(draw.material).ok_or_else(|| {
+                VkError::Invalid(format!("material {} has no set", draw.material))
+            })?;
+            pipeline.bind(rec, Some(frame_set));
+            pipeline.bind_set(rec, 1, material);
+            pipeline.bind_set(rec, 2, draw.set);
+            // The complex is in world space: draw.glsl's push constants (unread) get the identity.
+            pipeline.push(rec, bytemuck::bytes_of(&DrawPush::of(Mat4::IDENTITY)))?;
+            rec.bind_mesh(&draw.faces, &draw.indices);
+            rec.draw_indexed(draw.index_count);
+        }
+        Ok(())
+    }
+}
+
+/// Gathers, builds and uploads one complex.
+fn build_complex(
+    ctx: &Arc<Context>,
+    scene: &Scene,
+    plan: &CellsPlan,
+    options: &CellsOptions,
+    pool: &DescriptorPool,
+    layout: &DescriptorLayout,
+) -> Result<(ComplexDraw, BuiltComplex), RenderError> {
+    let started = Instant::now();
+    let gathered = SceneMesh::gather(scene, &plan.meshes, &format!("--cells {}", plan.name))?;
+    let (grid, maps, stop) = choose_grid_within(
+        &gathered.mesh,
+        options.resolution,
+        options.overlap,
+        options.max_grid,
+        MAP_MEMORY_LIMIT,
+    );
+    let packed = PackedComplex::new(&grid, &maps);
+    let attributes = attribute_maps(&maps, |point| gathered.attributes(point));
+    let (vertices, indices) = outer_faces(&grid);
+    let build_ms = started.elapsed().as_secs_f64() * 1e3;
+    let name = &plan.name;
+    let arrays = ComplexBuffers::upload(ctx, &packed, name)?;
+    let settings = MarchSettings::default();
+    let uniform = CellsUniform {
+        origin_size: [
+            packed.origin[0],
+            packed.origin[1],
+            packed.origin[2],
+            packed.cell_size,
+        ],
+        n: packed.n,
+        resolution: packed.resolution,
+        refinements: settings.refinements,
+        samples_per_texel: settings.samples_per_texel as f32,
+    };
+    let uniform = Buffer::with_data(
+        ctx,
+        bytemuck::bytes_of(&uniform),
+        vk::BufferUsageFlags::UNIFORM_BUFFER,
+        &format!("{name} cells uniform"),
+    )?;
+    let attribute_bytes: &[u8] = bytemuck::cast_slice(&attributes);
+    let attribute_buffer = Buffer::with_data(
+        ctx,
+        &ComplexBuffers::nonempty(attribute_bytes),
+        vk::BufferUsageFlags::STORAGE_BUFFER,
+        &format!("{name} cell attributes"),
+    )?;
+    let mut binds = arrays.binds().to_vec();
+    binds.push(Bind::Uniform(3, uniform.raw()));
+    binds.push(Bind::Storage(4, attribute_buffer.raw()));
+    let set = pool.allocate(layout, &binds)?;
+    let faces = Buffer::with_data(
+        ctx,
+        bytemuck::cast_slice(&vertices),
+        vk::BufferUsageFlags::VERTEX_BUFFER,
+        &format!("{name} cell faces"),
+    )?;
+    let index_buffer = Buffer::with_data(
+        ctx,
+        bytemuck::cast_slice(&indices),
+        vk::BufferUsageFlags::INDEX_BUFFER,
+        &format!("{name} cell face indices"),
+    )?;
+    let stats = BuiltComplex {
+        name: name.clone(),
+        triangles: gathered.mesh.triangles().len(),
+        grid: grid.n(),
+        grey_cells: maps.grey_cells,
+        domain_faces: maps.faces.len(),
+        resolution: maps.resolution,
+        grid_stop: match stop {
+            GridStop::Overlap => format!(
+                "overlap ratio {:.3} at most {}",
+                maps.overlap_ratio, options.overlap
+            ),
+            GridStop::MaxGrid => format!(
+                "largest grid {} reached (overlap ratio {:.3})",
+                options.max_grid, maps.overlap_ratio
+            ),
+            GridStop::Memory { next_n, bytes } => {
+                format!("a {next_n}^3 grid's maps would take {} MiB", bytes >> 20)
+            }
+        },
+        faces_drawn: indices.len() / 6,
+        distance_bytes: (packed.maps.len() * 4) as u64,
+        attribute_bytes: attribute_bytes.len() as u64,
+        build_ms,
+    };
+    let draw = ComplexDraw {
+        faces,
+        index_count: indices.len() as u32,
+        indices: index_buffer,
+        material: plan.material,
+        set,
+        _arrays: arrays,
+        _uniform: uniform,
+        _attributes: attribute_buffer,
+    };
+    Ok((draw, stats))
+}
+
+/// The faces of grey cells whose neighbour is white or beyond the grid, in world space, wound
+/// counter-clockwise seen from outside: a ray from outside enters the complex's grey cells
+/// through one of them (a black cell borders no white one).
+fn outer_faces(grid: &CellGrid) -> (Vec<[f32; 3]>, Vec<u32>) {
+    let mut vertices = Vec::new();
+    let mut indices = Vec::new();
+    let size = grid.cell_size();
+    let origin = grid.origin();
+    for cell in grid.grey_cells() {
+        for face in Face::ALL {
+            let open = grid
+                .neighbour(cell, face)
+                .is_none_or(|next| grid.colour(next) == Colour::White);
+            if !open {
+                continue;
+            }
+            let (a, u, v) = (face.axis, (face.axis + 1) % 3, (face.axis + 2) % 3);
+            let corner = |s: u32, t: u32| {
+                let mut local = [0u32; 3];
+                local[a] = u32::from(face.positive);
+                local[u] = s;
+                local[v] = t;
+                std::array::from_fn(|k| (origin[k] + size * f64::from(cell[k] + local[k])) as f32)
+            };
+            let base = vertices.len() as u32;
+            // e_u x e_v = e_a: counter-clockwise about +a in (u, v) order.
+            let quad = [corner(0, 0), corner(1, 0), corner(1, 1), corner(0, 1)];
+            vertices.extend(quad);
+            let order: [u32; 6] = if face.positive {
+                [0, 1, 2, 0, 2, 3]
+            } else {
+                [0, 2, 1, 0, 3, 2]
+            };
+            indices.extend(order.map(|k| base + k));
+        }
+    }
+    (vertices, indices)
+}
+
+fn create_pipeline(
+    ctx: &Arc<Context>,
+    set_layouts: &[vk::DescriptorSetLayout],
+) -> VkResult<Pipeline> {
+    let missing = |k: &str| VkError::Invalid(format!("no compiled shader {k}"));
+    let vertex = shaders::spirv("cells.vert").ok_or_else(|| missing("cells.vert"))?;
+    let fragment = shaders::spirv("cells.frag").ok_or_else(|| missing("cells.frag"))?;
+    let attributes = [vk::VertexInputAttributeDescription {
+        location: 0,
+        binding: 0,
+        format: vk::Format::R32G32B32_SFLOAT,
+        offset: 0,
+    }];
+    let desc = GraphicsDesc {
+        vertex,
+        fragment,
+        fragment_spec: &SpecConstants::default(),
+        vertex_stride: 12,
+        attributes: &attributes,
+        color_format: COLOR_FORMAT,
+        depth_format: DEPTH_FORMAT,
+        cull: vk::CullModeFlags::BACK,
+        set_layouts,
+        push_bytes: std::mem::size_of::<DrawPush>() as u32,
+        blend: false,
+    };
+    graphics_pipeline(ctx, &desc, "cells")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::cells::{shapes, ClosedMesh};
+
+    fn cell_of(grid: &CellGrid, p: glam::Vec3) -> [u32; 3] {
+        let o = grid.origin();
+        std::array::from_fn(|k| ((f64::from(p[k]) - o[k]) / grid.cell_size()).floor() as u32)
+    }
+
+    #[test]
+    fn outer_faces_close_the_grey_shell_and_face_outward() {
+        let (positions, triangles) = shapes::icosphere([0.0; 3], 1.0, 2);
+        let mesh = ClosedMesh::new("sphere", &positions, &triangles).unwrap();
+        let grid = CellGrid::classify(&mesh, 4);
+        let (vertices, indices) = outer_faces(&grid);
+        assert_eq!(indices.len() % 6, 0);
+        assert!(!indices.is_empty());
+        for tri in indices.chunks_exact(3) {
+            let [a, b, c] = [0, 1, 2].map(|k| glam::Vec3::from(vertices[tri[k] as usize]));
+            let normal = (b - a).cross(c - a).normalize();
+            // A step off the face along its winding's normal lands in the white cell or beyond
+            // the grid: outside the sphere.
+            let out = (a + b + c) / 3.0 + normal * 0.05;
+            let winding = mesh.winding_number(out.to_array().map(f64::from));
+            assert!(winding.abs() < 0.5, "{a} {b} {c}: {winding}");
+            let inward = (a + b + c) / 3.0 - normal * 0.05;
+            assert_ne!(
+                grid.colour(cell_of(&grid, inward)),
+                Colour::White,
+                "the face belongs to a grey cell behind it"
+            );
+        }
+    }
+}
