@@ -76,19 +76,6 @@ fn dump_is_the_map_the_statistics_describe() {
     check_dump(&map, &hf, "horizon-8", Address::Clamp, 0.03);
 }
 
-/// The run failed with exit 1 and one `relief: error:` line that names `needle`, without a panic.
-fn assert_clean_failure(out: &Output, needle: &str) {
-    let err = String::from_utf8_lossy(&out.stderr);
-    assert_eq!(out.status.code(), Some(1), "stderr:\n{err}");
-    assert!(!err.contains("panicked"), "{err}");
-    let lines: Vec<&str> = err
-        .lines()
-        .filter(|l| l.starts_with("relief: error:"))
-        .collect();
-    assert_eq!(lines.len(), 1, "one error line expected:\n{err}");
-    assert!(lines[0].contains(needle), "names {needle:?}: {}", lines[0]);
-}
-
 #[test]
 fn bad_input_fails_with_one_clear_line() {
     let dir = common::scratch_dir("cli-ao-bad");
@@ -96,16 +83,16 @@ fn bad_input_fails_with_one_clear_line() {
     let with = |extra: &[&str]| relief(&[&field[..], extra].concat());
     for scale in ["0", "-0.1", "nan", "inf"] {
         let out = with(&[&format!("--depth-scale={scale}")]);
-        assert_clean_failure(&out, "--depth-scale");
+        common::cli::assert_clean_failure(&out, &["--depth-scale"]);
     }
-    assert_clean_failure(&with(&["--ao", "horizon-5"]), "horizon-5");
-    assert_clean_failure(&with(&["--ao", "none"]), "none");
+    common::cli::assert_clean_failure(&with(&["--ao", "horizon-5"]), &["horizon-5"]);
+    common::cli::assert_clean_failure(&with(&["--ao", "none"]), &["none"]);
     let missing = dir.join("no-such-map.png");
     let out = relief(&["ao", "--heightmap", missing.to_str().expect("utf-8")]);
-    assert_clean_failure(&out, "no-such-map.png");
+    common::cli::assert_clean_failure(&out, &["no-such-map.png"]);
     let garbage = dir.join("not-a-png.png");
     std::fs::write(&garbage, b"these bytes are no PNG").expect("scratch is writable");
     let out = relief(&["ao", "--heightmap", garbage.to_str().expect("utf-8")]);
-    assert_clean_failure(&out, "not-a-png.png");
-    assert_clean_failure(&relief(&["ao"]), "--heightmap");
+    common::cli::assert_clean_failure(&out, &["not-a-png.png"]);
+    common::cli::assert_clean_failure(&relief(&["ao"]), &["--heightmap"]);
 }

@@ -3,11 +3,11 @@
 
 mod common;
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Output};
 
-use common::base64::base64;
-use serde_json::{json, Value};
+use common::mesh_gltf::{write_mesh, TETRAHEDRON, TETRAHEDRON_FACES};
+use serde_json::Value;
 
 fn relief(args: &[&str]) -> Output {
     Command::new(env!("CARGO_BIN_EXE_relief"))
@@ -31,80 +31,6 @@ fn cells_of(mesh: &Path, out: &Path, extra: &[&str]) -> Output {
 fn text(bytes: &[u8]) -> String {
     String::from_utf8_lossy(bytes).into_owned()
 }
-
-/// The run failed with exit 1 and one `relief: error:` line containing every needle, without a panic.
-fn assert_clean_failure(out: &Output, needles: &[&str]) {
-    let err = text(&out.stderr);
-    assert_eq!(
-        out.status.code(),
-        Some(1),
-        "exit code 1 expected; stderr:\n{err}"
-    );
-    assert!(!err.contains("panicked"), "must not panic:\n{err}");
-    let lines: Vec<&str> = err
-        .lines()
-        .filter(|l| l.starts_with("relief: error:"))
-        .collect();
-    assert_eq!(lines.len(), 1, "exactly one error line expected:\n{err}");
-    for needle in needles {
-        assert!(
-            lines[0].contains(needle),
-            "the error names {needle:?}: {}",
-            lines[0]
-        );
-    }
-}
-
-/// A glTF file of one mesh with these positions and triangles.
-fn write_mesh(dir: &Path, name: &str, positions: &[[f32; 3]], triangles: &[[u16; 3]]) -> PathBuf {
-    let mut bytes: Vec<u8> = positions
-        .iter()
-        .flatten()
-        .flat_map(|v| v.to_le_bytes())
-        .collect();
-    let index_offset = bytes.len();
-    bytes.extend(triangles.iter().flatten().flat_map(|i| i.to_le_bytes()));
-    while bytes.len() % 4 != 0 {
-        bytes.push(0);
-    }
-    let lo: Vec<f32> = (0..3)
-        .map(|k| positions.iter().map(|p| p[k]).fold(f32::INFINITY, f32::min))
-        .collect();
-    let hi: Vec<f32> = (0..3)
-        .map(|k| {
-            positions
-                .iter()
-                .map(|p| p[k])
-                .fold(f32::NEG_INFINITY, f32::max)
-        })
-        .collect();
-    let doc = json!({
-        "asset": {"version": "2.0"},
-        "buffers": [{"byteLength": bytes.len(), "uri": format!("data:application/octet-stream;base64,{}", base64(&bytes))}],
-        "bufferViews": [
-            {"buffer": 0, "byteOffset": 0, "byteLength": index_offset},
-            {"buffer": 0, "byteOffset": index_offset, "byteLength": triangles.len() * 6}
-        ],
-        "accessors": [
-            {"bufferView": 0, "componentType": 5126, "count": positions.len(), "type": "VEC3", "min": lo, "max": hi},
-            {"bufferView": 1, "componentType": 5123, "count": triangles.len() * 3, "type": "SCALAR"}
-        ],
-        "meshes": [{"name": name, "primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],
-        "nodes": [{"mesh": 0, "translation": [2.0, 0.0, 0.0]}],
-        "scenes": [{"nodes": [0]}]
-    });
-    let path = dir.join(format!("{name}.gltf"));
-    std::fs::write(&path, serde_json::to_vec_pretty(&doc).unwrap()).unwrap();
-    path
-}
-
-const TETRAHEDRON: [[f32; 3]; 4] = [
-    [0.0, 0.0, 0.0],
-    [1.0, 0.0, 0.0],
-    [0.0, 1.0, 0.0],
-    [0.0, 0.0, 1.0],
-];
-const TETRAHEDRON_FACES: [[u16; 3]; 4] = [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]];
 
 fn stats(dir: &Path) -> Value {
     serde_json::from_slice(&std::fs::read(dir.join("cells.json")).expect("cells.json"))
@@ -174,7 +100,7 @@ fn an_open_mesh_is_refused_with_one_line() {
     let dir = common::scratch_dir("cells-open");
     let mesh = write_mesh(&dir, "open", &TETRAHEDRON, &TETRAHEDRON_FACES[..3]);
     let out = cells_of(&mesh, &dir.join("out"), &[]);
-    assert_clean_failure(&out, &["open.gltf", "is open", "closed mesh"]);
+    common::cli::assert_clean_failure(&out, &["open.gltf", "is open", "closed mesh"]);
 }
 
 #[test]
@@ -185,7 +111,7 @@ fn bad_arguments_are_refused_with_one_line() {
     let out = relief(&[
         "cells", "--shape", "sphere", "--out", out_dir, "--dir", "0,0,0",
     ]);
-    assert_clean_failure(&out, &["--dir"]);
+    common::cli::assert_clean_failure(&out, &["--dir"]);
     let out = relief(&[
         "cells",
         "--shape",
@@ -195,14 +121,14 @@ fn bad_arguments_are_refused_with_one_line() {
         "--resolution",
         "0",
     ]);
-    assert_clean_failure(&out, &["--resolution"]);
+    common::cli::assert_clean_failure(&out, &["--resolution"]);
     let out = relief(&[
         "cells",
         &dir.join("missing.gltf").to_string_lossy(),
         "--out",
         out_dir,
     ]);
-    assert_clean_failure(&out, &["missing.gltf"]);
+    common::cli::assert_clean_failure(&out, &["missing.gltf"]);
     // Maps that would not fit in memory are refused before any is sampled.
     let out = relief(&[
         "cells",
@@ -215,7 +141,7 @@ fn bad_arguments_are_refused_with_one_line() {
         "--resolution",
         "1024",
     ]);
-    assert_clean_failure(&out, &["sphere", "MiB", "--grid"]);
+    common::cli::assert_clean_failure(&out, &["sphere", "MiB", "--grid"]);
 }
 
 #[test]
@@ -227,7 +153,7 @@ fn corpus_meshes_are_built_or_refused_cleanly() {
     let helmet = gltf.join("gltf/FlightHelmet/FlightHelmet.gltf");
     if helmet.is_file() {
         let out = cells_of(&helmet, &dir, &[]);
-        assert_clean_failure(&out, &["FlightHelmet.gltf", "is open"]);
+        common::cli::assert_clean_failure(&out, &["FlightHelmet.gltf", "is open"]);
     }
     let sphere = gltf.join("gltf/blender-io-roundtrip/01_textured_sphere/01_textured_sphere.gltf");
     if sphere.is_file() {

@@ -16,27 +16,6 @@ fn stderr(out: &Output) -> String {
     String::from_utf8_lossy(&out.stderr).into_owned()
 }
 
-/// The run failed with exit 1, one `relief: error:` line that names `needle`, and no panic.
-fn assert_clean_failure(out: &Output, needle: &str) {
-    let err = stderr(out);
-    assert_eq!(
-        out.status.code(),
-        Some(1),
-        "exit code 1 expected; stderr:\n{err}"
-    );
-    assert!(!err.contains("panicked"), "must not panic:\n{err}");
-    let lines: Vec<&str> = err
-        .lines()
-        .filter(|l| l.starts_with("relief: error:"))
-        .collect();
-    assert_eq!(lines.len(), 1, "exactly one error line expected:\n{err}");
-    assert!(
-        lines[0].contains(needle),
-        "the error names {needle:?}: {}",
-        lines[0]
-    );
-}
-
 fn render_with(map: &Path) -> Output {
     let out = map.with_extension("out.png");
     relief(&[
@@ -53,7 +32,7 @@ fn missing_height_map() {
     let dir = common::scratch_dir("missing");
     let map = dir.join("no-such-map.png");
     let out = render_with(&map);
-    assert_clean_failure(&out, "no-such-map.png");
+    common::cli::assert_clean_failure(&out, &["no-such-map.png"]);
     assert!(stderr(&out).contains("cannot read"), "{}", stderr(&out));
 }
 
@@ -63,7 +42,7 @@ fn not_an_image() {
     let map = dir.join("notes.png");
     std::fs::write(&map, "these are words, not pixels\n").expect("write");
     let out = render_with(&map);
-    assert_clean_failure(&out, "notes.png");
+    common::cli::assert_clean_failure(&out, &["notes.png"]);
     assert!(
         stderr(&out).contains("not a decodable image"),
         "{}",
@@ -77,20 +56,20 @@ fn empty_image() {
     let map = dir.join("empty.png");
     std::fs::write(&map, b"").expect("write");
     let out = render_with(&map);
-    assert_clean_failure(&out, "empty.png");
+    common::cli::assert_clean_failure(&out, &["empty.png"]);
     assert!(stderr(&out).contains("empty"), "{}", stderr(&out));
 }
 
 #[test]
 fn zero_depth_scale() {
     let out = relief(&["render", "--depth-scale", "0", "--out", "/dev/null"]);
-    assert_clean_failure(&out, "--depth-scale");
+    common::cli::assert_clean_failure(&out, &["--depth-scale"]);
 }
 
 #[test]
 fn unknown_method() {
     let out = relief(&["render", "--method", "warp", "--out", "/dev/null"]);
-    assert_clean_failure(&out, "warp");
+    common::cli::assert_clean_failure(&out, &["warp"]);
 }
 
 #[test]
@@ -114,7 +93,7 @@ fn map_larger_than_the_device_allows() {
         .save(&map)
         .expect("write PNG");
     let out = render_with(&map);
-    assert_clean_failure(&out, "too-wide.png");
+    common::cli::assert_clean_failure(&out, &["too-wide.png"]);
     assert!(
         stderr(&out).contains(&format!("maximum image dimension {limit}")),
         "{}",
@@ -144,7 +123,7 @@ fn missing_scene_file() {
     let dir = common::scratch_dir("missing_scene");
     let scene = dir.join("no-such-scene.gltf");
     let out = relief(&["render", scene.to_str().expect("utf-8")]);
-    assert_clean_failure(&out, "no-such-scene.gltf");
+    common::cli::assert_clean_failure(&out, &["no-such-scene.gltf"]);
 }
 
 #[test]
@@ -157,7 +136,7 @@ fn broken_scene_file() {
     )
     .expect("writes");
     let out = relief(&["render", scene.to_str().expect("utf-8")]);
-    assert_clean_failure(&out, "broken.gltf");
+    common::cli::assert_clean_failure(&out, &["broken.gltf"]);
 }
 
 #[test]
@@ -168,7 +147,7 @@ fn material_flag_without_a_height_map_or_naming_nothing() {
     let plane = corpus.join("gltf/sascha/plane.gltf");
     let plane = plane.to_str().expect("utf-8");
     let out = relief(&["render", plane, "--material", "Floor"]);
-    assert_clean_failure(&out, "--heightmap");
+    common::cli::assert_clean_failure(&out, &["--heightmap"]);
     let out = relief(&[
         "render",
         plane,
@@ -179,7 +158,7 @@ fn material_flag_without_a_height_map_or_naming_nothing() {
         "--material",
         "NoSuch",
     ]);
-    assert_clean_failure(&out, "plane.gltf");
+    common::cli::assert_clean_failure(&out, &["plane.gltf"]);
     assert!(
         stderr(&out).contains("its materials:"),
         "lists the materials"
@@ -207,7 +186,7 @@ fn bad_shading_flags_name_the_flag() {
         assert!(err.contains(needle) && !err.contains("panicked"), "{err}");
     }
     let out = relief(&["render", "--light-radius", "95", "--out", "/dev/null"]);
-    assert_clean_failure(&out, "--light-radius 95 is above 90 degrees");
+    common::cli::assert_clean_failure(&out, &["--light-radius 95 is above 90 degrees"]);
     let trace = [
         "trace",
         "--field",
@@ -218,7 +197,7 @@ fn bad_shading_flags_name_the_flag() {
         "cone",
     ];
     let out = relief(&[&trace[..], &["--light-elevation", "120"]].concat());
-    assert_clean_failure(&out, "--light-elevation must be in [-90, 90]");
+    common::cli::assert_clean_failure(&out, &["--light-elevation must be in [-90, 90]"]);
     let out = relief(&[&trace[..], &["--light-radius", "nan"]].concat());
-    assert_clean_failure(&out, "--light-radius must be in [0, 90]");
+    common::cli::assert_clean_failure(&out, &["--light-radius must be in [0, 90]"]);
 }

@@ -3,8 +3,10 @@
 #![allow(dead_code)]
 
 pub mod base64;
+pub mod cli;
 pub mod corpus;
 pub mod golden;
+pub mod mesh_gltf;
 pub mod npy;
 pub mod rays;
 

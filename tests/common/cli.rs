@@ -1,0 +1,27 @@
+//! What every failing command line must look like.
+
+use std::process::Output;
+
+/// Asserts that the command failed cleanly: exit code 1, no panic, and exactly one
+/// `relief: error:` line, which names every one of `needles`.
+pub fn assert_clean_failure(out: &Output, needles: &[&str]) {
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(
+        out.status.code(),
+        Some(1),
+        "exit code 1 expected; stderr:\n{err}"
+    );
+    assert!(!err.contains("panicked"), "must not panic:\n{err}");
+    let lines: Vec<&str> = err
+        .lines()
+        .filter(|l| l.starts_with("relief: error:"))
+        .collect();
+    assert_eq!(lines.len(), 1, "exactly one error line expected:\n{err}");
+    for needle in needles {
+        assert!(
+            lines[0].contains(needle),
+            "the error names {needle:?}: {}",
+            lines[0]
+        );
+    }
+}
