@@ -96,6 +96,41 @@ fn the_torus_shape_chooses_its_grid_and_rebuilds_a_mesh() {
 }
 
 #[test]
+fn the_torus_renders_through_its_cells_as_it_does_rasterised() {
+    if common::device("the_torus_renders_through_its_cells_as_it_does_rasterised").is_none() {
+        return;
+    }
+    let dir = common::scratch_dir("cells-torus-render");
+    let out = relief(&[
+        "cells",
+        "--shape",
+        "torus",
+        "--out",
+        dir.to_str().unwrap(),
+        "--resolution",
+        "16",
+        "--rays",
+        "0",
+        "--render",
+        "128x96",
+    ]);
+    assert!(out.status.success(), "{}", text(&out.stderr));
+    let r = &stats(&dir)["render"];
+    assert!(r["covered_pixels"].as_u64().unwrap() > 1500, "{r}");
+    assert!(r["cells_ms"].as_f64().unwrap() > 0.0, "{r}");
+    assert!(r["mean_channel_difference"].as_f64().unwrap() <= 3.0, "{r}");
+    assert!(
+        r["mean_channel_difference_on_mesh"].as_f64().unwrap() <= 3.0,
+        "{r}"
+    );
+    for image in ["cells.png", "raster.png", "diff.png"] {
+        let size = image::image_dimensions(dir.join(image)).expect("a PNG");
+        assert_eq!(size, (128, 96), "{image}");
+    }
+    assert!(text(&out.stdout).contains("mean channel difference"));
+}
+
+#[test]
 fn an_open_mesh_is_refused_with_one_line() {
     let dir = common::scratch_dir("cells-open");
     let mesh = write_mesh(&dir, "open", &TETRAHEDRON, &TETRAHEDRON_FACES[..3]);
@@ -122,6 +157,10 @@ fn bad_arguments_are_refused_with_one_line() {
         "0",
     ]);
     common::cli::assert_clean_failure(&out, &["--resolution"]);
+    let out = relief(&[
+        "cells", "--shape", "sphere", "--out", out_dir, "--render", "640",
+    ]);
+    common::cli::assert_clean_failure(&out, &["--render", "WxH"]);
     let out = relief(&[
         "cells",
         &dir.join("missing.gltf").to_string_lossy(),

@@ -88,13 +88,7 @@ pub struct BenchArgs {
 }
 
 fn parse_resolution(text: &str) -> anyhow::Result<(u32, u32)> {
-    match text
-        .split_once('x')
-        .map(|(w, h)| (w.parse::<u32>(), h.parse::<u32>()))
-    {
-        Some((Ok(w), Ok(h))) if (1..=16384).contains(&w) && (1..=16384).contains(&h) => Ok((w, h)),
-        _ => anyhow::bail!("--resolution must be WxH within 1..=16384, got {text:?}"),
-    }
+    super::parse_size("--resolution", text)
 }
 
 fn config(args: &BenchArgs) -> anyhow::Result<SweepConfig> {

@@ -16,8 +16,10 @@ use relief::cells::{
     PackedComplex, SceneMesh, MAP_MEMORY_LIMIT,
 };
 use relief::render::march_cells_on_gpu;
-use relief::scene::{load_gltf, SceneOptions};
+use relief::scene::{load_gltf, Mesh, Scene, SceneOptions};
 use serde_json::json;
+
+use super::cells_compare;
 
 /// Procedural closed meshes with known shapes.
 #[derive(Clone, Copy, ValueEnum)]
@@ -74,13 +76,19 @@ pub struct CellsArgs {
     /// Also march the rays on the GPU: the same measurement, and the GPU's rays per second.
     #[arg(long)]
     gpu: bool,
-    /// Pick the Vulkan device whose name contains this text (with --gpu).
+    /// Also render the mesh through its cells and rasterised at this size (WxH), from the camera
+    /// that frames it: OUT/cells.png, raster.png, diff.png, the mean channel difference and the
+    /// cells pass's GPU time. The meshes must share one material.
+    #[arg(long, value_name = "WxH")]
+    render: Option<String>,
+    /// Pick the Vulkan device whose name contains this text (with --gpu or --render).
     #[arg(long, value_name = "SUBSTRING")]
     device: Option<String>,
 }
 
-/// Reads the mesh the arguments name, checked closed.
-fn load_mesh(args: &CellsArgs) -> anyhow::Result<(String, ClosedMesh)> {
+/// Reads the mesh the arguments name, checked closed, with the scene that draws it (its meshes
+/// under one name, so that `--render` builds one complex of them as this command does).
+fn load_mesh(args: &CellsArgs) -> anyhow::Result<(String, ClosedMesh, Scene)> {
     if let Some(shape) = args.shape {
         let (name, (positions, triangles)) = match shape {
             Shape::Sphere => ("sphere", shapes::icosphere([0.0; 3], 1.0, 4)),
@@ -90,7 +98,9 @@ fn load_mesh(args: &CellsArgs) -> anyhow::Result<(String, ClosedMesh)> {
                 shapes::bumpy_sphere([0.0; 3], 1.0, 5, 0.2, 6.0),
             ),
         };
-        return Ok((name.into(), ClosedMesh::new(name, &positions, &triangles)?));
+        let mesh = ClosedMesh::new(name, &positions, &triangles)?;
+        let scene = cells_compare::shape_scene(name, &mesh);
+        return Ok((name.into(), mesh, scene));
     }
     let path = args.mesh.as_deref().context("no mesh given")?;
     let scene = load_gltf(path, &SceneOptions::default())?;
@@ -112,7 +122,14 @@ fn load_mesh(args: &CellsArgs) -> anyhow::Result<(String, ClosedMesh)> {
         anyhow::bail!("{origin}: no triangles to build cells from");
     }
     let gathered = SceneMesh::gather(&scene, &members, &origin)?;
-    Ok((origin, gathered.mesh))
+    let meshes = members
+        .iter()
+        .map(|&k| Mesh {
+            name: origin.clone(),
+            ..scene.meshes[k].clone()
+        })
+        .collect();
+    Ok((origin, gathered.mesh, Scene { meshes, ..scene }))
 }
 
 fn parse_dir(text: &str) -> anyhow::Result<[f64; 3]> {
@@ -168,7 +185,11 @@ pub fn run(args: &CellsArgs) -> anyhow::Result<()> {
         }
     }
     let dir = parse_dir(&args.dir)?;
-    let (name, mesh) = load_mesh(args)?;
+    let render_size = match &args.render {
+        Some(text) => Some(super::parse_size("--render", text)?),
+        None => None,
+    };
+    let (name, mesh, scene) = load_mesh(args)?;
     std::fs::create_dir_all(&args.out)
         .with_context(|| format!("creating {}", args.out.display()))?;
     let started = Instant::now();
@@ -237,13 +258,17 @@ pub fn run(args: &CellsArgs) -> anyhow::Result<()> {
     } else {
         None
     };
-    let gpu_measured = if args.gpu && args.rays > 0 {
-        let ctx = super::open_device(args.device.as_deref(), false)?;
+    let ctx = if (args.gpu && args.rays > 0) || render_size.is_some() {
+        Some(super::open_device(args.device.as_deref(), false)?)
+    } else {
+        None
+    };
+    let gpu_measured = if let (true, true, Some(ctx)) = (args.gpu, args.rays > 0, &ctx) {
         let rays = parallel_rays(&mesh, dir, args.rays);
         let packed = PackedComplex::new(&grid, &maps);
-        let traced = march_cells_on_gpu(&ctx, &packed, &rays, MarchSettings::default())
+        let traced = march_cells_on_gpu(ctx, &packed, &rays, MarchSettings::default())
             .context("marching the rays on the GPU")?;
-        super::check_validation(&ctx)?;
+        super::check_validation(ctx)?;
         let (agreement, _) = compare_hits(
             &mesh,
             &grid,
@@ -255,6 +280,20 @@ pub fn run(args: &CellsArgs) -> anyhow::Result<()> {
         Some(agreement)
     } else {
         None
+    };
+    let rendered = match (render_size, &ctx) {
+        (Some(size), Some(ctx)) => {
+            let options = cells_compare::options(
+                args.resolution,
+                args.overlap,
+                args.max_grid.max(1),
+                args.grid,
+            );
+            let compared = cells_compare::compare(ctx, &scene, options, size, &args.out)?;
+            super::check_validation(ctx)?;
+            Some(compared)
+        }
+        _ => None,
     };
     if let Some(path) = &args.mesh_out {
         let rebuilt = rebuild(&grid, &maps, args.mesh_level);
@@ -290,6 +329,7 @@ pub fn run(args: &CellsArgs) -> anyhow::Result<()> {
         "build_ms": build_ms,
         "hits": measured,
         "gpu_hits": gpu_measured,
+        "render": rendered,
     });
     let path = args.out.join("cells.json");
     std::fs::write(&path, serde_json::to_string_pretty(&stats)?)
@@ -299,6 +339,19 @@ pub fn run(args: &CellsArgs) -> anyhow::Result<()> {
         println!(
             "GPU march: {} of {} rays cross the solid, {} missed; error mean {:.5}, max {:.5} cell sides; {:.0} rays/s",
             h.solid, h.rays, h.missed_solid, h.mean_error, h.max_error, h.rays_per_second
+        );
+    }
+    if let Some(r) = &rendered {
+        println!(
+            "render {}x{}: mean channel difference {:.3} against the rasterised mesh ({:.3} over its {} pixels); cells pass {:.2} ms ({:.2} M pixels/s), rasterised {:.2} ms",
+            r.width,
+            r.height,
+            r.mean_channel_difference,
+            r.mean_channel_difference_on_mesh,
+            r.covered_pixels,
+            r.cells_ms,
+            r.pixels_per_second / 1e6,
+            r.raster_ms
         );
     }
     println!("wrote {}", path.display());

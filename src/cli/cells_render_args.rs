@@ -21,6 +21,9 @@ pub struct CellsRenderArgs {
     /// The largest grid the doubling may reach, in cells a side (with --cells).
     #[arg(long, value_name = "N", default_value_t = 32)]
     cells_max_grid: u32,
+    /// A fixed grid, in cells a side, instead of the doubling (with --cells).
+    #[arg(long, value_name = "N")]
+    cells_grid: Option<u32>,
 }
 
 impl CellsRenderArgs {
@@ -43,6 +46,11 @@ impl CellsRenderArgs {
                 self.cells_max_grid
             );
         }
+        if let Some(n) = self.cells_grid {
+            if n == 0 || n > 256 {
+                anyhow::bail!("--cells-grid {n}: from 1 to 256 cells a side");
+            }
+        }
         Ok(())
     }
 
@@ -53,6 +61,7 @@ impl CellsRenderArgs {
             resolution: self.cells_resolution,
             overlap: self.cells_overlap,
             max_grid: self.cells_max_grid,
+            grid: self.cells_grid,
         })
     }
 }

@@ -4,6 +4,7 @@
 mod ao;
 mod bench;
 mod cells;
+mod cells_compare;
 mod cells_render_args;
 mod devices;
 mod heightmap_args;
@@ -114,6 +115,17 @@ pub fn open_device(filter: Option<&str>, quiet: bool) -> anyhow::Result<std::syn
         eprintln!("device: {}", ctx.describe());
     }
     Ok(ctx)
+}
+
+/// An image size `WxH` given to `flag`, each side within 1..=16384.
+pub fn parse_size(flag: &str, text: &str) -> anyhow::Result<(u32, u32)> {
+    match text
+        .split_once('x')
+        .map(|(w, h)| (w.parse::<u32>(), h.parse::<u32>()))
+    {
+        Some((Ok(w), Ok(h))) if (1..=16384).contains(&w) && (1..=16384).contains(&h) => Ok((w, h)),
+        _ => anyhow::bail!("{flag} must be WxH within 1..=16384, got {text:?}"),
+    }
 }
 
 /// Fails if the validation layer reported errors while the command ran.

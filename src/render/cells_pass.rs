@@ -19,8 +19,8 @@ use super::material_set::material_layout;
 use super::plan::Plan;
 use super::surface_pass::{plain_frame_layout, DrawPush, COLOR_FORMAT, DEPTH_FORMAT};
 use crate::cells::{
-    attribute_maps, choose_grid_within, CellGrid, Colour, Face, GridStop, MarchSettings,
-    MeshSelection, PackedComplex, SceneMesh, MAP_MEMORY_LIMIT,
+    attribute_maps, choose_grid_within, sampled_bytes, CellGrid, CellMaps, Colour, Face, GridStop,
+    MarchSettings, MeshSelection, PackedComplex, SceneMesh, MAP_MEMORY_LIMIT,
 };
 use crate::scene::Scene;
 use crate::shaders;
@@ -39,6 +39,8 @@ pub struct CellsOptions {
     pub overlap: f64,
     /// The largest grid (cells a side) the doubling may reach.
     pub max_grid: u32,
+    /// A fixed grid (cells a side) instead of the doubling.
+    pub grid: Option<u32>,
 }
 
 impl CellsOptions {
@@ -49,6 +51,7 @@ impl CellsOptions {
             resolution: 32,
             overlap: 0.05,
             max_grid: 32,
+            grid: None,
         }
     }
 }
@@ -210,13 +213,33 @@ fn build_complex(
 ) -> Result<(ComplexDraw, BuiltComplex), RenderError> {
     let started = Instant::now();
     let gathered = SceneMesh::gather(scene, &plan.meshes, &format!("--cells {}", plan.name))?;
-    let (grid, maps, stop) = choose_grid_within(
-        &gathered.mesh,
-        options.resolution,
-        options.overlap,
-        options.max_grid,
-        MAP_MEMORY_LIMIT,
-    );
+    let (grid, maps, stop) = match options.grid {
+        Some(n) => {
+            let grid = CellGrid::classify(&gathered.mesh, n);
+            let bytes = sampled_bytes(&grid, options.resolution);
+            if bytes > MAP_MEMORY_LIMIT {
+                return Err(RenderError::CellsTooLarge {
+                    name: plan.name.clone(),
+                    n,
+                    resolution: options.resolution,
+                    mib: bytes >> 20,
+                    limit_mib: MAP_MEMORY_LIMIT >> 20,
+                });
+            }
+            let maps = CellMaps::sample(&gathered.mesh, &grid, options.resolution);
+            (grid, maps, None)
+        }
+        None => {
+            let (grid, maps, stop) = choose_grid_within(
+                &gathered.mesh,
+                options.resolution,
+                options.overlap,
+                options.max_grid,
+                MAP_MEMORY_LIMIT,
+            );
+            (grid, maps, Some(stop))
+        }
+    };
     let packed = PackedComplex::new(&grid, &maps);
     let attributes = attribute_maps(&maps, |point| gathered.attributes(point));
     let (vertices, indices) = outer_faces(&grid);
@@ -273,15 +296,16 @@ fn build_complex(
         domain_faces: maps.faces.len(),
         resolution: maps.resolution,
         grid_stop: match stop {
-            GridStop::Overlap => format!(
+            None => "a fixed grid".to_owned(),
+            Some(GridStop::Overlap) => format!(
                 "overlap ratio {:.3} at most {}",
                 maps.overlap_ratio, options.overlap
             ),
-            GridStop::MaxGrid => format!(
+            Some(GridStop::MaxGrid) => format!(
                 "largest grid {} reached (overlap ratio {:.3})",
                 options.max_grid, maps.overlap_ratio
             ),
-            GridStop::Memory { next_n, bytes } => {
+            Some(GridStop::Memory { next_n, bytes }) => {
                 format!("a {next_n}^3 grid's maps would take {} MiB", bytes >> 20)
             }
         },

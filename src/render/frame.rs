@@ -79,6 +79,14 @@ pub enum RenderError {
     Vulkan(#[from] VkError),
     #[error(transparent)]
     Cells(#[from] crate::cells::MeshError),
+    #[error("--cells {name:?}: a {n}^3 grid's maps at {resolution}^2 would take {mib} MiB while sampled (at most {limit_mib} MiB); lower the grid or the resolution")]
+    CellsTooLarge {
+        name: String,
+        n: u32,
+        resolution: u32,
+        mib: u64,
+        limit_mib: u64,
+    },
 }
 
 /// The heights of one planned height map, as stored on the GPU. The frame's own map is borrowed
