@@ -90,6 +90,20 @@ fn the_torus_shape_chooses_its_grid_and_rebuilds_a_mesh() {
     assert!(s["grid"].as_u64().unwrap() >= 2, "{s}");
     assert!(s["overlap_ratio"].as_f64().unwrap() <= 0.05, "{s}");
     assert_eq!(s["hits"]["missed_solid"], 0);
+    // The lookup table lists every grey cell with its case and every domain face's atlas tile.
+    let lookup: Value =
+        serde_json::from_slice(&std::fs::read(dir.join("lookup.json")).expect("lookup.json"))
+            .expect("json");
+    let grey = lookup["grey_cells"].as_array().expect("grey cells");
+    assert_eq!(grey.len() as u64, s["grey_cells"].as_u64().unwrap());
+    let faces: usize = grey
+        .iter()
+        .map(|c| c["faces"].as_array().unwrap().len())
+        .sum();
+    assert_eq!(faces as u64, s["domain_faces"].as_u64().unwrap());
+    assert!(grey
+        .iter()
+        .all(|c| c["case"].is_string() && c["projection"]["kind"].is_string()));
     let obj = std::fs::read_to_string(&obj).expect("obj written");
     assert!(obj.lines().filter(|l| l.starts_with("f ")).count() > 100);
     assert!(text(&out.stdout).contains("rebuilt mesh"));

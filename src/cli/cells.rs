@@ -19,7 +19,7 @@ use relief::render::march_cells_on_gpu;
 use relief::scene::{load_gltf, Mesh, Scene, SceneOptions};
 use serde_json::json;
 
-use super::cells_compare;
+use super::{cells_compare, cells_lookup};
 
 /// Procedural closed meshes with known shapes.
 #[derive(Clone, Copy, ValueEnum)]
@@ -43,7 +43,8 @@ pub struct CellsArgs {
     /// Only the glTF meshes with this name.
     #[arg(long, value_name = "NAME")]
     node: Option<String>,
-    /// Folder for cells.json, maps.png (every distance map, 16-bit) and, with --dump, rays.npy.
+    /// Folder for cells.json (statistics), maps.png (every distance map, 16-bit), lookup.json
+    /// (each grey cell's case, projection and maps in the atlas) and, with --dump, rays.npy.
     #[arg(long)]
     out: PathBuf,
     /// Texels on a side of each distance map.
@@ -151,7 +152,7 @@ fn parse_dir(text: &str) -> anyhow::Result<[f64; 3]> {
 fn write_atlas(path: &Path, maps: &CellMaps) -> anyhow::Result<(u32, u32)> {
     let r = maps.resolution;
     let count = maps.faces.len().max(1) as u32;
-    let columns = (f64::from(count).sqrt().ceil() as u32).max(1);
+    let columns = cells_lookup::atlas_columns(maps.faces.len());
     let rows = count.div_ceil(columns);
     let (w, h) = (columns * r, rows * r);
     let mut atlas = image::ImageBuffer::<image::Luma<u16>, Vec<u16>>::new(w, h);
@@ -238,6 +239,7 @@ pub fn run(args: &CellsArgs) -> anyhow::Result<()> {
     let build_ms = started.elapsed().as_secs_f64() * 1e3;
     let (white, grey, black) = grid.counts();
     let atlas = write_atlas(&args.out.join("maps.png"), &maps)?;
+    cells_lookup::write_lookup(&args.out.join("lookup.json"), &grid, &maps)?;
     let measured = if args.rays > 0 {
         eprintln!(
             "marching {0}x{0} rays through the complex and against every triangle...",

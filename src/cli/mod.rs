@@ -5,6 +5,7 @@ mod ao;
 mod bench;
 mod cells;
 mod cells_compare;
+mod cells_lookup;
 mod cells_render_args;
 mod devices;
 mod heightmap_args;
