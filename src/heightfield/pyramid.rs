@@ -114,6 +114,20 @@ impl MaxPyramid {
         MaxPyramid { levels }
     }
 
+    /// A pyramid of levels made elsewhere (a blended terrain's bound): sizes must follow the mip
+    /// rule from `levels[0]` down to 1x1.
+    pub fn from_levels(levels: Vec<PyramidLevel>) -> MaxPyramid {
+        let first = &levels[0];
+        debug_assert_eq!(
+            levels.len() as u32,
+            mip_level_count(first.width, first.height)
+        );
+        debug_assert!(levels
+            .iter()
+            .all(|l| l.data.len() == l.width as usize * l.height as usize));
+        MaxPyramid { levels }
+    }
+
     /// All levels, finest (level 0, the map itself) first.
     pub fn levels(&self) -> &[PyramidLevel] {
         &self.levels

@@ -1,0 +1,256 @@
+//! A terrain's layers: up to four height fields of one size, and each layer's weight at every
+//! texel of them (from a low-resolution splat map, or given texel by texel).
+
+use crate::heightfield::Heightfield;
+
+/// Layers a stack holds at most: the channels of one RGBA image.
+pub const MAX_LAYERS: usize = 4;
+
+/// Why layers or weights cannot be stacked. Every message is one line.
+#[derive(Debug, thiserror::Error, PartialEq)]
+pub enum LayerError {
+    #[error("a layer stack needs 1 to {MAX_LAYERS} layers, got {count}")]
+    Count { count: usize },
+    #[error("{what} is {got_w}x{got_h}, but the first layer is {want_w}x{want_h}; every layer and weight map of a stack has one size")]
+    Size {
+        what: String,
+        got_w: u32,
+        got_h: u32,
+        want_w: u32,
+        want_h: u32,
+    },
+    #[error("{layers} layers, but weights for {weights}")]
+    WeightCount { layers: usize, weights: usize },
+    #[error("splat map: {width}x{height} texels need {expected} RGBA values, got {got}")]
+    SplatLength {
+        width: u32,
+        height: u32,
+        expected: usize,
+        got: usize,
+    },
+    #[error("splat map: texel {texel} has weight {value} (weights are finite and at least 0)")]
+    SplatValue { texel: usize, value: f32 },
+}
+
+/// A low-resolution RGBA weight map (a splat map): channel k weighs layer k. Clamp-addressed and
+/// bilinear between texel centres, like every map in relief.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SplatMap {
+    width: u32,
+    height: u32,
+    texels: Vec<[f32; 4]>,
+}
+
+impl SplatMap {
+    /// `texels` row-major, `width * height` of them, each weight finite and >= 0.
+    pub fn new(width: u32, height: u32, texels: Vec<[f32; 4]>) -> Result<SplatMap, LayerError> {
+        let expected = width as usize * height as usize;
+        if width == 0 || height == 0 || texels.len() != expected {
+            return Err(LayerError::SplatLength {
+                width,
+                height,
+                expected,
+                got: texels.len(),
+            });
+        }
+        let bad = texels
+            .iter()
+            .flatten()
+            .enumerate()
+            .find(|(_, w)| !(w.is_finite() && **w >= 0.0));
+        if let Some((k, &value)) = bad {
+            return Err(LayerError::SplatValue {
+                texel: k / 4,
+                value,
+            });
+        }
+        Ok(SplatMap {
+            width,
+            height,
+            texels,
+        })
+    }
+
+    /// The weights at `(u, v)`, bilinear between texel centres, clamped at the edges.
+    pub fn sample(&self, u: f64, v: f64) -> [f32; 4] {
+        let axis = |t: f64, n: u32| {
+            let x = (t * f64::from(n) - 0.5).clamp(0.0, f64::from(n - 1));
+            let i0 = x.floor() as u32;
+            (i0, (i0 + 1).min(n - 1), (x - f64::from(i0)) as f32)
+        };
+        let (i0, i1, fu) = axis(u, self.width);
+        let (j0, j1, fv) = axis(v, self.height);
+        let at = |i: u32, j: u32| self.texels[j as usize * self.width as usize + i as usize];
+        let (a, b, c, d) = (at(i0, j0), at(i1, j0), at(i0, j1), at(i1, j1));
+        std::array::from_fn(|k| {
+            let top = a[k] + (b[k] - a[k]) * fu;
+            let bottom = c[k] + (d[k] - c[k]) * fu;
+            top + (bottom - top) * fv
+        })
+    }
+}
+
+/// Layers of one size with their weights at every texel.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LayerStack {
+    heights: Vec<Heightfield>,
+    /// One per layer, the layers' size; values in [0, 1].
+    weights: Vec<Heightfield>,
+}
+
+impl LayerStack {
+    /// `heights` weighed texel by texel by `weights` (one map per layer, each value in [0, 1]).
+    pub fn new(
+        heights: Vec<Heightfield>,
+        weights: Vec<Heightfield>,
+    ) -> Result<LayerStack, LayerError> {
+        check_layers(&heights)?;
+        if weights.len() != heights.len() {
+            return Err(LayerError::WeightCount {
+                layers: heights.len(),
+                weights: weights.len(),
+            });
+        }
+        for (k, w) in weights.iter().enumerate() {
+            check_size(&heights[0], w, format!("weight map {k}"))?;
+        }
+        Ok(LayerStack { heights, weights })
+    }
+
+    /// `heights` weighed by `splat` sampled at each texel centre; channels past the layers are
+    /// ignored. Weights above 1 are clamped to 1.
+    pub fn from_splat(
+        heights: Vec<Heightfield>,
+        splat: &SplatMap,
+    ) -> Result<LayerStack, LayerError> {
+        check_layers(&heights)?;
+        let (w, h) = (heights[0].width(), heights[0].height());
+        let mut channels = vec![Vec::with_capacity(w as usize * h as usize); heights.len()];
+        for j in 0..h {
+            for i in 0..w {
+                let at = splat.sample(
+                    (f64::from(i) + 0.5) / f64::from(w),
+                    (f64::from(j) + 0.5) / f64::from(h),
+                );
+                for (k, channel) in channels.iter_mut().enumerate() {
+                    channel.push(at[k].clamp(0.0, 1.0));
+                }
+            }
+        }
+        let weights = channels
+            .into_iter()
+            .map(|data| Heightfield::from_valid(w, h, data))
+            .collect();
+        Ok(LayerStack { heights, weights })
+    }
+
+    /// `heights` with layer `only` weighing 1 everywhere and the others 0.
+    pub fn one_hot(heights: Vec<Heightfield>, only: usize) -> Result<LayerStack, LayerError> {
+        check_layers(&heights)?;
+        let (w, h) = (heights[0].width(), heights[0].height());
+        let n = w as usize * h as usize;
+        let weights = (0..heights.len())
+            .map(|k| Heightfield::from_valid(w, h, vec![if k == only { 1.0 } else { 0.0 }; n]))
+            .collect();
+        Ok(LayerStack { heights, weights })
+    }
+
+    pub fn len(&self) -> usize {
+        self.heights.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.heights.is_empty()
+    }
+
+    pub fn width(&self) -> u32 {
+        self.heights[0].width()
+    }
+
+    pub fn height(&self) -> u32 {
+        self.heights[0].height()
+    }
+
+    pub fn heights(&self) -> &[Heightfield] {
+        &self.heights
+    }
+
+    pub fn weights(&self) -> &[Heightfield] {
+        &self.weights
+    }
+
+    /// The layers' heights at texel `index` (row-major), 0 past the last layer.
+    pub fn heights_at(&self, index: usize) -> [f32; 4] {
+        std::array::from_fn(|k| self.heights.get(k).map_or(0.0, |h| h.data()[index]))
+    }
+
+    /// The layers' weights at texel `index`, 0 past the last layer.
+    pub fn weights_at(&self, index: usize) -> [f32; 4] {
+        std::array::from_fn(|k| self.weights.get(k).map_or(0.0, |w| w.data()[index]))
+    }
+}
+
+fn check_layers(heights: &[Heightfield]) -> Result<(), LayerError> {
+    if heights.is_empty() || heights.len() > MAX_LAYERS {
+        return Err(LayerError::Count {
+            count: heights.len(),
+        });
+    }
+    for (k, h) in heights.iter().enumerate().skip(1) {
+        check_size(&heights[0], h, format!("layer {k}"))?;
+    }
+    Ok(())
+}
+
+fn check_size(first: &Heightfield, other: &Heightfield, what: String) -> Result<(), LayerError> {
+    if (other.width(), other.height()) == (first.width(), first.height()) {
+        return Ok(());
+    }
+    Err(LayerError::Size {
+        what,
+        got_w: other.width(),
+        got_h: other.height(),
+        want_w: first.width(),
+        want_h: first.height(),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::heightfield::Generator;
+
+    #[test]
+    fn a_splat_map_is_bilinear_between_centres_and_clamped_outside() {
+        let splat = SplatMap::new(2, 1, vec![[1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0]]).unwrap();
+        assert_eq!(splat.sample(0.25, 0.5), [1.0, 0.0, 0.0, 0.0]);
+        assert_eq!(splat.sample(0.5, 0.5), [0.5, 0.5, 0.0, 0.0]);
+        assert_eq!(splat.sample(0.0, 0.0), [1.0, 0.0, 0.0, 0.0]);
+        assert_eq!(splat.sample(1.0, 1.0), [0.0, 1.0, 0.0, 0.0]);
+    }
+
+    #[test]
+    fn bad_stacks_and_splats_are_refused_in_one_line() {
+        let field = |n| Generator::Fbm.generate(n, n, 1);
+        let err = LayerStack::one_hot(vec![field(8); 5], 0).unwrap_err();
+        assert_eq!(err, LayerError::Count { count: 5 });
+        let err = LayerStack::one_hot(vec![field(8), field(4)], 0).unwrap_err();
+        assert!(err.to_string().contains("layer 1 is 4x4"), "{err}");
+        let err = LayerStack::new(vec![field(8)], vec![]).unwrap_err();
+        assert_eq!(
+            err,
+            LayerError::WeightCount {
+                layers: 1,
+                weights: 0
+            }
+        );
+        let err = SplatMap::new(1, 1, vec![[0.0, f32::NAN, 0.0, 0.0]]).unwrap_err();
+        assert!(
+            matches!(err, LayerError::SplatValue { texel: 0, .. }),
+            "{err}"
+        );
+        let err = SplatMap::new(2, 2, vec![[0.0; 4]; 3]).unwrap_err();
+        assert!(!err.to_string().contains('\n'));
+        assert!(SplatMap::new(1, 1, vec![[0.0, -0.5, 0.0, 0.0]]).is_err());
+    }
+}

@@ -1,0 +1,27 @@
+//! Height-blended terrain (paper 001, section 1.7): up to four relief layers, each a height field,
+//! blended per texel by weights into the one surface the methods trace. No Vulkan here.
+//!
+//! Which surface each blend mode defines, exactly ([`BlendMode`]): per texel of the layers, from the
+//! layers' heights `h_k` and the weights `w_k` at that texel,
+//!
+//! - `alpha` (Listing 1.5): `sum(w_k h_k) / sum(w_k)` (0 where every weight is 0);
+//! - `height` (Listing 1.6): the same surface, shaded with weights `h_k w_k / sum(h_k w_k)`, so that
+//!   the higher material shows in the blend zone (sand in the cracks between stones);
+//! - `height-intersect` (Listing 1.7): `max_k(w_k h_k)`, the highest weighted layer, shaded as
+//!   `height`;
+//!
+//! then bilinear between texel centres like any height field ([`crate::heightfield`]'s conventions),
+//! so the exact reference traces the blended field ([`blended_field`]) as it traces any other. A
+//! layer whose weight is 1 where every other weight is 0 gives back its own heights bit for bit.
+//!
+//! [`blended_pyramid`] bounds the blended surface from the layers' and the weights' max pyramids
+//! without the blended field at full size: `max(x) * max(w) >= max(x * w)` (paper 001, 1.7.4) for
+//! `height-intersect`, and the highest layer with any weight for the convex `alpha` blend.
+
+mod blend;
+mod blended_pyramid;
+mod layers;
+
+pub use blend::{blended_field, BlendMode};
+pub use blended_pyramid::blended_pyramid;
+pub use layers::{LayerError, LayerStack, SplatMap, MAX_LAYERS};
