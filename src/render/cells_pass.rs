@@ -245,6 +245,16 @@ fn build_complex(
     let (vertices, indices) = outer_faces(&grid);
     let build_ms = started.elapsed().as_secs_f64() * 1e3;
     let name = &plan.name;
+    let limit = u64::from(ctx.info().max_storage_buffer_range);
+    let largest = (std::mem::size_of_val(attributes.as_slice()) as u64)
+        .max(std::mem::size_of_val(packed.maps.as_slice()) as u64);
+    if largest > limit {
+        return Err(RenderError::CellsBufferTooLarge {
+            name: name.clone(),
+            mib: largest >> 20,
+            limit_mib: limit >> 20,
+        });
+    }
     let arrays = ComplexBuffers::upload(ctx, &packed, name)?;
     let settings = MarchSettings::default();
     let uniform = CellsUniform {

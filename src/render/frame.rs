@@ -79,6 +79,12 @@ pub enum RenderError {
     Vulkan(#[from] VkError),
     #[error(transparent)]
     Cells(#[from] crate::cells::MeshError),
+    #[error("--cells {name:?}: its maps take {mib} MiB in one storage buffer, more than this device's {limit_mib} MiB; lower --cells-resolution or --cells-max-grid")]
+    CellsBufferTooLarge {
+        name: String,
+        mib: u64,
+        limit_mib: u64,
+    },
     #[error("--cells {name:?}: a {n}^3 grid's maps at {resolution}^2 would take {mib} MiB while sampled (at most {limit_mib} MiB); lower the grid or the resolution")]
     CellsTooLarge {
         name: String,
