@@ -7,7 +7,9 @@
 //! the method's file (reached through the virtual include "method.glsl") and whether the variant
 //! binds the method map (binding 3); `surface.frag` also once per row with level of detail
 //! (`surface.frag:<id>:lod`, RELIEF_LOD) and once plain (no relief); `passes/pyramid.comp` and
-//! `passes/mean_pyramid.comp` once per storage format; every other file under `passes/` once. A file in
+//! `passes/mean_pyramid.comp` once per storage format (`pyramid.comp` also for four-channel
+//! terrain layers), `passes/blended_pyramid.comp` per output format; every other file under
+//! `passes/` once. A file in
 //! `shaders/methods/` that no row names fails the build.
 
 use std::fmt::Write as _;
@@ -116,6 +118,18 @@ fn variants(root: &Path) -> Vec<Variant> {
         } else if base == "pyramid.comp" || base == "mean_pyramid.comp" {
             for (fmt, qualifier) in [("r16", "r16"), ("r32f", "r32f")] {
                 let defines = vec![("HEIGHT_FORMAT".into(), qualifier.into())];
+                out.push(plain(format!("{base}:{fmt}"), defines, None));
+            }
+            if base == "pyramid.comp" {
+                // A terrain's layers and weights, four channels in one image.
+                for fmt in ["rgba16", "rgba32f"] {
+                    let defines = vec![("HEIGHT_FORMAT".into(), fmt.into())];
+                    out.push(plain(format!("{base}:{fmt}"), defines, None));
+                }
+            }
+        } else if base == "blended_pyramid.comp" {
+            for fmt in ["r16", "r32f"] {
+                let defines = vec![("HEIGHT_FORMAT".into(), fmt.into())];
                 out.push(plain(format!("{base}:{fmt}"), defines, None));
             }
         } else {

@@ -4,7 +4,8 @@
 // bilinear surface stay bounded. Must match
 // heightfield::pyramid::covered_range: coarse i over fine length F and coarse length C covers
 // fine texels floor(i*F/C) .. ceil((i+1)*F/C) - 1.
-// HEIGHT_FORMAT (r16 or r32f) is set per variant by build.rs.
+// HEIGHT_FORMAT (r16 or r32f, or rgba16 or rgba32f for a terrain's four layers or weights, one
+// pyramid per channel) is set per variant by build.rs.
 layout(local_size_x = 8, local_size_y = 8) in;
 
 layout(set = 0, binding = 0, HEIGHT_FORMAT) uniform readonly image2D fine;
@@ -44,11 +45,11 @@ void main() {
     ivec2 first = ivec2(covered_first(i, fine_len, coarse_len)) - margin;
     ivec2 last = ivec2(covered_last(i, fine_len, coarse_len)) + margin;
     ivec2 len = ivec2(fine_len);
-    float h = 0.0;
+    vec4 h = vec4(0.0);
     for (int y = first.y; y <= last.y; ++y) {
         for (int x = first.x; x <= last.x; ++x) {
-            h = max(h, imageLoad(fine, ivec2(fine_index(x, len.x), fine_index(y, len.y))).r);
+            h = max(h, imageLoad(fine, ivec2(fine_index(x, len.x), fine_index(y, len.y))));
         }
     }
-    imageStore(coarse, ivec2(i), vec4(h));
+    imageStore(coarse, ivec2(i), h);
 }

@@ -8,6 +8,7 @@
 mod ao_map_pass;
 mod ao_sweep;
 mod bench_pass;
+mod blended_pyramid_pass;
 mod cells_pass;
 mod cells_plan;
 mod cells_trace_pass;
@@ -40,6 +41,7 @@ mod trace_pass;
 
 pub use ao_map_pass::{AoJob, AoMap, AoMapPass, AO_MAP_FORMAT, SWEEP_DIRECTIONS};
 pub use bench_pass::{time_method, BenchRequest, BenchTiming};
+pub use blended_pyramid_pass::build_blended_pyramid_on_gpu;
 pub use cells_pass::{BuiltComplex, CellsOptions};
 pub use cells_plan::CellsPlan;
 pub use cells_trace_pass::{march_cells_on_gpu, CellsTrace};

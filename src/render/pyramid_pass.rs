@@ -12,8 +12,8 @@ use crate::heightfield::Address;
 use crate::shaders;
 use crate::vk::{
     compute_pipeline, memory_barrier, transition_images, Bind, Context, DescriptorLayout,
-    DescriptorPool, DescriptorSet, ImageTransition, ImageView, Pipeline, Recording, SpecConstants,
-    VkError, VkResult,
+    DescriptorPool, DescriptorSet, Image, ImageTransition, ImageView, Pipeline, Recording,
+    SpecConstants, VkError, VkResult,
 };
 
 const GROUP: u32 = 8;
@@ -65,9 +65,14 @@ impl PyramidPass {
 
     /// Makes the views and descriptor sets to build `hf`'s pyramid.
     pub fn prepare(&self, hf: &GpuHeightfield) -> VkResult<PyramidJob> {
-        let levels = hf.levels();
+        self.prepare_image(&hf.image)
+    }
+
+    /// [`PyramidPass::prepare`] for any storage image with a full mip chain in this pass's format.
+    pub fn prepare_image(&self, image: &Image) -> VkResult<PyramidJob> {
+        let levels = image.desc().mip_levels;
         let views = (0..levels)
-            .map(|l| hf.image.level_view(l))
+            .map(|l| image.level_view(l))
             .collect::<VkResult<Vec<_>>>()?;
         let dispatches = levels.saturating_sub(1).max(1);
         let pool = DescriptorPool::new(&self.ctx, dispatches, 2 * dispatches, "pyramid sets")?;
@@ -93,6 +98,17 @@ impl PyramidPass {
     /// Records the build. The image must be in `GENERAL` with level 0 written; it ends in
     /// `SHADER_READ_ONLY_OPTIMAL`, ready for the surface pass.
     pub fn record(&self, rec: &Recording, hf: &GpuHeightfield, job: &PyramidJob) -> VkResult<()> {
+        self.record_image(rec, &hf.image, hf.address, job)
+    }
+
+    /// [`PyramidPass::record`] for the image `job` was prepared for, addressed as `address`.
+    pub fn record_image(
+        &self,
+        rec: &Recording,
+        image: &Image,
+        address: Address,
+        job: &PyramidJob,
+    ) -> VkResult<()> {
         let write = (
             vk::PipelineStageFlags2::COMPUTE_SHADER,
             vk::AccessFlags2::SHADER_STORAGE_WRITE,
@@ -102,10 +118,10 @@ impl PyramidPass {
             vk::AccessFlags2::SHADER_STORAGE_READ,
         );
         for (k, &set) in job.sets.iter().enumerate() {
-            let (w, h) = hf.image.level_extent(k as u32 + 1);
+            let (w, h) = image.level_extent(k as u32 + 1);
             self.pipeline.bind(rec, Some(set));
             let widen = u32::from(k == 0);
-            let wrap = u32::from(hf.address == Address::Repeat);
+            let wrap = u32::from(address == Address::Repeat);
             self.pipeline
                 .push(rec, bytemuck::bytes_of(&[widen, wrap, 0u32, 0u32]))?;
             rec.dispatch([w.div_ceil(GROUP), h.div_ceil(GROUP), 1]);
@@ -114,10 +130,10 @@ impl PyramidPass {
         transition_images(
             rec,
             &[ImageTransition {
-                image: hf.image.raw(),
+                image: image.raw(),
                 aspect: vk::ImageAspectFlags::COLOR,
                 base_mip: 0,
-                mip_count: hf.levels(),
+                mip_count: image.desc().mip_levels,
                 old: vk::ImageLayout::GENERAL,
                 new: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
                 src: (

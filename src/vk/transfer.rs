@@ -23,7 +23,9 @@ pub fn texel_size(format: vk::Format) -> VkResult<usize> {
         | vk::Format::R8G8B8A8_UNORM
         | vk::Format::R8G8B8A8_SRGB
         | vk::Format::B8G8R8A8_SRGB => 4,
-        vk::Format::R16G16B16A16_SFLOAT | vk::Format::R32G32_SFLOAT => 8,
+        vk::Format::R16G16B16A16_SFLOAT
+        | vk::Format::R16G16B16A16_UNORM
+        | vk::Format::R32G32_SFLOAT => 8,
         vk::Format::R32G32B32A32_SFLOAT => 16,
         other => {
             return Err(VkError::Invalid(format!(

@@ -1,0 +1,67 @@
+#version 460
+// One level of a terrain's blended height pyramid (src/terrain, paper 001 section 1.7) from the
+// same level of its layers' and weights' max pyramids (pyramid.comp's rgba variants, one layer per
+// channel). Level 0 is the blended surface itself, BlendMode::surface in src/terrain/blend.rs;
+// levels 1 up are the conservative bound of src/terrain/blended_pyramid.rs. Both must match the
+// CPU: the sums run in layer order and `precise` keeps the compiler from fusing them, so a
+// one-hot weight returns its layer's height exactly.
+// HEIGHT_FORMAT (r16 or r32f) is set per variant by build.rs.
+layout(local_size_x = 8, local_size_y = 8) in;
+
+// The layers' and the weights' pyramids, read texel by texel at the level built.
+layout(set = 0, binding = 0) uniform sampler2D layer_heights;
+layout(set = 0, binding = 1) uniform sampler2D layer_weights;
+// The level of the blended pyramid being written.
+layout(set = 0, binding = 2, HEIGHT_FORMAT) uniform writeonly image2D blended;
+
+// x: blend mode (0 alpha, 1 height, 2 height-intersect); y: the level; z: 1 when the output
+// stores 16-bit unorm, so that bounds round up to the next step.
+layout(push_constant, std430) uniform Params {
+    uvec4 flags;
+} params;
+
+const uint HEIGHT_INTERSECT = 2u;
+
+float surface(vec4 h, vec4 w) {
+    if (params.flags.x == HEIGHT_INTERSECT) {
+        precise vec4 hw = h * w;
+        return max(max(max(hw.x, hw.y), hw.z), hw.w);
+    }
+    precise float sum = ((w.x + w.y) + w.z) + w.w;
+    if (!(sum > 0.0)) {
+        return 0.0;
+    }
+    precise float weighted = ((w.x * h.x + w.y * h.y) + w.z * h.z) + w.w * h.w;
+    return min(weighted / sum, 1.0);
+}
+
+float bound(vec4 h, vec4 w) {
+    if (params.flags.x == HEIGHT_INTERSECT) {
+        precise vec4 hw = h * w;
+        return max(max(max(hw.x, hw.y), hw.z), hw.w);
+    }
+    // A convex blend never rises above the highest layer it weighs.
+    vec4 weighed = mix(vec4(0.0), h, greaterThan(w, vec4(0.0)));
+    return max(max(max(weighed.x, weighed.y), weighed.z), weighed.w);
+}
+
+void main() {
+    ivec2 i = ivec2(gl_GlobalInvocationID.xy);
+    if (any(greaterThanEqual(i, imageSize(blended)))) {
+        return;
+    }
+    int level = int(params.flags.y);
+    vec4 h = texelFetch(layer_heights, i, level);
+    vec4 w = texelFetch(layer_weights, i, level);
+    float value;
+    if (level == 0) {
+        value = surface(h, w);
+    } else {
+        value = bound(h, w);
+        if (params.flags.z != 0u) {
+            // Stored to the nearest step, a bound could land below what it bounds.
+            value = min(ceil(value * 65535.0) / 65535.0, 1.0);
+        }
+    }
+    imageStore(blended, i, vec4(value));
+}

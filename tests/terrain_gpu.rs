@@ -1,0 +1,146 @@
+//! The blended terrain pyramid built on the GPU (`blended_pyramid.comp`) against its CPU
+//! definition (`terrain::blended_pyramid`) on random layers and weights: level 0 is the blended
+//! surface, every node above bounds the blended texels under it, and one-hot weights give the
+//! layer's own GPU pyramid back bit for bit (so every method's hits are the single layer's).
+
+mod common;
+
+use relief::heightfield::{Address, Generator, Heightfield, MaxPyramid};
+use relief::render::{build_blended_pyramid_on_gpu, build_pyramid_on_gpu, HeightFormat};
+use relief::terrain::{blended_pyramid, BlendMode, LayerStack, SplatMap};
+
+/// Four different fields and a coarse splat map with holes where a layer has no weight.
+fn random_stack(width: u32, height: u32, seed: u64) -> LayerStack {
+    let generators = [
+        Generator::Fbm,
+        Generator::Bricks,
+        Generator::Spikes,
+        Generator::Fbm,
+    ];
+    let heights = generators
+        .iter()
+        .enumerate()
+        .map(|(k, g)| g.generate(width, height, seed + k as u64))
+        .collect();
+    // A small deterministic hash for the splat weights (no extra dependency).
+    let mut state = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) | 1;
+    let mut next = || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state >> 40) as f32 / (1u64 << 24) as f32
+    };
+    let texels = (0..25)
+        .map(|_| std::array::from_fn(|_| if next() < 0.3 { 0.0 } else { next() }))
+        .collect();
+    LayerStack::from_splat(heights, &SplatMap::new(5, 5, texels).unwrap()).unwrap()
+}
+
+/// The stack as the GPU stores it in `format`.
+fn stored(stack: &LayerStack, format: HeightFormat) -> LayerStack {
+    let q = |maps: &[Heightfield]| -> Vec<Heightfield> {
+        maps.iter()
+            .map(|m| match format {
+                HeightFormat::R16Unorm => m.quantized_unorm16(),
+                HeightFormat::R32Float => m.clone(),
+            })
+            .collect()
+    };
+    LayerStack::new(q(stack.heights()), q(stack.weights())).unwrap()
+}
+
+#[test]
+fn the_gpu_blended_pyramid_is_the_cpu_one_and_bounds_the_blended_surface() {
+    let Some(ctx) = common::device("the_gpu_blended_pyramid_is_the_cpu_one") else {
+        return;
+    };
+    let step = 1.0 / 65535.0;
+    for (w, h, seed) in [(64, 64, 1), (37, 23, 2)] {
+        let stack = random_stack(w, h, seed);
+        for format in [HeightFormat::R16Unorm, HeightFormat::R32Float] {
+            let seen = stored(&stack, format);
+            for address in [Address::Repeat, Address::Clamp] {
+                let wrap = address == Address::Repeat;
+                for mode in BlendMode::ALL {
+                    let what = format!("{w}x{h} {format:?} {address:?} {mode}");
+                    let (gpu, ms) =
+                        build_blended_pyramid_on_gpu(&ctx, &stack, mode, format, address)
+                            .expect("builds");
+                    assert!(ms >= 0.0);
+                    let cpu = blended_pyramid(&seen, mode, |hf| {
+                        MaxPyramid::build_bilinear_bound(hf, wrap)
+                    });
+                    assert_eq!(gpu.len() as u32, cpu.level_count(), "{what}");
+                    // Level 0 is the surface; the alpha blend's division may round differently.
+                    let tolerance = match format {
+                        HeightFormat::R16Unorm => step * 1.01,
+                        HeightFormat::R32Float => 3e-7,
+                    };
+                    for (t, (g, c)) in gpu[0].iter().zip(&cpu.level(0).data).enumerate() {
+                        assert!((g - c).abs() <= tolerance, "{what}: texel {t}: {g} vs {c}");
+                    }
+                    // Above it, the CPU's bound (rounded up to a step in 16 bits).
+                    for (level, data) in gpu.iter().enumerate().skip(1) {
+                        for (t, (g, c)) in
+                            data.iter().zip(&cpu.level(level as u32).data).enumerate()
+                        {
+                            let above = g - c;
+                            let slack = if format == HeightFormat::R16Unorm {
+                                step * 1.01
+                            } else {
+                                0.0
+                            };
+                            assert!(
+                                (-1e-7..=slack).contains(&above),
+                                "{what}: level {level} node {t}: {g} against the CPU's {c}"
+                            );
+                        }
+                    }
+                    // And every node bounds the GPU's own blended texels under it.
+                    let surface = Heightfield::new(w, h, gpu[0].clone()).unwrap();
+                    let exact = MaxPyramid::build_bilinear_bound(&surface, wrap);
+                    for (level, data) in gpu.iter().enumerate().skip(1) {
+                        for (t, (g, e)) in
+                            data.iter().zip(&exact.level(level as u32).data).enumerate()
+                        {
+                            assert!(g >= e, "{what}: level {level} node {t}: {g} below {e}");
+                        }
+                    }
+                }
+            }
+        }
+    }
+    common::assert_no_validation_errors(&ctx);
+}
+
+#[test]
+fn one_hot_weights_give_the_single_layer_pyramid_bit_for_bit() {
+    let Some(ctx) = common::device("one_hot_weights_give_the_single_layer_pyramid") else {
+        return;
+    };
+    let heights: Vec<Heightfield> = (0..4).map(|s| Generator::Fbm.generate(48, 48, s)).collect();
+    for format in [HeightFormat::R16Unorm, HeightFormat::R32Float] {
+        for only in [0, 3] {
+            let single = match format {
+                HeightFormat::R16Unorm => heights[only].quantized_unorm16(),
+                HeightFormat::R32Float => heights[only].clone(),
+            };
+            let (alone, _) =
+                build_pyramid_on_gpu(&ctx, &single, format, Address::Repeat).expect("builds");
+            let stack = LayerStack::one_hot(heights.clone(), only).unwrap();
+            for mode in BlendMode::ALL {
+                let (blended, _) =
+                    build_blended_pyramid_on_gpu(&ctx, &stack, mode, format, Address::Repeat)
+                        .expect("builds");
+                for (level, (b, a)) in blended.iter().zip(&alone).enumerate() {
+                    let same = b.iter().zip(a).all(|(x, y)| x.to_bits() == y.to_bits());
+                    assert!(
+                        same,
+                        "{format:?} {mode}, layer {only}: level {level} differs"
+                    );
+                }
+            }
+        }
+    }
+    common::assert_no_validation_errors(&ctx);
+}
