@@ -25,7 +25,7 @@ use super::surface_pass::SurfacePass;
 use super::targets::Targets;
 use crate::heightfield::Heightfield;
 use crate::method::MapKind;
-use crate::scene::{Camera, Light, Scene};
+use crate::scene::{Camera, Frustum, Light, Scene};
 use crate::vk::{CommandSlot, Context, Image, Readback, VkError, VkResult};
 
 /// How many frames may be recorded or running at once.
@@ -49,14 +49,16 @@ pub struct FrameOutput {
     pub rgba: Option<Vec<u8>>,
     pub width: u32,
     pub height: u32,
+    /// Surface draws skipped because the view could not see their bounds.
+    pub culled_draws: usize,
 }
 
 struct FrameSlot {
     commands: CommandSlot,
     timer: PassTimer,
     readback: Option<Readback>,
-    /// The frame submitted from this slot and not yet retired: (index, read back?).
-    pending: Option<(u64, bool)>,
+    /// The frame submitted from this slot and not yet retired: (index, read back?, draws culled).
+    pending: Option<(u64, bool, usize)>,
 }
 
 /// Everything a scene needs on the device, kept across frames.
@@ -217,6 +219,7 @@ impl Renderer {
         }
         let build_pyramids = !self.pyramids_built;
         let eye = request.camera.eye();
+        let frustum = Frustum::from_view_projection(request.camera.view_projection(aspect));
         let slot = &mut self.slots[k];
         let readback = slot.readback.as_ref().filter(|_| request.read_back);
         let (heights, ao, surface, cells, targets) = (
@@ -227,7 +230,7 @@ impl Renderer {
             &self.targets,
         );
         let timer = &mut slot.timer;
-        slot.commands.submit(|rec| {
+        let culled = slot.commands.submit(|rec| {
             if build_pyramids {
                 for (part, h) in heights.iter().enumerate().filter(|(_, h)| h.has_pyramid()) {
                     let scope = Scope {
@@ -248,9 +251,9 @@ impl Renderer {
             if cells.is_empty() {
                 timer.scope(rec, scope(Pass::Surface), |rec| {
                     targets.begin(rec);
-                    let drawn = surface.record_draws(rec, k, eye);
+                    let culled = surface.record_draws(rec, k, eye, &frustum);
                     targets.end(rec, readback);
-                    drawn
+                    culled
                 })
             } else {
                 // The complexes first (opaque), then the surface pass's draws, blended ones last.
@@ -262,13 +265,13 @@ impl Renderer {
                     cells.record(rec, frame_set, |m| surface.material_set(m))
                 })?;
                 timer.scope(rec, scope(Pass::Surface), |rec| {
-                    let drawn = surface.record_draws(rec, k, eye);
+                    let culled = surface.record_draws(rec, k, eye, &frustum);
                     targets.end(rec, readback);
-                    drawn
+                    culled
                 })
             }
         })?;
-        slot.pending = Some((self.submitted, request.read_back));
+        slot.pending = Some((self.submitted, request.read_back, culled));
         self.pyramids_built = true;
         self.submitted += 1;
         Ok(retired)
@@ -296,7 +299,7 @@ impl Renderer {
     /// Waits for slot `k`'s frame, if any, and reads its timings and pixels.
     fn retire(&mut self, k: usize) -> Result<Option<FrameOutput>, RenderError> {
         let slot = &mut self.slots[k];
-        let Some((index, read_back)) = slot.pending.take() else {
+        let Some((index, read_back, culled_draws)) = slot.pending.take() else {
             return Ok(None);
         };
         slot.commands.wait()?;
@@ -316,6 +319,7 @@ impl Renderer {
             rgba,
             width: self.width,
             height: self.height,
+            culled_draws,
         }))
     }
 

@@ -15,7 +15,7 @@ use super::plan::{PipelineKey, Plan};
 use super::scene_ao::SceneAo;
 use super::scene_textures::SceneTextures;
 use crate::method::Method;
-use crate::scene::{Lod, Scene, Vertex};
+use crate::scene::{Frustum, Lod, Scene, Vertex};
 use crate::shaders;
 use crate::vk::{
     graphics_pipeline, Bind, Buffer, Context, DescriptorLayout, DescriptorPool, DescriptorSet,
@@ -100,6 +100,8 @@ struct MeshDraw {
     push: DrawPush,
     blend: bool,
     center: Vec3,
+    /// World-space bounds, to skip the draw when the view cannot see them.
+    bounds: (Vec3, Vec3),
 }
 
 /// Everything the surface pass needs for one scene.
@@ -276,6 +278,7 @@ impl SurfacePass {
                 push: DrawPush::of(mesh.transform),
                 blend: plan.pipelines[d.pipeline].blend,
                 center: mesh.transform.transform_point3((lo + hi) * 0.5),
+                bounds: world_bounds(mesh.transform, lo, hi),
             });
         }
         Ok(SurfacePass {
@@ -315,11 +318,21 @@ impl SurfacePass {
         }
     }
 
-    /// Records every draw of frame slot `slot`, seen from `eye`: opaque ones in plan order, then
-    /// blended ones from far to near. Rendering must have begun with the targets' formats.
-    pub fn record_draws(&self, rec: &Recording, slot: usize, eye: Vec3) -> VkResult<()> {
-        let mut order: Vec<&MeshDraw> = self.draws.iter().filter(|d| !d.blend).collect();
-        let mut blended: Vec<&MeshDraw> = self.draws.iter().filter(|d| d.blend).collect();
+    /// Records every draw of frame slot `slot` that `frustum` may see, from `eye`: opaque ones in
+    /// plan order, then blended ones from far to near; returns how many were skipped as out of
+    /// view. Rendering must have begun with the targets' formats.
+    pub fn record_draws(
+        &self,
+        rec: &Recording,
+        slot: usize,
+        eye: Vec3,
+        frustum: &Frustum,
+    ) -> VkResult<usize> {
+        let visible = |d: &&MeshDraw| frustum.may_see_box(d.bounds.0, d.bounds.1);
+        let in_view: Vec<&MeshDraw> = self.draws.iter().filter(visible).collect();
+        let culled = self.draws.len() - in_view.len();
+        let mut order: Vec<&MeshDraw> = in_view.iter().copied().filter(|d| !d.blend).collect();
+        let mut blended: Vec<&MeshDraw> = in_view.iter().copied().filter(|d| d.blend).collect();
         blended.sort_by(|a, b| {
             let da = a.center.distance_squared(eye);
             let db = b.center.distance_squared(eye);
@@ -335,8 +348,24 @@ impl SurfacePass {
             rec.bind_mesh(&draw.vertices, &draw.indices);
             rec.draw_indexed(draw.index_count);
         }
-        Ok(())
+        Ok(culled)
     }
+}
+
+/// The world-space box around the local box `lo`..`hi` under `transform`.
+fn world_bounds(transform: Mat4, lo: Vec3, hi: Vec3) -> (Vec3, Vec3) {
+    (0..8).fold(
+        (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
+        |(a, b), k| {
+            let corner = Vec3::new(
+                if k & 1 == 0 { lo.x } else { hi.x },
+                if k & 2 == 0 { lo.y } else { hi.y },
+                if k & 4 == 0 { lo.z } else { hi.z },
+            );
+            let p = transform.transform_point3(corner);
+            (a.min(p), b.max(p))
+        },
+    )
 }
 
 fn mesh_bounds(vertices: &[Vertex]) -> (Vec3, Vec3) {

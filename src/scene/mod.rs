@@ -4,6 +4,7 @@
 mod builtin;
 mod camera;
 mod camera_path;
+mod frustum;
 mod gltf_accessor;
 mod gltf_animation_check;
 mod gltf_camera_path;
@@ -25,6 +26,7 @@ mod tangents;
 pub use builtin::{default_heightfield, default_scene, DEFAULT_HEIGHTFIELD, DEFAULT_SCENE_METHOD};
 pub use camera::{Camera, Projection};
 pub use camera_path::{CameraPath, Interpolation, Keyed, Keyframe, NodeMotion, Track, TrackError};
+pub use frustum::Frustum;
 pub use gltf_load::{load_gltf, load_gltf_with_report, LoadReport, SceneError, SceneOptions};
 pub use light_extras::MAX_ANGULAR_RADIUS_DEG;
 pub use lod::Lod;

@@ -14,14 +14,19 @@
 //! so the exact reference traces the blended field ([`blended_field`]) as it traces any other. A
 //! layer whose weight is 1 where every other weight is 0 gives back its own heights bit for bit.
 //!
+//! [`terrain_tiles`] makes the ground those layers lie on: a tiled grid mesh over an elevation
+//! map.
+//!
 //! [`blended_pyramid`] bounds the blended surface from the layers' and the weights' max pyramids
 //! without the blended field at full size: `max(x) * max(w) >= max(x * w)` (paper 001, 1.7.4) for
 //! `height-intersect`, and the highest layer with any weight for the convex `alpha` blend.
 
 mod blend;
 mod blended_pyramid;
+mod grid;
 mod layers;
 
 pub use blend::{blended_field, BlendMode};
 pub use blended_pyramid::blended_pyramid;
+pub use grid::{terrain_tiles, GridOptions};
 pub use layers::{LayerError, LayerStack, SplatMap, MAX_LAYERS};
