@@ -8,7 +8,7 @@
 //! binds the method map (binding 3); `surface.frag` also once per row with level of detail
 //! (`surface.frag:<id>:lod`, RELIEF_LOD) and once plain (no relief); `passes/pyramid.comp` and
 //! `passes/mean_pyramid.comp` once per storage format (`pyramid.comp` also for four-channel
-//! terrain layers), `passes/blended_pyramid.comp` per output format; every other file under
+//! terrain layers), `passes/blended_pyramid.comp` and `passes/brush.comp` per height format; every other file under
 //! `passes/` once. A file in
 //! `shaders/methods/` that no row names fails the build.
 
@@ -127,7 +127,7 @@ fn variants(root: &Path) -> Vec<Variant> {
                     out.push(plain(format!("{base}:{fmt}"), defines, None));
                 }
             }
-        } else if base == "blended_pyramid.comp" {
+        } else if base == "blended_pyramid.comp" || base == "brush.comp" {
             for fmt in ["r16", "r32f"] {
                 let defines = vec![("HEIGHT_FORMAT".into(), fmt.into())];
                 out.push(plain(format!("{base}:{fmt}"), defines, None));

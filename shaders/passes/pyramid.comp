@@ -14,8 +14,11 @@ layout(set = 0, binding = 1, HEIGHT_FORMAT) uniform writeonly image2D coarse;
 // x: 1 when building level 1 from the map (widen each range by a texel on both sides, so the
 // node bounds the bilinear surface: heightfield::pyramid::build_bilinear_bound), y: 1 to wrap
 // the widened range around the map (repeat addressing), 0 to clamp it.
+// region: the coarse texels to write, (x0, y0, width, height): the whole level, or after a brush
+// stroke only the nodes that read a changed texel (terrain::coarse_span).
 layout(push_constant, std430) uniform Params {
     uvec4 flags;
+    uvec4 region;
 } params;
 
 // k lies at most one texel outside [0, len); GLSL leaves % of negatives undefined, so wrap by hand.
@@ -37,8 +40,9 @@ uvec2 covered_last(uvec2 i, uvec2 fine_len, uvec2 coarse_len) {
 void main() {
     uvec2 coarse_len = uvec2(imageSize(coarse));
     uvec2 fine_len = uvec2(imageSize(fine));
-    uvec2 i = gl_GlobalInvocationID.xy;
-    if (any(greaterThanEqual(i, coarse_len))) {
+    uvec2 i = gl_GlobalInvocationID.xy + params.region.xy;
+    if (any(greaterThanEqual(gl_GlobalInvocationID.xy, params.region.zw))
+        || any(greaterThanEqual(i, coarse_len))) {
         return;
     }
     int margin = params.flags.x != 0u ? 1 : 0;

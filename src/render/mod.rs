@@ -13,6 +13,7 @@ mod cells_pass;
 mod cells_plan;
 mod cells_trace_pass;
 mod cone_map_pass;
+mod elevation_editor;
 mod explain;
 mod frame;
 mod frame_stats;
@@ -48,6 +49,7 @@ pub use cells_trace_pass::{march_cells_on_gpu, CellsTrace};
 pub use cone_map_pass::{
     build_cone_map_on_gpu, ConeMapPass, MAX_SIDE as CONE_MAP_GPU_MAX_SIDE, RATIO_TOLERANCE,
 };
+pub use elevation_editor::{EditError, EditReport, ElevationEditor};
 pub use explain::explain;
 pub use frame::{render, BuiltMap, Frame, RenderError, RenderOptions};
 pub use frame_stats::{sequence_stats, PassStats, SequenceStats};

@@ -18,6 +18,9 @@ use crate::vk::{
 
 const GROUP: u32 = 8;
 
+/// A rectangle of one level's texels: `[x0, y0, width, height]`.
+pub type Region = [u32; 4];
+
 /// The compute pipeline that builds one pyramid level from the one below.
 pub struct PyramidPass {
     ctx: Arc<Context>,
@@ -52,7 +55,7 @@ impl PyramidPass {
             ctx,
             spirv,
             &[layout.raw()],
-            16,
+            32,
             &SpecConstants::default(),
             "pyramid",
         )?;
@@ -109,6 +112,26 @@ impl PyramidPass {
         address: Address,
         job: &PyramidJob,
     ) -> VkResult<()> {
+        let whole: Vec<Vec<Region>> = (1..image.desc().mip_levels)
+            .map(|l| {
+                let (w, h) = image.level_extent(l);
+                vec![[0, 0, w, h]]
+            })
+            .collect();
+        self.record_regions(rec, image, address, job, &whole)
+    }
+
+    /// Rebuilds only `regions[k]` of level `k + 1` (each `[x0, y0, width, height]`), from the
+    /// image's level 0 in `GENERAL` up; the image ends in `SHADER_READ_ONLY_OPTIMAL`. What a
+    /// brush stroke touched, from `terrain::coarse_span`.
+    pub fn record_regions(
+        &self,
+        rec: &Recording,
+        image: &Image,
+        address: Address,
+        job: &PyramidJob,
+        regions: &[Vec<Region>],
+    ) -> VkResult<()> {
         let write = (
             vk::PipelineStageFlags2::COMPUTE_SHADER,
             vk::AccessFlags2::SHADER_STORAGE_WRITE,
@@ -117,14 +140,17 @@ impl PyramidPass {
             vk::PipelineStageFlags2::COMPUTE_SHADER,
             vk::AccessFlags2::SHADER_STORAGE_READ,
         );
-        for (k, &set) in job.sets.iter().enumerate() {
-            let (w, h) = image.level_extent(k as u32 + 1);
+        for (k, (&set, level)) in job.sets.iter().zip(regions).enumerate() {
             self.pipeline.bind(rec, Some(set));
             let widen = u32::from(k == 0);
             let wrap = u32::from(address == Address::Repeat);
-            self.pipeline
-                .push(rec, bytemuck::bytes_of(&[widen, wrap, 0u32, 0u32]))?;
-            rec.dispatch([w.div_ceil(GROUP), h.div_ceil(GROUP), 1]);
+            for region in level {
+                let push: [u32; 8] = [
+                    widen, wrap, 0, 0, region[0], region[1], region[2], region[3],
+                ];
+                self.pipeline.push(rec, bytemuck::bytes_of(&push))?;
+                rec.dispatch([region[2].div_ceil(GROUP), region[3].div_ceil(GROUP), 1]);
+            }
             memory_barrier(rec, write, read);
         }
         transition_images(

@@ -23,10 +23,12 @@
 
 mod blend;
 mod blended_pyramid;
+mod brush;
 mod grid;
 mod layers;
 
 pub use blend::{blended_field, BlendMode};
 pub use blended_pyramid::blended_pyramid;
+pub use brush::{coarse_span, BrushKind, Stroke, StrokeError, TexelRect};
 pub use grid::{terrain_tiles, GridOptions};
 pub use layers::{LayerError, LayerStack, SplatMap, MAX_LAYERS};

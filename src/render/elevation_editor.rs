@@ -1,0 +1,290 @@
+//! Live edits of a terrain's elevation on the GPU: brush strokes (`brush.comp`) written into the
+//! height image's level 0, then only the pyramid nodes that read a changed texel rebuilt
+//! (`PyramidPass::record_regions` over `terrain::coarse_span`), level by level. A full rebuild
+//! is kept beside it to compare with, texel for texel and in GPU time.
+
+use std::sync::Arc;
+
+use ash::vk;
+
+use super::gpu_heightfield::{GpuHeightfield, HeightFormat};
+use super::pyramid_pass::{PyramidJob, PyramidPass, Region};
+use crate::heightfield::{Address, Heightfield};
+use crate::shaders;
+use crate::terrain::{coarse_span, BrushKind, Stroke, StrokeError, TexelRect};
+use crate::vk::{
+    compute_pipeline, memory_barrier, read_mip, transition_images, Bind, Context, DescriptorLayout,
+    DescriptorPool, DescriptorSet, ImageTransition, ImageView, Pipeline, SpecConstants,
+    TimestampPool, VkError, VkResult,
+};
+
+const GROUP: u32 = 8;
+
+/// Why strokes could not be applied.
+#[derive(Debug, thiserror::Error)]
+pub enum EditError {
+    #[error(transparent)]
+    Stroke(#[from] StrokeError),
+    #[error(transparent)]
+    Vulkan(#[from] VkError),
+}
+
+/// What one batch of strokes rebuilt.
+#[derive(Debug, Clone, PartialEq)]
+pub struct EditReport {
+    /// Per level (0: the elevation itself), the texels written.
+    pub texels_per_level: Vec<u64>,
+    /// GPU time of the strokes and the partial rebuild.
+    pub gpu_ms: f64,
+}
+
+/// An elevation on the GPU with its max pyramid, edited by strokes.
+pub struct ElevationEditor {
+    ctx: Arc<Context>,
+    heights: GpuHeightfield,
+    pyramid: PyramidPass,
+    job: PyramidJob,
+    brush: Pipeline,
+    _layout: DescriptorLayout,
+    _pool: DescriptorPool,
+    _level0: ImageView,
+    set: DescriptorSet,
+    timestamps: TimestampPool,
+}
+
+impl ElevationEditor {
+    /// Uploads `elevation` and builds its pyramid.
+    pub fn new(
+        ctx: &Arc<Context>,
+        elevation: &Heightfield,
+        format: HeightFormat,
+        address: Address,
+    ) -> VkResult<ElevationEditor> {
+        let heights = GpuHeightfield::upload(ctx, elevation, format, address)?;
+        let pyramid = PyramidPass::new(ctx, format.shader_suffix())?;
+        let job = pyramid.prepare(&heights)?;
+        let key = format!("brush.comp:{}", format.shader_suffix());
+        let spirv =
+            shaders::spirv(&key).ok_or_else(|| VkError::Invalid(format!("no shader {key}")))?;
+        let layout = DescriptorLayout::new(
+            ctx,
+            &[(0, vk::DescriptorType::STORAGE_IMAGE)],
+            vk::ShaderStageFlags::COMPUTE,
+            "brush layout",
+        )?;
+        let brush = compute_pipeline(
+            ctx,
+            spirv,
+            &[layout.raw()],
+            48,
+            &SpecConstants::default(),
+            "brush",
+        )?;
+        let level0 = heights.image.level_view(0)?;
+        let pool = DescriptorPool::new(ctx, 1, 1, "brush set")?;
+        let set = pool.allocate(&layout, &[Bind::StorageImage(0, level0.raw())])?;
+        let editor = ElevationEditor {
+            ctx: ctx.clone(),
+            heights,
+            pyramid,
+            job,
+            brush,
+            _layout: layout,
+            _pool: pool,
+            _level0: level0,
+            set,
+            timestamps: TimestampPool::new(ctx, 2, "edit timestamps")?,
+        };
+        editor
+            .ctx
+            .one_shot(|rec| editor.pyramid.record(rec, &editor.heights, &editor.job))?;
+        Ok(editor)
+    }
+
+    /// The elevation and its pyramid (in `SHADER_READ_ONLY_OPTIMAL` between calls).
+    pub fn heights(&self) -> &GpuHeightfield {
+        &self.heights
+    }
+
+    /// Applies `strokes` in order and rebuilds the pyramid nodes they touched. Every stroke is
+    /// checked first; a bad one applies none.
+    pub fn apply(&mut self, strokes: &[Stroke]) -> Result<EditReport, EditError> {
+        let (w, h) = (
+            self.heights.image.desc().width,
+            self.heights.image.desc().height,
+        );
+        for (k, s) in strokes.iter().enumerate() {
+            s.check(k, w, h)?;
+        }
+        let rects: Vec<TexelRect> = strokes.iter().filter_map(|s| s.rect(w, h)).collect();
+        let regions = self.dirty_regions(&rects);
+        let mut texels_per_level = vec![rects.iter().map(TexelRect::texels).sum()];
+        texels_per_level.extend(regions.iter().map(|level| {
+            level
+                .iter()
+                .map(|r| u64::from(r[2]) * u64::from(r[3]))
+                .sum::<u64>()
+        }));
+        self.record(|rec, editor| {
+            for (stroke, rect) in strokes.iter().zip(&rects) {
+                editor.brush.bind(rec, Some(editor.set));
+                editor
+                    .brush
+                    .push(rec, bytemuck::bytes_of(&brush_push(stroke, rect)))?;
+                rec.dispatch([
+                    rect.width().div_ceil(GROUP),
+                    rect.height().div_ceil(GROUP),
+                    1,
+                ]);
+                // Strokes may overlap: each reads what the one before wrote.
+                let compute = vk::PipelineStageFlags2::COMPUTE_SHADER;
+                memory_barrier(
+                    rec,
+                    (compute, vk::AccessFlags2::SHADER_STORAGE_WRITE),
+                    (
+                        compute,
+                        vk::AccessFlags2::SHADER_STORAGE_READ
+                            | vk::AccessFlags2::SHADER_STORAGE_WRITE,
+                    ),
+                );
+            }
+            editor.pyramid.record_regions(
+                rec,
+                &editor.heights.image,
+                editor.heights.address,
+                &editor.job,
+                &regions,
+            )
+        })
+        .map(|gpu_ms| EditReport {
+            texels_per_level,
+            gpu_ms,
+        })
+        .map_err(EditError::from)
+    }
+
+    /// Rebuilds every level above the elevation; its GPU time in ms.
+    pub fn rebuild_all(&mut self) -> VkResult<f64> {
+        self.record(|rec, editor| {
+            editor.pyramid.record_image(
+                rec,
+                &editor.heights.image,
+                editor.heights.address,
+                &editor.job,
+            )
+        })
+    }
+
+    /// Every level, the elevation first.
+    pub fn read_levels(&self) -> VkResult<Vec<Vec<f32>>> {
+        (0..self.heights.levels())
+            .map(|l| {
+                read_mip(
+                    &self.ctx,
+                    &self.heights.image,
+                    l,
+                    vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+                )
+                .map(|bytes| self.heights.format.decode(&bytes))
+            })
+            .collect()
+    }
+
+    /// Per level above the elevation, the regions that read a texel of `rects`.
+    fn dirty_regions(&self, rects: &[TexelRect]) -> Vec<Vec<Region>> {
+        let image = &self.heights.image;
+        let wrap = self.heights.address == Address::Repeat;
+        let mut current: Vec<Region> = rects
+            .iter()
+            .map(|r| [r.x0, r.y0, r.width(), r.height()])
+            .collect();
+        let mut levels = Vec::new();
+        for level in 1..image.desc().mip_levels {
+            let (fw, fh) = image.level_extent(level - 1);
+            let (cw, ch) = image.level_extent(level);
+            let margin = u32::from(level == 1);
+            let mut next: Vec<Region> = Vec::new();
+            for r in &current {
+                let xs = coarse_span((r[0], r[0] + r[2] - 1), fw, cw, margin, wrap);
+                let ys = coarse_span((r[1], r[1] + r[3] - 1), fh, ch, margin, wrap);
+                for &(x0, x1) in &xs {
+                    for &(y0, y1) in &ys {
+                        let region = [x0, y0, x1 - x0 + 1, y1 - y0 + 1];
+                        if !next.contains(&region) {
+                            next.push(region);
+                        }
+                    }
+                }
+            }
+            levels.push(next.clone());
+            current = next;
+        }
+        levels
+    }
+
+    /// Records `work` between timestamps, with the image in `GENERAL` during it; the GPU ms.
+    fn record(
+        &mut self,
+        work: impl FnOnce(&crate::vk::Recording, &ElevationEditor) -> VkResult<()>,
+    ) -> VkResult<f64> {
+        let all = vk::PipelineStageFlags2::ALL_COMMANDS;
+        let levels = self.heights.levels();
+        let editor = &*self;
+        // The last call's timestamps were read; the queries must be reset before they are reused.
+        editor.timestamps.reset();
+        editor.ctx.one_shot(|rec| {
+            editor.timestamps.write(rec, all, 0)?;
+            transition_images(
+                rec,
+                &[ImageTransition {
+                    image: editor.heights.image.raw(),
+                    aspect: vk::ImageAspectFlags::COLOR,
+                    base_mip: 0,
+                    mip_count: levels,
+                    old: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+                    new: vk::ImageLayout::GENERAL,
+                    src: (
+                        vk::PipelineStageFlags2::FRAGMENT_SHADER
+                            | vk::PipelineStageFlags2::COMPUTE_SHADER
+                            | vk::PipelineStageFlags2::COPY,
+                        vk::AccessFlags2::SHADER_SAMPLED_READ | vk::AccessFlags2::TRANSFER_READ,
+                    ),
+                    dst: (
+                        vk::PipelineStageFlags2::COMPUTE_SHADER,
+                        vk::AccessFlags2::SHADER_STORAGE_READ
+                            | vk::AccessFlags2::SHADER_STORAGE_WRITE,
+                    ),
+                }],
+            );
+            work(rec, editor)?;
+            editor.timestamps.write(rec, all, 1)
+        })?;
+        let ticks = self.timestamps.read_ticks(2)?;
+        Ok(self.timestamps.ticks_to_ms(ticks[0], ticks[1]))
+    }
+}
+
+/// `brush.comp`'s push constants for `stroke` over `rect`.
+fn brush_push(stroke: &Stroke, rect: &TexelRect) -> [u32; 12] {
+    let kind = match stroke.kind {
+        BrushKind::Raise => 0.0f32,
+        BrushKind::Lower => 1.0,
+        BrushKind::Flatten => 2.0,
+        BrushKind::Crater => 3.0,
+    };
+    let f = |x: f32| x.to_bits();
+    [
+        f(stroke.x),
+        f(stroke.y),
+        f(stroke.radius),
+        f(stroke.strength),
+        f(stroke.target),
+        f(kind),
+        0,
+        0,
+        rect.x0,
+        rect.y0,
+        rect.width(),
+        rect.height(),
+    ]
+}
