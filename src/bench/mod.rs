@@ -3,6 +3,7 @@
 
 mod ao;
 mod depth_match;
+mod edits;
 mod lod;
 mod npy;
 mod report;
@@ -20,6 +21,7 @@ mod trace_stats;
 
 pub use ao::{measure_ao, AoConfig, AoRun};
 pub use depth_match::{settled as depth_match_settled, MAX_COST_RATIO, MAX_STEP_BUDGET};
+pub use edits::{run_edit_section, EditCost};
 pub use lod::{
     downsample, image_error, receding_plane, render_interleaved, render_timed, run_lod_section,
     ImageError, LodConfig, LodRun, LodScaling, LodSection,

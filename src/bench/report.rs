@@ -43,6 +43,7 @@ pub fn render_report(results: &BenchResults) -> (String, Vec<(String, String)>) 
     if let Some(lod) = &results.lod {
         super::lod::report(&mut md, lod);
     }
+    super::edits::report(&mut md, &results.edits);
     (md, plots(results))
 }
 

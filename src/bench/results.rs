@@ -116,6 +116,8 @@ pub struct BenchResults {
     pub ao: Vec<AoRun>,
     /// The level-of-detail section (`None` when skipped, e.g. `--no-lod`).
     pub lod: Option<super::lod::LodSection>,
+    /// The terrain-edit section (empty when skipped, e.g. `--no-edits`).
+    pub edits: Vec<super::edits::EditCost>,
 }
 
 /// The device every number was measured on.

@@ -9,10 +9,13 @@ use std::io::IsTerminal;
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use relief::bench::{
-    depth_match_settled, measure_ao, measure_shadows, plan_jobs, render_report, run_lod_section,
-    run_stiff_case, stiff_cases, AoConfig, BenchResults, FieldSource, LodConfig, Runner,
-    ShadingConfig, SweepConfig,
+    depth_match_settled, measure_ao, measure_shadows, plan_jobs, render_report, run_edit_section,
+    run_lod_section, run_stiff_case, stiff_cases, AoConfig, BenchResults, FieldSource, LodConfig,
+    Runner, ShadingConfig, SweepConfig,
 };
+
+/// The brush radius of the terrain-edit section, in texels (the stroke).
+const EDIT_RADIUS: f32 = 32.0;
 use relief::heightfield::{Address, Generator};
 use relief::method::Method;
 use relief::render::HeightFormat;
@@ -76,6 +79,9 @@ pub struct BenchArgs {
     /// Skip the level-of-detail section.
     #[arg(long)]
     no_lod: bool,
+    /// Skip the terrain-edit section (a brush stroke's partial rebuild against a full one).
+    #[arg(long)]
+    no_edits: bool,
     #[arg(long, value_name = "repeat|clamp", default_value_t = Address::Repeat)]
     address: Address,
     #[arg(long, value_enum, default_value = "r16")]
@@ -231,12 +237,14 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     });
     let shadow_stability_wanted = shading.is_some() && cfg.stability;
     let lod_wanted = !(args.no_lod || args.shading_only || args.stability_only);
+    let edits_wanted = !(args.no_edits || only_other);
     let bar = progress(
         jobs.len()
             + cases.len() * cfg.methods.len()
             + shading_steps
             + usize::from(shadow_stability_wanted)
-            + usize::from(lod_wanted),
+            + usize::from(lod_wanted)
+            + usize::from(edits_wanted),
         args.json,
     );
     let mut runner = Runner::new(ctx.clone(), cfg.clone());
@@ -311,6 +319,20 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     } else {
         None
     };
+    let edits = if edits_wanted {
+        note(&bar, "terrain edits", args.json);
+        let sizes: &[u32] = if cfg.quick {
+            &[256, 1024]
+        } else {
+            &[1024, 4096]
+        };
+        let costs = run_edit_section(&ctx, sizes, EDIT_RADIUS, cfg.format)
+            .context("the terrain-edit section")?;
+        bar.inc(1);
+        costs
+    } else {
+        Vec::new()
+    };
     bar.finish_and_clear();
     super::check_validation(&ctx)?;
     let results = BenchResults {
@@ -323,6 +345,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         shadow_stability,
         ao,
         lod,
+        edits,
     };
     write_outputs(&args.out, &results, args.json)
 }
