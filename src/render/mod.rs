@@ -3,7 +3,9 @@
 //! (the pyramid, the surface) are timed by timestamp scopes and read a frame later. Also where a
 //! method's map is built (`map_builder`: on the GPU where a builder exists, else `heightfield`'s
 //! CPU build) and where the height field's `Address` becomes a sampler address mode
-//! (`gpu_heightfield`). The texture-space AO map is built here too (`ao_map_pass`).
+//! (`gpu_heightfield`). The texture-space AO map is built here too (`ao_map_pass`), as are the
+//! cells pass that draws meshes through their cell complexes (`cells_pass`), a terrain's blended
+//! pyramid (`blended_pyramid_pass`) and its elevation's brush edits (`elevation_editor`).
 
 mod ao_map_pass;
 mod ao_sweep;
