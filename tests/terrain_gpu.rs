@@ -5,7 +5,7 @@
 
 mod common;
 
-use relief::heightfield::{Address, Generator, Heightfield, MaxPyramid};
+use relief::heightfield::{Address, Generator, Heightfield, LoadOptions, MaxPyramid};
 use relief::render::{build_blended_pyramid_on_gpu, build_pyramid_on_gpu, HeightFormat};
 use relief::terrain::{blended_pyramid, BlendMode, LayerStack, SplatMap};
 
@@ -49,67 +49,111 @@ fn stored(stack: &LayerStack, format: HeightFormat) -> LayerStack {
     LayerStack::new(q(stack.heights()), q(stack.weights())).unwrap()
 }
 
-#[test]
-fn the_gpu_blended_pyramid_is_the_cpu_one_and_bounds_the_blended_surface() {
-    let Some(ctx) = common::device("the_gpu_blended_pyramid_is_the_cpu_one") else {
-        return;
-    };
+/// Builds `stack`'s blended pyramid on the GPU in every format, addressing and mode, and checks
+/// it against the CPU's and against the blended texels it must bound.
+fn check_stack(ctx: &std::sync::Arc<relief::vk::Context>, name: &str, stack: &LayerStack) {
     let step = 1.0 / 65535.0;
-    for (w, h, seed) in [(64, 64, 1), (37, 23, 2)] {
-        let stack = random_stack(w, h, seed);
-        for format in [HeightFormat::R16Unorm, HeightFormat::R32Float] {
-            let seen = stored(&stack, format);
-            for address in [Address::Repeat, Address::Clamp] {
-                let wrap = address == Address::Repeat;
-                for mode in BlendMode::ALL {
-                    let what = format!("{w}x{h} {format:?} {address:?} {mode}");
-                    let (gpu, ms) =
-                        build_blended_pyramid_on_gpu(&ctx, &stack, mode, format, address)
-                            .expect("builds");
-                    assert!(ms >= 0.0);
-                    let cpu = blended_pyramid(&seen, mode, |hf| {
-                        MaxPyramid::build_bilinear_bound(hf, wrap)
-                    });
-                    assert_eq!(gpu.len() as u32, cpu.level_count(), "{what}");
-                    // Level 0 is the surface; the alpha blend's division may round differently.
-                    let tolerance = match format {
-                        HeightFormat::R16Unorm => step * 1.01,
-                        HeightFormat::R32Float => 3e-7,
-                    };
-                    for (t, (g, c)) in gpu[0].iter().zip(&cpu.level(0).data).enumerate() {
-                        assert!((g - c).abs() <= tolerance, "{what}: texel {t}: {g} vs {c}");
+    let (w, h) = (stack.width(), stack.height());
+    for format in [HeightFormat::R16Unorm, HeightFormat::R32Float] {
+        let seen = stored(stack, format);
+        for address in [Address::Repeat, Address::Clamp] {
+            let wrap = address == Address::Repeat;
+            for mode in BlendMode::ALL {
+                let what = format!("{name} {w}x{h} {format:?} {address:?} {mode}");
+                let (gpu, ms) = build_blended_pyramid_on_gpu(ctx, stack, mode, format, address)
+                    .expect("builds");
+                assert!(ms >= 0.0);
+                let cpu =
+                    blended_pyramid(&seen, mode, |hf| MaxPyramid::build_bilinear_bound(hf, wrap));
+                assert_eq!(gpu.len() as u32, cpu.level_count(), "{what}");
+                // Level 0 is the surface; the alpha blend's division may round differently.
+                let tolerance = match format {
+                    HeightFormat::R16Unorm => step * 1.01,
+                    HeightFormat::R32Float => 3e-7,
+                };
+                for (t, (g, c)) in gpu[0].iter().zip(&cpu.level(0).data).enumerate() {
+                    assert!((g - c).abs() <= tolerance, "{what}: texel {t}: {g} vs {c}");
+                }
+                // Above it, the CPU's bound (rounded up to a step in 16 bits).
+                let slack = if format == HeightFormat::R16Unorm {
+                    step * 1.01
+                } else {
+                    0.0
+                };
+                for (level, data) in gpu.iter().enumerate().skip(1) {
+                    let cpu_level = &cpu.level(level as u32).data;
+                    for (t, (g, c)) in data.iter().zip(cpu_level).enumerate() {
+                        assert!(
+                            (-1e-7..=slack).contains(&(g - c)),
+                            "{what}: level {level} node {t}: {g} against the CPU's {c}"
+                        );
                     }
-                    // Above it, the CPU's bound (rounded up to a step in 16 bits).
-                    for (level, data) in gpu.iter().enumerate().skip(1) {
-                        for (t, (g, c)) in
-                            data.iter().zip(&cpu.level(level as u32).data).enumerate()
-                        {
-                            let above = g - c;
-                            let slack = if format == HeightFormat::R16Unorm {
-                                step * 1.01
-                            } else {
-                                0.0
-                            };
-                            assert!(
-                                (-1e-7..=slack).contains(&above),
-                                "{what}: level {level} node {t}: {g} against the CPU's {c}"
-                            );
-                        }
-                    }
-                    // And every node bounds the GPU's own blended texels under it.
-                    let surface = Heightfield::new(w, h, gpu[0].clone()).unwrap();
-                    let exact = MaxPyramid::build_bilinear_bound(&surface, wrap);
-                    for (level, data) in gpu.iter().enumerate().skip(1) {
-                        for (t, (g, e)) in
-                            data.iter().zip(&exact.level(level as u32).data).enumerate()
-                        {
-                            assert!(g >= e, "{what}: level {level} node {t}: {g} below {e}");
-                        }
+                }
+                // And every node bounds the GPU's own blended texels under it.
+                let surface = Heightfield::new(w, h, gpu[0].clone()).unwrap();
+                let exact = MaxPyramid::build_bilinear_bound(&surface, wrap);
+                for (level, data) in gpu.iter().enumerate().skip(1) {
+                    let exact_level = &exact.level(level as u32).data;
+                    for (t, (g, e)) in data.iter().zip(exact_level).enumerate() {
+                        assert!(g >= e, "{what}: level {level} node {t}: {g} below {e}");
                     }
                 }
             }
         }
     }
+}
+
+#[test]
+fn the_gpu_blended_pyramid_is_the_cpu_one_and_bounds_the_blended_surface() {
+    let Some(ctx) = common::device("the_gpu_blended_pyramid_is_the_cpu_one") else {
+        return;
+    };
+    for (w, h, seed) in [(64, 64, 1), (37, 23, 2)] {
+        check_stack(&ctx, "random", &random_stack(w, h, seed));
+    }
+    common::assert_no_validation_errors(&ctx);
+}
+
+#[test]
+fn the_corpus_ground_layers_blend_and_bound() {
+    let Some(corpus) = common::corpus::corpus("the_corpus_ground_layers_blend_and_bound") else {
+        return;
+    };
+    let Some(ctx) = common::device("the_corpus_ground_layers_blend_and_bound") else {
+        return;
+    };
+    // The corpus's suggested order, low to high: sand, grass, rock, cliff (8-bit, 512^2, tiling).
+    let layers = corpus.join("terrain-layers");
+    let files = [
+        "hterrain-demo/sand_height.png",
+        "terrain3d/ground037_height.png",
+        "terrain3d/rock030_height.png",
+        "terrain3d/rock023_height.png",
+    ];
+    let heights: Vec<Heightfield> = files
+        .iter()
+        .map(|f| {
+            Heightfield::load_png(&layers.join(f), &LoadOptions::default())
+                .unwrap_or_else(|e| panic!("{f}: {e}"))
+        })
+        .collect();
+    assert!(heights
+        .iter()
+        .all(|h| (h.width(), h.height()) == (512, 512)));
+    // Each layer owns a quadrant, blending across the middle: the splat map's four corners.
+    let splat = SplatMap::new(
+        2,
+        2,
+        vec![
+            [1.0, 0.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0, 0.0],
+            [0.0, 0.0, 1.0, 0.0],
+            [0.0, 0.0, 0.0, 1.0],
+        ],
+    )
+    .unwrap();
+    let stack = LayerStack::from_splat(heights, &splat).unwrap();
+    check_stack(&ctx, "corpus layers", &stack);
     common::assert_no_validation_errors(&ctx);
 }
 
