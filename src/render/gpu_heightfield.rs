@@ -6,7 +6,7 @@ use std::sync::Arc;
 
 use ash::vk;
 
-use crate::heightfield::{mip_level_count, Address, Heightfield};
+use crate::heightfield::{mip_level_count, Address, Heightfield, MaxPyramid};
 use crate::vk::{upload_mips, Context, Image, ImageDesc, Sampler, VkError, VkResult};
 
 /// How heights are stored on the GPU.
@@ -149,6 +149,62 @@ impl GpuHeightfield {
             vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL
         };
         upload_mips(ctx, &image, &[&level0], layout)?;
+        Self::with_samplers(ctx, image, format, address)
+    }
+
+    /// `pyramid`'s levels uploaded as they are (level 0 the heights), for traversals through a
+    /// pyramid built elsewhere: a blended terrain's conservative bound. In 16 bits the levels
+    /// from 1 up round up to a step, so that no node drops below what it bounds.
+    pub fn upload_prebuilt(
+        ctx: &Arc<Context>,
+        pyramid: &MaxPyramid,
+        format: HeightFormat,
+        address: Address,
+    ) -> VkResult<GpuHeightfield> {
+        let base = pyramid.level(0);
+        let image = Image::new(
+            ctx,
+            ImageDesc {
+                width: base.width,
+                height: base.height,
+                format: format.vk(),
+                mip_levels: pyramid.level_count(),
+                usage: vk::ImageUsageFlags::SAMPLED
+                    | vk::ImageUsageFlags::TRANSFER_DST
+                    | vk::ImageUsageFlags::TRANSFER_SRC,
+                aspect: vk::ImageAspectFlags::COLOR,
+            },
+            "prebuilt height pyramid",
+        )?;
+        let levels: Vec<Vec<u8>> = pyramid
+            .levels()
+            .iter()
+            .enumerate()
+            .map(|(k, level)| match (format, k) {
+                (HeightFormat::R16Unorm, 1..) => level
+                    .data
+                    .iter()
+                    .flat_map(|&h| ((h.clamp(0.0, 1.0) * 65535.0).ceil() as u16).to_ne_bytes())
+                    .collect(),
+                _ => format.encode(&level.data),
+            })
+            .collect();
+        let slices: Vec<&[u8]> = levels.iter().map(Vec::as_slice).collect();
+        upload_mips(
+            ctx,
+            &image,
+            &slices,
+            vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+        )?;
+        Self::with_samplers(ctx, image, format, address)
+    }
+
+    fn with_samplers(
+        ctx: &Arc<Context>,
+        image: Image,
+        format: HeightFormat,
+        address: Address,
+    ) -> VkResult<GpuHeightfield> {
         Ok(GpuHeightfield {
             image,
             point: Sampler::new(

@@ -13,7 +13,7 @@ use super::gpu_heightfield::{GpuHeightfield, HeightFormat};
 use super::mean_pyramid_pass::MeanPyramid;
 use super::method_map::GpuMethodMap;
 use super::pyramid_pass::{PyramidJob, PyramidPass};
-use crate::heightfield::{Address, Heightfield, MapData};
+use crate::heightfield::{Address, Heightfield, MapData, MaxPyramid};
 use crate::vk::{Bind, Buffer, Context, Recording, VkError, VkResult};
 
 /// Uploaded heights, their pyramid pass (when a method reads it), uniforms and the optional
@@ -75,6 +75,36 @@ impl HeightResources {
             mean_pyramid: false,
         };
         Self::upload(ctx, hf, &upload, frame)
+    }
+
+    /// Like [`HeightResources::new`], with `pyramid` (level 0 the heights) uploaded as the height
+    /// image's mip chain instead of a pyramid built from the heights on the GPU.
+    pub fn with_pyramid(
+        ctx: &Arc<Context>,
+        pyramid: &MaxPyramid,
+        format: HeightFormat,
+        address: Address,
+        map: Option<&MapData>,
+        mut frame: FrameUniforms,
+    ) -> VkResult<HeightResources> {
+        let heights = GpuHeightfield::upload_prebuilt(ctx, pyramid, format, address)?;
+        frame.height_info = heights.shader_info();
+        let uniforms = vec![Buffer::with_data(
+            ctx,
+            bytemuck::bytes_of(&frame),
+            vk::BufferUsageFlags::UNIFORM_BUFFER,
+            "frame uniforms 0",
+        )?];
+        let map = map
+            .map(|m| GpuMethodMap::upload(ctx, m, address, "method map"))
+            .transpose()?;
+        Ok(HeightResources {
+            heights,
+            pyramid: None,
+            uniforms,
+            map,
+            mean: MeanBinding::None,
+        })
     }
 
     /// Uploads `hf` as `upload` says, with `frame` in every copy of the uniforms.

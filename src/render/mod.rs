@@ -69,4 +69,6 @@ pub use quadric_map_pass::{build_quadric_map_on_gpu, QuadricMapPass};
 pub use relaxed_cone_map_pass::{build_relaxed_cone_map_on_gpu, RelaxedConeMapPass};
 pub use renderer::{FrameOutput, FrameRequest, Renderer, FRAMES_IN_FLIGHT};
 pub use surface_pass::{describe as describe_pipeline, COLOR_FORMAT, DEPTH_FORMAT};
-pub use trace_pass::{trace_on_gpu, ShadowTrace, TraceOutput, TraceRequest, TRACE_GROUP_SIDE};
+pub use trace_pass::{
+    trace_on_gpu, trace_through_pyramid, ShadowTrace, TraceOutput, TraceRequest, TRACE_GROUP_SIDE,
+};

@@ -10,7 +10,7 @@ use super::height_resources::HeightResources;
 use super::surface_pass::{
     hard_shadow_texels, HARD_SHADOW_TEXELS_ID, SHADOW_MODE_ID, SHADOW_REACH_ID, SHADOW_STEPS_ID,
 };
-use crate::heightfield::{Address, Heightfield, MapData};
+use crate::heightfield::{Address, Heightfield, MapData, MaxPyramid};
 use crate::method::{Budget, Method};
 use crate::scene::ShadowMode;
 use crate::shaders;
@@ -163,6 +163,34 @@ pub fn trace_repeated(
     warmup: u32,
     frames: u32,
 ) -> VkResult<TraceOutput> {
+    trace_with(ctx, Heights::Field(hf), req, warmup, frames)
+}
+
+/// Traces `req` once through `pyramid` (level 0 the heights) as it is, instead of the pyramid the
+/// GPU builds from the heights: a blended terrain's conservative bound, so that its cost in
+/// iterations can be set beside the exact pyramid's.
+pub fn trace_through_pyramid(
+    ctx: &Arc<Context>,
+    pyramid: &MaxPyramid,
+    req: &TraceRequest,
+) -> VkResult<TraceOutput> {
+    trace_with(ctx, Heights::Pyramid(pyramid), req, 0, 1)
+}
+
+/// What a trace reads: a height field (its pyramid built on the GPU) or a pyramid built elsewhere.
+#[derive(Clone, Copy)]
+enum Heights<'a> {
+    Field(&'a Heightfield),
+    Pyramid(&'a MaxPyramid),
+}
+
+fn trace_with(
+    ctx: &Arc<Context>,
+    heights: Heights,
+    req: &TraceRequest,
+    warmup: u32,
+    frames: u32,
+) -> VkResult<TraceOutput> {
     if frames == 0 {
         return Err(VkError::Invalid("a trace of zero frames".into()));
     }
@@ -174,14 +202,24 @@ pub fn trace_repeated(
     let key = req.method.shader_key("trace.comp");
     let spirv = shaders::spirv(&key)
         .ok_or_else(|| VkError::Invalid(format!("no compiled shader {key}")))?;
-    let res = HeightResources::new(
-        ctx,
-        hf,
-        req.format,
-        req.address,
-        req.map,
-        bytemuck::Zeroable::zeroed(),
-    )?;
+    let res = match heights {
+        Heights::Field(hf) => HeightResources::new(
+            ctx,
+            hf,
+            req.format,
+            req.address,
+            req.map,
+            bytemuck::Zeroable::zeroed(),
+        )?,
+        Heights::Pyramid(pyramid) => HeightResources::with_pyramid(
+            ctx,
+            pyramid,
+            req.format,
+            req.address,
+            req.map,
+            bytemuck::Zeroable::zeroed(),
+        )?,
+    };
     let targets = TraceTargets::new(ctx, count)?;
     let mut bindings = res.layout_bindings();
     bindings.extend([
