@@ -13,6 +13,12 @@ layout(set = 0, binding = 0) uniform sampler2D layer_heights;
 layout(set = 0, binding = 1) uniform sampler2D layer_weights;
 // The level of the blended pyramid being written.
 layout(set = 0, binding = 2, HEIGHT_FORMAT) uniform writeonly image2D blended;
+// The max pyramid of 1 - min(sum of weights, 1): 1 minus it is a node's least weight sum
+// (terrain::least_sum_slack).
+layout(set = 0, binding = 3) uniform sampler2D least_sum_slack;
+
+// Relative margin on the convex blends' weighted bound (WEIGHTED_MARGIN in blended_pyramid.rs).
+const float WEIGHTED_MARGIN = 1.0 + 8.0 * 1.1920929e-7;
 
 // x: blend mode (0 alpha, 1 height, 2 height-intersect); y: the level; z: 1 when the output
 // stores 16-bit unorm, so that bounds round up to the next step.
@@ -35,14 +41,22 @@ float surface(vec4 h, vec4 w) {
     return min(weighted / sum, 1.0);
 }
 
-float bound(vec4 h, vec4 w) {
+// terrain::node_bound: the node's bound from its layers' height and weight maxima and its least
+// weight sum.
+float bound(vec4 h, vec4 w, float least_sum) {
     if (params.flags.x == HEIGHT_INTERSECT) {
         precise vec4 hw = h * w;
         return max(max(max(hw.x, hw.y), hw.z), hw.w);
     }
-    // A convex blend never rises above the highest layer it weighs.
+    // A convex blend never rises above the highest layer it weighs, nor above the weighted sum of
+    // the maxima over the least weight sum.
     vec4 weighed = mix(vec4(0.0), h, greaterThan(w, vec4(0.0)));
-    return max(max(max(weighed.x, weighed.y), weighed.z), weighed.w);
+    float highest = max(max(max(weighed.x, weighed.y), weighed.z), weighed.w);
+    if (least_sum > 0.0) {
+        precise float weighted = ((w.x * h.x + w.y * h.y) + w.z * h.z) + w.w * h.w;
+        return min(highest, weighted / least_sum * WEIGHTED_MARGIN);
+    }
+    return highest;
 }
 
 void main() {
@@ -57,7 +71,7 @@ void main() {
     if (level == 0) {
         value = surface(h, w);
     } else {
-        value = bound(h, w);
+        value = bound(h, w, 1.0 - texelFetch(least_sum_slack, i, level).r);
         if (params.flags.z != 0u) {
             // Stored to the nearest step, a bound could land below what it bounds.
             value = min(ceil(value * 65535.0) / 65535.0, 1.0);

@@ -13,7 +13,7 @@ use super::gpu_heightfield::HeightFormat;
 use super::pyramid_pass::PyramidPass;
 use crate::heightfield::{mip_level_count, Address, Heightfield};
 use crate::shaders;
-use crate::terrain::{BlendMode, LayerStack};
+use crate::terrain::{least_sum_slack, BlendMode, LayerStack};
 use crate::vk::{
     compute_pipeline, memory_barrier, read_mip, transition_images, upload_mips, Bind, Context,
     DescriptorLayout, DescriptorPool, Image, ImageDesc, ImageTransition, ImageView, Sampler,
@@ -83,6 +83,46 @@ fn channel_image(
     Ok(image)
 }
 
+/// Uploads `terrain::least_sum_slack` of `stack` as the weights are stored (16-bit ones rounded
+/// first, so the sums are the GPU's), rounded up in 16 bits so that no least sum comes out larger
+/// than it is; in `GENERAL`, ready for its pyramid.
+fn slack_image(ctx: &Arc<Context>, stack: &LayerStack, format: HeightFormat) -> VkResult<Image> {
+    let stored = match format {
+        HeightFormat::R16Unorm => {
+            let q =
+                |maps: &[Heightfield]| maps.iter().map(Heightfield::quantized_unorm16).collect();
+            LayerStack::new(q(stack.heights()), q(stack.weights()))
+                .map_err(|e| VkError::Invalid(e.to_string()))?
+        }
+        HeightFormat::R32Float => stack.clone(),
+    };
+    let slack = least_sum_slack(&stored);
+    let bytes: Vec<u8> = match format {
+        HeightFormat::R16Unorm => slack
+            .data()
+            .iter()
+            .flat_map(|&v| ((v.clamp(0.0, 1.0) * 65535.0).ceil() as u16).to_ne_bytes())
+            .collect(),
+        HeightFormat::R32Float => format.encode(slack.data()),
+    };
+    let image = Image::new(
+        ctx,
+        ImageDesc {
+            width: slack.width(),
+            height: slack.height(),
+            format: format.vk(),
+            mip_levels: mip_level_count(slack.width(), slack.height()),
+            usage: vk::ImageUsageFlags::STORAGE
+                | vk::ImageUsageFlags::SAMPLED
+                | vk::ImageUsageFlags::TRANSFER_DST,
+            aspect: vk::ImageAspectFlags::COLOR,
+        },
+        "terrain weight-sum slack",
+    )?;
+    upload_mips(ctx, &image, &[&bytes], vk::ImageLayout::GENERAL)?;
+    Ok(image)
+}
+
 /// Builds the blended pyramid of `stack` in `mode` on the GPU and reads every level back (level 0
 /// first) with the build's GPU time in ms: the layers' and weights' pyramids and the blend.
 /// `address` is the terrain's addressing (the pyramids' level 1 wraps or clamps its margin).
@@ -107,6 +147,7 @@ pub fn build_blended_pyramid_on_gpu(
     }
     let heights = channel_image(ctx, stack.heights(), format, "terrain layer heights")?;
     let weights = channel_image(ctx, stack.weights(), format, "terrain layer weights")?;
+    let slack = slack_image(ctx, stack, format)?;
     let levels = heights.desc().mip_levels;
     let blended = Image::new(
         ctx,
@@ -124,6 +165,8 @@ pub fn build_blended_pyramid_on_gpu(
         pyramid.prepare_image(&heights)?,
         pyramid.prepare_image(&weights)?,
     ];
+    let slack_pyramid = PyramidPass::new(ctx, format.shader_suffix())?;
+    let slack_job = slack_pyramid.prepare_image(&slack)?;
     let key = format!("blended_pyramid.comp:{}", format.shader_suffix());
     let spirv = shaders::spirv(&key).ok_or_else(|| VkError::Invalid(format!("no shader {key}")))?;
     let layout = DescriptorLayout::new(
@@ -132,6 +175,7 @@ pub fn build_blended_pyramid_on_gpu(
             (0, vk::DescriptorType::COMBINED_IMAGE_SAMPLER),
             (1, vk::DescriptorType::COMBINED_IMAGE_SAMPLER),
             (2, vk::DescriptorType::STORAGE_IMAGE),
+            (3, vk::DescriptorType::COMBINED_IMAGE_SAMPLER),
         ],
         vk::ShaderStageFlags::COMPUTE,
         "blended pyramid layout",
@@ -163,6 +207,7 @@ pub fn build_blended_pyramid_on_gpu(
                     Bind::Texture(0, heights.view(), texels.raw()),
                     Bind::Texture(1, weights.view(), texels.raw()),
                     Bind::StorageImage(2, view.raw()),
+                    Bind::Texture(3, slack.view(), texels.raw()),
                 ],
             )
         })
@@ -184,6 +229,7 @@ pub fn build_blended_pyramid_on_gpu(
         timestamps.write(rec, all, 0)?;
         pyramid.record_image(rec, &heights, address, &jobs[0])?;
         pyramid.record_image(rec, &weights, address, &jobs[1])?;
+        slack_pyramid.record_image(rec, &slack, address, &slack_job)?;
         transition_images(
             rec,
             &[whole(

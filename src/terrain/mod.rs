@@ -28,7 +28,7 @@ mod grid;
 mod layers;
 
 pub use blend::{blended_field, BlendMode};
-pub use blended_pyramid::blended_pyramid;
+pub use blended_pyramid::{blended_pyramid, least_sum_slack, node_bound};
 pub use brush::{coarse_span, BrushKind, Stroke, StrokeError, TexelRect};
 pub use grid::{terrain_tiles, GridOptions};
 pub use layers::{LayerError, LayerStack, SplatMap, MAX_LAYERS};
