@@ -38,15 +38,10 @@ fn random_stack(width: u32, height: u32, seed: u64) -> LayerStack {
 
 /// The stack as the GPU stores it in `format`.
 fn stored(stack: &LayerStack, format: HeightFormat) -> LayerStack {
-    let q = |maps: &[Heightfield]| -> Vec<Heightfield> {
-        maps.iter()
-            .map(|m| match format {
-                HeightFormat::R16Unorm => m.quantized_unorm16(),
-                HeightFormat::R32Float => m.clone(),
-            })
-            .collect()
-    };
-    LayerStack::new(q(stack.heights()), q(stack.weights())).unwrap()
+    match format {
+        HeightFormat::R16Unorm => stack.quantized_unorm16(),
+        HeightFormat::R32Float => stack.clone(),
+    }
 }
 
 /// Builds `stack`'s blended pyramid on the GPU in every format, addressing and mode, and checks

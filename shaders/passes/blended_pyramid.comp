@@ -28,10 +28,15 @@ layout(push_constant, std430) uniform Params {
 
 const uint HEIGHT_INTERSECT = 2u;
 
+// max(w h): the height-intersect surface at a texel, and its bound over a node from the maxima.
+float highest_weighted(vec4 h, vec4 w) {
+    precise vec4 hw = h * w;
+    return max(max(max(hw.x, hw.y), hw.z), hw.w);
+}
+
 float surface(vec4 h, vec4 w) {
     if (params.flags.x == HEIGHT_INTERSECT) {
-        precise vec4 hw = h * w;
-        return max(max(max(hw.x, hw.y), hw.z), hw.w);
+        return highest_weighted(h, w);
     }
     precise float sum = ((w.x + w.y) + w.z) + w.w;
     if (!(sum > 0.0)) {
@@ -45,8 +50,7 @@ float surface(vec4 h, vec4 w) {
 // weight sum.
 float bound(vec4 h, vec4 w, float least_sum) {
     if (params.flags.x == HEIGHT_INTERSECT) {
-        precise vec4 hw = h * w;
-        return max(max(max(hw.x, hw.y), hw.z), hw.w);
+        return highest_weighted(h, w);
     }
     // A convex blend never rises above the highest layer it weighs, nor above the weighted sum of
     // the maxima over the least weight sum.

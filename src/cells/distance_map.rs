@@ -254,6 +254,35 @@ pub fn choose_grid_within(
     }
 }
 
+/// A fixed grid whose maps would not fit in [`MAP_MEMORY_LIMIT`] while sampled.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("a {n}^3 grid's maps at {resolution}^2 would take {} MiB while sampled (at most {} MiB)", bytes >> 20, MAP_MEMORY_LIMIT >> 20)]
+pub struct GridTooLarge {
+    pub n: u32,
+    pub resolution: u32,
+    pub bytes: u64,
+}
+
+/// The grid of `n` cells a side over `mesh` and its maps, refused before any is sampled when they
+/// would take more than [`MAP_MEMORY_LIMIT`].
+pub fn fixed_grid(
+    mesh: &ClosedMesh,
+    n: u32,
+    resolution: u32,
+) -> Result<(CellGrid, CellMaps), GridTooLarge> {
+    let grid = CellGrid::classify(mesh, n);
+    let bytes = sampled_bytes(&grid, resolution);
+    if bytes > MAP_MEMORY_LIMIT {
+        return Err(GridTooLarge {
+            n,
+            resolution,
+            bytes,
+        });
+    }
+    let maps = CellMaps::sample(mesh, &grid, resolution);
+    Ok((grid, maps))
+}
+
 /// [`choose_grid_within`] with [`MAP_MEMORY_LIMIT`], without the reason.
 pub fn choose_grid(
     mesh: &ClosedMesh,

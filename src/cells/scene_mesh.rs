@@ -67,11 +67,8 @@ impl SceneMesh {
         let mut triangles = Vec::new();
         let mut corners = Vec::new();
         for mesh in members.iter().map(|&k| &scene.meshes[k]) {
-            let world: Vec<Vertex> = mesh
-                .vertices
-                .iter()
-                .map(|v| to_world(v, mesh.transform))
-                .collect();
+            let to_world = ToWorld::new(mesh.transform);
+            let world: Vec<Vertex> = mesh.vertices.iter().map(|v| to_world.vertex(v)).collect();
             let base = positions.len() as u32;
             positions.extend(world.iter().map(|v| v.position.map(f64::from)));
             for t in mesh.indices.chunks_exact(3) {
@@ -111,25 +108,44 @@ impl SceneMesh {
     }
 }
 
-/// A vertex carried into world space as `mesh.vert` carries it: normals by the inverse transpose, tangents by the
-/// linear part, the bitangent's sign flipped by a mirroring transform.
-fn to_world(v: &Vertex, transform: Mat4) -> Vertex {
-    let linear = Mat3::from_mat4(transform);
-    let mirror = if linear.determinant() < 0.0 {
-        -1.0
-    } else {
-        1.0
-    };
-    let tangent = linear * Vec3::new(v.tangent[0], v.tangent[1], v.tangent[2]);
-    Vertex {
-        position: transform
-            .transform_point3(Vec3::from(v.position))
-            .to_array(),
-        normal: (linear.inverse().transpose() * Vec3::from(v.normal))
-            .normalize_or(Vec3::Z)
-            .to_array(),
-        tangent: Vec4::from((tangent, v.tangent[3] * mirror)).to_array(),
-        ..*v
+/// How a mesh's vertices go to world space, as `mesh.vert` carries them: positions by the transform,
+/// normals by the inverse transpose of its linear part, tangents by the linear part, the bitangent's sign
+/// flipped by a mirroring transform. Made once per mesh.
+struct ToWorld {
+    transform: Mat4,
+    linear: Mat3,
+    normal: Mat3,
+    mirror: f32,
+}
+
+impl ToWorld {
+    fn new(transform: Mat4) -> ToWorld {
+        let linear = Mat3::from_mat4(transform);
+        ToWorld {
+            transform,
+            linear,
+            normal: linear.inverse().transpose(),
+            mirror: if linear.determinant() < 0.0 {
+                -1.0
+            } else {
+                1.0
+            },
+        }
+    }
+
+    fn vertex(&self, v: &Vertex) -> Vertex {
+        let tangent = self.linear * Vec3::new(v.tangent[0], v.tangent[1], v.tangent[2]);
+        Vertex {
+            position: self
+                .transform
+                .transform_point3(Vec3::from(v.position))
+                .to_array(),
+            normal: (self.normal * Vec3::from(v.normal))
+                .normalize_or(Vec3::Z)
+                .to_array(),
+            tangent: Vec4::from((tangent, v.tangent[3] * self.mirror)).to_array(),
+            ..*v
+        }
     }
 }
 

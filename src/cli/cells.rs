@@ -11,7 +11,7 @@ use anyhow::Context as _;
 use clap::{Args, ValueEnum};
 use relief::bench::write_npy_f32;
 use relief::cells::{
-    choose_grid_within, compare_hits, measure_hits, parallel_rays, rebuild, sampled_bytes, shapes,
+    choose_grid_within, compare_hits, fixed_grid, measure_hits, parallel_rays, rebuild, shapes,
     CellGrid, CellMaps, ClosedMesh, GridStop, HitAgreement, MarchSettings, MeshSelection,
     PackedComplex, SceneMesh, MAP_MEMORY_LIMIT,
 };
@@ -195,20 +195,8 @@ pub fn run(args: &CellsArgs) -> anyhow::Result<()> {
         .with_context(|| format!("creating {}", args.out.display()))?;
     let started = Instant::now();
     let (grid, maps) = match args.grid {
-        Some(n) => {
-            let grid = CellGrid::classify(&mesh, n);
-            let bytes = sampled_bytes(&grid, args.resolution);
-            if bytes > MAP_MEMORY_LIMIT {
-                anyhow::bail!(
-                    "{name}: a {n}^3 grid's maps at {r}^2 would take {} MiB while sampled (at most {} MiB); lower --grid or --resolution",
-                    bytes >> 20,
-                    MAP_MEMORY_LIMIT >> 20,
-                    r = args.resolution
-                );
-            }
-            let maps = CellMaps::sample(&mesh, &grid, args.resolution);
-            (grid, maps)
-        }
+        Some(n) => fixed_grid(&mesh, n, args.resolution)
+            .map_err(|e| anyhow::anyhow!("{name}: {e}; lower --grid or --resolution"))?,
         None => {
             let (grid, maps, why) = choose_grid_within(
                 &mesh,

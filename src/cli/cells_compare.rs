@@ -7,6 +7,7 @@ use std::path::Path;
 
 use anyhow::Context as _;
 use glam::{Mat4, Vec3};
+use relief::bench::image_error;
 use relief::cells::{ClosedMesh, MeshSelection};
 use relief::render::{CellsOptions, FrameRequest, Pass, RenderOptions, Renderer};
 use relief::scene::{Material, Mesh, Scene, Vertex};
@@ -102,19 +103,19 @@ pub fn compare(
     let (raster, raster_ms) = draw(ctx, scene, &raster_opts, Pass::Surface)?;
     let (through_cells, cells_ms) = draw(ctx, scene, &cells_opts, Pass::Cells)?;
     let background = raster.get(..4).unwrap_or(&[0; 4]).to_vec();
-    let mut diff = Vec::with_capacity(raster.len());
-    let (mut total, mut on_mesh, mut covered, mut touched) = (0u64, 0u64, 0usize, 0usize);
-    for (a, b) in through_cells.chunks_exact(4).zip(raster.chunks_exact(4)) {
-        let d: u64 = (0..3).map(|c| u64::from(a[c].abs_diff(b[c]))).sum();
-        let max = (0..3).map(|c| a[c].abs_diff(b[c])).max().unwrap_or(0);
-        diff.extend_from_slice(&[max.saturating_mul(4), 0, 0, 255]);
-        total += d;
-        covered += usize::from(b != background.as_slice());
-        if a != background.as_slice() || b != background.as_slice() {
-            on_mesh += d;
-            touched += 1;
-        }
-    }
+    let pairs = || through_cells.chunks_exact(4).zip(raster.chunks_exact(4));
+    let diff: Vec<u8> = pairs()
+        .flat_map(|(a, b)| {
+            let max = (0..3).map(|c| a[c].abs_diff(b[c])).max().unwrap_or(0);
+            [max.saturating_mul(4), 0, 0, 255]
+        })
+        .collect();
+    let covered = pairs().filter(|(_, b)| *b != background.as_slice()).count();
+    // The pixels either image covers with the mesh.
+    let (on_cells, on_raster): (Vec<u8>, Vec<u8>) = pairs()
+        .filter(|(a, b)| *a != background.as_slice() || *b != background.as_slice())
+        .flat_map(|(a, b)| a.iter().copied().zip(b.iter().copied()))
+        .unzip();
     for (name, rgba) in [
         ("raster.png", &raster),
         ("cells.png", &through_cells),
@@ -124,12 +125,11 @@ pub fn compare(
         image::save_buffer(&path, rgba, width, height, image::ColorType::Rgba8)
             .with_context(|| format!("writing {}", path.display()))?;
     }
-    let pixels = (raster.len() / 4).max(1);
     Ok(RenderComparison {
         width,
         height,
-        mean_channel_difference: total as f64 / (pixels * 3) as f64,
-        mean_channel_difference_on_mesh: on_mesh as f64 / (touched.max(1) * 3) as f64,
+        mean_channel_difference: image_error(&through_cells, &raster).mean,
+        mean_channel_difference_on_mesh: image_error(&on_cells, &on_raster).mean,
         covered_pixels: covered,
         cells_ms,
         pixels_per_second: covered as f64 / (cells_ms / 1e3).max(1e-9),

@@ -88,23 +88,11 @@ fn channel_image(
 /// than it is; in `GENERAL`, ready for its pyramid.
 fn slack_image(ctx: &Arc<Context>, stack: &LayerStack, format: HeightFormat) -> VkResult<Image> {
     let stored = match format {
-        HeightFormat::R16Unorm => {
-            let q =
-                |maps: &[Heightfield]| maps.iter().map(Heightfield::quantized_unorm16).collect();
-            LayerStack::new(q(stack.heights()), q(stack.weights()))
-                .map_err(|e| VkError::Invalid(e.to_string()))?
-        }
+        HeightFormat::R16Unorm => stack.quantized_unorm16(),
         HeightFormat::R32Float => stack.clone(),
     };
     let slack = least_sum_slack(&stored);
-    let bytes: Vec<u8> = match format {
-        HeightFormat::R16Unorm => slack
-            .data()
-            .iter()
-            .flat_map(|&v| ((v.clamp(0.0, 1.0) * 65535.0).ceil() as u16).to_ne_bytes())
-            .collect(),
-        HeightFormat::R32Float => format.encode(slack.data()),
-    };
+    let bytes = format.encode_up(slack.data());
     let image = Image::new(
         ctx,
         ImageDesc {

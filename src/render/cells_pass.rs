@@ -19,7 +19,7 @@ use super::material_set::material_layout;
 use super::plan::Plan;
 use super::surface_pass::{plain_frame_layout, DrawPush, COLOR_FORMAT, DEPTH_FORMAT};
 use crate::cells::{
-    attribute_maps, choose_grid_within, sampled_bytes, CellGrid, CellMaps, Colour, Face, GridStop,
+    attribute_maps, choose_grid_within, fixed_grid, CellGrid, Colour, Face, GridStop,
     MarchSettings, MeshSelection, PackedComplex, SceneMesh, MAP_MEMORY_LIMIT,
 };
 use crate::scene::Scene;
@@ -215,18 +215,13 @@ fn build_complex(
     let gathered = SceneMesh::gather(scene, &plan.meshes, &format!("--cells {}", plan.name))?;
     let (grid, maps, stop) = match options.grid {
         Some(n) => {
-            let grid = CellGrid::classify(&gathered.mesh, n);
-            let bytes = sampled_bytes(&grid, options.resolution);
-            if bytes > MAP_MEMORY_LIMIT {
-                return Err(RenderError::CellsTooLarge {
-                    name: plan.name.clone(),
-                    n,
-                    resolution: options.resolution,
-                    mib: bytes >> 20,
-                    limit_mib: MAP_MEMORY_LIMIT >> 20,
-                });
-            }
-            let maps = CellMaps::sample(&gathered.mesh, &grid, options.resolution);
+            let (grid, maps) =
+                fixed_grid(&gathered.mesh, n, options.resolution).map_err(|source| {
+                    RenderError::CellsTooLarge {
+                        name: plan.name.clone(),
+                        source,
+                    }
+                })?;
             (grid, maps, None)
         }
         None => {

@@ -85,13 +85,10 @@ pub enum RenderError {
         mib: u64,
         limit_mib: u64,
     },
-    #[error("--cells {name:?}: a {n}^3 grid's maps at {resolution}^2 would take {mib} MiB while sampled (at most {limit_mib} MiB); lower the grid or the resolution")]
+    #[error("--cells {name:?}: {source}; lower --cells-grid or --cells-resolution")]
     CellsTooLarge {
         name: String,
-        n: u32,
-        resolution: u32,
-        mib: u64,
-        limit_mib: u64,
+        source: crate::cells::GridTooLarge,
     },
 }
 

@@ -48,6 +48,18 @@ impl HeightFormat {
     }
 
     /// Heights back from stored bytes.
+    /// Like [`HeightFormat::encode`], but a 16-bit value rounds up to the next step: for bounds,
+    /// which must not drop below what they bound.
+    pub fn encode_up(self, values: &[f32]) -> Vec<u8> {
+        match self {
+            HeightFormat::R16Unorm => values
+                .iter()
+                .flat_map(|&h| ((h.clamp(0.0, 1.0) * 65535.0).ceil() as u16).to_ne_bytes())
+                .collect(),
+            HeightFormat::R32Float => self.encode(values),
+        }
+    }
+
     pub fn decode(self, bytes: &[u8]) -> Vec<f32> {
         match self {
             HeightFormat::R16Unorm => bytes
@@ -180,13 +192,9 @@ impl GpuHeightfield {
             .levels()
             .iter()
             .enumerate()
-            .map(|(k, level)| match (format, k) {
-                (HeightFormat::R16Unorm, 1..) => level
-                    .data
-                    .iter()
-                    .flat_map(|&h| ((h.clamp(0.0, 1.0) * 65535.0).ceil() as u16).to_ne_bytes())
-                    .collect(),
-                _ => format.encode(&level.data),
+            .map(|(k, level)| match k {
+                0 => format.encode(&level.data),
+                _ => format.encode_up(&level.data),
             })
             .collect();
         let slices: Vec<&[u8]> = levels.iter().map(Vec::as_slice).collect();

@@ -155,6 +155,15 @@ impl LayerStack {
         Ok(LayerStack { heights, weights })
     }
 
+    /// The stack as 16-bit unorm images hold it: every height and weight rounded to the nearest step.
+    pub fn quantized_unorm16(&self) -> LayerStack {
+        let q = |maps: &[Heightfield]| maps.iter().map(Heightfield::quantized_unorm16).collect();
+        LayerStack {
+            heights: q(&self.heights),
+            weights: q(&self.weights),
+        }
+    }
+
     pub fn len(&self) -> usize {
         self.heights.len()
     }
