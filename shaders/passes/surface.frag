@@ -3,7 +3,8 @@
 // variants (build.rs maps "method.glsl" to shaders/methods/<id>.glsl) build the view ray in the
 // height map's texture space, trace it, move every texture lookup to the hit, shade with the
 // height field's normal (or the normal map) and write the displaced point's depth; with a
-// SHADOW_MODE (shadows.glsl) they also shadow each shadow-casting light by the height field. The plain variant
+// SHADOW_MODE (shadows.glsl) they also shadow each shadow-casting light by the height field;
+// TERRAIN_LAYERS variants shade a layered material (terrain_layers.glsl). The plain variant
 // (PLAIN_SURFACE) does none of that; relief variants declare depth_greater, so early depth
 // testing survives their depth writes.
 #extension GL_GOOGLE_include_directive : require
@@ -22,6 +23,9 @@
 #endif
 #include "method.glsl"
 #include "shadows.glsl"
+#ifdef TERRAIN_LAYERS
+#include "terrain_layers.glsl"
+#endif
 #endif
 
 layout(location = 0) in vec3 in_world;
@@ -110,6 +114,13 @@ void main() {
         // The normal map is the surface's finer detail; without one, the height field's own.
         normal = tangent_frame_normal(relief_normal ? normal : n, in_tangent, uv0, uv1);
     }
+#ifdef TERRAIN_LAYERS
+    // A layered material: its layers' look, mixed at the hit by the blend's shading weights.
+    LayerMix layers = mix_layers(uv_hit, normal, f.t, f.b, n);
+    m.base.rgb *= layers.albedo;
+    m.roughness *= layers.roughness;
+    normal = layers.normal;
+#endif
     float occlusion = m.occlusion;
 #ifndef PLAIN_SURFACE
     if (has_texture(SLOT_RELIEF_AO)) {

@@ -18,6 +18,7 @@ mod render;
 mod render_frames;
 mod scene_args;
 mod shading_args;
+mod terrain_args;
 mod trace;
 mod view;
 

@@ -18,6 +18,7 @@ use super::cells_render_args::CellsRenderArgs;
 use super::heightmap_args::HeightmapArgs;
 use super::lod_args::LodArgs;
 use super::shading_args::ShadingArgs;
+use super::terrain_args::TerrainArgs;
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
 pub enum FormatArg {
@@ -68,6 +69,8 @@ pub struct SceneArgs {
     lod: LodArgs,
     #[command(flatten)]
     cells: CellsRenderArgs,
+    #[command(flatten)]
+    terrain: TerrainArgs,
 }
 
 /// A scene ready for a renderer: the scene with every flag applied, the height map relief
@@ -90,6 +93,22 @@ impl SceneArgs {
             None if self.scene.is_none() => DEFAULT_SCENE_METHOD,
             None => Method::POM,
         };
+        if let Some(mut scene) = self.terrain.scene(method, self.depth_scale)? {
+            self.shading.apply(&mut scene)?;
+            self.lod.apply(&mut scene)?;
+            let source = format!(
+                "terrain over {}",
+                self.terrain
+                    .terrain
+                    .as_ref()
+                    .map_or_else(String::new, |p| p.display().to_string())
+            );
+            return Ok(LoadedScene {
+                scene,
+                heights: None,
+                source,
+            });
+        }
         let loaded = self.heights.load()?;
         let mut scene = self.build_scene(method, loaded.is_some())?;
         self.shading.apply(&mut scene)?;
@@ -125,6 +144,19 @@ impl SceneArgs {
 
     fn check(&self) -> anyhow::Result<()> {
         self.cells.check()?;
+        if self.terrain.terrain.is_some() {
+            if let Some(path) = &self.scene {
+                anyhow::bail!(
+                    "--terrain draws the built-in terrain scene; leave out the scene file {}",
+                    path.display()
+                );
+            }
+            if self.heights.heightmap.is_some() || self.heights.field.is_some() {
+                anyhow::bail!(
+                    "--terrain displaces the ground with its layers; leave out --heightmap"
+                );
+            }
+        }
         let (w, h) = (self.width, self.height);
         if w == 0 || h == 0 || w > MAX_SIDE || h > MAX_SIDE {
             anyhow::bail!("--width and --height must be within 1..={MAX_SIDE}, got {w}x{h}");

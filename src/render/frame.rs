@@ -79,6 +79,8 @@ pub enum RenderError {
     Vulkan(#[from] VkError),
     #[error(transparent)]
     Cells(#[from] crate::cells::MeshError),
+    #[error("layered material: {0}")]
+    Layers(String),
     #[error("--cells {name:?}: its maps take {mib} MiB in one storage buffer, more than this device's {limit_mib} MiB; lower --cells-resolution or --cells-max-grid")]
     CellsBufferTooLarge {
         name: String,
@@ -102,6 +104,9 @@ pub(super) fn planned_heights<'a>(
     format: HeightFormat,
 ) -> Result<Cow<'a, Heightfield>, RenderError> {
     let hf = match plan.key {
+        HeightKey::Layers { .. } => {
+            return Err(VkError::Invalid("layered heights are blended on the GPU".into()).into())
+        }
         HeightKey::Frame => Cow::Borrowed(
             frame_heights
                 .ok_or_else(|| VkError::Invalid("the plan reads a frame height map".into()))?,

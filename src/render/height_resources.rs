@@ -21,6 +21,8 @@ use crate::vk::{Bind, Buffer, Context, Recording, VkError, VkResult};
 pub struct HeightResources {
     pub heights: GpuHeightfield,
     pyramid: Option<(PyramidPass, PyramidJob)>,
+    /// The pyramid came built with the heights (`with_pyramid`).
+    prebuilt: bool,
     uniforms: Vec<Buffer>,
     map: Option<GpuMethodMap>,
     mean: MeanBinding,
@@ -85,22 +87,40 @@ impl HeightResources {
         format: HeightFormat,
         address: Address,
         map: Option<&MapData>,
+        frame: FrameUniforms,
+    ) -> VkResult<HeightResources> {
+        Self::with_pyramid_slots(ctx, pyramid, format, address, map, frame, 1)
+    }
+
+    /// [`HeightResources::with_pyramid`] with uniforms for `slots` frame slots.
+    pub fn with_pyramid_slots(
+        ctx: &Arc<Context>,
+        pyramid: &MaxPyramid,
+        format: HeightFormat,
+        address: Address,
+        map: Option<&MapData>,
         mut frame: FrameUniforms,
+        slots: usize,
     ) -> VkResult<HeightResources> {
         let heights = GpuHeightfield::upload_prebuilt(ctx, pyramid, format, address)?;
         frame.height_info = heights.shader_info();
-        let uniforms = vec![Buffer::with_data(
-            ctx,
-            bytemuck::bytes_of(&frame),
-            vk::BufferUsageFlags::UNIFORM_BUFFER,
-            "frame uniforms 0",
-        )?];
+        let uniforms = (0..slots.max(1))
+            .map(|slot| {
+                Buffer::with_data(
+                    ctx,
+                    bytemuck::bytes_of(&frame),
+                    vk::BufferUsageFlags::UNIFORM_BUFFER,
+                    &format!("frame uniforms {slot}"),
+                )
+            })
+            .collect::<VkResult<Vec<_>>>()?;
         let map = map
             .map(|m| GpuMethodMap::upload(ctx, m, address, "method map"))
             .transpose()?;
         Ok(HeightResources {
             heights,
             pyramid: None,
+            prebuilt: true,
             uniforms,
             map,
             mean: MeanBinding::None,
@@ -154,6 +174,7 @@ impl HeightResources {
         Ok(HeightResources {
             heights,
             pyramid,
+            prebuilt: false,
             uniforms,
             map,
             mean,
@@ -246,8 +267,13 @@ impl HeightResources {
         matches!(self.mean, MeanBinding::Built(_))
     }
 
-    /// Whether the height image carries a max pyramid.
+    /// Whether the height image carries a max pyramid (built by the first frame, or uploaded).
     pub fn has_pyramid(&self) -> bool {
+        self.pyramid.is_some() || self.prebuilt
+    }
+
+    /// Whether the first frame builds its pyramid (`record_pyramid`).
+    pub fn builds_pyramid(&self) -> bool {
         self.pyramid.is_some()
     }
 }

@@ -22,6 +22,8 @@ mod frame_stats;
 mod frame_uniforms;
 mod gpu_heightfield;
 mod height_resources;
+mod layer_set;
+mod layered_heights;
 mod lod_note;
 mod map_builder;
 mod map_search;

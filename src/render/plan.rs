@@ -28,6 +28,8 @@ pub enum HeightKey {
         invert: bool,
         address: Address,
     },
+    /// The blend of material `material`'s layers (clamp-addressed: a splat map covers its uv once).
+    Layers { material: usize },
 }
 
 /// One surface pipeline.
@@ -44,12 +46,15 @@ pub struct PipelineKey {
     pub shadows: ShadowSettings,
     /// Level of detail (relief only): the `:lod` variant with these constants.
     pub lod: Option<Lod>,
+    /// Shaded from height-blended layers (set 2): the `:layers` variant.
+    pub layers: bool,
 }
 
 impl PipelineKey {
     /// The SPIR-V variant it is built from.
     pub fn shader(&self) -> String {
         match (self.method, self.lod) {
+            (Some(m), _) if self.layers => format!("{}:layers", m.surface_shader_key()),
             (Some(m), None) => m.surface_shader_key(),
             (Some(m), Some(_)) => format!("{}:lod", m.surface_shader_key()),
             (None, _) => "surface.frag:plain".into(),
@@ -145,6 +150,15 @@ pub enum PlanError {
     NoCellsMesh { name: String, names: String },
     #[error("--cells: the meshes named {name:?} use {count} materials; a cell complex is shaded with one")]
     CellsMaterials { name: String, count: usize },
+    #[error("material {material:?} has relief from its layers, but no layers")]
+    NoLayers { material: String },
+    #[error("material {material:?}: {source}")]
+    Layers {
+        material: String,
+        source: crate::scene::LayersError,
+    },
+    #[error("material {material:?}: layered materials have no level of detail yet; leave out --lod for it")]
+    LayersLod { material: String },
     #[error(
         "material {material:?}: height texture names image {image}, but the scene has {count}"
     )]
@@ -153,6 +167,38 @@ pub enum PlanError {
         image: usize,
         count: usize,
     },
+}
+
+/// `material`'s layers, checked, with every texture they name in the scene.
+fn checked_layers<'a>(
+    scene: &Scene,
+    material: &'a crate::scene::Material,
+) -> Result<&'a crate::scene::Layers, PlanError> {
+    let layers = material
+        .layers
+        .as_ref()
+        .ok_or_else(|| PlanError::NoLayers {
+            material: material.name.clone(),
+        })?;
+    layers.check().map_err(|source| PlanError::Layers {
+        material: material.name.clone(),
+        source,
+    })?;
+    let textures = layers.layers.iter().flat_map(|l| {
+        [Some(l.height), l.albedo, l.normal, l.roughness]
+            .into_iter()
+            .flatten()
+    });
+    for t in textures.chain([layers.splat]) {
+        if t.image >= scene.images.len() {
+            return Err(PlanError::NoImage {
+                material: material.name.clone(),
+                image: t.image,
+                count: scene.images.len(),
+            });
+        }
+    }
+    Ok(layers)
 }
 
 fn address_of(wrap: [Wrap; 2]) -> Address {
@@ -249,6 +295,25 @@ impl Plan {
                             let size = (image.pixels.width(), image.pixels.height());
                             (key, format!("image {}", image.name), size)
                         }
+                        HeightSource::Layers => {
+                            let layers = checked_layers(scene, material)?;
+                            if relief.lod.is_some() {
+                                return Err(PlanError::LayersLod {
+                                    material: material.name.clone(),
+                                });
+                            }
+                            let n = layers.resolution;
+                            let source = format!(
+                                "{} layers of {:?} blended ({})",
+                                layers.layers.len(),
+                                material.name,
+                                layers.mode
+                            );
+                            let key = HeightKey::Layers {
+                                material: mesh.material,
+                            };
+                            (key, source, (n, n))
+                        }
                     };
                     let shadows = if casts_shadows {
                         relief.shadows.mode
@@ -276,6 +341,9 @@ impl Plan {
                     _ => ShadowSettings::new(ShadowMode::None),
                 },
                 lod: material.relief.and_then(|r| r.lod),
+                layers: material
+                    .relief
+                    .is_some_and(|r| r.height == HeightSource::Layers),
             };
             let pipeline = match plan.pipelines.iter().position(|p| *p == pipeline) {
                 Some(k) => k,

@@ -9,6 +9,7 @@
 //! frame (its fence has long signalled in a steady stream), so its timings and pixels are read
 //! a frame later, without stalling the frame being recorded.
 
+use std::borrow::Cow;
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -16,6 +17,7 @@ use super::cells_pass::{BuiltComplex, CellsPass};
 use super::frame::{planned_heights, BuiltMap, RenderError, RenderOptions};
 use super::frame_uniforms::{frame_camera, FrameUniforms};
 use super::height_resources::{HeightResources, HeightUpload};
+use super::layered_heights::blended_heights;
 use super::map_builder::{build_method_map_with, MapBuilder};
 use super::pass::Pass;
 use super::pass_timer::{per_pass, PassTimer, PassTiming, Scope};
@@ -23,7 +25,7 @@ use super::plan::{HeightKey, Plan};
 use super::scene_ao::SceneAo;
 use super::surface_pass::SurfacePass;
 use super::targets::Targets;
-use crate::heightfield::Heightfield;
+use crate::heightfield::{Address, Heightfield};
 use crate::method::MapKind;
 use crate::scene::{Camera, Frustum, Light, Scene};
 use crate::vk::{CommandSlot, Context, Image, Readback, VkError, VkResult};
@@ -232,7 +234,11 @@ impl Renderer {
         let timer = &mut slot.timer;
         let culled = slot.commands.submit(|rec| {
             if build_pyramids {
-                for (part, h) in heights.iter().enumerate().filter(|(_, h)| h.has_pyramid()) {
+                for (part, h) in heights
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, h)| h.builds_pyramid())
+                {
                     let scope = Scope {
                         pass: Pass::Pyramid,
                         part: Some(part),
@@ -375,10 +381,38 @@ fn upload_heights(
     let mut heights = Vec::with_capacity(plan.heights.len());
     let mut maps = Vec::new();
     for hp in &plan.heights {
-        let stored = planned_heights(ctx, scene, hp, frame_heights, opts.height_format)?;
-        let address = match hp.key {
-            HeightKey::Frame => opts.address,
-            HeightKey::Image { address, .. } => address,
+        let (stored, address, prebuilt) = match hp.key {
+            HeightKey::Layers { material } => {
+                let layers = scene.materials[material].layers.as_ref().ok_or_else(|| {
+                    VkError::Invalid("the plan blends a material without layers".into())
+                })?;
+                let blended = blended_heights(ctx, scene, layers, opts.height_format)?;
+                maps.push(BuiltMap {
+                    kind: "layer stack",
+                    source: hp.source.clone(),
+                    size: [hp.size.0, hp.size.1],
+                    ms: blended.stack_ms,
+                    on: "cpu",
+                });
+                maps.push(BuiltMap {
+                    kind: "blended pyramid",
+                    source: hp.source.clone(),
+                    size: [hp.size.0, hp.size.1],
+                    ms: blended.gpu_ms,
+                    on: "gpu",
+                });
+                let level = blended.pyramid.level(0);
+                let field = Heightfield::from_valid(level.width, level.height, level.data.clone());
+                (Cow::Owned(field), Address::Clamp, Some(blended.pyramid))
+            }
+            HeightKey::Frame => {
+                let stored = planned_heights(ctx, scene, hp, frame_heights, opts.height_format)?;
+                (stored, opts.address, None)
+            }
+            HeightKey::Image { address, .. } => {
+                let stored = planned_heights(ctx, scene, hp, frame_heights, opts.height_format)?;
+                (stored, address, None)
+            }
         };
         let map = match hp.map_method {
             Some(method) => build_method_map_with(method, &stored, address, MapBuilder::Gpu(ctx))?,
@@ -393,10 +427,23 @@ fn upload_heights(
                 on: built.on,
             });
         }
+        let map_data = map.as_ref().map(|built| &built.data);
+        if let Some(pyramid) = &prebuilt {
+            heights.push(HeightResources::with_pyramid_slots(
+                ctx,
+                pyramid,
+                opts.height_format,
+                address,
+                map_data,
+                uniforms,
+                FRAMES_IN_FLIGHT,
+            )?);
+            continue;
+        }
         let upload = HeightUpload {
             format: opts.height_format,
             address,
-            map: map.as_ref().map(|built| &built.data),
+            map: map_data,
             pyramid: hp.pyramid,
             slots: FRAMES_IN_FLIGHT,
             mean_binding: hp.mean_binding,

@@ -10,6 +10,7 @@ use glam::{Mat3, Mat4, Vec3};
 
 use super::frame_uniforms::FrameUniforms;
 use super::height_resources::HeightResources;
+use super::layer_set::{layer_layout, LayerSets};
 use super::material_set::{material_layout, MaterialSets};
 use super::plan::{PipelineKey, Plan};
 use super::scene_ao::SceneAo;
@@ -97,6 +98,8 @@ struct MeshDraw {
     /// Set 0 per frame slot.
     frame_sets: Vec<DescriptorSet>,
     material_set: DescriptorSet,
+    /// Set 2 of layered materials.
+    layer_set: Option<DescriptorSet>,
     push: DrawPush,
     blend: bool,
     center: Vec3,
@@ -109,6 +112,7 @@ pub struct SurfacePass {
     pipelines: Vec<Pipeline>,
     draws: Vec<MeshDraw>,
     materials: MaterialSets,
+    _layers: LayerSets,
     _textures: SceneTextures,
     _frame_pool: DescriptorPool,
     /// The plain variant's uniforms, one per frame slot (empty when nothing is drawn plain).
@@ -196,6 +200,22 @@ impl SurfacePass {
             &relief_ao,
             &mut textures,
         )?;
+        let layer_layout = layer_layout(ctx)?;
+        let mut layered = vec![false; scene.materials.len()];
+        for d in plan
+            .draws
+            .iter()
+            .filter(|d| plan.pipelines[d.pipeline].layers)
+        {
+            layered[d.material] = true;
+        }
+        let layers = LayerSets::new(
+            ctx,
+            &layer_layout,
+            &scene.materials,
+            &scene.images,
+            &layered,
+        )?;
         let sets = (heights.len() as u32 + 1) * slots as u32;
         let frame_pool = DescriptorPool::new(ctx, sets, 4 * sets, "frame sets")?;
         let height_sets = heights
@@ -243,7 +263,12 @@ impl SurfacePass {
                     Some(m) if m.info().method_map().is_some() => &layouts.heights_and_map,
                     Some(_) => &layouts.heights,
                 };
-                create_pipeline(ctx, key, &[set0.raw(), material_layout.raw()])
+                if key.layers {
+                    let sets = [set0.raw(), material_layout.raw(), layer_layout.raw()];
+                    create_pipeline(ctx, key, &sets)
+                } else {
+                    create_pipeline(ctx, key, &[set0.raw(), material_layout.raw()])
+                }
             })
             .collect::<VkResult<Vec<_>>>()?;
         let mut draws = Vec::with_capacity(plan.draws.len());
@@ -275,6 +300,9 @@ impl SurfacePass {
                 pipeline: d.pipeline,
                 frame_sets,
                 material_set,
+                layer_set: layers
+                    .set(d.material)
+                    .filter(|_| plan.pipelines[d.pipeline].layers),
                 push: DrawPush::of(mesh.transform),
                 blend: plan.pipelines[d.pipeline].blend,
                 center: mesh.transform.transform_point3((lo + hi) * 0.5),
@@ -285,6 +313,7 @@ impl SurfacePass {
             pipelines,
             draws,
             materials,
+            _layers: layers,
             _frame_pool: frame_pool,
             plain_uniforms,
             plain_sets,
@@ -294,6 +323,7 @@ impl SurfacePass {
                 layouts.heights_and_map,
                 layouts.heights_and_mean,
                 material_layout,
+                layer_layout,
             ],
             _textures: textures,
         })
@@ -344,6 +374,9 @@ impl SurfacePass {
             let set = draw.frame_sets[slot.min(draw.frame_sets.len() - 1)];
             pipeline.bind(rec, Some(set));
             pipeline.bind_set(rec, 1, draw.material_set);
+            if let Some(layers) = draw.layer_set {
+                pipeline.bind_set(rec, 2, layers);
+            }
             pipeline.push(rec, bytemuck::bytes_of(&draw.push))?;
             rec.bind_mesh(&draw.vertices, &draw.indices);
             rec.draw_indexed(draw.index_count);

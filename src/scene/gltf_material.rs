@@ -101,6 +101,7 @@ fn convert(doc: &gltf::Document, m: &gltf::Material, raw: &Value) -> Result<Mate
         alpha_mode,
         double_sided: m.double_sided(),
         relief,
+        layers: None,
     };
     check_factors(&mat)?;
     Ok(mat)

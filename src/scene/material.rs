@@ -1,5 +1,6 @@
 //! Materials: glTF metallic-roughness with textures, samplers and uv transforms, plus relief.
 
+use super::layered::Layers;
 use super::lod::Lod;
 use super::shading::{AoMode, ShadowSettings};
 use crate::heightfield::Channel;
@@ -142,6 +143,8 @@ pub enum HeightSource {
         channel: Channel,
         invert: bool,
     },
+    /// The blend of the material's layers (`Material::layers`).
+    Layers,
 }
 
 /// How a material is displaced.
@@ -199,6 +202,8 @@ pub struct Material {
     pub double_sided: bool,
     /// Relief, or `None` for a plain surface.
     pub relief: Option<Relief>,
+    /// Height-blended layers, read when the relief's height source is `Layers`.
+    pub layers: Option<Layers>,
 }
 
 impl Default for Material {
@@ -219,6 +224,7 @@ impl Default for Material {
             alpha_mode: AlphaMode::Opaque,
             double_sided: false,
             relief: None,
+            layers: None,
         }
     }
 }

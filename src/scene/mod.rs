@@ -15,6 +15,7 @@ mod gltf_mesh;
 mod gltf_nodes;
 mod gltf_prepass;
 mod gltf_skin_check;
+mod layered;
 mod light_extras;
 mod lod;
 mod material;
@@ -28,6 +29,7 @@ pub use camera::{Camera, Projection};
 pub use camera_path::{CameraPath, Interpolation, Keyed, Keyframe, NodeMotion, Track, TrackError};
 pub use frustum::Frustum;
 pub use gltf_load::{load_gltf, load_gltf_with_report, LoadReport, SceneError, SceneOptions};
+pub use layered::{Layers, LayersError, MaterialLayer, MAX_LAYERED_RESOLUTION};
 pub use light_extras::MAX_ANGULAR_RADIUS_DEG;
 pub use lod::Lod;
 pub use material::{

@@ -71,6 +71,16 @@ impl SplatMap {
         })
     }
 
+    /// Width and height in texels.
+    pub fn size(&self) -> (u32, u32) {
+        (self.width, self.height)
+    }
+
+    /// The weights of texel `(i, j)`.
+    pub fn texel(&self, i: u32, j: u32) -> [f32; 4] {
+        self.texels[j as usize * self.width as usize + i as usize]
+    }
+
     /// The weights at `(u, v)`, bilinear between texel centres, clamped at the edges.
     pub fn sample(&self, u: f64, v: f64) -> [f32; 4] {
         let axis = |t: f64, n: u32| {

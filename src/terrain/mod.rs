@@ -14,6 +14,11 @@
 //! so the exact reference traces the blended field ([`blended_field`]) as it traces any other. A
 //! layer whose weight is 1 where every other weight is 0 gives back its own heights bit for bit.
 //!
+//! [`tiled_stack`] puts a layered material's layers, each tiled, on the grid its blended field is
+//! traced at; [`splat_from_rules`] weighs layers by altitude and slope where no splat map is painted.
+//!
+//! [`terrain_scene`] is the built-in terrain: the tiled ground under one layered material.
+//!
 //! [`terrain_tiles`] makes the ground those layers lie on: a tiled grid mesh over an elevation
 //! map.
 //!
@@ -24,11 +29,17 @@
 mod blend;
 mod blended_pyramid;
 mod brush;
+mod detail;
 mod grid;
 mod layers;
+mod rules;
+mod scene;
 
 pub use blend::{blended_field, BlendMode};
 pub use blended_pyramid::{blended_pyramid, least_sum_slack, node_bound};
 pub use brush::{coarse_span, BrushKind, Stroke, StrokeError, TexelRect};
+pub use detail::{tiled_stack, TiledLayer};
 pub use grid::{terrain_tiles, GridOptions};
 pub use layers::{LayerError, LayerStack, SplatMap, MAX_LAYERS};
+pub use rules::{splat_from_rules, LayerRule};
+pub use scene::{procedural_layers, rules_splat, terrain_scene, GroundLayer, TerrainOptions};

@@ -151,7 +151,8 @@ pub fn transition_images(rec: &Recording, list: &[ImageTransition]) {
                         .aspect_mask(t.aspect)
                         .base_mip_level(t.base_mip)
                         .level_count(t.mip_count)
-                        .layer_count(1),
+                        // Every layer of array images; plain images have one.
+                        .layer_count(vk::REMAINING_ARRAY_LAYERS),
                 )
         })
         .collect();

@@ -29,12 +29,42 @@ pub struct Image {
     view: vk::ImageView,
     allocation: Option<Allocation>,
     desc: ImageDesc,
+    /// Array layers; views of array images are `TYPE_2D_ARRAY` even with one layer.
+    layers: u32,
+    array: bool,
     name: String,
 }
 
 impl Image {
     /// Creates the image in GPU memory, named `name`, with a view of every mip level.
     pub fn new(ctx: &Arc<Context>, desc: ImageDesc, name: &str) -> VkResult<Image> {
+        Self::create(ctx, desc, None, name)
+    }
+
+    /// An array image of `layers` layers (read as `sampler2DArray`), its view over every layer
+    /// and mip level.
+    pub fn new_array(
+        ctx: &Arc<Context>,
+        desc: ImageDesc,
+        layers: u32,
+        name: &str,
+    ) -> VkResult<Image> {
+        // Vulkan's guaranteed minimum of maxImageArrayLayers.
+        let limit = 256;
+        if layers == 0 || layers > limit {
+            return Err(VkError::Invalid(format!(
+                "image {name:?} of {layers} layers (the device allows 1..={limit})"
+            )));
+        }
+        Self::create(ctx, desc, Some(layers), name)
+    }
+
+    fn create(
+        ctx: &Arc<Context>,
+        desc: ImageDesc,
+        array: Option<u32>,
+        name: &str,
+    ) -> VkResult<Image> {
         let limit = ctx.info().max_image_dimension_2d;
         if desc.width == 0 || desc.height == 0 || desc.width > limit || desc.height > limit {
             return Err(VkError::Invalid(format!(
@@ -52,7 +82,7 @@ impl Image {
                 depth: 1,
             })
             .mip_levels(desc.mip_levels)
-            .array_layers(1)
+            .array_layers(array.unwrap_or(1))
             .samples(vk::SampleCountFlags::TYPE_1)
             .tiling(vk::ImageTiling::OPTIMAL)
             .usage(desc.usage)
@@ -68,6 +98,8 @@ impl Image {
             view: vk::ImageView::null(),
             allocation: None,
             desc,
+            layers: array.unwrap_or(1),
+            array: array.is_some(),
             name: name.to_owned(),
         };
         image.bind_memory()?;
@@ -110,14 +142,18 @@ impl Image {
     fn create_view(&self, base_mip: u32, mip_count: u32) -> VkResult<vk::ImageView> {
         let info = vk::ImageViewCreateInfo::default()
             .image(self.raw)
-            .view_type(vk::ImageViewType::TYPE_2D)
+            .view_type(if self.array {
+                vk::ImageViewType::TYPE_2D_ARRAY
+            } else {
+                vk::ImageViewType::TYPE_2D
+            })
             .format(self.desc.format)
             .subresource_range(
                 vk::ImageSubresourceRange::default()
                     .aspect_mask(self.desc.aspect)
                     .base_mip_level(base_mip)
                     .level_count(mip_count)
-                    .layer_count(1),
+                    .layer_count(self.layers),
             );
         // SAFETY: the range lies within the image.
         unsafe { self.ctx.device().create_image_view(&info, None) }.named("vkCreateImageView")
@@ -153,6 +189,11 @@ impl Image {
     /// What the image was created with.
     pub fn desc(&self) -> &ImageDesc {
         &self.desc
+    }
+
+    /// Array layers (1 for plain images).
+    pub fn layer_count(&self) -> u32 {
+        self.layers
     }
 
     /// The debug name.

@@ -61,20 +61,41 @@ pub fn upload_mips(
     levels: &[&[u8]],
     final_layout: vk::ImageLayout,
 ) -> VkResult<()> {
+    upload_layers(ctx, image, &[levels.to_vec()], final_layout)
+}
+
+/// Uploads `layers[l][k]` (tightly packed rows) into mip `k` of array layer `l` and leaves the
+/// whole image in `final_layout`.
+pub fn upload_layers(
+    ctx: &Arc<Context>,
+    image: &Image,
+    layers: &[Vec<&[u8]>],
+    final_layout: vk::ImageLayout,
+) -> VkResult<()> {
+    if layers.len() != image.layer_count() as usize {
+        return Err(VkError::Invalid(format!(
+            "{} layers for {:?}, which has {}",
+            layers.len(),
+            image.name(),
+            image.layer_count()
+        )));
+    }
     let texel = texel_size(image.desc().format)?;
-    let mut offsets = Vec::with_capacity(levels.len());
+    let mut offsets = Vec::new();
     let mut total = 0usize;
-    for (k, bytes) in levels.iter().enumerate() {
-        let (w, h) = image.level_extent(k as u32);
-        if bytes.len() != w as usize * h as usize * texel {
-            return Err(VkError::Invalid(format!(
-                "mip {k} of {:?}: {} bytes for {w}x{h}",
-                image.name(),
-                bytes.len()
-            )));
+    for (l, levels) in layers.iter().enumerate() {
+        for (k, bytes) in levels.iter().enumerate() {
+            let (w, h) = image.level_extent(k as u32);
+            if bytes.len() != w as usize * h as usize * texel {
+                return Err(VkError::Invalid(format!(
+                    "mip {k} of layer {l} of {:?}: {} bytes for {w}x{h}",
+                    image.name(),
+                    bytes.len()
+                )));
+            }
+            offsets.push((l as u32, k as u32, total));
+            total = (total + bytes.len()).next_multiple_of(16);
         }
-        offsets.push(total);
-        total = (total + bytes.len()).next_multiple_of(16);
     }
     let mut staging = Buffer::new(
         ctx,
@@ -83,17 +104,16 @@ pub fn upload_mips(
         MemoryLocation::CpuToGpu,
         &format!("{} staging", image.name()),
     )?;
-    for (bytes, &offset) in levels.iter().zip(&offsets) {
+    for (bytes, &(_, _, offset)) in layers.iter().flatten().zip(&offsets) {
         staging.write(offset, bytes)?;
     }
     let regions: Vec<_> = offsets
         .iter()
-        .enumerate()
-        .map(|(k, &offset)| {
-            let (w, h) = image.level_extent(k as u32);
+        .map(|&(layer, level, offset)| {
+            let (w, h) = image.level_extent(level);
             vk::BufferImageCopy::default()
                 .buffer_offset(offset as u64)
-                .image_subresource(layers(image, k as u32))
+                .image_subresource(subresource(image, level).base_array_layer(layer))
                 .image_extent(vk::Extent3D {
                     width: w,
                     height: h,
@@ -119,7 +139,7 @@ pub fn upload_mips(
     })
 }
 
-fn layers(image: &Image, level: u32) -> vk::ImageSubresourceLayers {
+fn subresource(image: &Image, level: u32) -> vk::ImageSubresourceLayers {
     vk::ImageSubresourceLayers::default()
         .aspect_mask(image.desc().aspect)
         .mip_level(level)
@@ -141,7 +161,7 @@ pub fn read_mip(
     ctx.one_shot(|rec| {
         transition_images(rec, &[all_mips(image, layout, src)]);
         let region = vk::BufferImageCopy::default()
-            .image_subresource(layers(image, level))
+            .image_subresource(subresource(image, level))
             .image_extent(vk::Extent3D {
                 width: w,
                 height: h,
