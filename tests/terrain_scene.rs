@@ -9,6 +9,7 @@ mod common;
 
 use relief::heightfield::{Generator, Heightfield};
 use relief::render::{render, RenderOptions};
+use relief::scene::{HeightSource, Material, Relief, Scene, UvTransform};
 use relief::terrain::{
     procedural_layers, rules_splat, terrain_scene, GridOptions, SplatMap, TerrainOptions,
 };
@@ -63,5 +64,200 @@ fn the_built_in_terrain_matches_its_golden_image() {
     )
     .unwrap();
     common::golden::check_golden("terrain_scene", WIDTH, HEIGHT, &frame.rgba);
+    common::assert_no_validation_errors(&ctx);
+}
+
+/// `scene`'s layered ground redrawn as layer 0 alone: its height and albedo as plain textures
+/// repeated `tiling` times, at the same depth per tile.
+fn as_single_layer(scene: &Scene, tiling: f32) -> Scene {
+    let mut single = scene.clone();
+    let layered = &scene.materials[0];
+    let layer = &layered.layers.as_ref().unwrap().layers[0];
+    let transform = UvTransform {
+        scale: [tiling; 2],
+        ..UvTransform::default()
+    };
+    let relief = layered.relief.unwrap();
+    let mut height = layer.height;
+    height.transform = transform;
+    let mut albedo = layer.albedo.unwrap();
+    albedo.transform = transform;
+    single.materials[0] = Material {
+        base_color_texture: Some(albedo),
+        relief: Some(Relief {
+            height: HeightSource::Texture {
+                texture: height,
+                channel: layer.height_channel,
+                invert: false,
+            },
+            depth_scale: relief.depth_scale * tiling,
+            ..relief
+        }),
+        layers: None,
+        ..layered.clone()
+    };
+    single
+}
+
+#[test]
+fn one_hot_layers_render_as_that_layer_alone() {
+    let Some(ctx) = common::device("one_hot_layers_render_as_that_layer_alone") else {
+        return;
+    };
+    // 64^2 layers tiled 4 times on a 256^2 field: the field is layer 0 repeated texel for texel.
+    let opts = small_options();
+    let elevation = elevation();
+    let one_hot = SplatMap::new(1, 1, vec![[1.0, 0.0, 0.0, 0.0]]).unwrap();
+    let layered = terrain_scene(&elevation, procedural_layers(64), &one_hot, &opts);
+    let single = as_single_layer(&layered, opts.tiling);
+    let a = render(&ctx, &layered, None, &options()).expect("renders layered");
+    let b = render(&ctx, &single, None, &options()).expect("renders single");
+    assert!(a.plan.pipelines[0].layers && !b.plan.pipelines[0].layers);
+    let (mean, p99, diff) = common::golden::compare(&a.rgba, &b.rgba);
+    eprintln!("one-hot layered vs single layer: mean {mean:.3}, p99 {p99}");
+    if mean > 1.0 || p99 > 16 {
+        let dir = common::evidence_dir("terrain");
+        for (name, rgba) in [
+            ("one_hot_layered", &a.rgba),
+            ("one_hot_single", &b.rgba),
+            ("one_hot_diff", &diff),
+        ] {
+            image::save_buffer(
+                dir.join(format!("{name}.png")),
+                rgba,
+                WIDTH,
+                HEIGHT,
+                image::ColorType::Rgba8,
+            )
+            .unwrap();
+        }
+        panic!(
+            "one-hot layers differ from the layer alone: mean {mean:.3}, p99 {p99}; images in {}",
+            dir.display()
+        );
+    }
+    common::assert_no_validation_errors(&ctx);
+}
+
+/// A plane whose material blends two layers by `extras.relief.layers`: a splat map of two
+/// texels, layer 0 (red) on the left half, layer 1 (blue) on the right, seen from above.
+fn write_layered_gltf(dir: &std::path::Path) -> std::path::PathBuf {
+    Generator::Bricks
+        .generate(64, 64, 7)
+        .save_png16(&dir.join("bricks.png"))
+        .unwrap();
+    Generator::Fbm
+        .generate(64, 64, 8)
+        .save_png16(&dir.join("fbm.png"))
+        .unwrap();
+    let solid =
+        |c: [u8; 3]| image::RgbaImage::from_pixel(8, 8, image::Rgba([c[0], c[1], c[2], 255]));
+    solid([200, 40, 30]).save(dir.join("red.png")).unwrap();
+    solid([30, 60, 200]).save(dir.join("blue.png")).unwrap();
+    let splat = image::RgbaImage::from_fn(2, 1, |x, _| {
+        if x == 0 {
+            image::Rgba([255, 0, 0, 0])
+        } else {
+            image::Rgba([0, 255, 0, 0])
+        }
+    });
+    splat.save(dir.join("splat.png")).unwrap();
+    let positions: [[f32; 3]; 4] = [[-1., 0., -1.], [1., 0., -1.], [1., 0., 1.], [-1., 0., 1.]];
+    let normals = [[0f32, 1., 0.]; 4];
+    let uvs: [[f32; 2]; 4] = [[0., 0.], [1., 0.], [1., 1.], [0., 1.]];
+    let indices: [u16; 6] = [0, 2, 1, 0, 3, 2];
+    let mut bin: Vec<u8> = Vec::new();
+    bin.extend_from_slice(bytemuck::cast_slice(&positions));
+    bin.extend_from_slice(bytemuck::cast_slice(&normals));
+    bin.extend_from_slice(bytemuck::cast_slice(&uvs));
+    bin.extend_from_slice(bytemuck::cast_slice(&indices));
+    bin.extend_from_slice(&[0, 0]);
+    std::fs::write(dir.join("plane.bin"), &bin).unwrap();
+    let gltf = serde_json::json!({
+        "asset": {"version": "2.0"},
+        "scene": 0,
+        "scenes": [{"nodes": [0, 1]}],
+        "nodes": [
+            {"mesh": 0},
+            {"camera": 0, "translation": [0.0, 2.6, 0.0], "rotation": [-0.70710678, 0.0, 0.0, 0.70710678]}
+        ],
+        "cameras": [{"type": "perspective", "perspective": {"yfov": 0.8, "znear": 0.05, "zfar": 50.0}}],
+        "meshes": [{"primitives": [{
+            "attributes": {"POSITION": 0, "NORMAL": 1, "TEXCOORD_0": 2},
+            "indices": 3, "material": 0
+        }]}],
+        "materials": [{
+            "name": "layered",
+            "extras": {"relief": {
+                "depth_scale": 0.02, "method": "qdm",
+                "layers": {"mode": "height", "splat": 4, "resolution": 256, "layers": [
+                    {"name": "bricks", "height": 0, "albedo": 2, "tiling": 4},
+                    {"name": "fbm", "height": 1, "albedo": 3, "tiling": 4, "depth": 0.8}
+                ]}
+            }}
+        }],
+        "textures": [{"source": 0}, {"source": 1}, {"source": 2}, {"source": 3}, {"source": 4}],
+        "images": [{"uri": "bricks.png"}, {"uri": "fbm.png"}, {"uri": "red.png"}, {"uri": "blue.png"}, {"uri": "splat.png"}],
+        "buffers": [{"uri": "plane.bin", "byteLength": bin.len()}],
+        "bufferViews": [
+            {"buffer": 0, "byteOffset": 0, "byteLength": 48},
+            {"buffer": 0, "byteOffset": 48, "byteLength": 48},
+            {"buffer": 0, "byteOffset": 96, "byteLength": 32},
+            {"buffer": 0, "byteOffset": 128, "byteLength": 12}
+        ],
+        "accessors": [
+            {"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [-1.0, 0.0, -1.0], "max": [1.0, 0.0, 1.0]},
+            {"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC3"},
+            {"bufferView": 2, "componentType": 5126, "count": 4, "type": "VEC2"},
+            {"bufferView": 3, "componentType": 5123, "count": 6, "type": "SCALAR"}
+        ]
+    });
+    let path = dir.join("layered.gltf");
+    std::fs::write(&path, serde_json::to_vec_pretty(&gltf).unwrap()).unwrap();
+    path
+}
+
+#[test]
+fn gltf_layer_extras_blend_their_layers_by_the_splat_map() {
+    let Some(ctx) = common::device("gltf_layer_extras_blend_their_layers") else {
+        return;
+    };
+    let dir = common::scratch_dir("layered_gltf");
+    let scene =
+        relief::scene::load_gltf(&write_layered_gltf(&dir), &Default::default()).expect("loads");
+    let layers = scene.materials[0]
+        .layers
+        .as_ref()
+        .expect("the extras' layers");
+    assert_eq!(layers.layers.len(), 2);
+    let frame = render(&ctx, &scene, None, &options()).expect("renders");
+    assert!(frame.plan.pipelines[0].layers);
+    assert!(
+        frame.maps.iter().any(|m| m.kind == "blended pyramid"),
+        "{:?}",
+        frame.maps
+    );
+    // Mean red and blue over a band of columns, rows through the middle of the image.
+    let band = |x0: u32, x1: u32| {
+        let (mut r, mut b) = (0.0, 0.0);
+        for y in HEIGHT / 3..2 * HEIGHT / 3 {
+            for x in x0..x1 {
+                let p = &frame.rgba[((y * WIDTH + x) * 4) as usize..];
+                r += f64::from(p[0]);
+                b += f64::from(p[2]);
+            }
+        }
+        (r, b)
+    };
+    let (left_r, left_b) = band(WIDTH / 2 - 40, WIDTH / 2 - 20);
+    let (right_r, right_b) = band(WIDTH / 2 + 20, WIDTH / 2 + 40);
+    assert!(
+        left_r > 2.0 * left_b,
+        "left half is layer 0's red: r {left_r} b {left_b}"
+    );
+    assert!(
+        right_b > 2.0 * right_r,
+        "right half is layer 1's blue: r {right_r} b {right_b}"
+    );
     common::assert_no_validation_errors(&ctx);
 }

@@ -471,7 +471,19 @@ impl Plan {
     }
 
     fn note_passes(&mut self, casts_shadows: bool) {
-        let pyramids = self.heights.iter().filter(|h| h.pyramid).count();
+        let blended = |h: &&HeightPlan| matches!(h.key, HeightKey::Layers { .. });
+        let pyramids = self
+            .heights
+            .iter()
+            .filter(|h| h.pyramid && !blended(h))
+            .count();
+        let layered = self.heights.iter().filter(blended).count();
+        if layered > 0 {
+            self.skip(
+                format!("{} for {layered} layered height map(s)", Pass::Pyramid.name()),
+                "a layered material's conservative pyramid is blended from its layers' and weights' pyramids when they are uploaded (maps: blended pyramid)",
+            );
+        }
         if pyramids > 0 {
             self.passes.push(PassPlan {
                 pass: Pass::Pyramid,

@@ -74,7 +74,7 @@ fn convert(doc: &gltf::Document, m: &gltf::Material, raw: &Value) -> Result<Mate
         gltf::material::AlphaMode::Blend => AlphaMode::Blend,
     };
     let extras = m.extras().as_ref().map(|r| r.get());
-    let relief = parse_relief(
+    let parsed = parse_relief(
         extras,
         |index, tex_coord| {
             let t = doc.textures().nth(index)?;
@@ -82,6 +82,10 @@ fn convert(doc: &gltf::Document, m: &gltf::Material, raw: &Value) -> Result<Mate
         },
         doc.textures().len(),
     )?;
+    let (relief, layers) = match parsed {
+        Some((relief, layers)) => (Some(relief), layers),
+        None => (None, None),
+    };
     let mat = Material {
         name: m.name().map_or_else(
             || format!("material {}", m.index().unwrap_or(0)),
@@ -101,7 +105,7 @@ fn convert(doc: &gltf::Document, m: &gltf::Material, raw: &Value) -> Result<Mate
         alpha_mode,
         double_sided: m.double_sided(),
         relief,
-        layers: None,
+        layers,
     };
     check_factors(&mat)?;
     Ok(mat)

@@ -15,6 +15,7 @@ mod gltf_mesh;
 mod gltf_nodes;
 mod gltf_prepass;
 mod gltf_skin_check;
+mod layer_extras;
 mod layered;
 mod light_extras;
 mod lod;

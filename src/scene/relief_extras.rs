@@ -18,7 +18,8 @@
 //! into the traversal's stop level, `bias` is added to it, past `fade_start` world units from the
 //! eye the relief fades to normal mapping until `fade_end` (0: no fade), and stop levels below
 //! `average_below` end on the averaged pyramid, 0 never). Without
-//! `height` the material takes the frame's height map. Extras without `relief` are ignored;
+//! `height` the material takes the frame's height map, unless it has `layers` (height-blended
+//! layers, documented in `layer_extras`). Extras without `relief` are ignored;
 //! unknown keys inside `relief` are errors, so a misspelt setting is not silently dropped.
 
 use std::fmt::Display;
@@ -26,18 +27,20 @@ use std::str::FromStr;
 
 use serde_json::{Map, Value};
 
-use super::{AoMode, HeightSource, Lod, Relief, ShadowMode, ShadowSettings, TextureRef};
+use super::layer_extras::parse_layers;
+use super::{AoMode, HeightSource, Layers, Lod, Relief, ShadowMode, ShadowSettings, TextureRef};
 use crate::heightfield::Channel;
 use crate::method::Method;
 
-/// The relief a material's extras ask for, or `None` when they do not mention relief.
+/// The relief a material's extras ask for with its layers (`extras.relief.layers`, see
+/// `layer_extras`), or `None` when they do not mention relief.
 /// `texture(index, tex_coord)` resolves a glTF texture index (`None`: no such texture);
 /// `texture_count` is only for the message. Errors name the offending field.
 pub(super) fn parse_relief(
     extras: Option<&str>,
     texture: impl Fn(usize, u32) -> Option<TextureRef>,
     texture_count: usize,
-) -> Result<Option<Relief>, String> {
+) -> Result<Option<(Relief, Option<Layers>)>, String> {
     let Some(text) = extras else { return Ok(None) };
     let root: Value = serde_json::from_str(text).map_err(|e| format!("extras: {e}"))?;
     let Some(relief) = root.as_object().and_then(|o| o.get("relief")) else {
@@ -57,6 +60,7 @@ pub(super) fn parse_relief(
             "horizon_reach",
             "ao",
             "lod",
+            "layers",
         ],
     )?;
     let depth_scale = match relief.get("depth_scale") {
@@ -82,9 +86,17 @@ pub(super) fn parse_relief(
                 })?,
         ),
     };
-    let height = match relief.get("height") {
-        None => HeightSource::Frame,
-        Some(h) => height_source(h, texture, texture_count)?,
+    let layers = relief
+        .get("layers")
+        .map(|v| parse_layers(v, &texture, texture_count))
+        .transpose()?;
+    let height = match (relief.get("height"), &layers) {
+        (Some(_), Some(_)) => {
+            return Err("extras.relief: give height or layers, not both".into());
+        }
+        (None, Some(_)) => HeightSource::Layers,
+        (None, None) => HeightSource::Frame,
+        (Some(h), None) => height_source(h, texture, texture_count)?,
     };
     let mut shadows = ShadowSettings::new(match relief.get("shadows") {
         None => ShadowMode::default(),
@@ -116,7 +128,7 @@ pub(super) fn parse_relief(
         None => None,
         Some(v) => Lod::from_json(v, "extras.relief.lod")?,
     };
-    Ok(Some(Relief {
+    let relief = Relief {
         depth_scale,
         method,
         budget,
@@ -124,7 +136,8 @@ pub(super) fn parse_relief(
         shadows,
         ao,
         lod,
-    }))
+    };
+    Ok(Some((relief, layers)))
 }
 
 fn height_source(
@@ -175,13 +188,13 @@ fn height_source(
     })
 }
 
-fn object<'v>(v: &'v Value, field: &str) -> Result<&'v Map<String, Value>, String> {
+pub(super) fn object<'v>(v: &'v Value, field: &str) -> Result<&'v Map<String, Value>, String> {
     v.as_object()
         .ok_or_else(|| format!("{field}: expected an object, found {v}"))
 }
 
 /// A string field read through `T`'s `FromStr`, whose message names what it accepts.
-fn parsed<T: FromStr>(v: &Value, field: &str) -> Result<T, String>
+pub(super) fn parsed<T: FromStr>(v: &Value, field: &str) -> Result<T, String>
 where
     T::Err: Display,
 {
@@ -191,7 +204,7 @@ where
         .map_err(|e| format!("{field}: {e}"))
 }
 
-fn only_keys(o: &Map<String, Value>, field: &str, known: &[&str]) -> Result<(), String> {
+pub(super) fn only_keys(o: &Map<String, Value>, field: &str, known: &[&str]) -> Result<(), String> {
     match o.keys().find(|k| !known.contains(&k.as_str())) {
         Some(k) => Err(format!(
             "{field}: unknown key {k:?}; known keys: {}",
@@ -216,7 +229,7 @@ mod tests {
     }
 
     fn parse(json: &str) -> Result<Option<Relief>, String> {
-        parse_relief(Some(json), tex, 4)
+        parse_relief(Some(json), tex, 4).map(|r| r.map(|(relief, _)| relief))
     }
 
     #[test]
