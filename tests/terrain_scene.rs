@@ -173,13 +173,15 @@ fn write_layered_gltf(dir: &std::path::Path) -> std::path::PathBuf {
     bin.extend_from_slice(bytemuck::cast_slice(&indices));
     bin.extend_from_slice(&[0, 0]);
     std::fs::write(dir.join("plane.bin"), &bin).unwrap();
+    // A quarter turn about x: the camera looks down -y.
+    let half = std::f32::consts::FRAC_1_SQRT_2;
     let gltf = serde_json::json!({
         "asset": {"version": "2.0"},
         "scene": 0,
         "scenes": [{"nodes": [0, 1]}],
         "nodes": [
             {"mesh": 0},
-            {"camera": 0, "translation": [0.0, 2.6, 0.0], "rotation": [-0.70710678, 0.0, 0.0, 0.70710678]}
+            {"camera": 0, "translation": [0.0, 2.6, 0.0], "rotation": [-half, 0.0, 0.0, half]}
         ],
         "cameras": [{"type": "perspective", "perspective": {"yfov": 0.8, "znear": 0.05, "zfar": 50.0}}],
         "meshes": [{"primitives": [{
