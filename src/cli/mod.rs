@@ -19,6 +19,7 @@ mod render_frames;
 mod scene_args;
 mod shading_args;
 mod terrain_args;
+mod terrain_edits;
 mod trace;
 mod view;
 

@@ -30,7 +30,7 @@ pub struct RenderArgs {
 }
 
 pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
-    let loaded = args.scene.load()?;
+    let mut loaded = args.scene.load()?;
     let ctx = super::open_device(args.scene.device.as_deref(), args.json)?;
     loaded.check_device(&ctx)?;
     let opts = args
@@ -54,6 +54,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         before,
         &loaded.source,
         &cache_report,
+        loaded.edits.as_mut(),
     )?;
     super::check_validation(&ctx)?;
     if let Some(path) = &cache {

@@ -17,6 +17,7 @@ use relief::vk::{Context, ObjectCounts};
 use serde_json::json;
 
 use super::render::RenderArgs;
+use super::terrain_edits::{EditRecord, TerrainEdits};
 
 /// The frame-sequence flags of `relief render`.
 #[derive(Args, Debug, Clone)]
@@ -155,7 +156,10 @@ impl CacheReport {
 
 /// What a sequence left behind.
 struct Drawn {
+    /// Frames drawn (more than --frames when --edits has more lists).
+    frames: u32,
     timings: Vec<Vec<PassTiming>>,
+    edits: Vec<EditRecord>,
     /// Objects created from the end of the first frame's submission to the end of the last.
     created_after_first: ObjectCounts,
 }
@@ -166,8 +170,13 @@ fn draw_all(
     ctx: &Context,
     renderer: &mut Renderer,
     path: &CameraPath,
+    mut edits: Option<&mut TerrainEdits>,
 ) -> anyhow::Result<Drawn> {
-    let frames = args.frames.frames;
+    let frames = args
+        .frames
+        .frames
+        .max(edits.as_ref().map_or(1, |e| e.frames_needed()));
+    let mut records = Vec::new();
     let read_back = !args.frames.no_write;
     let mut timings = Vec::with_capacity(frames as usize);
     let mut keep = |frame: FrameOutput| -> anyhow::Result<()> {
@@ -177,6 +186,13 @@ fn draw_all(
     };
     let mut after_first = None;
     for k in 0..frames {
+        if let Some(edits) = edits.as_deref_mut() {
+            let (retired, record) = edits.before_frame(k, renderer)?;
+            for frame in retired {
+                keep(frame)?;
+            }
+            records.extend(record);
+        }
         let request = FrameRequest {
             camera: path.at(k, frames),
             read_back,
@@ -194,7 +210,9 @@ fn draw_all(
     }
     let after_first = after_first.unwrap_or_else(|| ctx.created());
     Ok(Drawn {
+        frames,
         timings,
+        edits: records,
         created_after_first: ctx.created() - after_first,
     })
 }
@@ -208,16 +226,19 @@ pub fn run_frames(
     before: ObjectCounts,
     source: &str,
     cache: &CacheReport,
+    edits: Option<&mut TerrainEdits>,
 ) -> anyhow::Result<()> {
     let path = CameraPath::choose(&args.frames, renderer, scene)?;
-    let drawn = draw_all(args, ctx, renderer, &path)?;
+    let edited = edits.is_some();
+    let drawn = draw_all(args, ctx, renderer, &path, edits)?;
     let stats = sequence_stats(&drawn.timings);
     if args.explain {
         let created = ctx.created() - before;
-        println!(
-            "{}",
-            explain(renderer.plan(), renderer.maps(), renderer.cells(), &created)
-        );
+        let mut value = explain(renderer.plan(), renderer.maps(), renderer.cells(), &created);
+        if edited {
+            value["edits"] = edits_json(renderer, &drawn.edits);
+        }
+        println!("{value}");
         return Ok(());
     }
     let methods = methods_drawn(renderer);
@@ -236,6 +257,7 @@ pub fn run_frames(
             "frames": stats.frames,
             "steady": stats.steady,
             "created_after_first_frame": drawn.created_after_first,
+            "edits": edited.then(|| edits_json(renderer, &drawn.edits)),
             "pipeline_cache": cache.json(),
         });
         println!("{value}");
@@ -245,6 +267,20 @@ pub fn run_frames(
     report_files(args, renderer, &methods, source, &drawn);
     eprintln!("{}", cache.line());
     Ok(())
+}
+
+/// The edits of a sequence: the maps every frame kept (built once, before the first) and what
+/// each frame's strokes rebuilt.
+fn edits_json(renderer: &Renderer, records: &[EditRecord]) -> serde_json::Value {
+    let kept: Vec<String> = renderer
+        .maps()
+        .iter()
+        .map(|m| format!("{} of {}", m.kind, m.source))
+        .collect();
+    json!({
+        "maps_built_once": kept,
+        "frames": records,
+    })
 }
 
 fn print_table(stats: &SequenceStats) {
@@ -280,7 +316,7 @@ fn print_table(stats: &SequenceStats) {
 
 fn report_files(args: &RenderArgs, renderer: &Renderer, methods: &str, source: &str, d: &Drawn) {
     let (w, h) = renderer.size();
-    let frames = args.frames.frames;
+    let frames = d.frames;
     let what = if args.frames.no_write {
         format!("drew {frames} frame(s), wrote none (--no-write)")
     } else if frames == 1 {
@@ -304,6 +340,18 @@ fn report_files(args: &RenderArgs, renderer: &Renderer, methods: &str, source: &
             c.build_ms,
             n = c.grid,
             r = c.resolution,
+        );
+    }
+    for e in &d.edits {
+        eprintln!(
+            "frame {}: {} stroke(s) over {} texels rebuilt {} of {} tiles in {:.1} ms (+{:.1} ms uploading them); the layered maps were kept",
+            e.frame,
+            e.strokes,
+            e.texels,
+            e.tiles_rebuilt.len(),
+            e.tiles_total,
+            e.rebuild_ms,
+            e.upload_ms
         );
     }
     if frames > 1 {

@@ -19,6 +19,7 @@ use super::heightmap_args::HeightmapArgs;
 use super::lod_args::LodArgs;
 use super::shading_args::ShadingArgs;
 use super::terrain_args::TerrainArgs;
+use super::terrain_edits::TerrainEdits;
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
 pub enum FormatArg {
@@ -79,6 +80,8 @@ pub struct LoadedScene {
     pub scene: Scene,
     pub heights: Option<Heightfield>,
     pub source: String,
+    /// Strokes to apply between frames (`--terrain ... --edits`).
+    pub edits: Option<TerrainEdits>,
 }
 
 const DEFAULT_GLTF_DEPTH_SCALE: f32 = 0.05;
@@ -93,7 +96,7 @@ impl SceneArgs {
             None if self.scene.is_none() => DEFAULT_SCENE_METHOD,
             None => Method::POM,
         };
-        if let Some(mut scene) = self.terrain.scene(method, self.depth_scale)? {
+        if let Some((mut scene, edits)) = self.terrain.scene(method, self.depth_scale)? {
             self.shading.apply(&mut scene)?;
             self.lod.apply(&mut scene)?;
             let source = format!(
@@ -107,6 +110,7 @@ impl SceneArgs {
                 scene,
                 heights: None,
                 source,
+                edits,
             });
         }
         let loaded = self.heights.load()?;
@@ -125,6 +129,7 @@ impl SceneArgs {
             scene,
             heights,
             source,
+            edits: None,
         })
     }
 

@@ -11,9 +11,11 @@ use relief::heightfield::{Heightfield, LoadOptions};
 use relief::method::Method;
 use relief::scene::{Scene, MAX_LAYERED_RESOLUTION};
 use relief::terrain::{
-    procedural_layers, rules_splat, terrain_scene, BlendMode, GroundLayer, TerrainOptions,
-    MAX_LAYERS,
+    procedural_layers, rules_splat, terrain_scene, BlendMode, GroundLayer, TerrainEditor,
+    TerrainOptions, MAX_LAYERS, TERRAIN_MESH,
 };
+
+use super::terrain_edits::TerrainEdits;
 
 /// Side of the procedural layers' maps.
 const PROCEDURAL_LAYER_SIDE: u32 = 256;
@@ -50,12 +52,20 @@ pub struct TerrainArgs {
     /// World height of the elevation map's white, the terrain being 10 units across.
     #[arg(long, value_name = "H", default_value_t = 1.5, requires = "terrain")]
     pub terrain_height: f32,
+    /// Brush strokes between frames: a JSON array with one array of strokes per frame (see the
+    /// README); frame 1 is unedited, and the sequence runs until every list is shown.
+    #[arg(long, value_name = "STROKES.json", requires = "terrain")]
+    pub edits: Option<PathBuf>,
 }
 
 impl TerrainArgs {
     /// The terrain scene the flags ask for, with `method` and `depth_scale` (as a fraction of
     /// one layer tile), or `None` without `--terrain`.
-    pub fn scene(&self, method: Method, depth_scale: Option<f32>) -> anyhow::Result<Option<Scene>> {
+    pub fn scene(
+        &self,
+        method: Method,
+        depth_scale: Option<f32>,
+    ) -> anyhow::Result<Option<(Scene, Option<TerrainEdits>)>> {
         let Some(path) = &self.terrain else {
             return Ok(None);
         };
@@ -105,7 +115,15 @@ impl TerrainArgs {
         }
         let splat = rules_splat(&elevation, layers.len(), &opts)
             .with_context(|| format!("weighing layers over {}", path.display()))?;
-        Ok(Some(terrain_scene(&elevation, layers, &splat, &opts)))
+        let scene = terrain_scene(&elevation, layers, &splat, &opts);
+        let edits = match &self.edits {
+            Some(file) => {
+                let editor = TerrainEditor::new(elevation, &opts.grid, TERRAIN_MESH, 0);
+                Some(TerrainEdits::load(file, editor)?)
+            }
+            None => None,
+        };
+        Ok(Some((scene, edits)))
     }
 }
 

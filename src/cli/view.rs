@@ -45,6 +45,9 @@ fn parse_resize(text: &str) -> Result<(u64, (u32, u32)), String> {
 
 pub fn run(args: &ViewArgs) -> anyhow::Result<()> {
     let loaded = args.scene.load()?;
+    if loaded.edits.is_some() {
+        anyhow::bail!("--edits replays strokes over a frame sequence: use it with relief render");
+    }
     let setup = ViewSetup {
         scene: loaded.scene,
         heights: loaded.heights,

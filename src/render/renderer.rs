@@ -27,7 +27,7 @@ use super::surface_pass::SurfacePass;
 use super::targets::Targets;
 use crate::heightfield::{Address, Heightfield};
 use crate::method::MapKind;
-use crate::scene::{Camera, Frustum, Light, Scene};
+use crate::scene::{Camera, Frustum, Light, Mesh, Scene};
 use crate::vk::{CommandSlot, Context, Image, Readback, VkError, VkResult};
 
 /// How many frames may be recorded or running at once.
@@ -198,6 +198,23 @@ impl Renderer {
             slot.readback = None;
         }
         (self.width, self.height) = (width, height);
+        Ok(retired)
+    }
+
+    /// Replaces the vertices of scene meshes (edited terrain tiles, `(mesh index, new mesh)`,
+    /// same triangles): waits for the frames in flight, which are returned, then uploads the
+    /// new vertices; the maps and everything else stay.
+    pub fn update_meshes(
+        &mut self,
+        meshes: &[(usize, &Mesh)],
+    ) -> Result<Vec<FrameOutput>, RenderError> {
+        if meshes.is_empty() {
+            return Ok(Vec::new());
+        }
+        let retired = self.finish()?;
+        for (index, mesh) in meshes {
+            self.surface.replace_vertices(&self.ctx, *index, mesh)?;
+        }
         Ok(retired)
     }
 

@@ -16,7 +16,7 @@ use super::plan::{PipelineKey, Plan};
 use super::scene_ao::SceneAo;
 use super::scene_textures::SceneTextures;
 use crate::method::Method;
-use crate::scene::{Frustum, Lod, Scene, Vertex};
+use crate::scene::{Frustum, Lod, Mesh, Scene, Vertex};
 use crate::shaders;
 use crate::vk::{
     graphics_pipeline, Bind, Buffer, Context, DescriptorLayout, DescriptorPool, DescriptorSet,
@@ -91,6 +91,8 @@ fn lod_spec_constants(spec: SpecConstants, lod: &Lod) -> SpecConstants {
 }
 
 struct MeshDraw {
+    /// The scene mesh it draws.
+    mesh: usize,
     vertices: Buffer,
     indices: Buffer,
     index_count: u32,
@@ -284,6 +286,7 @@ impl SurfacePass {
                 .ok_or_else(|| VkError::Invalid(format!("material {} has no set", d.material)))?;
             let (lo, hi) = mesh_bounds(&mesh.vertices);
             draws.push(MeshDraw {
+                mesh: d.mesh,
                 vertices: Buffer::with_data(
                     ctx,
                     bytemuck::cast_slice(&mesh.vertices),
@@ -327,6 +330,37 @@ impl SurfacePass {
             ],
             _textures: textures,
         })
+    }
+
+    /// Draws `mesh` as scene mesh `index` from now on (an edited terrain tile): the same
+    /// triangles over new vertices. The caller waits for every frame that drew the old ones.
+    pub fn replace_vertices(
+        &mut self,
+        ctx: &Arc<Context>,
+        index: usize,
+        mesh: &Mesh,
+    ) -> VkResult<()> {
+        let Some(draw) = self.draws.iter_mut().find(|d| d.mesh == index) else {
+            return Err(VkError::Invalid(format!("mesh {index} is not drawn")));
+        };
+        if mesh.indices.len() as u32 != draw.index_count {
+            return Err(VkError::Invalid(format!(
+                "mesh {:?}: {} indices replace {}",
+                mesh.name,
+                mesh.indices.len(),
+                draw.index_count
+            )));
+        }
+        draw.vertices = Buffer::with_data(
+            ctx,
+            bytemuck::cast_slice(&mesh.vertices),
+            vk::BufferUsageFlags::VERTEX_BUFFER,
+            &format!("{} vertices", mesh.name),
+        )?;
+        let (lo, hi) = mesh_bounds(&mesh.vertices);
+        draw.center = mesh.transform.transform_point3((lo + hi) * 0.5);
+        draw.bounds = world_bounds(mesh.transform, lo, hi);
+        Ok(())
     }
 
     /// Set 0 without heights for frame slot `slot` (none when nothing reads it).

@@ -45,90 +45,146 @@ pub fn terrain_tiles(
     name: &str,
     material: usize,
 ) -> Vec<Mesh> {
-    let (w, h) = (elevation.width(), elevation.height());
-    let step = options.step.max(1);
-    // Vertex columns and rows: every step-th texel, plus the last one.
-    let columns = axis_texels(w, step);
-    let rows = axis_texels(h, step);
-    let texel = options.extent / w.max(h) as f32;
-    let origin = Vec3::new(-0.5 * texel * w as f32, 0.0, -0.5 * texel * h as f32);
-    let at = |i: i64, j: i64| {
-        let i = i.clamp(0, i64::from(w) - 1) as u32;
-        let j = j.clamp(0, i64::from(h) - 1) as u32;
-        elevation.get(i, j) * options.height
-    };
-    let vertex = |i: u32, j: u32| {
-        let (ii, jj) = (i64::from(i), i64::from(j));
-        let position = origin
-            + Vec3::new(
-                (i as f32 + 0.5) * texel,
-                at(ii, jj),
-                (j as f32 + 0.5) * texel,
-            );
-        // Central differences, one-sided at the edges (the clamp repeats the edge texel).
-        let span = |a: i64, b: i64, n: u32| (b.min(i64::from(n) - 1) - a.max(0)).max(1) as f32;
-        let dx = (at(ii + 1, jj) - at(ii - 1, jj)) / (span(ii - 1, ii + 1, w) * texel);
-        let dz = (at(ii, jj + 1) - at(ii, jj - 1)) / (span(jj - 1, jj + 1, h) * texel);
-        let normal = Vec3::new(-dx, 1.0, -dz).normalize();
-        let tangent = Vec3::new(1.0, dx, 0.0).normalize();
-        let uv = [(i as f32 + 0.5) / w as f32, (j as f32 + 0.5) / h as f32];
-        // u along +x and v along +z: normal x tangent points along -z, against +v.
-        Vertex::new(
-            position.to_array(),
-            normal.to_array(),
-            uv,
-            [tangent.x, tangent.y, tangent.z, -1.0],
-        )
-    };
-    let quads = options.tile_quads.max(1) as usize;
-    let mut tiles = Vec::new();
-    for (row, js) in rows
-        .windows(2)
-        .collect::<Vec<_>>()
-        .chunks(quads)
-        .enumerate()
-    {
-        for (column, is) in columns
-            .windows(2)
-            .collect::<Vec<_>>()
-            .chunks(quads)
-            .enumerate()
-        {
-            let xs: Vec<u32> = is
-                .iter()
-                .map(|p| p[0])
-                .chain(is.last().map(|p| p[1]))
-                .collect();
-            let zs: Vec<u32> = js
-                .iter()
-                .map(|p| p[0])
-                .chain(js.last().map(|p| p[1]))
-                .collect();
-            let mut vertices = Vec::with_capacity(xs.len() * zs.len());
-            for &j in &zs {
-                for &i in &xs {
-                    vertices.push(vertex(i, j));
-                }
-            }
-            let stride = xs.len() as u32;
-            let mut indices = Vec::with_capacity((xs.len() - 1) * (zs.len() - 1) * 6);
-            for b in 0..zs.len() as u32 - 1 {
-                for a in 0..stride - 1 {
-                    let k = b * stride + a;
-                    // Counter-clockwise seen from +y.
-                    indices.extend([k, k + stride, k + 1, k + 1, k + stride, k + stride + 1]);
-                }
-            }
-            tiles.push(Mesh {
-                name: format!("{name} tile {column},{row}"),
-                vertices,
-                indices,
-                material,
-                transform: glam::Mat4::IDENTITY,
-            });
+    let grid = TerrainGrid::new(elevation.width(), elevation.height(), options);
+    (0..grid.tile_count())
+        .map(|k| grid.tile_mesh(elevation, k, name, material))
+        .collect()
+}
+
+/// Which texels carry the grid's vertices and which of them each tile takes, for an elevation
+/// map of one size: tiles can be rebuilt one by one after an edit.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TerrainGrid {
+    options: GridOptions,
+    width: u32,
+    height: u32,
+    /// Vertex columns and rows: every step-th texel, plus the last one.
+    columns: Vec<u32>,
+    rows: Vec<u32>,
+}
+
+impl TerrainGrid {
+    pub fn new(width: u32, height: u32, options: &GridOptions) -> TerrainGrid {
+        let step = options.step.max(1);
+        TerrainGrid {
+            options: *options,
+            width,
+            height,
+            columns: axis_texels(width, step),
+            rows: axis_texels(height, step),
         }
     }
-    tiles
+
+    fn quads(&self) -> usize {
+        self.options.tile_quads.max(1) as usize
+    }
+
+    /// Tiles along u and along v.
+    pub fn tiles_across(&self) -> (usize, usize) {
+        let q = self.quads();
+        (
+            (self.columns.len() - 1).div_ceil(q),
+            (self.rows.len() - 1).div_ceil(q),
+        )
+    }
+
+    pub fn tile_count(&self) -> usize {
+        let (x, y) = self.tiles_across();
+        x * y
+    }
+
+    /// The vertex texels of tile `k`'s columns and rows (its last ones shared with the next tile).
+    fn tile_texels(&self, k: usize) -> (&[u32], &[u32]) {
+        let (across, _) = self.tiles_across();
+        let q = self.quads();
+        let (cx, cz) = ((k % across) * q, (k / across) * q);
+        (
+            &self.columns[cx..(cx + q + 1).min(self.columns.len())],
+            &self.rows[cz..(cz + q + 1).min(self.rows.len())],
+        )
+    }
+
+    /// The tiles whose vertices read any texel of `x0..=x1` x `y0..=y1`: a vertex reads its own
+    /// texel and its four neighbours (for its normal).
+    pub fn tiles_reading(&self, (x0, y0): (u32, u32), (x1, y1): (u32, u32)) -> Vec<usize> {
+        let hits = |texels: &[u32], lo: u32, hi: u32| {
+            texels
+                .iter()
+                .any(|&t| t + 1 >= lo && t <= hi.saturating_add(1))
+        };
+        (0..self.tile_count())
+            .filter(|&k| {
+                let (xs, zs) = self.tile_texels(k);
+                hits(xs, x0, x1) && hits(zs, y0, y1)
+            })
+            .collect()
+    }
+
+    /// Tile `k`'s mesh over `elevation` (of the grid's size).
+    pub fn tile_mesh(
+        &self,
+        elevation: &Heightfield,
+        k: usize,
+        name: &str,
+        material: usize,
+    ) -> Mesh {
+        let options = &self.options;
+        let (w, h) = (self.width, self.height);
+        let texel = options.extent / w.max(h) as f32;
+        let origin = Vec3::new(-0.5 * texel * w as f32, 0.0, -0.5 * texel * h as f32);
+        let at = |i: i64, j: i64| {
+            let i = i.clamp(0, i64::from(w) - 1) as u32;
+            let j = j.clamp(0, i64::from(h) - 1) as u32;
+            elevation.get(i, j) * options.height
+        };
+        let vertex = |i: u32, j: u32| {
+            let (ii, jj) = (i64::from(i), i64::from(j));
+            let position = origin
+                + Vec3::new(
+                    (i as f32 + 0.5) * texel,
+                    at(ii, jj),
+                    (j as f32 + 0.5) * texel,
+                );
+            // Central differences, one-sided at the edges (the clamp repeats the edge texel).
+            let span = |a: i64, b: i64, n: u32| (b.min(i64::from(n) - 1) - a.max(0)).max(1) as f32;
+            let dx = (at(ii + 1, jj) - at(ii - 1, jj)) / (span(ii - 1, ii + 1, w) * texel);
+            let dz = (at(ii, jj + 1) - at(ii, jj - 1)) / (span(jj - 1, jj + 1, h) * texel);
+            let normal = Vec3::new(-dx, 1.0, -dz).normalize();
+            let tangent = Vec3::new(1.0, dx, 0.0).normalize();
+            let uv = [(i as f32 + 0.5) / w as f32, (j as f32 + 0.5) / h as f32];
+            // u along +x and v along +z: normal x tangent points along -z, against +v.
+            Vertex::new(
+                position.to_array(),
+                normal.to_array(),
+                uv,
+                [tangent.x, tangent.y, tangent.z, -1.0],
+            )
+        };
+        let (xs, zs) = self.tile_texels(k);
+        let mut vertices = Vec::with_capacity(xs.len() * zs.len());
+        for &j in zs {
+            for &i in xs {
+                vertices.push(vertex(i, j));
+            }
+        }
+        let stride = xs.len() as u32;
+        let mut indices = Vec::with_capacity((xs.len() - 1) * (zs.len() - 1) * 6);
+        for b in 0..zs.len() as u32 - 1 {
+            for a in 0..stride - 1 {
+                let v = b * stride + a;
+                // Counter-clockwise seen from +y.
+                indices.extend([v, v + stride, v + 1, v + 1, v + stride, v + stride + 1]);
+            }
+        }
+        let (across, _) = self.tiles_across();
+        Mesh {
+            name: format!("{name} tile {},{}", k % across, k / across),
+            vertices,
+            indices,
+            material,
+            transform: glam::Mat4::IDENTITY,
+        }
+    }
 }
 
 /// The texels along one axis of `n` that carry vertices: every `step`-th and the last.

@@ -30,6 +30,7 @@ mod blend;
 mod blended_pyramid;
 mod brush;
 mod detail;
+mod edit;
 mod grid;
 mod layers;
 mod rules;
@@ -39,7 +40,10 @@ pub use blend::{blended_field, BlendMode};
 pub use blended_pyramid::{blended_pyramid, least_sum_slack, node_bound};
 pub use brush::{coarse_span, BrushKind, Stroke, StrokeError, TexelRect};
 pub use detail::{tiled_stack, TiledLayer};
-pub use grid::{terrain_tiles, GridOptions};
+pub use edit::{TerrainEdit, TerrainEditor};
+pub use grid::{terrain_tiles, GridOptions, TerrainGrid};
 pub use layers::{LayerError, LayerStack, SplatMap, MAX_LAYERS};
 pub use rules::{splat_from_rules, LayerRule};
-pub use scene::{procedural_layers, rules_splat, terrain_scene, GroundLayer, TerrainOptions};
+pub use scene::{
+    procedural_layers, rules_splat, terrain_scene, GroundLayer, TerrainOptions, TERRAIN_MESH,
+};

@@ -20,6 +20,10 @@ use crate::scene::{
     Scene, SceneImage, ShadowMode, ShadowSettings, TextureRef, Wrap,
 };
 
+/// The name of the terrain scene's tiles (`{TERRAIN_MESH} tile C,R`); they are its meshes 0.., in
+/// `terrain_tiles` order, all with material 0.
+pub const TERRAIN_MESH: &str = "ground";
+
 /// One ground layer's images (height required; the others optional).
 #[derive(Debug, Clone)]
 pub struct GroundLayer {
@@ -194,7 +198,7 @@ pub fn terrain_scene(
         }),
         ..Material::default()
     };
-    let meshes = terrain_tiles(elevation, &opts.grid, "ground", 0);
+    let meshes = terrain_tiles(elevation, &opts.grid, TERRAIN_MESH, 0);
     let e = opts.grid.extent;
     let camera = Camera::look_at(
         Vec3::new(0.32 * e, 0.42 * e, 0.55 * e),
