@@ -50,11 +50,9 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         args,
         &ctx,
         &mut renderer,
-        &loaded.scene,
+        &mut loaded,
         before,
-        &loaded.source,
         &cache_report,
-        loaded.edits.as_mut(),
     )?;
     super::check_validation(&ctx)?;
     if let Some(path) = &cache {

@@ -17,6 +17,7 @@ use relief::vk::{Context, ObjectCounts};
 use serde_json::json;
 
 use super::render::RenderArgs;
+use super::scene_args::LoadedScene;
 use super::terrain_edits::{EditRecord, TerrainEdits};
 
 /// The frame-sequence flags of `relief render`.
@@ -222,15 +223,14 @@ pub fn run_frames(
     args: &RenderArgs,
     ctx: &Arc<Context>,
     renderer: &mut Renderer,
-    scene: &Scene,
+    loaded: &mut LoadedScene,
     before: ObjectCounts,
-    source: &str,
     cache: &CacheReport,
-    edits: Option<&mut TerrainEdits>,
 ) -> anyhow::Result<()> {
-    let path = CameraPath::choose(&args.frames, renderer, scene)?;
-    let edited = edits.is_some();
-    let drawn = draw_all(args, ctx, renderer, &path, edits)?;
+    let path = CameraPath::choose(&args.frames, renderer, &loaded.scene)?;
+    let edited = loaded.edits.is_some();
+    let drawn = draw_all(args, ctx, renderer, &path, loaded.edits.as_mut())?;
+    let source = loaded.source.as_str();
     let stats = sequence_stats(&drawn.timings);
     if args.explain {
         let created = ctx.created() - before;
