@@ -71,8 +71,8 @@ impl BlendingConfig {
             azimuth_deg: 30.0,
             depth_scale: 0.05,
             grid: (256, 256),
-            warmup: 1,
-            frames: 5,
+            warmup: 2,
+            frames: 9,
             seed: 1,
         }
     }
@@ -83,6 +83,7 @@ impl BlendingConfig {
             size: 256,
             splat_side: 8,
             grid: (128, 128),
+            warmup: 1,
             frames: 3,
             ..BlendingConfig::full()
         }

@@ -20,7 +20,8 @@ pub fn report(md: &mut String, section: &BlendingSection) {
          (`terrain::blended_pyramid`), the others through the stored blended field. *Single*: the \
          same rays through the exact pyramid of the blended field, what a single field of that \
          shape costs; for methods that read no pyramid it is the same trace (shown as =). \
-         `one-hot` is the first layer alone; *ms / one layer* divides by its time. Error and gross \
+         `alpha` and `height` define one surface (they differ in shading only), so their steps \
+         and errors agree and their times differ by noise alone. `one-hot` is the first layer alone; *ms / one layer* divides by its time. Error and gross \
          rate are the blended trace's, against the exact reference of the blended surface.\n",
         s.layers.join(", "),
         s.size,
@@ -89,33 +90,48 @@ fn one_layer_ms(section: &BlendingSection, row: &BlendCost) -> Option<f64> {
         .map(|o| o.blended.gpu_ms.median)
 }
 
-/// One line per row traced through the bound with more than [`STEPS_RATIO_NOTED`] times the
-/// exact pyramid's iterations, saying why the bound is loose there.
+/// One line per blend with rows traced through the bound at more than [`STEPS_RATIO_NOTED`] times
+/// the exact pyramid's iterations, naming them and saying why the bound is loose there.
 pub fn notes(section: &BlendingSection) -> Vec<String> {
-    section
-        .rows
-        .iter()
-        .filter(|r| r.through_bound && r.steps_ratio() > STEPS_RATIO_NOTED)
-        .map(|r| {
-            let why = match r.blend.as_str() {
-                "height-intersect" => {
-                    "max(H) * max(W) over a node pairs the highest height with the highest \
-                     weight even where they lie on different texels, loosest in blend zones"
-                }
-                ONE_HOT => "a one-hot bound is the layer's own pyramid: this is a defect",
-                _ => {
-                    "a convex blend's bound is the lower of the highest weighted layer and \
-                     sum(W H) over the least weight sum, looser than max(x) * max(w) \
-                     (src/terrain/blended_pyramid.rs)"
-                }
-            };
-            format!(
-                "{} {} at {} degrees: {:.3}x the exact pyramid's iterations; {why}.",
-                r.method,
-                r.blend,
-                r.angle_deg,
-                r.steps_ratio()
-            )
+    let mut blends: Vec<&str> = Vec::new();
+    for r in &section.rows {
+        if !blends.contains(&r.blend.as_str()) {
+            blends.push(&r.blend);
+        }
+    }
+    blends
+        .into_iter()
+        .filter_map(|blend| {
+            let over: Vec<String> = section
+                .rows
+                .iter()
+                .filter(|r| {
+                    r.blend == blend && r.through_bound && r.steps_ratio() > STEPS_RATIO_NOTED
+                })
+                .map(|r| format!("{} {} deg {:.2}x", r.method, r.angle_deg, r.steps_ratio()))
+                .collect();
+            (!over.is_empty()).then(|| {
+                format!(
+                    "`{blend}` above {STEPS_RATIO_NOTED:.2}x the exact pyramid's iterations ({}): {}.",
+                    over.join(", "),
+                    why(blend)
+                )
+            })
         })
         .collect()
+}
+
+fn why(blend: &str) -> &'static str {
+    match blend {
+        "height-intersect" => {
+            "max(H) * max(W) over a node pairs the highest height with the highest weight even \
+             where they lie on different texels, loosest in blend zones"
+        }
+        ONE_HOT => "a one-hot bound is the layer's own pyramid, so this is a defect",
+        _ => {
+            "a convex blend's node bound, the lower of the highest weighted layer and sum(W H) \
+             over the node's least weight sum, is looser than height-intersect's max(H) * max(W) \
+             (see src/terrain/blended_pyramid.rs)"
+        }
+    }
 }
