@@ -2,6 +2,8 @@
 //! and the files the tools write (`.npy` dumps).
 
 mod ao;
+mod blending;
+mod blending_report;
 mod depth_match;
 mod edits;
 mod lod;
@@ -20,6 +22,10 @@ mod sweep;
 mod trace_stats;
 
 pub use ao::{measure_ao, AoConfig, AoRun};
+pub use blending::{
+    run_blending_section, BlendCost, BlendTrace, BlendingConfig, BlendingSection, ONE_HOT,
+};
+pub use blending_report::{notes as blending_notes, STEPS_RATIO_NOTED};
 pub use depth_match::{settled as depth_match_settled, MAX_COST_RATIO, MAX_STEP_BUDGET};
 pub use edits::{run_edit_section, EditCost};
 pub use lod::{

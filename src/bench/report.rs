@@ -44,6 +44,9 @@ pub fn render_report(results: &BenchResults) -> (String, Vec<(String, String)>) 
         super::lod::report(&mut md, lod);
     }
     super::edits::report(&mut md, &results.edits);
+    if let Some(blending) = &results.blending {
+        super::blending_report::report(&mut md, blending);
+    }
     (md, plots(results))
 }
 

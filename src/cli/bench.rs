@@ -9,9 +9,9 @@ use std::io::IsTerminal;
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use relief::bench::{
-    depth_match_settled, measure_ao, measure_shadows, plan_jobs, render_report, run_edit_section,
-    run_lod_section, run_stiff_case, stiff_cases, AoConfig, BenchResults, FieldSource, LodConfig,
-    Runner, ShadingConfig, SweepConfig,
+    blending_notes, depth_match_settled, measure_ao, measure_shadows, plan_jobs, render_report,
+    run_blending_section, run_edit_section, run_lod_section, run_stiff_case, stiff_cases, AoConfig,
+    BenchResults, BlendingConfig, FieldSource, LodConfig, Runner, ShadingConfig, SweepConfig,
 };
 
 /// The brush radius of the terrain-edit section, in texels (the stroke).
@@ -82,6 +82,9 @@ pub struct BenchArgs {
     /// Skip the terrain-edit section (a brush stroke's partial rebuild against a full one).
     #[arg(long)]
     no_edits: bool,
+    /// Skip the terrain-blending section (blended layers against a single field of their shape).
+    #[arg(long)]
+    no_blending: bool,
     #[arg(long, value_name = "repeat|clamp", default_value_t = Address::Repeat)]
     address: Address,
     #[arg(long, value_enum, default_value = "r16")]
@@ -238,13 +241,15 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     let shadow_stability_wanted = shading.is_some() && cfg.stability;
     let lod_wanted = !(args.no_lod || args.shading_only || args.stability_only);
     let edits_wanted = !(args.no_edits || only_other);
+    let blending_wanted = !(args.no_blending || only_other);
     let bar = progress(
         jobs.len()
             + cases.len() * cfg.methods.len()
             + shading_steps
             + usize::from(shadow_stability_wanted)
             + usize::from(lod_wanted)
-            + usize::from(edits_wanted),
+            + usize::from(edits_wanted)
+            + usize::from(blending_wanted),
         args.json,
     );
     let mut runner = Runner::new(ctx.clone(), cfg.clone());
@@ -333,6 +338,15 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     } else {
         Vec::new()
     };
+    let blending = if blending_wanted {
+        note(&bar, "terrain blending", args.json);
+        let section = run_blending_section(&ctx, &blending_config(args, &cfg))
+            .context("the terrain-blending section")?;
+        bar.inc(1);
+        Some(section)
+    } else {
+        None
+    };
     bar.finish_and_clear();
     super::check_validation(&ctx)?;
     let results = BenchResults {
@@ -346,6 +360,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         ao,
         lod,
         edits,
+        blending,
     };
     write_outputs(&args.out, &results, args.json)
 }
@@ -365,6 +380,23 @@ fn lod_config(args: &BenchArgs, cfg: &SweepConfig) -> LodConfig {
     lod
 }
 
+/// The blending section's settings: quick or full, with the sweep's methods when --methods names
+/// some, and the sweep's angles when --angles does.
+fn blending_config(args: &BenchArgs, cfg: &SweepConfig) -> BlendingConfig {
+    let mut blending = if args.quick {
+        BlendingConfig::quick()
+    } else {
+        BlendingConfig::full()
+    };
+    if !args.methods.is_empty() {
+        blending.methods = cfg.methods.clone();
+    }
+    if !args.angles.is_empty() {
+        blending.angles = cfg.angles.clone();
+    }
+    blending
+}
+
 fn write_outputs(out: &std::path::Path, results: &BenchResults, json: bool) -> anyhow::Result<()> {
     std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
     let text = serde_json::to_string_pretty(results)?;
@@ -381,6 +413,11 @@ fn write_outputs(out: &std::path::Path, results: &BenchResults, json: bool) -> a
     if json {
         println!("{text}");
     } else {
+        if let Some(blending) = &results.blending {
+            for line in blending_notes(blending) {
+                eprintln!("blending: {line}");
+            }
+        }
         eprintln!(
             "wrote {} runs and {} stability cells to {}/results.json, report.md and {} plots",
             results.runs.len(),

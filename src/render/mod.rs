@@ -72,5 +72,6 @@ pub use relaxed_cone_map_pass::{build_relaxed_cone_map_on_gpu, RelaxedConeMapPas
 pub use renderer::{FrameOutput, FrameRequest, Renderer, FRAMES_IN_FLIGHT};
 pub use surface_pass::{describe as describe_pipeline, COLOR_FORMAT, DEPTH_FORMAT};
 pub use trace_pass::{
-    trace_on_gpu, trace_through_pyramid, ShadowTrace, TraceOutput, TraceRequest, TRACE_GROUP_SIDE,
+    time_through_pyramid, trace_on_gpu, trace_repeated, trace_through_pyramid, ShadowTrace,
+    TraceOutput, TraceRequest, TRACE_GROUP_SIDE,
 };

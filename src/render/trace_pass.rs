@@ -174,7 +174,20 @@ pub fn trace_through_pyramid(
     pyramid: &MaxPyramid,
     req: &TraceRequest,
 ) -> VkResult<TraceOutput> {
-    trace_with(ctx, Heights::Pyramid(pyramid), req, 0, 1)
+    time_through_pyramid(ctx, pyramid, req, 0, 1)
+}
+
+/// [`trace_through_pyramid`] timed as [`trace_repeated`] times a field: `warmup + frames`
+/// dispatches in one submission, the last `frames` timed, so the bench can set a blended
+/// terrain's GPU time beside the exact pyramid's measured the same way.
+pub fn time_through_pyramid(
+    ctx: &Arc<Context>,
+    pyramid: &MaxPyramid,
+    req: &TraceRequest,
+    warmup: u32,
+    frames: u32,
+) -> VkResult<TraceOutput> {
+    trace_with(ctx, Heights::Pyramid(pyramid), req, warmup, frames)
 }
 
 /// What a trace reads: a height field (its pyramid built on the GPU) or a pyramid built elsewhere.
