@@ -139,9 +139,11 @@ fn one_hot_layers_render_as_that_layer_alone() {
     common::assert_no_validation_errors(&ctx);
 }
 
-/// A plane whose material blends two layers by `extras.relief.layers`: a splat map of two
-/// texels, layer 0 (red) on the left half, layer 1 (blue) on the right, seen from above.
-fn write_layered_gltf(dir: &std::path::Path) -> std::path::PathBuf {
+/// A plane whose material blends two layers by `extras.relief.layers`, layer 0 (red) on the left
+/// half, layer 1 (blue) on the right, seen from above: weighed by a splat map of two texels, or
+/// with `vertex_colors` by the plane's vertex colours (the left edge's weigh layer 0, the right
+/// edge's layer 1).
+fn write_layered_gltf(dir: &std::path::Path, vertex_colors: bool) -> std::path::PathBuf {
     Generator::Bricks
         .generate(64, 64, 7)
         .save_png16(&dir.join("bricks.png"))
@@ -171,8 +173,23 @@ fn write_layered_gltf(dir: &std::path::Path) -> std::path::PathBuf {
     bin.extend_from_slice(bytemuck::cast_slice(&normals));
     bin.extend_from_slice(bytemuck::cast_slice(&uvs));
     bin.extend_from_slice(bytemuck::cast_slice(&indices));
-    bin.extend_from_slice(&[0, 0]);
+    // Pads the indices (128..140) to the colours' 4-byte alignment at 144.
+    bin.extend_from_slice(&[0; 4]);
+    let colors: [[f32; 4]; 4] = [
+        [1., 0., 0., 0.],
+        [0., 1., 0., 0.],
+        [0., 1., 0., 0.],
+        [1., 0., 0., 0.],
+    ];
+    bin.extend_from_slice(bytemuck::cast_slice(&colors));
     std::fs::write(dir.join("plane.bin"), &bin).unwrap();
+    let mut attributes = serde_json::json!({"POSITION": 0, "NORMAL": 1, "TEXCOORD_0": 2});
+    let splat = if vertex_colors {
+        attributes["COLOR_0"] = 4.into();
+        serde_json::json!("vertex-colors")
+    } else {
+        serde_json::json!(4)
+    };
     // A quarter turn about x: the camera looks down -y.
     let half = std::f32::consts::FRAC_1_SQRT_2;
     let gltf = serde_json::json!({
@@ -185,14 +202,14 @@ fn write_layered_gltf(dir: &std::path::Path) -> std::path::PathBuf {
         ],
         "cameras": [{"type": "perspective", "perspective": {"yfov": 0.8, "znear": 0.05, "zfar": 50.0}}],
         "meshes": [{"primitives": [{
-            "attributes": {"POSITION": 0, "NORMAL": 1, "TEXCOORD_0": 2},
+            "attributes": attributes,
             "indices": 3, "material": 0
         }]}],
         "materials": [{
             "name": "layered",
             "extras": {"relief": {
                 "depth_scale": 0.02, "method": "qdm",
-                "layers": {"mode": "height", "splat": 4, "resolution": 256, "layers": [
+                "layers": {"mode": "height", "splat": splat, "resolution": 256, "layers": [
                     {"name": "bricks", "height": 0, "albedo": 2, "tiling": 4},
                     {"name": "fbm", "height": 1, "albedo": 3, "tiling": 4, "depth": 0.8}
                 ]}
@@ -205,28 +222,56 @@ fn write_layered_gltf(dir: &std::path::Path) -> std::path::PathBuf {
             {"buffer": 0, "byteOffset": 0, "byteLength": 48},
             {"buffer": 0, "byteOffset": 48, "byteLength": 48},
             {"buffer": 0, "byteOffset": 96, "byteLength": 32},
-            {"buffer": 0, "byteOffset": 128, "byteLength": 12}
+            {"buffer": 0, "byteOffset": 128, "byteLength": 12},
+            {"buffer": 0, "byteOffset": 144, "byteLength": 64}
         ],
         "accessors": [
             {"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [-1.0, 0.0, -1.0], "max": [1.0, 0.0, 1.0]},
             {"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC3"},
             {"bufferView": 2, "componentType": 5126, "count": 4, "type": "VEC2"},
-            {"bufferView": 3, "componentType": 5123, "count": 6, "type": "SCALAR"}
+            {"bufferView": 3, "componentType": 5123, "count": 6, "type": "SCALAR"},
+            {"bufferView": 4, "componentType": 5126, "count": 4, "type": "VEC4"}
         ]
     });
-    let path = dir.join("layered.gltf");
+    let path = dir.join(if vertex_colors {
+        "vertex_layered.gltf"
+    } else {
+        "layered.gltf"
+    });
     std::fs::write(&path, serde_json::to_vec_pretty(&gltf).unwrap()).unwrap();
     path
 }
 
 #[test]
 fn gltf_layer_extras_blend_their_layers_by_the_splat_map() {
+    layered_gltf_splits_its_layers(false);
+}
+
+#[test]
+fn gltf_layer_extras_blend_their_layers_by_vertex_colours() {
+    layered_gltf_splits_its_layers(true);
+}
+
+fn layered_gltf_splits_its_layers(vertex_colors: bool) {
     let Some(ctx) = common::device("gltf_layer_extras_blend_their_layers") else {
         return;
     };
-    let dir = common::scratch_dir("layered_gltf");
-    let scene =
-        relief::scene::load_gltf(&write_layered_gltf(&dir), &Default::default()).expect("loads");
+    let dir = common::scratch_dir(if vertex_colors {
+        "layered_gltf_vertex"
+    } else {
+        "layered_gltf"
+    });
+    let path = write_layered_gltf(&dir, vertex_colors);
+    let scene = relief::scene::load_gltf(&path, &Default::default()).expect("loads");
+    assert!(
+        scene.materials[0]
+            .layers
+            .as_ref()
+            .unwrap()
+            .splat()
+            .is_some(),
+        "weights baked"
+    );
     let layers = scene.materials[0]
         .layers
         .as_ref()
@@ -251,8 +296,10 @@ fn gltf_layer_extras_blend_their_layers_by_the_splat_map() {
         }
         (r, b)
     };
-    let (left_r, left_b) = band(WIDTH / 2 - 40, WIDTH / 2 - 20);
-    let (right_r, right_b) = band(WIDTH / 2 + 20, WIDTH / 2 + 40);
+    // The plane spans columns 38..152: bands near its left and right edges, where vertex colours
+    // weigh one layer about 0.9.
+    let (left_r, left_b) = band(42, 56);
+    let (right_r, right_b) = band(134, 148);
     assert!(
         left_r > 2.0 * left_b,
         "left half is layer 0's red: r {left_r} b {left_b}"

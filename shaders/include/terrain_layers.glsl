@@ -14,7 +14,8 @@ layout(set = 2, binding = 1) uniform sampler2DArray layer_normal_roughness;
 // The splat map: channel k weighs layer k; bilinear, clamped.
 layout(set = 2, binding = 2) uniform sampler2D layer_weights;
 layout(set = 2, binding = 3, std140) uniform LayerParams {
-    uvec4 info;    // x: mode (0 alpha, 1 height, 2 height-intersect); y: layers; z: bit k, layer k has a normal map
+    uvec4 info;    // x: mode (0 alpha, 1 height, 2 height-intersect); y: layers; z: bit k, layer k has a
+                   // normal map; w: 1 when vertex colours weigh the layers (they do not tint)
     vec4 tiling;   // repeats of each layer across the height uv
     vec4 depth;    // each layer's height scale
 } layer_params;
@@ -25,6 +26,11 @@ struct LayerMix {
     float roughness;
     vec3 normal;      // world space
 };
+
+// The vertex colour the material is tinted by: none when the colours are the layers' weights.
+vec4 layer_vertex_tint(vec4 color) {
+    return layer_params.info.w != 0u ? vec4(1.0) : color;
+}
 
 vec4 layer_shading_weights(vec4 h, vec4 w) {
     vec4 by = layer_params.info.x == 0u ? w : h * w;

@@ -106,7 +106,11 @@ void main() {
     gl_FragDepth = max(gl_FragCoord.z, clamp(clip.z / clip.w, 0.0, 1.0));
 #endif
 
+#ifdef TERRAIN_LAYERS
+    MaterialSample m = sample_material(uv0, uv1, layer_vertex_tint(in_color));
+#else
     MaterialSample m = sample_material(uv0, uv1, in_color);
+#endif
     if (material_cut(m)) {
         discard;
     }

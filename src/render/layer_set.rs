@@ -17,11 +17,13 @@ use image::{imageops::FilterType, DynamicImage, RgbaImage};
 
 use super::texture_mips::mip_chain;
 use crate::heightfield::Channel;
-use crate::scene::{Layers, Material, MaterialLayer, SceneImage, TextureRef};
+use crate::scene::{
+    LayerWeights, Layers, LayersError, Material, MaterialLayer, SceneImage, TextureRef,
+};
 use crate::terrain::BlendMode;
 use crate::vk::{
     upload_layers, upload_mips, Bind, Buffer, Context, DescriptorLayout, DescriptorPool,
-    DescriptorSet, Image, ImageDesc, Sampler, VkResult,
+    DescriptorSet, Image, ImageDesc, Sampler, VkError, VkResult,
 };
 
 /// Mirrors `LayerParams` in `terrain_layers.glsl`.
@@ -29,7 +31,7 @@ use crate::vk::{
 #[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 struct LayerUniform {
     /// x: blend mode (0 alpha, 1 height, 2 height-intersect); y: layer count; z: bit k set when
-    /// layer k has a normal map.
+    /// layer k has a normal map; w: 1 when vertex colours weigh the layers (so do not tint).
     info: [u32; 4],
     tiling: [f32; 4],
     depth: [f32; 4],
@@ -93,7 +95,10 @@ impl LayerSets {
             let name = &material.name;
             let colour = layer_array(ctx, layers, images, true, &format!("{name} layer albedo"))?;
             let detail = layer_array(ctx, layers, images, false, &format!("{name} layer normals"))?;
-            let splat = splat_image(ctx, &images[layers.splat.image], &format!("{name} splat"))?;
+            let splat = layers.splat().ok_or_else(|| {
+                VkError::Invalid(format!("material {name:?}: {}", LayersError::Unbaked))
+            })?;
+            let splat = splat_image(ctx, &images[splat.image], &format!("{name} splat"))?;
             let buffer = Buffer::with_data(
                 ctx,
                 bytemuck::bytes_of(&uniform(layers)),
@@ -140,7 +145,12 @@ fn uniform(layers: &Layers) -> LayerUniform {
         .filter(|(_, l)| l.normal.is_some())
         .fold(0u32, |bits, (k, _)| bits | 1 << k);
     LayerUniform {
-        info: [mode, layers.layers.len() as u32, normals, 0],
+        info: [
+            mode,
+            layers.layers.len() as u32,
+            normals,
+            u32::from(matches!(layers.weights, LayerWeights::BakedVertexColors(_))),
+        ],
         tiling: per_layer(|l| l.tiling),
         depth: per_layer(|l| l.depth),
     }

@@ -10,7 +10,7 @@ use std::time::Instant;
 use super::blended_pyramid_pass::build_blended_pyramid_on_gpu;
 use super::gpu_heightfield::HeightFormat;
 use crate::heightfield::{Address, Heightfield, LoadOptions, MaxPyramid, PyramidLevel};
-use crate::scene::{Layers, Scene, SceneImage};
+use crate::scene::{Layers, LayersError, Scene, SceneImage};
 use crate::terrain::{tiled_stack, SplatMap, TiledLayer};
 use crate::vk::Context;
 
@@ -66,7 +66,10 @@ pub fn blended_heights(
             depth: l.depth,
         })
         .collect();
-    let splat = splat_of(&scene.images[layers.splat.image])?;
+    let splat = layers
+        .splat()
+        .ok_or_else(|| RenderError::Layers(LayersError::Unbaked.to_string()))?;
+    let splat = splat_of(&scene.images[splat.image])?;
     let stack = tiled_stack(&tiled, &splat, layers.resolution)
         .map_err(|e| RenderError::Layers(e.to_string()))?;
     let stack_ms = started.elapsed().as_secs_f64() * 1e3;

@@ -189,7 +189,11 @@ fn checked_layers<'a>(
             .into_iter()
             .flatten()
     });
-    for t in textures.chain([layers.splat]) {
+    let splat = layers.splat().ok_or_else(|| PlanError::Layers {
+        material: material.name.clone(),
+        source: crate::scene::LayersError::Unbaked,
+    })?;
+    for t in textures.chain([*splat]) {
         if t.image >= scene.images.len() {
             return Err(PlanError::NoImage {
                 material: material.name.clone(),

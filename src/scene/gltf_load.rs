@@ -91,6 +91,8 @@ pub fn load_gltf_with_report(
         ..Scene::default()
     };
     let (report, camera_node) = build(&doc, &buffers, opts, &mut scene).map_err(invalid)?;
+    super::bake_vertex_color_weights(&mut scene)
+        .map_err(|e| invalid(format!("vertex-colour layer weights: {e}")))?;
     // Last, so errors in what is drawn name their mesh: the rest of the accessors (animation,
     // skins, unused) are checked too, since a file with broken data is broken either way.
     gltf_accessor::check_accessors(&doc, &buffers, zero_buffers).map_err(invalid)?;

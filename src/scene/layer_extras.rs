@@ -12,14 +12,16 @@
 //! ```
 //!
 //! Textures are glTF texture indices, read with texture coordinate set 0 (the height uv);
-//! `splat` (RGBA, channel k weighs layer k) and `height` are required, the other maps optional.
+//! `splat` (RGBA, channel k weighs layer k; or `"vertex-colors"`: the colours of the meshes using
+//! the material, baked into a splat map at a quarter of `resolution` when the file is loaded) and
+//! `height` are required, the other maps optional.
 //! Defaults: `mode` "height" (`alpha`, `height`, `height-intersect`), `resolution` 1024 (the
 //! blended field's side), `channel` "r", `tiling` 1, `depth` 1, `name` "layer K". A material with
 //! `layers` takes its heights from them (`height` beside it is an error). Unknown keys are errors.
 
 use serde_json::{Map, Value};
 
-use super::layered::{Layers, MaterialLayer};
+use super::layered::{LayerWeights, Layers, MaterialLayer};
 use super::relief_extras::{object, only_keys, parsed};
 use super::TextureRef;
 use crate::heightfield::Channel;
@@ -27,6 +29,8 @@ use crate::terrain::BlendMode;
 
 /// Side of the blended field when `resolution` is left out.
 const DEFAULT_RESOLUTION: u32 = 1024;
+/// Vertex-colour weights are baked at the blended field's side over this: weights are smooth.
+const VERTEX_SPLAT_DIVISOR: u32 = 4;
 
 /// The layers `extras.relief.layers` describes; `texture` resolves a glTF texture index.
 pub(super) fn parse_layers(
@@ -54,14 +58,20 @@ pub(super) fn parse_layers(
                 format!("{what}: texture {index} does not exist (the file has {texture_count})")
             })
     };
-    let splat = resolve(o.get("splat"), &format!("{field}.splat"))?
-        .ok_or_else(|| format!("{field}.splat: missing (the RGBA weights' texture index)"))?;
     let resolution = match o.get("resolution") {
         None => DEFAULT_RESOLUTION,
         Some(v) => v
             .as_u64()
             .and_then(|r| u32::try_from(r).ok())
             .ok_or_else(|| format!("{field}.resolution: {v} is not a texel count"))?,
+    };
+    let weights = match o.get("splat") {
+        Some(Value::String(s)) if s == "vertex-colors" => LayerWeights::VertexColors {
+            resolution: (resolution / VERTEX_SPLAT_DIVISOR).max(1),
+        },
+        splat => LayerWeights::Splat(resolve(splat, &format!("{field}.splat"))?.ok_or_else(
+            || format!("{field}.splat: missing (the RGBA weights' texture index, or \"vertex-colors\")"),
+        )?),
     };
     let list = match o.get("layers") {
         Some(Value::Array(list)) => list,
@@ -75,7 +85,7 @@ pub(super) fn parse_layers(
         .collect::<Result<Vec<_>, _>>()?;
     let parsed = Layers {
         layers,
-        splat,
+        weights,
         mode,
         resolution,
     };
@@ -161,7 +171,7 @@ mod tests {
         )
         .unwrap();
         assert_eq!(l.mode, BlendMode::HeightIntersect);
-        assert_eq!((l.splat.image, l.resolution), (15, 512));
+        assert_eq!((l.splat().unwrap().image, l.resolution), (15, 512));
         let sand = &l.layers[0];
         assert_eq!(sand.name, "sand");
         assert_eq!(sand.height_channel, Channel::A);
@@ -173,6 +183,15 @@ mod tests {
             (second.tiling, second.depth, second.albedo),
             (1.0, 1.0, None)
         );
+    }
+
+    #[test]
+    fn vertex_colour_weights_wait_for_baking() {
+        let l =
+            parse(r#"{"splat": "vertex-colors", "resolution": 256, "layers": [{"height": 0}]}"#)
+                .unwrap();
+        assert_eq!(l.weights, LayerWeights::VertexColors { resolution: 64 });
+        assert!(l.splat().is_none());
     }
 
     #[test]

@@ -4,9 +4,14 @@
 //! the material's method traces. The surface each mode defines is `terrain`'s; the renderer
 //! builds it, and its conservative pyramid, from what is named here.
 
-use super::material::TextureRef;
+use std::sync::Arc;
+
+use image::{DynamicImage, ImageBuffer, Rgba};
+
+use super::material::{SamplerDesc, TextureRef, UvTransform, Wrap};
+use super::{Mesh, Scene, SceneImage};
 use crate::heightfield::Channel;
-use crate::terrain::{BlendMode, MAX_LAYERS};
+use crate::terrain::{splat_from_vertex_colors, BlendMode, LayerError, MAX_LAYERS};
 
 /// One layer of a layered material.
 #[derive(Debug, Clone, PartialEq)]
@@ -28,13 +33,27 @@ pub struct MaterialLayer {
     pub depth: f32,
 }
 
+/// Where a layered material's weights come from.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum LayerWeights {
+    /// An RGBA splat map over the height uv (channel k weighs layer k), clamped at its edges.
+    Splat(TextureRef),
+    /// The vertex colours of the meshes that use the material, rasterised over their first uv
+    /// set into a `resolution`^2 splat map by [`bake_vertex_color_weights`] (the glTF loader
+    /// does so).
+    VertexColors { resolution: u32 },
+    /// Vertex colours baked into this splat map: read like `Splat`, and the colours weigh the
+    /// layers instead of tinting the material.
+    BakedVertexColors(TextureRef),
+}
+
 /// A material's layers, their weights and how they blend.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Layers {
     /// 1 to 4.
     pub layers: Vec<MaterialLayer>,
-    /// RGBA weights over the height uv, clamped at its edges.
-    pub splat: TextureRef,
+    /// Where each layer's weight comes from.
+    pub weights: LayerWeights,
     pub mode: BlendMode,
     /// Side of the blended height field the method traces, in texels across the height uv.
     pub resolution: u32,
@@ -51,12 +70,22 @@ pub enum LayersError {
     Depth { layer: String, value: f32 },
     #[error("the blended field's resolution must be within 1..={max}, got {value}")]
     Resolution { value: u32, max: u32 },
+    #[error("its weights come from vertex colours not yet baked into a splat map (scene::bake_vertex_color_weights)")]
+    Unbaked,
 }
 
 /// Largest blended field side: the CPU stack and the GPU build scale with its square.
 pub const MAX_LAYERED_RESOLUTION: u32 = 8192;
 
 impl Layers {
+    /// The splat map the weights are read from (`None` until vertex colours are baked).
+    pub fn splat(&self) -> Option<&TextureRef> {
+        match &self.weights {
+            LayerWeights::Splat(t) | LayerWeights::BakedVertexColors(t) => Some(t),
+            LayerWeights::VertexColors { .. } => None,
+        }
+    }
+
     /// Checks the counts and numbers (texture indices are checked against the scene by the plan).
     pub fn check(&self) -> Result<(), LayersError> {
         if self.layers.is_empty() || self.layers.len() > MAX_LAYERS {
@@ -84,4 +113,49 @@ impl Layers {
         }
         Ok(())
     }
+}
+
+/// Replaces every layered material's vertex-colour weights by a splat map rasterised from the
+/// colours of the meshes that use it, added to the scene's images.
+pub fn bake_vertex_color_weights(scene: &mut Scene) -> Result<(), LayerError> {
+    for m in 0..scene.materials.len() {
+        let Some(LayerWeights::VertexColors { resolution }) =
+            scene.materials[m].layers.as_ref().map(|l| l.weights)
+        else {
+            continue;
+        };
+        let meshes: Vec<&Mesh> = scene
+            .meshes
+            .iter()
+            .filter(|mesh| mesh.material == m)
+            .collect();
+        let splat = splat_from_vertex_colors(&meshes, resolution)?;
+        let (w, h) = splat.size();
+        let pixels = ImageBuffer::from_fn(w, h, |i, j| {
+            Rgba(
+                splat
+                    .texel(i, j)
+                    .map(|x| (x.clamp(0.0, 1.0) * 65535.0).round() as u16),
+            )
+        });
+        scene.images.push(SceneImage {
+            name: format!("vertex-colour weights of {:?}", scene.materials[m].name),
+            pixels: Arc::new(DynamicImage::ImageRgba16(pixels)),
+        });
+        let texture = TextureRef {
+            image: scene.images.len() - 1,
+            tex_coord: 0,
+            transform: UvTransform::default(),
+            sampler: SamplerDesc {
+                wrap_u: Wrap::ClampToEdge,
+                wrap_v: Wrap::ClampToEdge,
+                mipmaps: None,
+                ..SamplerDesc::default()
+            },
+        };
+        if let Some(layers) = scene.materials[m].layers.as_mut() {
+            layers.weights = LayerWeights::BakedVertexColors(texture);
+        }
+    }
+    Ok(())
 }

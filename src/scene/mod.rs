@@ -30,7 +30,10 @@ pub use camera::{Camera, Projection};
 pub use camera_path::{CameraPath, Interpolation, Keyed, Keyframe, NodeMotion, Track, TrackError};
 pub use frustum::Frustum;
 pub use gltf_load::{load_gltf, load_gltf_with_report, LoadReport, SceneError, SceneOptions};
-pub use layered::{Layers, LayersError, MaterialLayer, MAX_LAYERED_RESOLUTION};
+pub use layered::{
+    bake_vertex_color_weights, LayerWeights, Layers, LayersError, MaterialLayer,
+    MAX_LAYERED_RESOLUTION,
+};
 pub use light_extras::MAX_ANGULAR_RADIUS_DEG;
 pub use lod::Lod;
 pub use material::{

@@ -35,6 +35,7 @@ mod grid;
 mod layers;
 mod rules;
 mod scene;
+mod vertex_weights;
 
 pub use blend::{blended_field, BlendMode};
 pub use blended_pyramid::{blended_pyramid, least_sum_slack, node_bound};
@@ -47,3 +48,4 @@ pub use rules::{splat_from_rules, LayerRule};
 pub use scene::{
     procedural_layers, rules_splat, terrain_scene, GroundLayer, TerrainOptions, TERRAIN_MESH,
 };
+pub use vertex_weights::splat_from_vertex_colors;

@@ -16,8 +16,8 @@ use super::rules::{splat_from_rules, LayerRule};
 use crate::heightfield::{Channel, Generator, Heightfield};
 use crate::method::Method;
 use crate::scene::{
-    AoMode, Camera, HeightSource, Layers, Light, Material, MaterialLayer, Relief, SamplerDesc,
-    Scene, SceneImage, ShadowMode, ShadowSettings, TextureRef, Wrap,
+    AoMode, Camera, HeightSource, LayerWeights, Layers, Light, Material, MaterialLayer, Relief,
+    SamplerDesc, Scene, SceneImage, ShadowMode, ShadowSettings, TextureRef, Wrap,
 };
 
 /// The name of the terrain scene's tiles (`{TERRAIN_MESH} tile C,R`); they are its meshes 0.., in
@@ -192,7 +192,7 @@ pub fn terrain_scene(
         relief: Some(relief),
         layers: Some(Layers {
             layers: material_layers,
-            splat,
+            weights: LayerWeights::Splat(splat),
             mode: opts.mode,
             resolution: opts.resolution,
         }),
