@@ -206,17 +206,7 @@ fn write_displaced_gltf(dir: &std::path::Path) -> std::path::PathBuf {
         Rgba([150 + (x % 32) as u8 * 3, 90 + (y % 16) as u8 * 4, 70, 255])
     });
     colour.save(dir.join("colour.png")).expect("writes PNG");
-    // Two triangles, y up, facing +y: positions, normals, uvs, then u16 indices.
-    let positions: [[f32; 3]; 4] = [[-1., 0., -1.], [1., 0., -1.], [1., 0., 1.], [-1., 0., 1.]];
-    let normals = [[0f32, 1., 0.]; 4];
-    let uvs: [[f32; 2]; 4] = [[0., 0.], [1., 0.], [1., 1.], [0., 1.]];
-    let indices: [u16; 6] = [0, 2, 1, 0, 3, 2];
-    let mut bin: Vec<u8> = Vec::new();
-    bin.extend_from_slice(bytemuck::cast_slice(&positions));
-    bin.extend_from_slice(bytemuck::cast_slice(&normals));
-    bin.extend_from_slice(bytemuck::cast_slice(&uvs));
-    bin.extend_from_slice(bytemuck::cast_slice(&indices));
-    bin.extend_from_slice(&[0, 0]);
+    let (bin, views, accessors) = common::plane_gltf::plane_buffer(None);
     std::fs::write(dir.join("plane.bin"), &bin).expect("writes bin");
     let gltf = serde_json::json!({
         "asset": {"version": "2.0"},
@@ -247,18 +237,8 @@ fn write_displaced_gltf(dir: &std::path::Path) -> std::path::PathBuf {
         "textures": [{"source": 0}, {"source": 1}],
         "images": [{"uri": "height.png"}, {"uri": "colour.png"}],
         "buffers": [{"uri": "plane.bin", "byteLength": bin.len()}],
-        "bufferViews": [
-            {"buffer": 0, "byteOffset": 0, "byteLength": 48},
-            {"buffer": 0, "byteOffset": 48, "byteLength": 48},
-            {"buffer": 0, "byteOffset": 96, "byteLength": 32},
-            {"buffer": 0, "byteOffset": 128, "byteLength": 12}
-        ],
-        "accessors": [
-            {"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [-1.0, 0.0, -1.0], "max": [1.0, 0.0, 1.0]},
-            {"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC3"},
-            {"bufferView": 2, "componentType": 5126, "count": 4, "type": "VEC2"},
-            {"bufferView": 3, "componentType": 5123, "count": 6, "type": "SCALAR"}
-        ]
+        "bufferViews": views,
+        "accessors": accessors
     });
     let path = dir.join("displaced.gltf");
     std::fs::write(&path, serde_json::to_vec_pretty(&gltf).expect("json")).expect("writes gltf");

@@ -164,24 +164,13 @@ fn write_layered_gltf(dir: &std::path::Path, vertex_colors: bool) -> std::path::
         }
     });
     splat.save(dir.join("splat.png")).unwrap();
-    let positions: [[f32; 3]; 4] = [[-1., 0., -1.], [1., 0., -1.], [1., 0., 1.], [-1., 0., 1.]];
-    let normals = [[0f32, 1., 0.]; 4];
-    let uvs: [[f32; 2]; 4] = [[0., 0.], [1., 0.], [1., 1.], [0., 1.]];
-    let indices: [u16; 6] = [0, 2, 1, 0, 3, 2];
-    let mut bin: Vec<u8> = Vec::new();
-    bin.extend_from_slice(bytemuck::cast_slice(&positions));
-    bin.extend_from_slice(bytemuck::cast_slice(&normals));
-    bin.extend_from_slice(bytemuck::cast_slice(&uvs));
-    bin.extend_from_slice(bytemuck::cast_slice(&indices));
-    // Pads the indices (128..140) to the colours' 4-byte alignment at 144.
-    bin.extend_from_slice(&[0; 4]);
     let colors: [[f32; 4]; 4] = [
         [1., 0., 0., 0.],
         [0., 1., 0., 0.],
         [0., 1., 0., 0.],
         [1., 0., 0., 0.],
     ];
-    bin.extend_from_slice(bytemuck::cast_slice(&colors));
+    let (bin, views, accessors) = common::plane_gltf::plane_buffer(Some(colors));
     std::fs::write(dir.join("plane.bin"), &bin).unwrap();
     let mut attributes = serde_json::json!({"POSITION": 0, "NORMAL": 1, "TEXCOORD_0": 2});
     let splat = if vertex_colors {
@@ -218,20 +207,8 @@ fn write_layered_gltf(dir: &std::path::Path, vertex_colors: bool) -> std::path::
         "textures": [{"source": 0}, {"source": 1}, {"source": 2}, {"source": 3}, {"source": 4}],
         "images": [{"uri": "bricks.png"}, {"uri": "fbm.png"}, {"uri": "red.png"}, {"uri": "blue.png"}, {"uri": "splat.png"}],
         "buffers": [{"uri": "plane.bin", "byteLength": bin.len()}],
-        "bufferViews": [
-            {"buffer": 0, "byteOffset": 0, "byteLength": 48},
-            {"buffer": 0, "byteOffset": 48, "byteLength": 48},
-            {"buffer": 0, "byteOffset": 96, "byteLength": 32},
-            {"buffer": 0, "byteOffset": 128, "byteLength": 12},
-            {"buffer": 0, "byteOffset": 144, "byteLength": 64}
-        ],
-        "accessors": [
-            {"bufferView": 0, "componentType": 5126, "count": 4, "type": "VEC3", "min": [-1.0, 0.0, -1.0], "max": [1.0, 0.0, 1.0]},
-            {"bufferView": 1, "componentType": 5126, "count": 4, "type": "VEC3"},
-            {"bufferView": 2, "componentType": 5126, "count": 4, "type": "VEC2"},
-            {"bufferView": 3, "componentType": 5123, "count": 6, "type": "SCALAR"},
-            {"bufferView": 4, "componentType": 5126, "count": 4, "type": "VEC4"}
-        ]
+        "bufferViews": views,
+        "accessors": accessors
     });
     let path = dir.join(if vertex_colors {
         "vertex_layered.gltf"

@@ -104,19 +104,7 @@ impl HeightResources {
     ) -> VkResult<HeightResources> {
         let heights = GpuHeightfield::upload_prebuilt(ctx, pyramid, format, address)?;
         frame.height_info = heights.shader_info();
-        let uniforms = (0..slots.max(1))
-            .map(|slot| {
-                Buffer::with_data(
-                    ctx,
-                    bytemuck::bytes_of(&frame),
-                    vk::BufferUsageFlags::UNIFORM_BUFFER,
-                    &format!("frame uniforms {slot}"),
-                )
-            })
-            .collect::<VkResult<Vec<_>>>()?;
-        let map = map
-            .map(|m| GpuMethodMap::upload(ctx, m, address, "method map"))
-            .transpose()?;
+        let (uniforms, map) = uniforms_and_map(ctx, &frame, slots, map, address)?;
         Ok(HeightResources {
             heights,
             pyramid: None,
@@ -153,19 +141,7 @@ impl HeightResources {
             (heights, None)
         };
         frame.height_info = heights.shader_info();
-        let uniforms = (0..slots.max(1))
-            .map(|slot| {
-                Buffer::with_data(
-                    ctx,
-                    bytemuck::bytes_of(&frame),
-                    vk::BufferUsageFlags::UNIFORM_BUFFER,
-                    &format!("frame uniforms {slot}"),
-                )
-            })
-            .collect::<VkResult<Vec<_>>>()?;
-        let map = map
-            .map(|m| GpuMethodMap::upload(ctx, m, address, "method map"))
-            .transpose()?;
+        let (uniforms, map) = uniforms_and_map(ctx, &frame, slots, map, address)?;
         let mean = match (mean_binding, mean_pyramid) {
             (false, _) => MeanBinding::None,
             (true, false) => MeanBinding::StandIn,
@@ -276,4 +252,28 @@ impl HeightResources {
     pub fn builds_pyramid(&self) -> bool {
         self.pyramid.is_some()
     }
+}
+
+/// One copy of `frame` per frame slot, and the method map uploaded (if any).
+fn uniforms_and_map(
+    ctx: &Arc<Context>,
+    frame: &FrameUniforms,
+    slots: usize,
+    map: Option<&MapData>,
+    address: Address,
+) -> VkResult<(Vec<Buffer>, Option<GpuMethodMap>)> {
+    let uniforms = (0..slots.max(1))
+        .map(|slot| {
+            Buffer::with_data(
+                ctx,
+                bytemuck::bytes_of(frame),
+                vk::BufferUsageFlags::UNIFORM_BUFFER,
+                &format!("frame uniforms {slot}"),
+            )
+        })
+        .collect::<VkResult<Vec<_>>>()?;
+    let map = map
+        .map(|m| GpuMethodMap::upload(ctx, m, address, "method map"))
+        .transpose()?;
+    Ok((uniforms, map))
 }

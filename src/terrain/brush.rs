@@ -205,20 +205,23 @@ pub fn coarse_span(
     spans
 }
 
+/// A stroke of strength 0.2 (flattening toward 0.5), for the terrain module's tests.
+#[cfg(test)]
+pub(super) fn test_stroke(kind: BrushKind, x: f32, y: f32, radius: f32) -> Stroke {
+    Stroke {
+        kind,
+        x,
+        y,
+        radius,
+        strength: 0.2,
+        target: 0.5,
+    }
+}
+
 #[cfg(test)]
 mod tests {
+    use super::test_stroke as stroke;
     use super::*;
-
-    fn stroke(kind: BrushKind, x: f32, y: f32, radius: f32) -> Stroke {
-        Stroke {
-            kind,
-            x,
-            y,
-            radius,
-            strength: 0.2,
-            target: 0.5,
-        }
-    }
 
     #[test]
     fn strokes_change_only_their_disk_and_each_kind_goes_its_way() {

@@ -97,6 +97,7 @@ impl TerrainEditor {
 mod tests {
     use super::*;
     use crate::heightfield::Generator;
+    use crate::terrain::brush::test_stroke as stroke;
     use crate::terrain::{terrain_tiles, BrushKind};
 
     fn options() -> GridOptions {
@@ -105,17 +106,6 @@ mod tests {
             height: 1.0,
             tile_quads: 8,
             step: 2,
-        }
-    }
-
-    fn stroke(kind: BrushKind, x: f32, y: f32, radius: f32) -> Stroke {
-        Stroke {
-            kind,
-            x,
-            y,
-            radius,
-            strength: 0.2,
-            target: 0.5,
         }
     }
 

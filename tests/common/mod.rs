@@ -8,6 +8,7 @@ pub mod corpus;
 pub mod golden;
 pub mod mesh_gltf;
 pub mod npy;
+pub mod plane_gltf;
 pub mod rays;
 
 use std::path::PathBuf;
