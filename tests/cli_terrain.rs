@@ -195,8 +195,16 @@ fn bad_edits_and_layers_fail_in_one_line() {
         elevation.to_str().unwrap(),
     ]);
     assert_clean_failure(&run, &["--terrain", "scene.gltf"]);
+    let run = relief(&[
+        "render",
+        "--terrain",
+        elevation.to_str().unwrap(),
+        "--terrain-resolution",
+        "100000",
+    ]);
+    assert_clean_failure(&run, &["--terrain-resolution", "16..=4096"]);
     let run = relief(&["render", "--terrain", "missing.png"]);
-    assert_clean_failure(&run, &["missing.png"]);
+    assert_clean_failure(&run, &["--terrain", "missing.png"]);
 }
 
 #[test]

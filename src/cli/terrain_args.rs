@@ -93,7 +93,8 @@ impl TerrainArgs {
                 "--terrain-resolution must be within 16..={MAX_LAYERED_RESOLUTION}, got {r}"
             );
         }
-        let elevation = Heightfield::load_png(path, &LoadOptions::default())?;
+        let elevation = Heightfield::load_png(path, &LoadOptions::default())
+            .context("--terrain: the elevation map")?;
         let layers = if self.layers.is_empty() {
             procedural_layers(PROCEDURAL_LAYER_SIDE)
         } else {

@@ -74,8 +74,9 @@ pub enum LayersError {
     Unbaked,
 }
 
-/// Largest blended field side: the CPU stack and the GPU build scale with its square.
-pub const MAX_LAYERED_RESOLUTION: u32 = 8192;
+/// Largest blended field side: the CPU stack (eight f32 maps of this side: 512 MiB at 4096) and
+/// the GPU build scale with its square.
+pub const MAX_LAYERED_RESOLUTION: u32 = 4096;
 
 impl Layers {
     /// The splat map the weights are read from (`None` until vertex colours are baked).
