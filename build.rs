@@ -7,7 +7,7 @@
 //! the method's file (reached through the virtual include "method.glsl") and whether the variant
 //! binds the method map (binding 3); `surface.frag` also once per row with level of detail
 //! (`surface.frag:<id>:lod`, RELIEF_LOD), once per row shading height-blended layers
-//! (`surface.frag:<id>:layers`, TERRAIN_LAYERS) and once plain (no relief); `passes/pyramid.comp` and
+//! (`surface.frag:<id>:layers`, TERRAIN_LAYERS, and `:lod:layers` with both) and once plain (no relief); `passes/pyramid.comp` and
 //! `passes/mean_pyramid.comp` once per storage format (`pyramid.comp` also for four-channel
 //! terrain layers), `passes/blended_pyramid.comp` and `passes/brush.comp` per height format; every other file under
 //! `passes/` once. A file in
@@ -108,11 +108,20 @@ fn variants(root: &Path) -> Vec<Variant> {
                 if base == "surface.frag" {
                     let lod = lod_defines(m, &defines);
                     let key = format!("{base}:{}:lod", m.id);
-                    out.push(plain(key, lod, Some(method_file.clone())));
-                    let mut layers = defines.clone();
-                    layers.push(("TERRAIN_LAYERS".into(), "1".into()));
+                    out.push(plain(key, lod.clone(), Some(method_file.clone())));
+                    let layers = ("TERRAIN_LAYERS".to_owned(), "1".to_owned());
                     let key = format!("{base}:{}:layers", m.id);
-                    out.push(plain(key, layers, Some(method_file.clone())));
+                    let defines_with = |mut d: Vec<(String, String)>| {
+                        d.push(layers.clone());
+                        d
+                    };
+                    out.push(plain(
+                        key,
+                        defines_with(defines.clone()),
+                        Some(method_file.clone()),
+                    ));
+                    let key = format!("{base}:{}:lod:layers", m.id);
+                    out.push(plain(key, defines_with(lod), Some(method_file.clone())));
                 }
                 out.push(plain(
                     format!("{base}:{}", m.id),

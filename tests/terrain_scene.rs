@@ -287,3 +287,36 @@ fn layered_gltf_splits_its_layers(vertex_colors: bool) {
     );
     common::assert_no_validation_errors(&ctx);
 }
+
+#[test]
+fn layered_terrain_takes_level_of_detail() {
+    let Some(ctx) = common::device("layered_terrain_takes_level_of_detail") else {
+        return;
+    };
+    let opts = small_options();
+    let elevation = elevation();
+    let splat = rules_splat(&elevation, 4, &opts).unwrap();
+    let full = terrain_scene(&elevation, procedural_layers(64), &splat, &opts);
+    let mut lod = full.clone();
+    for m in &mut lod.materials {
+        if let Some(r) = m.relief.as_mut() {
+            r.lod = Some(relief::scene::Lod::default());
+        }
+    }
+    let a = render(&ctx, &full, None, &options()).expect("renders without LOD");
+    let b = render(&ctx, &lod, None, &options()).expect("renders with LOD");
+    assert_eq!(b.plan.pipelines[0].shader(), "surface.frag:qdm:lod:layers");
+    assert!(
+        b.maps.iter().any(|m| m.kind == "averaged pyramid"),
+        "{:?}",
+        b.maps
+    );
+    // LOD stops the traversal early where the field is minified: close to the full render, not
+    // equal to it, and never black where the full render is lit.
+    let (mean, p99, _) = common::golden::compare(&b.rgba, &a.rgba);
+    eprintln!("layered LOD against full detail: mean {mean:.3}, p99 {p99}");
+    assert!(mean > 0.0 && mean < 3.0, "mean {mean}");
+    let black = |rgba: &[u8]| rgba.chunks_exact(4).filter(|p| p[..3] == [0, 0, 0]).count();
+    assert_eq!(black(&b.rgba), black(&a.rgba));
+    common::assert_no_validation_errors(&ctx);
+}

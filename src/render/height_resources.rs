@@ -89,29 +89,56 @@ impl HeightResources {
         map: Option<&MapData>,
         frame: FrameUniforms,
     ) -> VkResult<HeightResources> {
-        Self::with_pyramid_slots(ctx, pyramid, format, address, map, frame, 1)
+        let upload = HeightUpload {
+            format,
+            address,
+            map,
+            pyramid: true,
+            slots: 1,
+            mean_binding: false,
+            mean_pyramid: false,
+        };
+        Self::upload_prebuilt(ctx, pyramid, &upload, frame)
     }
 
-    /// [`HeightResources::with_pyramid`] with uniforms for `slots` frame slots.
-    pub fn with_pyramid_slots(
+    /// [`HeightResources::with_pyramid`] as `upload` says (its `pyramid` is ignored: the pyramid
+    /// is given); an averaged pyramid, when asked for, is built from `pyramid`'s level 0 by the
+    /// first frame.
+    pub fn upload_prebuilt(
         ctx: &Arc<Context>,
         pyramid: &MaxPyramid,
-        format: HeightFormat,
-        address: Address,
-        map: Option<&MapData>,
+        upload: &HeightUpload,
         mut frame: FrameUniforms,
-        slots: usize,
     ) -> VkResult<HeightResources> {
+        let HeightUpload {
+            format,
+            address,
+            map,
+            slots,
+            mean_binding,
+            mean_pyramid,
+            ..
+        } = *upload;
         let heights = GpuHeightfield::upload_prebuilt(ctx, pyramid, format, address)?;
         frame.height_info = heights.shader_info();
         let (uniforms, map) = uniforms_and_map(ctx, &frame, slots, map, address)?;
+        let mean = match (mean_binding, mean_pyramid) {
+            (false, _) => MeanBinding::None,
+            (true, false) => MeanBinding::StandIn,
+            (true, true) => {
+                let base = pyramid.level(0);
+                let hf = Heightfield::new(base.width, base.height, base.data.clone())
+                    .map_err(|e| VkError::Invalid(e.to_string()))?;
+                MeanBinding::Built(Box::new(MeanPyramid::new(ctx, &hf, format)?))
+            }
+        };
         Ok(HeightResources {
             heights,
             pyramid: None,
             prebuilt: true,
             uniforms,
             map,
-            mean: MeanBinding::None,
+            mean,
         })
     }
 
@@ -248,9 +275,10 @@ impl HeightResources {
         self.pyramid.is_some() || self.prebuilt
     }
 
-    /// Whether the first frame builds its pyramid (`record_pyramid`).
+    /// Whether the first frame builds a pyramid (`record_pyramid`): the max pyramid, or the
+    /// averaged one beside an uploaded max pyramid.
     pub fn builds_pyramid(&self) -> bool {
-        self.pyramid.is_some()
+        self.pyramid.is_some() || matches!(self.mean, MeanBinding::Built(_))
     }
 }
 

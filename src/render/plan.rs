@@ -54,7 +54,8 @@ impl PipelineKey {
     /// The SPIR-V variant it is built from.
     pub fn shader(&self) -> String {
         match (self.method, self.lod) {
-            (Some(m), _) if self.layers => format!("{}:layers", m.surface_shader_key()),
+            (Some(m), None) if self.layers => format!("{}:layers", m.surface_shader_key()),
+            (Some(m), Some(_)) if self.layers => format!("{}:lod:layers", m.surface_shader_key()),
             (Some(m), None) => m.surface_shader_key(),
             (Some(m), Some(_)) => format!("{}:lod", m.surface_shader_key()),
             (None, _) => "surface.frag:plain".into(),
@@ -157,8 +158,6 @@ pub enum PlanError {
         material: String,
         source: crate::scene::LayersError,
     },
-    #[error("material {material:?}: layered materials have no level of detail yet; leave out --lod for it")]
-    LayersLod { material: String },
     #[error(
         "material {material:?}: height texture names image {image}, but the scene has {count}"
     )]
@@ -301,11 +300,6 @@ impl Plan {
                         }
                         HeightSource::Layers => {
                             let layers = checked_layers(scene, material)?;
-                            if relief.lod.is_some() {
-                                return Err(PlanError::LayersLod {
-                                    material: material.name.clone(),
-                                });
-                            }
                             let n = layers.resolution;
                             let source = format!(
                                 "{} layers of {:?} blended ({})",
@@ -479,13 +473,19 @@ impl Plan {
         let pyramids = self
             .heights
             .iter()
-            .filter(|h| h.pyramid && !blended(h))
+            .filter(|h| {
+                if blended(h) {
+                    h.mean_pyramid
+                } else {
+                    h.pyramid
+                }
+            })
             .count();
         let layered = self.heights.iter().filter(blended).count();
         if layered > 0 {
             self.skip(
                 format!("{} for {layered} layered height map(s)", Pass::Pyramid.name()),
-                "a layered material's conservative pyramid is blended from its layers' and weights' pyramids when they are uploaded (maps: blended pyramid)",
+                "a layered material's conservative pyramid is blended from its layers' and weights' pyramids when they are uploaded (maps: blended pyramid); with LOD the pass still builds its averaged pyramid",
             );
         }
         if pyramids > 0 {

@@ -375,8 +375,13 @@ impl Renderer {
             let Some(hp) = scope.part.and_then(|p| self.plan.heights.get(p)) else {
                 continue;
             };
+            // A layered map's max pyramid came blended; its first frame builds the averaged one.
+            let kind = match hp.key {
+                HeightKey::Layers { .. } => "averaged pyramid",
+                _ => MapKind::MaxPyramid.name(),
+            };
             self.maps.push(BuiltMap {
-                kind: MapKind::MaxPyramid.name(),
+                kind,
                 source: hp.source.clone(),
                 size: [hp.size.0, hp.size.1],
                 ms: *ms,
@@ -445,18 +450,6 @@ fn upload_heights(
             });
         }
         let map_data = map.as_ref().map(|built| &built.data);
-        if let Some(pyramid) = &prebuilt {
-            heights.push(HeightResources::with_pyramid_slots(
-                ctx,
-                pyramid,
-                opts.height_format,
-                address,
-                map_data,
-                uniforms,
-                FRAMES_IN_FLIGHT,
-            )?);
-            continue;
-        }
         let upload = HeightUpload {
             format: opts.height_format,
             address,
@@ -466,6 +459,12 @@ fn upload_heights(
             mean_binding: hp.mean_binding,
             mean_pyramid: hp.mean_pyramid,
         };
+        if let Some(pyramid) = &prebuilt {
+            heights.push(HeightResources::upload_prebuilt(
+                ctx, pyramid, &upload, uniforms,
+            )?);
+            continue;
+        }
         heights.push(HeightResources::upload(ctx, &stored, &upload, uniforms)?);
     }
     Ok((heights, maps))
