@@ -5,17 +5,11 @@
 mod common;
 
 use std::path::Path;
-use std::process::{Command, Output};
+
+use common::cli::relief;
 
 use relief::heightfield::ambient_occlusion::ao_reference;
 use relief::heightfield::{Address, Generator, Heightfield};
-
-fn relief(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_relief"))
-        .args(args)
-        .output()
-        .expect("binary runs")
-}
 
 /// Runs `relief ao` on `map` and checks the dump and the printed statistics against the reference.
 fn check_dump(map: &Path, hf: &Heightfield, mode: &str, address: Address, bound: f64) {

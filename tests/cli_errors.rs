@@ -5,12 +5,7 @@ mod common;
 use std::path::Path;
 use std::process::{Command, Output};
 
-fn relief(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_relief"))
-        .args(args)
-        .output()
-        .expect("binary runs")
-}
+use common::cli::relief;
 
 fn stderr(out: &Output) -> String {
     String::from_utf8_lossy(&out.stderr).into_owned()

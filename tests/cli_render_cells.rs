@@ -5,17 +5,12 @@
 mod common;
 
 use std::path::Path;
-use std::process::{Command, Output};
+use std::process::Output;
+
+use common::cli::relief;
 
 use common::mesh_gltf::{write_mesh, TETRAHEDRON, TETRAHEDRON_FACES};
 use serde_json::Value;
-
-fn relief(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_relief"))
-        .args(args)
-        .output()
-        .expect("binary runs")
-}
 
 /// `relief render SCENE --out OUT --width 96 --height 64 EXTRA...`.
 fn render(scene: &Path, out: &Path, extra: &[&str]) -> Output {

@@ -5,18 +5,11 @@
 mod common;
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 
-use common::cli::assert_clean_failure;
+use common::cli::{assert_clean_failure, relief};
 use relief::heightfield::Generator;
 use serde_json::Value;
-
-fn relief(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_relief"))
-        .args(args)
-        .output()
-        .expect("binary runs")
-}
 
 /// A `size`^2 fbm elevation map written as a 16-bit PNG.
 fn elevation(dir: &Path, size: u32) -> PathBuf {

@@ -4,6 +4,7 @@
 //! `shaders/include/lod.glsl`) for the LOD variants of pyramid methods. The uniforms come in one host-visible
 //! copy per frame in flight, so a frame can rewrite its copy while the GPU still reads another.
 
+use std::borrow::Cow;
 use std::sync::Arc;
 
 use ash::vk;
@@ -38,6 +39,25 @@ enum MeanBinding {
     Built(Box<MeanPyramid>),
 }
 
+impl MeanBinding {
+    /// What `upload` asks for; `level0` gives the heights to average, only when it is built.
+    fn new<'h>(
+        ctx: &Arc<Context>,
+        upload: &HeightUpload,
+        level0: impl FnOnce() -> VkResult<Cow<'h, Heightfield>>,
+    ) -> VkResult<MeanBinding> {
+        Ok(match (upload.mean_binding, upload.mean_pyramid) {
+            (false, _) => MeanBinding::None,
+            (true, false) => MeanBinding::StandIn,
+            (true, true) => MeanBinding::Built(Box::new(MeanPyramid::new(
+                ctx,
+                level0()?.as_ref(),
+                upload.format,
+            )?)),
+        })
+    }
+}
+
 /// How a height map is stored and what comes with it.
 #[derive(Debug, Clone, Copy)]
 pub struct HeightUpload<'a> {
@@ -56,6 +76,21 @@ pub struct HeightUpload<'a> {
     pub mean_pyramid: bool,
 }
 
+impl<'a> HeightUpload<'a> {
+    /// One frame slot's worth, with the max pyramid and no averaged one (traces and benches).
+    pub fn single(format: HeightFormat, address: Address, map: Option<&'a MapData>) -> Self {
+        HeightUpload {
+            format,
+            address,
+            map,
+            pyramid: true,
+            slots: 1,
+            mean_binding: false,
+            mean_pyramid: false,
+        }
+    }
+}
+
 impl HeightResources {
     /// Uploads `hf` (and `map`), prepares the pyramid build and one copy of the uniforms in
     /// `frame`, whose `height_info` is filled in here.
@@ -67,15 +102,7 @@ impl HeightResources {
         map: Option<&MapData>,
         frame: FrameUniforms,
     ) -> VkResult<HeightResources> {
-        let upload = HeightUpload {
-            format,
-            address,
-            map,
-            pyramid: true,
-            slots: 1,
-            mean_binding: false,
-            mean_pyramid: false,
-        };
+        let upload = HeightUpload::single(format, address, map);
         Self::upload(ctx, hf, &upload, frame)
     }
 
@@ -89,15 +116,7 @@ impl HeightResources {
         map: Option<&MapData>,
         frame: FrameUniforms,
     ) -> VkResult<HeightResources> {
-        let upload = HeightUpload {
-            format,
-            address,
-            map,
-            pyramid: true,
-            slots: 1,
-            mean_binding: false,
-            mean_pyramid: false,
-        };
+        let upload = HeightUpload::single(format, address, map);
         Self::upload_prebuilt(ctx, pyramid, &upload, frame)
     }
 
@@ -115,23 +134,17 @@ impl HeightResources {
             address,
             map,
             slots,
-            mean_binding,
-            mean_pyramid,
             ..
         } = *upload;
         let heights = GpuHeightfield::upload_prebuilt(ctx, pyramid, format, address)?;
         frame.height_info = heights.shader_info();
         let (uniforms, map) = uniforms_and_map(ctx, &frame, slots, map, address)?;
-        let mean = match (mean_binding, mean_pyramid) {
-            (false, _) => MeanBinding::None,
-            (true, false) => MeanBinding::StandIn,
-            (true, true) => {
-                let base = pyramid.level(0);
-                let hf = Heightfield::new(base.width, base.height, base.data.clone())
-                    .map_err(|e| VkError::Invalid(e.to_string()))?;
-                MeanBinding::Built(Box::new(MeanPyramid::new(ctx, &hf, format)?))
-            }
-        };
+        let mean = MeanBinding::new(ctx, upload, || {
+            let base = pyramid.level(0);
+            Heightfield::new(base.width, base.height, base.data.clone())
+                .map(Cow::Owned)
+                .map_err(|e| VkError::Invalid(e.to_string()))
+        })?;
         Ok(HeightResources {
             heights,
             pyramid: None,
@@ -155,8 +168,7 @@ impl HeightResources {
             map,
             pyramid,
             slots,
-            mean_binding,
-            mean_pyramid,
+            ..
         } = *upload;
         let (heights, pyramid) = if pyramid {
             let heights = GpuHeightfield::upload(ctx, hf, format, address)?;
@@ -169,11 +181,7 @@ impl HeightResources {
         };
         frame.height_info = heights.shader_info();
         let (uniforms, map) = uniforms_and_map(ctx, &frame, slots, map, address)?;
-        let mean = match (mean_binding, mean_pyramid) {
-            (false, _) => MeanBinding::None,
-            (true, false) => MeanBinding::StandIn,
-            (true, true) => MeanBinding::Built(Box::new(MeanPyramid::new(ctx, hf, format)?)),
-        };
+        let mean = MeanBinding::new(ctx, upload, || Ok(Cow::Borrowed(hf)))?;
         Ok(HeightResources {
             heights,
             pyramid,

@@ -1,6 +1,14 @@
-//! What every failing command line must look like.
+//! Running the `relief` binary, and what every failing command line must look like.
 
-use std::process::Output;
+use std::process::{Command, Output};
+
+/// Runs the `relief` binary built with the tests with `args`, to completion.
+pub fn relief(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_relief"))
+        .args(args)
+        .output()
+        .expect("binary runs")
+}
 
 /// Asserts that the command failed cleanly: exit code 1, no panic, and exactly one
 /// `relief: error:` line, which names every one of `needles`.
