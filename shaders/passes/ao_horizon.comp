@@ -6,6 +6,8 @@
 // coarser levels of the max pyramid (so log n samples see the whole profile, as in the paper);
 // the slice integral about the normal is then closed-form (ao.glsl). Near samples read level 0
 // bilinearly (the true surface), so small features nearby are not inflated to pyramid boxes.
+// A dispatch may cover a rectangle of the map only (`origin`, `end`): a texel's value depends on
+// the texel and the heights alone, so a partial rebuild equals a full one where it writes.
 //
 // Invariants: a flat field gives exactly 1 (every sample equals the texel's own height, so every
 // slope is 0 and every slice's occlusion 0); values are clamped to [0, 1]; no loop is unbounded
@@ -29,10 +31,15 @@ layout(push_constant, std430) uniform Params {
     // The first sample's distance in texels of the longer side, and the growth per sample.
     float first_distance;
     float growth;
-    // Samples stop beyond this distance in uv (the whole profile that can matter).
+    // Samples stop beyond this distance in uv: the whole profile that can matter, or a bounded
+    // reach (AoMapPass::prepare_reaching) so that a height change is seen from nearby only.
     float reach_uv;
     // Level read at distance d texels: floor(log2(d)) - level_bias, within the image's mips.
     int level_bias;
+    // The texels written: origin <= t < end (the whole map, or after a local change of the
+    // heights only the texels that can see it; every texel's value is the same either way).
+    ivec2 origin;
+    ivec2 end;
 } params;
 
 // A per-texel number in [0, 1) (PCG hash), for the rotated variant.
@@ -99,8 +106,8 @@ float horizon(vec2 p, float hp, vec2 dir, int levels, bool repeat) {
 }
 
 void main() {
-    ivec2 t = ivec2(gl_GlobalInvocationID.xy);
-    if (any(greaterThanEqual(t, params.size))) {
+    ivec2 t = ivec2(gl_GlobalInvocationID.xy) + params.origin;
+    if (any(greaterThanEqual(t, min(params.end, params.size)))) {
         return;
     }
     bool repeat = params.repeat_address != 0u;

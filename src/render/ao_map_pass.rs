@@ -23,6 +23,12 @@
 //!
 //! The map's image ends in `SHADER_READ_ONLY_OPTIMAL`, visible to fragment and compute shaders.
 //!
+//! Local rebuilds (horizon modes): a map prepared with a bounded reach
+//! ([`AoMapPass::prepare_reaching`]) depends on the heights within
+//! [`AoJob::influence_texels`] of each texel only, so after the heights change in a rectangle,
+//! [`AoMapPass::record_region`] over [`AoJob::influence_region`] of it gives the map a full
+//! rebuild would, bit for bit, recomputing only the texels that can see the change.
+//!
 //! Invariants: a flat field gives exactly 1.0 in every mode; every value is in [0, 1].
 //!
 //! Accuracy and cost (mean absolute error against the reference at 256 azimuths; lavapipe on two
@@ -66,6 +72,11 @@ pub const AO_MAP_FORMAT: vk::Format = vk::Format::R32_SFLOAT;
 const HORIZON_FIRST_DISTANCE: f32 = 1.0;
 const HORIZON_GROWTH: f32 = 2.0;
 const HORIZON_LEVEL_BIAS: i32 = 2;
+/// The shader's cap on samples per azimuth (`MAX_SAMPLES` in ao_horizon.comp).
+const HORIZON_MAX_SAMPLES: u32 = 64;
+/// Texels added to the derived influence radius, against rounding in the shader's sample
+/// positions (`p + x dir` in uv, floored to a node) that the derivation treats as exact.
+const INFLUENCE_SAFETY_TEXELS: u32 = 2;
 
 const HORIZON_GROUP: u32 = 8;
 const SWEEP_GROUP: u32 = 64;
@@ -86,9 +97,13 @@ struct HorizonParams {
     growth: f32,
     reach_uv: f32,
     level_bias: i32,
+    // ivec2s at offset 40 and 48: 8-aligned under std430, so no padding before them.
+    origin: [i32; 2],
+    end: [i32; 2],
 }
 
-const _: () = assert!(std::mem::size_of::<HorizonParams>() == 40);
+const _: () = assert!(std::mem::size_of::<HorizonParams>() == 56);
+const _: () = assert!(std::mem::offset_of!(HorizonParams, origin) == 40);
 
 /// `Params` of ao_sweep.comp.
 #[repr(C)]
@@ -137,6 +152,12 @@ pub struct AoJob {
     // The sweep's scratch (none for the horizon pass).
     scratch: Option<SweepScratch>,
     depth_scale: f32,
+    /// How far the horizons look, in uv (the whole map unless a reach was asked for).
+    reach_uv: f32,
+    /// The reach asked for, in texels of the longer side; `None`: the whole map.
+    reach_texels: Option<f32>,
+    /// Mip levels of the height image the job reads (the pyramid's, or 1 without one).
+    height_levels: u32,
 }
 
 impl AoJob {
@@ -148,6 +169,63 @@ impl AoJob {
     /// The map alone, dropping the scratch; call after the submission has completed.
     pub fn into_map(self) -> AoMap {
         self.map
+    }
+
+    /// The bounded reach the job was prepared with (texels of the longer side), if any.
+    pub fn reach_texels(&self) -> Option<f32> {
+        self.reach_texels
+    }
+
+    /// A radius R in level-0 texels (per axis, so a square of side 2R + 1) such that a texel's AO
+    /// depends on the heights within R of it only; `None` when the reach is unbounded.
+    ///
+    /// Why it bounds every read of ao_horizon.comp: the normal and the surface tangent read the
+    /// four neighbours (1). A sample at distance d (d <= the reach; per axis its offset is at most
+    /// d texels) reads level L = floor(log2 d) - level_bias clamped to the image's mips, or level 0
+    /// outside a clamped map. Level 0 is bilinear: the two texels about the sample, so d + 1. A
+    /// level-L node contains the sample and spans r_L = n / n_L level-0 texels (n_L the level's
+    /// size: more than 2^L for odd sizes); it is the max of the level L-1 texels it overlaps,
+    /// which reach at most r_{L-1} past it, and so on down to level 1, whose nodes also take the
+    /// level-0 texels one beyond those they overlap (the bilinear bound). So its reads lie within
+    /// d + r_L + (r_{L-1} + ... + r_1 + 1) + 1 of the texel; 2^(L+1) + d for power-of-two sizes.
+    /// Clamped reads beyond a clamped map's edge only come closer; repeat wraps distances.
+    pub fn influence_texels(&self) -> Option<u32> {
+        self.reach_texels?;
+        let d = self.map.image.desc();
+        let longer = d.width.max(d.height);
+        // The shader compares d / longer with the reach in uv, in its own rounding: include a
+        // sample it may keep even where this side would drop it.
+        let limit = f64::from(self.reach_uv) * f64::from(longer) * (1.0 + 1e-4);
+        let mut radius = 1.0f64;
+        let mut distance = f64::from(HORIZON_FIRST_DISTANCE);
+        for _ in 0..HORIZON_MAX_SAMPLES {
+            if distance > limit {
+                break;
+            }
+            let level = sample_level(distance, self.height_levels);
+            let node = node_reach(level, d.width).max(node_reach(level, d.height));
+            radius = radius.max(distance + node);
+            distance *= f64::from(HORIZON_GROWTH);
+        }
+        Some(radius.ceil() as u32 + INFLUENCE_SAFETY_TEXELS)
+    }
+
+    /// The texels of the map whose AO a change of the heights in `changed` (x0, y0, width,
+    /// height, level-0 texels) can alter: `changed` grown by [`AoJob::influence_texels`] and
+    /// clipped to the map, or, under repeat addressing, the whole of an axis where the grown
+    /// rectangle wraps around it (one rectangle stands for both sides). `None` when the reach is
+    /// unbounded (every texel may see the change: rebuild the whole map); an empty rectangle when
+    /// `changed` covers no texel of the map.
+    pub fn influence_region(&self, changed: [u32; 4]) -> Option<[u32; 4]> {
+        let radius = self.influence_texels()?;
+        let d = self.map.image.desc();
+        let Some(changed) = clip_region(changed, d.width, d.height) else {
+            return Some([0; 4]);
+        };
+        let wrap = self.map.address == Address::Repeat;
+        let (x0, w) = grow_span(changed[0], changed[2], d.width, radius, wrap);
+        let (y0, h) = grow_span(changed[1], changed[3], d.height, radius, wrap);
+        Some([x0, y0, w, h])
     }
 }
 
@@ -202,10 +280,38 @@ impl AoMapPass {
     /// Allocates the AO map of `hf` (same size, same addressing), its set and scratch.
     /// `depth_scale` must be finite and above 0.
     pub fn prepare(&self, hf: &GpuHeightfield, depth_scale: f32) -> VkResult<AoJob> {
+        self.prepare_reaching(hf, depth_scale, None)
+    }
+
+    /// [`AoMapPass::prepare`] with the horizons looking at most `reach_texels` texels of the
+    /// longer side away (finite, at least 1; the whole map when larger or `None`). A bounded reach
+    /// loses the occlusion of farther, higher terrain but makes each texel depend on the heights
+    /// near it only, so a local change can be rebuilt locally ([`AoMapPass::record_region`]).
+    /// Horizon modes only: the exact sweep follows every line across the whole map.
+    pub fn prepare_reaching(
+        &self,
+        hf: &GpuHeightfield,
+        depth_scale: f32,
+        reach_texels: Option<f32>,
+    ) -> VkResult<AoJob> {
         if !(depth_scale.is_finite() && depth_scale > 0.0) {
             return Err(VkError::Invalid(format!(
                 "AO map depth scale {depth_scale}: must be finite and above 0"
             )));
+        }
+        if let Some(reach) = reach_texels {
+            if !(reach.is_finite() && reach >= 1.0) {
+                return Err(VkError::Invalid(format!(
+                    "AO reach {reach} texels: must be finite and at least 1"
+                )));
+            }
+            if self.mode == AoMode::ExactHorizon {
+                return Err(VkError::Invalid(
+                    "AO mode exact-horizon has no bounded reach: its sweeps cross the whole map \
+                     (use a horizon-N mode)"
+                        .into(),
+                ));
+            }
         }
         let ctx = &self.ctx;
         let map = new_map(ctx, hf, self.mode)?;
@@ -225,12 +331,20 @@ impl AoMapPass {
             None
         };
         let set = pool.allocate(&self.layout, &binds)?;
+        let d = hf.image.desc();
+        let reach_uv = match reach_texels {
+            Some(reach) => whole_reach_uv(hf.address).min(reach / d.width.max(d.height) as f32),
+            None => whole_reach_uv(hf.address),
+        };
         Ok(AoJob {
             map,
             _pool: pool,
             set,
             scratch,
             depth_scale,
+            reach_uv,
+            reach_texels,
+            height_levels: hf.levels(),
         })
     }
 
@@ -239,14 +353,9 @@ impl AoMapPass {
     /// modes with its pyramid built; without one they read level 0 only, less accurately) and its
     /// writes visible to compute shaders; the map ends in `SHADER_READ_ONLY_OPTIMAL`.
     pub fn record(&self, rec: &Recording, job: &AoJob) -> VkResult<()> {
-        if job.map.mode != self.mode {
-            return Err(VkError::Invalid(format!(
-                "AO job prepared for {} recorded by the {} pass",
-                job.map.mode, self.mode
-            )));
-        }
+        self.check_job(job)?;
         let image = &job.map.image;
-        transition_map(rec, image, true);
+        transition_map(rec, image, MapStep::Write);
         self.pipeline.bind(rec, Some(job.set));
         match (self.mode, &job.scratch) {
             (
@@ -255,44 +364,87 @@ impl AoMapPass {
                     rotated,
                 },
                 _,
-            ) => self.record_horizon(rec, job, directions, rotated)?,
+            ) => {
+                let d = image.desc();
+                self.record_horizon(rec, job, (directions, rotated), [0, 0, d.width, d.height])?
+            }
             (AoMode::ExactHorizon, Some(scratch)) => self.record_sweep(rec, job, scratch)?,
             _ => return Err(VkError::Invalid("AO job prepared for another mode".into())),
         }
-        transition_map(rec, image, false);
+        transition_map(rec, image, MapStep::Read);
         Ok(())
     }
 
+    /// Records the rebuild of `region` (x0, y0, width, height; clipped to the map, nothing
+    /// recorded when empty) of `job`'s map, already built by a recording that executes before
+    /// this one, keeping its other texels. As [`AoMapPass::record`], the heights must be in
+    /// `SHADER_READ_ONLY_OPTIMAL` with their writes (and their pyramid's) visible to compute
+    /// shaders. Horizon modes only; pass [`AoJob::influence_region`] of a changed rectangle to
+    /// get what a full rebuild would give.
+    pub fn record_region(&self, rec: &Recording, job: &AoJob, region: [u32; 4]) -> VkResult<()> {
+        self.check_job(job)?;
+        let AoMode::Horizon {
+            directions,
+            rotated,
+        } = self.mode
+        else {
+            return Err(VkError::Invalid(format!(
+                "AO mode {} rebuilds whole maps only (its sweeps cross the map): record the \
+                 whole map instead of a region",
+                self.mode
+            )));
+        };
+        let d = job.map.image.desc();
+        let Some(region) = clip_region(region, d.width, d.height) else {
+            return Ok(());
+        };
+        let image = &job.map.image;
+        transition_map(rec, image, MapStep::Rewrite);
+        self.pipeline.bind(rec, Some(job.set));
+        self.record_horizon(rec, job, (directions, rotated), region)?;
+        transition_map(rec, image, MapStep::Read);
+        Ok(())
+    }
+
+    fn check_job(&self, job: &AoJob) -> VkResult<()> {
+        if job.map.mode != self.mode {
+            return Err(VkError::Invalid(format!(
+                "AO job prepared for {} recorded by the {} pass",
+                job.map.mode, self.mode
+            )));
+        }
+        Ok(())
+    }
+
+    /// One dispatch over `region` (x0, y0, width, height; non-empty, within the map).
     fn record_horizon(
         &self,
         rec: &Recording,
         job: &AoJob,
-        directions: u32,
-        rotated: bool,
+        (directions, rotated): (u32, bool),
+        region: [u32; 4],
     ) -> VkResult<()> {
         let d = job.map.image.desc();
-        let repeat = job.map.address == Address::Repeat;
         let params = HorizonParams {
             size: [d.width as i32, d.height as i32],
-            repeat_address: u32::from(repeat),
+            repeat_address: u32::from(job.map.address == Address::Repeat),
             directions,
             rotated: u32::from(rotated),
             depth_scale: job.depth_scale,
             first_distance: HORIZON_FIRST_DISTANCE,
             growth: HORIZON_GROWTH,
-            // A repeating profile comes back a tile on, seen lower; a clamped one ends at the
-            // far corner, beyond which the extension only recedes.
-            reach_uv: if repeat {
-                1.0
-            } else {
-                std::f32::consts::SQRT_2
-            },
+            reach_uv: job.reach_uv,
             level_bias: HORIZON_LEVEL_BIAS,
+            origin: [region[0] as i32, region[1] as i32],
+            end: [
+                (region[0] + region[2]) as i32,
+                (region[1] + region[3]) as i32,
+            ],
         };
         self.pipeline.push(rec, bytemuck::bytes_of(&params))?;
         rec.dispatch([
-            d.width.div_ceil(HORIZON_GROUP),
-            d.height.div_ceil(HORIZON_GROUP),
+            region[2].div_ceil(HORIZON_GROUP),
+            region[3].div_ceil(HORIZON_GROUP),
             1,
         ]);
         Ok(())
@@ -377,6 +529,57 @@ impl AoMapPass {
         let values = bytemuck::pod_collect_to_vec(&bytes);
         Ok((values, timestamps.ticks_to_ms(ticks[0], ticks[1])))
     }
+}
+
+/// The horizon's reach covering the whole profile that can matter: a repeating profile comes back
+/// a tile on, seen lower; a clamped one ends at the far corner, beyond which the extension only
+/// recedes.
+fn whole_reach_uv(address: Address) -> f32 {
+    if address == Address::Repeat {
+        1.0
+    } else {
+        std::f32::consts::SQRT_2
+    }
+}
+
+/// The pyramid level ao_horizon.comp reads `distance` texels away (`horizon_sample`), among
+/// `levels` mips.
+fn sample_level(distance: f64, levels: u32) -> u32 {
+    let level = distance.log2().floor() as i32 - HORIZON_LEVEL_BIAS;
+    level.clamp(0, levels.max(1) as i32 - 1) as u32
+}
+
+/// How far past a sample point, in level-0 texels of an axis of `n`, the heights behind a
+/// level-`level` read lie (see [`AoJob::influence_texels`]): the second bilinear texel at level 0;
+/// the node's span, the spans of the finer texels it overlaps and the bilinear bound's margin
+/// above. The mips' sizes follow the Vulkan rule, `max(1, n >> level)`.
+fn node_reach(level: u32, n: u32) -> f64 {
+    if level == 0 {
+        return 1.0;
+    }
+    let span = |k: u32| f64::from(n) / f64::from((n >> k).max(1));
+    (1..=level).map(span).sum::<f64>() + 1.0 + 1.0
+}
+
+/// `region` (x0, y0, width, height) clipped to a `w` x `h` map; `None` when nothing is left.
+fn clip_region(region: [u32; 4], w: u32, h: u32) -> Option<[u32; 4]> {
+    let x1 = region[0].saturating_add(region[2]).min(w);
+    let y1 = region[1].saturating_add(region[3]).min(h);
+    (region[0] < x1 && region[1] < y1)
+        .then(|| [region[0], region[1], x1 - region[0], y1 - region[1]])
+}
+
+/// The span (first, length) of `len` texels from `first` (within an axis of `n`) grown by
+/// `radius` on both sides and clipped to the axis; the whole axis under `wrap` when the grown
+/// span crosses an edge, since it then continues from the other side.
+fn grow_span(first: u32, len: u32, n: u32, radius: u32, wrap: bool) -> (u32, u32) {
+    let lo = i64::from(first) - i64::from(radius);
+    let hi = i64::from(first) + i64::from(len) + i64::from(radius);
+    if wrap && (lo < 0 || hi > i64::from(n)) {
+        return (0, n);
+    }
+    let lo = lo.max(0) as u32;
+    (lo, hi.min(i64::from(n)) as u32 - lo)
 }
 
 /// The set layout of `mode`'s shader: heights and the map (ao.glsl), plus the sweep's buffers
@@ -527,28 +730,45 @@ fn new_map(ctx: &Arc<Context>, hf: &GpuHeightfield, mode: AoMode) -> VkResult<Ao
     })
 }
 
-/// Moves the map to `GENERAL` for the passes' writes (`to_write`), or from there to
-/// `SHADER_READ_ONLY_OPTIMAL` for the shaders that sample it.
-fn transition_map(rec: &Recording, image: &Image, to_write: bool) {
+/// Where a recording moves the map.
+#[derive(Clone, Copy)]
+enum MapStep {
+    /// To `GENERAL` for a full build: the old contents are discarded.
+    Write,
+    /// From `SHADER_READ_ONLY_OPTIMAL` to `GENERAL` for a partial rebuild: the texels outside the
+    /// region must survive, and earlier samplers and copies must finish before the writes.
+    Rewrite,
+    /// From `GENERAL` to `SHADER_READ_ONLY_OPTIMAL` for the shaders and copies that read it.
+    Read,
+}
+
+/// Moves the map for `step`, ordering the accesses before it against those after.
+fn transition_map(rec: &Recording, image: &Image, step: MapStep) {
     let compute = vk::PipelineStageFlags2::COMPUTE_SHADER;
     let write = vk::AccessFlags2::SHADER_STORAGE_WRITE;
-    let (old, new, src, dst) = if to_write {
-        (
+    let readers = (
+        vk::PipelineStageFlags2::FRAGMENT_SHADER | compute | vk::PipelineStageFlags2::COPY,
+        vk::AccessFlags2::SHADER_SAMPLED_READ | vk::AccessFlags2::TRANSFER_READ,
+    );
+    let (old, new, src, dst) = match step {
+        MapStep::Write => (
             vk::ImageLayout::UNDEFINED,
             vk::ImageLayout::GENERAL,
             (vk::PipelineStageFlags2::NONE, vk::AccessFlags2::NONE),
             (compute, write),
-        )
-    } else {
-        (
+        ),
+        MapStep::Rewrite => (
+            vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+            vk::ImageLayout::GENERAL,
+            readers,
+            (compute, write),
+        ),
+        MapStep::Read => (
             vk::ImageLayout::GENERAL,
             vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
             (compute, write),
-            (
-                vk::PipelineStageFlags2::FRAGMENT_SHADER | compute | vk::PipelineStageFlags2::COPY,
-                vk::AccessFlags2::SHADER_SAMPLED_READ | vk::AccessFlags2::TRANSFER_READ,
-            ),
-        )
+            readers,
+        ),
     };
     transition_images(
         rec,

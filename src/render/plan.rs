@@ -13,7 +13,7 @@ use crate::cells::MeshSelection;
 use crate::heightfield::{Address, Channel, Heightfield};
 use crate::method::{MapKind, Method};
 use crate::scene::{
-    AlphaMode, AoMode, HeightSource, Light, Lod, Scene, ShadowMode, ShadowSettings, Wrap,
+    AlphaMode, AoMode, HeightSource, Layers, Light, Lod, Scene, ShadowMode, ShadowSettings, Wrap,
 };
 
 /// Where a planned height map comes from.
@@ -103,7 +103,27 @@ pub struct AoPlan {
     pub heights: usize,
     pub mode: AoMode,
     pub depth_scale: f32,
+    /// How far (texels of the longer side) the horizons look; `None` is the whole map. Bounded
+    /// for layered materials, so that painting their weights rebuilds the AO near the strokes
+    /// only (`AoJob::influence_texels`).
+    pub reach_texels: Option<f32>,
 }
+
+/// How far a layered material's horizons look, in texels of its blended field: a quarter of its
+/// most repeated layer's tile. Its AO shades the layers' detail (cracks, stones), whose features
+/// are smaller than a tile; the ground's own shape is drawn by its mesh, not by this field.
+/// Bounded, it lets painted weights rebuild the AO near the strokes alone.
+pub fn layered_ao_reach(layers: &Layers) -> f32 {
+    let tiling = layers
+        .layers
+        .iter()
+        .map(|l| l.tiling)
+        .fold(1.0f32, f32::max);
+    (layers.resolution as f32 / tiling / 4.0).max(LAYERED_AO_MIN_REACH)
+}
+
+/// The shortest reach of a layered material's AO, in texels.
+const LAYERED_AO_MIN_REACH: f32 = 8.0;
 
 /// Something the scene does not need, and why.
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -325,7 +345,8 @@ impl Plan {
             };
             let ao = match (material.relief, heights) {
                 (Some(relief), Some(h)) if relief.ao.is_some() => {
-                    Some(plan.ao_for(h, relief.ao, relief.depth_scale))
+                    let reach = material.layers.as_ref().map(layered_ao_reach);
+                    Some(plan.ao_for(h, relief.ao, relief.depth_scale, reach))
                 }
                 _ => None,
             };
@@ -404,11 +425,18 @@ impl Plan {
     }
 
     /// The index of the AO map of height map `heights` in `mode` at `depth_scale`, added if new.
-    fn ao_for(&mut self, heights: usize, mode: AoMode, depth_scale: f32) -> usize {
+    fn ao_for(
+        &mut self,
+        heights: usize,
+        mode: AoMode,
+        depth_scale: f32,
+        reach_texels: Option<f32>,
+    ) -> usize {
         let wanted = AoPlan {
             heights,
             mode,
             depth_scale,
+            reach_texels,
         };
         match self.ao_maps.iter().position(|a| *a == wanted) {
             Some(k) => k,

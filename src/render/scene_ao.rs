@@ -2,7 +2,8 @@
 //! map, recorded once by the renderer's first frame after the pyramids (the fields are static) and
 //! bound in the materials that read them from creation on (the image exists before it is written;
 //! nothing samples it before the first frame's build, which precedes the draws in submission
-//! order).
+//! order). A map planned with a bounded reach (`AoPlan::reach_texels`) can be rebuilt near a
+//! change of its height map only ([`SceneAo::record_region`]), for fields edited live.
 
 use std::sync::Arc;
 
@@ -17,8 +18,16 @@ use crate::vk::{Context, Recording, VkError, VkResult};
 /// The scene's AO passes and maps.
 pub struct SceneAo {
     passes: Vec<AoMapPass>,
-    /// By `Plan::ao_maps` index: the job, and which pass builds it.
-    jobs: Vec<(AoJob, usize)>,
+    /// By `Plan::ao_maps` index.
+    jobs: Vec<MapJob>,
+}
+
+/// One map: its job, which pass builds it and from which height map (`Plan::heights` index), so
+/// that an edit of a height map finds the maps to rebuild.
+struct MapJob {
+    job: AoJob,
+    pass: usize,
+    heights: usize,
 }
 
 impl SceneAo {
@@ -42,7 +51,12 @@ impl SceneAo {
                     "horizon AO planned over a height map without its pyramid".into(),
                 ));
             }
-            jobs.push((passes[pass].prepare(&h.heights, ao.depth_scale)?, pass));
+            let job = passes[pass].prepare_reaching(&h.heights, ao.depth_scale, ao.reach_texels)?;
+            jobs.push(MapJob {
+                job,
+                pass,
+                heights: ao.heights,
+            });
         }
         Ok(SceneAo { passes, jobs })
     }
@@ -54,14 +68,56 @@ impl SceneAo {
 
     /// Records the build of map `k` (after its height map's pyramid).
     pub fn record(&self, rec: &Recording, k: usize) -> VkResult<()> {
-        let (job, pass) = &self.jobs[k];
-        self.passes[*pass].record(rec, job)
+        let map = &self.jobs[k];
+        self.passes[map.pass].record(rec, &map.job)
+    }
+
+    /// The maps (by `Plan::ao_maps` index) built from height map `heights` (`Plan::heights`
+    /// index): those to rebuild after it changes.
+    pub fn maps_of(&self, heights: usize) -> Vec<usize> {
+        (0..self.jobs.len())
+            .filter(|&k| self.jobs[k].heights == heights)
+            .collect()
+    }
+
+    /// Records the rebuild of the texels of map `k` (already built) that a change of its height
+    /// map's level 0 in `changed` (x0, y0, width, height) can alter, after the heights and their
+    /// pyramid were updated (visible to compute shaders, in `SHADER_READ_ONLY_OPTIMAL`). Returns
+    /// the rectangle rebuilt: the change's influence region under a bounded reach, the whole map
+    /// (recorded as a full build) when the reach is unbounded, `None` (nothing recorded) when
+    /// `changed` covers no texel.
+    pub fn record_region(
+        &self,
+        rec: &Recording,
+        k: usize,
+        changed: [u32; 4],
+    ) -> VkResult<Option<[u32; 4]>> {
+        let map = self.jobs.get(k).ok_or_else(|| {
+            VkError::Invalid(format!("AO map {k} of {}: no such map", self.jobs.len()))
+        })?;
+        let pass = &self.passes[map.pass];
+        let d = map.job.map().image.desc();
+        let touches =
+            changed[2] > 0 && changed[3] > 0 && changed[0] < d.width && changed[1] < d.height;
+        if !touches {
+            return Ok(None);
+        }
+        match map.job.influence_region(changed) {
+            Some(region) => {
+                pass.record_region(rec, &map.job, region)?;
+                Ok(Some(region))
+            }
+            None => {
+                pass.record(rec, &map.job)?;
+                Ok(Some([0, 0, d.width, d.height]))
+            }
+        }
     }
 
     /// Map `k`'s view and sampler, for a material's descriptor set.
     pub fn binding(&self, k: usize) -> Option<(vk::ImageView, vk::Sampler)> {
         self.jobs
             .get(k)
-            .map(|(job, _)| (job.map().image.view(), job.map().sampler.raw()))
+            .map(|m| (m.job.map().image.view(), m.job.map().sampler.raw()))
     }
 }
