@@ -14,6 +14,7 @@ const OPTS: RenderOptions = RenderOptions {
     height_format: relief::render::HeightFormat::R16Unorm,
     address: relief::heightfield::Address::Repeat,
     cells: None,
+    paintable_layers: false,
 };
 
 #[test]

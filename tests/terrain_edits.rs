@@ -31,6 +31,7 @@ fn random_strokes(count: usize, w: u32, h: u32, seed: u64) -> Vec<Stroke> {
             radius: 1.0 + next() * 30.0,
             strength: next() * 0.3,
             target: next(),
+            layer: 0,
         })
         .collect()
 }
@@ -122,6 +123,7 @@ fn bad_strokes_change_nothing_and_say_why() {
         radius: 4.0,
         strength: 0.1,
         target: 0.0,
+        layer: 0,
     };
     for (bad, needle) in [
         (

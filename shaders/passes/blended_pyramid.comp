@@ -20,10 +20,12 @@ layout(set = 0, binding = 3) uniform sampler2D least_sum_slack;
 // Relative margin on the convex blends' weighted bound (WEIGHTED_MARGIN in blended_pyramid.rs).
 const float WEIGHTED_MARGIN = 1.0 + 8.0 * 1.1920929e-7;
 
-// x: blend mode (0 alpha, 1 height, 2 height-intersect); y: the level; z: 1 when the output
-// stores 16-bit unorm, so that bounds round up to the next step.
+// flags x: blend mode (0 alpha, 1 height, 2 height-intersect); y: the level; z: 1 when the
+// output stores 16-bit unorm, so that bounds round up to the next step. region: the texels
+// written (x0, y0, width, height), the whole level or what painted weights changed.
 layout(push_constant, std430) uniform Params {
     uvec4 flags;
+    uvec4 region;
 } params;
 
 const uint HEIGHT_INTERSECT = 2u;
@@ -64,7 +66,10 @@ float bound(vec4 h, vec4 w, float least_sum) {
 }
 
 void main() {
-    ivec2 i = ivec2(gl_GlobalInvocationID.xy);
+    if (any(greaterThanEqual(gl_GlobalInvocationID.xy, params.region.zw))) {
+        return;
+    }
+    ivec2 i = ivec2(gl_GlobalInvocationID.xy + params.region.xy);
     if (any(greaterThanEqual(i, imageSize(blended)))) {
         return;
     }

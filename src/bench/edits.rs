@@ -67,6 +67,7 @@ pub fn run_edit_section(
                 radius,
                 strength: 0.05,
                 target: 0.5,
+                layer: 0,
             };
             let report = editor
                 .apply(&[stroke])

@@ -210,6 +210,7 @@ pub fn render_interleaved(
         height_format: format,
         address: Address::Repeat,
         cells: None,
+        paintable_layers: false,
     };
     let mut renderers = scenes
         .iter()

@@ -9,6 +9,7 @@ use relief::render::Renderer;
 use super::pipeline_cache::{self, CacheArgs};
 use super::render_frames::{run_frames, CacheReport, FrameArgs};
 use super::scene_args::SceneArgs;
+use super::terrain_edits::TerrainEdits;
 
 #[derive(Args)]
 pub struct RenderArgs {
@@ -33,14 +34,18 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let mut loaded = args.scene.load()?;
     let ctx = super::open_device(args.scene.device.as_deref(), args.json)?;
     loaded.check_device(&ctx)?;
-    let opts = args
+    let mut opts = args
         .scene
         .render_options(args.scene.width, args.scene.height);
+    opts.paintable_layers = loaded.edits.as_ref().is_some_and(TerrainEdits::paints);
     let cache = args.cache.file(&ctx);
     let seeded = pipeline_cache::seed(&ctx, cache.as_deref());
     let before = ctx.created();
     let mut renderer = Renderer::new(&ctx, &loaded.scene, loaded.heights.as_ref(), &opts)
         .context("preparing the scene for rendering")?;
+    if let Some(edits) = &loaded.edits {
+        edits.check_renderer(&renderer)?;
+    }
     let cache_report = CacheReport {
         path: cache.clone(),
         seeded,

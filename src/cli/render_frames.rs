@@ -343,8 +343,20 @@ fn report_files(args: &RenderArgs, renderer: &Renderer, methods: &str, source: &
         );
     }
     for e in &d.edits {
+        let layered = match &e.paint {
+            None => "the layered maps were kept".to_string(),
+            Some(p) => format!(
+                "{} paint stroke(s) over {} splat texels re-blended {} of the field's texels ({} with the pyramid levels above) and {} AO texels in {:.2} ms on the gpu",
+                p.strokes,
+                p.splat_texels,
+                p.blended_texels.first().copied().unwrap_or(0),
+                p.blended_texels.iter().sum::<u64>(),
+                p.ao_texels,
+                p.gpu_ms
+            ),
+        };
         eprintln!(
-            "frame {}: {} stroke(s) over {} texels rebuilt {} of {} tiles in {:.1} ms (+{:.1} ms uploading them); the layered maps were kept",
+            "frame {}: {} stroke(s) over {} texels rebuilt {} of {} tiles in {:.1} ms (+{:.1} ms uploading them); {layered}",
             e.frame,
             e.strokes,
             e.texels,

@@ -144,6 +144,7 @@ impl SceneArgs {
             },
             address: self.address,
             cells: self.cells.options(),
+            paintable_layers: false,
         }
     }
 

@@ -15,7 +15,7 @@ use relief::terrain::{
     TerrainOptions, MAX_LAYERS, TERRAIN_MESH,
 };
 
-use super::terrain_edits::TerrainEdits;
+use super::terrain_edits::{PaintedLayers, TerrainEdits};
 
 /// Side of the procedural layers' maps.
 const PROCEDURAL_LAYER_SIDE: u32 = 256;
@@ -116,11 +116,14 @@ impl TerrainArgs {
         }
         let splat = rules_splat(&elevation, layers.len(), &opts)
             .with_context(|| format!("weighing layers over {}", path.display()))?;
+        let layer_count = layers.len();
         let scene = terrain_scene(&elevation, layers, &splat, &opts);
         let edits = match &self.edits {
             Some(file) => {
+                // The terrain scene's one material is the layered one.
+                let painted = PaintedLayers::of(0, layer_count, &splat);
                 let editor = TerrainEditor::new(elevation, &opts.grid, TERRAIN_MESH, 0);
-                Some(TerrainEdits::load(file, editor)?)
+                Some(TerrainEdits::load(file, editor, painted)?)
             }
             None => None,
         };

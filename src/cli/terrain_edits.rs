@@ -1,28 +1,53 @@
 //! `relief render --terrain ... --edits strokes.json`: brush strokes applied between frames, one
-//! list per frame (list k before frame k + 2; frame 1 shows the terrain as loaded), each
-//! rebuilding only the ground tiles it touched. The file is a JSON array of arrays of strokes:
+//! list per frame (list k before frame k + 2; frame 1 shows the terrain as loaded). Elevation
+//! strokes rebuild only the ground tiles they touched; `paint` strokes move a layer's weight and
+//! rebuild only the splat texels, blended field, pyramid nodes and AO texels near them
+//! (`Renderer::paint_layers`). The file is a JSON array of arrays of strokes:
 //!
 //! ```json
 //! [ [ {"kind": "raise", "x": 512, "y": 400, "radius": 32, "strength": 0.05} ],
 //!   [ {"kind": "crater", "x": 300, "y": 620, "radius": 48, "strength": 0.08},
-//!     {"kind": "flatten", "x": 700, "y": 700, "radius": 64, "strength": 0.5, "target": 0.3} ] ]
+//!     {"kind": "flatten", "x": 700, "y": 700, "radius": 64, "strength": 0.5, "target": 0.3},
+//!     {"kind": "paint", "layer": 2, "x": 400, "y": 420, "radius": 40, "strength": 0.8} ] ]
 //! ```
 //!
-//! Centres and radii are in elevation texels; every stroke is checked against the map before
-//! the first frame, so a bad one stops the render naming its frame and place in the list.
+//! Centres and radii are in elevation texels (a paint stroke is carried onto the splat map, its
+//! radius scaled by the larger of the two axes' ratios); every stroke is checked before the
+//! first frame, so a bad one stops the render naming its frame and place in the list.
 
 use std::path::Path;
 use std::time::Instant;
 
 use anyhow::Context as _;
-use relief::render::{FrameOutput, RenderError, Renderer};
-use relief::terrain::{Stroke, TerrainEditor};
+use relief::render::{FrameOutput, PaintReport, RenderError, Renderer};
+use relief::terrain::{SplatMap, Stroke, StrokeTarget, TerrainEditor};
 use serde::Serialize;
 
 /// The strokes of a render and the editor they go through.
 pub struct TerrainEdits {
     editor: TerrainEditor,
     frames: Vec<Vec<Stroke>>,
+    /// The layered material paint strokes weigh, and the splat size they are carried onto.
+    painted: PaintedLayers,
+    path: std::path::PathBuf,
+}
+
+/// The layered material of the terrain and its splat map's size.
+#[derive(Debug, Clone, Copy)]
+pub struct PaintedLayers {
+    pub material: usize,
+    pub layers: usize,
+    pub splat_size: (u32, u32),
+}
+
+impl PaintedLayers {
+    pub fn of(material: usize, layers: usize, splat: &SplatMap) -> PaintedLayers {
+        PaintedLayers {
+            material,
+            layers,
+            splat_size: splat.size(),
+        }
+    }
 }
 
 /// What one frame's strokes rebuilt, for `--explain` and the report.
@@ -38,11 +63,18 @@ pub struct EditRecord {
     pub rebuild_ms: f64,
     /// CPU ms of uploading the tiles (after the frames in flight finished).
     pub upload_ms: f64,
+    /// What the list's paint strokes rebuilt, if it had any.
+    pub paint: Option<PaintReport>,
 }
 
 impl TerrainEdits {
-    /// Reads `path` and checks every stroke against `editor`'s elevation.
-    pub fn load(path: &Path, editor: TerrainEditor) -> anyhow::Result<TerrainEdits> {
+    /// Reads `path` and checks every stroke against `editor`'s elevation, paint strokes also
+    /// against `painted`'s layers and splat map.
+    pub fn load(
+        path: &Path,
+        editor: TerrainEditor,
+        painted: PaintedLayers,
+    ) -> anyhow::Result<TerrainEdits> {
         let text = std::fs::read_to_string(path)
             .with_context(|| format!("--edits: cannot read {}", path.display()))?;
         let frames: Vec<Vec<Stroke>> = serde_json::from_str(&text).map_err(|e| {
@@ -52,14 +84,51 @@ impl TerrainEdits {
             )
         })?;
         let e = editor.elevation();
+        let (w, h) = (e.width(), e.height());
+        let (sw, sh) = painted.splat_size;
         for (f, strokes) in frames.iter().enumerate() {
             for (k, s) in strokes.iter().enumerate() {
-                s.check(k, e.width(), e.height()).map_err(|err| {
+                let checked = s.check(k, w, h).and_then(|()| {
+                    if !s.paints() {
+                        return Ok(());
+                    }
+                    if s.layer as usize >= painted.layers {
+                        return Err(StrokeTarget::Layer {
+                            index: k,
+                            layer: s.layer,
+                            layers: painted.layers,
+                        }
+                        .into());
+                    }
+                    onto_splat(s, (w, h), painted.splat_size).check(k, sw, sh)
+                });
+                checked.map_err(|err| {
                     anyhow::anyhow!("--edits {}: frame list {f}: {err}", path.display())
                 })?;
             }
         }
-        Ok(TerrainEdits { editor, frames })
+        Ok(TerrainEdits {
+            editor,
+            frames,
+            painted,
+            path: path.to_path_buf(),
+        })
+    }
+
+    /// Checks that `renderer` can paint the terrain's layers when a stroke paints them (its
+    /// method reads no map built once from the whole field, no averaged pyramid).
+    pub fn check_renderer(&self, renderer: &Renderer) -> anyhow::Result<()> {
+        if self.paints() {
+            renderer
+                .layer_splat(self.painted.material)
+                .with_context(|| format!("--edits {}", self.path.display()))?;
+        }
+        Ok(())
+    }
+
+    /// Whether any stroke paints weights (the renderer must then keep the blend's inputs).
+    pub fn paints(&self) -> bool {
+        self.frames.iter().flatten().any(Stroke::paints)
     }
 
     /// Frames needed to show every list (the first frame is unedited).
@@ -81,15 +150,36 @@ impl TerrainEdits {
             return Ok((Vec::new(), None));
         };
         let started = Instant::now();
+        let (paint, shape): (Vec<Stroke>, Vec<Stroke>) = strokes.iter().partition(|s| s.paints());
         let edit = self
             .editor
-            .apply(strokes)
+            .apply(&shape)
             .with_context(|| format!("--edits: before frame {}", frame + 1))?;
         let rebuild_ms = started.elapsed().as_secs_f64() * 1e3;
         // The frames in flight still draw the old tiles: wait for them before timing the upload.
         let mut retired = renderer
             .finish()
             .map_err(|e: RenderError| anyhow::anyhow!(e))?;
+        let paint = if paint.is_empty() {
+            None
+        } else {
+            let e = self.editor.elevation();
+            let on_splat: Vec<Stroke> = paint
+                .iter()
+                .map(|s| onto_splat(s, (e.width(), e.height()), self.painted.splat_size))
+                .collect();
+            let (waited, report) = renderer
+                .paint_layers(self.painted.material, &on_splat)
+                .with_context(|| {
+                    format!(
+                        "--edits {}: before frame {}",
+                        self.path.display(),
+                        frame + 1
+                    )
+                })?;
+            retired.extend(waited);
+            Some(report)
+        };
         let started = Instant::now();
         let meshes: Vec<(usize, &relief::scene::Mesh)> =
             edit.tiles.iter().map(|(k, m)| (*k, m)).collect();
@@ -100,13 +190,27 @@ impl TerrainEdits {
         );
         let record = EditRecord {
             frame: frame + 1,
-            strokes: edit.strokes,
+            strokes: edit.strokes + paint.as_ref().map_or(0, |p| p.strokes),
             texels: edit.texels,
             tiles_rebuilt: edit.tiles.iter().map(|(_, m)| m.name.clone()).collect(),
             tiles_total: self.editor.tile_count(),
             rebuild_ms,
             upload_ms: started.elapsed().as_secs_f64() * 1e3,
+            paint,
         };
         Ok((retired, Some(record)))
+    }
+}
+
+/// A paint stroke in elevation texels carried onto a splat map of `splat` texels over the same
+/// terrain: the centre scaled per axis, the radius by the larger ratio (so that the disk covers
+/// at least what it covered on the elevation).
+fn onto_splat(stroke: &Stroke, (w, h): (u32, u32), (sw, sh): (u32, u32)) -> Stroke {
+    let (rx, ry) = (sw as f32 / w as f32, sh as f32 / h as f32);
+    Stroke {
+        x: stroke.x * rx,
+        y: stroke.y * ry,
+        radius: stroke.radius * rx.max(ry),
+        ..*stroke
     }
 }

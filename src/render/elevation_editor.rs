@@ -8,10 +8,10 @@ use std::sync::Arc;
 use ash::vk;
 
 use super::gpu_heightfield::{GpuHeightfield, HeightFormat};
-use super::pyramid_pass::{PyramidJob, PyramidPass, Region};
+use super::pyramid_pass::{regions_above, PyramidJob, PyramidPass, Region};
 use crate::heightfield::{Address, Heightfield};
 use crate::shaders;
-use crate::terrain::{coarse_span, BrushKind, Stroke, StrokeError, TexelRect};
+use crate::terrain::{BrushKind, Stroke, StrokeError, StrokeTarget, TexelRect};
 use crate::vk::{
     compute_pipeline, memory_barrier, read_mip, transition_images, Bind, Context, DescriptorLayout,
     DescriptorPool, DescriptorSet, ImageTransition, ImageView, Pipeline, SpecConstants,
@@ -115,6 +115,9 @@ impl ElevationEditor {
         );
         for (k, s) in strokes.iter().enumerate() {
             s.check(k, w, h)?;
+            if s.paints() {
+                return Err(StrokeError::from(StrokeTarget::PaintOnElevation { index: k }).into());
+            }
         }
         let rects: Vec<TexelRect> = strokes.iter().filter_map(|s| s.rect(w, h)).collect();
         let regions = self.dirty_regions(&rects);
@@ -192,34 +195,8 @@ impl ElevationEditor {
 
     /// Per level above the elevation, the regions that read a texel of `rects`.
     fn dirty_regions(&self, rects: &[TexelRect]) -> Vec<Vec<Region>> {
-        let image = &self.heights.image;
         let wrap = self.heights.address == Address::Repeat;
-        let mut current: Vec<Region> = rects
-            .iter()
-            .map(|r| [r.x0, r.y0, r.width(), r.height()])
-            .collect();
-        let mut levels = Vec::new();
-        for level in 1..image.desc().mip_levels {
-            let (fw, fh) = image.level_extent(level - 1);
-            let (cw, ch) = image.level_extent(level);
-            let margin = u32::from(level == 1);
-            let mut next: Vec<Region> = Vec::new();
-            for r in &current {
-                let xs = coarse_span((r[0], r[0] + r[2] - 1), fw, cw, margin, wrap);
-                let ys = coarse_span((r[1], r[1] + r[3] - 1), fh, ch, margin, wrap);
-                for &(x0, x1) in &xs {
-                    for &(y0, y1) in &ys {
-                        let region = [x0, y0, x1 - x0 + 1, y1 - y0 + 1];
-                        if !next.contains(&region) {
-                            next.push(region);
-                        }
-                    }
-                }
-            }
-            levels.push(next.clone());
-            current = next;
-        }
-        levels
+        regions_above(&self.heights.image, rects, wrap)
     }
 
     /// Records `work` between timestamps, with the image in `GENERAL` during it; the GPU ms.
@@ -271,6 +248,8 @@ fn brush_push(stroke: &Stroke, rect: &TexelRect) -> [u32; 12] {
         BrushKind::Lower => 1.0,
         BrushKind::Flatten => 2.0,
         BrushKind::Crater => 3.0,
+        // Refused by `apply` before anything is recorded.
+        BrushKind::Paint => 4.0,
     };
     let f = |x: f32| x.to_bits();
     [

@@ -24,6 +24,9 @@ pub struct RenderOptions {
     pub address: Address,
     /// Meshes drawn through cell complexes (`--cells`), none when `None`.
     pub cells: Option<CellsOptions>,
+    /// Keep each layered material's blend inputs on the GPU, so that its weights can be painted
+    /// (`Renderer::paint_layers`); otherwise they are dropped once the blended field is built.
+    pub paintable_layers: bool,
 }
 
 impl Default for RenderOptions {
@@ -34,6 +37,7 @@ impl Default for RenderOptions {
             height_format: HeightFormat::R16Unorm,
             address: Address::Repeat,
             cells: None,
+            paintable_layers: false,
         }
     }
 }
@@ -81,6 +85,8 @@ pub enum RenderError {
     Cells(#[from] crate::cells::MeshError),
     #[error("layered material: {0}")]
     Layers(String),
+    #[error("paint: {0}")]
+    Stroke(#[from] crate::terrain::StrokeError),
     #[error("--cells {name:?}: its maps take {mib} MiB in one storage buffer, more than this device's {limit_mib} MiB; lower --cells-resolution or --cells-max-grid")]
     CellsBufferTooLarge {
         name: String,

@@ -57,10 +57,12 @@ pub fn layer_layout(ctx: &Arc<Context>) -> VkResult<DescriptorLayout> {
 /// One set per drawn layered material, with what it points at.
 pub struct LayerSets {
     _pool: DescriptorPool,
-    _images: Vec<Image>,
+    images: Vec<Image>,
     _buffers: Vec<Buffer>,
     _samplers: [Sampler; 2],
     sets: Vec<Option<DescriptorSet>>,
+    /// By material: its splat image's index in `images`.
+    splats: Vec<Option<usize>>,
 }
 
 impl LayerSets {
@@ -87,6 +89,7 @@ impl LayerSets {
             "splat sampler",
         )?;
         let mut sets = vec![None; materials.len()];
+        let mut splats = vec![None; materials.len()];
         let (mut owned_images, mut buffers) = (Vec::new(), Vec::new());
         for (index, material) in materials.iter().enumerate() {
             let Some(layers) = material.layers.as_ref().filter(|_| layered[index]) else {
@@ -112,16 +115,28 @@ impl LayerSets {
                 Bind::Uniform(3, buffer.raw()),
             ];
             sets[index] = Some(pool.allocate(layout, &binds)?);
+            splats[index] = Some(owned_images.len() + 2);
             owned_images.extend([colour, detail, splat]);
             buffers.push(buffer);
         }
         Ok(LayerSets {
             _pool: pool,
-            _images: owned_images,
+            images: owned_images,
             _buffers: buffers,
             _samplers: [tiled, clamped],
             sets,
+            splats,
         })
+    }
+
+    /// The splat image material `index` is shaded with (16-bit RGBA, `SHADER_READ_ONLY_OPTIMAL`
+    /// between frames), if it is a drawn layered material: painting updates it in place.
+    pub fn splat_image(&self, index: usize) -> Option<&Image> {
+        self.splats
+            .get(index)
+            .copied()
+            .flatten()
+            .map(|k| &self.images[k])
     }
 
     /// The set of material `index`, if it is a drawn layered material.

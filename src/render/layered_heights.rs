@@ -7,8 +7,9 @@
 use std::sync::Arc;
 use std::time::Instant;
 
-use super::blended_pyramid_pass::build_blended_pyramid_on_gpu;
+use super::blended_pyramid_pass::{time_on_gpu, BlendedPyramid};
 use super::gpu_heightfield::HeightFormat;
+use super::layer_paint::LayerPainter;
 use crate::heightfield::{Address, Heightfield, LoadOptions, MaxPyramid, PyramidLevel};
 use crate::scene::{Layers, LayersError, Scene, SceneImage};
 use crate::terrain::{tiled_stack, SplatMap, TiledLayer};
@@ -23,6 +24,8 @@ pub struct BlendedHeights {
     pub stack_ms: f64,
     /// GPU ms of the layers' and weights' pyramids and the blend.
     pub gpu_ms: f64,
+    /// The blend's inputs kept for painting, when asked for.
+    pub painter: Option<LayerPainter>,
 }
 
 /// The splat map of `image`: its RGBA channels as weights (8 or 16 bits, as stored).
@@ -36,12 +39,14 @@ pub fn splat_of(image: &SceneImage) -> Result<SplatMap, RenderError> {
         .map_err(|e| RenderError::Layers(format!("splat map {}: {e}", image.name)))
 }
 
-/// The blended heights of `layers` (checked by the plan) in `format`.
+/// The blended heights of `layers` (checked by the plan) in `format`; with the painter of its
+/// weights when `paintable`.
 pub fn blended_heights(
     ctx: &Arc<Context>,
     scene: &Scene,
     layers: &Layers,
     format: HeightFormat,
+    paintable: bool,
 ) -> Result<BlendedHeights, RenderError> {
     let started = Instant::now();
     let fields = layers
@@ -73,9 +78,10 @@ pub fn blended_heights(
     let stack = tiled_stack(&tiled, &splat, layers.resolution)
         .map_err(|e| RenderError::Layers(e.to_string()))?;
     let stack_ms = started.elapsed().as_secs_f64() * 1e3;
-    let (levels, gpu_ms) =
-        build_blended_pyramid_on_gpu(ctx, &stack, layers.mode, format, Address::Clamp)?;
-    let levels = levels
+    let built = BlendedPyramid::new(ctx, &stack, layers.mode, format, Address::Clamp)?;
+    let gpu_ms = time_on_gpu(ctx, |rec| built.record_build(rec))?;
+    let levels = built
+        .read_levels()?
         .into_iter()
         .enumerate()
         .map(|(k, data)| PyramidLevel {
@@ -84,9 +90,11 @@ pub fn blended_heights(
             data,
         })
         .collect();
+    let painter = paintable.then(|| LayerPainter::new(built, splat, layers.resolution));
     Ok(BlendedHeights {
         pyramid: MaxPyramid::from_levels(levels),
         stack_ms,
         gpu_ms,
+        painter,
     })
 }

@@ -10,6 +10,7 @@ use ash::vk;
 use super::gpu_heightfield::GpuHeightfield;
 use crate::heightfield::Address;
 use crate::shaders;
+use crate::terrain::{coarse_span, TexelRect};
 use crate::vk::{
     compute_pipeline, memory_barrier, transition_images, Bind, Context, DescriptorLayout,
     DescriptorPool, DescriptorSet, Image, ImageTransition, ImageView, Pipeline, Recording,
@@ -20,6 +21,38 @@ const GROUP: u32 = 8;
 
 /// A rectangle of one level's texels: `[x0, y0, width, height]`.
 pub type Region = [u32; 4];
+
+/// Per level above level 0 of `image`, the regions whose nodes read a texel of `rects` (level-0
+/// rectangles): what a change there makes stale, from `terrain::coarse_span`. Level 1 reads
+/// one texel of margin (its nodes bound the bilinear surface); `wrap` for repeat addressing.
+pub fn regions_above(image: &Image, rects: &[TexelRect], wrap: bool) -> Vec<Vec<Region>> {
+    let mut current: Vec<Region> = rects
+        .iter()
+        .map(|r| [r.x0, r.y0, r.width(), r.height()])
+        .collect();
+    let mut levels = Vec::new();
+    for level in 1..image.desc().mip_levels {
+        let (fw, fh) = image.level_extent(level - 1);
+        let (cw, ch) = image.level_extent(level);
+        let margin = u32::from(level == 1);
+        let mut next: Vec<Region> = Vec::new();
+        for r in &current {
+            let xs = coarse_span((r[0], r[0] + r[2] - 1), fw, cw, margin, wrap);
+            let ys = coarse_span((r[1], r[1] + r[3] - 1), fh, ch, margin, wrap);
+            for &(x0, x1) in &xs {
+                for &(y0, y1) in &ys {
+                    let region = [x0, y0, x1 - x0 + 1, y1 - y0 + 1];
+                    if !next.contains(&region) {
+                        next.push(region);
+                    }
+                }
+            }
+        }
+        levels.push(next.clone());
+        current = next;
+    }
+    levels
+}
 
 /// The compute pipeline that builds one pyramid level from the one below.
 pub struct PyramidPass {

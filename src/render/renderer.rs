@@ -13,10 +13,12 @@ use std::borrow::Cow;
 use std::sync::Arc;
 use std::time::Instant;
 
+use super::blended_pyramid_pass::time_on_gpu;
 use super::cells_pass::{BuiltComplex, CellsPass};
 use super::frame::{planned_heights, BuiltMap, RenderError, RenderOptions};
 use super::frame_uniforms::{frame_camera, FrameUniforms};
 use super::height_resources::{HeightResources, HeightUpload};
+use super::layer_paint::{record_paint_copies, LayerPainter, PaintError, PaintReport};
 use super::layered_heights::blended_heights;
 use super::map_builder::{build_method_map_with, MapBuilder};
 use super::pass::Pass;
@@ -28,7 +30,10 @@ use super::targets::Targets;
 use crate::heightfield::{Address, Heightfield};
 use crate::method::MapKind;
 use crate::scene::{Camera, Frustum, Light, Mesh, Scene};
-use crate::vk::{CommandSlot, Context, Image, Readback, VkError, VkResult};
+use crate::terrain::{SplatMap, Stroke, TexelRect};
+use crate::vk::{
+    CommandSlot, Context, Image, Readback, RegionTexels, StagedRegions, VkError, VkResult,
+};
 
 /// How many frames may be recorded or running at once.
 pub const FRAMES_IN_FLIGHT: usize = 2;
@@ -70,6 +75,8 @@ pub struct Renderer {
     maps: Vec<BuiltMap>,
     upload_ms: f64,
     heights: Vec<HeightResources>,
+    /// By `Plan::heights` index: the painter of a layered map (`RenderOptions::paintable_layers`).
+    painters: Vec<Option<LayerPainter>>,
     ao: SceneAo,
     surface: SurfacePass,
     cells: CellsPass,
@@ -98,7 +105,8 @@ impl Renderer {
         let aspect = opts.width as f32 / opts.height as f32;
         let uniforms = FrameUniforms::new(&default_camera, &plan.lights, aspect);
         let started = Instant::now();
-        let (heights, maps) = upload_heights(ctx, scene, &plan, frame_heights, opts, uniforms)?;
+        let (heights, maps, painters) =
+            upload_heights(ctx, scene, &plan, frame_heights, opts, uniforms)?;
         let upload_ms = started.elapsed().as_secs_f64() * 1e3;
         let ao = SceneAo::new(ctx, &plan, &heights)?;
         let surface = SurfacePass::new(
@@ -131,6 +139,7 @@ impl Renderer {
             maps,
             upload_ms,
             heights,
+            painters,
             ao,
             surface,
             cells,
@@ -216,6 +225,138 @@ impl Renderer {
             self.surface.replace_vertices(&self.ctx, *index, mesh)?;
         }
         Ok(retired)
+    }
+
+    /// The painted map of layered material `material`, checked for painting: its plan index.
+    fn paintable(&self, material: usize) -> Result<usize, RenderError> {
+        let refuse = |why: &str| Err(RenderError::Layers(format!("material {material}: {why}")));
+        let Some(h) = self
+            .plan
+            .heights
+            .iter()
+            .position(|hp| hp.key == HeightKey::Layers { material })
+        else {
+            return refuse("not a drawn layered material; only layered weights are painted");
+        };
+        let hp = &self.plan.heights[h];
+        if self.painters[h].is_none() {
+            return refuse("the renderer was made without RenderOptions::paintable_layers");
+        }
+        if let Some(kind) = hp.map {
+            return refuse(&format!(
+                "its method reads a {} built once from the whole field; paint with a method without one (qdm, pdm, qrm, maxmip, relief, pom)",
+                kind.name()
+            ));
+        }
+        if hp.mean_pyramid {
+            return refuse(
+                "its level of detail reads an averaged pyramid built once; paint without --lod",
+            );
+        }
+        Ok(h)
+    }
+
+    /// The splat map of layered material `material` as painted so far, if it can be painted:
+    /// strokes for [`Renderer::paint_layers`] are in its texels.
+    pub fn layer_splat(&self, material: usize) -> Result<&SplatMap, RenderError> {
+        let h = self.paintable(material)?;
+        Ok(self.painters[h]
+            .as_ref()
+            .map(LayerPainter::splat)
+            .expect("paintable checked the painter"))
+    }
+
+    /// Checks `strokes` for [`Renderer::paint_layers`] without applying any.
+    pub fn check_paint(&self, material: usize, strokes: &[Stroke]) -> Result<(), RenderError> {
+        let h = self.paintable(material)?;
+        if let Some(painter) = &self.painters[h] {
+            painter.check(strokes)?;
+        }
+        Ok(())
+    }
+
+    /// Paints layered material `material`'s weights with `strokes` (`paint` strokes, centres and
+    /// radii in its splat map's texels, all checked first): waits for the frames in flight, which
+    /// are returned, then rebuilds on the GPU only what the strokes changed — the splat image
+    /// shaded, the blended field and pyramid nodes above the repainted weights, and the AO near
+    /// them.
+    pub fn paint_layers(
+        &mut self,
+        material: usize,
+        strokes: &[Stroke],
+    ) -> Result<(Vec<FrameOutput>, PaintReport), RenderError> {
+        let h = self.paintable(material)?;
+        self.check_paint(material, strokes)?;
+        let retired = self.finish()?;
+        let painter = self.painters[h]
+            .as_mut()
+            .expect("paintable checked the painter");
+        let staged = painter.paint(strokes).map_err(|e| match e {
+            PaintError::Stroke(s) => RenderError::from(s),
+            PaintError::Vulkan(v) => RenderError::from(v),
+        })?;
+        let painter = self.painters[h]
+            .as_ref()
+            .expect("paintable checked the painter");
+        let splat_image = self.surface.layer_splat(material);
+        let splat_staged = match splat_image {
+            Some(image) => {
+                let bytes: Vec<Vec<u8>> = staged
+                    .splat_rects
+                    .iter()
+                    .map(|r| painter.splat_bytes(r))
+                    .collect();
+                let regions: Vec<RegionTexels> = staged
+                    .splat_rects
+                    .iter()
+                    .zip(&bytes)
+                    .map(|(r, b)| (0, [r.x0, r.y0, r.width(), r.height()], b.as_slice()))
+                    .collect();
+                Some(StagedRegions::new(&self.ctx, image, &regions)?)
+            }
+            None => None,
+        };
+        let target = &self.heights[h].heights.image;
+        let ao_maps = if self.pyramids_built {
+            self.ao.maps_of(h)
+        } else {
+            // The first frame builds the AO from the painted field.
+            Vec::new()
+        };
+        let mut report = PaintReport {
+            strokes: strokes.len(),
+            splat_texels: staged.splat_rects.iter().map(TexelRect::texels).sum(),
+            ..PaintReport::default()
+        };
+        let ao = &self.ao;
+        report.gpu_ms = time_on_gpu(&self.ctx, |rec| {
+            let regions = painter.record(rec, &staged)?;
+            record_paint_copies(
+                rec,
+                painter,
+                &regions,
+                target,
+                splat_image.zip(splat_staged.as_ref()),
+            );
+            report.blended_texels = regions
+                .iter()
+                .map(|level| {
+                    level
+                        .iter()
+                        .map(|r| u64::from(r[2]) * u64::from(r[3]))
+                        .sum()
+                })
+                .collect();
+            for &k in &ao_maps {
+                for rect in &regions[0] {
+                    if let Some(done) = ao.record_region(rec, k, *rect)? {
+                        report.ao_texels += u64::from(done[2]) * u64::from(done[3]);
+                    }
+                }
+            }
+            Ok(())
+        })?;
+        Ok((retired, report))
     }
 
     /// Records and submits one frame. If the slot it takes still held an older frame, that frame
@@ -399,8 +540,9 @@ fn upload_heights(
     frame_heights: Option<&Heightfield>,
     opts: &RenderOptions,
     uniforms: FrameUniforms,
-) -> Result<(Vec<HeightResources>, Vec<BuiltMap>), RenderError> {
+) -> Result<UploadedHeights, RenderError> {
     let mut heights = Vec::with_capacity(plan.heights.len());
+    let mut painters = Vec::with_capacity(plan.heights.len());
     let mut maps = Vec::new();
     for hp in &plan.heights {
         let (stored, address, prebuilt) = match hp.key {
@@ -408,7 +550,14 @@ fn upload_heights(
                 let layers = scene.materials[material].layers.as_ref().ok_or_else(|| {
                     VkError::Invalid("the plan blends a material without layers".into())
                 })?;
-                let blended = blended_heights(ctx, scene, layers, opts.height_format)?;
+                let mut blended = blended_heights(
+                    ctx,
+                    scene,
+                    layers,
+                    opts.height_format,
+                    opts.paintable_layers,
+                )?;
+                painters.push(blended.painter.take());
                 maps.push(BuiltMap {
                     kind: "layer stack",
                     source: hp.source.clone(),
@@ -429,10 +578,12 @@ fn upload_heights(
             }
             HeightKey::Frame => {
                 let stored = planned_heights(ctx, scene, hp, frame_heights, opts.height_format)?;
+                painters.push(None);
                 (stored, opts.address, None)
             }
             HeightKey::Image { address, .. } => {
                 let stored = planned_heights(ctx, scene, hp, frame_heights, opts.height_format)?;
+                painters.push(None);
                 (stored, address, None)
             }
         };
@@ -467,5 +618,12 @@ fn upload_heights(
         }
         heights.push(HeightResources::upload(ctx, &stored, &upload, uniforms)?);
     }
-    Ok((heights, maps))
+    Ok((heights, maps, painters))
 }
+
+/// Every planned height map uploaded, the maps built for them, and the painters of layered ones.
+type UploadedHeights = (
+    Vec<HeightResources>,
+    Vec<BuiltMap>,
+    Vec<Option<LayerPainter>>,
+);

@@ -114,7 +114,7 @@ pub struct SurfacePass {
     pipelines: Vec<Pipeline>,
     draws: Vec<MeshDraw>,
     materials: MaterialSets,
-    _layers: LayerSets,
+    layers: LayerSets,
     _textures: SceneTextures,
     _frame_pool: DescriptorPool,
     /// The plain variant's uniforms, one per frame slot (empty when nothing is drawn plain).
@@ -316,7 +316,7 @@ impl SurfacePass {
             pipelines,
             draws,
             materials,
-            _layers: layers,
+            layers,
             _frame_pool: frame_pool,
             plain_uniforms,
             plain_sets,
@@ -330,6 +330,11 @@ impl SurfacePass {
             ],
             _textures: textures,
         })
+    }
+
+    /// The splat image layered material `material` is shaded with, if it is drawn layered.
+    pub fn layer_splat(&self, material: usize) -> Option<&crate::vk::Image> {
+        self.layers.splat_image(material)
     }
 
     /// Draws `mesh` as scene mesh `index` from now on (an edited terrain tile): the same

@@ -1,7 +1,8 @@
-//! Brush strokes on a terrain's elevation: raise, lower, flatten and crater, each a disk of a
-//! radius in texels with a smooth falloff, and the texels each stroke and each pyramid level
-//! above it touch, so that an edit rebuilds only those (`relief render --edits`, the GPU's
-//! `brush.comp`). The formulas here are the shader's, so the CPU can check it.
+//! Brush strokes on a terrain: raise, lower, flatten and crater on its elevation, paint on a
+//! layer's weight in its splat map; each a disk of a radius in texels with a smooth falloff, and
+//! the texels each stroke and each pyramid level above it touch, so that an edit rebuilds only
+//! those (`relief render --edits`, the GPU's `brush.comp`). The formulas here are the shader's,
+//! so the CPU can check it.
 
 use serde::Deserialize;
 
@@ -17,6 +18,9 @@ pub enum BrushKind {
     Flatten,
     /// A bowl `strength` deep at the centre with a rim `strength / 4` high at 0.8 of the radius.
     Crater,
+    /// Moves the weights of the splat map toward layer `layer` alone by `strength` (0 to 1) of
+    /// the way, with the falloff; a weight sum stays what it was.
+    Paint,
 }
 
 /// One stroke, in texels of the elevation map.
@@ -33,6 +37,9 @@ pub struct Stroke {
     /// The height `flatten` moves toward (ignored by the others).
     #[serde(default)]
     pub target: f32,
+    /// The layer `paint` weighs up (ignored by the others).
+    #[serde(default)]
+    pub layer: u32,
 }
 
 /// Why a stroke cannot be applied. One line each, naming the stroke.
@@ -46,6 +53,8 @@ pub enum StrokeError {
     },
     #[error("stroke {index}: radius {radius} (must be above 0 and at most {max}, the map's larger side)")]
     Radius { index: usize, radius: f32, max: u32 },
+    #[error(transparent)]
+    Target(#[from] StrokeTarget),
     #[error(
         "stroke {index}: centre ({x}, {y}) with radius {radius} misses the {width}x{height} map"
     )]
@@ -56,6 +65,23 @@ pub enum StrokeError {
         radius: f32,
         width: u32,
         height: u32,
+    },
+}
+
+/// Why a stroke went to the wrong map: elevation brushes move heights, `paint` moves weights.
+#[derive(Debug, thiserror::Error, PartialEq)]
+pub enum StrokeTarget {
+    #[error(
+        "stroke {index}: paint weighs layers; the elevation takes raise, lower, flatten and crater"
+    )]
+    PaintOnElevation { index: usize },
+    #[error("stroke {index}: {kind:?} moves the elevation; the layers' weights take paint")]
+    ShapeOnWeights { index: usize, kind: BrushKind },
+    #[error("stroke {index}: layer {layer}, but the material has {layers} layers (0 to {last})", last = layers - 1)]
+    Layer {
+        index: usize,
+        layer: u32,
+        layers: usize,
     },
 }
 
@@ -134,19 +160,46 @@ impl Stroke {
         Some(TexelRect { x0, y0, x1, y1 })
     }
 
-    /// The height at texel `(i, j)` after the stroke, from `h` before it; clamped to [0, 1].
-    /// `brush.comp` computes the same in the same order.
-    pub fn apply(&self, i: u32, j: u32, h: f32) -> f32 {
+    /// Whether the stroke paints weights rather than moving the elevation.
+    pub fn paints(&self) -> bool {
+        self.kind == BrushKind::Paint
+    }
+
+    /// The distance of texel `(i, j)`'s centre from the centre over the radius, and the falloff
+    /// there: smoothstep from the rim (0) to the centre (1); `None` outside the disk.
+    fn falloff(&self, i: u32, j: u32) -> Option<(f32, f32)> {
         let dx = i as f32 + 0.5 - self.x;
         let dy = j as f32 + 0.5 - self.y;
         let r = (dx * dx + dy * dy).sqrt() / self.radius;
         if r >= 1.0 {
-            return h;
+            return None;
         }
-        // Smoothstep from the rim (0) to the centre (1).
         let t = 1.0 - r;
-        let falloff = t * t * (3.0 - 2.0 * t);
+        Some((r, t * t * (3.0 - 2.0 * t)))
+    }
+
+    /// The weights at texel `(i, j)` after a `paint` stroke, from `w` before it (others leave
+    /// them): `w (1 - t) + t e_layer` with `t` the clamped strength times the falloff, so a
+    /// stroke of strength 1 leaves the layer alone at its centre.
+    pub fn paint(&self, i: u32, j: u32, w: [f32; 4]) -> [f32; 4] {
+        let Some((_, falloff)) = self.falloff(i, j).filter(|_| self.paints()) else {
+            return w;
+        };
+        let t = self.strength.clamp(0.0, 1.0) * falloff;
+        std::array::from_fn(|k| {
+            let own = if k as u32 == self.layer { t } else { 0.0 };
+            w[k] * (1.0 - t) + own
+        })
+    }
+
+    /// The height at texel `(i, j)` after the stroke, from `h` before it; clamped to [0, 1].
+    /// `brush.comp` computes the same in the same order. A `paint` stroke leaves heights.
+    pub fn apply(&self, i: u32, j: u32, h: f32) -> f32 {
+        let Some((r, falloff)) = self.falloff(i, j) else {
+            return h;
+        };
         let out = match self.kind {
+            BrushKind::Paint => return h,
             BrushKind::Raise => h + self.strength * falloff,
             BrushKind::Lower => h - self.strength * falloff,
             BrushKind::Flatten => h + (self.target - h) * (self.strength.clamp(0.0, 1.0) * falloff),
@@ -215,6 +268,7 @@ pub(super) fn test_stroke(kind: BrushKind, x: f32, y: f32, radius: f32) -> Strok
         radius,
         strength: 0.2,
         target: 0.5,
+        layer: 0,
     }
 }
 
@@ -254,6 +308,28 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[test]
+    fn paint_moves_weights_toward_its_layer_and_keeps_their_sum() {
+        let s = Stroke {
+            strength: 1.0,
+            layer: 2,
+            ..stroke(BrushKind::Paint, 10.5, 10.5, 4.0)
+        };
+        let before = [0.5, 0.25, 0.0, 0.25];
+        assert_eq!(s.paint(10, 10, before), [0.0, 0.0, 1.0, 0.0]);
+        assert_eq!(s.paint(14, 10, before), before, "the rim keeps its weights");
+        let half = s.paint(12, 10, before);
+        assert!(half[2] > 0.0 && half[2] < 1.0 && half[0] < 0.5);
+        assert!((half.iter().sum::<f32>() - 1.0).abs() < 1e-6);
+        assert_eq!(s.apply(10, 10, 0.3), 0.3, "paint leaves the elevation");
+        let raise = stroke(BrushKind::Raise, 10.5, 10.5, 4.0);
+        assert_eq!(
+            raise.paint(10, 10, before),
+            before,
+            "a raise leaves the weights"
+        );
     }
 
     #[test]

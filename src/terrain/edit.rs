@@ -3,7 +3,7 @@
 //! stroke re-uploads a few tiles, not the grid. The layered relief on top is unaffected: its
 //! blended field, pyramid and AO live in the height uv, which the elevation does not move.
 
-use super::brush::{Stroke, StrokeError};
+use super::brush::{Stroke, StrokeError, StrokeTarget};
 use super::grid::{GridOptions, TerrainGrid};
 use crate::heightfield::Heightfield;
 use crate::scene::Mesh;
@@ -54,11 +54,14 @@ impl TerrainEditor {
     }
 
     /// Applies `strokes` in order (all checked first: one bad stroke applies none) and rebuilds
-    /// the tiles they touched.
+    /// the tiles they touched. `paint` strokes weigh layers, not the ground, and are refused.
     pub fn apply(&mut self, strokes: &[Stroke]) -> Result<TerrainEdit, StrokeError> {
         let (w, h) = (self.elevation.width(), self.elevation.height());
         for (k, s) in strokes.iter().enumerate() {
             s.check(k, w, h)?;
+            if s.paints() {
+                return Err(StrokeTarget::PaintOnElevation { index: k }.into());
+            }
         }
         let mut data = self.elevation.data().to_vec();
         // Each stroke's own square, so that two far-apart strokes do not rebuild what lies between.

@@ -1,6 +1,7 @@
 //! A terrain's layers: up to four height fields of one size, and each layer's weight at every
 //! texel of them (from a low-resolution splat map, or given texel by texel).
 
+use super::brush::{Stroke, TexelRect};
 use crate::heightfield::Heightfield;
 
 /// Layers a stack holds at most: the channels of one RGBA image.
@@ -98,6 +99,71 @@ impl SplatMap {
             top + (bottom - top) * fv
         })
     }
+
+    /// The weights of texel `(i, j)` of a `width` x `height` stack weighed by this map: the map
+    /// at the texel's centre, each clamped to [0, 1]. What [`LayerStack::from_splat`] stores,
+    /// so that a painted region can be weighed again alone and match a full rebuild bit for bit.
+    pub fn stack_weights(&self, i: u32, j: u32, width: u32, height: u32) -> [f32; 4] {
+        let at = self.sample(
+            (f64::from(i) + 0.5) / f64::from(width),
+            (f64::from(j) + 0.5) / f64::from(height),
+        );
+        at.map(|w| w.clamp(0.0, 1.0))
+    }
+
+    /// The texels of a `width` x `height` stack whose weights read texels `rect` of this map
+    /// (bilinear: a stack texel reads the two map texels about its centre on each axis).
+    pub fn stack_rect(&self, rect: &TexelRect, width: u32, height: u32) -> TexelRect {
+        // Stack texel i reads map texels floor(x) and floor(x) + 1, x = (i + 0.5) n / size - 0.5:
+        // those from a - 1 to b read [a, b]; one texel of slack on each side covers rounding.
+        let span = |a: u32, b: u32, n: u32, size: u32| {
+            let scale = f64::from(size) / f64::from(n);
+            let first = ((f64::from(a) - 0.5) * scale - 0.5).floor() - 1.0;
+            let last = ((f64::from(b) + 1.5) * scale - 0.5).ceil() + 1.0;
+            (first.max(0.0) as u32, (last.max(0.0) as u32).min(size - 1))
+        };
+        let (x0, x1) = span(rect.x0, rect.x1, self.width, width);
+        let (y0, y1) = span(rect.y0, rect.y1, self.height, height);
+        TexelRect { x0, y0, x1, y1 }
+    }
+
+    /// Applies a `paint` stroke (in this map's texels; checked by the caller) and returns the
+    /// texels it may have changed, `None` when it misses the map.
+    pub fn paint(&mut self, stroke: &Stroke) -> Option<TexelRect> {
+        let rect = stroke.rect(self.width, self.height)?;
+        for j in rect.y0..=rect.y1 {
+            for i in rect.x0..=rect.x1 {
+                let t = j as usize * self.width as usize + i as usize;
+                self.texels[t] = stroke.paint(i, j, self.texels[t]);
+            }
+        }
+        Some(rect)
+    }
+
+    /// Rounds texels `rect` to 16-bit unorm steps, as a splat image stores them: what painting
+    /// leaves is then exactly what saving the map and loading it back gives.
+    pub fn quantize_unorm16(&mut self, rect: &TexelRect) {
+        for j in rect.y0..=rect.y1 {
+            for i in rect.x0..=rect.x1 {
+                let t = j as usize * self.width as usize + i as usize;
+                self.texels[t] = self.texels[t].map(|c| {
+                    f32::from((c.clamp(0.0, 1.0) * 65535.0).round() as u16) / f32::from(u16::MAX)
+                });
+            }
+        }
+    }
+
+    /// Texels `rect` as 16-bit unorm RGBA, row-major (how the shading's splat image holds them).
+    pub fn unorm16_rect(&self, rect: &TexelRect) -> Vec<u16> {
+        let mut out = Vec::with_capacity(rect.texels() as usize * 4);
+        for j in rect.y0..=rect.y1 {
+            for i in rect.x0..=rect.x1 {
+                let w = self.texel(i, j);
+                out.extend(w.map(|c| (c.clamp(0.0, 1.0) * 65535.0).round() as u16));
+            }
+        }
+        out
+    }
 }
 
 /// Layers of one size with their weights at every texel.
@@ -138,12 +204,9 @@ impl LayerStack {
         let mut channels = vec![Vec::with_capacity(w as usize * h as usize); heights.len()];
         for j in 0..h {
             for i in 0..w {
-                let at = splat.sample(
-                    (f64::from(i) + 0.5) / f64::from(w),
-                    (f64::from(j) + 0.5) / f64::from(h),
-                );
+                let at = splat.stack_weights(i, j, w, h);
                 for (k, channel) in channels.iter_mut().enumerate() {
-                    channel.push(at[k].clamp(0.0, 1.0));
+                    channel.push(at[k]);
                 }
             }
         }
@@ -238,6 +301,50 @@ fn check_size(first: &Heightfield, other: &Heightfield, what: String) -> Result<
 mod tests {
     use super::*;
     use crate::heightfield::Generator;
+
+    #[test]
+    fn painting_changes_stack_weights_only_inside_the_stack_rect() {
+        use crate::terrain::BrushKind;
+        let texels: Vec<[f32; 4]> = (0..13 * 9)
+            .map(|t| {
+                let a = (t % 7) as f32 / 7.0;
+                [a, 1.0 - a, 0.0, 0.0]
+            })
+            .collect();
+        for (size, (x, y, radius)) in [
+            (40, (3.2, 4.0, 2.5)),
+            (16, (0.5, 8.5, 3.0)),
+            (57, (12.9, 0.1, 1.5)),
+        ] {
+            let mut splat = SplatMap::new(13, 9, texels.clone()).unwrap();
+            let before = splat.clone();
+            let stroke = Stroke {
+                kind: BrushKind::Paint,
+                x,
+                y,
+                radius,
+                strength: 0.8,
+                target: 0.0,
+                layer: 2,
+            };
+            let rect = splat.paint(&stroke).unwrap();
+            let stack = splat.stack_rect(&rect, size, size);
+            let mut changed = 0;
+            for j in 0..size {
+                for i in 0..size {
+                    let differs = splat.stack_weights(i, j, size, size)
+                        != before.stack_weights(i, j, size, size);
+                    let inside = i >= stack.x0 && i <= stack.x1 && j >= stack.y0 && j <= stack.y1;
+                    assert!(
+                        !differs || inside,
+                        "{size}: texel ({i}, {j}) outside {stack:?}"
+                    );
+                    changed += usize::from(differs);
+                }
+            }
+            assert!(changed > 0, "the stroke changed nothing at {size}");
+        }
+    }
 
     #[test]
     fn a_splat_map_is_bilinear_between_centres_and_clamped_outside() {

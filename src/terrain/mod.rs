@@ -39,7 +39,7 @@ mod vertex_weights;
 
 pub use blend::{blended_field, BlendMode};
 pub use blended_pyramid::{blended_pyramid, least_sum_slack, node_bound};
-pub use brush::{coarse_span, BrushKind, Stroke, StrokeError, TexelRect};
+pub use brush::{coarse_span, BrushKind, Stroke, StrokeError, StrokeTarget, TexelRect};
 pub use detail::{tiled_stack, TiledLayer};
 pub use edit::{TerrainEdit, TerrainEditor};
 pub use grid::{terrain_tiles, GridOptions, TerrainGrid};

@@ -46,7 +46,10 @@ pub use recording::Recording;
 pub use semaphore::Semaphore;
 pub use surface::WindowHandles;
 pub use swapchain::{Acquired, PresentMode, Swapchain, SwapchainLost};
-pub use transfer::{read_mip, texel_size, upload_layers, upload_mips};
+pub use transfer::{
+    read_mip, record_copy_regions, texel_size, upload_layers, upload_mips, RegionTexels,
+    StagedRegions,
+};
 
 pub use ash::vk as raw;
 pub use gpu_allocator::MemoryLocation;

@@ -13,6 +13,7 @@ use super::context::Context;
 use super::error::{VkError, VkResult};
 use super::image::Image;
 use super::readback::Readback;
+use super::recording::Recording;
 
 /// Bytes per texel of the formats relief moves between host and GPU.
 pub fn texel_size(format: vk::Format) -> VkResult<usize> {
@@ -172,4 +173,133 @@ pub fn read_mip(
         Ok(())
     })?;
     Ok(readback.bytes()?.to_vec())
+}
+
+/// Texels for rectangles of an image's levels, staged in host-visible memory, to be copied in
+/// a command buffer of the caller's: the partial updates of a map that lives across frames.
+/// Keep it alive until that command buffer has completed.
+pub struct StagedRegions {
+    staging: Buffer,
+    copies: Vec<vk::BufferImageCopy>,
+}
+
+/// One rectangle of a level: its level, `[x0, y0, width, height]`, and its texels, tightly
+/// packed rows in the image's format.
+pub type RegionTexels<'a> = (u32, [u32; 4], &'a [u8]);
+
+impl StagedRegions {
+    /// Stages `regions` of `image`, checking each lies within its level and holds its bytes.
+    pub fn new(
+        ctx: &Arc<Context>,
+        image: &Image,
+        regions: &[RegionTexels],
+    ) -> VkResult<StagedRegions> {
+        let texel = texel_size(image.desc().format)?;
+        let mut offsets = Vec::with_capacity(regions.len());
+        let mut total = 0usize;
+        for &(level, [x, y, w, h], bytes) in regions {
+            let (lw, lh) = image.level_extent(level);
+            let fits = level < image.desc().mip_levels
+                && x.checked_add(w).is_some_and(|e| e <= lw)
+                && y.checked_add(h).is_some_and(|e| e <= lh);
+            if !fits || bytes.len() != w as usize * h as usize * texel {
+                return Err(VkError::Invalid(format!(
+                    "region {x},{y} {w}x{h} of mip {level} of {:?} ({lw}x{lh}): {} bytes",
+                    image.name(),
+                    bytes.len()
+                )));
+            }
+            offsets.push(total);
+            total = (total + bytes.len()).next_multiple_of(16);
+        }
+        let mut staging = Buffer::new(
+            ctx,
+            total.max(16) as u64,
+            vk::BufferUsageFlags::TRANSFER_SRC,
+            MemoryLocation::CpuToGpu,
+            &format!("{} region staging", image.name()),
+        )?;
+        let mut copies = Vec::with_capacity(regions.len());
+        for (&(level, [x, y, w, h], bytes), &offset) in regions.iter().zip(&offsets) {
+            staging.write(offset, bytes)?;
+            copies.push(
+                vk::BufferImageCopy::default()
+                    .buffer_offset(offset as u64)
+                    .image_subresource(subresource(image, level))
+                    .image_offset(vk::Offset3D {
+                        x: x as i32,
+                        y: y as i32,
+                        z: 0,
+                    })
+                    .image_extent(vk::Extent3D {
+                        width: w,
+                        height: h,
+                        depth: 1,
+                    }),
+            );
+        }
+        Ok(StagedRegions { staging, copies })
+    }
+
+    /// Records the copies into `image` (the one staged for), which must be in `layout`
+    /// (`GENERAL` or `TRANSFER_DST_OPTIMAL`) with earlier accesses made available to transfers.
+    pub fn record(&self, rec: &Recording, image: &Image, layout: vk::ImageLayout) {
+        if self.copies.is_empty() {
+            return;
+        }
+        // SAFETY: the copies were checked against the image's levels and the staging buffer.
+        unsafe {
+            rec.device().cmd_copy_buffer_to_image(
+                rec.raw(),
+                self.staging.raw(),
+                image.raw(),
+                layout,
+                &self.copies,
+            )
+        };
+    }
+}
+
+/// Records copies of the same rectangles (`(level, [x0, y0, width, height])`) from `src` to `dst`,
+/// two images of one format and size, in the layouts named.
+pub fn record_copy_regions(
+    rec: &Recording,
+    (src, src_layout): (&Image, vk::ImageLayout),
+    (dst, dst_layout): (&Image, vk::ImageLayout),
+    regions: &[(u32, [u32; 4])],
+) {
+    if regions.is_empty() {
+        return;
+    }
+    let copies: Vec<vk::ImageCopy> = regions
+        .iter()
+        .map(|&(level, [x, y, w, h])| {
+            let offset = vk::Offset3D {
+                x: x as i32,
+                y: y as i32,
+                z: 0,
+            };
+            vk::ImageCopy::default()
+                .src_subresource(subresource(src, level))
+                .dst_subresource(subresource(dst, level))
+                .src_offset(offset)
+                .dst_offset(offset)
+                .extent(vk::Extent3D {
+                    width: w,
+                    height: h,
+                    depth: 1,
+                })
+        })
+        .collect();
+    // SAFETY: the caller names images of one format and size whose levels hold the rectangles.
+    unsafe {
+        rec.device().cmd_copy_image(
+            rec.raw(),
+            src.raw(),
+            src_layout,
+            dst.raw(),
+            dst_layout,
+            &copies,
+        )
+    };
 }

@@ -1,0 +1,249 @@
+//! Painting a layered material's weights while it is drawn: `paint` strokes move its splat map
+//! (kept on the CPU, the one source of both the shading's splat image and the blend's weights),
+//! and only what they changed is rebuilt on the GPU — the stack weights that read a painted splat
+//! texel are weighed again (`SplatMap::stack_weights`, as the first build weighed them) and
+//! re-staged, then [`BlendedPyramid::record_weights`] rebuilds the pyramid nodes and blended
+//! texels above them. The renderer copies those regions into the height map it draws and
+//! rebuilds the AO near them (`Renderer::paint_layers`).
+//!
+//! The strokes run on the CPU: a stroke covers a few hundred splat texels, fewer than one GPU
+//! dispatch's setup costs, and the splat map must be on the CPU anyway to weigh the stack again
+//! exactly as the full build does, which keeps a partial rebuild equal to a full one bit for bit.
+
+use ash::vk;
+use serde::Serialize;
+
+use super::blended_pyramid_pass::BlendedPyramid;
+use super::pyramid_pass::Region;
+use crate::terrain::{SplatMap, Stroke, StrokeError, StrokeTarget, TexelRect};
+use crate::vk::{
+    record_copy_regions, transition_images, Image, ImageTransition, Recording, StagedRegions,
+    VkResult,
+};
+
+/// A layered material's blend inputs on the GPU and its splat map, ready to be painted.
+pub struct LayerPainter {
+    pyramid: BlendedPyramid,
+    splat: SplatMap,
+    /// The stack's side (the blended field's resolution).
+    size: u32,
+}
+
+/// What one list of paint strokes rebuilt, for `--explain` and the bench.
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+pub struct PaintReport {
+    pub strokes: usize,
+    /// Splat-map texels in the strokes' squares (counted once per stroke).
+    pub splat_texels: u64,
+    /// Per level of the blended pyramid (0: the blended field), the texels blended again.
+    pub blended_texels: Vec<u64>,
+    /// AO texels computed again (0 without an AO map or before the first frame built it).
+    pub ao_texels: u64,
+    /// GPU ms of the copies, pyramids, blend and AO.
+    pub gpu_ms: f64,
+}
+
+/// A painted list, staged for the GPU.
+pub struct StagedPaint {
+    /// The splat texels each stroke may have changed.
+    pub splat_rects: Vec<TexelRect>,
+    /// The stack texels whose weights read them.
+    pub stack_rects: Vec<TexelRect>,
+    weights: [StagedRegions; 2],
+}
+
+impl LayerPainter {
+    /// `pyramid` built from a stack of side `size` weighed by `splat`.
+    pub fn new(pyramid: BlendedPyramid, splat: SplatMap, size: u32) -> LayerPainter {
+        LayerPainter {
+            pyramid,
+            splat,
+            size,
+        }
+    }
+
+    pub fn pyramid(&self) -> &BlendedPyramid {
+        &self.pyramid
+    }
+
+    pub fn splat(&self) -> &SplatMap {
+        &self.splat
+    }
+
+    /// Checks `strokes` (centres and radii in splat texels) before any is applied: each a
+    /// `paint` stroke on one of the material's layers that meets the splat map.
+    pub fn check(&self, strokes: &[Stroke]) -> Result<(), StrokeError> {
+        let (w, h) = self.splat.size();
+        let layers = self.pyramid.layers();
+        for (index, s) in strokes.iter().enumerate() {
+            s.check(index, w, h)?;
+            if !s.paints() {
+                return Err(StrokeTarget::ShapeOnWeights {
+                    index,
+                    kind: s.kind,
+                }
+                .into());
+            }
+            if s.layer as usize >= layers {
+                return Err(StrokeTarget::Layer {
+                    index,
+                    layer: s.layer,
+                    layers,
+                }
+                .into());
+            }
+        }
+        Ok(())
+    }
+
+    /// Applies `strokes` (checked first; a bad one applies none) to the splat map and stages the
+    /// stack weights they changed.
+    pub fn paint(&mut self, strokes: &[Stroke]) -> Result<StagedPaint, PaintError> {
+        self.check(strokes)?;
+        let splat_rects: Vec<TexelRect> = strokes
+            .iter()
+            .filter_map(|s| {
+                let rect = self.splat.paint(s)?;
+                // The shading's splat image holds 16 bits: the weights blended must be those.
+                self.splat.quantize_unorm16(&rect);
+                Some(rect)
+            })
+            .collect();
+        let stack_rects = splat_rects
+            .iter()
+            .map(|r| self.splat.stack_rect(r, self.size, self.size))
+            .collect();
+        Ok(self.stage(splat_rects, stack_rects)?)
+    }
+
+    /// Stages every stack weight, as a full rebuild does.
+    pub fn stage_all(&self) -> VkResult<StagedPaint> {
+        let (w, h) = self.splat.size();
+        let whole = |w: u32, h: u32| TexelRect {
+            x0: 0,
+            y0: 0,
+            x1: w - 1,
+            y1: h - 1,
+        };
+        self.stage(vec![whole(w, h)], vec![whole(self.size, self.size)])
+    }
+
+    fn stage(
+        &self,
+        splat_rects: Vec<TexelRect>,
+        stack_rects: Vec<TexelRect>,
+    ) -> VkResult<StagedPaint> {
+        let layers = self.pyramid.layers();
+        let texels: Vec<Vec<[f32; 4]>> = stack_rects
+            .iter()
+            .map(|r| {
+                let mut out = Vec::with_capacity(r.texels() as usize);
+                for j in r.y0..=r.y1 {
+                    for i in r.x0..=r.x1 {
+                        let w = self.splat.stack_weights(i, j, self.size, self.size);
+                        // Channels past the layers weigh nothing, as in the first build.
+                        out.push(std::array::from_fn(|k| if k < layers { w[k] } else { 0.0 }));
+                    }
+                }
+                out
+            })
+            .collect();
+        let weights = self.pyramid.stage_weights(&stack_rects, &texels)?;
+        Ok(StagedPaint {
+            splat_rects,
+            stack_rects,
+            weights,
+        })
+    }
+
+    /// Records the rebuild of what `staged` changed; the blended regions per level, level 0
+    /// first (all in [`BlendedPyramid::blended`], in `SHADER_READ_ONLY_OPTIMAL`).
+    pub fn record(&self, rec: &Recording, staged: &StagedPaint) -> VkResult<Vec<Vec<Region>>> {
+        self.pyramid
+            .record_weights(rec, &staged.weights, &staged.stack_rects)
+    }
+
+    /// Splat texels `rect` as the shading's 16-bit splat image holds them, as bytes.
+    pub fn splat_bytes(&self, rect: &TexelRect) -> Vec<u8> {
+        bytemuck::cast_slice(&self.splat.unorm16_rect(rect)).to_vec()
+    }
+}
+
+/// Why a paint list was not applied.
+#[derive(Debug, thiserror::Error)]
+pub enum PaintError {
+    #[error(transparent)]
+    Stroke(#[from] StrokeError),
+    #[error(transparent)]
+    Vulkan(#[from] crate::vk::VkError),
+}
+
+/// Records the copies of `regions` (per level, from [`LayerPainter::record`]) from the painter's
+/// blended pyramid into `target`, the height map drawn (its levels past the target's are not
+/// drawn and not copied), and of the staged splat texels into the shading's `splat` image. Every
+/// image goes from and back to `SHADER_READ_ONLY_OPTIMAL`, readable by fragment and compute
+/// shaders (the AO rebuilt next reads `target`).
+pub fn record_paint_copies(
+    rec: &Recording,
+    painter: &LayerPainter,
+    regions: &[Vec<Region>],
+    target: &Image,
+    splat: Option<(&Image, &StagedRegions)>,
+) {
+    let blended = painter.pyramid().blended();
+    let copies: Vec<(u32, [u32; 4])> = regions
+        .iter()
+        .enumerate()
+        .take(target.desc().mip_levels as usize)
+        .flat_map(|(level, rs)| rs.iter().map(move |r| (level as u32, *r)))
+        .collect();
+    let (src, dst) = (
+        vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+        vk::ImageLayout::TRANSFER_DST_OPTIMAL,
+    );
+    let mut images = vec![(blended, src), (target, dst)];
+    images.extend(splat.map(|(image, _)| (image, dst)));
+    transition_images(rec, &paint_transitions(&images, true));
+    record_copy_regions(rec, (blended, src), (target, dst), &copies);
+    if let Some((image, staged)) = splat {
+        staged.record(rec, image, dst);
+    }
+    transition_images(rec, &paint_transitions(&images, false));
+}
+
+/// Whole-image transitions between `SHADER_READ_ONLY_OPTIMAL` and each image's transfer layout,
+/// into it (`to_transfer`) or back.
+fn paint_transitions(
+    images: &[(&Image, vk::ImageLayout)],
+    to_transfer: bool,
+) -> Vec<ImageTransition> {
+    let shaders = (
+        vk::PipelineStageFlags2::FRAGMENT_SHADER | vk::PipelineStageFlags2::COMPUTE_SHADER,
+        vk::AccessFlags2::SHADER_SAMPLED_READ,
+    );
+    let transfer = (
+        vk::PipelineStageFlags2::COPY,
+        vk::AccessFlags2::TRANSFER_READ | vk::AccessFlags2::TRANSFER_WRITE,
+    );
+    images
+        .iter()
+        .map(|&(image, layout)| {
+            let read = vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL;
+            let (old, new, src, dst) = if to_transfer {
+                (read, layout, shaders, transfer)
+            } else {
+                (layout, read, transfer, shaders)
+            };
+            ImageTransition {
+                image: image.raw(),
+                aspect: vk::ImageAspectFlags::COLOR,
+                base_mip: 0,
+                mip_count: image.desc().mip_levels,
+                old,
+                new,
+                src,
+                dst,
+            }
+        })
+        .collect()
+}
