@@ -59,6 +59,7 @@ fn strokes_between_frames_rebuild_only_the_tiles_they_touch() {
         "strokes.json",
         r#"[[{"kind": "raise", "x": 200, "y": 260, "radius": 32, "strength": 0.2}],
             [{"kind": "crater", "x": 400, "y": 320, "radius": 40, "strength": 0.2},
+             {"kind": "paint", "layer": 3, "x": 300, "y": 150, "radius": 40, "strength": 0.9},
              {"kind": "flatten", "x": 160, "y": 400, "radius": 30, "strength": 0.5, "target": 0.4}]]"#,
     );
     let out = dir.join("frame.png");
@@ -87,12 +88,20 @@ fn strokes_between_frames_rebuild_only_the_tiles_they_touch() {
     );
     let frames = edits["frames"].as_array().unwrap();
     assert_eq!(frames.len(), 2, "{edits}");
-    for (f, expected_strokes) in frames.iter().zip([1, 2]) {
+    for (f, expected_strokes) in frames.iter().zip([1, 3]) {
         assert_eq!(f["strokes"], expected_strokes);
         let rebuilt = f["tiles_rebuilt"].as_array().unwrap().len();
         let total = f["tiles_total"].as_u64().unwrap() as usize;
         assert!(rebuilt >= 1 && rebuilt < total / 2, "{f}");
     }
+    // The paint stroke re-blended a corner of the 128^2 field and its AO, not the whole.
+    assert!(frames[0]["paint"].is_null(), "{}", frames[0]);
+    let paint = &frames[1]["paint"];
+    assert_eq!(paint["strokes"], 1, "{paint}");
+    let blended = paint["blended_texels"][0].as_u64().unwrap();
+    assert!(blended > 0 && blended < 128 * 128 / 4, "{paint}");
+    let ao = paint["ao_texels"].as_u64().unwrap();
+    assert!(ao >= blended && ao < 128 * 128, "{paint}");
     // Three frames written: the terrain as loaded, then after each list.
     for k in 1..=3 {
         assert!(dir.join(format!("frame_{k:04}.png")).exists());
@@ -168,6 +177,42 @@ fn bad_edits_and_layers_fail_in_one_line() {
                 .to_string(),
             ],
             vec!["unknown.json", "smooth"],
+        ),
+        (
+            vec![
+                "--edits".into(),
+                write(
+                    &dir,
+                    "layer.json",
+                    r#"[[{"kind": "paint", "layer": 7, "x": 5, "y": 5, "radius": 4, "strength": 0.5}]]"#,
+                )
+                .display()
+                .to_string(),
+            ],
+            vec!["layer.json", "stroke 0", "layer 7, but the material has 4 layers"],
+        ),
+        (
+            vec![
+                "--edits".into(),
+                write(
+                    &dir,
+                    "paint.json",
+                    r#"[[{"kind": "paint", "layer": 1, "x": 5, "y": 5, "radius": 4, "strength": 0.5}]]"#,
+                )
+                .display()
+                .to_string(),
+                "--method".into(),
+                "csm".into(),
+            ],
+            vec!["paint.json", "cone map", "qdm"],
+        ),
+        (
+            vec![
+                "--edits".into(),
+                dir.join("paint.json").display().to_string(),
+                "--lod".into(),
+            ],
+            vec!["paint.json", "averaged pyramid", "--lod"],
         ),
         (
             vec!["--layer".into(), dir.join("nothing").display().to_string()],

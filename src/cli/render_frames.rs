@@ -343,28 +343,32 @@ fn report_files(args: &RenderArgs, renderer: &Renderer, methods: &str, source: &
         );
     }
     for e in &d.edits {
-        let layered = match &e.paint {
-            None => "the layered maps were kept".to_string(),
-            Some(p) => format!(
-                "{} paint stroke(s) over {} splat texels re-blended {} of the field's texels ({} with the pyramid levels above) and {} AO texels in {:.2} ms on the gpu",
+        let painted = e.paint.as_ref().map_or(0, |p| p.strokes);
+        let mut parts = Vec::new();
+        if e.strokes > painted {
+            parts.push(format!(
+                "{} elevation stroke(s) over {} texels rebuilt {} of {} tiles in {:.1} ms (+{:.1} ms uploading them)",
+                e.strokes - painted,
+                e.texels,
+                e.tiles_rebuilt.len(),
+                e.tiles_total,
+                e.rebuild_ms,
+                e.upload_ms
+            ));
+        }
+        match &e.paint {
+            None => parts.push("the layered maps were kept".into()),
+            Some(p) => parts.push(format!(
+                "{} paint stroke(s) over {} splat texels re-blended {} texels of the field ({} with the pyramid levels above) and {} AO texels in {:.2} ms on the gpu",
                 p.strokes,
                 p.splat_texels,
                 p.blended_texels.first().copied().unwrap_or(0),
                 p.blended_texels.iter().sum::<u64>(),
                 p.ao_texels,
                 p.gpu_ms
-            ),
-        };
-        eprintln!(
-            "frame {}: {} stroke(s) over {} texels rebuilt {} of {} tiles in {:.1} ms (+{:.1} ms uploading them); {layered}",
-            e.frame,
-            e.strokes,
-            e.texels,
-            e.tiles_rebuilt.len(),
-            e.tiles_total,
-            e.rebuild_ms,
-            e.upload_ms
-        );
+            )),
+        }
+        eprintln!("frame {}: {}", e.frame, parts.join("; "));
     }
     if frames > 1 {
         let same = d.created_after_first == ObjectCounts::default();

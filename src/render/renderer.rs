@@ -245,7 +245,7 @@ impl Renderer {
         if let Some(kind) = hp.map {
             return refuse(&format!(
                 "its method reads a {} built once from the whole field; paint with a method without one (qdm, pdm, qrm, maxmip, relief, pom)",
-                kind.name()
+                kind.name().replace('_', " ")
             ));
         }
         if hp.mean_pyramid {
