@@ -6,14 +6,16 @@
 
 mod common;
 
+use common::terrain::small_terrain;
+
 use relief::heightfield::{Address, Generator, Heightfield};
 use relief::render::{
     build_blended_pyramid_on_gpu, render, time_on_gpu, BlendedPyramid, FrameRequest, HeightFormat,
     LayerPainter, RenderOptions, Renderer,
 };
 use relief::terrain::{
-    procedural_layers, rules_splat, terrain_scene, BlendMode, BrushKind, GridOptions, LayerStack,
-    SplatMap, Stroke, TerrainOptions,
+    procedural_layers, rules_splat, terrain_scene, BlendMode, BrushKind, LayerStack, SplatMap,
+    Stroke,
 };
 
 /// A deterministic stream in [0, 1).
@@ -165,21 +167,6 @@ fn bad_paint_strokes_change_nothing_and_say_why() {
         assert_eq!(painter.splat(), &splat, "a refused list painted");
     }
     common::assert_no_validation_errors(&ctx);
-}
-
-fn small_terrain() -> TerrainOptions {
-    TerrainOptions {
-        grid: GridOptions {
-            extent: 10.0,
-            height: 1.5,
-            tile_quads: 16,
-            step: 2,
-        },
-        tiling: 4.0,
-        resolution: 256,
-        splat_size: 32,
-        ..TerrainOptions::default()
-    }
 }
 
 #[test]

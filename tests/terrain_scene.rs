@@ -7,30 +7,15 @@
 
 mod common;
 
+use common::terrain::small_terrain;
+
 use relief::heightfield::{Generator, Heightfield};
 use relief::render::{render, RenderOptions};
 use relief::scene::{HeightSource, Material, Relief, Scene, UvTransform};
-use relief::terrain::{
-    procedural_layers, rules_splat, terrain_scene, GridOptions, SplatMap, TerrainOptions,
-};
+use relief::terrain::{procedural_layers, rules_splat, terrain_scene, SplatMap};
 
 const WIDTH: u32 = 192;
 const HEIGHT: u32 = 128;
-
-fn small_options() -> TerrainOptions {
-    TerrainOptions {
-        grid: GridOptions {
-            extent: 10.0,
-            height: 1.5,
-            tile_quads: 16,
-            step: 2,
-        },
-        tiling: 4.0,
-        resolution: 256,
-        splat_size: 32,
-        ..TerrainOptions::default()
-    }
-}
 
 fn elevation() -> Heightfield {
     Generator::Fbm.generate(64, 64, 3)
@@ -49,7 +34,7 @@ fn the_built_in_terrain_matches_its_golden_image() {
     let Some(ctx) = common::device("the_built_in_terrain_matches_its_golden_image") else {
         return;
     };
-    let opts = small_options();
+    let opts = small_terrain();
     let elevation = elevation();
     let splat = rules_splat(&elevation, 4, &opts).unwrap();
     let scene = terrain_scene(&elevation, procedural_layers(64), &splat, &opts);
@@ -105,7 +90,7 @@ fn one_hot_layers_render_as_that_layer_alone() {
         return;
     };
     // 64^2 layers tiled 4 times on a 256^2 field: the field is layer 0 repeated texel for texel.
-    let opts = small_options();
+    let opts = small_terrain();
     let elevation = elevation();
     let one_hot = SplatMap::new(1, 1, vec![[1.0, 0.0, 0.0, 0.0]]).unwrap();
     let layered = terrain_scene(&elevation, procedural_layers(64), &one_hot, &opts);
@@ -293,7 +278,7 @@ fn layered_terrain_takes_level_of_detail() {
     let Some(ctx) = common::device("layered_terrain_takes_level_of_detail") else {
         return;
     };
-    let opts = small_options();
+    let opts = small_terrain();
     let elevation = elevation();
     let splat = rules_splat(&elevation, 4, &opts).unwrap();
     let full = terrain_scene(&elevation, procedural_layers(64), &splat, &opts);

@@ -83,7 +83,6 @@ pub fn upload_layers(
     }
     let texel = texel_size(image.desc().format)?;
     let mut offsets = Vec::new();
-    let mut total = 0usize;
     for (l, levels) in layers.iter().enumerate() {
         for (k, bytes) in levels.iter().enumerate() {
             let (w, h) = image.level_extent(k as u32);
@@ -94,23 +93,18 @@ pub fn upload_layers(
                     bytes.len()
                 )));
             }
-            offsets.push((l as u32, k as u32, total));
-            total = (total + bytes.len()).next_multiple_of(16);
+            offsets.push((l as u32, k as u32));
         }
     }
-    let mut staging = Buffer::new(
+    let (staging, starts) = stage(
         ctx,
-        total.max(16) as u64,
-        vk::BufferUsageFlags::TRANSFER_SRC,
-        MemoryLocation::CpuToGpu,
+        layers.iter().flatten().copied(),
         &format!("{} staging", image.name()),
     )?;
-    for (bytes, &(_, _, offset)) in layers.iter().flatten().zip(&offsets) {
-        staging.write(offset, bytes)?;
-    }
     let regions: Vec<_> = offsets
         .iter()
-        .map(|&(layer, level, offset)| {
+        .zip(starts)
+        .map(|(&(layer, level), offset)| {
             let (w, h) = image.level_extent(level);
             vk::BufferImageCopy::default()
                 .buffer_offset(offset as u64)
@@ -138,6 +132,32 @@ pub fn upload_layers(
         transition_images(rec, &[all_mips(image, dst, final_layout)]);
         Ok(())
     })
+}
+
+/// One host-visible staging buffer holding `chunks` one after another, each 16-byte aligned,
+/// and where each starts.
+fn stage<'a>(
+    ctx: &Arc<Context>,
+    chunks: impl Iterator<Item = &'a [u8]> + Clone,
+    name: &str,
+) -> VkResult<(Buffer, Vec<usize>)> {
+    let mut starts = Vec::new();
+    let mut total = 0usize;
+    for bytes in chunks.clone() {
+        starts.push(total);
+        total = (total + bytes.len()).next_multiple_of(16);
+    }
+    let mut staging = Buffer::new(
+        ctx,
+        total.max(16) as u64,
+        vk::BufferUsageFlags::TRANSFER_SRC,
+        MemoryLocation::CpuToGpu,
+        name,
+    )?;
+    for (bytes, &start) in chunks.zip(&starts) {
+        staging.write(start, bytes)?;
+    }
+    Ok((staging, starts))
 }
 
 fn subresource(image: &Image, level: u32) -> vk::ImageSubresourceLayers {
@@ -195,8 +215,6 @@ impl StagedRegions {
         regions: &[RegionTexels],
     ) -> VkResult<StagedRegions> {
         let texel = texel_size(image.desc().format)?;
-        let mut offsets = Vec::with_capacity(regions.len());
-        let mut total = 0usize;
         for &(level, [x, y, w, h], bytes) in regions {
             let (lw, lh) = image.level_extent(level);
             let fits = level < image.desc().mip_levels
@@ -209,19 +227,14 @@ impl StagedRegions {
                     bytes.len()
                 )));
             }
-            offsets.push(total);
-            total = (total + bytes.len()).next_multiple_of(16);
         }
-        let mut staging = Buffer::new(
+        let (staging, starts) = stage(
             ctx,
-            total.max(16) as u64,
-            vk::BufferUsageFlags::TRANSFER_SRC,
-            MemoryLocation::CpuToGpu,
+            regions.iter().map(|r| r.2),
             &format!("{} region staging", image.name()),
         )?;
         let mut copies = Vec::with_capacity(regions.len());
-        for (&(level, [x, y, w, h], bytes), &offset) in regions.iter().zip(&offsets) {
-            staging.write(offset, bytes)?;
+        for (&(level, [x, y, w, h], _), &offset) in regions.iter().zip(&starts) {
             copies.push(
                 vk::BufferImageCopy::default()
                     .buffer_offset(offset as u64)

@@ -10,6 +10,7 @@ pub mod mesh_gltf;
 pub mod npy;
 pub mod plane_gltf;
 pub mod rays;
+pub mod terrain;
 
 use std::path::PathBuf;
 use std::sync::Arc;
