@@ -94,6 +94,10 @@ fn strokes_between_frames_rebuild_only_the_tiles_they_touch() {
         let total = f["tiles_total"].as_u64().unwrap() as usize;
         assert!(rebuilt >= 1 && rebuilt < total / 2, "{f}");
     }
+    // The raise moved the ground under the rules: they weighed its layers again there.
+    let reweighed = &frames[0]["reweighed"];
+    let again = reweighed["blended_texels"][0].as_u64().unwrap();
+    assert!(again > 0 && again < 128 * 128 / 4, "{reweighed}");
     // The paint stroke re-blended a corner of the 128^2 field and its AO, not the whole.
     assert!(frames[0]["paint"].is_null(), "{}", frames[0]);
     let paint = &frames[1]["paint"];

@@ -123,6 +123,68 @@ fn a_hundred_paint_strokes_rebuilt_in_place_equal_a_fresh_build() {
 }
 
 #[test]
+fn weights_set_from_elsewhere_leave_what_was_painted_by_hand() {
+    let Some(ctx) = common::device("weights_set_from_elsewhere_leave_painted") else {
+        return;
+    };
+    let splat = random_splat(16, 16, 3);
+    let format = HeightFormat::R16Unorm;
+    let mode = BlendMode::Height;
+    let stack = LayerStack::from_splat(layer_heights(), &splat).unwrap();
+    let pyramid = BlendedPyramid::new(&ctx, &stack, mode, format, Address::Clamp).unwrap();
+    time_on_gpu(&ctx, |rec| pyramid.record_build(rec)).unwrap();
+    let mut painter = LayerPainter::new(pyramid, splat, SIZE);
+    let stroke = Stroke {
+        kind: BrushKind::Paint,
+        x: 8.0,
+        y: 8.0,
+        radius: 3.0,
+        strength: 1.0,
+        target: 0.0,
+        layer: 0,
+    };
+    let staged = painter.paint(&[stroke]).unwrap();
+    time_on_gpu(&ctx, |rec| painter.record(rec, &staged).map(drop)).unwrap();
+    let painted = painter.splat().clone();
+    let all = relief::terrain::TexelRect {
+        x0: 0,
+        y0: 0,
+        x1: 15,
+        y1: 15,
+    };
+    let staged = painter
+        .reweigh(all, |_, _| [0.0, 0.0, 1.0, 0.0])
+        .unwrap()
+        .expect("the weights changed");
+    time_on_gpu(&ctx, |rec| painter.record(rec, &staged).map(drop)).unwrap();
+    for j in 0..16 {
+        for i in 0..16 {
+            let expected = if stroke.covers(i, j) {
+                painted.texel(i, j)
+            } else {
+                [0.0, 0.0, 1.0, 0.0]
+            };
+            assert_eq!(painter.splat().texel(i, j), expected, "texel ({i}, {j})");
+        }
+    }
+    assert!(
+        painter
+            .reweigh(all, |_, _| [0.0, 0.0, 1.0, 0.0])
+            .unwrap()
+            .is_none(),
+        "the same weights again changed something"
+    );
+    let fresh_stack = LayerStack::from_splat(layer_heights(), painter.splat()).unwrap();
+    let (fresh, _) =
+        build_blended_pyramid_on_gpu(&ctx, &fresh_stack, mode, format, Address::Clamp).unwrap();
+    assert_eq!(
+        bits(&painter.pyramid().read_levels().unwrap()),
+        bits(&fresh)
+    );
+    common::assert_no_validation_errors(&ctx);
+}
+
+#[test]
 fn bad_paint_strokes_change_nothing_and_say_why() {
     let Some(ctx) = common::device("bad_paint_strokes_change_nothing") else {
         return;

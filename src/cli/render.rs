@@ -43,7 +43,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let before = ctx.created();
     let mut renderer = Renderer::new(&ctx, &loaded.scene, loaded.heights.as_ref(), &opts)
         .context("preparing the scene for rendering")?;
-    if let Some(edits) = &loaded.edits {
+    if let Some(edits) = &mut loaded.edits {
         edits.check_renderer(&renderer)?;
     }
     let cache_report = CacheReport {

@@ -356,17 +356,26 @@ fn report_files(args: &RenderArgs, renderer: &Renderer, methods: &str, source: &
                 e.upload_ms
             ));
         }
-        match &e.paint {
-            None => parts.push("the layered maps were kept".into()),
-            Some(p) => parts.push(format!(
-                "{} paint stroke(s) over {} splat texels re-blended {} texels of the field ({} with the pyramid levels above) and {} AO texels in {:.2} ms on the gpu",
-                p.strokes,
+        let rebuilt = |p: &relief::render::PaintReport| {
+            format!(
+                "{} splat texels re-blended {} texels of the field ({} with the pyramid levels above) and {} AO texels in {:.2} ms on the gpu",
                 p.splat_texels,
                 p.blended_texels.first().copied().unwrap_or(0),
                 p.blended_texels.iter().sum::<u64>(),
                 p.ao_texels,
                 p.gpu_ms
-            )),
+            )
+        };
+        if let Some(r) = &e.reweighed {
+            parts.push(format!(
+                "the rules weighing the moved ground over {}",
+                rebuilt(r)
+            ));
+        }
+        match &e.paint {
+            Some(p) => parts.push(format!("{} paint stroke(s) over {}", p.strokes, rebuilt(p))),
+            None if e.reweighed.is_none() => parts.push("the layered maps were kept".into()),
+            None => {}
         }
         eprintln!("frame {}: {}", e.frame, parts.join("; "));
     }

@@ -11,7 +11,7 @@ use relief::heightfield::{Heightfield, LoadOptions};
 use relief::method::Method;
 use relief::scene::{Scene, MAX_LAYERED_RESOLUTION};
 use relief::terrain::{
-    procedural_layers, rules_splat, terrain_scene, BlendMode, GroundLayer, TerrainEditor,
+    ground_rules, procedural_layers, terrain_scene, BlendMode, GroundLayer, TerrainEditor,
     TerrainOptions, MAX_LAYERS, TERRAIN_MESH,
 };
 
@@ -114,7 +114,10 @@ impl TerrainArgs {
         if let Some(depth) = depth_scale {
             opts.tile_depth = depth;
         }
-        let splat = rules_splat(&elevation, layers.len(), &opts)
+        let rules = ground_rules(&elevation, layers.len(), &opts)
+            .with_context(|| format!("weighing layers over {}", path.display()))?;
+        let splat = rules
+            .splat(&elevation)
             .with_context(|| format!("weighing layers over {}", path.display()))?;
         let layer_count = layers.len();
         let scene = terrain_scene(&elevation, layers, &splat, &opts);
@@ -123,7 +126,7 @@ impl TerrainArgs {
                 // The terrain scene's one material is the layered one.
                 let painted = PaintedLayers::of(0, layer_count, &splat);
                 let editor = TerrainEditor::new(elevation, &opts.grid, TERRAIN_MESH, 0);
-                Some(TerrainEdits::load(file, editor, painted)?)
+                Some(TerrainEdits::load(file, editor, painted, Some(rules))?)
             }
             None => None,
         };

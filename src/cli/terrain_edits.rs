@@ -20,7 +20,7 @@ use std::time::Instant;
 
 use anyhow::Context as _;
 use relief::render::{FrameOutput, PaintReport, RenderError, Renderer};
-use relief::terrain::{SplatMap, Stroke, StrokeTarget, TerrainEditor};
+use relief::terrain::{RuleWeights, SplatMap, Stroke, StrokeTarget, TerrainEditor};
 use serde::Serialize;
 
 /// The strokes of a render and the editor they go through.
@@ -29,6 +29,9 @@ pub struct TerrainEdits {
     frames: Vec<Vec<Stroke>>,
     /// The layered material paint strokes weigh, and the splat size they are carried onto.
     painted: PaintedLayers,
+    /// The rules that weighed the layers, to weigh again where elevation strokes move the
+    /// ground; dropped (with the reason said) when the renderer cannot repaint its weights.
+    rules: Option<RuleWeights>,
     path: std::path::PathBuf,
 }
 
@@ -65,6 +68,8 @@ pub struct EditRecord {
     pub upload_ms: f64,
     /// What the list's paint strokes rebuilt, if it had any.
     pub paint: Option<PaintReport>,
+    /// What weighing the layers again by the rules where the ground moved rebuilt, if anything.
+    pub reweighed: Option<PaintReport>,
 }
 
 impl TerrainEdits {
@@ -74,6 +79,7 @@ impl TerrainEdits {
         path: &Path,
         editor: TerrainEditor,
         painted: PaintedLayers,
+        rules: Option<RuleWeights>,
     ) -> anyhow::Result<TerrainEdits> {
         let text = std::fs::read_to_string(path)
             .with_context(|| format!("--edits: cannot read {}", path.display()))?;
@@ -111,24 +117,30 @@ impl TerrainEdits {
             editor,
             frames,
             painted,
+            rules,
             path: path.to_path_buf(),
         })
     }
 
     /// Checks that `renderer` can paint the terrain's layers when a stroke paints them (its
-    /// method reads no map built once from the whole field, no averaged pyramid).
-    pub fn check_renderer(&self, renderer: &Renderer) -> anyhow::Result<()> {
-        if self.paints() {
-            renderer
-                .layer_splat(self.painted.material)
-                .with_context(|| format!("--edits {}", self.path.display()))?;
+    /// method reads no map built once from the whole field, no averaged pyramid). Without paint
+    /// strokes a renderer that cannot repaint keeps the rules' weights as loaded, and says so.
+    pub fn check_renderer(&mut self, renderer: &Renderer) -> anyhow::Result<()> {
+        let repaint = renderer.layer_splat(self.painted.material).map(drop);
+        if self.frames.iter().flatten().any(Stroke::paints) {
+            repaint.with_context(|| format!("--edits {}", self.path.display()))?;
+        } else if let (Err(why), Some(_)) = (repaint, &self.rules) {
+            eprintln!("--edits: the layers' weights stay as loaded under the strokes: {why}");
+            self.rules = None;
         }
         Ok(())
     }
 
-    /// Whether any stroke paints weights (the renderer must then keep the blend's inputs).
+    /// Whether the renderer must keep the blend's inputs: a stroke paints weights, or moves
+    /// ground whose weights come from rules.
     pub fn paints(&self) -> bool {
-        self.frames.iter().flatten().any(Stroke::paints)
+        let strokes = || self.frames.iter().flatten();
+        strokes().any(Stroke::paints) || (self.rules.is_some() && strokes().next().is_some())
     }
 
     /// Frames needed to show every list (the first frame is unedited).
@@ -160,6 +172,7 @@ impl TerrainEdits {
         let mut retired = renderer
             .finish()
             .map_err(|e: RenderError| anyhow::anyhow!(e))?;
+        let reweighed = self.reweigh(&shape, renderer, &mut retired)?;
         let paint = if paint.is_empty() {
             None
         } else {
@@ -197,8 +210,40 @@ impl TerrainEdits {
             rebuild_ms,
             upload_ms: started.elapsed().as_secs_f64() * 1e3,
             paint,
+            reweighed,
         };
         Ok((retired, Some(record)))
+    }
+
+    /// Weighs the layers again by the rules where `strokes` moved the ground (not where paint
+    /// strokes weighed them by hand); what that rebuilt, summed over the strokes.
+    fn reweigh(
+        &self,
+        strokes: &[Stroke],
+        renderer: &mut Renderer,
+        retired: &mut Vec<FrameOutput>,
+    ) -> anyhow::Result<Option<PaintReport>> {
+        let Some(rules) = &self.rules else {
+            return Ok(None);
+        };
+        let elevation = self.editor.elevation();
+        let (w, h) = (elevation.width(), elevation.height());
+        let mut total: Option<PaintReport> = None;
+        for rect in strokes.iter().filter_map(|s| s.rect(w, h)) {
+            let Some(splat_rect) = rules.splat_rect_reading(&rect, w, h) else {
+                continue;
+            };
+            let (waited, report) = renderer
+                .reweigh_layers(self.painted.material, splat_rect, |i, j| {
+                    rules.weights_at(elevation, i, j)
+                })
+                .map_err(|e: RenderError| anyhow::anyhow!(e))?;
+            retired.extend(waited);
+            if let Some(r) = report {
+                total.get_or_insert_with(PaintReport::default).add(&r);
+            }
+        }
+        Ok(total)
     }
 }
 

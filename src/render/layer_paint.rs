@@ -27,6 +27,9 @@ pub struct LayerPainter {
     splat: SplatMap,
     /// The stack's side (the blended field's resolution).
     size: u32,
+    /// Per splat texel, whether a stroke painted it: weights set from elsewhere (rules over an
+    /// edited elevation) leave those, so a hand's work is not undone by the ground moving.
+    by_hand: Vec<bool>,
 }
 
 /// What one list of paint strokes rebuilt, for `--explain` and the bench.
@@ -43,6 +46,22 @@ pub struct PaintReport {
     pub gpu_ms: f64,
 }
 
+impl PaintReport {
+    /// Adds `other`'s counts and time to these.
+    pub fn add(&mut self, other: &PaintReport) {
+        self.strokes += other.strokes;
+        self.splat_texels += other.splat_texels;
+        if self.blended_texels.len() < other.blended_texels.len() {
+            self.blended_texels.resize(other.blended_texels.len(), 0);
+        }
+        for (a, b) in self.blended_texels.iter_mut().zip(&other.blended_texels) {
+            *a += b;
+        }
+        self.ao_texels += other.ao_texels;
+        self.gpu_ms += other.gpu_ms;
+    }
+}
+
 /// A painted list, staged for the GPU.
 pub struct StagedPaint {
     /// The splat texels each stroke may have changed.
@@ -55,10 +74,12 @@ pub struct StagedPaint {
 impl LayerPainter {
     /// `pyramid` built from a stack of side `size` weighed by `splat`.
     pub fn new(pyramid: BlendedPyramid, splat: SplatMap, size: u32) -> LayerPainter {
+        let (w, h) = splat.size();
         LayerPainter {
             pyramid,
             splat,
             size,
+            by_hand: vec![false; w as usize * h as usize],
         }
     }
 
@@ -106,6 +127,14 @@ impl LayerPainter {
                 let rect = self.splat.paint(s)?;
                 // The shading's splat image holds 16 bits: the weights blended must be those.
                 self.splat.quantize_unorm16(&rect);
+                let width = self.splat.size().0 as usize;
+                for j in rect.y0..=rect.y1 {
+                    for i in rect.x0..=rect.x1 {
+                        if s.covers(i, j) {
+                            self.by_hand[j as usize * width + i as usize] = true;
+                        }
+                    }
+                }
                 Some(rect)
             })
             .collect();
@@ -114,6 +143,47 @@ impl LayerPainter {
             .map(|r| self.splat.stack_rect(r, self.size, self.size))
             .collect();
         Ok(self.stage(splat_rects, stack_rects)?)
+    }
+
+    /// Sets the weights of splat texels `rect` (clipped to the map) not painted by hand to
+    /// `weights(i, j)` (finite, at least 0) and stages what that changed; `None` when nothing did.
+    pub fn reweigh(
+        &mut self,
+        rect: TexelRect,
+        weights: impl Fn(u32, u32) -> [f32; 4],
+    ) -> VkResult<Option<StagedPaint>> {
+        let (w, h) = self.splat.size();
+        if rect.x0 >= w || rect.y0 >= h {
+            return Ok(None);
+        }
+        let rect = TexelRect {
+            x1: rect.x1.min(w - 1),
+            y1: rect.y1.min(h - 1),
+            ..rect
+        };
+        let mut changed = false;
+        for j in rect.y0..=rect.y1 {
+            for i in rect.x0..=rect.x1 {
+                if self.by_hand[j as usize * w as usize + i as usize] {
+                    continue;
+                }
+                let before = self.splat.texel(i, j);
+                self.splat.set_texel(i, j, weights(i, j));
+                let texel = TexelRect {
+                    x0: i,
+                    y0: j,
+                    x1: i,
+                    y1: j,
+                };
+                self.splat.quantize_unorm16(&texel);
+                changed |= self.splat.texel(i, j) != before;
+            }
+        }
+        if !changed {
+            return Ok(None);
+        }
+        let stack = self.splat.stack_rect(&rect, self.size, self.size);
+        self.stage(vec![rect], vec![stack]).map(Some)
     }
 
     /// Stages every stack weight, as a full rebuild does.

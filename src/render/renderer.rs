@@ -18,7 +18,7 @@ use super::cells_pass::{BuiltComplex, CellsPass};
 use super::frame::{planned_heights, BuiltMap, RenderError, RenderOptions};
 use super::frame_uniforms::{frame_camera, FrameUniforms};
 use super::height_resources::{HeightResources, HeightUpload};
-use super::layer_paint::{record_paint_copies, LayerPainter, PaintError, PaintReport};
+use super::layer_paint::{record_paint_copies, LayerPainter, PaintError, PaintReport, StagedPaint};
 use super::layered_heights::blended_heights;
 use super::map_builder::{build_method_map_with, MapBuilder};
 use super::pass::Pass;
@@ -295,6 +295,42 @@ impl Renderer {
             PaintError::Stroke(s) => RenderError::from(s),
             PaintError::Vulkan(v) => RenderError::from(v),
         })?;
+        let report = self.rebuild_painted(h, material, &staged, strokes.len())?;
+        Ok((retired, report))
+    }
+
+    /// Sets layered material `material`'s weights from `weights` (splat texel to weights) over
+    /// splat texels `rect`, except where strokes painted by hand (`Renderer::paint_layers`):
+    /// what rules derive from an edited elevation. Waits for the frames in flight, which are
+    /// returned, and rebuilds what changed as painting does; `None` when nothing changed.
+    pub fn reweigh_layers(
+        &mut self,
+        material: usize,
+        rect: TexelRect,
+        weights: impl Fn(u32, u32) -> [f32; 4],
+    ) -> Result<(Vec<FrameOutput>, Option<PaintReport>), RenderError> {
+        let h = self.paintable(material)?;
+        let retired = self.finish()?;
+        let painter = self.painters[h]
+            .as_mut()
+            .expect("paintable checked the painter");
+        let Some(staged) = painter.reweigh(rect, weights)? else {
+            return Ok((retired, None));
+        };
+        let report = self.rebuild_painted(h, material, &staged, 0)?;
+        Ok((retired, Some(report)))
+    }
+
+    /// Rebuilds on the GPU what `staged` changed in layered height map `h` of `material`: the
+    /// shading's splat texels, the blended pyramid's regions copied into the drawn height map,
+    /// and the AO near them (once the first frame has built it).
+    fn rebuild_painted(
+        &self,
+        h: usize,
+        material: usize,
+        staged: &StagedPaint,
+        strokes: usize,
+    ) -> Result<PaintReport, RenderError> {
         let painter = self.painters[h]
             .as_ref()
             .expect("paintable checked the painter");
@@ -324,13 +360,13 @@ impl Renderer {
             Vec::new()
         };
         let mut report = PaintReport {
-            strokes: strokes.len(),
+            strokes,
             splat_texels: staged.splat_rects.iter().map(TexelRect::texels).sum(),
             ..PaintReport::default()
         };
         let ao = &self.ao;
         report.gpu_ms = time_on_gpu(&self.ctx, |rec| {
-            let regions = painter.record(rec, &staged)?;
+            let regions = painter.record(rec, staged)?;
             record_paint_copies(
                 rec,
                 painter,
@@ -356,7 +392,7 @@ impl Renderer {
             }
             Ok(())
         })?;
-        Ok((retired, report))
+        Ok(report)
     }
 
     /// Records and submits one frame. If the slot it takes still held an older frame, that frame

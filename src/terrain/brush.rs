@@ -160,6 +160,11 @@ impl Stroke {
         Some(TexelRect { x0, y0, x1, y1 })
     }
 
+    /// Whether texel `(i, j)`'s centre lies inside the stroke's disk.
+    pub fn covers(&self, i: u32, j: u32) -> bool {
+        self.falloff(i, j).is_some()
+    }
+
     /// Whether the stroke paints weights rather than moving the elevation.
     pub fn paints(&self) -> bool {
         self.kind == BrushKind::Paint

@@ -140,6 +140,12 @@ impl SplatMap {
         Some(rect)
     }
 
+    /// Sets texel `(i, j)`'s weights, each clamped to [0, 1] (a NaN to 0), so the map stays valid.
+    pub fn set_texel(&mut self, i: u32, j: u32, weights: [f32; 4]) {
+        let t = j as usize * self.width as usize + i as usize;
+        self.texels[t] = weights.map(|w| if w.is_nan() { 0.0 } else { w.clamp(0.0, 1.0) });
+    }
+
     /// Rounds texels `rect` to 16-bit unorm steps, as a splat image stores them: what painting
     /// leaves is then exactly what saving the map and loading it back gives.
     pub fn quantize_unorm16(&mut self, rect: &TexelRect) {

@@ -44,8 +44,9 @@ pub use detail::{tiled_stack, TiledLayer};
 pub use edit::{TerrainEdit, TerrainEditor};
 pub use grid::{terrain_tiles, GridOptions, TerrainGrid};
 pub use layers::{LayerError, LayerStack, SplatMap, MAX_LAYERS};
-pub use rules::{splat_from_rules, LayerRule};
+pub use rules::{splat_from_rules, LayerRule, RuleWeights};
 pub use scene::{
-    procedural_layers, rules_splat, terrain_scene, GroundLayer, TerrainOptions, TERRAIN_MESH,
+    ground_rules, procedural_layers, rules_splat, terrain_scene, GroundLayer, TerrainOptions,
+    TERRAIN_MESH,
 };
 pub use vertex_weights::splat_from_vertex_colors;

@@ -3,6 +3,7 @@
 //! weights at a texel are the layers' coverages normalised to sum 1 (the last layer takes a
 //! texel no rule covers).
 
+use super::brush::TexelRect;
 use super::layers::{LayerError, SplatMap, MAX_LAYERS};
 use crate::heightfield::Heightfield;
 
@@ -56,6 +57,113 @@ fn band(x: f32, (lo, hi): (f32, f32), soft: f32) -> f32 {
     below.min(above)
 }
 
+/// The rules' weighing of one terrain: its rules, its loaded elevation's range (altitude bands are
+/// fractions of it, kept fixed as strokes move the ground, so that a stroke re-weighs only the
+/// texels near it), the world size of an elevation texel and of a unit of height, and the side
+/// of the splat map it paints.
+#[derive(Debug, Clone)]
+pub struct RuleWeights {
+    rules: Vec<LayerRule>,
+    low: f32,
+    range: f32,
+    texel_world: f32,
+    height_world: f32,
+    size: u32,
+}
+
+impl RuleWeights {
+    /// `rules` (1 to 4) over `elevation` as loaded, painting a `size`^2 splat map.
+    pub fn new(
+        elevation: &Heightfield,
+        rules: &[LayerRule],
+        texel_world: f32,
+        height_world: f32,
+        size: u32,
+    ) -> Result<RuleWeights, LayerError> {
+        if rules.is_empty() || rules.len() > MAX_LAYERS {
+            return Err(LayerError::Count { count: rules.len() });
+        }
+        let (lo, hi) = elevation
+            .data()
+            .iter()
+            .fold((f32::MAX, f32::MIN), |(a, b), &h| (a.min(h), b.max(h)));
+        Ok(RuleWeights {
+            rules: rules.to_vec(),
+            low: lo,
+            range: (hi - lo).max(f32::EPSILON),
+            texel_world,
+            height_world,
+            size,
+        })
+    }
+
+    /// The elevation texel splat texel `x` of `size` reads along an axis of `n` texels.
+    fn elevation_texel(&self, x: u32, n: u32) -> i64 {
+        ((f64::from(x) + 0.5) / f64::from(self.size) * f64::from(n)) as i64
+    }
+
+    /// The weights of splat texel `(x, y)` over `elevation` (the one the rules were made for, or
+    /// it edited): each rule's coverage of the altitude and slope read there, normalised.
+    pub fn weights_at(&self, elevation: &Heightfield, x: u32, y: u32) -> [f32; 4] {
+        let (w, h) = (elevation.width(), elevation.height());
+        let at = |i: i64, j: i64| {
+            elevation.get(
+                i.clamp(0, i64::from(w) - 1) as u32,
+                j.clamp(0, i64::from(h) - 1) as u32,
+            )
+        };
+        let (i, j) = (self.elevation_texel(x, w), self.elevation_texel(y, h));
+        let altitude = (at(i, j) - self.low) / self.range;
+        let (hw, tw) = (self.height_world, self.texel_world);
+        let dx = (at(i + 1, j) - at(i - 1, j)) * hw / (2.0 * tw);
+        let dz = (at(i, j + 1) - at(i, j - 1)) * hw / (2.0 * tw);
+        let slope = dx.hypot(dz).atan().to_degrees();
+        let mut weights = [0.0f32; 4];
+        for (k, rule) in self.rules.iter().enumerate() {
+            weights[k] = rule.coverage(altitude, slope);
+        }
+        let sum: f32 = weights.iter().sum();
+        if sum > 0.0 {
+            weights.map(|w| w / sum)
+        } else {
+            let mut last = [0.0; 4];
+            last[self.rules.len() - 1] = 1.0;
+            last
+        }
+    }
+
+    /// The splat map over `elevation`.
+    pub fn splat(&self, elevation: &Heightfield) -> Result<SplatMap, LayerError> {
+        let n = self.size;
+        let texels = (0..n * n)
+            .map(|t| self.weights_at(elevation, t % n, t / n))
+            .collect();
+        SplatMap::new(n, n, texels)
+    }
+
+    /// The splat texels whose weights read elevation texels `rect` of a `width` x `height` map
+    /// (each reads its own texel and its four neighbours), `None` when none does.
+    pub fn splat_rect_reading(
+        &self,
+        rect: &TexelRect,
+        width: u32,
+        height: u32,
+    ) -> Option<TexelRect> {
+        let span = |a: u32, b: u32, n: u32| {
+            let reads = |x: u32| {
+                let i = self.elevation_texel(x, n);
+                i + 1 >= i64::from(a) && i - 1 <= i64::from(b)
+            };
+            let first = (0..self.size).find(|&x| reads(x))?;
+            let last = (0..self.size).rev().find(|&x| reads(x))?;
+            Some((first, last))
+        };
+        let (x0, x1) = span(rect.x0, rect.x1, width)?;
+        let (y0, y1) = span(rect.y0, rect.y1, height)?;
+        Some(TexelRect { x0, y0, x1, y1 })
+    }
+}
+
 /// A `size` x `size` splat map of `rules` (one per layer) over `elevation`, whose texels are
 /// `texel_world` apart and whose elevation 1 stands `height_world` above 0 (for slopes).
 pub fn splat_from_rules(
@@ -65,46 +173,7 @@ pub fn splat_from_rules(
     height_world: f32,
     size: u32,
 ) -> Result<SplatMap, LayerError> {
-    if rules.is_empty() || rules.len() > MAX_LAYERS {
-        return Err(LayerError::Count { count: rules.len() });
-    }
-    let (lo, hi) = elevation
-        .data()
-        .iter()
-        .fold((f32::MAX, f32::MIN), |(a, b), &h| (a.min(h), b.max(h)));
-    let range = (hi - lo).max(f32::EPSILON);
-    let (w, h) = (elevation.width(), elevation.height());
-    let at = |i: i64, j: i64| {
-        elevation.get(
-            i.clamp(0, i64::from(w) - 1) as u32,
-            j.clamp(0, i64::from(h) - 1) as u32,
-        )
-    };
-    let texels = (0..size * size)
-        .map(|t| {
-            let (x, y) = (t % size, t / size);
-            // The elevation texel under this splat texel's centre.
-            let i = ((f64::from(x) + 0.5) / f64::from(size) * f64::from(w)) as i64;
-            let j = ((f64::from(y) + 0.5) / f64::from(size) * f64::from(h)) as i64;
-            let altitude = (at(i, j) - lo) / range;
-            let dx = (at(i + 1, j) - at(i - 1, j)) * height_world / (2.0 * texel_world);
-            let dz = (at(i, j + 1) - at(i, j - 1)) * height_world / (2.0 * texel_world);
-            let slope = dx.hypot(dz).atan().to_degrees();
-            let mut weights = [0.0f32; 4];
-            for (k, rule) in rules.iter().enumerate() {
-                weights[k] = rule.coverage(altitude, slope);
-            }
-            let sum: f32 = weights.iter().sum();
-            if sum > 0.0 {
-                weights.map(|w| w / sum)
-            } else {
-                let mut last = [0.0; 4];
-                last[rules.len() - 1] = 1.0;
-                last
-            }
-        })
-        .collect();
-    SplatMap::new(size, size, texels)
+    RuleWeights::new(elevation, rules, texel_world, height_world, size)?.splat(elevation)
 }
 
 #[cfg(test)]

@@ -12,7 +12,7 @@ use image::{DynamicImage, ImageBuffer, Luma, Rgba};
 use super::blend::BlendMode;
 use super::grid::{terrain_tiles, GridOptions};
 use super::layers::{LayerError, SplatMap};
-use super::rules::{splat_from_rules, LayerRule};
+use super::rules::{LayerRule, RuleWeights};
 use crate::heightfield::{Channel, Generator, Heightfield};
 use crate::method::Method;
 use crate::scene::{
@@ -116,10 +116,20 @@ pub fn rules_splat(
     layers: usize,
     opts: &TerrainOptions,
 ) -> Result<SplatMap, LayerError> {
+    ground_rules(elevation, layers, opts)?.splat(elevation)
+}
+
+/// The built-in rules for `layers` layers over `elevation` as loaded, to weigh it again where
+/// strokes move it.
+pub fn ground_rules(
+    elevation: &Heightfield,
+    layers: usize,
+    opts: &TerrainOptions,
+) -> Result<RuleWeights, LayerError> {
     // With fewer layers, the first ones keep their bands and the last takes the rest.
     let rules = &LayerRule::GROUND[..layers.min(LayerRule::GROUND.len())];
     let texel = opts.grid.extent / elevation.width().max(elevation.height()) as f32;
-    splat_from_rules(elevation, rules, texel, opts.grid.height, opts.splat_size)
+    RuleWeights::new(elevation, rules, texel, opts.grid.height, opts.splat_size)
 }
 
 /// The terrain scene over `elevation` with `layers` weighed by `splat`.
