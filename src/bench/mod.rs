@@ -8,6 +8,7 @@ mod depth_match;
 mod edits;
 mod lod;
 mod npy;
+mod paint_edits;
 mod report;
 mod results;
 mod runner;
@@ -33,6 +34,7 @@ pub use lod::{
     ImageError, LodConfig, LodRun, LodScaling, LodSection,
 };
 pub use npy::write_npy_f32;
+pub use paint_edits::{run_paint_section, PaintCost};
 pub use report::render_report;
 pub use results::{BenchDevice, BenchResults, GpuMs, MapBuild, Run, StabilityCell};
 pub use runner::{plan_jobs, Job, Runner, Section};

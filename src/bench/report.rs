@@ -44,6 +44,7 @@ pub fn render_report(results: &BenchResults) -> (String, Vec<(String, String)>) 
         super::lod::report(&mut md, lod);
     }
     super::edits::report(&mut md, &results.edits);
+    super::paint_edits::report(&mut md, &results.paint_edits);
     if let Some(blending) = &results.blending {
         super::blending_report::report(&mut md, blending);
     }

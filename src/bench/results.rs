@@ -118,6 +118,8 @@ pub struct BenchResults {
     pub lod: Option<super::lod::LodSection>,
     /// The terrain-edit section (empty when skipped, e.g. `--no-edits`).
     pub edits: Vec<super::edits::EditCost>,
+    /// The weight-painting costs beside it (empty when skipped, e.g. `--no-edits`).
+    pub paint_edits: Vec<super::paint_edits::PaintCost>,
     /// The terrain-blending section (`None` when skipped, e.g. `--no-blending`).
     pub blending: Option<super::blending::BlendingSection>,
 }

@@ -10,8 +10,9 @@ use std::io::IsTerminal;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use relief::bench::{
     blending_notes, depth_match_settled, measure_ao, measure_shadows, plan_jobs, render_report,
-    run_blending_section, run_edit_section, run_lod_section, run_stiff_case, stiff_cases, AoConfig,
-    BenchResults, BlendingConfig, FieldSource, LodConfig, Runner, ShadingConfig, SweepConfig,
+    run_blending_section, run_edit_section, run_lod_section, run_paint_section, run_stiff_case,
+    stiff_cases, AoConfig, BenchResults, BlendingConfig, FieldSource, LodConfig, Runner,
+    ShadingConfig, SweepConfig,
 };
 
 /// The brush radius of the terrain-edit section, in texels (the stroke).
@@ -79,9 +80,13 @@ pub struct BenchArgs {
     /// Skip the level-of-detail section.
     #[arg(long)]
     no_lod: bool,
-    /// Skip the terrain-edit section (a brush stroke's partial rebuild against a full one).
+    /// Skip the terrain-edit section (a brush stroke's partial rebuild against a full one, and a
+    /// paint stroke's on a layered material's weights).
     #[arg(long)]
     no_edits: bool,
+    /// Field sides of the terrain-edit section (default 1024,4096; quick: 256,1024).
+    #[arg(long, value_delimiter = ',', conflicts_with = "no_edits")]
+    edit_sizes: Vec<u32>,
     /// Skip the terrain-blending section (blended layers against a single field of their shape).
     #[arg(long)]
     no_blending: bool,
@@ -147,6 +152,10 @@ fn config(args: &BenchArgs) -> anyhow::Result<SweepConfig> {
         FormatArg::R32f => HeightFormat::R32Float,
     };
     validate(&cfg)?;
+    // The strokes (radius EDIT_RADIUS, an eighth of it on the splat map) must fit the field.
+    if let Some(s) = args.edit_sizes.iter().find(|s| !(32..=16384).contains(*s)) {
+        anyhow::bail!("--edit-sizes must lie in 32..=16384, got {s}");
+    }
     Ok(cfg)
 }
 
@@ -248,7 +257,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
             + shading_steps
             + usize::from(shadow_stability_wanted)
             + usize::from(lod_wanted)
-            + usize::from(edits_wanted)
+            + 2 * usize::from(edits_wanted)
             + usize::from(blending_wanted),
         args.json,
     );
@@ -324,19 +333,19 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     } else {
         None
     };
-    let edits = if edits_wanted {
+    let (edits, paint_edits) = if edits_wanted {
         note(&bar, "terrain edits", args.json);
-        let sizes: &[u32] = if cfg.quick {
-            &[256, 1024]
-        } else {
-            &[1024, 4096]
-        };
-        let costs = run_edit_section(&ctx, sizes, EDIT_RADIUS, cfg.format)
+        let sizes = edit_sizes(args, &cfg);
+        let costs = run_edit_section(&ctx, &sizes, EDIT_RADIUS, cfg.format)
             .context("the terrain-edit section")?;
         bar.inc(1);
-        costs
+        note(&bar, "terrain edits: painting weights", args.json);
+        let paint = run_paint_section(&ctx, &sizes, EDIT_RADIUS, cfg.format)
+            .context("the weight-painting section")?;
+        bar.inc(1);
+        (costs, paint)
     } else {
-        Vec::new()
+        (Vec::new(), Vec::new())
     };
     let blending = if blending_wanted {
         note(&bar, "terrain blending", args.json);
@@ -360,9 +369,21 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         ao,
         lod,
         edits,
+        paint_edits,
         blending,
     };
     write_outputs(&args.out, &results, args.json)
+}
+
+/// The terrain-edit section's field sides: --edit-sizes, else 1024 and 4096 (quick: 256 and 1024).
+fn edit_sizes(args: &BenchArgs, cfg: &SweepConfig) -> Vec<u32> {
+    if !args.edit_sizes.is_empty() {
+        args.edit_sizes.clone()
+    } else if cfg.quick {
+        vec![256, 1024]
+    } else {
+        vec![1024, 4096]
+    }
 }
 
 /// The LOD section's settings: quick or full, with the sweep's methods when --methods names
