@@ -6,6 +6,8 @@
 
 mod common;
 
+use std::sync::Arc;
+
 use common::terrain::small_terrain;
 
 use relief::heightfield::{Address, Generator, Heightfield};
@@ -17,6 +19,7 @@ use relief::terrain::{
     procedural_layers, rules_splat, terrain_scene, BlendMode, BrushKind, LayerStack, SplatMap,
     Stroke,
 };
+use relief::vk::Context;
 
 /// A deterministic stream in [0, 1).
 fn stream(seed: u64) -> impl FnMut() -> f32 {
@@ -62,6 +65,19 @@ fn layer_heights() -> Vec<Heightfield> {
     ]
 }
 
+/// A painter over the three layers weighed by `splat`, its pyramid built.
+fn painter(
+    ctx: &Arc<Context>,
+    splat: &SplatMap,
+    mode: BlendMode,
+    format: HeightFormat,
+) -> LayerPainter {
+    let stack = LayerStack::from_splat(layer_heights(), splat).unwrap();
+    let pyramid = BlendedPyramid::new(ctx, &stack, mode, format, Address::Clamp).unwrap();
+    time_on_gpu(ctx, |rec| pyramid.record_build(rec)).unwrap();
+    LayerPainter::new(pyramid, splat.clone(), SIZE)
+}
+
 fn bits(levels: &[Vec<f32>]) -> Vec<Vec<u32>> {
     levels
         .iter()
@@ -78,11 +94,7 @@ fn a_hundred_paint_strokes_rebuilt_in_place_equal_a_fresh_build() {
         (HeightFormat::R16Unorm, BlendMode::HeightIntersect),
         (HeightFormat::R32Float, BlendMode::Alpha),
     ] {
-        let splat = random_splat(24, 19, 5);
-        let stack = LayerStack::from_splat(layer_heights(), &splat).unwrap();
-        let pyramid = BlendedPyramid::new(&ctx, &stack, mode, format, Address::Clamp).unwrap();
-        time_on_gpu(&ctx, |rec| pyramid.record_build(rec)).unwrap();
-        let mut painter = LayerPainter::new(pyramid, splat, SIZE);
+        let mut painter = painter(&ctx, &random_splat(24, 19, 5), mode, format);
         let before = painter.pyramid().read_levels().unwrap();
         let strokes = paint_strokes(100, (24, 19), 3, 9);
         let mut rebuilt_texels = 0u64;
@@ -130,10 +142,7 @@ fn weights_set_from_elsewhere_leave_what_was_painted_by_hand() {
     let splat = random_splat(16, 16, 3);
     let format = HeightFormat::R16Unorm;
     let mode = BlendMode::Height;
-    let stack = LayerStack::from_splat(layer_heights(), &splat).unwrap();
-    let pyramid = BlendedPyramid::new(&ctx, &stack, mode, format, Address::Clamp).unwrap();
-    time_on_gpu(&ctx, |rec| pyramid.record_build(rec)).unwrap();
-    let mut painter = LayerPainter::new(pyramid, splat, SIZE);
+    let mut painter = painter(&ctx, &splat, mode, format);
     let stroke = Stroke {
         kind: BrushKind::Paint,
         x: 8.0,
@@ -190,17 +199,7 @@ fn bad_paint_strokes_change_nothing_and_say_why() {
         return;
     };
     let splat = random_splat(16, 16, 2);
-    let stack = LayerStack::from_splat(layer_heights(), &splat).unwrap();
-    let pyramid = BlendedPyramid::new(
-        &ctx,
-        &stack,
-        BlendMode::Height,
-        HeightFormat::R32Float,
-        Address::Clamp,
-    )
-    .unwrap();
-    time_on_gpu(&ctx, |rec| pyramid.record_build(rec)).unwrap();
-    let mut painter = LayerPainter::new(pyramid, splat.clone(), SIZE);
+    let mut painter = painter(&ctx, &splat, BlendMode::Height, HeightFormat::R32Float);
     let good = paint_strokes(1, (16, 16), 3, 4)[0];
     for (bad, needle) in [
         (
