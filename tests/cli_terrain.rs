@@ -46,6 +46,14 @@ fn write(dir: &Path, name: &str, text: &str) -> PathBuf {
     path
 }
 
+/// `--edits FILE` with `text` written to `name` in `dir`.
+fn edits(dir: &Path, name: &str, text: &str) -> Vec<String> {
+    vec![
+        "--edits".into(),
+        write(dir, name, text).display().to_string(),
+    ]
+}
+
 #[test]
 fn strokes_between_frames_rebuild_only_the_tiles_they_touch() {
     if common::device("strokes_between_frames_rebuild_only_the_tiles_they_touch").is_none() {
@@ -126,16 +134,7 @@ fn bad_edits_and_layers_fail_in_one_line() {
     let out = dir.join("frame.png");
     let cases: Vec<(Vec<String>, Vec<&str>)> = vec![
         (
-            vec![
-                "--edits".into(),
-                write(
-                    &dir,
-                    "outside.json",
-                    r#"[[{"kind": "raise", "x": 900, "y": 5, "radius": 4, "strength": 0.1}]]"#,
-                )
-                .display()
-                .to_string(),
-            ],
+            edits(&dir, "outside.json", r#"[[{"kind": "raise", "x": 900, "y": 5, "radius": 4, "strength": 0.1}]]"#),
             vec![
                 "outside.json",
                 "frame list 0",
@@ -144,70 +143,27 @@ fn bad_edits_and_layers_fail_in_one_line() {
             ],
         ),
         (
-            vec![
-                "--edits".into(),
-                write(
-                    &dir,
-                    "zero.json",
-                    r#"[[], [{"kind": "lower", "x": 5, "y": 5, "radius": 0, "strength": 0.1}]]"#,
-                )
-                .display()
-                .to_string(),
-            ],
+            edits(&dir, "zero.json", r#"[[], [{"kind": "lower", "x": 5, "y": 5, "radius": 0, "strength": 0.1}]]"#),
             vec!["frame list 1", "radius 0"],
         ),
         (
-            vec![
-                "--edits".into(),
-                write(
-                    &dir,
-                    "nan.json",
-                    r#"[[{"kind": "raise", "x": NaN, "y": 5, "radius": 4, "strength": 0.1}]]"#,
-                )
-                .display()
-                .to_string(),
-            ],
+            edits(&dir, "nan.json", r#"[[{"kind": "raise", "x": NaN, "y": 5, "radius": 4, "strength": 0.1}]]"#),
             vec!["nan.json", "expected an array of frames"],
         ),
         (
-            vec![
-                "--edits".into(),
-                write(
-                    &dir,
-                    "unknown.json",
-                    r#"[[{"kind": "smooth", "x": 5, "y": 5, "radius": 4, "strength": 0.1}]]"#,
-                )
-                .display()
-                .to_string(),
-            ],
+            edits(&dir, "unknown.json", r#"[[{"kind": "smooth", "x": 5, "y": 5, "radius": 4, "strength": 0.1}]]"#),
             vec!["unknown.json", "smooth"],
         ),
         (
-            vec![
-                "--edits".into(),
-                write(
-                    &dir,
-                    "layer.json",
-                    r#"[[{"kind": "paint", "layer": 7, "x": 5, "y": 5, "radius": 4, "strength": 0.5}]]"#,
-                )
-                .display()
-                .to_string(),
-            ],
+            edits(&dir, "layer.json", r#"[[{"kind": "paint", "layer": 7, "x": 5, "y": 5, "radius": 4, "strength": 0.5}]]"#),
             vec!["layer.json", "stroke 0", "layer 7, but the material has 4 layers"],
         ),
         (
-            vec![
-                "--edits".into(),
-                write(
-                    &dir,
-                    "paint.json",
-                    r#"[[{"kind": "paint", "layer": 1, "x": 5, "y": 5, "radius": 4, "strength": 0.5}]]"#,
-                )
-                .display()
-                .to_string(),
-                "--method".into(),
-                "csm".into(),
-            ],
+            [
+                edits(&dir, "paint.json", r#"[[{"kind": "paint", "layer": 1, "x": 5, "y": 5, "radius": 4, "strength": 0.5}]]"#),
+                vec!["--method".into(), "csm".into()],
+            ]
+            .concat(),
             vec!["paint.json", "cone map", "qdm"],
         ),
         (

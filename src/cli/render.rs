@@ -37,7 +37,10 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let mut opts = args
         .scene
         .render_options(args.scene.width, args.scene.height);
-    opts.paintable_layers = loaded.edits.as_ref().is_some_and(TerrainEdits::paints);
+    opts.paintable_layers = loaded
+        .edits
+        .as_ref()
+        .is_some_and(TerrainEdits::needs_painter);
     let cache = args.cache.file(&ctx);
     let seeded = pipeline_cache::seed(&ctx, cache.as_deref());
     let before = ctx.created();

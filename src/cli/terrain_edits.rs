@@ -138,7 +138,7 @@ impl TerrainEdits {
 
     /// Whether the renderer must keep the blend's inputs: a stroke paints weights, or moves
     /// ground whose weights come from rules.
-    pub fn paints(&self) -> bool {
+    pub fn needs_painter(&self) -> bool {
         let strokes = || self.frames.iter().flatten();
         strokes().any(Stroke::paints) || (self.rules.is_some() && strokes().next().is_some())
     }

@@ -7,6 +7,7 @@
 //! cells pass that draws meshes through their cell complexes (`cells_pass`), a terrain's blended
 //! pyramid (`blended_pyramid_pass`) and its elevation's brush edits (`elevation_editor`).
 
+mod ao_influence;
 mod ao_map_pass;
 mod ao_sweep;
 mod bench_pass;

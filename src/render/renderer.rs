@@ -286,7 +286,11 @@ impl Renderer {
         strokes: &[Stroke],
     ) -> Result<(Vec<FrameOutput>, PaintReport), RenderError> {
         let h = self.paintable(material)?;
-        self.check_paint(material, strokes)?;
+        let painter = self.painters[h]
+            .as_mut()
+            .expect("paintable checked the painter");
+        // Refused before waiting, so that a bad list loses no frame in flight.
+        painter.check(strokes)?;
         let retired = self.finish()?;
         let painter = self.painters[h]
             .as_mut()

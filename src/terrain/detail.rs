@@ -75,17 +75,21 @@ mod tests {
     use super::*;
     use crate::heightfield::Generator;
 
-    #[test]
-    fn a_layer_at_its_own_size_and_one_tile_comes_back_unchanged() {
-        let field = Generator::Fbm.generate(32, 32, 3);
+    /// `field` alone, one tile at full depth, on a `size`^2 grid.
+    fn one_layer_on(field: &Heightfield, size: u32) -> Heightfield {
         let splat = SplatMap::new(1, 1, vec![[1.0, 0.0, 0.0, 0.0]]).unwrap();
         let layer = TiledLayer {
-            heights: &field,
+            heights: field,
             tiling: 1.0,
             depth: 1.0,
         };
-        let stack = tiled_stack(&[layer], &splat, 32).unwrap();
-        for (a, b) in stack.heights()[0].data().iter().zip(field.data()) {
+        tiled_stack(&[layer], &splat, size).unwrap().heights()[0].clone()
+    }
+
+    #[test]
+    fn a_layer_at_its_own_size_and_one_tile_comes_back_unchanged() {
+        let field = Generator::Fbm.generate(32, 32, 3);
+        for (a, b) in one_layer_on(&field, 32).data().iter().zip(field.data()) {
             assert!((a - b).abs() < 1e-6, "{a} vs {b}");
         }
     }
@@ -126,14 +130,7 @@ mod tests {
             .map(|t| f32::from(u8::from((t % 64 + t / 64) % 2 == 0)))
             .collect();
         let field = Heightfield::from_valid(64, 64, data);
-        let splat = SplatMap::new(1, 1, vec![[1.0, 0.0, 0.0, 0.0]]).unwrap();
-        let layer = TiledLayer {
-            heights: &field,
-            tiling: 1.0,
-            depth: 1.0,
-        };
-        let stack = tiled_stack(&[layer], &splat, 32).unwrap();
-        for h in stack.heights()[0].data() {
+        for h in one_layer_on(&field, 32).data() {
             assert!((h - 0.5).abs() < 1e-6, "{h}");
         }
     }
