@@ -15,8 +15,8 @@ use std::sync::Arc;
 use ash::vk;
 use image::{imageops::FilterType, DynamicImage, RgbaImage};
 
-use super::texture_mips::mip_chain;
 use crate::heightfield::Channel;
+use crate::render::frame::texture_mips::mip_chain;
 use crate::scene::{
     LayerWeights, Layers, LayersError, Material, MaterialLayer, SceneImage, TextureRef,
 };

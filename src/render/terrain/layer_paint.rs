@@ -14,7 +14,7 @@ use ash::vk;
 use serde::Serialize;
 
 use super::blended_pyramid_pass::BlendedPyramid;
-use super::pyramid_pass::Region;
+use crate::render::maps::pyramid_pass::Region;
 use crate::terrain::{SplatMap, Stroke, StrokeError, StrokeTarget, TexelRect};
 use crate::vk::{
     record_copy_regions, transition_images, Image, ImageTransition, Recording, StagedRegions,

@@ -7,8 +7,8 @@ use std::sync::Arc;
 
 use ash::vk;
 
-use super::gpu_heightfield::GpuHeightfield;
 use crate::heightfield::Address;
+use crate::render::frame::gpu_heightfield::GpuHeightfield;
 use crate::shaders;
 use crate::terrain::{coarse_span, TexelRect};
 use crate::vk::{
@@ -216,7 +216,7 @@ impl PyramidPass {
 pub fn build_pyramid_on_gpu(
     ctx: &Arc<Context>,
     hf: &crate::heightfield::Heightfield,
-    format: super::HeightFormat,
+    format: crate::render::HeightFormat,
     address: Address,
 ) -> VkResult<(Vec<Vec<f32>>, f64)> {
     let gpu = GpuHeightfield::upload(ctx, hf, format, address)?;

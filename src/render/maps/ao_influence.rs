@@ -10,9 +10,9 @@
 /// below gave mean errors up to 0.053 (the max nodes raise far horizons), two below at most 0.011,
 /// three below 0.022 (near features missed between samples); starting each horizon from the
 /// surface's tangent then brought two below to at most 0.009.
-pub(super) const HORIZON_FIRST_DISTANCE: f32 = 1.0;
-pub(super) const HORIZON_GROWTH: f32 = 2.0;
-pub(super) const HORIZON_LEVEL_BIAS: i32 = 2;
+pub(in crate::render) const HORIZON_FIRST_DISTANCE: f32 = 1.0;
+pub(in crate::render) const HORIZON_GROWTH: f32 = 2.0;
+pub(in crate::render) const HORIZON_LEVEL_BIAS: i32 = 2;
 /// The shader's cap on samples per azimuth (`MAX_SAMPLES` in ao_horizon.comp).
 const HORIZON_MAX_SAMPLES: u32 = 64;
 /// Texels added to the derived influence radius, against rounding in the shader's sample
@@ -89,7 +89,7 @@ fn node_reach(level: u32, n: u32) -> f64 {
 }
 
 /// `region` (x0, y0, width, height) clipped to a `w` x `h` map; `None` when nothing is left.
-pub(super) fn clip_region(region: [u32; 4], w: u32, h: u32) -> Option<[u32; 4]> {
+pub(in crate::render) fn clip_region(region: [u32; 4], w: u32, h: u32) -> Option<[u32; 4]> {
     let x1 = region[0].saturating_add(region[2]).min(w);
     let y1 = region[1].saturating_add(region[3]).min(h);
     (region[0] < x1 && region[1] < y1)

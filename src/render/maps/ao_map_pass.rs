@@ -49,9 +49,9 @@ use super::ao_sweep::{
     crossings, sweep_directions, sweep_lines, Crossing, SweepDirection, CHUNK_STEPS, HULL_CAPACITY,
     MAX_CROSSINGS, STATE_SLOTS,
 };
-use super::gpu_heightfield::{sampler_address_mode, GpuHeightfield, HeightFormat};
 use super::pyramid_pass::PyramidPass;
 use crate::heightfield::{Address, Heightfield};
+use crate::render::frame::gpu_heightfield::{sampler_address_mode, GpuHeightfield, HeightFormat};
 use crate::scene::AoMode;
 use crate::shaders;
 use crate::vk::{

@@ -21,24 +21,24 @@ use crate::vk::{
 };
 
 /// The workgroup is 8x8 texels.
-pub(super) const GROUP: u32 = 8;
+pub(in crate::render) const GROUP: u32 = 8;
 /// About this many texels per submission of the search.
 const ROWS_TEXELS: u32 = 1 << 20;
 /// The largest side the GPU builders take: the cone search packs texel indices in 14 bits, and
 /// the push constants hold [`MAX_LEVELS`] level offsets. Larger maps are built on the CPU.
 pub const MAX_SIDE: u32 = 16384;
 /// Levels of a [`MAX_SIDE`] map (`MAX_LEVELS` in the shaders).
-pub(super) const MAX_LEVELS: usize = 15;
+pub(in crate::render) const MAX_LEVELS: usize = 15;
 
 /// The shaders' `mode` for a reduction dispatch.
-pub(super) const MODE_REDUCE: u32 = 0;
+pub(in crate::render) const MODE_REDUCE: u32 = 0;
 /// The shaders' `mode` for a search dispatch.
-pub(super) const MODE_SEARCH: u32 = 1;
+pub(in crate::render) const MODE_SEARCH: u32 = 1;
 
 /// A search shader's pipeline with its layout (bindings 0 and 1, storage buffers) and one
 /// descriptor set, rewritten for every build (builds wait for their submissions, so the set is
 /// never in use when it is rewritten).
-pub(super) struct SearchPipeline {
+pub(in crate::render) struct SearchPipeline {
     layout: DescriptorLayout,
     _pool: DescriptorPool,
     pub set: DescriptorSet,
@@ -131,7 +131,7 @@ impl SearchPipeline {
 /// What one build holds in single storage buffers: its pyramid of `node_bytes` a node and its
 /// map of `channels` floats a texel.
 #[derive(Clone, Copy)]
-pub(super) struct SearchBuffers {
+pub(in crate::render) struct SearchBuffers {
     pub node_bytes: u64,
     pub channels: u32,
 }
@@ -173,7 +173,7 @@ impl SearchBuffers {
 
 /// What one build dispatches: the pipeline, its set (rewritten for the build's buffers) and the
 /// push constants for a mode, a level and a first row.
-pub(super) struct MapSearch<'a, P> {
+pub(in crate::render) struct MapSearch<'a, P> {
     pub pipeline: &'a Pipeline,
     pub set: DescriptorSet,
     /// Floats per texel of the map.
@@ -252,7 +252,7 @@ impl<P: bytemuck::Pod> MapSearch<'_, P> {
 /// Binds `pipeline` and `set`, pushes `push` and dispatches one invocation per texel of `count`
 /// rows of a `w`-wide map (the push constants say which), then a barrier for the dispatches
 /// after it (the read-back copy adds its own).
-pub(super) fn record_row_dispatch(
+pub(in crate::render) fn record_row_dispatch(
     rec: &Recording,
     pipeline: &Pipeline,
     set: DescriptorSet,
@@ -272,7 +272,7 @@ pub(super) fn record_row_dispatch(
 /// at once, but llvmpipe compiles a pipeline at its first dispatch (over half a second for the
 /// quadric search with Mesa's shader cache cold), and a driver's compile is not the build's GPU
 /// time; drivers that compile at pipeline creation pay for an empty dispatch.
-pub(super) fn warm_up(
+pub(in crate::render) fn warm_up(
     ctx: &Arc<Context>,
     pipeline: &Pipeline,
     set: DescriptorSet,
@@ -287,12 +287,12 @@ pub(super) fn warm_up(
 }
 
 /// A copy's writes, for the shader reads and writes after it.
-pub(super) const COPIED: (vk::PipelineStageFlags2, vk::AccessFlags2) = (
+pub(in crate::render) const COPIED: (vk::PipelineStageFlags2, vk::AccessFlags2) = (
     vk::PipelineStageFlags2::COPY,
     vk::AccessFlags2::TRANSFER_WRITE,
 );
 /// Compute-shader reads and writes of storage buffers.
-pub(super) const COMPUTE_RW: (vk::PipelineStageFlags2, vk::AccessFlags2) = (
+pub(in crate::render) const COMPUTE_RW: (vk::PipelineStageFlags2, vk::AccessFlags2) = (
     vk::PipelineStageFlags2::COMPUTE_SHADER,
     vk::AccessFlags2::from_raw(
         vk::AccessFlags2::SHADER_STORAGE_READ.as_raw()
@@ -300,14 +300,14 @@ pub(super) const COMPUTE_RW: (vk::PipelineStageFlags2, vk::AccessFlags2) = (
     ),
 );
 /// Compute-shader writes of storage buffers.
-pub(super) const SHADER_WROTE: (vk::PipelineStageFlags2, vk::AccessFlags2) = (
+pub(in crate::render) const SHADER_WROTE: (vk::PipelineStageFlags2, vk::AccessFlags2) = (
     vk::PipelineStageFlags2::COMPUTE_SHADER,
     vk::AccessFlags2::SHADER_STORAGE_WRITE,
 );
 
 /// Records one dispatch per level 1..=top of a `w` x `h` pyramid with the push constants
 /// `params(level)` gives (the pipeline already bound), a barrier after each.
-pub(super) fn record_reductions<P: bytemuck::Pod>(
+pub(in crate::render) fn record_reductions<P: bytemuck::Pod>(
     rec: &Recording,
     pipeline: &Pipeline,
     w: u32,
@@ -325,7 +325,7 @@ pub(super) fn record_reductions<P: bytemuck::Pod>(
 
 /// Submissions that each wait for their work and are timed start to end; the builders' GPU time
 /// is their sum (not the transfers to and from the host between them).
-pub(super) struct TimedSubmissions {
+pub(in crate::render) struct TimedSubmissions {
     timestamps: TimestampPool,
     used: u32,
     name: String,
@@ -372,7 +372,7 @@ impl TimedSubmissions {
 }
 
 /// The level whose single node covers the map (`top` in the shaders).
-pub(super) fn top_level(w: u32, h: u32) -> u32 {
+pub(in crate::render) fn top_level(w: u32, h: u32) -> u32 {
     w.max(h).max(1).next_power_of_two().trailing_zeros()
 }
 
@@ -382,7 +382,7 @@ fn level_size(w: u32, h: u32, level: u32) -> (u32, u32) {
 }
 
 /// Where each level starts in the pyramid buffer, in floats (zero past the top).
-pub(super) fn level_offsets(w: u32, h: u32) -> [u32; MAX_LEVELS] {
+pub(in crate::render) fn level_offsets(w: u32, h: u32) -> [u32; MAX_LEVELS] {
     let mut offsets = [0; MAX_LEVELS];
     let mut at = 0;
     for (l, slot) in offsets
@@ -398,7 +398,7 @@ pub(super) fn level_offsets(w: u32, h: u32) -> [u32; MAX_LEVELS] {
 }
 
 /// Nodes of every level of a `w` x `h` pyramid.
-pub(super) fn pyramid_floats(w: u32, h: u32) -> u64 {
+pub(in crate::render) fn pyramid_floats(w: u32, h: u32) -> u64 {
     (0..=top_level(w, h))
         .map(|l| {
             let (lw, lh) = level_size(w, h, l);
@@ -414,7 +414,7 @@ fn rows_per_submission(w: u32, h: u32) -> u32 {
 }
 
 /// The search submissions of a `w` x `h` map: `(first row, rows)` each.
-pub(super) fn row_chunks(w: u32, h: u32) -> Vec<(u32, u32)> {
+pub(in crate::render) fn row_chunks(w: u32, h: u32) -> Vec<(u32, u32)> {
     let rows = rows_per_submission(w, h);
     (0..h.div_ceil(rows))
         .map(|chunk| (chunk * rows, rows.min(h - chunk * rows)))

@@ -8,14 +8,14 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use super::blended_pyramid_pass::{time_on_gpu, BlendedPyramid};
-use super::gpu_heightfield::HeightFormat;
 use super::layer_paint::LayerPainter;
 use crate::heightfield::{Address, Heightfield, LoadOptions, MaxPyramid, PyramidLevel};
+use crate::render::frame::gpu_heightfield::HeightFormat;
 use crate::scene::{Layers, LayersError, Scene, SceneImage};
 use crate::terrain::{tiled_stack, SplatMap, TiledLayer};
 use crate::vk::Context;
 
-use super::frame::RenderError;
+use crate::render::frame::single_frame::RenderError;
 
 /// A blended field and how long it took.
 pub struct BlendedHeights {

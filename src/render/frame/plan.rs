@@ -5,13 +5,13 @@
 
 use serde::Serialize;
 
-use super::cells_plan::{plan_cells, CellsPlan};
 use super::frame_uniforms::MAX_LIGHTS;
 use super::lod_note;
 use super::pass::Pass;
 use crate::cells::MeshSelection;
 use crate::heightfield::{Address, Channel, Heightfield};
 use crate::method::{MapKind, Method};
+use crate::render::cells::cells_plan::{plan_cells, CellsPlan};
 use crate::scene::{
     AlphaMode, AoMode, HeightSource, Layers, Light, Lod, Scene, ShadowMode, ShadowSettings, Wrap,
 };
@@ -447,7 +447,7 @@ impl Plan {
         }
     }
 
-    pub(super) fn skip(&mut self, what: impl Into<String>, why: impl Into<String>) {
+    pub(in crate::render) fn skip(&mut self, what: impl Into<String>, why: impl Into<String>) {
         self.skipped.push(Skipped {
             what: what.into(),
             why: why.into(),

@@ -13,22 +13,24 @@ use std::borrow::Cow;
 use std::sync::Arc;
 use std::time::Instant;
 
-use super::blended_pyramid_pass::time_on_gpu;
-use super::cells_pass::{BuiltComplex, CellsPass};
-use super::frame::{planned_heights, BuiltMap, RenderError, RenderOptions};
 use super::frame_uniforms::{frame_camera, FrameUniforms};
 use super::height_resources::{HeightResources, HeightUpload};
-use super::layer_paint::{record_paint_copies, LayerPainter, PaintError, PaintReport, StagedPaint};
-use super::layered_heights::blended_heights;
-use super::map_builder::{build_method_map_with, MapBuilder};
 use super::pass::Pass;
 use super::pass_timer::{per_pass, PassTimer, PassTiming, Scope};
 use super::plan::{HeightKey, Plan};
 use super::scene_ao::SceneAo;
+use super::single_frame::{planned_heights, BuiltMap, RenderError, RenderOptions};
 use super::surface_pass::SurfacePass;
 use super::targets::Targets;
 use crate::heightfield::{Address, Heightfield};
 use crate::method::MapKind;
+use crate::render::cells::cells_pass::{BuiltComplex, CellsPass};
+use crate::render::maps::map_builder::{build_method_map_with, MapBuilder};
+use crate::render::terrain::blended_pyramid_pass::time_on_gpu;
+use crate::render::terrain::layer_paint::{
+    record_paint_copies, LayerPainter, PaintError, PaintReport, StagedPaint,
+};
+use crate::render::terrain::layered_heights::blended_heights;
 use crate::scene::{Camera, Frustum, Light, Mesh, Scene};
 use crate::terrain::{SplatMap, Stroke, TexelRect};
 use crate::vk::{

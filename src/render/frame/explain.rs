@@ -5,10 +5,10 @@
 use serde::Serialize;
 use serde_json::{json, Value};
 
-use super::cells_pass::BuiltComplex;
-use super::frame::BuiltMap;
 use super::plan::Plan;
+use super::single_frame::BuiltMap;
 use super::surface_pass::describe;
+use crate::render::cells::cells_pass::BuiltComplex;
 use crate::vk::ObjectCounts;
 
 #[derive(Serialize)]

@@ -5,13 +5,13 @@ use std::sync::Arc;
 
 use ash::vk;
 
-use super::gpu_heightfield::HeightFormat;
-use super::height_resources::HeightResources;
-use super::surface_pass::{
-    hard_shadow_texels, HARD_SHADOW_TEXELS_ID, SHADOW_MODE_ID, SHADOW_REACH_ID, SHADOW_STEPS_ID,
-};
 use crate::heightfield::{Address, Heightfield, MapData, MaxPyramid};
 use crate::method::{Budget, Method};
+use crate::render::frame::gpu_heightfield::HeightFormat;
+use crate::render::frame::height_resources::HeightResources;
+use crate::render::frame::surface_pass::{
+    hard_shadow_texels, HARD_SHADOW_TEXELS_ID, SHADOW_MODE_ID, SHADOW_REACH_ID, SHADOW_STEPS_ID,
+};
 use crate::scene::ShadowMode;
 use crate::shaders;
 use crate::vk::{

@@ -7,8 +7,8 @@ use std::sync::Arc;
 
 use ash::vk;
 
-use super::map_search::{warm_up, SearchPipeline, TimedSubmissions, SHADER_WROTE};
 use crate::cells::{MarchSettings, PackedComplex};
+use crate::render::maps::map_search::{warm_up, SearchPipeline, TimedSubmissions, SHADER_WROTE};
 use crate::vk::{Bind, Buffer, Context, MemoryLocation, Readback, VkResult};
 
 /// The shader's push constants (`Params` in cells_trace.comp).
@@ -41,7 +41,7 @@ pub struct CellsTrace {
 }
 
 /// A complex's arrays on the device (bindings 0-2 of `cells_march.glsl`).
-pub(super) struct ComplexBuffers {
+pub(in crate::render) struct ComplexBuffers {
     cells: Buffer,
     grey: Buffer,
     maps: Buffer,
@@ -49,7 +49,7 @@ pub(super) struct ComplexBuffers {
 
 impl ComplexBuffers {
     /// Uploads `complex`'s arrays; `name` labels them.
-    pub(super) fn upload(
+    pub(in crate::render) fn upload(
         ctx: &Arc<Context>,
         complex: &PackedComplex,
         name: &str,
@@ -71,7 +71,7 @@ impl ComplexBuffers {
     }
 
     /// Their bindings, 0 to 2.
-    pub(super) fn binds(&self) -> [Bind; 3] {
+    pub(in crate::render) fn binds(&self) -> [Bind; 3] {
         [
             Bind::Storage(0, self.cells.raw()),
             Bind::Storage(1, self.grey.raw()),
@@ -81,7 +81,7 @@ impl ComplexBuffers {
 
     /// `bytes`, or one 64-byte record where there are none: storage buffers may not be empty (a
     /// complex with no grey cell still binds one record).
-    pub(super) fn nonempty(bytes: &[u8]) -> Vec<u8> {
+    pub(in crate::render) fn nonempty(bytes: &[u8]) -> Vec<u8> {
         if bytes.is_empty() {
             vec![0u8; 64]
         } else {

@@ -10,12 +10,12 @@ use glam::{Mat3, Mat4, Vec3};
 
 use super::frame_uniforms::FrameUniforms;
 use super::height_resources::HeightResources;
-use super::layer_set::{layer_layout, LayerSets};
 use super::material_set::{material_layout, MaterialSets};
 use super::plan::{PipelineKey, Plan};
 use super::scene_ao::SceneAo;
 use super::scene_textures::SceneTextures;
 use crate::method::Method;
+use crate::render::terrain::layer_set::{layer_layout, LayerSets};
 use crate::scene::{Frustum, Lod, Mesh, Scene, Vertex};
 use crate::shaders;
 use crate::vk::{
@@ -32,7 +32,7 @@ pub const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
 /// made once per object here rather than per vertex in the shader.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
-pub(super) struct DrawPush {
+pub(in crate::render) struct DrawPush {
     model: [[f32; 4]; 4],
     /// Columns of the inverse transpose of the model's 3x3; `normal[0][3]` is the mirror sign.
     normal: [[f32; 4]; 3],
@@ -40,7 +40,7 @@ pub(super) struct DrawPush {
 const _: () = assert!(std::mem::size_of::<DrawPush>() == 112);
 
 impl DrawPush {
-    pub(super) fn of(model: Mat4) -> DrawPush {
+    pub(in crate::render) fn of(model: Mat4) -> DrawPush {
         let linear = Mat3::from_mat4(model);
         let normal = linear.inverse().transpose();
         let mirror = if linear.determinant() < 0.0 {
@@ -134,7 +134,7 @@ struct FrameLayouts {
 }
 
 /// Set 0 of draws without relief: the frame uniforms alone.
-pub(super) fn plain_frame_layout(ctx: &Arc<Context>) -> VkResult<DescriptorLayout> {
+pub(in crate::render) fn plain_frame_layout(ctx: &Arc<Context>) -> VkResult<DescriptorLayout> {
     let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
     let ubo = (0, vk::DescriptorType::UNIFORM_BUFFER);
     DescriptorLayout::new(ctx, &[ubo], stages, "plain frame layout")

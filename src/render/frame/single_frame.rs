@@ -6,12 +6,12 @@ use std::sync::Arc;
 
 use serde::Serialize;
 
-use super::cells_pass::{BuiltComplex, CellsOptions};
 use super::gpu_heightfield::HeightFormat;
 use super::pass_timer::PassTiming;
 use super::plan::{HeightKey, HeightPlan, Plan, PlanError};
 use super::renderer::{FrameRequest, Renderer};
 use crate::heightfield::{Address, Heightfield, HeightfieldError, LoadOptions};
+use crate::render::cells::cells_pass::{BuiltComplex, CellsOptions};
 use crate::scene::Scene;
 use crate::vk::{Context, VkError};
 
@@ -102,7 +102,7 @@ pub enum RenderError {
 
 /// The heights of one planned height map, as stored on the GPU. The frame's own map is borrowed
 /// when it is stored as it is (R32F), not copied.
-pub(super) fn planned_heights<'a>(
+pub(in crate::render) fn planned_heights<'a>(
     ctx: &Arc<Context>,
     scene: &Scene,
     plan: &HeightPlan,

@@ -2,9 +2,9 @@
 //! 002): a complex per mesh name, shaded with the material its meshes share. Those meshes leave
 //! the surface pass; the cells pass, its pipeline and its maps are planned only when a complex is.
 
-use super::pass::Pass;
-use super::plan::{PassPlan, Plan, PlanError};
 use crate::cells::MeshSelection;
+use crate::render::frame::pass::Pass;
+use crate::render::frame::plan::{PassPlan, Plan, PlanError};
 use crate::scene::Scene;
 
 /// One cell complex to build and draw.
@@ -54,7 +54,7 @@ pub fn plan_cells(scene: &Scene, selection: &MeshSelection) -> Result<Vec<CellsP
 
 impl Plan {
     /// Lists the cells pass, or why there is none.
-    pub(super) fn note_cells(&mut self, scene: &Scene) {
+    pub(in crate::render) fn note_cells(&mut self, scene: &Scene) {
         if self.cells.is_empty() {
             self.skip(
                 Pass::Cells.name(),

@@ -45,7 +45,7 @@ pub fn skipped(pipelines: &[PipelineKey], heights: &[HeightPlan]) -> Option<Stri
 mod tests {
     use super::*;
     use crate::heightfield::Generator;
-    use crate::render::plan::Plan;
+    use crate::render::frame::plan::Plan;
     use crate::scene::{quad_mesh, Lod, Material, Relief, Scene};
 
     fn plan(materials: &[(&str, Option<Lod>)]) -> Plan {

@@ -7,9 +7,9 @@ use std::sync::Arc;
 
 use ash::vk;
 
-use super::gpu_heightfield::{GpuHeightfield, HeightFormat};
-use super::pyramid_pass::{regions_above, PyramidJob, PyramidPass, Region};
 use crate::heightfield::{Address, Heightfield};
+use crate::render::frame::gpu_heightfield::{GpuHeightfield, HeightFormat};
+use crate::render::maps::pyramid_pass::{regions_above, PyramidJob, PyramidPass, Region};
 use crate::shaders;
 use crate::terrain::{BrushKind, Stroke, StrokeError, StrokeTarget, TexelRect};
 use crate::vk::{

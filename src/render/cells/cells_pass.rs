@@ -14,13 +14,15 @@ use serde::Serialize;
 
 use super::cells_plan::CellsPlan;
 use super::cells_trace_pass::ComplexBuffers;
-use super::frame::RenderError;
-use super::material_set::material_layout;
-use super::plan::Plan;
-use super::surface_pass::{plain_frame_layout, DrawPush, COLOR_FORMAT, DEPTH_FORMAT};
 use crate::cells::{
     attribute_maps, choose_grid_within, fixed_grid, CellGrid, Colour, Face, GridStop,
     MarchSettings, MeshSelection, PackedComplex, SceneMesh, MAP_MEMORY_LIMIT,
+};
+use crate::render::frame::material_set::material_layout;
+use crate::render::frame::plan::Plan;
+use crate::render::frame::single_frame::RenderError;
+use crate::render::frame::surface_pass::{
+    plain_frame_layout, DrawPush, COLOR_FORMAT, DEPTH_FORMAT,
 };
 use crate::scene::Scene;
 use crate::shaders;

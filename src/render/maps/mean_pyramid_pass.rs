@@ -8,8 +8,8 @@ use std::sync::Arc;
 
 use ash::vk;
 
-use super::gpu_heightfield::HeightFormat;
 use crate::heightfield::{mip_level_count, Heightfield};
+use crate::render::frame::gpu_heightfield::HeightFormat;
 use crate::shaders;
 use crate::vk::{
     compute_pipeline, memory_barrier, transition_images, upload_mips, Bind, Context,

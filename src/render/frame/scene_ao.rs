@@ -9,9 +9,9 @@ use std::sync::Arc;
 
 use ash::vk;
 
-use super::ao_map_pass::{AoJob, AoMapPass};
 use super::height_resources::HeightResources;
 use super::plan::Plan;
+use crate::render::maps::ao_map_pass::{AoJob, AoMapPass};
 use crate::scene::AoMode;
 use crate::vk::{Context, Recording, VkError, VkResult};
 

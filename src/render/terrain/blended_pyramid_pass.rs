@@ -13,9 +13,9 @@ use std::sync::Arc;
 
 use ash::vk;
 
-use super::gpu_heightfield::HeightFormat;
-use super::pyramid_pass::{regions_above, PyramidJob, PyramidPass, Region};
 use crate::heightfield::{mip_level_count, Address, Heightfield};
+use crate::render::frame::gpu_heightfield::HeightFormat;
+use crate::render::maps::pyramid_pass::{regions_above, PyramidJob, PyramidPass, Region};
 use crate::shaders;
 use crate::terrain::{least_sum_slack, BlendMode, LayerStack, TexelRect};
 use crate::vk::{

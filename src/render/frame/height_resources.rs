@@ -11,10 +11,10 @@ use ash::vk;
 
 use super::frame_uniforms::FrameUniforms;
 use super::gpu_heightfield::{GpuHeightfield, HeightFormat};
-use super::mean_pyramid_pass::MeanPyramid;
 use super::method_map::GpuMethodMap;
-use super::pyramid_pass::{PyramidJob, PyramidPass};
 use crate::heightfield::{Address, Heightfield, MapData, MaxPyramid};
+use crate::render::maps::mean_pyramid_pass::MeanPyramid;
+use crate::render::maps::pyramid_pass::{PyramidJob, PyramidPass};
 use crate::vk::{Bind, Buffer, Context, Recording, VkError, VkResult};
 
 /// Uploaded heights, their pyramid pass (when a method reads it), uniforms and the optional
