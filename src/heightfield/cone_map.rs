@@ -86,8 +86,11 @@ pub enum ConeKind {
 /// Per-texel cone ratios of one height field (see the module docs for the definitions).
 #[derive(Debug, Clone, PartialEq)]
 pub struct ConeMap {
+    /// Conservative (Dummer) or relaxed (Policarpo and Oliveira) cones.
     pub kind: ConeKind,
+    /// Texels along u, the height field's width.
     pub width: u32,
+    /// Texels along v, the height field's height.
     pub height: u32,
     /// Row-major like [`Heightfield`]: texel `(i, j)` at `j * width + i`.
     pub ratio: Vec<f32>,

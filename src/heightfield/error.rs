@@ -16,7 +16,9 @@ pub enum HeightfieldError {
     /// The file is missing or unreadable.
     #[error("height map \"{origin}\": cannot read file ({error})")]
     Io {
+        /// Where the data came from: a file path or a description (see the module docs).
         origin: String,
+        /// The I/O error the read returned.
         #[source]
         error: std::io::Error,
     },
@@ -24,7 +26,9 @@ pub enum HeightfieldError {
     /// The bytes are not a decodable image (not a PNG, truncated, corrupt).
     #[error("height map \"{origin}\": not a decodable image ({error})")]
     Decode {
+        /// Where the data came from: a file path or a description (see the module docs).
         origin: String,
+        /// The decoder's error.
         #[source]
         error: image::ImageError,
     },
@@ -32,7 +36,9 @@ pub enum HeightfieldError {
     /// Writing the map as a PNG failed.
     #[error("height map \"{origin}\": cannot write PNG ({error})")]
     Write {
+        /// Where the data came from: a file path or a description (see the module docs).
         origin: String,
+        /// The encoder's or file system's error.
         #[source]
         error: image::ImageError,
     },
@@ -42,8 +48,11 @@ pub enum HeightfieldError {
         "height map \"{origin}\": empty ({width}x{height}); a height map needs at least 1x1 texels"
     )]
     Empty {
+        /// Where the data came from: a file path or a description (see the module docs).
         origin: String,
+        /// Width asked for, in texels (0 if this is the empty dimension).
         width: u32,
+        /// Height asked for, in texels (0 if this is the empty dimension).
         height: u32,
     },
 
@@ -52,44 +61,75 @@ pub enum HeightfieldError {
         "height map \"{origin}\": {width}x{height} exceeds the device's maximum image dimension {limit}"
     )]
     TooLarge {
+        /// Where the data came from: a file path or a description (see the module docs).
         origin: String,
+        /// Width of the map, in texels.
         width: u32,
+        /// Height of the map, in texels.
         height: u32,
+        /// The largest dimension the device accepts, in texels (`maxImageDimension2D`).
         limit: u32,
     },
 
     /// A NaN or infinite height.
     #[error("height map \"{origin}\": value at index {index} is not finite")]
-    NonFinite { origin: String, index: usize },
+    NonFinite {
+        /// Where the data came from: a file path or a description (see the module docs).
+        origin: String,
+        /// Row-major index (`j * width + i`) of the first non-finite value.
+        index: usize,
+    },
 
     /// A finite height outside [0, 1].
     #[error("height map \"{origin}\": value {value} at index {index} is outside [0, 1]")]
     OutOfRange {
+        /// Where the data came from: a file path or a description (see the module docs).
         origin: String,
+        /// Row-major index (`j * width + i`) of the first value outside [0, 1].
         index: usize,
+        /// That value.
         value: f32,
     },
 
     /// The data does not hold exactly `width * height` values.
     #[error("height map \"{origin}\": {len} values given for {width}x{height} texels")]
     WrongLength {
+        /// Where the data came from: a file path or a description (see the module docs).
         origin: String,
+        /// Width given, in texels.
         width: u32,
+        /// Height given, in texels.
         height: u32,
+        /// Number of values given (should be `width * height`).
         len: usize,
     },
 
     /// A channel name that is not one of the valid ones.
     #[error("unknown height channel \"{name}\" (valid: {valid})")]
-    UnknownChannel { name: String, valid: String },
+    UnknownChannel {
+        /// The name that was given.
+        name: String,
+        /// The valid names, comma-separated, for the message.
+        valid: String,
+    },
 
     /// A synthetic generator name that is not one of the valid ones.
     #[error("unknown synthetic height map \"{name}\" (valid: {valid})")]
-    UnknownGenerator { name: String, valid: String },
+    UnknownGenerator {
+        /// The name that was given.
+        name: String,
+        /// The valid generator names, comma-separated, for the message.
+        valid: String,
+    },
 
     /// The alpha channel was asked of an image that has none.
     #[error(
         "height map \"{origin}\": channel 'a' requested but the image ({color:?}) has no alpha"
     )]
-    MissingChannel { origin: String, color: ColorType },
+    MissingChannel {
+        /// Where the data came from: a file path or a description (see the module docs).
+        origin: String,
+        /// The image's color type as decoded, which has no alpha.
+        color: ColorType,
+    },
 }

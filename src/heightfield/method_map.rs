@@ -13,9 +13,14 @@ use crate::method::{MapKind, Method};
 /// A map on the CPU: `channels` (1, 2 or 4) floats per texel, rows of `width` texels.
 #[derive(Debug, Clone, PartialEq)]
 pub struct MapData {
+    /// Texels along u (the height field's width).
     pub width: u32,
+    /// Texels along v (the height field's height).
     pub height: u32,
+    /// Floats per texel: 2 for a cone map (ratio, then the box-surface height of [`ConeMap::surface`]), 4 for a
+    /// quadric map (`[a, b, c, h]`, see [`QuadricMap`]).
     pub channels: u32,
+    /// `width * height * channels` floats, row-major, the channels of one texel adjacent.
     pub texels: Vec<f32>,
 }
 

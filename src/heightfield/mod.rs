@@ -8,6 +8,27 @@
 //!
 //! Invariant of [`Heightfield`]: `width >= 1`, `height >= 1`, `data.len() == width * height` and every value is
 //! finite and within [0, 1]. Every constructor checks it, so code that holds a `Heightfield` never re-checks.
+//!
+//! Height versus depth: a [`Heightfield`] stores *heights* (1 = the top plane, 0 = the deepest point). Tracers
+//! work in *depth* measured down from the top plane, `d = s * (1 - h)` for a depth scale `s` in uv units, so
+//! fields named `z` (such as [`reference::RefHit::z`]) are depths in [0, s].
+//!
+//! # Main types
+//! - [`Heightfield`]: the validated map; load it with [`Heightfield::load_png`] (choosing a [`Channel`] through
+//!   [`LoadOptions`]), build it from floats with [`Heightfield::new`] or generate one with [`Generator`].
+//! - [`MaxPyramid`]: the conservative max mip chain (per coarse texel the maximum of the texels it covers).
+//! - [`cone_map::ConeMap`], [`quadric_map::QuadricMap`] and their flattened GPU form [`MapData`]: the per-method
+//!   precomputed maps.
+//! - [`reference::trace`] with [`reference::RefRay`] and [`Address`]: the exact hit every method is measured
+//!   against; [`visibility::light_visibility`] and [`ambient_occlusion`]: the exact shading references.
+//! - [`HeightfieldError`]: every failure to load, build or save a map, naming where the data came from.
+//!
+//! # How they fit together
+//! A bench loads `rock.png` with [`Heightfield::load_png`], quantizes it with
+//! [`Heightfield::quantized_unorm16`] so the CPU sees what the GPU samples, uploads [`Heightfield::to_unorm16`]
+//! with the levels of [`MaxPyramid::build`], builds the method's map with [`MapData::build`] for the method's
+//! [`crate::method::MapKind`], and then compares each pixel's GPU hit with [`reference::trace`] on the same
+//! quantized field and [`Address`]. None of this touches Vulkan, so all of it runs in plain unit tests.
 
 pub mod ambient_occlusion;
 mod cell_walk;

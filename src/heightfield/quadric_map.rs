@@ -97,8 +97,11 @@ pub const HIT_EPSILON_DEPTH: f64 = 1e-6;
 /// Per texel `[a, b, c, h]` (see the module docs), row-major with texel `(i, j)` at `j * width + i`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct QuadricMap {
+    /// Texels along u, the height field's width.
     pub width: u32,
+    /// Texels along v, the height field's height.
     pub height: u32,
+    /// `[a, b, c, h]` per texel: `a` and `c` in uv, `b` and `h` in normalized height (upward), see the module docs.
     pub texels: Vec<[f32; 4]>,
 }
 
@@ -183,8 +186,11 @@ pub fn quadric_step(gap: f64, lambda: f64, s: f64, texel: [f32; 4]) -> f64 {
 /// before the ray reached the surface.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct QuadricTrace {
+    /// Final depth along the ray below the top plane (depth units, `s * (1 - h)` at the surface), after any refinement.
     pub z: f64,
+    /// Quadric steps taken (at most `max_steps`; bisection steps are not counted).
     pub steps: u32,
+    /// `true` when `max_steps` ran out before the gap fell below the hit epsilons.
     pub capped: bool,
 }
 

@@ -81,18 +81,26 @@ impl fmt::Display for Address {
 /// A ray entering the top plane at `(u0, v0, 0)` going down along `(dx, dy, dz)`, `dz > 0`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RefRay {
+    /// Entry point's u on the top plane, in uv units (need not lie in [0, 1]).
     pub u0: f64,
+    /// Entry point's v on the top plane, in uv units (need not lie in [0, 1]).
     pub v0: f64,
+    /// Direction's u component; only the ratios `dx / dz` and `dy / dz` matter, not the length.
     pub dx: f64,
+    /// Direction's v component.
     pub dy: f64,
+    /// Direction's depth component, downward; must be `> 0`.
     pub dz: f64,
 }
 
 /// The exact hit: depth `z` in [0, s] and the ray's `(u, v)` there, not wrapped into [0, 1].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct RefHit {
+    /// Depth of the hit below the top plane, in [0, s] (depth units: `s * (1 - h)` at the surface).
     pub z: f64,
+    /// The ray's u at depth `z`, in uv units, not wrapped into [0, 1].
     pub u: f64,
+    /// The ray's v at depth `z`, in uv units, not wrapped into [0, 1].
     pub v: f64,
     /// Cells the walk solved; [`MAX_CELLS`] means it gave up and `z` is the bottom-plane fallback.
     pub cells_visited: u32,

@@ -46,21 +46,34 @@ const DIP_TOLERANCE: f64 = 1e-12;
 pub enum ShadingError {
     /// A NaN or infinite input.
     #[error("{name} must be finite, got {value}")]
-    NonFinite { name: &'static str, value: f64 },
+    NonFinite {
+        /// The argument's name as the caller's API spells it (e.g. `"depth_scale"`).
+        name: &'static str,
+        /// The value given.
+        value: f64,
+    },
     /// A finite input outside its valid range.
     #[error("{name} = {value} is outside [{min}, {max}]")]
     OutOfRange {
+        /// The argument's name as the caller's API spells it (e.g. `"elevation_deg"`).
         name: &'static str,
+        /// The value given, in the argument's own units (degrees for angles).
         value: f64,
+        /// Smallest accepted value (inclusive).
         min: f64,
+        /// Largest accepted value (inclusive).
         max: f64,
     },
     /// A sample or direction count outside its valid range.
     #[error("{name} = {count} is outside [{min}, {max}]")]
     BadCount {
+        /// The argument's name (e.g. `"samples_per_side"`).
         name: &'static str,
+        /// The count given.
         count: u32,
+        /// Smallest accepted count (inclusive).
         min: u32,
+        /// Largest accepted count (inclusive).
         max: u32,
     },
 }
