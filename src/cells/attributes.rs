@@ -14,7 +14,9 @@ use super::parallel::map_in_parallel;
 /// A surface point's attributes, as the caller interpolates them from its mesh.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SurfaceAttributes {
+    /// The first texture coordinate set (glTF `TEXCOORD_0`).
     pub uv0: [f32; 2],
+    /// The second texture coordinate set (glTF `TEXCOORD_1`); zeros when the mesh has none.
     pub uv1: [f32; 2],
     /// Unit length.
     pub normal: [f32; 3],
@@ -28,7 +30,9 @@ pub struct SurfaceAttributes {
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct AttributeTexel {
+    /// [`SurfaceAttributes::uv0`], unchanged.
     pub uv0: [f32; 2],
+    /// [`SurfaceAttributes::uv1`], unchanged.
     pub uv1: [f32; 2],
     /// Octahedral, two snorm16 (x in the low half).
     pub normal: u32,

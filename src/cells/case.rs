@@ -26,7 +26,9 @@ pub type Axis = usize;
 /// One of the six faces of the unit cell `[0, 1]^3`: the face where coordinate `axis` is `1` if `positive`, else `0`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct Face {
+    /// The axis the face is perpendicular to (0 = x, 1 = y, 2 = z).
     pub axis: Axis,
+    /// `true` for the face at coordinate 1 along `axis`, `false` for the one at 0.
     pub positive: bool,
 }
 
@@ -41,6 +43,7 @@ impl Face {
         Face::new(2, true),
     ];
 
+    /// The face perpendicular to `axis` (0, 1 or 2) at coordinate 1 if `positive`, else 0.
     pub const fn new(axis: Axis, positive: bool) -> Face {
         Face { axis, positive }
     }
@@ -86,7 +89,9 @@ impl fmt::Display for Face {
 pub struct FaceSet(u8);
 
 impl FaceSet {
+    /// No face.
     pub const EMPTY: FaceSet = FaceSet(0);
+    /// All six faces.
     pub const ALL: FaceSet = FaceSet(0b11_1111);
 
     /// The set with bits `bits` (the low six are used).
@@ -94,26 +99,32 @@ impl FaceSet {
         FaceSet(bits & 0b11_1111)
     }
 
+    /// The set as bits, bit `f.index()` for face `f` (only the low six can be set).
     pub const fn bits(self) -> u8 {
         self.0
     }
 
+    /// The set of the given faces (duplicates are harmless).
     pub fn of(faces: &[Face]) -> FaceSet {
         faces.iter().fold(FaceSet::EMPTY, |set, &f| set.with(f))
     }
 
+    /// This set with `face` added.
     pub const fn with(self, face: Face) -> FaceSet {
         FaceSet(self.0 | 1 << face.index())
     }
 
+    /// Whether `face` is in the set.
     pub const fn contains(self, face: Face) -> bool {
         self.0 & (1 << face.index()) != 0
     }
 
+    /// Number of faces in the set, 0 to 6.
     pub const fn len(self) -> u32 {
         self.0.count_ones()
     }
 
+    /// Whether the set holds no face.
     pub const fn is_empty(self) -> bool {
         self.0 == 0
     }
@@ -139,19 +150,30 @@ impl FaceSet {
 /// The ten base cases of paper 002 (Figure 4); see the module docs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Case {
+    /// No internal face: an isolated grey cell.
     C0,
+    /// One internal face.
     C1,
+    /// Two internal faces sharing an edge.
     C2a,
+    /// Two opposite internal faces.
     C2b,
+    /// Three internal faces: an opposite pair and one between them.
     C3a,
+    /// Three internal faces meeting at a vertex.
     C3b,
+    /// Four internal faces, the two external ones opposite.
     C4a,
+    /// Four internal faces, the two external ones sharing an edge.
     C4b,
+    /// Five internal faces: one external face.
     C5,
+    /// Six internal faces: an interior grey cell, every neighbour grey or black.
     C6,
 }
 
 impl Case {
+    /// The ten cases in the module docs' table order.
     pub const ALL: [Case; 10] = [
         Case::C0,
         Case::C1,

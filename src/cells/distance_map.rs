@@ -22,9 +22,12 @@ const SAME_CROSSING: f64 = 1e-9;
 /// One domain face's distance map.
 #[derive(Debug, Clone)]
 pub struct FaceMap {
+    /// The grey cell the map belongs to.
     pub cell: CellIndex,
+    /// Which of the cell's domain faces it covers.
     pub face: Face,
-    /// Row-major `resolution`^2 distances; texel `(a, b)` sits at face coordinates `((a + 0.5) / R, (b + 0.5) / R)`
+    /// Row-major `resolution`^2 distances in cell sides, from the texel's face point along its projection line
+    /// to the first surface crossing (the line's whole length where it crosses none); texel `(a, b)` sits at face coordinates `((a + 0.5) / R, (b + 0.5) / R)`
     /// along the face's [`Face::span`] axes.
     pub distances: Vec<f32>,
     /// Per texel, whether its face point lies inside the mesh; empty when none does. Only an interior grey cell
@@ -40,13 +43,17 @@ pub struct FaceMap {
 /// its second and third corners; `triangle` is [`SurfacePoint::NONE`] for a line that crosses nothing.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SurfacePoint {
+    /// Index into [`ClosedMesh::triangles`], or [`SurfacePoint::NONE`].
     pub triangle: u32,
+    /// Weights of the triangle's second and third corners; the first's is `1 - b[0] - b[1]`.
     pub barycentric: [f32; 2],
 }
 
 impl SurfacePoint {
+    /// The `triangle` of a line that crosses no triangle.
     pub const NONE: u32 = u32::MAX;
 
+    /// Whether the line crossed the surface (`triangle` is not [`SurfacePoint::NONE`]).
     pub fn is_hit(&self) -> bool {
         self.triangle != SurfacePoint::NONE
     }
@@ -64,7 +71,10 @@ impl FaceMap {
 /// Every grey cell's distance maps at one resolution.
 #[derive(Debug, Clone)]
 pub struct CellMaps {
+    /// Texels along each side of every face map.
     pub resolution: u32,
+    /// One map per domain face of every grey cell, grey cells in [`CellGrid::grey_cells`] order; the order
+    /// is the map layers' order on the GPU ([`super::PackedComplex`]).
     pub faces: Vec<FaceMap>,
     /// How many grey cells carry the maps.
     pub grey_cells: usize,
@@ -209,7 +219,12 @@ pub enum GridStop {
     /// The next grid would exceed the largest size allowed.
     MaxGrid,
     /// The next grid's maps would take `bytes`, more than the memory limit.
-    Memory { next_n: u32, bytes: u64 },
+    Memory {
+        /// Cells per axis of the grid that was not tried.
+        next_n: u32,
+        /// Bytes its maps would have taken while sampled ([`sampled_bytes`]).
+        bytes: u64,
+    },
 }
 
 /// Bytes the maps of `grid` take while sampled at `resolution`^2 (f32 distances and their surface points), known
@@ -258,8 +273,11 @@ pub fn choose_grid_within(
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 #[error("a {n}^3 grid's maps at {resolution}^2 would take {} MiB while sampled (at most {} MiB)", bytes >> 20, MAP_MEMORY_LIMIT >> 20)]
 pub struct GridTooLarge {
+    /// Cells per axis asked for.
     pub n: u32,
+    /// Texels per side of each face map asked for.
     pub resolution: u32,
+    /// Bytes the maps would take while sampled ([`sampled_bytes`]).
     pub bytes: u64,
 }
 

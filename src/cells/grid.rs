@@ -15,8 +15,11 @@ use super::mesh::{cross, dot, sub, ClosedMesh};
 /// A cell's place relative to the mesh.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Colour {
+    /// Wholly outside the mesh: its closed box meets no triangle.
     White,
+    /// Meets the surface: at least one triangle crosses its closed box; only these carry distance maps.
     Grey,
+    /// Wholly inside the mesh.
     Black,
 }
 
@@ -76,6 +79,7 @@ impl CellGrid {
         (k as usize * n + j as usize) * n + i as usize
     }
 
+    /// The colour of `cell`, whose indices must each be below [`CellGrid::n`].
     pub fn colour(&self, cell: CellIndex) -> Colour {
         self.colours[self.index(cell)]
     }
@@ -92,6 +96,7 @@ impl CellGrid {
         (0..n).flat_map(move |k| (0..n).flat_map(move |j| (0..n).map(move |i| [i, j, k])))
     }
 
+    /// The grey cells, in [`CellGrid::cells`] order (x fastest).
     pub fn grey_cells(&self) -> impl Iterator<Item = CellIndex> + '_ {
         self.cells().filter(|&c| self.colour(c) == Colour::Grey)
     }

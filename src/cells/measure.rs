@@ -14,22 +14,30 @@ use super::trace::{exact_hits, CellComplex, MarchSettings};
 /// with its samples (distances in units of the unit direction; `NaN` where there is none).
 #[derive(Debug, Clone, Copy)]
 pub struct RayOutcome {
+    /// Distance to the exact first hit with the mesh's triangles (`NaN` if the ray misses the mesh).
     pub exact: f64,
+    /// Distance from the first exact hit to the second, where the ray leaves the solid (0 when there is no such pair).
     pub chord: f64,
+    /// Distance to the march's hit through the cell complex (`NaN` if the march finds none).
     pub marched: f64,
+    /// Map samples the march took for this ray (0 when it found no hit).
     pub samples: u32,
 }
 
 /// What a batch of rays measured.
 #[derive(Debug, Clone, Default, serde::Serialize)]
 pub struct HitAgreement {
+    /// Rays cast in the batch.
     pub rays: usize,
     /// Rays whose exact chord through the solid is at least two map texels long: they must hit.
     pub solid: usize,
     /// Of those, the ones the march hits, with their mean, 99th percentile and largest error (cell sides).
     pub both: usize,
+    /// Mean of `|marched - exact|` over the `both` rays, in cell sides (0 when `both` is 0).
     pub mean_error: f64,
+    /// 99th percentile of that error, in cell sides.
     pub p99_error: f64,
+    /// Largest such error, in cell sides.
     pub max_error: f64,
     /// Solid rays the march misses.
     pub missed_solid: usize,
@@ -40,6 +48,7 @@ pub struct HitAgreement {
     /// Rays that miss the mesh where the march hits (the maps' interpolation widens a silhouette a little), and
     /// the farthest such hit from the mesh (cell sides).
     pub false_hits: usize,
+    /// For the `false_hits`, the largest distance from the marched hit to the mesh, in cell sides.
     pub false_hit_max_distance: f64,
     /// Samples the march took per ray, on average.
     pub mean_samples: f64,

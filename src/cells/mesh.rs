@@ -11,38 +11,64 @@ use std::collections::HashMap;
 /// description of a procedural mesh) and is one line.
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum MeshError {
+    /// No triangles were given, or none is left once degenerate ones are dropped.
     #[error("mesh \"{origin}\": has no triangles")]
-    Empty { origin: String },
-    #[error("mesh \"{origin}\": triangle {triangle} refers to vertex {vertex}, but there are {count} vertices")]
-    BadIndex {
+    Empty {
+        /// The mesh's name: a file and mesh name, or a description of a procedural mesh.
         origin: String,
+    },
+    #[error("mesh \"{origin}\": triangle {triangle} refers to vertex {vertex}, but there are {count} vertices")]
+    /// A triangle refers to a vertex past the end of the positions.
+    BadIndex {
+        /// The mesh's name.
+        origin: String,
+        /// Index of the offending triangle, as given.
         triangle: usize,
+        /// The vertex index it refers to.
         vertex: u32,
+        /// Number of vertices given.
         count: usize,
     },
     #[error("mesh \"{origin}\": vertex {vertex} is not finite ({position:?})")]
+    /// A vertex position holds a NaN or infinity.
     NotFinite {
+        /// The mesh's name.
         origin: String,
+        /// Index of the vertex, as given.
         vertex: usize,
+        /// Its position.
         position: [f64; 3],
     },
     #[error("mesh \"{origin}\": is open: the edge from {a:?} to {b:?} borders one triangle only; a cell complex needs a closed mesh")]
+    /// An edge borders only one triangle: the mesh has a hole.
     Open {
+        /// The mesh's name.
         origin: String,
+        /// The edge's start, in mesh space.
         a: [f64; 3],
+        /// The edge's end, in mesh space.
         b: [f64; 3],
     },
     #[error("mesh \"{origin}\": is not manifold: the edge from {a:?} to {b:?} borders {count} triangles")]
+    /// An edge borders more than two triangles.
     NonManifold {
+        /// The mesh's name.
         origin: String,
+        /// The edge's start, in mesh space.
         a: [f64; 3],
+        /// The edge's end, in mesh space.
         b: [f64; 3],
+        /// Number of triangles along it.
         count: usize,
     },
     #[error("mesh \"{origin}\": is not consistently oriented: two triangles run the same way along the edge from {a:?} to {b:?}")]
+    /// Two triangles run the same way along an edge: their windings disagree.
     Inconsistent {
+        /// The mesh's name.
         origin: String,
+        /// The edge's start, in mesh space.
         a: [f64; 3],
+        /// The edge's end, in mesh space.
         b: [f64; 3],
     },
 }
@@ -116,10 +142,13 @@ impl ClosedMesh {
         })
     }
 
+    /// The welded vertex positions, in the units of the positions given.
     pub fn positions(&self) -> &[[f64; 3]] {
         &self.positions
     }
 
+    /// The kept triangles as indices into [`ClosedMesh::positions`], consistently wound; see
+    /// [`ClosedMesh::source_triangle`] for which input triangle each is.
     pub fn triangles(&self) -> &[[u32; 3]] {
         &self.triangles
     }

@@ -8,6 +8,25 @@
 //! ray/triangle intersection ([`measure`]), the layout the GPU march reads ([`packed`]), the surface's attributes on
 //! the maps' texels ([`attributes`]) and the surface rebuilt from the maps ([`reconstruct`]). The renderer's pass
 //! that draws a complex is `render::cells_pass`.
+//!
+//! Units: positions are in the mesh's own units (world space for a [`SceneMesh`]); inside a cell, points are
+//! cell-local in the unit cube `[0, 1]^3` and distances (map texels, march errors) are in cell sides.
+//!
+//! # Main types
+//! - [`ClosedMesh`] (or [`SceneMesh`] for a glTF scene's meshes): the checked input; [`MeshError`] says why a
+//!   mesh is refused.
+//! - [`CellGrid`]: the N^3 grid over the mesh's bounding cube with each cell's [`Colour`].
+//! - [`Case`], [`FaceSet`] and [`Projection`]: how a grey cell is parameterized from its internal faces.
+//! - [`CellMaps`] of [`FaceMap`]s: the sampled distance maps, with the overlap ratio.
+//! - [`CellComplex`]: the CPU march; [`HitAgreement`] what [`measure_hits`] found against exact intersection.
+//! - [`PackedComplex`] and [`attribute_maps`]: the buffers the GPU pass uploads.
+//!
+//! # How they fit together
+//! Build a [`ClosedMesh`] with [`ClosedMesh::new`] (or a [`SceneMesh`]), let [`choose_grid`] double the grid
+//! until the maps' overlap ratio is low enough (or fix N with [`fixed_grid`]), which returns the [`CellGrid`] and
+//! its [`CellMaps`]; march rays on the CPU with [`CellComplex::new`] and [`CellComplex::march`], check them with
+//! [`measure_hits`], or hand [`PackedComplex::new`] and [`attribute_maps`] to the renderer to draw the complex on
+//! the GPU. [`rebuild`] turns the maps back into triangles to inspect what they hold.
 
 pub mod attributes;
 pub mod case;

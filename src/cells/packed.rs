@@ -30,21 +30,32 @@ pub struct GreyRecord {
     pub axis: u32,
     /// Parallel: 1 when the projection runs toward the positive face.
     pub positive: u32,
+    /// Padding to the shader's 16-byte alignment; always 0.
     pub pad: u32,
     /// Map layer per face in [`super::Face::ALL`] order, -1 for a face that carries none.
     pub layers: [i32; 6],
+    /// Padding to the record's 64 bytes; always 0.
     pub pad2: [i32; 2],
 }
 
 /// The complex's arrays and the numbers the shader needs with them.
 #[derive(Debug, Clone)]
 pub struct PackedComplex {
+    /// One word per grid cell, x fastest: colour in the low two bits (0 white, 1 grey, 2 black), a grey cell's
+    /// index into `grey` above them (see the module docs).
     pub cells: Vec<u32>,
+    /// One record per grey cell, in the order the maps first name it.
     pub grey: Vec<GreyRecord>,
+    /// All map layers, `resolution`^2 16-bit texels each, two to a word: distance over [`DISTANCE_RANGE`] in the
+    /// top 15 bits (decode with [`PackedComplex::decode`]), the inside flag in the lowest.
     pub maps: Vec<u32>,
+    /// The grid cube's least corner, in mesh space ([`CellGrid::origin`]).
     pub origin: [f32; 3],
+    /// The side of one cell, in mesh units ([`CellGrid::cell_size`]).
     pub cell_size: f32,
+    /// Cells per axis of the grid.
     pub n: u32,
+    /// Texels along each side of a map layer.
     pub resolution: u32,
 }
 

@@ -28,21 +28,40 @@ use super::case::{Axis, Case, Face, FaceSet};
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Projection {
     /// Away from the centre of projection.
-    Perspective { centre: [f64; 3] },
+    Perspective {
+        /// The centre of projection, in cell-local coordinates (the unit cell `[0, 1]^3`).
+        centre: [f64; 3],
+    },
     /// Away from the line through `point` along `axis`, perpendicular to it.
-    Axial { axis: Axis, point: [f64; 3] },
+    Axial {
+        /// The direction of the line (0 = x, 1 = y, 2 = z).
+        axis: Axis,
+        /// A point of the line, in cell-local coordinates.
+        point: [f64; 3],
+    },
     /// Along `axis`, away from the plane where that coordinate is `offset`.
-    Planar { axis: Axis, offset: f64 },
+    Planar {
+        /// The axis the plane is perpendicular to and the projection runs along.
+        axis: Axis,
+        /// The plane's coordinate along `axis`, in cell-local coordinates.
+        offset: f64,
+    },
     /// Along `axis`, toward `face` (whose axis it is).
-    Parallel { face: Face },
+    Parallel {
+        /// The domain face the lines run toward; its axis is the direction.
+        face: Face,
+    },
 }
 
 /// Where a point of the cell lands: the domain face, the face coordinates (its [`Face::span`] axes) and the
 /// distance along the projection line.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Image {
+    /// The domain face the point projects onto.
     pub face: Face,
+    /// Face coordinates in [0, 1] along the face's [`Face::span`] axes.
     pub uv: [f64; 2],
+    /// Distance from the face point to the point along the projection line, in cell sides.
     pub distance: f64,
 }
 

@@ -13,7 +13,9 @@ use super::projection::{Image, Projection};
 /// Triangles in mesh space; positions shared by the triangles of one face map.
 #[derive(Debug, Clone, Default)]
 pub struct RebuiltMesh {
+    /// Vertex positions in mesh space (the source mesh's units), one per texel whose line crosses the surface.
     pub positions: Vec<[f64; 3]>,
+    /// Triangles as indices into `positions`, two per 2x2 block of crossing texels.
     pub triangles: Vec<[u32; 3]>,
 }
 

@@ -55,6 +55,7 @@ impl MeshSelection {
 /// One group of a scene's meshes welded and checked closed, with the world-space vertices of each of its
 /// triangles.
 pub struct SceneMesh {
+    /// The group's welded, checked mesh, in world space.
     pub mesh: ClosedMesh,
     /// Per triangle given to [`ClosedMesh::new`] (in mesh, then index order), its corners in world space.
     corners: Vec<[Vertex; 3]>,
