@@ -14,8 +14,11 @@ use crate::vk::DeviceInfo;
 /// Median, minimum and maximum GPU time of the timed frames.
 #[derive(Debug, Clone, Copy, Serialize, PartialEq)]
 pub struct GpuMs {
+    /// Median frame time in ms (mean of the middle two for an even count).
     pub median: f64,
+    /// Fastest frame, in ms.
     pub min: f64,
+    /// Slowest frame, in ms.
     pub max: f64,
 }
 
@@ -48,24 +51,42 @@ impl GpuMs {
 /// One measured configuration: a method on a height field at one view, scale and budget.
 #[derive(Debug, Clone, Serialize)]
 pub struct Run {
+    /// The report section the run belongs to.
     pub section: super::runner::Section,
+    /// The method's name, as `--methods` spells it.
     pub method: String,
+    /// The height field's name: a generator's name or the file name.
     pub heightfield: String,
+    /// Map width and height, in texels.
     pub size: [u32; 2],
+    /// Depth of the height field's 0 below its 1, in uv units.
     pub depth_scale: f64,
+    /// View ray elevation above the surface plane, in degrees (90 = straight down).
     pub angle_deg: f64,
+    /// View ray azimuth from +u toward +v, in degrees.
     pub azimuth_deg: f64,
+    /// Addressing mode, `"repeat"` or `"clamp"`.
     pub address: String,
+    /// The method's iteration budget for this run.
     pub budget: Budget,
+    /// GPU time of the trace dispatch over the timed frames (timestamp queries).
     pub gpu_ms: GpuMs,
+    /// Timed frames (after warm-up).
     pub frames: u32,
+    /// Rays per frame as a `[width, height]` grid.
     pub resolution: [u32; 2],
     /// CPU wall time of the whole timed submission, for context.
     pub cpu_ms: f64,
+    /// Distance in uv between the method's hit and the exact bilinear hit ([`crate::heightfield::reference::trace`]),
+    /// in texels of the map (u scaled by the width, v by the height); NaN hits excluded.
     pub error_texels: Spread,
+    /// `|z - z_exact|` of the hit's depth below the top plane, in texels (depth in uv times the map width).
     pub depth_error_texels: Spread,
+    /// Fraction of error rays whose hit is more than one texel from the exact hit.
     pub gross_rate: f64,
+    /// Fraction of error rays that ran out of iterations.
     pub capped_rate: f64,
+    /// Error rays whose hit was not finite.
     pub nan_pixels: usize,
     /// Iterations of the error trace's rays.
     pub steps: StepStats,
@@ -76,8 +97,11 @@ pub struct Run {
 /// Time to build one precomputed map.
 #[derive(Debug, Clone, Serialize)]
 pub struct MapBuild {
+    /// Which map: the [`crate::method::MapKind`]'s name.
     pub kind: String,
+    /// The height field's name.
     pub heightfield: String,
+    /// Map width and height, in texels.
     pub size: [u32; 2],
     /// GPU ms for maps built on the GPU, CPU wall ms for those built on the CPU.
     pub ms: f64,
@@ -88,11 +112,17 @@ pub struct MapBuild {
 /// One cell of the stability matrix: a method on a named stiff case.
 #[derive(Debug, Clone, Serialize)]
 pub struct StabilityCell {
+    /// The method's name.
     pub method: String,
+    /// The stiff case's name.
     pub case: String,
+    /// Rays whose hit was not finite.
     pub nan_pixels: usize,
+    /// Fraction of rays that ran out of iterations.
     pub capped_rate: f64,
+    /// Fraction of rays more than one texel from the exact hit.
     pub gross_rate: f64,
+    /// Largest hit error, in texels (see [`Run::error_texels`]).
     pub max_error_texels: f64,
     /// The trace's GPU time (the fastest timed dispatch), in ms.
     pub gpu_ms: Option<f64>,
@@ -103,10 +133,15 @@ pub struct StabilityCell {
 /// The whole of `results.json`.
 #[derive(Debug, Clone, Serialize)]
 pub struct BenchResults {
+    /// The GPU everything was measured on.
     pub device: BenchDevice,
+    /// The command line that produced the file.
     pub command: String,
+    /// Every measured configuration of the sweep.
     pub runs: Vec<Run>,
+    /// Build time of every precomputed map the runs used.
     pub maps: Vec<MapBuild>,
+    /// The stability matrix (empty when not run).
     pub stability: Vec<StabilityCell>,
     /// The shading section: shadow modes against the exact visible fraction.
     pub shadows: Vec<ShadowRun>,
@@ -127,9 +162,13 @@ pub struct BenchResults {
 /// The device every number was measured on.
 #[derive(Debug, Clone, Serialize)]
 pub struct BenchDevice {
+    /// The device name the driver reports.
     pub name: String,
+    /// Driver name and version, trimmed.
     pub driver: String,
+    /// The Vulkan API version the device reports.
     pub api: String,
+    /// Nanoseconds per timestamp tick (`timestampPeriod`).
     pub timestamp_period: f32,
 }
 

@@ -25,12 +25,15 @@ use crate::vk::Context;
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Section {
+    /// Every method at every view: hit error against GPU time.
     ErrorVsTime,
+    /// Time as the map side grows, over [`crate::bench::SweepConfig::sizes`].
     Scaling,
     /// POM at caps from its default up to the default grown in proportion to the map side: the
     /// report picks per size the cheapest cap that holds POM's error at the smallest size, the
     /// cost of a fixed-step method matched for error.
     MatchedScaling,
+    /// Error and time as the depth scale grows, over [`crate::bench::SweepConfig::depth_scales`].
     DepthScale,
 }
 
@@ -44,13 +47,21 @@ pub fn matched_steps(base: u32, size: u32, smallest: u32) -> u32 {
 /// One configuration to measure.
 #[derive(Debug, Clone)]
 pub struct Job {
+    /// The report section it belongs to.
     pub section: Section,
+    /// The height field.
     pub field: FieldSource,
+    /// Map side, in texels (square maps).
     pub size: u32,
+    /// The method traced.
     pub method: Method,
+    /// Its iteration budget.
     pub budget: Budget,
+    /// View elevation above the surface plane, in degrees.
     pub angle: f64,
+    /// View azimuth from +u toward +v, in degrees.
     pub azimuth: f64,
+    /// Depth of height 0 below the top plane, in uv units.
     pub depth_scale: f64,
 }
 
@@ -185,10 +196,12 @@ pub struct Runner {
     cfg: SweepConfig,
     fields: HashMap<(String, u32), Arc<Heightfield>>,
     maps: HashMap<(String, u32, Method), Option<Arc<MapData>>>,
+    /// Every map built so far, with its build time, for [`crate::bench::BenchResults::maps`].
     pub map_builds: Vec<MapBuild>,
 }
 
 impl Runner {
+    /// A runner on `ctx`'s device for `cfg`, with empty caches; nothing is measured yet.
     pub fn new(ctx: Arc<Context>, cfg: SweepConfig) -> Runner {
         Runner {
             ctx,

@@ -11,7 +11,9 @@ use crate::render::HeightFormat;
 /// Where a height field comes from.
 #[derive(Debug, Clone, PartialEq)]
 pub enum FieldSource {
+    /// A generated field, made at each size asked for.
     Synthetic(Generator),
+    /// A PNG height map, loaded from this path.
     File(PathBuf),
 }
 
@@ -31,23 +33,33 @@ impl FieldSource {
 /// Every option of a bench run.
 #[derive(Debug, Clone)]
 pub struct SweepConfig {
+    /// Methods to measure.
     pub methods: Vec<Method>,
+    /// Height fields to measure them on.
     pub fields: Vec<FieldSource>,
     /// Map sides for the scaling section; the first is the size of every other section.
     pub sizes: Vec<u32>,
+    /// View elevations above the surface plane, in degrees (90 = straight down).
     pub angles: Vec<f64>,
+    /// View azimuths from +u toward +v, in degrees.
     pub azimuths: Vec<f64>,
     /// The first is the depth scale of every section but the depth-scale one.
     pub depth_scales: Vec<f64>,
     /// Iteration caps tried on the fixed-step methods besides their default budget.
     pub budgets: Vec<u32>,
+    /// Rays per timed frame, as a (width, height) grid.
     pub resolution: (u32, u32),
+    /// Timed frames per configuration.
     pub frames: u32,
+    /// Untimed frames run before them.
     pub warmup: u32,
     /// Rays per configuration for the error measurement.
     pub error_grid: (u32, u32),
+    /// Addressing mode of every map.
     pub address: Address,
+    /// Texel format the heights are uploaded in.
     pub format: HeightFormat,
+    /// Seed of the synthetic generators.
     pub seed: u64,
     /// Run the stability matrix (stiff and extreme cases) too.
     pub stability: bool,

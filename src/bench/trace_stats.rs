@@ -10,8 +10,11 @@ use crate::heightfield::Heightfield;
 /// Mean, 99th percentile and maximum of a quantity.
 #[derive(Debug, Clone, Copy, Default, Serialize, PartialEq)]
 pub struct Spread {
+    /// Arithmetic mean (0 for no values).
     pub mean: f64,
+    /// 99th percentile, the sorted value at rank `ceil(0.99 (n - 1))` (0 for no values).
     pub p99: f64,
+    /// Largest value (0 for no values).
     pub max: f64,
 }
 
@@ -34,15 +37,21 @@ impl Spread {
 /// Mean and maximum iterations per ray.
 #[derive(Debug, Clone, Copy, Default, Serialize, PartialEq)]
 pub struct StepStats {
+    /// Mean iterations per ray.
     pub mean: f64,
+    /// Most iterations any one ray took.
     pub max: u32,
 }
 
 /// The statistics `relief trace` prints and `relief bench` records.
 #[derive(Debug, Clone, Serialize, PartialEq)]
 pub struct TraceStats {
+    /// Rays traced, NaN ones included.
     pub rays: usize,
+    /// Distance in uv between the method's hit and the exact bilinear hit ([`crate::heightfield::reference::trace`]),
+    /// in texels of the map (u scaled by the width, v by the height); NaN hits excluded.
     pub error_texels: Spread,
+    /// `|z - z_exact|` of the hit's depth below the top plane, in texels (depth in uv times the map width).
     pub depth_error_texels: Spread,
     /// Fraction of rays whose hit is more than one texel from the exact hit.
     pub gross_rate: f64,
@@ -50,6 +59,7 @@ pub struct TraceStats {
     pub capped_rate: f64,
     /// Rays whose hit is not a finite number (excluded from the error spreads).
     pub nan_pixels: usize,
+    /// Iterations per ray, as the method counted them.
     pub steps: StepStats,
 }
 
