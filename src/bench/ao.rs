@@ -25,6 +25,8 @@ pub struct AoConfig {
 }
 
 impl AoConfig {
+    /// The full sweep's settings: a 128^2 error field against a 256-azimuth reference, builds also timed at
+    /// the main map size.
     pub fn full() -> AoConfig {
         AoConfig {
             error_size: 128,
@@ -33,6 +35,7 @@ impl AoConfig {
         }
     }
 
+    /// `--quick`'s settings: a 48^2 error field, a 64-azimuth reference, no timing at the main size.
     pub fn quick() -> AoConfig {
         AoConfig {
             error_size: 48,
@@ -45,11 +48,16 @@ impl AoConfig {
 /// One AO mode on one field.
 #[derive(Debug, Clone, Serialize)]
 pub struct AoRun {
+    /// The AO mode's name.
     pub mode: String,
+    /// The height field's name.
     pub heightfield: String,
+    /// Depth of height 0 below the top plane, in uv units.
     pub depth_scale: f64,
     /// The field compared with the reference.
     pub size: [u32; 2],
+    /// Per texel `|ao - exact|`, AO being the unoccluded fraction in [0, 1]; texels counted in `bad_values`
+    /// are left out.
     pub error: Spread,
     /// Texels whose value is NaN or outside [0, 1].
     pub bad_values: usize,
@@ -57,6 +65,7 @@ pub struct AoRun {
     pub build_ms: f64,
     /// GPU time of the build at `main_size`, when measured.
     pub main_size: Option<[u32; 2]>,
+    /// GPU ms of the build at `main_size`; `None` when not measured (`--quick`).
     pub main_build_ms: Option<f64>,
 }
 

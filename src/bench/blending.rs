@@ -38,17 +38,23 @@ pub struct BlendingConfig {
     pub methods: Vec<Method>,
     /// One layer per generator (at most four), each with its own seed.
     pub layers: Vec<Generator>,
+    /// Side of every layer's height field, in texels.
     pub size: u32,
     /// Side of the square splat map weighing the layers.
     pub splat_side: u32,
     /// View elevations in degrees.
     pub angles: Vec<f64>,
+    /// View azimuth from +u toward +v, in degrees.
     pub azimuth_deg: f64,
+    /// Depth of height 0 below the top plane, in uv units.
     pub depth_scale: f32,
     /// Rays per trace, one per texel centre of this grid over the map.
     pub grid: (u32, u32),
+    /// Untimed traces before the timed ones.
     pub warmup: u32,
+    /// Timed traces per cell.
     pub frames: u32,
+    /// Seed of the first layer's generator and of the splat map; each further layer adds one.
     pub seed: u64,
 }
 
@@ -93,20 +99,28 @@ impl BlendingConfig {
 /// One trace's outcome against the exact reference of the blended surface.
 #[derive(Debug, Clone, Serialize)]
 pub struct BlendTrace {
+    /// GPU time of the trace dispatch over the timed frames.
     pub gpu_ms: GpuMs,
+    /// Iterations per ray.
     pub steps: StepStats,
+    /// Hit distance from the exact hit of the blended surface, in texels (as [`crate::bench::TraceStats`]).
     pub error_texels: Spread,
+    /// Fraction of rays more than one texel from the exact hit.
     pub gross_rate: f64,
+    /// Fraction of rays that ran out of iterations.
     pub capped_rate: f64,
+    /// Rays whose hit was not finite.
     pub nan_pixels: usize,
 }
 
 /// One (method, blend, angle) cell.
 #[derive(Debug, Clone, Serialize)]
 pub struct BlendCost {
+    /// The method's name.
     pub method: String,
     /// A blend mode's id, or `one-hot` for the first layer alone.
     pub blend: String,
+    /// View elevation above the surface plane, in degrees.
     pub angle_deg: f64,
     /// Whether `blended` went through the conservative blended pyramid; when false the method
     /// reads no pyramid and `single` is the same trace as `blended`.
@@ -135,17 +149,27 @@ pub const ONE_HOT: &str = "one-hot";
 /// The section's settings as run, and its cells.
 #[derive(Debug, Clone, Serialize)]
 pub struct BlendingSection {
+    /// The layers' generator names, in stack order.
     pub layers: Vec<String>,
+    /// Side of every layer, in texels.
     pub size: u32,
+    /// Side of the splat map, in texels.
     pub splat_side: u32,
+    /// Depth of height 0 below the top plane, in uv units.
     pub depth_scale: f32,
+    /// View azimuth, in degrees.
     pub azimuth_deg: f64,
+    /// The ray grid per trace, `[width, height]`.
     pub rays: [u32; 2],
+    /// Untimed traces per cell.
     pub warmup: u32,
+    /// Timed traces per cell.
     pub frames: u32,
+    /// Texel format the blended heights were traced in.
     pub format: HeightFormat,
     /// Methods asked for but not traced (they read a method map).
     pub left_out: Vec<String>,
+    /// One row per (method, blend, angle).
     pub rows: Vec<BlendCost>,
 }
 

@@ -22,8 +22,11 @@ const FULL_REBUILDS: usize = 3;
 /// One size's edit costs.
 #[derive(Debug, Clone, Serialize)]
 pub struct EditCost {
+    /// Side of the edited height field, in texels.
     pub size: u32,
+    /// Stroke radius, in texels.
     pub radius: f32,
+    /// Texel format of the edited height image.
     pub format: HeightFormat,
     /// Median GPU ms of rebuilding every pyramid level.
     pub full_ms: f64,

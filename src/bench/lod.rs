@@ -20,20 +20,27 @@ use crate::vk::Context;
 /// What the section measures.
 #[derive(Debug, Clone)]
 pub struct LodConfig {
+    /// Methods rendered with and without LOD.
     pub methods: Vec<Method>,
+    /// The generator of the plane's height field.
     pub field: Generator,
+    /// Side of that height field, in texels.
     pub size: u32,
     /// QDM's map sides for the scaling ratio (small, large).
     pub scaling_sizes: (u32, u32),
+    /// Image size of each render, in pixels (width, height).
     pub resolution: (u32, u32),
     /// Side of the supersampling grid of the reference render.
     pub supersample: u32,
     /// Elevation of the view above the plane at the image centre, in degrees.
     pub elevation_deg: f32,
+    /// Depth of height 0 below the top plane, in uv units.
     pub depth_scale: f32,
     /// Timed frames per render (after one untimed warm-up frame).
     pub frames: u32,
+    /// Texel format of the height image.
     pub format: HeightFormat,
+    /// The LOD settings of the LOD renders (factor, bias, averaged levels); the fade comes from `fade`.
     pub lod: Lod,
     /// The fade (start, end) of the third render, in world units from the eye (the eye is 1
     /// unit above the plane; the plane's far edge is about 39 units away).
@@ -77,15 +84,20 @@ impl LodConfig {
 /// sRGB steps.
 #[derive(Debug, Clone, Copy, Serialize, PartialEq)]
 pub struct ImageError {
+    /// Mean over all pixels and channels, in 8-bit sRGB steps.
     pub mean: f64,
+    /// 99th percentile over all pixels and channels, in 8-bit sRGB steps.
     pub p99: f64,
 }
 
 /// One method with and without LOD.
 #[derive(Debug, Clone, Serialize)]
 pub struct LodRun {
+    /// The method's name.
     pub method: String,
+    /// Frame times without LOD.
     pub off: FrameMs,
+    /// Frame times with LOD, no fade.
     pub on: FrameMs,
     /// LOD with the fade to normal mapping (nothing traced beyond its end).
     pub fade: FrameMs,
@@ -104,29 +116,46 @@ pub struct LodRun {
 /// QDM's surface time on the large map over the small one.
 #[derive(Debug, Clone, Serialize)]
 pub struct LodScaling {
+    /// The method's name (QDM).
     pub method: String,
+    /// The small and large map sides, in texels.
     pub sizes: [u32; 2],
     /// Fastest frame wall times (see `FrameMs`), small map then large.
     pub wall_ms_off: [f64; 2],
+    /// The same with LOD, small map then large.
     pub wall_ms_on: [f64; 2],
+    /// Large over small fastest wall time without LOD.
     pub ratio_off: f64,
+    /// Large over small fastest wall time with LOD.
     pub ratio_on: f64,
 }
 
 /// The section as results.json holds it.
 #[derive(Debug, Clone, Serialize)]
 pub struct LodSection {
+    /// The height field's name.
     pub heightfield: String,
+    /// Its side, in texels.
     pub size: u32,
+    /// Depth of height 0 below the top plane, in uv units.
     pub depth_scale: f32,
+    /// View elevation above the plane at the image centre, in degrees.
     pub elevation_deg: f32,
+    /// Image size, in pixels.
     pub resolution: [u32; 2],
+    /// Side of the reference render's supersampling grid.
     pub supersample: u32,
+    /// Timed frames per render.
     pub frames: u32,
+    /// LOD factor: multiplies the pixel's mip level to give the traversal's stop level.
     pub factor: f32,
+    /// Stop levels below this end on the averaged pyramid; 0 never.
     pub average_below: u32,
+    /// The fade's start and end, in world units from the eye.
     pub fade: [f32; 2],
+    /// One per method.
     pub runs: Vec<LodRun>,
+    /// QDM's time on a large map over a small one; `None` when it was not measured.
     pub scaling: Option<LodScaling>,
 }
 

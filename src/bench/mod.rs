@@ -1,5 +1,24 @@
 //! Measuring methods: rays from view angles, error against the exact reference, statistics,
 //! and the files the tools write (`.npy` dumps).
+//!
+//! This is what `relief bench` and `relief trace` run: a sweep of displacement methods over height
+//! fields, view angles, depth scales and iteration budgets, each timed on the GPU and compared ray by
+//! ray with [`crate::heightfield::reference::trace`], written as `results.json` and a report.
+//! Units throughout: times in ms, hit errors in texels of the map, angles in degrees (elevation above
+//! the surface plane, azimuth from +u toward +v), depth scales in uv units.
+//!
+//! # Main types
+//! - [`SweepConfig`] (what to measure) and [`plan_jobs`], which expands it into [`Job`]s by [`Section`].
+//! - [`Runner`]: measures jobs on one device, caching fields and method maps; each gives a [`Run`].
+//! - [`TraceStats`], [`Spread`], [`StepStats`] and [`GpuMs`]: the statistics every section records.
+//! - [`BenchResults`]: the whole `results.json`, with the extra sections (shading, AO, LOD, edits,
+//!   blending) as their own result types.
+//!
+//! # How they fit together
+//! A bench builds a [`SweepConfig`], turns it into jobs with [`plan_jobs`], hands each to a [`Runner`]
+//! created on a Vulkan context, and collects the [`Run`]s, the [`Runner::map_builds`] and the other
+//! sections into a [`BenchResults`], which is serialized and passed to [`render_report`]. A single
+//! trace outside the sweep uses [`ray_direction`] for the view and [`trace_stats`] on the GPU's hits.
 
 mod ao;
 mod blending;

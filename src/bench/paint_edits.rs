@@ -33,11 +33,15 @@ pub struct PaintCost {
     pub size: u32,
     /// The splat map's side.
     pub splat_size: u32,
+    /// Layers in the stack.
     pub layers: usize,
+    /// The blend mode's id.
     pub mode: &'static str,
+    /// Texel format of the blended height image.
     pub format: HeightFormat,
     /// The stroke's radius in stack texels, and in splat texels (what the stroke is given).
     pub radius: f32,
+    /// The stroke's radius in splat texels.
     pub splat_radius: f32,
     /// Median GPU ms of rebuilding every weight and slack node and every blended level.
     pub full_ms: f64,

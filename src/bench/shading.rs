@@ -20,13 +20,17 @@ use crate::scene::ShadowMode;
 /// What the shading section sweeps.
 #[derive(Debug, Clone)]
 pub struct ShadingConfig {
+    /// Shadow modes to measure.
     pub modes: Vec<ShadowMode>,
+    /// Light elevations above the surface plane, in degrees.
     pub elevations: Vec<f64>,
     /// Angular radii in degrees.
     pub radii: Vec<f64>,
+    /// Light azimuth from +u toward +v, in degrees.
     pub light_azimuth: f64,
     /// The view every hit comes from.
     pub view_angle: f64,
+    /// View azimuth from +u toward +v, in degrees.
     pub view_azimuth: f64,
     /// Rays whose visible fractions are compared with the reference.
     pub error_grid: (u32, u32),
@@ -64,13 +68,21 @@ impl ShadingConfig {
 /// One shadow mode under one light on one field.
 #[derive(Debug, Clone, Serialize)]
 pub struct ShadowRun {
+    /// The shadow mode's name.
     pub mode: String,
+    /// The height field's name.
     pub heightfield: String,
+    /// Map width and height, in texels.
     pub size: [u32; 2],
+    /// Depth of height 0 below the top plane, in uv units.
     pub depth_scale: f64,
+    /// View elevation above the surface plane, in degrees.
     pub view_angle_deg: f64,
+    /// Light elevation above the surface plane, in degrees.
     pub light_elevation_deg: f64,
+    /// Light azimuth from +u toward +v, in degrees.
     pub light_azimuth_deg: f64,
+    /// The light disk's angular radius, in degrees (0: a directional light).
     pub light_radius_deg: f64,
     /// `SHADOW_STEPS`: samples (pom-soft, horizon) or the pyramid walk's cap (cone).
     pub steps: u32,
@@ -80,7 +92,10 @@ pub struct ShadowRun {
     pub base_ms: f64,
     /// What the shadow adds: `gpu_ms.median - base_ms`.
     pub shadow_ms: f64,
+    /// Rays per timed frame, `[width, height]`.
     pub resolution: [u32; 2],
+    /// The mode's visible fraction at each hit of the error grid against
+    /// [`crate::heightfield::visibility::light_visibility`].
     pub error: ShadowStats,
 }
 

@@ -19,11 +19,15 @@ use crate::vk::Context;
 /// One mode under one extreme light on one degenerate field.
 #[derive(Debug, Clone, Serialize)]
 pub struct ShadowStabilityCell {
+    /// The shadow mode's name.
     pub mode: String,
+    /// The degenerate case's name.
     pub case: String,
     /// Fractions that are NaN or outside [0, 1].
     pub bad_values: usize,
+    /// Largest `|fraction - exact|` of the visible fraction, in [0, 1]; NaN when the case failed.
     pub max_error: f64,
+    /// Mean `|fraction - exact|`; NaN when the case failed.
     pub mean_error: f64,
     /// Why the case could not run, if it could not.
     pub failed: Option<String>,

@@ -17,14 +17,21 @@ use crate::vk::Context;
 /// One named stiff case.
 #[derive(Debug, Clone)]
 pub struct StiffCase {
+    /// The name the stability matrix shows.
     pub name: String,
+    /// The generator of its height field.
     pub field: Generator,
+    /// Map width and height, in texels.
     pub size: (u32, u32),
+    /// View elevation above the surface plane, in degrees.
     pub angle: f64,
     /// Degrees; 30 unless a case needs another (the sparse spikes use 71, off the grid's axes).
     pub azimuth: f64,
+    /// Depth of height 0 below the top plane, in uv units.
     pub depth_scale: f64,
+    /// Texel format the heights are uploaded in.
     pub format: HeightFormat,
+    /// Addressing mode of the map.
     pub address: Address,
 }
 
