@@ -14,5 +14,6 @@ pub mod render;
 pub mod scene;
 pub mod shaders;
 pub mod terrain;
+#[cfg(feature = "window")]
 pub mod view;
 pub mod vk;

@@ -124,6 +124,7 @@ impl Context {
     ///
     /// # Safety
     /// The window behind `window` must outlive the returned context (and every clone of its `Arc`).
+    #[cfg(feature = "window")]
     pub unsafe fn new_presenting(
         options: &ContextOptions,
         window: &WindowHandles,
@@ -145,7 +146,7 @@ impl Context {
         let counts = Box::<MessageCounts>::default();
         let validation = options.validation.unwrap_or_else(Validation::from_env);
         let extensions = match window {
-            Some(w) => surface_extensions(w.display)?,
+            Some(w) => surface_extensions(w)?,
             None => &[],
         };
         let mut parts = create_instance(validation, &counts, extensions)?;

@@ -3,6 +3,7 @@
 #![allow(dead_code)]
 
 pub mod base64;
+#[cfg(feature = "cli")]
 pub mod cli;
 pub mod corpus;
 pub mod golden;
