@@ -12,6 +12,7 @@ pub mod npy;
 pub mod plane_gltf;
 pub mod rays;
 pub mod terrain;
+pub mod xvfb;
 
 use std::path::PathBuf;
 use std::sync::Arc;
