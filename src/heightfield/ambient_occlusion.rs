@@ -7,7 +7,7 @@
 //! where `tau(phi) = sup over x > 0 of s (h(x) - h_p) / x` along the horizontal line from the point (`x` is
 //! the distance in uv units). Rays at or below the horizontal never leave the top plane, so the effective
 //! horizon is `max(tau, 0)`. `tau` is computed exactly by walking the bilinear cells along the line
-//! ([`super::cell_walk`]): in each, `h` is a quadratic in `x`, so `s (h - h_p) / x` is maximised in closed form
+//! (`cell_walk`): in each, `h` is a quadratic in `x`, so `s (h - h_p) / x` is maximised in closed form
 //! (the cell's ends and the stationary point `x* = sqrt(c0 / c2)`). The walk stops once the highest texel,
 //! seen from beyond the distance walked, could not raise the horizon. The elevation integral above the lower
 //! limit `max(horizon, edge of the normal's hemisphere)` is then closed-form:

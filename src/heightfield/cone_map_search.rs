@@ -21,7 +21,7 @@ use super::sectors::{direction_mask, Mask, Rect, SECTORS};
 use crate::heightfield::reference::Address;
 use crate::heightfield::{covered_range, Heightfield, MaxPyramid};
 
-/// Reaches (see [`reach`]) are capped at the lesser of this, in uv, and [`REACH_CAP_TEXELS`]: a cap only
+/// Reaches (see `reach`) are capped at the lesser of this, in uv, and [`REACH_CAP_TEXELS`]: a cap only
 /// shortens them, which is always safe.
 pub const REACH_CAP_UV: f64 = 0.25;
 /// ... and of this many texels along u. The search for a reach visits every node within the cap that

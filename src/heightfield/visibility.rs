@@ -10,7 +10,7 @@
 //!
 //! Each ray is an exact *upward* query. Parameterised by the depth it has climbed, `t`, the ray from the point
 //! (height `h_p`) is below the surface where `g(t) = t - s (h(t) - h_p)` is negative. The ray's uv projection
-//! crosses bilinear cells ([`super::cell_walk`]); in each, `h(t)` is one quadratic, so the minimum of `g` over
+//! crosses bilinear cells (`cell_walk`); in each, `h(t)` is one quadratic, so the minimum of `g` over
 //! the cell is found in closed form (ends and vertex). The walk stops at the first cell where `g` goes
 //! negative (blocked), or once the ray is above the highest texel, `t >= s (h_max - h_p)`, where it can no
 //! longer pass below (it escapes).

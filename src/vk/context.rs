@@ -119,7 +119,7 @@ impl Context {
 
     /// As [`Context::new`], for a context that also presents to `window`: the instance gets the
     /// window system's surface extensions, the context owns the window's surface
-    /// ([`Context::present_surface`]), the device chosen can present to it and has
+    /// (`Context::present_surface`), the device chosen can present to it and has
     /// `VK_KHR_swapchain` enabled.
     ///
     /// # Safety
