@@ -6,9 +6,23 @@ cd "$(dirname "$0")/.."
 scripts/setup.sh
 cargo fmt --all -- --check
 cargo clippy --all-targets --quiet -- -D warnings
+
+# The library without its default features is what an engine depends on: it must not pull in the
+# command line or the window system, even through another crate.
+lean_tree=$(cargo tree --no-default-features -e normal --prefix none)
+heavy=$(grep -E '^(clap|indicatif|winit) ' <<<"$lean_tree" | sort -u || true)
+if [[ -n $heavy ]]; then
+    echo "relief test: the library without default features depends on:" >&2
+    echo "$heavy" >&2
+    echo "clap and indicatif belong behind the cli feature, winit behind window (see Cargo.toml)" >&2
+    exit 1
+fi
+
 cargo test --all-targets "$@"
-# --all-targets leaves out doctests; they hold the compile_fail checks that safe code cannot
-# record into a command buffer outside a submission.
 if (($# == 0)); then
+    # --all-targets leaves out doctests; they hold the compile_fail checks that safe code cannot
+    # record into a command buffer outside a submission, and the guide's frame render.
     cargo test --doc
+    cargo build --lib --no-default-features
+    RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --lib
 fi

@@ -21,6 +21,7 @@ mod shading_args;
 mod terrain_args;
 mod terrain_edits;
 mod trace;
+#[cfg(feature = "window")]
 mod view;
 
 use std::process::ExitCode;
@@ -64,6 +65,7 @@ enum Command {
     /// Trace parallel rays on the GPU with one method and measure them against the exact reference.
     Trace(trace::TraceArgs),
     /// Show a scene in a window: orbit or fly, switch methods, shadows, AO and LOD, read GPU times.
+    #[cfg(feature = "window")]
     View(view::ViewArgs),
 }
 
@@ -80,6 +82,7 @@ pub fn run() -> ExitCode {
         Command::Maps(args) => maps::run(&args),
         Command::Methods(args) => methods::run(&args),
         Command::Trace(args) => trace::run(&args),
+        #[cfg(feature = "window")]
         Command::View(args) => view::run(&args),
     };
     match result {

@@ -96,8 +96,11 @@ impl Leaf {
 /// `leaf`; their table rows say `Paper`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Budget {
+    /// The iteration cap of the method's main loop (specialization constant 0).
     pub max_steps: u32,
+    /// Steps of the refinement after the main loop, for the methods that refine (constant 1).
     pub refine_steps: u32,
+    /// How the hit is found once the traversal has closed in on it (constant 2).
     pub leaf: Leaf,
     /// 0: `max_steps` is the cap. Otherwise the cap of each ray is `max_steps` plus the number of
     /// texels its path crosses from the top plane to the bottom plane, up to this many steps: a
@@ -127,12 +130,15 @@ pub enum BenchRole {
 pub struct MethodInfo {
     /// Stable id: the CLI's name, the shader variants' key suffix, `trace_<id>` in GLSL.
     pub id: &'static str,
+    /// Its full name, for reports and `relief methods`.
     pub name: &'static str,
+    /// The paper it comes from (authors, title, year).
     pub paper: &'static str,
     /// Its GLSL file, relative to `shaders/`: it defines `Hit trace_<id>(Ray, Budget)`.
     pub shader: &'static str,
     /// The maps it reads, at most one of them a method map (binding 3).
     pub needs: &'static [MapKind],
+    /// The budget used when none is asked for.
     pub default_budget: Budget,
     /// Whether `Budget::leaf` chooses between the paper's refinement and the exact leaf; the
     /// other methods ignore it (a search with no leaf, or maxmip, whose paper's leaf is exact).
@@ -140,6 +146,7 @@ pub struct MethodInfo {
     /// Whether its cost is a fixed number of steps along the ray, so a larger cap buys accuracy
     /// (the bench tries each of its caps on these).
     pub fixed_step: bool,
+    /// The part it plays in the bench report's matched-error comparison, if any.
     pub bench_role: Option<BenchRole>,
 }
 

@@ -29,12 +29,15 @@ use crate::vk::{Context, ContextOptions, PresentMode, VkError, WindowHandles};
 
 /// What `relief view` was asked to show, and how.
 pub struct ViewSetup {
+    /// The scene to show; its camera (or a framing of its bounds) is the first view.
     pub scene: Scene,
     /// The height map relief materials without their own read.
     pub heights: Option<Heightfield>,
     /// The window's first size and the height storage and addressing.
     pub options: RenderOptions,
+    /// Which device and validation, as for an offscreen context.
     pub context: ContextOptions,
+    /// Whether presenting waits for the display (`V` toggles it while running).
     pub present: PresentMode,
     /// Stop after this many presented frames (a headless run); `None` runs until closed.
     pub frames: Option<u64>,
@@ -47,6 +50,7 @@ pub struct ViewSetup {
 /// How a view ended.
 #[derive(Debug, Clone)]
 pub struct ViewReport {
+    /// The device that drew, as `Context::describe` says it.
     pub device: String,
     /// Frames presented.
     pub frames: u64,
@@ -54,8 +58,11 @@ pub struct ViewReport {
     pub readout: String,
     /// Validation errors and warnings the run caused, with the first few texts.
     pub validation_errors: u32,
+    /// Warnings the validation layer reported.
     pub validation_warnings: u32,
+    /// The first few of the validation layer's messages.
     pub validation_messages: Vec<String>,
+    /// Whether the validation layer was loaded, so that zero errors means something.
     pub validation_enabled: bool,
 }
 
@@ -63,18 +70,27 @@ pub struct ViewReport {
 #[derive(Debug, thiserror::Error)]
 pub enum ViewError {
     #[error("no display to open a window on ({0}); set DISPLAY, or run it under Xvfb (xvfb-run relief view ...)")]
+    /// No window system could be reached (no `DISPLAY`, or its libraries are missing).
     NoDisplay(String),
     #[error("the window: {0}")]
+    /// The window system refused to open the window or to run its event loop.
     Window(String),
     #[error(transparent)]
+    /// Preparing or drawing the scene failed.
     Render(#[from] RenderError),
     #[error(transparent)]
+    /// A Vulkan call failed: no device that can present, surface or swapchain errors, a lost
+    /// device.
     Vulkan(#[from] VkError),
     #[error("the window did not take the size {0}x{1} asked for within {2} s")]
+    /// A scripted resize (width, height) did not reach the window within the seconds given.
     ResizeIgnored(u32, u32, u64),
     #[error("writing {path}: {source}")]
+    /// A screenshot could not be written.
     Screenshot {
+        /// The PNG it was to be written to.
         path: PathBuf,
+        /// Why the encoder or the file system refused it.
         source: image::ImageError,
     },
 }

@@ -9,7 +9,9 @@ use crate::scene::Camera;
 /// How mouse and keys move the camera.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum RigMode {
+    /// Dragging turns the camera about its target; the wheel moves it closer or further.
     Orbit,
+    /// Dragging turns the camera where it stands; keys move it, the wheel sets the speed.
     Fly,
 }
 
@@ -59,6 +61,7 @@ impl CameraRig {
         }
     }
 
+    /// Whether it orbits or flies now.
     pub fn mode(&self) -> RigMode {
         self.mode
     }

@@ -5,19 +5,27 @@ use winit::keyboard::{Key, NamedKey};
 /// Something a key asks the viewer to do.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Action {
+    /// Close the window and end the run.
     Quit,
+    /// Print the key list ([`HELP`]).
     Help,
     /// Orbit <-> fly.
     ToggleRig,
+    /// Go back to the scene's own camera.
     ResetCamera,
     /// +1 next, -1 previous.
     CycleMethod(i32),
+    /// Next self-shadow mode on every relief material.
     CycleShadows,
+    /// Next ambient-occlusion mode on every relief material.
     CycleAo,
+    /// Level of detail on or off.
     ToggleLod,
     /// Multiply every depth scale by this.
     ScaleDepth(f32),
+    /// Switch between waiting for the display and presenting unpaced.
     ToggleVsync,
+    /// Write the next presented frame to a PNG in the current folder.
     Screenshot,
 }
 

@@ -20,6 +20,7 @@ pub struct Overlay {
 }
 
 impl Overlay {
+    /// An empty readout whose first half second starts at `now`.
     pub fn new(now: Instant) -> Overlay {
         Overlay {
             since: now,

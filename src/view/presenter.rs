@@ -20,8 +20,11 @@ use crate::vk::{
 /// A presented image read back: RGBA8 (sRGB), rows top to bottom.
 #[derive(Debug, Clone)]
 pub struct Screenshot {
+    /// Width in pixels.
     pub width: u32,
+    /// Height in pixels.
     pub height: u32,
+    /// `width * height` pixels, four bytes each.
     pub rgba: Vec<u8>,
 }
 

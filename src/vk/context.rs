@@ -119,11 +119,12 @@ impl Context {
 
     /// As [`Context::new`], for a context that also presents to `window`: the instance gets the
     /// window system's surface extensions, the context owns the window's surface
-    /// ([`Context::present_surface`]), the device chosen can present to it and has
+    /// (`Context::present_surface`), the device chosen can present to it and has
     /// `VK_KHR_swapchain` enabled.
     ///
     /// # Safety
     /// The window behind `window` must outlive the returned context (and every clone of its `Arc`).
+    #[cfg(feature = "window")]
     pub unsafe fn new_presenting(
         options: &ContextOptions,
         window: &WindowHandles,
@@ -145,7 +146,7 @@ impl Context {
         let counts = Box::<MessageCounts>::default();
         let validation = options.validation.unwrap_or_else(Validation::from_env);
         let extensions = match window {
-            Some(w) => surface_extensions(w.display)?,
+            Some(w) => surface_extensions(w)?,
             None => &[],
         };
         let mut parts = create_instance(validation, &counts, extensions)?;

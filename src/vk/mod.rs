@@ -44,6 +44,7 @@ pub use query::TimestampPool;
 pub use readback::{host_read_barrier, Readback};
 pub use recording::Recording;
 pub use semaphore::Semaphore;
+#[cfg(feature = "window")]
 pub use surface::WindowHandles;
 pub use swapchain::{Acquired, PresentMode, Swapchain, SwapchainLost};
 pub use transfer::{

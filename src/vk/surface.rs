@@ -5,17 +5,29 @@
 use std::ffi::c_char;
 
 use ash::{khr, vk};
+#[cfg(feature = "window")]
 use raw_window_handle::{RawDisplayHandle, RawWindowHandle};
 
-use super::error::{Named, VkError, VkResult};
+use super::error::VkResult;
+#[cfg(feature = "window")]
+use super::error::{Named, VkError};
 
 /// The raw handles of a window to present to. They are plain pointers: whoever passes them to
 /// [`super::Context::new_presenting`] keeps the window alive until the context is dropped.
+#[cfg(feature = "window")]
 #[derive(Debug, Clone, Copy)]
 pub struct WindowHandles {
+    /// The display (X11 connection, Wayland display, ...) the window lives on.
     pub display: RawDisplayHandle,
+    /// The window itself.
     pub window: RawWindowHandle,
 }
+
+/// Without the `window` feature there is no window system to take handles from: a type with no
+/// values keeps the context's one creation path while the compiler proves that no surface is made.
+#[cfg(not(feature = "window"))]
+#[derive(Debug, Clone, Copy)]
+pub(crate) enum WindowHandles {}
 
 /// The surface with its extension functions.
 pub(crate) struct WindowSurface {
@@ -23,13 +35,21 @@ pub(crate) struct WindowSurface {
     pub raw: vk::SurfaceKHR,
 }
 
-/// The instance extensions presenting on `display` needs.
-pub(crate) fn surface_extensions(display: RawDisplayHandle) -> VkResult<&'static [*const c_char]> {
+/// The instance extensions presenting to `handles`' display needs.
+#[cfg(feature = "window")]
+pub(crate) fn surface_extensions(handles: &WindowHandles) -> VkResult<&'static [*const c_char]> {
+    let display = handles.display;
     ash_window::enumerate_required_extensions(display).map_err(|e| {
         VkError::Unsupported(format!(
             "presenting to this kind of window ({display:?}): {e}"
         ))
     })
+}
+
+/// No handles exist without the `window` feature (see [`WindowHandles`]).
+#[cfg(not(feature = "window"))]
+pub(crate) fn surface_extensions(handles: &WindowHandles) -> VkResult<&'static [*const c_char]> {
+    match *handles {}
 }
 
 impl WindowSurface {
@@ -38,6 +58,7 @@ impl WindowSurface {
     /// # Safety
     /// The window must outlive the surface, and `instance` must have been created with
     /// [`surface_extensions`] of its display.
+    #[cfg(feature = "window")]
     pub unsafe fn new(
         entry: &ash::Entry,
         instance: &ash::Instance,
@@ -52,6 +73,19 @@ impl WindowSurface {
             loader: khr::surface::Instance::new(entry, instance),
             raw,
         })
+    }
+
+    /// No handles exist without the `window` feature (see [`WindowHandles`]).
+    ///
+    /// # Safety
+    /// None needed: it cannot be called.
+    #[cfg(not(feature = "window"))]
+    pub unsafe fn new(
+        _entry: &ash::Entry,
+        _instance: &ash::Instance,
+        handles: &WindowHandles,
+    ) -> VkResult<WindowSurface> {
+        match *handles {}
     }
 
     /// Whether `family` of `physical` can present to this surface.

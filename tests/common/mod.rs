@@ -3,6 +3,7 @@
 #![allow(dead_code)]
 
 pub mod base64;
+#[cfg(feature = "cli")]
 pub mod cli;
 pub mod corpus;
 pub mod golden;
@@ -11,6 +12,7 @@ pub mod npy;
 pub mod plane_gltf;
 pub mod rays;
 pub mod terrain;
+pub mod xvfb;
 
 use std::path::PathBuf;
 use std::sync::Arc;

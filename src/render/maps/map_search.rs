@@ -25,7 +25,7 @@ pub(in crate::render) const GROUP: u32 = 8;
 /// About this many texels per submission of the search.
 const ROWS_TEXELS: u32 = 1 << 20;
 /// The largest side the GPU builders take: the cone search packs texel indices in 14 bits, and
-/// the push constants hold [`MAX_LEVELS`] level offsets. Larger maps are built on the CPU.
+/// the push constants hold `MAX_LEVELS` level offsets. Larger maps are built on the CPU.
 pub const MAX_SIDE: u32 = 16384;
 /// Levels of a [`MAX_SIDE`] map (`MAX_LEVELS` in the shaders).
 pub(in crate::render) const MAX_LEVELS: usize = 15;
