@@ -5,8 +5,8 @@
 
 use super::brush::{Stroke, StrokeError, StrokeTarget};
 use super::grid::{GridOptions, TerrainGrid};
+use crate::geometry::Mesh;
 use crate::heightfield::Heightfield;
-use crate::scene::Mesh;
 
 /// A terrain's elevation with the grid built over it.
 #[derive(Debug, Clone)]

@@ -10,8 +10,8 @@
 
 use glam::Vec3;
 
+use crate::geometry::{Mesh, Vertex};
 use crate::heightfield::Heightfield;
-use crate::scene::{Mesh, Vertex};
 
 /// How an elevation map becomes a grid.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -9,15 +9,14 @@ use std::sync::Arc;
 use glam::Vec3;
 use image::{DynamicImage, ImageBuffer, Luma, Rgba};
 
-use super::blend::BlendMode;
-use super::grid::{terrain_tiles, GridOptions};
-use super::layers::{LayerError, SplatMap};
-use super::rules::{LayerRule, RuleWeights};
-use crate::heightfield::{Channel, Generator, Heightfield};
-use crate::method::Method;
-use crate::scene::{
+use super::{
     AoMode, Camera, HeightSource, LayerWeights, Layers, Light, Material, MaterialLayer, Relief,
     SamplerDesc, Scene, SceneImage, ShadowMode, ShadowSettings, TextureRef, Wrap,
+};
+use crate::heightfield::{Channel, Generator, Heightfield};
+use crate::method::Method;
+use crate::terrain::{
+    terrain_tiles, BlendMode, GridOptions, LayerError, LayerRule, RuleWeights, SplatMap,
 };
 
 /// The name of the terrain scene's tiles (`{TERRAIN_MESH} tile C,R`); they are its meshes 0.., in
