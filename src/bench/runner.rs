@@ -9,6 +9,7 @@ use std::time::Instant;
 use anyhow::Context as _;
 
 use super::depth_match::depth_budgets;
+use super::median::median;
 use super::results::{GpuMs, MapBuild, Run};
 use super::subgroup_steps::subgroup_steps;
 use super::sweep::{FieldSource, SweepConfig};
@@ -265,9 +266,9 @@ impl Runner {
                     cpu.push(took.as_secs_f64() * 1e3);
                 }
             }
-            self.record_map_build(method, field, hf, median(&mut gpu), "gpu");
+            self.record_map_build(method, field, hf, median(gpu), "gpu");
             if !cpu.is_empty() {
-                self.record_map_build(method, field, hf, median(&mut cpu), "cpu");
+                self.record_map_build(method, field, hf, median(cpu), "cpu");
             }
         } else {
             self.record_map_build(method, field, hf, built.ms, built.on);
@@ -383,11 +384,6 @@ const CPU_MAP_MAX_SIDE: u32 = 1024;
 
 /// GPU and CPU builds of a map the table compares, taken in turns; the table shows each side's median.
 pub(crate) const MAP_BUILD_ROUNDS: usize = 3;
-
-fn median(values: &mut [f64]) -> f64 {
-    values.sort_by(f64::total_cmp);
-    values[values.len() / 2]
-}
 
 /// Whether the bench rebuilds `hf`'s map on the CPU, after a GPU build, for the map table.
 fn cpu_reference_wanted(hf: &Heightfield) -> bool {
