@@ -17,7 +17,7 @@ use relief::bench::{
 
 /// The brush radius of the terrain-edit section, in texels (the stroke).
 const EDIT_RADIUS: f32 = 32.0;
-use relief::heightfield::{Address, Generator};
+use relief::heightfield::{Address, Generator, MAX_SIDE};
 use relief::method::Method;
 use relief::render::HeightFormat;
 use relief::scene::AoMode;
@@ -153,8 +153,12 @@ fn config(args: &BenchArgs) -> anyhow::Result<SweepConfig> {
     };
     validate(&cfg)?;
     // The strokes (radius EDIT_RADIUS, an eighth of it on the splat map) must fit the field.
-    if let Some(s) = args.edit_sizes.iter().find(|s| !(32..=16384).contains(*s)) {
-        anyhow::bail!("--edit-sizes must lie in 32..=16384, got {s}");
+    if let Some(s) = args
+        .edit_sizes
+        .iter()
+        .find(|s| !(32..=MAX_SIDE).contains(*s))
+    {
+        anyhow::bail!("--edit-sizes must lie in 32..={MAX_SIDE}, got {s}");
     }
     Ok(cfg)
 }
@@ -170,8 +174,8 @@ fn validate(cfg: &SweepConfig) -> anyhow::Result<()> {
     {
         anyhow::bail!("--depth-scales must be finite and above 0, got {s}");
     }
-    if let Some(s) = cfg.sizes.iter().find(|s| **s == 0 || **s > 16384) {
-        anyhow::bail!("--sizes must lie in 1..=16384, got {s}");
+    if let Some(s) = cfg.sizes.iter().find(|s| **s == 0 || **s > MAX_SIDE) {
+        anyhow::bail!("--sizes must lie in 1..={MAX_SIDE}, got {s}");
     }
     if cfg.methods.is_empty()
         || cfg.fields.is_empty()
