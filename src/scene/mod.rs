@@ -61,6 +61,7 @@ use crate::method::Method;
 pub struct SceneImage {
     /// Where it came from, for messages: a file name, `"embedded #3"`, ...
     pub name: String,
+    /// The decoded pixels, shared by every texture that reads them.
     pub pixels: Arc<image::DynamicImage>,
 }
 
@@ -72,12 +73,18 @@ pub enum LightKind {
     /// From `Light::position` in every direction.
     Point,
     /// From `Light::position` around `Light::direction`; angles in radians from the axis.
-    Spot { inner_cone: f32, outer_cone: f32 },
+    Spot {
+        /// Angle where the light starts to fall off.
+        inner_cone: f32,
+        /// Angle where it reaches 0.
+        outer_cone: f32,
+    },
 }
 
 /// A punctual light (KHR_lights_punctual semantics).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Light {
+    /// Directional, point or spot.
     pub kind: LightKind,
     /// World position (point and spot).
     pub position: Vec3,
@@ -113,8 +120,11 @@ impl Light {
 /// Everything a frame draws.
 #[derive(Debug, Clone, Default)]
 pub struct Scene {
+    /// Every mesh drawn, each naming its material by index.
     pub meshes: Vec<Mesh>,
+    /// The materials meshes point at.
     pub materials: Vec<Material>,
+    /// The images textures point at.
     pub images: Vec<SceneImage>,
     /// The camera to render with; `None` frames the scene's bounds.
     pub camera: Option<Camera>,

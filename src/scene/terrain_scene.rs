@@ -26,18 +26,26 @@ pub const TERRAIN_MESH: &str = "ground";
 /// One ground layer's images (height required; the others optional).
 #[derive(Debug, Clone)]
 pub struct GroundLayer {
+    /// The layer's name, for messages and the images' names.
     pub name: String,
+    /// Heights, white high.
     pub height: DynamicImage,
+    /// Colour, sRGB.
     pub albedo: Option<DynamicImage>,
+    /// Tangent-space normals.
     pub normal: Option<DynamicImage>,
+    /// Roughness.
     pub roughness: Option<DynamicImage>,
 }
 
 /// How the terrain scene is built.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TerrainOptions {
+    /// The tiled ground mesh.
     pub grid: GridOptions,
+    /// The method that traces the blended layers.
     pub method: Method,
+    /// How the layers blend.
     pub mode: BlendMode,
     /// Repeats of every layer across the terrain.
     pub tiling: f32,
