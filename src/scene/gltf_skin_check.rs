@@ -331,10 +331,13 @@ type SkinSets<'d> = (
     Option<usize>,
 );
 
+/// One skinning set's `n` with its joints and weights as read (`None` without data in the file).
+type SetData = (u32, Option<Vec<f32>>, Option<Vec<f32>>);
+
 /// Each of `vertices` vertices: joints below `joint_limit`, no joint twice with weight, weights
 /// non-negative and (when every set has its data) summing to 1.
 fn check_vertices(
-    data: &[(u32, Option<Vec<f32>>, Option<Vec<f32>>)],
+    data: &[SetData],
     vertices: usize,
     joint_limit: Option<usize>,
 ) -> Result<(), String> {
