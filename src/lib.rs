@@ -3,6 +3,7 @@
 
 pub mod bench;
 pub mod cells;
+pub mod geometry;
 pub mod heightfield;
 pub mod method;
 pub mod render;

@@ -15,10 +15,8 @@ use relief::render::{
     build_blended_pyramid_on_gpu, render, time_on_gpu, BlendedPyramid, FrameRequest, HeightFormat,
     LayerPainter, RenderOptions, Renderer,
 };
-use relief::terrain::{
-    procedural_layers, rules_splat, terrain_scene, BlendMode, BrushKind, LayerStack, SplatMap,
-    Stroke,
-};
+use relief::scene::{procedural_layers, rules_splat, terrain_scene};
+use relief::terrain::{BlendMode, BrushKind, LayerStack, SplatMap, Stroke};
 use relief::vk::Context;
 
 /// A deterministic stream in [0, 1).

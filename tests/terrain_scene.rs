@@ -11,8 +11,11 @@ use common::terrain::small_terrain;
 
 use relief::heightfield::{Generator, Heightfield};
 use relief::render::{render, RenderOptions};
-use relief::scene::{HeightSource, Material, Relief, Scene, UvTransform};
-use relief::terrain::{procedural_layers, rules_splat, terrain_scene, SplatMap};
+use relief::scene::{
+    procedural_layers, rules_splat, terrain_scene, HeightSource, Material, Relief, Scene,
+    UvTransform,
+};
+use relief::terrain::SplatMap;
 
 const WIDTH: u32 = 192;
 const HEIGHT: u32 = 128;

@@ -9,6 +9,7 @@ use std::sync::Arc;
 
 use serde::Serialize;
 
+use super::median::median;
 use crate::heightfield::{Address, Generator};
 use crate::render::{ElevationEditor, HeightFormat};
 use crate::terrain::{BrushKind, Stroke};
@@ -94,11 +95,6 @@ pub fn run_edit_section(
         });
     }
     Ok(out)
-}
-
-fn median(mut values: Vec<f64>) -> f64 {
-    values.sort_by(f64::total_cmp);
-    values.get(values.len() / 2).copied().unwrap_or(0.0)
 }
 
 /// The section's table (nothing when it was not run).

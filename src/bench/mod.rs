@@ -26,6 +26,7 @@ mod blending_report;
 mod depth_match;
 mod edits;
 mod lod;
+mod median;
 mod npy;
 mod paint_edits;
 mod report;
@@ -52,6 +53,7 @@ pub use lod::{
     downsample, image_error, receding_plane, render_interleaved, render_timed, run_lod_section,
     ImageError, LodConfig, LodRun, LodScaling, LodSection,
 };
+pub use median::median;
 pub use npy::write_npy_f32;
 pub use paint_edits::{run_paint_section, PaintCost};
 pub use report::render_report;

@@ -12,6 +12,7 @@ use std::time::Instant;
 
 use serde::Serialize;
 
+use super::median::median;
 use crate::heightfield::{mip_level_count, Address, Generator};
 use crate::render::{time_on_gpu, BlendedPyramid, HeightFormat, LayerPainter, PaintError};
 use crate::terrain::{BlendMode, BrushKind, LayerStack, SplatMap, Stroke, MAX_LAYERS};
@@ -168,11 +169,6 @@ fn measure(
         stroke_texels: texels[texels.len() / 2],
         all_texels,
     })
-}
-
-fn median(mut values: Vec<f64>) -> f64 {
-    values.sort_by(f64::total_cmp);
-    values.get(values.len() / 2).copied().unwrap_or(0.0)
 }
 
 /// The section's table (nothing when it was not run).

@@ -9,6 +9,7 @@ use std::time::Instant;
 use anyhow::Context as _;
 
 use super::depth_match::depth_budgets;
+use super::median::median;
 use super::results::{GpuMs, MapBuild, Run};
 use super::subgroup_steps::subgroup_steps;
 use super::sweep::{FieldSource, SweepConfig};
@@ -69,6 +70,8 @@ pub struct Job {
 /// grazing 5 degrees, at the sweep's main depth scale.
 const STIFF_FIELD: FieldSource = FieldSource::Synthetic(crate::heightfield::Generator::Spikes);
 const STIFF_ANGLE: f64 = 5.0;
+/// The view angle of sections 2 and 3, in degrees: neither grazing nor overhead.
+const MIDDLE_ANGLE: f64 = 30.0;
 
 /// Every job of `cfg`'s sweep, in run order.
 pub fn plan_jobs(cfg: &SweepConfig) -> Vec<Job> {
@@ -83,6 +86,23 @@ pub fn plan_jobs(cfg: &SweepConfig) -> Vec<Job> {
             azimuth: cfg.azimuths.first().copied().unwrap_or(0.0),
             depth_scale,
         };
+    let first = cfg
+        .fields
+        .first()
+        .cloned()
+        .unwrap_or(FieldSource::Synthetic(crate::heightfield::Generator::Fbm));
+    let mut jobs = error_vs_time_jobs(cfg, &base);
+    jobs.extend(scaling_jobs(cfg, &base, &first));
+    jobs.extend(depth_scale_jobs(cfg, &base, &first));
+    jobs
+}
+
+/// A job of the sweep at the first azimuth: (section, field, size, method, budget, angle, depth
+/// scale).
+type JobAt<'a> = dyn Fn(Section, &FieldSource, u32, Method, Budget, f64, f64) -> Job + 'a;
+
+/// Section 1: every field, method, budget, angle and azimuth at the main size and depth scale.
+fn error_vs_time_jobs(cfg: &SweepConfig, base: &JobAt) -> Vec<Job> {
     let mut jobs = Vec::new();
     let (size, depth) = (cfg.main_size(), cfg.main_depth_scale());
     for field in &cfg.fields {
@@ -106,22 +126,24 @@ pub fn plan_jobs(cfg: &SweepConfig) -> Vec<Job> {
             }
         }
     }
-    let first = cfg
-        .fields
-        .first()
-        .cloned()
-        .unwrap_or(FieldSource::Synthetic(crate::heightfield::Generator::Fbm));
-    let middle = 30.0;
+    jobs
+}
+
+/// Section 2: every method on the first field at each further size, and the step baseline with
+/// step caps grown to match the smallest size's.
+fn scaling_jobs(cfg: &SweepConfig, base: &JobAt, first: &FieldSource) -> Vec<Job> {
+    let mut jobs = Vec::new();
+    let (size, depth) = (cfg.main_size(), cfg.main_depth_scale());
     for &method in &cfg.methods {
         let budget = method.info().default_budget;
         for &s in cfg.sizes.iter().skip(1) {
             jobs.push(base(
                 Section::Scaling,
-                &first,
+                first,
                 s,
                 method,
                 budget,
-                middle,
+                MIDDLE_ANGLE,
                 depth,
             ));
         }
@@ -139,20 +161,26 @@ pub fn plan_jobs(cfg: &SweepConfig) -> Vec<Job> {
                     };
                     jobs.push(base(
                         Section::MatchedScaling,
-                        &first,
+                        first,
                         s,
                         method,
                         capped,
-                        middle,
+                        MIDDLE_ANGLE,
                         depth,
                     ));
                 }
             }
         }
     }
-    // Section 3 at every depth scale (the first too: section 1 does not try the larger caps), the
-    // tree baseline first: the step baseline's larger caps are skipped at run time once one has
-    // matched it (`depth_match::settled`).
+    jobs
+}
+
+/// Section 3 at every depth scale (the first too: section 1 does not try the larger caps), the
+/// tree baseline first: the step baseline's larger caps are skipped at run time once one has
+/// matched it (`depth_match::settled`).
+fn depth_scale_jobs(cfg: &SweepConfig, base: &JobAt, first: &FieldSource) -> Vec<Job> {
+    let mut jobs = Vec::new();
+    let (size, depth) = (cfg.main_size(), cfg.main_depth_scale());
     for role in [BenchRole::TreeBaseline, BenchRole::StepBaseline] {
         let Some(method) = Method::with_role(role).filter(|m| cfg.methods.contains(m)) else {
             continue;
@@ -166,11 +194,11 @@ pub fn plan_jobs(cfg: &SweepConfig) -> Vec<Job> {
             for b in budgets.iter().copied() {
                 jobs.push(base(
                     Section::DepthScale,
-                    &first,
+                    first,
                     size,
                     method,
                     b,
-                    middle,
+                    MIDDLE_ANGLE,
                     d,
                 ));
             }
@@ -278,9 +306,9 @@ impl Runner {
                     cpu.push(took.as_secs_f64() * 1e3);
                 }
             }
-            self.record_map_build(method, field, hf, median(&mut gpu), "gpu");
+            self.record_map_build(method, field, hf, median(gpu), "gpu");
             if !cpu.is_empty() {
-                self.record_map_build(method, field, hf, median(&mut cpu), "cpu");
+                self.record_map_build(method, field, hf, median(cpu), "cpu");
             }
         } else {
             self.record_map_build(method, field, hf, built.ms, built.on);
@@ -396,11 +424,6 @@ const CPU_MAP_MAX_SIDE: u32 = 1024;
 
 /// GPU and CPU builds of a map the table compares, taken in turns; the table shows each side's median.
 pub(crate) const MAP_BUILD_ROUNDS: usize = 3;
-
-fn median(values: &mut [f64]) -> f64 {
-    values.sort_by(f64::total_cmp);
-    values[values.len() / 2]
-}
 
 /// Whether the bench rebuilds `hf`'s map on the CPU, after a GPU build, for the map table.
 fn cpu_reference_wanted(hf: &Heightfield) -> bool {

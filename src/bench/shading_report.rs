@@ -6,6 +6,7 @@
 use std::fmt::Write as _;
 
 use super::ao::AoRun;
+use super::median::median;
 use super::shading::ShadowRun;
 use super::shadow_stability::ShadowStabilityCell;
 
@@ -17,14 +18,6 @@ fn distinct<T: PartialEq + Copy>(items: impl Iterator<Item = T>) -> Vec<T> {
         }
     }
     out
-}
-
-fn median(mut values: Vec<f64>) -> f64 {
-    if values.is_empty() {
-        return 0.0;
-    }
-    values.sort_by(f64::total_cmp);
-    values[values.len() / 2]
 }
 
 /// Writes the shadow section (nothing when no shadow was measured).
@@ -83,7 +76,7 @@ fn field_table(md: &mut String, runs: &[ShadowRun], field: &str) {
                 .map(|r| r.error.abs_error.p99)
                 .fold(0.0, f64::max);
             let leak = row.iter().map(|r| r.error.leak_rate).fold(0.0, f64::max);
-            let ms = median(row.iter().map(|r| r.shadow_ms).collect());
+            let ms = median(row.iter().map(|r| r.shadow_ms));
             let _ = writeln!(
                 md,
                 "| {mode} | {radius} | {} | {p99:.3} | {:.2}% | {ms:.2} |",
@@ -116,7 +109,7 @@ fn summary(md: &mut String, runs: &[ShadowRun]) {
             .map(|r| r.error.abs_error.mean)
             .fold(0.0, f64::max);
         let leak = mine.iter().map(|r| r.error.leak_rate).fold(0.0, f64::max);
-        let ms = median(mine.iter().map(|r| r.shadow_ms).collect());
+        let ms = median(mine.iter().map(|r| r.shadow_ms));
         times.push((mode, ms));
         let _ = writeln!(
             md,

@@ -2,6 +2,7 @@
 //! map size and depth scale, and the stability matrix; writes results.json, report.md and plots.
 
 use std::path::PathBuf;
+use std::sync::Arc;
 
 use anyhow::Context as _;
 use clap::Args;
@@ -11,16 +12,17 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use relief::bench::{
     blending_notes, depth_match_settled, measure_ao, measure_shadows, plan_jobs, render_report,
     run_blending_section, run_edit_section, run_lod_section, run_paint_section, run_stiff_case,
-    stiff_cases, AoConfig, BenchResults, BlendingConfig, FieldSource, LodConfig, Runner,
-    ShadingConfig, SweepConfig,
+    stiff_cases, AoConfig, AoRun, BenchResults, BlendingConfig, FieldSource, Job, LodConfig, Run,
+    Runner, ShadingConfig, ShadowRun, StabilityCell, StiffCase, SweepConfig,
 };
 
 /// The brush radius of the terrain-edit section, in texels (the stroke).
 const EDIT_RADIUS: f32 = 32.0;
-use relief::heightfield::{Address, Generator};
+use relief::heightfield::{Address, Generator, MAX_SIDE};
 use relief::method::Method;
 use relief::render::HeightFormat;
 use relief::scene::AoMode;
+use relief::vk::Context;
 
 use super::scene_args::FormatArg;
 
@@ -153,8 +155,12 @@ fn config(args: &BenchArgs) -> anyhow::Result<SweepConfig> {
     };
     validate(&cfg)?;
     // The strokes (radius EDIT_RADIUS, an eighth of it on the splat map) must fit the field.
-    if let Some(s) = args.edit_sizes.iter().find(|s| !(32..=16384).contains(*s)) {
-        anyhow::bail!("--edit-sizes must lie in 32..=16384, got {s}");
+    if let Some(s) = args
+        .edit_sizes
+        .iter()
+        .find(|s| !(32..=MAX_SIDE).contains(*s))
+    {
+        anyhow::bail!("--edit-sizes must lie in 32..={MAX_SIDE}, got {s}");
     }
     Ok(cfg)
 }
@@ -170,8 +176,8 @@ fn validate(cfg: &SweepConfig) -> anyhow::Result<()> {
     {
         anyhow::bail!("--depth-scales must be finite and above 0, got {s}");
     }
-    if let Some(s) = cfg.sizes.iter().find(|s| **s == 0 || **s > 16384) {
-        anyhow::bail!("--sizes must lie in 1..=16384, got {s}");
+    if let Some(s) = cfg.sizes.iter().find(|s| **s == 0 || **s > MAX_SIDE) {
+        anyhow::bail!("--sizes must lie in 1..={MAX_SIDE}, got {s}");
     }
     if cfg.methods.is_empty()
         || cfg.fields.is_empty()
@@ -201,69 +207,15 @@ fn progress(total: usize, quiet: bool) -> ProgressBar {
     bar
 }
 
-fn note(bar: &ProgressBar, what: &str, quiet: bool) {
-    if !quiet && !std::io::stderr().is_terminal() {
-        eprintln!(
-            "[{}/{}] {what}",
-            bar.position() + 1,
-            bar.length().unwrap_or(0)
-        );
-    }
-    bar.set_message(what.to_owned());
-}
-
-pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
-    let cfg = config(args)?;
-    let ctx = super::open_device(args.device.as_deref(), args.json)?;
-    let only_other = args.shading_only || args.lod_only || args.stability_only;
-    let jobs = if only_other {
-        Vec::new()
-    } else {
-        plan_jobs(&cfg)
-    };
-    let shading = (!args.no_shading && !args.lod_only && !args.stability_only).then(|| {
-        if cfg.quick {
-            ShadingConfig::quick()
-        } else {
-            ShadingConfig::full()
-        }
-    });
-    let largest = if cfg.quick {
-        1024
-    } else {
-        8192.min(ctx.info().max_image_dimension_2d)
-    };
-    let cases = if cfg.stability && !(args.shading_only || args.lod_only) {
-        stiff_cases(largest, cfg.quick)
-    } else {
-        Vec::new()
-    };
-    let ao_config = if cfg.quick {
-        AoConfig::quick()
-    } else {
-        AoConfig::full()
-    };
-    let ao_modes = AoMode::all().len();
-    let shading_steps = shading.as_ref().map_or(0, |s| {
-        cfg.fields.len() * (s.elevations.len() * s.radii.len() * (s.modes.len() + 1) + ao_modes)
-    });
-    let shadow_stability_wanted = shading.is_some() && cfg.stability;
-    let lod_wanted = !(args.no_lod || args.shading_only || args.stability_only);
-    let edits_wanted = !(args.no_edits || only_other);
-    let blending_wanted = !(args.no_blending || only_other);
-    let bar = progress(
-        jobs.len()
-            + cases.len() * cfg.methods.len()
-            + shading_steps
-            + usize::from(shadow_stability_wanted)
-            + usize::from(lod_wanted)
-            + 2 * usize::from(edits_wanted)
-            + usize::from(blending_wanted),
-        args.json,
-    );
-    let mut runner = Runner::new(ctx.clone(), cfg.clone());
+/// The sweep: every job, but those [`depth_match_settled`] skips.
+fn measure_runs(
+    runner: &mut Runner,
+    jobs: &[Job],
+    bar: &ProgressBar,
+    quiet: bool,
+) -> anyhow::Result<Vec<Run>> {
     let mut runs = Vec::with_capacity(jobs.len());
-    for job in &jobs {
+    for job in jobs {
         if depth_match_settled(job, &runs) {
             bar.inc(1);
             continue;
@@ -275,7 +227,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
             job.size,
             job.angle
         );
-        note(&bar, &what, args.json);
+        note(bar, &what, quiet);
         let run = runner.measure(job).with_context(|| {
             format!(
                 "measuring {} on {} at {} deg",
@@ -287,36 +239,165 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         runs.push(run);
         bar.inc(1);
     }
+    Ok(runs)
+}
+
+/// The stability matrix: every method on every stiff case.
+fn measure_stability(
+    ctx: &Arc<Context>,
+    cases: &[StiffCase],
+    methods: &[Method],
+    bar: &ProgressBar,
+    quiet: bool,
+) -> Vec<StabilityCell> {
     let mut stability = Vec::new();
-    for case in &cases {
-        for &method in &cfg.methods {
-            note(
-                &bar,
-                &format!("stability: {method} on {}", case.name),
-                args.json,
-            );
-            stability.push(run_stiff_case(&ctx, case, method));
+    for case in cases {
+        for &method in methods {
+            note(bar, &format!("stability: {method} on {}", case.name), quiet);
+            stability.push(run_stiff_case(ctx, case, method));
             bar.inc(1);
         }
     }
+    stability
+}
+
+/// Shadows and AO on every field.
+fn measure_shading(
+    runner: &mut Runner,
+    shading: &ShadingConfig,
+    ao_config: &AoConfig,
+    fields: &[FieldSource],
+    bar: &ProgressBar,
+    quiet: bool,
+) -> anyhow::Result<(Vec<ShadowRun>, Vec<AoRun>)> {
     let mut shadows = Vec::new();
     let mut ao = Vec::new();
-    if let Some(shading) = &shading {
-        for field in &cfg.fields {
-            let mut note_step = |what: &str| {
-                note(&bar, what, args.json);
-                bar.inc(1);
-            };
-            shadows.extend(
-                measure_shadows(&mut runner, shading, field, &mut note_step)
-                    .with_context(|| format!("measuring shadows on {}", field.name()))?,
-            );
-            ao.extend(
-                measure_ao(&mut runner, &ao_config, field, &mut note_step)
-                    .with_context(|| format!("measuring AO on {}", field.name()))?,
-            );
+    for field in fields {
+        let mut note_step = |what: &str| {
+            note(bar, what, quiet);
+            bar.inc(1);
+        };
+        shadows.extend(
+            measure_shadows(runner, shading, field, &mut note_step)
+                .with_context(|| format!("measuring shadows on {}", field.name()))?,
+        );
+        ao.extend(
+            measure_ao(runner, ao_config, field, &mut note_step)
+                .with_context(|| format!("measuring AO on {}", field.name()))?,
+        );
+    }
+    Ok((shadows, ao))
+}
+
+fn note(bar: &ProgressBar, what: &str, quiet: bool) {
+    if !quiet && !std::io::stderr().is_terminal() {
+        eprintln!(
+            "[{}/{}] {what}",
+            bar.position() + 1,
+            bar.length().unwrap_or(0)
+        );
+    }
+    bar.set_message(what.to_owned());
+}
+
+/// What one `relief bench` measures, from its flags: the sweep's jobs and which other sections
+/// run, with their settings.
+struct Sections {
+    jobs: Vec<Job>,
+    shading: Option<ShadingConfig>,
+    cases: Vec<StiffCase>,
+    ao_config: AoConfig,
+    shadow_stability_wanted: bool,
+    lod_wanted: bool,
+    edits_wanted: bool,
+    blending_wanted: bool,
+}
+
+impl Sections {
+    fn new(args: &BenchArgs, cfg: &SweepConfig, ctx: &Context) -> Sections {
+        let only_other = args.shading_only || args.lod_only || args.stability_only;
+        let jobs = if only_other {
+            Vec::new()
+        } else {
+            plan_jobs(cfg)
+        };
+        let shading = (!args.no_shading && !args.lod_only && !args.stability_only).then(|| {
+            if cfg.quick {
+                ShadingConfig::quick()
+            } else {
+                ShadingConfig::full()
+            }
+        });
+        let largest = if cfg.quick {
+            1024
+        } else {
+            8192.min(ctx.info().max_image_dimension_2d)
+        };
+        let cases = if cfg.stability && !(args.shading_only || args.lod_only) {
+            stiff_cases(largest, cfg.quick)
+        } else {
+            Vec::new()
+        };
+        let ao_config = if cfg.quick {
+            AoConfig::quick()
+        } else {
+            AoConfig::full()
+        };
+        Sections {
+            jobs,
+            shadow_stability_wanted: shading.is_some() && cfg.stability,
+            shading,
+            cases,
+            ao_config,
+            lod_wanted: !(args.no_lod || args.shading_only || args.stability_only),
+            edits_wanted: !(args.no_edits || only_other),
+            blending_wanted: !(args.no_blending || only_other),
         }
     }
+
+    /// The progress bar's length: one step per job, stability case and method, shading
+    /// measurement, and one or two per other section.
+    fn steps(&self, cfg: &SweepConfig) -> usize {
+        let ao_modes = AoMode::all().len();
+        let shading_steps = self.shading.as_ref().map_or(0, |s| {
+            cfg.fields.len() * (s.elevations.len() * s.radii.len() * (s.modes.len() + 1) + ao_modes)
+        });
+        self.jobs.len()
+            + self.cases.len() * cfg.methods.len()
+            + shading_steps
+            + usize::from(self.shadow_stability_wanted)
+            + usize::from(self.lod_wanted)
+            + 2 * usize::from(self.edits_wanted)
+            + usize::from(self.blending_wanted)
+    }
+}
+
+pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
+    let cfg = config(args)?;
+    let ctx = super::open_device(args.device.as_deref(), args.json)?;
+    let sections = Sections::new(args, &cfg, &ctx);
+    let bar = progress(sections.steps(&cfg), args.json);
+    let mut runner = Runner::new(ctx.clone(), cfg.clone());
+    let runs = measure_runs(&mut runner, &sections.jobs, &bar, args.json)?;
+    let stability = measure_stability(&ctx, &sections.cases, &cfg.methods, &bar, args.json);
+    let (shadows, ao) = match &sections.shading {
+        Some(shading) => measure_shading(
+            &mut runner,
+            shading,
+            &sections.ao_config,
+            &cfg.fields,
+            &bar,
+            args.json,
+        )?,
+        None => (Vec::new(), Vec::new()),
+    };
+    let Sections {
+        shadow_stability_wanted,
+        lod_wanted,
+        edits_wanted,
+        blending_wanted,
+        ..
+    } = sections;
     let shadow_stability = if shadow_stability_wanted {
         note(&bar, "stability: shadows under extreme lights", args.json);
         let rows = relief::bench::shadow_stability(&ctx);

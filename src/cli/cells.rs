@@ -5,6 +5,7 @@
 
 use std::io::BufWriter;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 use std::time::Instant;
 
 use anyhow::Context as _;
@@ -17,8 +18,10 @@ use relief::cells::{
 };
 use relief::render::march_cells_on_gpu;
 use relief::scene::{load_gltf, Mesh, Scene, SceneOptions};
+use relief::vk::Context;
 use serde_json::json;
 
+use super::cells_compare::RenderComparison;
 use super::{cells_compare, cells_lookup};
 
 /// Procedural closed meshes with known shapes.
@@ -171,6 +174,80 @@ fn write_atlas(path: &Path, maps: &CellMaps) -> anyhow::Result<(u32, u32)> {
 }
 
 pub fn run(args: &CellsArgs) -> anyhow::Result<()> {
+    check_args(args)?;
+    let dir = parse_dir(&args.dir)?;
+    let render_size = match &args.render {
+        Some(text) => Some(super::parse_size("--render", text)?),
+        None => None,
+    };
+    let (name, mesh, scene) = load_mesh(args)?;
+    std::fs::create_dir_all(&args.out)
+        .with_context(|| format!("creating {}", args.out.display()))?;
+    let started = Instant::now();
+    let (grid, maps) = build_complex(args, &name, &mesh)?;
+    let build_ms = started.elapsed().as_secs_f64() * 1e3;
+    let atlas = write_atlas(&args.out.join("maps.png"), &maps)?;
+    cells_lookup::write_lookup(&args.out.join("lookup.json"), &grid, &maps)?;
+    let measured = if args.rays > 0 {
+        Some(measure_on_cpu(args, &mesh, &grid, &maps, dir)?)
+    } else {
+        None
+    };
+    let ctx = if (args.gpu && args.rays > 0) || render_size.is_some() {
+        Some(super::open_device(args.device.as_deref(), false)?)
+    } else {
+        None
+    };
+    let gpu_measured = match (args.gpu, args.rays > 0, &ctx) {
+        (true, true, Some(ctx)) => Some(measure_on_gpu(args, ctx, &mesh, &grid, &maps, dir)?),
+        _ => None,
+    };
+    let rendered = match (render_size, &ctx) {
+        (Some(size), Some(ctx)) => {
+            let options = cells_compare::options(
+                args.resolution,
+                args.overlap,
+                args.max_grid.max(1),
+                args.grid,
+            );
+            let compared = cells_compare::compare(ctx, &scene, options, size, &args.out)?;
+            super::check_validation(ctx)?;
+            Some(compared)
+        }
+        _ => None,
+    };
+    if let Some(path) = &args.mesh_out {
+        write_rebuilt_mesh(path, args.mesh_level, &name, &grid, &maps)?;
+    }
+    let (white, grey, black) = grid.counts();
+    let stats = json!({
+        "mesh": name,
+        "triangles": mesh.triangles().len(),
+        "grid": grid.n(),
+        "grey_cells": grey,
+        "white_cells": white,
+        "black_cells": black,
+        "domain_faces": maps.faces.len(),
+        "map_resolution": maps.resolution,
+        "atlas": [atlas.0, atlas.1],
+        "bytes": maps.bytes(),
+        "overlap_ratio": maps.overlap_ratio,
+        "build_ms": build_ms,
+        "hits": measured,
+        "gpu_hits": gpu_measured,
+        "render": rendered,
+    });
+    let path = args.out.join("cells.json");
+    std::fs::write(&path, serde_json::to_string_pretty(&stats)?)
+        .with_context(|| format!("writing {}", path.display()))?;
+    print_summary(&name, &mesh, &grid, &maps, build_ms, measured.as_ref());
+    print_gpu_results(gpu_measured.as_ref(), rendered.as_ref());
+    println!("wrote {}", path.display());
+    Ok(())
+}
+
+/// Refuses flags out of range before anything is loaded.
+fn check_args(args: &CellsArgs) -> anyhow::Result<()> {
     if args.resolution == 0 || args.resolution > 4096 {
         anyhow::bail!(
             "--resolution {}: a map needs 1 to 4096 texels a side",
@@ -185,21 +262,22 @@ pub fn run(args: &CellsArgs) -> anyhow::Result<()> {
             anyhow::bail!("--grid {n}: from 1 to 256 cells a side");
         }
     }
-    let dir = parse_dir(&args.dir)?;
-    let render_size = match &args.render {
-        Some(text) => Some(super::parse_size("--render", text)?),
-        None => None,
-    };
-    let (name, mesh, scene) = load_mesh(args)?;
-    std::fs::create_dir_all(&args.out)
-        .with_context(|| format!("creating {}", args.out.display()))?;
-    let started = Instant::now();
-    let (grid, maps) = match args.grid {
-        Some(n) => fixed_grid(&mesh, n, args.resolution)
+    Ok(())
+}
+
+/// The cell grid and its distance maps: `--grid` when given, else the grid refined until the
+/// maps overlap less than `--overlap`, with a note when it stopped short of that.
+fn build_complex(
+    args: &CellsArgs,
+    name: &str,
+    mesh: &ClosedMesh,
+) -> anyhow::Result<(CellGrid, CellMaps)> {
+    Ok(match args.grid {
+        Some(n) => fixed_grid(mesh, n, args.resolution)
             .map_err(|e| anyhow::anyhow!("{name}: {e}; lower --grid or --resolution"))?,
         None => {
             let (grid, maps, why) = choose_grid_within(
-                &mesh,
+                mesh,
                 args.resolution,
                 args.overlap,
                 args.max_grid.max(1),
@@ -223,115 +301,98 @@ pub fn run(args: &CellsArgs) -> anyhow::Result<()> {
             }
             (grid, maps)
         }
-    };
-    let build_ms = started.elapsed().as_secs_f64() * 1e3;
-    let (white, grey, black) = grid.counts();
-    let atlas = write_atlas(&args.out.join("maps.png"), &maps)?;
-    cells_lookup::write_lookup(&args.out.join("lookup.json"), &grid, &maps)?;
-    let measured = if args.rays > 0 {
-        eprintln!(
-            "marching {0}x{0} rays through the complex and against every triangle...",
-            args.rays
-        );
-        let (agreement, outcomes) = measure_hits(&mesh, &grid, &maps, dir, args.rays);
-        if args.dump {
-            let values: Vec<f32> = outcomes
-                .iter()
-                .flat_map(|o| [o.exact, o.chord, o.marched, f64::from(o.samples)].map(|v| v as f32))
-                .collect();
-            let path = args.out.join("rays.npy");
-            let side = args.rays as usize;
-            write_npy_f32(&path, &[side, side, 4], &values)
-                .with_context(|| format!("writing {}", path.display()))?;
-        }
-        Some(agreement)
-    } else {
-        None
-    };
-    let ctx = if (args.gpu && args.rays > 0) || render_size.is_some() {
-        Some(super::open_device(args.device.as_deref(), false)?)
-    } else {
-        None
-    };
-    let gpu_measured = if let (true, true, Some(ctx)) = (args.gpu, args.rays > 0, &ctx) {
-        let rays = parallel_rays(&mesh, dir, args.rays);
-        let packed = PackedComplex::new(&grid, &maps);
-        let traced = march_cells_on_gpu(ctx, &packed, &rays, MarchSettings::default())
-            .context("marching the rays on the GPU")?;
-        super::check_validation(ctx)?;
-        let (agreement, _) = compare_hits(
-            &mesh,
-            &grid,
-            maps.resolution,
-            &rays,
-            &traced.hits,
-            traced.gpu_ms / 1e3,
-        );
-        Some(agreement)
-    } else {
-        None
-    };
-    let rendered = match (render_size, &ctx) {
-        (Some(size), Some(ctx)) => {
-            let options = cells_compare::options(
-                args.resolution,
-                args.overlap,
-                args.max_grid.max(1),
-                args.grid,
-            );
-            let compared = cells_compare::compare(ctx, &scene, options, size, &args.out)?;
-            super::check_validation(ctx)?;
-            Some(compared)
-        }
-        _ => None,
-    };
-    if let Some(path) = &args.mesh_out {
-        let rebuilt = rebuild(&grid, &maps, args.mesh_level);
-        let file =
-            std::fs::File::create(path).with_context(|| format!("creating {}", path.display()))?;
-        let comment = format!(
-            "{name}: rebuilt from {} distance maps of {}^2 at mip {}",
-            maps.faces.len(),
-            maps.resolution,
-            args.mesh_level
-        );
-        rebuilt
-            .write_obj(&mut BufWriter::new(file), &comment)
+    })
+}
+
+/// Marches `--rays` squared parallel rays through the complex on the CPU against every triangle,
+/// dumping each ray's outcome with `--dump`.
+fn measure_on_cpu(
+    args: &CellsArgs,
+    mesh: &ClosedMesh,
+    grid: &CellGrid,
+    maps: &CellMaps,
+    dir: [f64; 3],
+) -> anyhow::Result<HitAgreement> {
+    eprintln!(
+        "marching {0}x{0} rays through the complex and against every triangle...",
+        args.rays
+    );
+    let (agreement, outcomes) = measure_hits(mesh, grid, maps, dir, args.rays);
+    if args.dump {
+        let values: Vec<f32> = outcomes
+            .iter()
+            .flat_map(|o| [o.exact, o.chord, o.marched, f64::from(o.samples)].map(|v| v as f32))
+            .collect();
+        let path = args.out.join("rays.npy");
+        let side = args.rays as usize;
+        write_npy_f32(&path, &[side, side, 4], &values)
             .with_context(|| format!("writing {}", path.display()))?;
-        println!(
-            "rebuilt mesh: {} triangles -> {}",
-            rebuilt.triangles.len(),
-            path.display()
-        );
     }
-    let stats = json!({
-        "mesh": name,
-        "triangles": mesh.triangles().len(),
-        "grid": grid.n(),
-        "grey_cells": grey,
-        "white_cells": white,
-        "black_cells": black,
-        "domain_faces": maps.faces.len(),
-        "map_resolution": maps.resolution,
-        "atlas": [atlas.0, atlas.1],
-        "bytes": maps.bytes(),
-        "overlap_ratio": maps.overlap_ratio,
-        "build_ms": build_ms,
-        "hits": measured,
-        "gpu_hits": gpu_measured,
-        "render": rendered,
-    });
-    let path = args.out.join("cells.json");
-    std::fs::write(&path, serde_json::to_string_pretty(&stats)?)
+    Ok(agreement)
+}
+
+/// The same rays marched by `cells_march.comp`, compared with the exact hits.
+fn measure_on_gpu(
+    args: &CellsArgs,
+    ctx: &Arc<Context>,
+    mesh: &ClosedMesh,
+    grid: &CellGrid,
+    maps: &CellMaps,
+    dir: [f64; 3],
+) -> anyhow::Result<HitAgreement> {
+    let rays = parallel_rays(mesh, dir, args.rays);
+    let packed = PackedComplex::new(grid, maps);
+    let traced = march_cells_on_gpu(ctx, &packed, &rays, MarchSettings::default())
+        .context("marching the rays on the GPU")?;
+    super::check_validation(ctx)?;
+    let (agreement, _) = compare_hits(
+        mesh,
+        grid,
+        maps.resolution,
+        &rays,
+        &traced.hits,
+        traced.gpu_ms / 1e3,
+    );
+    Ok(agreement)
+}
+
+/// `--mesh-out`: the surface rebuilt from the distance maps at mip `level`, as OBJ.
+fn write_rebuilt_mesh(
+    path: &Path,
+    level: u32,
+    name: &str,
+    grid: &CellGrid,
+    maps: &CellMaps,
+) -> anyhow::Result<()> {
+    let rebuilt = rebuild(grid, maps, level);
+    let file =
+        std::fs::File::create(path).with_context(|| format!("creating {}", path.display()))?;
+    let comment = format!(
+        "{name}: rebuilt from {} distance maps of {}^2 at mip {}",
+        maps.faces.len(),
+        maps.resolution,
+        level
+    );
+    rebuilt
+        .write_obj(&mut BufWriter::new(file), &comment)
         .with_context(|| format!("writing {}", path.display()))?;
-    print_summary(&name, &mesh, &grid, &maps, build_ms, measured.as_ref());
-    if let Some(h) = &gpu_measured {
+    println!(
+        "rebuilt mesh: {} triangles -> {}",
+        rebuilt.triangles.len(),
+        path.display()
+    );
+    Ok(())
+}
+
+/// The lines for the GPU march and the render comparison, when they ran.
+fn print_gpu_results(gpu_measured: Option<&HitAgreement>, rendered: Option<&RenderComparison>) {
+    if let Some(h) = gpu_measured {
         println!(
             "GPU march: {} of {} rays cross the solid, {} missed; error mean {:.5}, max {:.5} cell sides; {:.0} rays/s",
             h.solid, h.rays, h.missed_solid, h.mean_error, h.max_error, h.rays_per_second
         );
     }
-    if let Some(r) = &rendered {
+    if let Some(r) = rendered {
         println!(
             "render {}x{}: mean channel difference {:.3} against the rasterised mesh ({:.3} over its {} pixels); cells pass {:.2} ms ({:.2} M pixels/s), rasterised {:.2} ms",
             r.width,
@@ -344,8 +405,6 @@ pub fn run(args: &CellsArgs) -> anyhow::Result<()> {
             r.raster_ms
         );
     }
-    println!("wrote {}", path.display());
-    Ok(())
 }
 
 fn print_summary(

@@ -7,7 +7,7 @@ use std::path::Path;
 
 use anyhow::Context as _;
 use glam::{Mat4, Vec3};
-use relief::bench::image_error;
+use relief::bench::{image_error, median};
 use relief::cells::{ClosedMesh, MeshSelection};
 use relief::render::{CellsOptions, FrameRequest, Pass, RenderOptions, Renderer};
 use relief::scene::{Material, Mesh, Scene, Vertex};
@@ -166,8 +166,7 @@ fn draw(
             .sum();
         times.push(ms);
     }
-    times.sort_by(f64::total_cmp);
-    Ok((rgba, times[times.len() / 2]))
+    Ok((rgba, median(times)))
 }
 
 /// The cells options of `relief cells`'s arguments for every mesh of the scene.

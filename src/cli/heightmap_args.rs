@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 
 use clap::Args;
-use relief::heightfield::{Channel, Generator, Heightfield, LoadOptions};
+use relief::heightfield::{Channel, Generator, Heightfield, LoadOptions, MAX_SIDE};
 
 #[derive(Args, Debug, Clone)]
 pub struct HeightmapArgs {
@@ -56,8 +56,8 @@ impl HeightmapArgs {
         let Some(generator) = self.field else {
             return Ok(None);
         };
-        if self.size == 0 || self.size > 16384 {
-            anyhow::bail!("--size {} is outside 1..=16384", self.size);
+        if self.size == 0 || self.size > MAX_SIDE {
+            anyhow::bail!("--size {} is outside 1..={MAX_SIDE}", self.size);
         }
         let hf = generator.generate(self.size, self.size, self.seed);
         let name = format!("synthetic {} {}x{}", generator.name(), self.size, self.size);

@@ -27,6 +27,7 @@ mod view;
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
+use relief::heightfield::MAX_SIDE;
 use relief::vk::{Context, ContextOptions, VkError};
 
 /// Exit code when no Vulkan device (or loader) exists, as automake's "skipped".
@@ -123,15 +124,24 @@ pub fn open_device(filter: Option<&str>, quiet: bool) -> anyhow::Result<std::syn
     Ok(ctx)
 }
 
-/// An image size `WxH` given to `flag`, each side within 1..=16384.
+/// An image size `WxH` given to `flag`, each side within 1..=[`MAX_SIDE`].
 pub fn parse_size(flag: &str, text: &str) -> anyhow::Result<(u32, u32)> {
-    match text
-        .split_once('x')
-        .map(|(w, h)| (w.parse::<u32>(), h.parse::<u32>()))
-    {
-        Some((Ok(w), Ok(h))) if (1..=16384).contains(&w) && (1..=16384).contains(&h) => Ok((w, h)),
-        _ => anyhow::bail!("{flag} must be WxH within 1..=16384, got {text:?}"),
+    match parse_wxh(text) {
+        Some((w, h)) if within_max_side(w, h) => Ok((w, h)),
+        _ => anyhow::bail!("{flag} must be WxH within 1..={MAX_SIDE}, got {text:?}"),
     }
+}
+
+/// The two numbers of `WxH` (an image size, a grid of rays), whatever their range; `None` unless
+/// both parse.
+pub fn parse_wxh(text: &str) -> Option<(u32, u32)> {
+    let (w, h) = text.split_once('x')?;
+    Some((w.parse().ok()?, h.parse().ok()?))
+}
+
+/// Whether a `w` x `h` image has both sides within 1..=[`MAX_SIDE`].
+pub fn within_max_side(w: u32, h: u32) -> bool {
+    (1..=MAX_SIDE).contains(&w) && (1..=MAX_SIDE).contains(&h)
 }
 
 /// Fails if the validation layer reported errors while the command ran.

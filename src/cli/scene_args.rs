@@ -6,7 +6,7 @@ use std::path::PathBuf;
 use std::sync::Arc;
 
 use clap::{Args, ValueEnum};
-use relief::heightfield::{Address, Heightfield};
+use relief::heightfield::{Address, Heightfield, MAX_SIDE};
 use relief::method::Method;
 use relief::render::{HeightFormat, RenderOptions};
 use relief::scene::{
@@ -85,7 +85,6 @@ pub struct LoadedScene {
 }
 
 const DEFAULT_GLTF_DEPTH_SCALE: f32 = 0.05;
-const MAX_SIDE: u32 = 16384;
 
 impl SceneArgs {
     /// Checks the flags, loads the scene and the height map, and applies shading and LOD.
@@ -164,7 +163,7 @@ impl SceneArgs {
             }
         }
         let (w, h) = (self.width, self.height);
-        if w == 0 || h == 0 || w > MAX_SIDE || h > MAX_SIDE {
+        if !super::within_max_side(w, h) {
             anyhow::bail!("--width and --height must be within 1..={MAX_SIDE}, got {w}x{h}");
         }
         if let Some(s) = self.depth_scale {

@@ -9,11 +9,11 @@ use anyhow::Context as _;
 use clap::Args;
 use relief::heightfield::{Heightfield, LoadOptions};
 use relief::method::Method;
-use relief::scene::{Scene, MAX_LAYERED_RESOLUTION};
-use relief::terrain::{
-    ground_rules, procedural_layers, terrain_scene, BlendMode, GroundLayer, TerrainEditor,
-    TerrainOptions, MAX_LAYERS, TERRAIN_MESH,
+use relief::scene::{
+    ground_rules, procedural_layers, terrain_scene, GroundLayer, Scene, TerrainOptions,
+    MAX_LAYERED_RESOLUTION, TERRAIN_MESH,
 };
+use relief::terrain::{BlendMode, TerrainEditor, MAX_LAYERS};
 
 use super::terrain_edits::{PaintedLayers, TerrainEdits};
 

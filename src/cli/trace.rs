@@ -137,10 +137,7 @@ impl ShadowArgs {
 }
 
 fn parse_grid(text: &str) -> anyhow::Result<(u32, u32)> {
-    let parsed = text
-        .split_once('x')
-        .and_then(|(c, r)| Some((c.parse::<u32>().ok()?, r.parse::<u32>().ok()?)));
-    match parsed {
+    match super::parse_wxh(text) {
         Some((c, r)) if c > 0 && r > 0 && u64::from(c) * u64::from(r) <= 1 << 24 => Ok((c, r)),
         _ => anyhow::bail!("--grid must be COLSxROWS with 1..=16M rays, got {text:?}"),
     }

@@ -5,6 +5,7 @@ use std::path::PathBuf;
 
 use anyhow::Context as _;
 use clap::Args;
+use relief::heightfield::MAX_SIDE;
 use relief::view::{self, ViewError, ViewSetup};
 use relief::vk::{ContextOptions, PresentMode};
 
@@ -32,12 +33,11 @@ pub struct ViewArgs {
 fn parse_resize(text: &str) -> Result<(u64, (u32, u32)), String> {
     let bad = || format!("expected N:WxH (e.g. 10:640x360), got {text:?}");
     let (at, size) = text.split_once(':').ok_or_else(bad)?;
-    let (w, h) = size.split_once('x').ok_or_else(bad)?;
+    let (w, h) = super::parse_wxh(size).ok_or_else(bad)?;
     let at: u64 = at.parse().map_err(|_| bad())?;
-    let (w, h): (u32, u32) = (w.parse().map_err(|_| bad())?, h.parse().map_err(|_| bad())?);
-    if w == 0 || h == 0 || w > 16384 || h > 16384 {
+    if !super::within_max_side(w, h) {
         return Err(format!(
-            "the size must be within 1..=16384 each way, got {w}x{h}"
+            "the size must be within 1..={MAX_SIDE} each way, got {w}x{h}"
         ));
     }
     Ok((at, (w, h)))

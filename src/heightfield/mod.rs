@@ -53,6 +53,10 @@ pub use pyramid::{covered_range, mip_level_count, MaxPyramid, PyramidLevel};
 pub use reference::Address;
 pub use synthetic::Generator;
 
+/// The largest side, in texels, of a height field or an image relief makes: the GPU map builders
+/// pack texel indices in 14 bits, and every size the command line takes is held to the same bound.
+pub const MAX_SIDE: u32 = 16384;
+
 /// The largest value of a 16-bit UNORM texel, which stands for 1.0.
 const UNORM16_MAX: f32 = 65535.0;
 

@@ -5,7 +5,9 @@ use glam::{Mat4, Vec3};
 /// A camera placed in the world.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Camera {
+    /// World to view.
     pub view: Mat4,
+    /// View to clip space.
     pub projection: Projection,
 }
 
@@ -14,16 +16,24 @@ pub struct Camera {
 pub enum Projection {
     /// Vertical field of view in radians; `aspect` of `None` follows the image.
     Perspective {
+        /// Vertical field of view, radians.
         yfov: f32,
+        /// Width over height, `None` to follow the image.
         aspect: Option<f32>,
+        /// Distance of the near plane.
         znear: f32,
+        /// Distance of the far plane.
         zfar: f32,
     },
     /// Half extents of the view volume.
     Orthographic {
+        /// Half the view volume's width.
         xmag: f32,
+        /// Half the view volume's height.
         ymag: f32,
+        /// Distance of the near plane.
         znear: f32,
+        /// Distance of the far plane.
         zfar: f32,
     },
 }

@@ -38,18 +38,34 @@ impl Interpolation {
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum TrackError {
     #[error("a track needs at least one keyframe")]
+    /// No keyframe at all.
     NoKeys,
     #[error("keyframe time {index} ({time}) is not finite or not greater than the one before")]
-    Times { index: usize, time: f32 },
+    /// Keyframe times that are not finite or do not increase.
+    Times {
+        /// Which keyframe.
+        index: usize,
+        /// Its time.
+        time: f32,
+    },
     #[error("{values} values for {keys} keyframes, but {interpolation:?} needs {need}")]
+    /// A value count that does not fit the keyframes and interpolation.
     Count {
+        /// Values given.
         values: usize,
+        /// Keyframes given.
         keys: usize,
+        /// How the track interpolates.
         interpolation: Interpolation,
+        /// Values that interpolation needs for those keyframes.
         need: usize,
     },
     #[error("value {index} is not finite")]
-    NotFinite { index: usize },
+    /// A value that is not finite.
+    NotFinite {
+        /// Which value.
+        index: usize,
+    },
 }
 
 mod sealed {
@@ -221,7 +237,9 @@ impl<T: Keyframe> Track<T> {
 /// A property that holds its rest value or follows a track.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Keyed<T> {
+    /// Holds this value at every time.
     Rest(T),
+    /// Follows this track.
     Track(Track<T>),
 }
 
@@ -248,8 +266,11 @@ pub enum NodeMotion {
     Fixed(Mat4),
     /// A node whose translation, rotation and scale may each follow a track.
     Animated {
+        /// Local translation.
         translation: Keyed<Vec3>,
+        /// Local rotation.
         rotation: Keyed<Quat>,
+        /// Local scale.
         scale: Keyed<Vec3>,
     },
 }

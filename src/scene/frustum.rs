@@ -10,6 +10,7 @@ pub struct Frustum {
 }
 
 impl Frustum {
+    /// The planes of the clip volume of view-projection `m`.
     pub fn from_view_projection(m: Mat4) -> Frustum {
         let row = |k: usize| m.row(k);
         let (r0, r1, r2, r3) = (row(0), row(1), row(2), row(3));

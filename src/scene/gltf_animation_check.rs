@@ -63,20 +63,7 @@ pub(super) fn check_animations(
     let mut inputs_read = HashSet::new();
     let mut rotations_read = HashSet::new();
     for (a, anim) in json.animations.iter().enumerate() {
-        for (s, sampler) in anim.samplers.iter().enumerate() {
-            let cubic = sampler.interpolation == Checked::Valid(Interpolation::CubicSpline);
-            let input = accessor(doc, sampler.input.value())
-                .map_err(|e| format!("animation {a} sampler {s}: input {e}"))?;
-            accessor(doc, sampler.output.value())
-                .map_err(|e| format!("animation {a} sampler {s}: output {e}"))?;
-            let read = has_data(&input, zero_buffers) && inputs_read.insert(input.index());
-            check_input(doc, &input, cubic, read, buffers).map_err(|e| {
-                format!(
-                    "animation {a} sampler {s}: input accessor {}: {e}",
-                    input.index()
-                )
-            })?;
-        }
+        check_samplers(doc, a, anim, buffers, zero_buffers, &mut inputs_read)?;
         let mut targets: HashMap<(usize, &str), usize> = HashMap::new();
         for (c, channel) in anim.channels.iter().enumerate() {
             let here = || format!("animation {a} channel {c}");
@@ -122,22 +109,7 @@ pub(super) fn check_animations(
             let keys = accessor(doc, sampler.input.value())?.count();
             let output = accessor(doc, sampler.output.value())?;
             let o = output.index();
-            let (ok, want) = match path {
-                Property::Translation | Property::Scale => (
-                    output.dimensions() == Dimensions::Vec3
-                        && output.data_type() == DataType::F32
-                        && !output.normalized(),
-                    "Vec3 F32",
-                ),
-                Property::Rotation => (
-                    output.dimensions() == Dimensions::Vec4 && float_or_normalized(&output),
-                    "Vec4 F32 or normalized (u)byte/(u)short",
-                ),
-                Property::MorphTargetWeights => (
-                    output.dimensions() == Dimensions::Scalar && float_or_normalized(&output),
-                    "Scalar F32 or normalized (u)byte/(u)short",
-                ),
-            };
+            let (ok, want) = output_format(path, &output);
             if !ok {
                 return Err(format!(
                     "{} (sampler {s}): output accessor {o} is {} but {name} needs {want}",
@@ -170,6 +142,54 @@ pub(super) fn check_animations(
         }
     }
     Ok(())
+}
+
+/// Animation `a`'s samplers: their accessors exist and their inputs are keyframe times. Inputs
+/// shared with earlier samplers (`inputs_read`) are not read again.
+fn check_samplers(
+    doc: &gltf::Document,
+    a: usize,
+    anim: &gltf::json::Animation,
+    buffers: &[gltf::buffer::Data],
+    zero_buffers: usize,
+    inputs_read: &mut HashSet<usize>,
+) -> Result<(), String> {
+    for (s, sampler) in anim.samplers.iter().enumerate() {
+        let cubic = sampler.interpolation == Checked::Valid(Interpolation::CubicSpline);
+        let input = accessor(doc, sampler.input.value())
+            .map_err(|e| format!("animation {a} sampler {s}: input {e}"))?;
+        accessor(doc, sampler.output.value())
+            .map_err(|e| format!("animation {a} sampler {s}: output {e}"))?;
+        let read = has_data(&input, zero_buffers) && inputs_read.insert(input.index());
+        check_input(doc, &input, cubic, read, buffers).map_err(|e| {
+            format!(
+                "animation {a} sampler {s}: input accessor {}: {e}",
+                input.index()
+            )
+        })?;
+    }
+    Ok(())
+}
+
+/// Whether `output` has the element format a channel animating `path` reads, and that format
+/// for the message.
+fn output_format(path: Property, output: &gltf::Accessor) -> (bool, &'static str) {
+    match path {
+        Property::Translation | Property::Scale => (
+            output.dimensions() == Dimensions::Vec3
+                && output.data_type() == DataType::F32
+                && !output.normalized(),
+            "Vec3 F32",
+        ),
+        Property::Rotation => (
+            output.dimensions() == Dimensions::Vec4 && float_or_normalized(output),
+            "Vec4 F32 or normalized (u)byte/(u)short",
+        ),
+        Property::MorphTargetWeights => (
+            output.dimensions() == Dimensions::Scalar && float_or_normalized(output),
+            "Scalar F32 or normalized (u)byte/(u)short",
+        ),
+    }
 }
 
 /// Keyframe times: float scalars with min and max, at least two for CUBICSPLINE, and (when

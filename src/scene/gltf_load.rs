@@ -31,12 +31,19 @@ pub enum SceneError {
     /// The file itself could not be read.
     #[error("scene {path:?}: {source}")]
     Read {
+        /// The file.
         path: PathBuf,
+        /// Why it could not be read.
         source: std::io::Error,
     },
     /// The file is not glTF 2.0 the loader can use; `what` says where and why.
     #[error("scene {path:?}: {what}")]
-    Invalid { path: PathBuf, what: String },
+    Invalid {
+        /// The file.
+        path: PathBuf,
+        /// Where in it and why.
+        what: String,
+    },
 }
 
 /// Which scene and camera of a file to use.

@@ -101,6 +101,47 @@ fn check_and_patch(raw: &mut Value) -> Result<(), String> {
         .as_object_mut()
         .ok_or("JSON: the top level is not an object")?;
     check_asset(root)?;
+    check_empty_arrays(root)?;
+    check_positions(root)?;
+    check_image_sources(root)?;
+    for (i, skin) in array(root, "skins").iter().enumerate() {
+        if skin
+            .get("joints")
+            .and_then(Value::as_array)
+            .is_some_and(Vec::is_empty)
+        {
+            return Err(format!("skins[{i}].joints: empty array"));
+        }
+    }
+    check_buffer_uris(root)?;
+    for (i, cam) in array(root, "cameras").iter().enumerate() {
+        if cam.get("perspective").is_some() && cam.get("orthographic").is_some() {
+            return Err(format!(
+                "cameras[{i}]: has both perspective and orthographic"
+            ));
+        }
+    }
+    for (i, node) in array(root, "nodes").iter().enumerate() {
+        if node.get("mesh").is_none()
+            && (node.get("skin").is_some() || node.get("weights").is_some())
+        {
+            return Err(format!("nodes[{i}]: skin or weights without a mesh"));
+        }
+        if node
+            .get("children")
+            .and_then(Value::as_array)
+            .is_some_and(Vec::is_empty)
+        {
+            return Err(format!("nodes[{i}].children: empty array"));
+        }
+    }
+    patch_scene_nodes(root)?;
+    drop_extension_channels(root);
+    zero_fill_accessors(root)
+}
+
+/// Arrays the spec requires to be non-empty when present.
+fn check_empty_arrays(root: &Map<String, Value>) -> Result<(), String> {
     for key in [
         "accessors",
         "animations",
@@ -124,6 +165,11 @@ fn check_and_patch(raw: &mut Value) -> Result<(), String> {
             return Err(format!("{key}: empty array (omit it instead)"));
         }
     }
+    Ok(())
+}
+
+/// Primitives' POSITION accessors exist.
+fn check_positions(root: &Map<String, Value>) -> Result<(), String> {
     let accessors = root
         .get("accessors")
         .and_then(Value::as_array)
@@ -145,6 +191,11 @@ fn check_and_patch(raw: &mut Value) -> Result<(), String> {
             }
         }
     }
+    Ok(())
+}
+
+/// Images name one source and textures an image.
+fn check_image_sources(root: &Map<String, Value>) -> Result<(), String> {
     for (i, image) in array(root, "images").iter().enumerate() {
         // The gltf crate unwraps these.
         let (uri, view, mime) = (
@@ -165,15 +216,11 @@ fn check_and_patch(raw: &mut Value) -> Result<(), String> {
             ));
         }
     }
-    for (i, skin) in array(root, "skins").iter().enumerate() {
-        if skin
-            .get("joints")
-            .and_then(Value::as_array)
-            .is_some_and(Vec::is_empty)
-        {
-            return Err(format!("skins[{i}].joints: empty array"));
-        }
-    }
+    Ok(())
+}
+
+/// Embedded buffers are base64 binary data URIs.
+fn check_buffer_uris(root: &Map<String, Value>) -> Result<(), String> {
     for (i, buffer) in array(root, "buffers").iter().enumerate() {
         if let Some(uri) = buffer.get("uri").and_then(Value::as_str) {
             let ok = [
@@ -187,28 +234,12 @@ fn check_and_patch(raw: &mut Value) -> Result<(), String> {
             }
         }
     }
-    for (i, cam) in array(root, "cameras").iter().enumerate() {
-        if cam.get("perspective").is_some() && cam.get("orthographic").is_some() {
-            return Err(format!(
-                "cameras[{i}]: has both perspective and orthographic"
-            ));
-        }
-    }
-    for (i, node) in array(root, "nodes").iter().enumerate() {
-        if node.get("mesh").is_none()
-            && (node.get("skin").is_some() || node.get("weights").is_some())
-        {
-            return Err(format!("nodes[{i}]: skin or weights without a mesh"));
-        }
-        if node
-            .get("children")
-            .and_then(Value::as_array)
-            .is_some_and(Vec::is_empty)
-        {
-            return Err(format!("nodes[{i}].children: empty array"));
-        }
-    }
-    // glTF 2.0 makes scene.nodes optional; gltf-json requires it.
+    Ok(())
+}
+
+/// glTF 2.0 makes scene.nodes optional; gltf-json requires it, so scenes without get an empty
+/// list (an empty list given is refused).
+fn patch_scene_nodes(root: &mut Map<String, Value>) -> Result<(), String> {
     if let Some(scenes) = root.get_mut("scenes").and_then(Value::as_array_mut) {
         for (i, scene) in scenes.iter_mut().enumerate() {
             match scene.as_object_mut() {
@@ -226,8 +257,12 @@ fn check_and_patch(raw: &mut Value) -> Result<(), String> {
             }
         }
     }
-    // A channel without target.node animates something an extension names; gltf-json requires
-    // the node, and animations are not played here, so such channels are dropped.
+    Ok(())
+}
+
+/// A channel without target.node animates something an extension names; gltf-json requires
+/// the node, and animations are not played here, so such channels are dropped.
+fn drop_extension_channels(root: &mut Map<String, Value>) {
     if let Some(anims) = root.get_mut("animations").and_then(Value::as_array_mut) {
         for anim in anims {
             if let Some(channels) = anim.get_mut("channels").and_then(Value::as_array_mut) {
@@ -235,7 +270,6 @@ fn check_and_patch(raw: &mut Value) -> Result<(), String> {
             }
         }
     }
-    zero_fill_accessors(root)
 }
 
 /// glTF allows an accessor with neither bufferView nor sparse (all zeros); gltf-json rejects it,

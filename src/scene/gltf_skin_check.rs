@@ -236,6 +236,29 @@ fn check_primitive(
     buffers: &[gltf::buffer::Data],
     zero_buffers: usize,
 ) -> Result<(), String> {
+    let (sets, count) = skin_sets(doc, prim)?;
+    let read = |acc: &gltf::Accessor| -> Result<Option<Vec<f32>>, String> {
+        if has_data(acc, zero_buffers) {
+            gltf_accessor::read_f32(doc, acc, buffers)
+                .map(Some)
+                .map_err(|e| format!("accessor {}: {e}", acc.index()))
+        } else {
+            Ok(None)
+        }
+    };
+    let mut data = Vec::with_capacity(sets.len());
+    for (k, joints, weights) in &sets {
+        data.push((*k, read(joints)?, read(weights)?));
+    }
+    check_vertices(&data, count.unwrap_or(0), joint_limit)
+}
+
+/// The primitive's JOINTS_n and WEIGHTS_n accessors as `(n, joints, weights)`, checked for
+/// pairing, format and equal counts, with that count (`None` without skinning attributes).
+fn skin_sets<'d>(
+    doc: &'d gltf::Document,
+    prim: &gltf::json::mesh::Primitive,
+) -> Result<SkinSets<'d>, String> {
     let mut joint_sets = Vec::new();
     let mut weight_sets = Vec::new();
     for (semantic, index) in &prim.attributes {
@@ -253,7 +276,7 @@ fn check_primitive(
         ));
     }
     if joint_sets.is_empty() {
-        return Ok(());
+        return Ok((Vec::new(), None));
     }
     joint_sets.sort_unstable();
     weight_sets.sort_unstable();
@@ -299,26 +322,31 @@ fn check_primitive(
         }
         sets.push((jk, joints, weights));
     }
-    let read = |acc: &gltf::Accessor| -> Result<Option<Vec<f32>>, String> {
-        if has_data(acc, zero_buffers) {
-            gltf_accessor::read_f32(doc, acc, buffers)
-                .map(Some)
-                .map_err(|e| format!("accessor {}: {e}", acc.index()))
-        } else {
-            Ok(None)
-        }
-    };
-    let mut data = Vec::with_capacity(sets.len());
-    for (k, joints, weights) in &sets {
-        data.push((*k, read(joints)?, read(weights)?));
-    }
-    let vertices = count.unwrap_or(0);
+    Ok((sets, count))
+}
+
+/// The skinning accessors of a primitive, `(n, JOINTS_n, WEIGHTS_n)`, and their element count.
+type SkinSets<'d> = (
+    Vec<(u32, gltf::Accessor<'d>, gltf::Accessor<'d>)>,
+    Option<usize>,
+);
+
+/// One skinning set's `n` with its joints and weights as read (`None` without data in the file).
+type SetData = (u32, Option<Vec<f32>>, Option<Vec<f32>>);
+
+/// Each of `vertices` vertices: joints below `joint_limit`, no joint twice with weight, weights
+/// non-negative and (when every set has its data) summing to 1.
+fn check_vertices(
+    data: &[SetData],
+    vertices: usize,
+    joint_limit: Option<usize>,
+) -> Result<(), String> {
     let all_weights = data.iter().all(|d| d.2.is_some());
     let mut used: Vec<u32> = Vec::new();
     for v in 0..vertices {
         used.clear();
         let mut sum = 0.0f64;
-        for (k, joints, weights) in &data {
+        for (k, joints, weights) in data {
             for c in 0..4 {
                 let at = v * 4 + c;
                 let joint = joints.as_ref().map(|j| j[at] as u32);

@@ -18,7 +18,9 @@ use crate::terrain::{splat_from_vertex_colors, BlendMode, LayerError, MAX_LAYERS
 pub struct MaterialLayer {
     /// For messages and `--explain`.
     pub name: String,
+    /// The layer's heights.
     pub height: TextureRef,
+    /// Which channel of `height` holds them.
     pub height_channel: Channel,
     /// sRGB colour; white when absent.
     pub albedo: Option<TextureRef>,
@@ -41,7 +43,10 @@ pub enum LayerWeights {
     /// The vertex colours of the meshes that use the material, rasterised over their first uv
     /// set into a `resolution`^2 splat map by [`bake_vertex_color_weights`] (the glTF loader
     /// does so).
-    VertexColors { resolution: u32 },
+    VertexColors {
+        /// Side of the baked splat map, in texels.
+        resolution: u32,
+    },
     /// Vertex colours baked into this splat map: read like `Splat`, and the colours weigh the
     /// layers instead of tinting the material.
     BakedVertexColors(TextureRef),
@@ -54,6 +59,7 @@ pub struct Layers {
     pub layers: Vec<MaterialLayer>,
     /// Where each layer's weight comes from.
     pub weights: LayerWeights,
+    /// How the layers blend.
     pub mode: BlendMode,
     /// Side of the blended height field the method traces, in texels across the height uv.
     pub resolution: u32,
@@ -63,14 +69,34 @@ pub struct Layers {
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum LayersError {
     #[error("a layered material needs 1 to {MAX_LAYERS} layers, got {0}")]
+    /// Not 1 to 4 layers.
     Count(usize),
     #[error("layer {layer:?}: tiling must be a finite number above 0, got {value}")]
-    Tiling { layer: String, value: f32 },
+    /// A tiling that is not a finite number above 0.
+    Tiling {
+        /// The layer's name.
+        layer: String,
+        /// Its tiling.
+        value: f32,
+    },
     #[error("layer {layer:?}: depth must be within 0..=1, got {value}")]
-    Depth { layer: String, value: f32 },
+    /// A depth outside 0..=1.
+    Depth {
+        /// The layer's name.
+        layer: String,
+        /// Its depth.
+        value: f32,
+    },
     #[error("the blended field's resolution must be within 1..={max}, got {value}")]
-    Resolution { value: u32, max: u32 },
+    /// A blended field's side out of range.
+    Resolution {
+        /// The side asked for.
+        value: u32,
+        /// The largest side taken.
+        max: u32,
+    },
     #[error("its weights come from vertex colours not yet baked into a splat map (scene::bake_vertex_color_weights)")]
+    /// Vertex-colour weights not yet baked into a splat map.
     Unbaked,
 }
 

@@ -9,8 +9,10 @@ use crate::method::Method;
 /// How a texture's texels are filtered.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 pub enum Filter {
+    /// The closest texel.
     Nearest,
     #[default]
+    /// Bilinear between texels.
     Linear,
 }
 
@@ -18,19 +20,26 @@ pub enum Filter {
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
 pub enum Wrap {
     #[default]
+    /// Tiles.
     Repeat,
+    /// Tiles, every other tile mirrored.
     MirroredRepeat,
+    /// Holds the edge texel beyond the edge.
     ClampToEdge,
 }
 
 /// A texture's sampler (glTF `sampler`; defaults: linear, mipmapped, repeat).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub struct SamplerDesc {
+    /// Filter when magnified.
     pub mag: Filter,
+    /// Filter when minified.
     pub min: Filter,
     /// Whether minification reads mip levels (and, when so, whether it blends between them).
     pub mipmaps: Option<Filter>,
+    /// Addressing along u.
     pub wrap_u: Wrap,
+    /// Addressing along v.
     pub wrap_v: Wrap,
 }
 
@@ -49,9 +58,11 @@ impl Default for SamplerDesc {
 /// KHR_texture_transform: uv' = T * R * S * uv (glTF's order).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct UvTransform {
+    /// Added to the uv after scaling and rotation.
     pub offset: [f32; 2],
     /// Radians, counter-clockwise in uv space as the extension defines it.
     pub rotation: f32,
+    /// Multiplies the uv first.
     pub scale: [f32; 2],
 }
 
@@ -82,21 +93,29 @@ pub struct TextureRef {
     pub image: usize,
     /// Which texture coordinate set (0 or 1) the texture reads.
     pub tex_coord: u32,
+    /// The uv transform applied before sampling.
     pub transform: UvTransform,
+    /// How it is sampled.
     pub sampler: SamplerDesc,
 }
 
 /// The texture slots of a material, in the order the surface shader binds them.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
 pub enum TextureSlot {
+    /// Base colour (albedo), sRGB.
     BaseColor,
+    /// Metallic in blue, roughness in green.
     MetallicRoughness,
+    /// Tangent-space normals.
     Normal,
+    /// Ambient occlusion in red.
     Occlusion,
+    /// Emitted light, sRGB.
     Emissive,
 }
 
 impl TextureSlot {
+    /// Every slot, in the order materials bind them.
     pub const ALL: [TextureSlot; 5] = [
         TextureSlot::BaseColor,
         TextureSlot::MetallicRoughness,
@@ -110,6 +129,7 @@ impl TextureSlot {
         matches!(self, TextureSlot::BaseColor | TextureSlot::Emissive)
     }
 
+    /// The slot's name in messages.
     pub fn name(self) -> &'static str {
         match self {
             TextureSlot::BaseColor => "baseColor",
@@ -125,9 +145,14 @@ impl TextureSlot {
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub enum AlphaMode {
     #[default]
+    /// Fully opaque, alpha ignored.
     Opaque,
     /// Fragments with alpha below the cutoff are discarded.
-    Mask { cutoff: f32 },
+    /// Opaque where alpha reaches `cutoff`, discarded elsewhere.
+    Mask {
+        /// The alpha a texel needs to be drawn.
+        cutoff: f32,
+    },
     /// Blended over what is behind, drawn after the opaque surfaces.
     Blend,
 }
@@ -139,8 +164,11 @@ pub enum HeightSource {
     Frame,
     /// A texture of the scene, from the material's `extras.relief.height`.
     Texture {
+        /// The height texture.
         texture: TextureRef,
+        /// Which of its channels holds the heights.
         channel: Channel,
+        /// Whether white is low rather than high.
         invert: bool,
     },
     /// The blend of the material's layers (`Material::layers`).
@@ -152,9 +180,11 @@ pub enum HeightSource {
 pub struct Relief {
     /// Depth of height 0 below the polygon, in uv units of the height map (DESIGN.md section 2).
     pub depth_scale: f32,
+    /// The method that traces the relief.
     pub method: Method,
     /// Iteration cap instead of the method's default.
     pub budget: Option<u32>,
+    /// Where the heights come from.
     pub height: HeightSource,
     /// Self-shadowing toward lights that cast shadows.
     pub shadows: ShadowSettings,
@@ -182,23 +212,33 @@ impl Relief {
 /// A surface's look: glTF metallic-roughness.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Material {
+    /// The material's name in the file, for messages and for choosing materials by name.
     pub name: String,
     /// Linear RGBA factor.
     pub base_color: [f32; 4],
+    /// Base colour texture, multiplied by `base_color`.
     pub base_color_texture: Option<TextureRef>,
+    /// Perceptual roughness, multiplied by the texture's.
     pub roughness: f32,
+    /// Metalness, multiplied by the texture's.
     pub metallic: f32,
     /// Roughness in G, metalness in B.
     pub metallic_roughness_texture: Option<TextureRef>,
+    /// Tangent-space normal map.
     pub normal_texture: Option<TextureRef>,
+    /// Scale of the normal map's x and y.
     pub normal_scale: f32,
     /// Occlusion in R.
     pub occlusion_texture: Option<TextureRef>,
+    /// How strongly the occlusion texture darkens ambient light.
     pub occlusion_strength: f32,
     /// Linear RGB factor (KHR_materials_emissive_strength folded in).
     pub emissive: [f32; 3],
+    /// Emission texture, multiplied by `emissive`.
     pub emissive_texture: Option<TextureRef>,
+    /// How alpha is used.
     pub alpha_mode: AlphaMode,
+    /// Whether back faces are drawn too.
     pub double_sided: bool,
     /// Relief, or `None` for a plain surface.
     pub relief: Option<Relief>,

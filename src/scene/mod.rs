@@ -24,6 +24,7 @@ mod primitives;
 mod relief_extras;
 mod shading;
 mod tangents;
+mod terrain_scene;
 
 pub use builtin::{default_heightfield, default_scene, DEFAULT_HEIGHTFIELD, DEFAULT_SCENE_METHOD};
 pub use camera::{Camera, Projection};
@@ -42,62 +43,25 @@ pub use material::{
 };
 pub use primitives::{box_mesh, quad_mesh};
 pub use shading::{AoMode, ShadowMode, ShadowSettings, AO_HORIZON_DIRECTIONS};
+pub use terrain_scene::{
+    ground_rules, procedural_layers, rules_splat, terrain_scene, GroundLayer, TerrainOptions,
+    TERRAIN_MESH,
+};
+
+pub use crate::geometry::{Mesh, Vertex};
 
 use std::sync::Arc;
 
-use glam::{Mat4, Vec3};
+use glam::Vec3;
 
 use crate::method::Method;
-
-/// One vertex as the mesh shader reads it (locations 0..=5). Mirrors `mesh.vert`.
-#[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
-pub struct Vertex {
-    pub position: [f32; 3],
-    pub normal: [f32; 3],
-    /// Texture coordinate set 0.
-    pub uv: [f32; 2],
-    /// Texture coordinate set 1 (a copy of set 0 when the mesh has none).
-    pub uv1: [f32; 2],
-    /// xyz: tangent along +u of set 0; w: sign of the bitangent (+v) relative to normal x tangent.
-    pub tangent: [f32; 4],
-    /// Linear RGBA vertex colour (white when the mesh has none).
-    pub color: [f32; 4],
-}
-
-const _: () = assert!(std::mem::size_of::<Vertex>() == 72);
-
-impl Vertex {
-    /// A vertex with no second uv set (set 1 copies set 0) and a white colour.
-    pub fn new(position: [f32; 3], normal: [f32; 3], uv: [f32; 2], tangent: [f32; 4]) -> Vertex {
-        Vertex {
-            position,
-            normal,
-            uv,
-            uv1: uv,
-            tangent,
-            color: [1.0; 4],
-        }
-    }
-}
-
-/// Indexed triangles in object space, with the material they use and their placement.
-#[derive(Debug, Clone)]
-pub struct Mesh {
-    pub name: String,
-    pub vertices: Vec<Vertex>,
-    /// Counter-clockwise front faces in world space (a mirroring transform is already
-    /// compensated by reversed winding).
-    pub indices: Vec<u32>,
-    pub material: usize,
-    pub transform: Mat4,
-}
 
 /// A decoded image a material's textures point at.
 #[derive(Debug, Clone)]
 pub struct SceneImage {
     /// Where it came from, for messages: a file name, `"embedded #3"`, ...
     pub name: String,
+    /// The decoded pixels, shared by every texture that reads them.
     pub pixels: Arc<image::DynamicImage>,
 }
 
@@ -109,12 +73,18 @@ pub enum LightKind {
     /// From `Light::position` in every direction.
     Point,
     /// From `Light::position` around `Light::direction`; angles in radians from the axis.
-    Spot { inner_cone: f32, outer_cone: f32 },
+    Spot {
+        /// Angle where the light starts to fall off.
+        inner_cone: f32,
+        /// Angle where it reaches 0.
+        outer_cone: f32,
+    },
 }
 
 /// A punctual light (KHR_lights_punctual semantics).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Light {
+    /// Directional, point or spot.
     pub kind: LightKind,
     /// World position (point and spot).
     pub position: Vec3,
@@ -150,8 +120,11 @@ impl Light {
 /// Everything a frame draws.
 #[derive(Debug, Clone, Default)]
 pub struct Scene {
+    /// Every mesh drawn, each naming its material by index.
     pub meshes: Vec<Mesh>,
+    /// The materials meshes point at.
     pub materials: Vec<Material>,
+    /// The images textures point at.
     pub images: Vec<SceneImage>,
     /// The camera to render with; `None` frames the scene's bounds.
     pub camera: Option<Camera>,

@@ -63,29 +63,12 @@ pub(super) fn parse_relief(
             "layers",
         ],
     )?;
-    let depth_scale = match relief.get("depth_scale") {
-        None => return Err("extras.relief.depth_scale: missing (a number > 0)".into()),
-        Some(v) => v
-            .as_f64()
-            .map(|d| d as f32)
-            .filter(|d| d.is_finite() && *d > 0.0)
-            .ok_or_else(|| format!("extras.relief.depth_scale: {v} is not a finite number > 0"))?,
-    };
+    let depth_scale = depth_scale(relief)?;
     let method = match relief.get("method") {
         None => Method::POM,
         Some(v) => parsed(v, "extras.relief.method")?,
     };
-    let budget = match relief.get("budget") {
-        None => None,
-        Some(v) => Some(
-            v.as_u64()
-                .filter(|&b| b >= 1)
-                .and_then(|b| u32::try_from(b).ok())
-                .ok_or_else(|| {
-                    format!("extras.relief.budget: {v} is not an integer in 1..=2^32-1")
-                })?,
-        ),
-    };
+    let budget = budget(relief)?;
     let layers = relief
         .get("layers")
         .map(|v| parse_layers(v, &texture, texture_count))
@@ -98,6 +81,56 @@ pub(super) fn parse_relief(
         (None, None) => HeightSource::Frame,
         (Some(h), None) => height_source(h, texture, texture_count)?,
     };
+    let shadows = shadows(relief)?;
+    let ao = match relief.get("ao") {
+        None => AoMode::default(),
+        Some(v) => parsed(v, "extras.relief.ao")?,
+    };
+    let lod = match relief.get("lod") {
+        None => None,
+        Some(v) => Lod::from_json(v, "extras.relief.lod")?,
+    };
+    let relief = Relief {
+        depth_scale,
+        method,
+        budget,
+        height,
+        shadows,
+        ao,
+        lod,
+    };
+    Ok(Some((relief, layers)))
+}
+
+/// `extras.relief.depth_scale`, required.
+fn depth_scale(relief: &Map<String, Value>) -> Result<f32, String> {
+    Ok(match relief.get("depth_scale") {
+        None => return Err("extras.relief.depth_scale: missing (a number > 0)".into()),
+        Some(v) => v
+            .as_f64()
+            .map(|d| d as f32)
+            .filter(|d| d.is_finite() && *d > 0.0)
+            .ok_or_else(|| format!("extras.relief.depth_scale: {v} is not a finite number > 0"))?,
+    })
+}
+
+/// `extras.relief.budget`, `None` for the method's default.
+fn budget(relief: &Map<String, Value>) -> Result<Option<u32>, String> {
+    Ok(match relief.get("budget") {
+        None => None,
+        Some(v) => Some(
+            v.as_u64()
+                .filter(|&b| b >= 1)
+                .and_then(|b| u32::try_from(b).ok())
+                .ok_or_else(|| {
+                    format!("extras.relief.budget: {v} is not an integer in 1..=2^32-1")
+                })?,
+        ),
+    })
+}
+
+/// `extras.relief.shadows` with its `shadow_steps` and `horizon_reach`.
+fn shadows(relief: &Map<String, Value>) -> Result<ShadowSettings, String> {
     let mut shadows = ShadowSettings::new(match relief.get("shadows") {
         None => ShadowMode::default(),
         Some(v) => parsed(v, "extras.relief.shadows")?,
@@ -120,24 +153,7 @@ pub(super) fn parse_relief(
                 format!("extras.relief.horizon_reach: {v} is not a finite number > 0")
             })?;
     }
-    let ao = match relief.get("ao") {
-        None => AoMode::default(),
-        Some(v) => parsed(v, "extras.relief.ao")?,
-    };
-    let lod = match relief.get("lod") {
-        None => None,
-        Some(v) => Lod::from_json(v, "extras.relief.lod")?,
-    };
-    let relief = Relief {
-        depth_scale,
-        method,
-        budget,
-        height,
-        shadows,
-        ao,
-        lod,
-    };
-    Ok(Some((relief, layers)))
+    Ok(shadows)
 }
 
 fn height_source(

@@ -100,6 +100,7 @@ impl FromStr for ShadowMode {
 /// A material's shadow mode with its parameters.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ShadowSettings {
+    /// How shadow rays are traced.
     pub mode: ShadowMode,
     /// Samples (pom-soft, horizon; paper 001's iteration count) or the pyramid walk's cap
     /// (cone); `None` takes [`ShadowMode::default_steps`].
@@ -143,7 +144,12 @@ pub enum AoMode {
     None,
     /// Paper 001: horizon queries on the max pyramid in `directions` (4, 8 or 16) evenly spaced
     /// azimuths, rotated by a per-texel hash when `rotated`.
-    Horizon { directions: u32, rotated: bool },
+    Horizon {
+        /// Azimuths queried per texel (4, 8 or 16).
+        directions: u32,
+        /// Whether a per-texel hash rotates the azimuths.
+        rotated: bool,
+    },
     /// The exact horizon per direction by a line sweep over the field (Timonen and Westerholm 2010).
     ExactHorizon,
 }

@@ -15,12 +15,14 @@ pub enum BlendMode {
 }
 
 impl BlendMode {
+    /// Every mode, in the order tables list them.
     pub const ALL: [BlendMode; 3] = [
         BlendMode::Alpha,
         BlendMode::Height,
         BlendMode::HeightIntersect,
     ];
 
+    /// The mode's name on the command line and in files.
     pub fn id(self) -> &'static str {
         match self {
             BlendMode::Alpha => "alpha",

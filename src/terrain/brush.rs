@@ -27,12 +27,15 @@ pub enum BrushKind {
 #[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Stroke {
+    /// What the stroke does.
     pub kind: BrushKind,
     /// Centre, texel coordinates (texel `(i, j)`'s centre is at `(i + 0.5, j + 0.5)`).
     pub x: f32,
+    /// Centre along v, texel coordinates.
     pub y: f32,
     /// Radius in texels.
     pub radius: f32,
+    /// How much one stroke changes, at its centre.
     pub strength: f32,
     /// The height `flatten` moves toward (ignored by the others).
     #[serde(default)]
@@ -46,24 +49,44 @@ pub struct Stroke {
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum StrokeError {
     #[error("stroke {index}: {field} is {value} (must be a finite number)")]
+    /// A number that is not finite.
     NotFinite {
+        /// Which stroke.
         index: usize,
+        /// Which of its fields.
         field: &'static str,
+        /// Its value.
         value: f32,
     },
     #[error("stroke {index}: radius {radius} (must be above 0 and at most {max}, the map's larger side)")]
-    Radius { index: usize, radius: f32, max: u32 },
+    /// A radius not above 0 or larger than the map.
+    Radius {
+        /// Which stroke.
+        index: usize,
+        /// Its radius.
+        radius: f32,
+        /// The map's larger side.
+        max: u32,
+    },
     #[error(transparent)]
+    /// A stroke for the other map.
     Target(#[from] StrokeTarget),
     #[error(
         "stroke {index}: centre ({x}, {y}) with radius {radius} misses the {width}x{height} map"
     )]
+    /// A stroke that misses the map.
     Outside {
+        /// Which stroke.
         index: usize,
+        /// Its centre along u.
         x: f32,
+        /// Its centre along v.
         y: f32,
+        /// Its radius.
         radius: f32,
+        /// The map's width.
         width: u32,
+        /// The map's height.
         height: u32,
     },
 }
@@ -74,13 +97,27 @@ pub enum StrokeTarget {
     #[error(
         "stroke {index}: paint weighs layers; the elevation takes raise, lower, flatten and crater"
     )]
-    PaintOnElevation { index: usize },
-    #[error("stroke {index}: {kind:?} moves the elevation; the layers' weights take paint")]
-    ShapeOnWeights { index: usize, kind: BrushKind },
-    #[error("stroke {index}: layer {layer}, but the material has {layers} layers (0 to {last})", last = layers - 1)]
-    Layer {
+    /// A `paint` stroke given to the elevation.
+    PaintOnElevation {
+        /// Which stroke.
         index: usize,
+    },
+    #[error("stroke {index}: {kind:?} moves the elevation; the layers' weights take paint")]
+    /// An elevation brush given to the weights.
+    ShapeOnWeights {
+        /// Which stroke.
+        index: usize,
+        /// Its brush.
+        kind: BrushKind,
+    },
+    #[error("stroke {index}: layer {layer}, but the material has {layers} layers (0 to {last})", last = layers - 1)]
+    /// A layer the material does not have.
+    Layer {
+        /// Which stroke.
+        index: usize,
+        /// The layer it paints.
         layer: u32,
+        /// The material's layer count.
         layers: usize,
     },
 }
@@ -88,21 +125,28 @@ pub enum StrokeTarget {
 /// An inclusive rectangle of texels.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct TexelRect {
+    /// First column.
     pub x0: u32,
+    /// First row.
     pub y0: u32,
+    /// Last column.
     pub x1: u32,
+    /// Last row.
     pub y1: u32,
 }
 
 impl TexelRect {
+    /// Columns covered.
     pub fn width(&self) -> u32 {
         self.x1 - self.x0 + 1
     }
 
+    /// Rows covered.
     pub fn height(&self) -> u32 {
         self.y1 - self.y0 + 1
     }
 
+    /// Texels covered.
     pub fn texels(&self) -> u64 {
         u64::from(self.width()) * u64::from(self.height())
     }

@@ -11,6 +11,7 @@ use crate::heightfield::{Address, Heightfield};
 /// One layer's heights as a material tiles them.
 #[derive(Debug, Clone, Copy)]
 pub struct TiledLayer<'a> {
+    /// The layer's heights, one tile.
     pub heights: &'a Heightfield,
     /// Repeats across the grid.
     pub tiling: f32,

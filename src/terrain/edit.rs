@@ -5,8 +5,8 @@
 
 use super::brush::{Stroke, StrokeError, StrokeTarget};
 use super::grid::{GridOptions, TerrainGrid};
+use crate::geometry::Mesh;
 use crate::heightfield::Heightfield;
-use crate::scene::Mesh;
 
 /// A terrain's elevation with the grid built over it.
 #[derive(Debug, Clone)]
@@ -20,6 +20,7 @@ pub struct TerrainEditor {
 /// What one list of strokes changed.
 #[derive(Debug, Clone)]
 pub struct TerrainEdit {
+    /// Strokes applied.
     pub strokes: usize,
     /// Texels the strokes' squares covered (counted once per stroke).
     pub texels: u64,
@@ -45,10 +46,12 @@ impl TerrainEditor {
         }
     }
 
+    /// The elevation as edited so far.
     pub fn elevation(&self) -> &Heightfield {
         &self.elevation
     }
 
+    /// How many tiles the ground has.
     pub fn tile_count(&self) -> usize {
         self.grid.tile_count()
     }

@@ -10,8 +10,8 @@
 
 use glam::Vec3;
 
+use crate::geometry::{Mesh, Vertex};
 use crate::heightfield::Heightfield;
-use crate::scene::{Mesh, Vertex};
 
 /// How an elevation map becomes a grid.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -64,6 +64,7 @@ pub struct TerrainGrid {
 }
 
 impl TerrainGrid {
+    /// The tiling of a `width` x `height` elevation map as `options` asks.
     pub fn new(width: u32, height: u32, options: &GridOptions) -> TerrainGrid {
         let step = options.step.max(1);
         TerrainGrid {
@@ -88,6 +89,7 @@ impl TerrainGrid {
         )
     }
 
+    /// How many tiles it has.
     pub fn tile_count(&self) -> usize {
         let (x, y) = self.tiles_across();
         x * y

@@ -11,26 +11,53 @@ pub const MAX_LAYERS: usize = 4;
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum LayerError {
     #[error("a layer stack needs 1 to {MAX_LAYERS} layers, got {count}")]
-    Count { count: usize },
+    /// Not 1 to `MAX_LAYERS` layers.
+    Count {
+        /// Layers given.
+        count: usize,
+    },
     #[error("{what} is {got_w}x{got_h}, but the first layer is {want_w}x{want_h}; every layer and weight map of a stack has one size")]
+    /// A layer or weight map whose size is not the first layer's.
     Size {
+        /// Which map.
         what: String,
+        /// Its width.
         got_w: u32,
+        /// Its height.
         got_h: u32,
+        /// The first layer's width.
         want_w: u32,
+        /// The first layer's height.
         want_h: u32,
     },
     #[error("{layers} layers, but weights for {weights}")]
-    WeightCount { layers: usize, weights: usize },
+    /// Not one weight map per layer.
+    WeightCount {
+        /// Layers given.
+        layers: usize,
+        /// Weight maps given.
+        weights: usize,
+    },
     #[error("splat map: {width}x{height} texels need {expected} RGBA values, got {got}")]
+    /// A splat map whose value count does not fit its size.
     SplatLength {
+        /// Its width.
         width: u32,
+        /// Its height.
         height: u32,
+        /// Values that size needs.
         expected: usize,
+        /// Values given.
         got: usize,
     },
     #[error("splat map: texel {texel} has weight {value} (weights are finite and at least 0)")]
-    SplatValue { texel: usize, value: f32 },
+    /// A splat weight that is negative or not finite.
+    SplatValue {
+        /// Which texel.
+        texel: usize,
+        /// Its weight.
+        value: f32,
+    },
 }
 
 /// A low-resolution RGBA weight map (a splat map): channel k weighs layer k. Clamp-addressed and
@@ -243,26 +270,32 @@ impl LayerStack {
         }
     }
 
+    /// How many layers it stacks.
     pub fn len(&self) -> usize {
         self.heights.len()
     }
 
+    /// Whether it stacks no layer.
     pub fn is_empty(&self) -> bool {
         self.heights.is_empty()
     }
 
+    /// Width of every layer, in texels.
     pub fn width(&self) -> u32 {
         self.heights[0].width()
     }
 
+    /// Height of every layer, in texels.
     pub fn height(&self) -> u32 {
         self.heights[0].height()
     }
 
+    /// Each layer's heights.
     pub fn heights(&self) -> &[Heightfield] {
         &self.heights
     }
 
+    /// Each layer's weights.
     pub fn weights(&self) -> &[Heightfield] {
         &self.weights
     }

@@ -17,7 +17,8 @@
 //! [`tiled_stack`] puts a layered material's layers, each tiled, on the grid its blended field is
 //! traced at; [`splat_from_rules`] weighs layers by altitude and slope where no splat map is painted.
 //!
-//! [`terrain_scene`] is the built-in terrain: the tiled ground under one layered material.
+//! The built-in terrain scene, the tiled ground under one layered material, is built in the scene
+//! module (`scene::terrain_scene`), above this one: the terrain knows meshes, not scenes.
 //!
 //! [`terrain_tiles`] makes the ground those layers lie on: a tiled grid mesh over an elevation
 //! map.
@@ -34,7 +35,6 @@ mod edit;
 mod grid;
 mod layers;
 mod rules;
-mod scene;
 mod vertex_weights;
 
 pub use blend::{blended_field, BlendMode};
@@ -45,8 +45,4 @@ pub use edit::{TerrainEdit, TerrainEditor};
 pub use grid::{terrain_tiles, GridOptions, TerrainGrid};
 pub use layers::{LayerError, LayerStack, SplatMap, MAX_LAYERS};
 pub use rules::{splat_from_rules, LayerRule, RuleWeights};
-pub use scene::{
-    ground_rules, procedural_layers, rules_splat, terrain_scene, GroundLayer, TerrainOptions,
-    TERRAIN_MESH,
-};
 pub use vertex_weights::splat_from_vertex_colors;

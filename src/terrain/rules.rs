@@ -11,7 +11,9 @@ use crate::heightfield::Heightfield;
 /// with a soft edge of `softness` of its unit on both sides.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LayerRule {
+    /// Band of elevation, 0..1 of the map's range.
     pub altitude: (f32, f32),
+    /// Band of slope, degrees.
     pub slope_deg: (f32, f32),
     /// Width of the fade at each band edge: altitude units, and ten times that in degrees.
     pub softness: f32,

@@ -5,7 +5,7 @@
 //! along a chart's edge do not fetch zero weights.
 
 use super::layers::{LayerError, SplatMap};
-use crate::scene::Mesh;
+use crate::geometry::Mesh;
 
 /// Rings of uncovered texels filled from their covered neighbours.
 const DILATION_RINGS: usize = 4;
@@ -103,7 +103,7 @@ fn dilate(texels: &mut [[f32; 4]], covered: &mut [bool], n: usize) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::Vertex;
+    use crate::geometry::Vertex;
     use glam::Mat4;
 
     fn vertex(uv: [f32; 2], color: [f32; 4]) -> Vertex {

@@ -1,7 +1,8 @@
 //! A terrain small enough for lavapipe in debug: 4x4 tiles of 16 quads, a 256^2 blended field
 //! with every layer repeated 4 times, a 32^2 splat map.
 
-use relief::terrain::{GridOptions, TerrainOptions};
+use relief::scene::TerrainOptions;
+use relief::terrain::GridOptions;
 
 pub fn small_terrain() -> TerrainOptions {
     TerrainOptions {

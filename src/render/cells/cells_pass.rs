@@ -15,8 +15,9 @@ use serde::Serialize;
 use super::cells_plan::CellsPlan;
 use super::cells_trace_pass::ComplexBuffers;
 use crate::cells::{
-    attribute_maps, choose_grid_within, fixed_grid, CellGrid, Colour, Face, GridStop,
-    MarchSettings, MeshSelection, PackedComplex, SceneMesh, MAP_MEMORY_LIMIT,
+    attribute_maps, choose_grid_within, fixed_grid, AttributeTexel, CellGrid, CellMaps, ClosedMesh,
+    Colour, Face, GridStop, MarchSettings, MeshSelection, PackedComplex, SceneMesh,
+    MAP_MEMORY_LIMIT,
 };
 use crate::render::frame::material_set::material_layout;
 use crate::render::frame::plan::Plan;
@@ -89,6 +90,24 @@ struct CellsUniform {
     resolution: u32,
     refinements: u32,
     samples_per_texel: f32,
+}
+
+impl CellsUniform {
+    fn of(packed: &PackedComplex) -> CellsUniform {
+        let settings = MarchSettings::default();
+        CellsUniform {
+            origin_size: [
+                packed.origin[0],
+                packed.origin[1],
+                packed.origin[2],
+                packed.cell_size,
+            ],
+            n: packed.n,
+            resolution: packed.resolution,
+            refinements: settings.refinements,
+            samples_per_texel: settings.samples_per_texel as f32,
+        }
+    }
 }
 
 /// Set 2: the complex's arrays (bindings 0-2), its uniform (3), its attribute maps (4).
@@ -215,57 +234,15 @@ fn build_complex(
 ) -> Result<(ComplexDraw, BuiltComplex), RenderError> {
     let started = Instant::now();
     let gathered = SceneMesh::gather(scene, &plan.meshes, &format!("--cells {}", plan.name))?;
-    let (grid, maps, stop) = match options.grid {
-        Some(n) => {
-            let (grid, maps) =
-                fixed_grid(&gathered.mesh, n, options.resolution).map_err(|source| {
-                    RenderError::CellsTooLarge {
-                        name: plan.name.clone(),
-                        source,
-                    }
-                })?;
-            (grid, maps, None)
-        }
-        None => {
-            let (grid, maps, stop) = choose_grid_within(
-                &gathered.mesh,
-                options.resolution,
-                options.overlap,
-                options.max_grid,
-                MAP_MEMORY_LIMIT,
-            );
-            (grid, maps, Some(stop))
-        }
-    };
+    let (grid, maps, stop) = complex_grid(&gathered.mesh, plan, options)?;
     let packed = PackedComplex::new(&grid, &maps);
     let attributes = attribute_maps(&maps, |point| gathered.attributes(point));
     let (vertices, indices) = outer_faces(&grid);
     let build_ms = started.elapsed().as_secs_f64() * 1e3;
     let name = &plan.name;
-    let limit = u64::from(ctx.info().max_storage_buffer_range);
-    let largest = (std::mem::size_of_val(attributes.as_slice()) as u64)
-        .max(std::mem::size_of_val(packed.maps.as_slice()) as u64);
-    if largest > limit {
-        return Err(RenderError::CellsBufferTooLarge {
-            name: name.clone(),
-            mib: largest >> 20,
-            limit_mib: limit >> 20,
-        });
-    }
+    check_buffer_sizes(ctx, name, &attributes, &packed)?;
     let arrays = ComplexBuffers::upload(ctx, &packed, name)?;
-    let settings = MarchSettings::default();
-    let uniform = CellsUniform {
-        origin_size: [
-            packed.origin[0],
-            packed.origin[1],
-            packed.origin[2],
-            packed.cell_size,
-        ],
-        n: packed.n,
-        resolution: packed.resolution,
-        refinements: settings.refinements,
-        samples_per_texel: settings.samples_per_texel as f32,
-    };
+    let uniform = CellsUniform::of(&packed);
     let uniform = Buffer::with_data(
         ctx,
         bytemuck::bytes_of(&uniform),
@@ -302,20 +279,7 @@ fn build_complex(
         grey_cells: maps.grey_cells,
         domain_faces: maps.faces.len(),
         resolution: maps.resolution,
-        grid_stop: match stop {
-            None => "a fixed grid".to_owned(),
-            Some(GridStop::Overlap) => format!(
-                "overlap ratio {:.3} at most {}",
-                maps.overlap_ratio, options.overlap
-            ),
-            Some(GridStop::MaxGrid) => format!(
-                "largest grid {} reached (overlap ratio {:.3})",
-                options.max_grid, maps.overlap_ratio
-            ),
-            Some(GridStop::Memory { next_n, bytes }) => {
-                format!("a {next_n}^3 grid's maps would take {} MiB", bytes >> 20)
-            }
-        },
+        grid_stop: grid_stop(stop, &maps, options),
         faces_drawn: indices.len() / 6,
         distance_bytes: (packed.maps.len() * 4) as u64,
         attribute_bytes: attribute_bytes.len() as u64,
@@ -332,6 +296,74 @@ fn build_complex(
         _attributes: attribute_buffer,
     };
     Ok((draw, stats))
+}
+
+/// The complex's grid: `options.grid` cells a side when given, else refined until the maps overlap little
+/// enough, with why it stopped.
+fn complex_grid(
+    mesh: &ClosedMesh,
+    plan: &CellsPlan,
+    options: &CellsOptions,
+) -> Result<(CellGrid, CellMaps, Option<GridStop>), RenderError> {
+    Ok(match options.grid {
+        Some(n) => {
+            let (grid, maps) = fixed_grid(mesh, n, options.resolution).map_err(|source| {
+                RenderError::CellsTooLarge {
+                    name: plan.name.clone(),
+                    source,
+                }
+            })?;
+            (grid, maps, None)
+        }
+        None => {
+            let (grid, maps, stop) = choose_grid_within(
+                mesh,
+                options.resolution,
+                options.overlap,
+                options.max_grid,
+                MAP_MEMORY_LIMIT,
+            );
+            (grid, maps, Some(stop))
+        }
+    })
+}
+
+/// Refuses a complex whose largest storage buffer the device cannot bind.
+fn check_buffer_sizes(
+    ctx: &Context,
+    name: &str,
+    attributes: &[AttributeTexel],
+    packed: &PackedComplex,
+) -> Result<(), RenderError> {
+    let limit = u64::from(ctx.info().max_storage_buffer_range);
+    let largest = (std::mem::size_of_val(attributes) as u64)
+        .max(std::mem::size_of_val(packed.maps.as_slice()) as u64);
+    if largest > limit {
+        return Err(RenderError::CellsBufferTooLarge {
+            name: name.to_owned(),
+            mib: largest >> 20,
+            limit_mib: limit >> 20,
+        });
+    }
+    Ok(())
+}
+
+/// Why the grid is the size it is, for the run's notes.
+fn grid_stop(stop: Option<GridStop>, maps: &CellMaps, options: &CellsOptions) -> String {
+    match stop {
+        None => "a fixed grid".to_owned(),
+        Some(GridStop::Overlap) => format!(
+            "overlap ratio {:.3} at most {}",
+            maps.overlap_ratio, options.overlap
+        ),
+        Some(GridStop::MaxGrid) => format!(
+            "largest grid {} reached (overlap ratio {:.3})",
+            options.max_grid, maps.overlap_ratio
+        ),
+        Some(GridStop::Memory { next_n, bytes }) => {
+            format!("a {next_n}^3 grid's maps would take {} MiB", bytes >> 20)
+        }
+    }
 }
 
 /// The faces of grey cells whose neighbour is white or beyond the grid, in world space, wound

@@ -5,6 +5,7 @@ pub(in crate::render) mod frame_stats;
 pub(in crate::render) mod frame_uniforms;
 pub(in crate::render) mod gpu_heightfield;
 pub(in crate::render) mod height_resources;
+mod height_upload;
 pub(in crate::render) mod lod_note;
 pub(in crate::render) mod material_set;
 pub(in crate::render) mod method_map;

@@ -13,7 +13,8 @@ use crate::heightfield::{Address, Channel, Heightfield};
 use crate::method::{MapKind, Method};
 use crate::render::cells::cells_plan::{plan_cells, CellsPlan};
 use crate::scene::{
-    AlphaMode, AoMode, HeightSource, Layers, Light, Lod, Scene, ShadowMode, ShadowSettings, Wrap,
+    AlphaMode, AoMode, HeightSource, Layers, Light, Lod, Material, Scene, ShadowMode,
+    ShadowSettings, Wrap,
 };
 
 /// Where a planned height map comes from.
@@ -232,6 +233,61 @@ fn address_of(wrap: [Wrap; 2]) -> Address {
     }
 }
 
+/// Which height map a relief material reads (its relief's `height`), a name for it in messages, and its size.
+fn height_source(
+    scene: &Scene,
+    frame_heights: Option<&Heightfield>,
+    material: &Material,
+    material_index: usize,
+    height: HeightSource,
+) -> Result<(HeightKey, String, (u32, u32)), PlanError> {
+    Ok(match height {
+        HeightSource::Frame => {
+            let hf = frame_heights.ok_or_else(|| PlanError::NoFrameHeights {
+                material: material.name.clone(),
+            })?;
+            let size = (hf.width(), hf.height());
+            (HeightKey::Frame, "frame height map".to_owned(), size)
+        }
+        HeightSource::Texture {
+            texture,
+            channel,
+            invert,
+        } => {
+            let image = scene
+                .images
+                .get(texture.image)
+                .ok_or_else(|| PlanError::NoImage {
+                    material: material.name.clone(),
+                    image: texture.image,
+                    count: scene.images.len(),
+                })?;
+            let key = HeightKey::Image {
+                image: texture.image,
+                channel,
+                invert,
+                address: address_of([texture.sampler.wrap_u, texture.sampler.wrap_v]),
+            };
+            let size = (image.pixels.width(), image.pixels.height());
+            (key, format!("image {}", image.name), size)
+        }
+        HeightSource::Layers => {
+            let layers = checked_layers(scene, material)?;
+            let n = layers.resolution;
+            let source = format!(
+                "{} layers of {:?} blended ({})",
+                layers.layers.len(),
+                material.name,
+                layers.mode
+            );
+            let key = HeightKey::Layers {
+                material: material_index,
+            };
+            (key, source, (n, n))
+        }
+    })
+}
+
 impl Plan {
     /// Plans `scene`; `frame_heights` is the height map of materials whose relief has no
     /// texture of its own.
@@ -286,53 +342,13 @@ impl Plan {
             let heights = match &material.relief {
                 None => None,
                 Some(relief) => {
-                    let (key, source, size) = match relief.height {
-                        HeightSource::Frame => {
-                            let hf = frame_heights.ok_or_else(|| PlanError::NoFrameHeights {
-                                material: material.name.clone(),
-                            })?;
-                            let size = (hf.width(), hf.height());
-                            (HeightKey::Frame, "frame height map".to_owned(), size)
-                        }
-                        HeightSource::Texture {
-                            texture,
-                            channel,
-                            invert,
-                        } => {
-                            let image = scene.images.get(texture.image).ok_or_else(|| {
-                                PlanError::NoImage {
-                                    material: material.name.clone(),
-                                    image: texture.image,
-                                    count: scene.images.len(),
-                                }
-                            })?;
-                            let key = HeightKey::Image {
-                                image: texture.image,
-                                channel,
-                                invert,
-                                address: address_of([
-                                    texture.sampler.wrap_u,
-                                    texture.sampler.wrap_v,
-                                ]),
-                            };
-                            let size = (image.pixels.width(), image.pixels.height());
-                            (key, format!("image {}", image.name), size)
-                        }
-                        HeightSource::Layers => {
-                            let layers = checked_layers(scene, material)?;
-                            let n = layers.resolution;
-                            let source = format!(
-                                "{} layers of {:?} blended ({})",
-                                layers.layers.len(),
-                                material.name,
-                                layers.mode
-                            );
-                            let key = HeightKey::Layers {
-                                material: mesh.material,
-                            };
-                            (key, source, (n, n))
-                        }
-                    };
+                    let (key, source, size) = height_source(
+                        scene,
+                        frame_heights,
+                        material,
+                        mesh.material,
+                        relief.height,
+                    )?;
                     let shadows = if casts_shadows {
                         relief.shadows.mode
                     } else {
@@ -350,27 +366,7 @@ impl Plan {
                 }
                 _ => None,
             };
-            let pipeline = PipelineKey {
-                method: material.relief.map(|r| r.method),
-                max_steps: material.relief.and_then(|r| r.budget),
-                double_sided: material.double_sided,
-                blend: material.alpha_mode == AlphaMode::Blend,
-                shadows: match material.relief {
-                    Some(relief) if casts_shadows => relief.shadows,
-                    _ => ShadowSettings::new(ShadowMode::None),
-                },
-                lod: material.relief.and_then(|r| r.lod),
-                layers: material
-                    .relief
-                    .is_some_and(|r| r.height == HeightSource::Layers),
-            };
-            let pipeline = match plan.pipelines.iter().position(|p| *p == pipeline) {
-                Some(k) => k,
-                None => {
-                    plan.pipelines.push(pipeline);
-                    plan.pipelines.len() - 1
-                }
-            };
+            let pipeline = plan.pipeline_for(material, casts_shadows);
             plan.draws.push(DrawPlan {
                 mesh: index,
                 material: mesh.material,
@@ -383,6 +379,31 @@ impl Plan {
         plan.note_passes(casts_shadows);
         plan.note_cells(scene);
         Ok(plan)
+    }
+
+    /// The index of the pipeline `material` draws with, added if no draw used it before.
+    fn pipeline_for(&mut self, material: &Material, casts_shadows: bool) -> usize {
+        let pipeline = PipelineKey {
+            method: material.relief.map(|r| r.method),
+            max_steps: material.relief.and_then(|r| r.budget),
+            double_sided: material.double_sided,
+            blend: material.alpha_mode == AlphaMode::Blend,
+            shadows: match material.relief {
+                Some(relief) if casts_shadows => relief.shadows,
+                _ => ShadowSettings::new(ShadowMode::None),
+            },
+            lod: material.relief.and_then(|r| r.lod),
+            layers: material
+                .relief
+                .is_some_and(|r| r.height == HeightSource::Layers),
+        };
+        match self.pipelines.iter().position(|p| *p == pipeline) {
+            Some(k) => k,
+            None => {
+                self.pipelines.push(pipeline);
+                self.pipelines.len() - 1
+            }
+        }
     }
 
     /// The index of the height plan for `key` read by `method`, added or widened as needed.

@@ -9,33 +9,25 @@
 //! frame (its fence has long signalled in a steady stream), so its timings and pixels are read
 //! a frame later, without stalling the frame being recorded.
 
-use std::borrow::Cow;
 use std::sync::Arc;
 use std::time::Instant;
 
 use super::frame_uniforms::{frame_camera, FrameUniforms};
-use super::height_resources::{HeightResources, HeightUpload};
+use super::height_resources::HeightResources;
+use super::height_upload::upload_heights;
 use super::pass::Pass;
 use super::pass_timer::{per_pass, PassTimer, PassTiming, Scope};
 use super::plan::{HeightKey, Plan};
 use super::scene_ao::SceneAo;
-use super::single_frame::{planned_heights, BuiltMap, RenderError, RenderOptions};
+use super::single_frame::{BuiltMap, RenderError, RenderOptions};
 use super::surface_pass::SurfacePass;
 use super::targets::Targets;
-use crate::heightfield::{Address, Heightfield};
+use crate::heightfield::Heightfield;
 use crate::method::MapKind;
 use crate::render::cells::cells_pass::{BuiltComplex, CellsPass};
-use crate::render::maps::map_builder::{build_method_map_with, MapBuilder};
-use crate::render::terrain::blended_pyramid_pass::time_on_gpu;
-use crate::render::terrain::layer_paint::{
-    record_paint_copies, LayerPainter, PaintError, PaintReport, StagedPaint,
-};
-use crate::render::terrain::layered_heights::blended_heights;
+use crate::render::terrain::layer_paint::LayerPainter;
 use crate::scene::{Camera, Frustum, Light, Mesh, Scene};
-use crate::terrain::{SplatMap, Stroke, TexelRect};
-use crate::vk::{
-    CommandSlot, Context, Image, Readback, RegionTexels, StagedRegions, VkError, VkResult,
-};
+use crate::vk::{CommandSlot, Context, Image, Readback, VkError, VkResult};
 
 /// How many frames may be recorded or running at once.
 pub const FRAMES_IN_FLIGHT: usize = 2;
@@ -72,15 +64,15 @@ struct FrameSlot {
 
 /// Everything a scene needs on the device, kept across frames.
 pub struct Renderer {
-    ctx: Arc<Context>,
-    plan: Plan,
+    pub(in crate::render) ctx: Arc<Context>,
+    pub(in crate::render) plan: Plan,
     maps: Vec<BuiltMap>,
     upload_ms: f64,
-    heights: Vec<HeightResources>,
+    pub(in crate::render) heights: Vec<HeightResources>,
     /// By `Plan::heights` index: the painter of a layered map (`RenderOptions::paintable_layers`).
-    painters: Vec<Option<LayerPainter>>,
-    ao: SceneAo,
-    surface: SurfacePass,
+    pub(in crate::render) painters: Vec<Option<LayerPainter>>,
+    pub(in crate::render) ao: SceneAo,
+    pub(in crate::render) surface: SurfacePass,
     cells: CellsPass,
     targets: Targets,
     slots: Vec<FrameSlot>,
@@ -89,7 +81,7 @@ pub struct Renderer {
     width: u32,
     height: u32,
     submitted: u64,
-    pyramids_built: bool,
+    pub(in crate::render) pyramids_built: bool,
 }
 
 impl Renderer {
@@ -227,178 +219,6 @@ impl Renderer {
             self.surface.replace_vertices(&self.ctx, *index, mesh)?;
         }
         Ok(retired)
-    }
-
-    /// The painted map of layered material `material`, checked for painting: its plan index.
-    fn paintable(&self, material: usize) -> Result<usize, RenderError> {
-        let refuse = |why: &str| Err(RenderError::Layers(format!("material {material}: {why}")));
-        let Some(h) = self
-            .plan
-            .heights
-            .iter()
-            .position(|hp| hp.key == HeightKey::Layers { material })
-        else {
-            return refuse("not a drawn layered material; only layered weights are painted");
-        };
-        let hp = &self.plan.heights[h];
-        if self.painters[h].is_none() {
-            return refuse("the renderer was made without RenderOptions::paintable_layers");
-        }
-        if let Some(kind) = hp.map {
-            return refuse(&format!(
-                "its method reads a {} built once from the whole field; paint with a method without one (qdm, pdm, qrm, maxmip, relief, pom)",
-                kind.name().replace('_', " ")
-            ));
-        }
-        if hp.mean_pyramid {
-            return refuse(
-                "its level of detail reads an averaged pyramid built once; paint without --lod",
-            );
-        }
-        Ok(h)
-    }
-
-    /// The splat map of layered material `material` as painted so far, if it can be painted:
-    /// strokes for [`Renderer::paint_layers`] are in its texels.
-    pub fn layer_splat(&self, material: usize) -> Result<&SplatMap, RenderError> {
-        let h = self.paintable(material)?;
-        Ok(self.painters[h]
-            .as_ref()
-            .map(LayerPainter::splat)
-            .expect("paintable checked the painter"))
-    }
-
-    /// Checks `strokes` for [`Renderer::paint_layers`] without applying any.
-    pub fn check_paint(&self, material: usize, strokes: &[Stroke]) -> Result<(), RenderError> {
-        let h = self.paintable(material)?;
-        if let Some(painter) = &self.painters[h] {
-            painter.check(strokes)?;
-        }
-        Ok(())
-    }
-
-    /// Paints layered material `material`'s weights with `strokes` (`paint` strokes, centres and
-    /// radii in its splat map's texels, all checked first): waits for the frames in flight, which
-    /// are returned, then rebuilds on the GPU only what the strokes changed — the splat image
-    /// shaded, the blended field and pyramid nodes above the repainted weights, and the AO near
-    /// them.
-    pub fn paint_layers(
-        &mut self,
-        material: usize,
-        strokes: &[Stroke],
-    ) -> Result<(Vec<FrameOutput>, PaintReport), RenderError> {
-        let h = self.paintable(material)?;
-        let painter = self.painters[h]
-            .as_mut()
-            .expect("paintable checked the painter");
-        // Refused before waiting, so that a bad list loses no frame in flight.
-        painter.check(strokes)?;
-        let retired = self.finish()?;
-        let painter = self.painters[h]
-            .as_mut()
-            .expect("paintable checked the painter");
-        let staged = painter.paint(strokes).map_err(|e| match e {
-            PaintError::Stroke(s) => RenderError::from(s),
-            PaintError::Vulkan(v) => RenderError::from(v),
-        })?;
-        let report = self.rebuild_painted(h, material, &staged, strokes.len())?;
-        Ok((retired, report))
-    }
-
-    /// Sets layered material `material`'s weights from `weights` (splat texel to weights) over
-    /// splat texels `rect`, except where strokes painted by hand (`Renderer::paint_layers`):
-    /// what rules derive from an edited elevation. Waits for the frames in flight, which are
-    /// returned, and rebuilds what changed as painting does; `None` when nothing changed.
-    pub fn reweigh_layers(
-        &mut self,
-        material: usize,
-        rect: TexelRect,
-        weights: impl Fn(u32, u32) -> [f32; 4],
-    ) -> Result<(Vec<FrameOutput>, Option<PaintReport>), RenderError> {
-        let h = self.paintable(material)?;
-        let retired = self.finish()?;
-        let painter = self.painters[h]
-            .as_mut()
-            .expect("paintable checked the painter");
-        let Some(staged) = painter.reweigh(rect, weights)? else {
-            return Ok((retired, None));
-        };
-        let report = self.rebuild_painted(h, material, &staged, 0)?;
-        Ok((retired, Some(report)))
-    }
-
-    /// Rebuilds on the GPU what `staged` changed in layered height map `h` of `material`: the
-    /// shading's splat texels, the blended pyramid's regions copied into the drawn height map,
-    /// and the AO near them (once the first frame has built it).
-    fn rebuild_painted(
-        &self,
-        h: usize,
-        material: usize,
-        staged: &StagedPaint,
-        strokes: usize,
-    ) -> Result<PaintReport, RenderError> {
-        let painter = self.painters[h]
-            .as_ref()
-            .expect("paintable checked the painter");
-        let splat_image = self.surface.layer_splat(material);
-        let splat_staged = match splat_image {
-            Some(image) => {
-                let bytes: Vec<Vec<u8>> = staged
-                    .splat_rects
-                    .iter()
-                    .map(|r| painter.splat_bytes(r))
-                    .collect();
-                let regions: Vec<RegionTexels> = staged
-                    .splat_rects
-                    .iter()
-                    .zip(&bytes)
-                    .map(|(r, b)| (0, [r.x0, r.y0, r.width(), r.height()], b.as_slice()))
-                    .collect();
-                Some(StagedRegions::new(&self.ctx, image, &regions)?)
-            }
-            None => None,
-        };
-        let target = &self.heights[h].heights.image;
-        let ao_maps = if self.pyramids_built {
-            self.ao.maps_of(h)
-        } else {
-            // The first frame builds the AO from the painted field.
-            Vec::new()
-        };
-        let mut report = PaintReport {
-            strokes,
-            splat_texels: staged.splat_rects.iter().map(TexelRect::texels).sum(),
-            ..PaintReport::default()
-        };
-        let ao = &self.ao;
-        report.gpu_ms = time_on_gpu(&self.ctx, |rec| {
-            let regions = painter.record(rec, staged)?;
-            record_paint_copies(
-                rec,
-                painter,
-                &regions,
-                target,
-                splat_image.zip(splat_staged.as_ref()),
-            );
-            report.blended_texels = regions
-                .iter()
-                .map(|level| {
-                    level
-                        .iter()
-                        .map(|r| u64::from(r[2]) * u64::from(r[3]))
-                        .sum()
-                })
-                .collect();
-            for &k in &ao_maps {
-                for rect in &regions[0] {
-                    if let Some(done) = ao.record_region(rec, k, *rect)? {
-                        report.ao_texels += u64::from(done[2]) * u64::from(done[3]);
-                    }
-                }
-            }
-            Ok(())
-        })?;
-        Ok(report)
     }
 
     /// Records and submits one frame. If the slot it takes still held an older frame, that frame
@@ -573,99 +393,3 @@ impl Renderer {
         }
     }
 }
-
-/// Uploads every planned height map with its precomputed map (built once, here).
-fn upload_heights(
-    ctx: &Arc<Context>,
-    scene: &Scene,
-    plan: &Plan,
-    frame_heights: Option<&Heightfield>,
-    opts: &RenderOptions,
-    uniforms: FrameUniforms,
-) -> Result<UploadedHeights, RenderError> {
-    let mut heights = Vec::with_capacity(plan.heights.len());
-    let mut painters = Vec::with_capacity(plan.heights.len());
-    let mut maps = Vec::new();
-    for hp in &plan.heights {
-        let (stored, address, prebuilt) = match hp.key {
-            HeightKey::Layers { material } => {
-                let layers = scene.materials[material].layers.as_ref().ok_or_else(|| {
-                    VkError::Invalid("the plan blends a material without layers".into())
-                })?;
-                let mut blended = blended_heights(
-                    ctx,
-                    scene,
-                    layers,
-                    opts.height_format,
-                    opts.paintable_layers,
-                )?;
-                painters.push(blended.painter.take());
-                maps.push(BuiltMap {
-                    kind: "layer stack",
-                    source: hp.source.clone(),
-                    size: [hp.size.0, hp.size.1],
-                    ms: blended.stack_ms,
-                    on: "cpu",
-                });
-                maps.push(BuiltMap {
-                    kind: "blended pyramid",
-                    source: hp.source.clone(),
-                    size: [hp.size.0, hp.size.1],
-                    ms: blended.gpu_ms,
-                    on: "gpu",
-                });
-                let level = blended.pyramid.level(0);
-                let field = Heightfield::from_valid(level.width, level.height, level.data.clone());
-                (Cow::Owned(field), Address::Clamp, Some(blended.pyramid))
-            }
-            HeightKey::Frame => {
-                let stored = planned_heights(ctx, scene, hp, frame_heights, opts.height_format)?;
-                painters.push(None);
-                (stored, opts.address, None)
-            }
-            HeightKey::Image { address, .. } => {
-                let stored = planned_heights(ctx, scene, hp, frame_heights, opts.height_format)?;
-                painters.push(None);
-                (stored, address, None)
-            }
-        };
-        let map = match hp.map_method {
-            Some(method) => build_method_map_with(method, &stored, address, MapBuilder::Gpu(ctx))?,
-            None => None,
-        };
-        if let (Some(built), Some(kind)) = (&map, hp.map) {
-            maps.push(BuiltMap {
-                kind: kind.name(),
-                source: hp.source.clone(),
-                size: [built.data.width, built.data.height],
-                ms: built.ms,
-                on: built.on,
-            });
-        }
-        let map_data = map.as_ref().map(|built| &built.data);
-        let upload = HeightUpload {
-            format: opts.height_format,
-            address,
-            map: map_data,
-            pyramid: hp.pyramid,
-            slots: FRAMES_IN_FLIGHT,
-            mean_binding: hp.mean_binding,
-            mean_pyramid: hp.mean_pyramid,
-        };
-        if let Some(pyramid) = &prebuilt {
-            heights.push(HeightResources::upload_prebuilt(
-                ctx, pyramid, &upload, uniforms,
-            )?);
-            continue;
-        }
-        heights.push(HeightResources::upload(ctx, &stored, &upload, uniforms)?);
-    }
-    Ok((heights, maps, painters))
-}
-
-/// Every planned height map uploaded, the maps built for them, and the painters of layered ones.
-type UploadedHeights = (
-    Vec<HeightResources>,
-    Vec<BuiltMap>,
-    Vec<Option<LayerPainter>>,
-);

@@ -11,7 +11,7 @@ use glam::{Mat3, Mat4, Vec3};
 use super::frame_uniforms::FrameUniforms;
 use super::height_resources::HeightResources;
 use super::material_set::{material_layout, MaterialSets};
-use super::plan::{PipelineKey, Plan};
+use super::plan::{DrawPlan, PipelineKey, Plan};
 use super::scene_ao::SceneAo;
 use super::scene_textures::SceneTextures;
 use crate::method::Method;
@@ -133,6 +133,164 @@ struct FrameLayouts {
     heights_and_mean: DescriptorLayout,
 }
 
+impl FrameLayouts {
+    /// The set 0 layout of draws reading `h`: its bindings grow with the maps it holds.
+    fn for_heights(&self, h: &HeightResources) -> &DescriptorLayout {
+        if h.has_mean_binding() {
+            &self.heights_and_mean
+        } else if h.has_map() {
+            &self.heights_and_map
+        } else {
+            &self.heights
+        }
+    }
+
+    /// Set 0 of each height map, one per frame slot.
+    fn height_sets(
+        &self,
+        pool: &DescriptorPool,
+        heights: &[HeightResources],
+        slots: usize,
+    ) -> VkResult<Vec<Vec<DescriptorSet>>> {
+        heights
+            .iter()
+            .map(|h| {
+                let layout = self.for_heights(h);
+                (0..slots)
+                    .map(|slot| pool.allocate(layout, &h.slot_binds(slot)))
+                    .collect::<VkResult<Vec<_>>>()
+            })
+            .collect()
+    }
+}
+
+/// Which materials are drawn (by meshes or cells), and the AO map each relief material reads.
+fn drawn_materials(
+    scene: &Scene,
+    plan: &Plan,
+    ao: &SceneAo,
+) -> (Vec<bool>, Vec<Option<(vk::ImageView, vk::Sampler)>>) {
+    let mut drawn = vec![false; scene.materials.len()];
+    let mut relief_ao = vec![None; scene.materials.len()];
+    for d in &plan.draws {
+        drawn[d.material] = true;
+        relief_ao[d.material] = d.ao.and_then(|k| ao.binding(k));
+    }
+    for c in &plan.cells {
+        drawn[c.material] = true;
+    }
+    (drawn, relief_ao)
+}
+
+/// Which materials some draw shades with layers.
+fn layered_materials(scene: &Scene, plan: &Plan) -> Vec<bool> {
+    let mut layered = vec![false; scene.materials.len()];
+    for d in plan
+        .draws
+        .iter()
+        .filter(|d| plan.pipelines[d.pipeline].layers)
+    {
+        layered[d.material] = true;
+    }
+    layered
+}
+
+/// The draws `plan` lists, each with its uploaded mesh and its sets: set 0 per frame slot
+/// (`height_sets[k]` for height map `k`, else `plain_sets`), the material's and its layers'.
+fn mesh_draws(
+    ctx: &Arc<Context>,
+    scene: &Scene,
+    plan: &Plan,
+    height_sets: &[Vec<DescriptorSet>],
+    plain_sets: &[DescriptorSet],
+    materials: &MaterialSets,
+    layers: &LayerSets,
+) -> VkResult<Vec<MeshDraw>> {
+    let mut draws = Vec::with_capacity(plan.draws.len());
+    for d in &plan.draws {
+        let mesh = &scene.meshes[d.mesh];
+        let frame_sets = match d.heights {
+            Some(k) => height_sets[k].clone(),
+            None if !plain_sets.is_empty() => plain_sets.to_vec(),
+            None => return Err(VkError::Invalid("no plain frame set".into())),
+        };
+        let material_set = materials
+            .set(d.material)
+            .ok_or_else(|| VkError::Invalid(format!("material {} has no set", d.material)))?;
+        let layer_set = layers
+            .set(d.material)
+            .filter(|_| plan.pipelines[d.pipeline].layers);
+        let key = &plan.pipelines[d.pipeline];
+        draws.push(MeshDraw::new(
+            ctx,
+            mesh,
+            d,
+            key,
+            frame_sets,
+            material_set,
+            layer_set,
+        )?);
+    }
+    Ok(draws)
+}
+
+/// The uniforms of the plain set 0, one buffer per frame slot.
+fn plain_uniform_buffers(
+    ctx: &Arc<Context>,
+    uniforms: &FrameUniforms,
+    slots: usize,
+) -> VkResult<Vec<Buffer>> {
+    (0..slots)
+        .map(|slot| {
+            Buffer::with_data(
+                ctx,
+                bytemuck::bytes_of(uniforms),
+                vk::BufferUsageFlags::UNIFORM_BUFFER,
+                &format!("plain frame uniforms {slot}"),
+            )
+        })
+        .collect::<VkResult<Vec<_>>>()
+}
+
+impl MeshDraw {
+    /// Uploads `mesh`'s vertices and indices for draw `d` with pipeline `key`.
+    fn new(
+        ctx: &Arc<Context>,
+        mesh: &Mesh,
+        d: &DrawPlan,
+        key: &PipelineKey,
+        frame_sets: Vec<DescriptorSet>,
+        material_set: DescriptorSet,
+        layer_set: Option<DescriptorSet>,
+    ) -> VkResult<MeshDraw> {
+        let (lo, hi) = mesh_bounds(&mesh.vertices);
+        Ok(MeshDraw {
+            mesh: d.mesh,
+            vertices: Buffer::with_data(
+                ctx,
+                bytemuck::cast_slice(&mesh.vertices),
+                vk::BufferUsageFlags::VERTEX_BUFFER,
+                &format!("{} vertices", mesh.name),
+            )?,
+            indices: Buffer::with_data(
+                ctx,
+                bytemuck::cast_slice(&mesh.indices),
+                vk::BufferUsageFlags::INDEX_BUFFER,
+                &format!("{} indices", mesh.name),
+            )?,
+            index_count: mesh.indices.len() as u32,
+            pipeline: d.pipeline,
+            frame_sets,
+            material_set,
+            layer_set,
+            push: DrawPush::of(mesh.transform),
+            blend: key.blend,
+            center: mesh.transform.transform_point3((lo + hi) * 0.5),
+            bounds: world_bounds(mesh.transform, lo, hi),
+        })
+    }
+}
+
 /// Set 0 of draws without relief: the frame uniforms alone.
 pub(in crate::render) fn plain_frame_layout(ctx: &Arc<Context>) -> VkResult<DescriptorLayout> {
     let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
@@ -183,15 +341,7 @@ impl SurfacePass {
         }
         let layouts = frame_layouts(ctx)?;
         let material_layout = material_layout(ctx)?;
-        let mut drawn = vec![false; scene.materials.len()];
-        let mut relief_ao = vec![None; scene.materials.len()];
-        for d in &plan.draws {
-            drawn[d.material] = true;
-            relief_ao[d.material] = d.ao.and_then(|k| ao.binding(k));
-        }
-        for c in &plan.cells {
-            drawn[c.material] = true;
-        }
+        let (drawn, relief_ao) = drawn_materials(scene, plan, ao);
         let mut textures = SceneTextures::new(ctx)?;
         let materials = MaterialSets::new(
             ctx,
@@ -203,51 +353,20 @@ impl SurfacePass {
             &mut textures,
         )?;
         let layer_layout = layer_layout(ctx)?;
-        let mut layered = vec![false; scene.materials.len()];
-        for d in plan
-            .draws
-            .iter()
-            .filter(|d| plan.pipelines[d.pipeline].layers)
-        {
-            layered[d.material] = true;
-        }
         let layers = LayerSets::new(
             ctx,
             &layer_layout,
             &scene.materials,
             &scene.images,
-            &layered,
+            &layered_materials(scene, plan),
         )?;
         let sets = (heights.len() as u32 + 1) * slots as u32;
         let frame_pool = DescriptorPool::new(ctx, sets, 4 * sets, "frame sets")?;
-        let height_sets = heights
-            .iter()
-            .map(|h| {
-                let layout = if h.has_mean_binding() {
-                    &layouts.heights_and_mean
-                } else if h.has_map() {
-                    &layouts.heights_and_map
-                } else {
-                    &layouts.heights
-                };
-                (0..slots)
-                    .map(|slot| frame_pool.allocate(layout, &h.slot_binds(slot)))
-                    .collect::<VkResult<Vec<_>>>()
-            })
-            .collect::<VkResult<Vec<_>>>()?;
+        let height_sets = layouts.height_sets(&frame_pool, heights, slots)?;
         // The cells pass reads the plain set too.
         let plain = plan.pipelines.iter().any(|p| p.method.is_none()) || !plan.cells.is_empty();
         let plain_uniforms = if plain {
-            (0..slots)
-                .map(|slot| {
-                    Buffer::with_data(
-                        ctx,
-                        bytemuck::bytes_of(uniforms),
-                        vk::BufferUsageFlags::UNIFORM_BUFFER,
-                        &format!("plain frame uniforms {slot}"),
-                    )
-                })
-                .collect::<VkResult<Vec<_>>>()?
+            plain_uniform_buffers(ctx, uniforms, slots)?
         } else {
             Vec::new()
         };
@@ -273,45 +392,15 @@ impl SurfacePass {
                 }
             })
             .collect::<VkResult<Vec<_>>>()?;
-        let mut draws = Vec::with_capacity(plan.draws.len());
-        for d in &plan.draws {
-            let mesh = &scene.meshes[d.mesh];
-            let frame_sets = match d.heights {
-                Some(k) => height_sets[k].clone(),
-                None if !plain_sets.is_empty() => plain_sets.clone(),
-                None => return Err(VkError::Invalid("no plain frame set".into())),
-            };
-            let material_set = materials
-                .set(d.material)
-                .ok_or_else(|| VkError::Invalid(format!("material {} has no set", d.material)))?;
-            let (lo, hi) = mesh_bounds(&mesh.vertices);
-            draws.push(MeshDraw {
-                mesh: d.mesh,
-                vertices: Buffer::with_data(
-                    ctx,
-                    bytemuck::cast_slice(&mesh.vertices),
-                    vk::BufferUsageFlags::VERTEX_BUFFER,
-                    &format!("{} vertices", mesh.name),
-                )?,
-                indices: Buffer::with_data(
-                    ctx,
-                    bytemuck::cast_slice(&mesh.indices),
-                    vk::BufferUsageFlags::INDEX_BUFFER,
-                    &format!("{} indices", mesh.name),
-                )?,
-                index_count: mesh.indices.len() as u32,
-                pipeline: d.pipeline,
-                frame_sets,
-                material_set,
-                layer_set: layers
-                    .set(d.material)
-                    .filter(|_| plan.pipelines[d.pipeline].layers),
-                push: DrawPush::of(mesh.transform),
-                blend: plan.pipelines[d.pipeline].blend,
-                center: mesh.transform.transform_point3((lo + hi) * 0.5),
-                bounds: world_bounds(mesh.transform, lo, hi),
-            });
-        }
+        let draws = mesh_draws(
+            ctx,
+            scene,
+            plan,
+            &height_sets,
+            &plain_sets,
+            &materials,
+            &layers,
+        )?;
         Ok(SurfacePass {
             pipelines,
             draws,

@@ -26,7 +26,7 @@ pub(in crate::render) const GROUP: u32 = 8;
 const ROWS_TEXELS: u32 = 1 << 20;
 /// The largest side the GPU builders take: the cone search packs texel indices in 14 bits, and
 /// the push constants hold `MAX_LEVELS` level offsets. Larger maps are built on the CPU.
-pub const MAX_SIDE: u32 = 16384;
+pub const MAX_SIDE: u32 = crate::heightfield::MAX_SIDE;
 /// Levels of a [`MAX_SIDE`] map (`MAX_LEVELS` in the shaders).
 pub(in crate::render) const MAX_LEVELS: usize = 15;
 

@@ -197,6 +197,50 @@ enum Heights<'a> {
     Pyramid(&'a MaxPyramid),
 }
 
+impl Heights<'_> {
+    /// The height map, its pyramid and `req.map` on the device.
+    fn upload(self, ctx: &Arc<Context>, req: &TraceRequest) -> VkResult<HeightResources> {
+        Ok(match self {
+            Heights::Field(hf) => HeightResources::new(
+                ctx,
+                hf,
+                req.format,
+                req.address,
+                req.map,
+                bytemuck::Zeroable::zeroed(),
+            )?,
+            Heights::Pyramid(pyramid) => HeightResources::with_pyramid(
+                ctx,
+                pyramid,
+                req.format,
+                req.address,
+                req.map,
+                bytemuck::Zeroable::zeroed(),
+            )?,
+        })
+    }
+}
+
+/// The trace shader's specialisation for `req`'s budget and shadow, and the light it traces
+/// toward (straight up, unused, without a shadow).
+fn trace_constants(req: &TraceRequest) -> (SpecConstants, [f32; 4]) {
+    let spec = SpecConstants::default()
+        .u32(0, req.budget.max_steps)
+        .u32(1, req.budget.refine_steps)
+        .u32(2, req.budget.leaf.spec_value())
+        .u32(3, req.budget.extent_limit);
+    match req.shadow {
+        None => (spec, [0.0, 0.0, 1.0, 0.0]),
+        Some(s) => (
+            spec.u32(SHADOW_MODE_ID, s.mode.shader_value())
+                .u32(SHADOW_STEPS_ID, s.steps)
+                .f32(SHADOW_REACH_ID, s.horizon_reach)
+                .f32(HARD_SHADOW_TEXELS_ID, hard_shadow_texels(req.method)),
+            [s.toward[0], s.toward[1], s.toward[2], s.radius],
+        ),
+    }
+}
+
 fn trace_with(
     ctx: &Arc<Context>,
     heights: Heights,
@@ -215,24 +259,7 @@ fn trace_with(
     let key = req.method.shader_key("trace.comp");
     let spirv = shaders::spirv(&key)
         .ok_or_else(|| VkError::Invalid(format!("no compiled shader {key}")))?;
-    let res = match heights {
-        Heights::Field(hf) => HeightResources::new(
-            ctx,
-            hf,
-            req.format,
-            req.address,
-            req.map,
-            bytemuck::Zeroable::zeroed(),
-        )?,
-        Heights::Pyramid(pyramid) => HeightResources::with_pyramid(
-            ctx,
-            pyramid,
-            req.format,
-            req.address,
-            req.map,
-            bytemuck::Zeroable::zeroed(),
-        )?,
-    };
+    let res = heights.upload(ctx, req)?;
     let targets = TraceTargets::new(ctx, count)?;
     let mut bindings = res.layout_bindings();
     bindings.extend([
@@ -254,21 +281,7 @@ fn trace_with(
         Bind::Storage(6, targets.visible.raw()),
     ]);
     let set = pool.allocate(&layout, &binds)?;
-    let spec = SpecConstants::default()
-        .u32(0, req.budget.max_steps)
-        .u32(1, req.budget.refine_steps)
-        .u32(2, req.budget.leaf.spec_value())
-        .u32(3, req.budget.extent_limit);
-    let (spec, light) = match req.shadow {
-        None => (spec, [0.0, 0.0, 1.0, 0.0]),
-        Some(s) => (
-            spec.u32(SHADOW_MODE_ID, s.mode.shader_value())
-                .u32(SHADOW_STEPS_ID, s.steps)
-                .f32(SHADOW_REACH_ID, s.horizon_reach)
-                .f32(HARD_SHADOW_TEXELS_ID, hard_shadow_texels(req.method)),
-            [s.toward[0], s.toward[1], s.toward[2], s.radius],
-        ),
-    };
+    let (spec, light) = trace_constants(req);
     let params = TraceParams {
         dir: [req.dir[0], req.dir[1], req.dir[2], req.depth_scale],
         grid: [cols, rows, 0, 0],

@@ -182,32 +182,12 @@ impl BlendedPyramid {
         address: Address,
     ) -> VkResult<BlendedPyramid> {
         let (layer_vk, suffix) = layer_format(format);
-        let storage = vk::FormatFeatureFlags::STORAGE_IMAGE | vk::FormatFeatureFlags::SAMPLED_IMAGE;
-        let unorm = format == HeightFormat::R16Unorm;
-        if !ctx.format_features(layer_vk).contains(storage)
-            || !ctx.format_features(format.vk()).contains(storage)
-            || (unorm && !ctx.info().storage_r16)
-        {
-            return Err(VkError::Unsupported(format!(
-                "{format:?} terrain layers ({layer_vk:?} and {:?} storage images)",
-                format.vk()
-            )));
-        }
+        check_storage(ctx, layer_vk, format)?;
         let heights = channel_image(ctx, stack.heights(), format, "terrain layer heights")?;
         let weights = channel_image(ctx, stack.weights(), format, "terrain layer weights")?;
         let slack = slack_image(ctx, stack, format)?;
         let levels = heights.desc().mip_levels;
-        let blended = Image::new(
-            ctx,
-            ImageDesc {
-                format: format.vk(),
-                usage: vk::ImageUsageFlags::STORAGE
-                    | vk::ImageUsageFlags::SAMPLED
-                    | vk::ImageUsageFlags::TRANSFER_SRC,
-                ..*heights.desc()
-            },
-            "blended terrain heights",
-        )?;
+        let blended = blended_image(ctx, &heights, format)?;
         let pyramid = PyramidPass::new(ctx, suffix)?;
         let jobs = [
             pyramid.prepare_image(&heights)?,
@@ -470,6 +450,37 @@ impl BlendedPyramid {
             })
             .collect()
     }
+}
+
+/// Refuses a format whose layer and blended images the device cannot write as storage images.
+fn check_storage(ctx: &Context, layer_vk: vk::Format, format: HeightFormat) -> VkResult<()> {
+    let storage = vk::FormatFeatureFlags::STORAGE_IMAGE | vk::FormatFeatureFlags::SAMPLED_IMAGE;
+    let unorm = format == HeightFormat::R16Unorm;
+    if !ctx.format_features(layer_vk).contains(storage)
+        || !ctx.format_features(format.vk()).contains(storage)
+        || (unorm && !ctx.info().storage_r16)
+    {
+        return Err(VkError::Unsupported(format!(
+            "{format:?} terrain layers ({layer_vk:?} and {:?} storage images)",
+            format.vk()
+        )));
+    }
+    Ok(())
+}
+
+/// The blended heights, the same size and levels as the layers' `heights`.
+fn blended_image(ctx: &Arc<Context>, heights: &Image, format: HeightFormat) -> VkResult<Image> {
+    Image::new(
+        ctx,
+        ImageDesc {
+            format: format.vk(),
+            usage: vk::ImageUsageFlags::STORAGE
+                | vk::ImageUsageFlags::SAMPLED
+                | vk::ImageUsageFlags::TRANSFER_SRC,
+            ..*heights.desc()
+        },
+        "blended terrain heights",
+    )
 }
 
 /// Builds the blended pyramid of `stack` in `mode` on the GPU and reads every level back (level 0

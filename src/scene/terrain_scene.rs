@@ -9,15 +9,14 @@ use std::sync::Arc;
 use glam::Vec3;
 use image::{DynamicImage, ImageBuffer, Luma, Rgba};
 
-use super::blend::BlendMode;
-use super::grid::{terrain_tiles, GridOptions};
-use super::layers::{LayerError, SplatMap};
-use super::rules::{LayerRule, RuleWeights};
-use crate::heightfield::{Channel, Generator, Heightfield};
-use crate::method::Method;
-use crate::scene::{
+use super::{
     AoMode, Camera, HeightSource, LayerWeights, Layers, Light, Material, MaterialLayer, Relief,
     SamplerDesc, Scene, SceneImage, ShadowMode, ShadowSettings, TextureRef, Wrap,
+};
+use crate::heightfield::{Channel, Generator, Heightfield};
+use crate::method::Method;
+use crate::terrain::{
+    terrain_tiles, BlendMode, GridOptions, LayerError, LayerRule, RuleWeights, SplatMap,
 };
 
 /// The name of the terrain scene's tiles (`{TERRAIN_MESH} tile C,R`); they are its meshes 0.., in
@@ -27,18 +26,26 @@ pub const TERRAIN_MESH: &str = "ground";
 /// One ground layer's images (height required; the others optional).
 #[derive(Debug, Clone)]
 pub struct GroundLayer {
+    /// The layer's name, for messages and the images' names.
     pub name: String,
+    /// Heights, white high.
     pub height: DynamicImage,
+    /// Colour, sRGB.
     pub albedo: Option<DynamicImage>,
+    /// Tangent-space normals.
     pub normal: Option<DynamicImage>,
+    /// Roughness.
     pub roughness: Option<DynamicImage>,
 }
 
 /// How the terrain scene is built.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TerrainOptions {
+    /// The tiled ground mesh.
     pub grid: GridOptions,
+    /// The method that traces the blended layers.
     pub method: Method,
+    /// How the layers blend.
     pub mode: BlendMode,
     /// Repeats of every layer across the terrain.
     pub tiling: f32,
