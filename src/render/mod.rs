@@ -11,6 +11,7 @@
 //! - `measure`: traces and timings for the bench and `relief trace`.
 
 mod cells;
+mod compute_pass;
 mod frame;
 mod maps;
 mod measure;

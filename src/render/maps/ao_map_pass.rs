@@ -51,13 +51,13 @@ use super::ao_sweep::{
 };
 use super::pyramid_pass::PyramidPass;
 use crate::heightfield::{Address, Heightfield};
+use crate::render::compute_pass::ComputePass;
 use crate::render::frame::gpu_heightfield::{sampler_address_mode, GpuHeightfield, HeightFormat};
 use crate::scene::AoMode;
-use crate::shaders;
 use crate::vk::{
-    compute_pipeline, memory_barrier, read_mip, transition_images, Bind, Buffer, Context,
-    DescriptorLayout, DescriptorPool, DescriptorSet, Image, ImageDesc, ImageTransition,
-    MemoryLocation, Pipeline, Recording, Sampler, SpecConstants, TimestampPool, VkError, VkResult,
+    memory_barrier, read_mip, transition_images, Bind, Buffer, Context, DescriptorPool,
+    DescriptorSet, Image, ImageDesc, ImageTransition, MemoryLocation, Recording, Sampler,
+    TimestampPool, VkError, VkResult,
 };
 
 /// Azimuths the exact-horizon sweep targets (fewer when a map's lattice offers fewer steps).
@@ -192,8 +192,7 @@ impl AoJob {
 pub struct AoMapPass {
     ctx: Arc<Context>,
     mode: AoMode,
-    layout: DescriptorLayout,
-    pipeline: Pipeline,
+    pass: ComputePass,
 }
 
 impl AoMapPass {
@@ -206,28 +205,12 @@ impl AoMapPass {
             AoMode::Horizon { .. } => ("ao_horizon.comp", std::mem::size_of::<HorizonParams>()),
             AoMode::ExactHorizon => ("ao_sweep.comp", std::mem::size_of::<SweepParams>()),
         };
-        let spirv =
-            shaders::spirv(key).ok_or_else(|| VkError::Invalid(format!("no shader {key}")))?;
         let name = format!("ao map {mode}");
-        let layout = DescriptorLayout::new(
-            ctx,
-            &layout_bindings(mode),
-            vk::ShaderStageFlags::COMPUTE,
-            &format!("{name} layout"),
-        )?;
-        let pipeline = compute_pipeline(
-            ctx,
-            spirv,
-            &[layout.raw()],
-            push as u32,
-            &SpecConstants::default(),
-            &name,
-        )?;
+        let pass = ComputePass::plain(ctx, key, &layout_bindings(mode), push as u32, &name)?;
         Ok(AoMapPass {
             ctx: ctx.clone(),
             mode,
-            layout,
-            pipeline,
+            pass,
         })
     }
 
@@ -289,7 +272,7 @@ impl AoMapPass {
         } else {
             None
         };
-        let set = pool.allocate(&self.layout, &binds)?;
+        let set = pool.allocate(self.pass.layout(), &binds)?;
         let d = hf.image.desc();
         let reach_uv = match reach_texels {
             Some(reach) => whole_reach_uv(hf.address).min(reach / d.width.max(d.height) as f32),
@@ -315,7 +298,7 @@ impl AoMapPass {
         self.check_job(job)?;
         let image = &job.map.image;
         transition_map(rec, image, MapStep::Write);
-        self.pipeline.bind(rec, Some(job.set));
+        self.pass.pipeline().bind(rec, Some(job.set));
         match (self.mode, &job.scratch) {
             (
                 AoMode::Horizon {
@@ -359,7 +342,7 @@ impl AoMapPass {
         };
         let image = &job.map.image;
         transition_map(rec, image, MapStep::Rewrite);
-        self.pipeline.bind(rec, Some(job.set));
+        self.pass.pipeline().bind(rec, Some(job.set));
         self.record_horizon(rec, job, (directions, rotated), region)?;
         transition_map(rec, image, MapStep::Read);
         Ok(())
@@ -400,7 +383,9 @@ impl AoMapPass {
                 (region[1] + region[3]) as i32,
             ],
         };
-        self.pipeline.push(rec, bytemuck::bytes_of(&params))?;
+        self.pass
+            .pipeline()
+            .push(rec, bytemuck::bytes_of(&params))?;
         rec.dispatch([
             region[2].div_ceil(HORIZON_GROUP),
             region[3].div_ceil(HORIZON_GROUP),
@@ -420,7 +405,9 @@ impl AoMapPass {
         let texel_groups = [w.div_ceil(SWEEP_GROUP), h, 1];
         let mut whole_map = sweep_params(&scratch.directions[0], w, h, repeat, depth_scale);
         whole_map.mode = MODE_UNPACK;
-        self.pipeline.push(rec, bytemuck::bytes_of(&whole_map))?;
+        self.pass
+            .pipeline()
+            .push(rec, bytemuck::bytes_of(&whole_map))?;
         rec.dispatch(texel_groups);
         rec.fill_buffer(accum, 0, accum.size(), 0);
         memory_barrier(
@@ -439,7 +426,9 @@ impl AoMapPass {
             let chunks = sweep_lines(params.walk, w, h, repeat).chunks();
             for chunk in 0..chunks {
                 params.chunk = chunk;
-                self.pipeline.push(rec, bytemuck::bytes_of(&params))?;
+                self.pass
+                    .pipeline()
+                    .push(rec, bytemuck::bytes_of(&params))?;
                 rec.dispatch([params.lines.div_ceil(SWEEP_GROUP), 1, 1]);
                 // The next chunk resumes from the hull stacks, the next direction reuses them,
                 // and both add to the same sums.
@@ -447,7 +436,9 @@ impl AoMapPass {
             }
         }
         whole_map.mode = MODE_RESOLVE;
-        self.pipeline.push(rec, bytemuck::bytes_of(&whole_map))?;
+        self.pass
+            .pipeline()
+            .push(rec, bytemuck::bytes_of(&whole_map))?;
         rec.dispatch(texel_groups);
         Ok(())
     }

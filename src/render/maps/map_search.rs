@@ -13,11 +13,10 @@ use std::sync::Arc;
 use ash::vk;
 
 use crate::heightfield::MapData;
-use crate::shaders;
+use crate::render::compute_pass::ComputePass;
 use crate::vk::{
-    compute_pipeline, memory_barrier, Bind, Buffer, Context, DescriptorLayout, DescriptorPool,
-    DescriptorSet, MemoryLocation, Pipeline, Readback, Recording, SpecConstants, TimestampPool,
-    VkError, VkResult,
+    memory_barrier, Bind, Buffer, Context, DescriptorPool, DescriptorSet, MemoryLocation, Pipeline,
+    Readback, Recording, SpecConstants, TimestampPool, VkError, VkResult,
 };
 
 /// The workgroup is 8x8 texels.
@@ -39,10 +38,9 @@ pub(in crate::render) const MODE_SEARCH: u32 = 1;
 /// descriptor set, rewritten for every build (builds wait for their submissions, so the set is
 /// never in use when it is rewritten).
 pub(in crate::render) struct SearchPipeline {
-    layout: DescriptorLayout,
+    pub pass: ComputePass,
     _pool: DescriptorPool,
     pub set: DescriptorSet,
-    pub pipeline: Pipeline,
 }
 
 impl SearchPipeline {
@@ -55,49 +53,29 @@ impl SearchPipeline {
         bindings: u32,
         name: &str,
     ) -> VkResult<SearchPipeline> {
-        let spirv =
-            shaders::spirv(key).ok_or_else(|| VkError::Invalid(format!("no shader {key}")))?;
-        let storage = vk::DescriptorType::STORAGE_BUFFER;
-        let slots: Vec<_> = (0..bindings).map(|b| (b, storage)).collect();
-        let layout = DescriptorLayout::new(
-            ctx,
-            &slots,
-            vk::ShaderStageFlags::COMPUTE,
-            &format!("{name} layout"),
-        )?;
-        let pipeline = compute_pipeline(
-            ctx,
-            spirv,
-            &[layout.raw()],
-            push,
-            &SpecConstants::default(),
-            name,
-        )?;
+        let pass = ComputePass::plain(ctx, key, &storage_slots(bindings), push, name)?;
         let pool = DescriptorPool::new(ctx, 1, bindings, &format!("{name} sets"))?;
-        let set = pool.allocate(&layout, &[])?;
+        let set = pool.allocate(pass.layout(), &[])?;
         Ok(SearchPipeline {
-            layout,
+            pass,
             _pool: pool,
             set,
-            pipeline,
         })
     }
 
-    /// Another pipeline of shader `key` over the same set layout (one set serves both),
-    /// specialized by `spec`: a shader whose modes are specialization constants gets each mode
-    /// compiled alone, which lavapipe runs several times faster than one shader branching on a
-    /// push constant.
+    /// Another pipeline of shader `key` whose set layout is defined as this one's (so the one
+    /// set serves both), specialized by `spec`: a shader whose modes are specialization constants
+    /// gets each mode compiled alone, which lavapipe runs several times faster than one shader
+    /// branching on a push constant.
     pub fn specialized(
         &self,
         ctx: &Arc<Context>,
         key: &str,
-        push: u32,
+        (push, bindings): (u32, u32),
         spec: &SpecConstants,
         name: &str,
-    ) -> VkResult<Pipeline> {
-        let spirv =
-            shaders::spirv(key).ok_or_else(|| VkError::Invalid(format!("no shader {key}")))?;
-        compute_pipeline(ctx, spirv, &[self.layout.raw()], push, spec, name)
+    ) -> VkResult<ComputePass> {
+        ComputePass::new(ctx, key, &storage_slots(bindings), push, spec, name)
     }
 
     /// Builds a map of `channels` floats per texel from `level0` (`w` x `h`) with the push
@@ -111,7 +89,7 @@ impl SearchPipeline {
         params: &dyn Fn(u32, u32, u32) -> P,
     ) -> VkResult<(MapData, f64)> {
         let search = MapSearch {
-            pipeline: &self.pipeline,
+            pipeline: self.pass.pipeline(),
             set: self.set,
             channels,
             name,
@@ -126,6 +104,13 @@ impl SearchPipeline {
         };
         Ok((map, gpu_ms))
     }
+}
+
+/// Storage buffers at bindings `0..bindings`, the layout of every search shader's set.
+fn storage_slots(bindings: u32) -> Vec<(u32, vk::DescriptorType)> {
+    (0..bindings)
+        .map(|b| (b, vk::DescriptorType::STORAGE_BUFFER))
+        .collect()
 }
 
 /// What one build holds in single storage buffers: its pyramid of `node_bytes` a node and its

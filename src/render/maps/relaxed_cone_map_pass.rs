@@ -31,9 +31,10 @@ use super::map_search::{
 };
 use crate::heightfield::cone_map::{bilinear_box_bound, REACH_CAP_TEXELS, REACH_CAP_UV};
 use crate::heightfield::{Address, Heightfield, MapData};
+use crate::render::compute_pass::ComputePass;
 use crate::vk::{
-    memory_barrier, Bind, Buffer, Context, MemoryLocation, Pipeline, Readback, Recording,
-    SpecConstants, VkResult,
+    memory_barrier, Bind, Buffer, Context, MemoryLocation, Readback, Recording, SpecConstants,
+    VkResult,
 };
 
 /// Bytes per pyramid node: the maximum height, the maximum of 1 - height (f32 bits each) and
@@ -76,9 +77,9 @@ pub struct RelaxedConeMapPass {
     ctx: Arc<Context>,
     /// The set and the REDUCE pipeline.
     search: SearchPipeline,
-    reach: Pipeline,
-    reach_reduce: Pipeline,
-    relaxed: Pipeline,
+    reach: ComputePass,
+    reach_reduce: ComputePass,
+    relaxed: ComputePass,
 }
 
 impl RelaxedConeMapPass {
@@ -89,7 +90,7 @@ impl RelaxedConeMapPass {
         let search = SearchPipeline::new(ctx, key, push, 2, "relaxed cone map")?;
         let mode = |mode, name| {
             let spec = SpecConstants::default().u32(0, mode);
-            search.specialized(ctx, key, push, &spec, name)
+            search.specialized(ctx, key, (push, 2), &spec, name)
         };
         Ok(RelaxedConeMapPass {
             ctx: ctx.clone(),
@@ -145,7 +146,7 @@ impl RelaxedConeMapPass {
             let past_end = params(mode, 0, h);
             warm_up(
                 &self.ctx,
-                pipeline,
+                pipeline.pipeline(),
                 self.search.set,
                 bytemuck::bytes_of(&past_end),
             )?;
@@ -156,7 +157,7 @@ impl RelaxedConeMapPass {
         timed.submit(&self.ctx, |rec| {
             rec.copy_buffer(&buffers.staging, &buffers.nodes);
             memory_barrier(rec, COPIED, COMPUTE_RW);
-            let reduce = &self.search.pipeline;
+            let reduce = self.search.pass.pipeline();
             reduce.bind(rec, set);
             record_reductions(rec, reduce, w, h, |level| params(MODE_REDUCE, level, 0))
         })?;
@@ -169,7 +170,7 @@ impl RelaxedConeMapPass {
             let push = params(mode, 0, row0);
             record_row_dispatch(
                 rec,
-                pipeline,
+                pipeline.pipeline(),
                 self.search.set,
                 bytemuck::bytes_of(&push),
                 w,
@@ -180,8 +181,9 @@ impl RelaxedConeMapPass {
             timed.submit(&self.ctx, |rec| record_rows(rec, MODE_REACH, chunk))?;
         }
         timed.submit(&self.ctx, |rec| {
-            self.reach_reduce.bind(rec, set);
-            record_reductions(rec, &self.reach_reduce, w, h, |level| {
+            let reach_reduce = self.reach_reduce.pipeline();
+            reach_reduce.bind(rec, set);
+            record_reductions(rec, reach_reduce, w, h, |level| {
                 params(MODE_REACH_REDUCE, level, 0)
             })
         })?;

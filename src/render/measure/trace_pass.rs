@@ -7,16 +7,16 @@ use ash::vk;
 
 use crate::heightfield::{Address, Heightfield, MapData, MaxPyramid};
 use crate::method::{Budget, Method};
+use crate::render::compute_pass::ComputePass;
 use crate::render::frame::gpu_heightfield::HeightFormat;
 use crate::render::frame::height_resources::HeightResources;
 use crate::render::frame::surface_pass::{
     hard_shadow_texels, HARD_SHADOW_TEXELS_ID, SHADOW_MODE_ID, SHADOW_REACH_ID, SHADOW_STEPS_ID,
 };
 use crate::scene::ShadowMode;
-use crate::shaders;
 use crate::vk::{
-    compute_pipeline, memory_barrier, Bind, Buffer, Context, DescriptorLayout, DescriptorPool,
-    MemoryLocation, Readback, Recording, SpecConstants, TimestampPool, VkError, VkResult,
+    memory_barrier, Bind, Buffer, Context, DescriptorPool, MemoryLocation, Readback, Recording,
+    SpecConstants, TimestampPool, VkError, VkResult,
 };
 
 /// Side of the trace pass's square workgroups (`local_size_x` and `_y` in trace.comp).
@@ -213,8 +213,6 @@ fn trace_with(
     }
     let count = cols as u64 * rows as u64;
     let key = req.method.shader_key("trace.comp");
-    let spirv = shaders::spirv(&key)
-        .ok_or_else(|| VkError::Invalid(format!("no compiled shader {key}")))?;
     let res = match heights {
         Heights::Field(hf) => HeightResources::new(
             ctx,
@@ -240,20 +238,6 @@ fn trace_with(
         (5, vk::DescriptorType::STORAGE_BUFFER),
         (6, vk::DescriptorType::STORAGE_BUFFER),
     ]);
-    let layout = DescriptorLayout::new(
-        ctx,
-        &bindings,
-        vk::ShaderStageFlags::COMPUTE,
-        "trace layout",
-    )?;
-    let pool = DescriptorPool::new(ctx, 1, 3, "trace sets")?;
-    let mut binds = res.binds();
-    binds.extend([
-        Bind::Storage(4, targets.hits.raw()),
-        Bind::Storage(5, targets.steps.raw()),
-        Bind::Storage(6, targets.visible.raw()),
-    ]);
-    let set = pool.allocate(&layout, &binds)?;
     let spec = SpecConstants::default()
         .u32(0, req.budget.max_steps)
         .u32(1, req.budget.refine_steps)
@@ -275,7 +259,15 @@ fn trace_with(
         light,
     };
     let push = std::mem::size_of::<TraceParams>() as u32;
-    let pipeline = compute_pipeline(ctx, spirv, &[layout.raw()], push, &spec, &key)?;
+    let pass = ComputePass::new(ctx, &key, &bindings, push, &spec, &key)?;
+    let pool = DescriptorPool::new(ctx, 1, 3, "trace sets")?;
+    let mut binds = res.binds();
+    binds.extend([
+        Bind::Storage(4, targets.hits.raw()),
+        Bind::Storage(5, targets.steps.raw()),
+        Bind::Storage(6, targets.visible.raw()),
+    ]);
+    let set = pool.allocate(pass.layout(), &binds)?;
     let timestamps = TimestampPool::new(ctx, 2 * frames, "trace timestamps")?;
     let full = (
         all_stages(),
@@ -284,6 +276,7 @@ fn trace_with(
     let all = vk::PipelineStageFlags2::ALL_COMMANDS;
     ctx.one_shot(|rec| {
         res.record_pyramid(rec)?;
+        let pipeline = pass.pipeline();
         pipeline.bind(rec, Some(set));
         pipeline.push(rec, bytemuck::bytes_of(&params))?;
         for frame in 0..warmup + frames {

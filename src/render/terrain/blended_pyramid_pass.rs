@@ -14,15 +14,14 @@ use std::sync::Arc;
 use ash::vk;
 
 use crate::heightfield::{mip_level_count, Address, Heightfield};
+use crate::render::compute_pass::ComputePass;
 use crate::render::frame::gpu_heightfield::HeightFormat;
 use crate::render::maps::pyramid_pass::{regions_above, PyramidJob, PyramidPass, Region};
-use crate::shaders;
 use crate::terrain::{least_sum_slack, BlendMode, LayerStack, TexelRect};
 use crate::vk::{
-    compute_pipeline, memory_barrier, read_mip, transition_images, upload_mips, Bind, Context,
-    DescriptorLayout, DescriptorPool, DescriptorSet, Image, ImageDesc, ImageTransition, ImageView,
-    Pipeline, Recording, RegionTexels, Sampler, SpecConstants, StagedRegions, TimestampPool,
-    VkError, VkResult,
+    memory_barrier, read_mip, transition_images, upload_mips, Bind, Context, DescriptorPool,
+    DescriptorSet, Image, ImageDesc, ImageTransition, ImageView, Recording, RegionTexels, Sampler,
+    StagedRegions, TimestampPool, VkError, VkResult,
 };
 
 const GROUP: u32 = 8;
@@ -162,8 +161,7 @@ pub struct BlendedPyramid {
     jobs: [PyramidJob; 2],
     slack_pyramid: PyramidPass,
     slack_job: PyramidJob,
-    pipeline: Pipeline,
-    _layout: DescriptorLayout,
+    pass: ComputePass,
     _views: Vec<ImageView>,
     _pool: DescriptorPool,
     sets: Vec<DescriptorSet>,
@@ -215,26 +213,16 @@ impl BlendedPyramid {
         ];
         let slack_pyramid = PyramidPass::new(ctx, format.shader_suffix())?;
         let slack_job = slack_pyramid.prepare_image(&slack)?;
-        let key = format!("blended_pyramid.comp:{}", format.shader_suffix());
-        let spirv =
-            shaders::spirv(&key).ok_or_else(|| VkError::Invalid(format!("no shader {key}")))?;
-        let layout = DescriptorLayout::new(
+        let pass = ComputePass::plain(
             ctx,
+            &format!("blended_pyramid.comp:{}", format.shader_suffix()),
             &[
                 (0, vk::DescriptorType::COMBINED_IMAGE_SAMPLER),
                 (1, vk::DescriptorType::COMBINED_IMAGE_SAMPLER),
                 (2, vk::DescriptorType::STORAGE_IMAGE),
                 (3, vk::DescriptorType::COMBINED_IMAGE_SAMPLER),
             ],
-            vk::ShaderStageFlags::COMPUTE,
-            "blended pyramid layout",
-        )?;
-        let pipeline = compute_pipeline(
-            ctx,
-            spirv,
-            &[layout.raw()],
             32,
-            &SpecConstants::default(),
             "blended pyramid",
         )?;
         let texels = Sampler::new(
@@ -251,7 +239,7 @@ impl BlendedPyramid {
             .iter()
             .map(|view| {
                 pool.allocate(
-                    &layout,
+                    pass.layout(),
                     &[
                         Bind::Texture(0, heights.view(), texels.raw()),
                         Bind::Texture(1, weights.view(), texels.raw()),
@@ -275,8 +263,7 @@ impl BlendedPyramid {
             jobs,
             slack_pyramid,
             slack_job,
-            pipeline,
-            _layout: layout,
+            pass,
             _views: views,
             _pool: pool,
             sets,
@@ -437,10 +424,11 @@ impl BlendedPyramid {
         );
         let unorm = self.format == HeightFormat::R16Unorm;
         for (level, (&set, level_regions)) in self.sets.iter().zip(regions).enumerate() {
-            self.pipeline.bind(rec, Some(set));
+            let pipeline = self.pass.pipeline();
+            pipeline.bind(rec, Some(set));
             for &region in level_regions {
                 let push = blend_push(self.mode, level as u32, unorm, region);
-                self.pipeline.push(rec, bytemuck::bytes_of(&push))?;
+                pipeline.push(rec, bytemuck::bytes_of(&push))?;
                 rec.dispatch([region[2].div_ceil(GROUP), region[3].div_ceil(GROUP), 1]);
             }
         }

@@ -8,14 +8,13 @@ use std::sync::Arc;
 use ash::vk;
 
 use crate::heightfield::{Address, Heightfield};
+use crate::render::compute_pass::ComputePass;
 use crate::render::frame::gpu_heightfield::{GpuHeightfield, HeightFormat};
 use crate::render::maps::pyramid_pass::{regions_above, PyramidJob, PyramidPass, Region};
-use crate::shaders;
 use crate::terrain::{BrushKind, Stroke, StrokeError, StrokeTarget, TexelRect};
 use crate::vk::{
-    compute_pipeline, memory_barrier, read_mip, transition_images, Bind, Context, DescriptorLayout,
-    DescriptorPool, DescriptorSet, ImageTransition, ImageView, Pipeline, SpecConstants,
-    TimestampPool, VkError, VkResult,
+    memory_barrier, read_mip, transition_images, Bind, Context, DescriptorPool, DescriptorSet,
+    ImageTransition, ImageView, TimestampPool, VkError, VkResult,
 };
 
 const GROUP: u32 = 8;
@@ -44,8 +43,7 @@ pub struct ElevationEditor {
     heights: GpuHeightfield,
     pyramid: PyramidPass,
     job: PyramidJob,
-    brush: Pipeline,
-    _layout: DescriptorLayout,
+    brush: ComputePass,
     _pool: DescriptorPool,
     _level0: ImageView,
     set: DescriptorSet,
@@ -63,33 +61,22 @@ impl ElevationEditor {
         let heights = GpuHeightfield::upload(ctx, elevation, format, address)?;
         let pyramid = PyramidPass::new(ctx, format.shader_suffix())?;
         let job = pyramid.prepare(&heights)?;
-        let key = format!("brush.comp:{}", format.shader_suffix());
-        let spirv =
-            shaders::spirv(&key).ok_or_else(|| VkError::Invalid(format!("no shader {key}")))?;
-        let layout = DescriptorLayout::new(
+        let brush = ComputePass::plain(
             ctx,
+            &format!("brush.comp:{}", format.shader_suffix()),
             &[(0, vk::DescriptorType::STORAGE_IMAGE)],
-            vk::ShaderStageFlags::COMPUTE,
-            "brush layout",
-        )?;
-        let brush = compute_pipeline(
-            ctx,
-            spirv,
-            &[layout.raw()],
             48,
-            &SpecConstants::default(),
             "brush",
         )?;
         let level0 = heights.image.level_view(0)?;
         let pool = DescriptorPool::new(ctx, 1, 1, "brush set")?;
-        let set = pool.allocate(&layout, &[Bind::StorageImage(0, level0.raw())])?;
+        let set = pool.allocate(brush.layout(), &[Bind::StorageImage(0, level0.raw())])?;
         let editor = ElevationEditor {
             ctx: ctx.clone(),
             heights,
             pyramid,
             job,
             brush,
-            _layout: layout,
             _pool: pool,
             _level0: level0,
             set,
@@ -130,15 +117,15 @@ impl ElevationEditor {
         }));
         self.record(|rec, editor| {
             for (stroke, rect) in strokes.iter().zip(&rects) {
-                editor.brush.bind(rec, Some(editor.set));
-                editor
-                    .brush
-                    .push(rec, bytemuck::bytes_of(&brush_push(stroke, rect)))?;
-                rec.dispatch([
+                let push = brush_push(stroke, rect);
+                let groups = [
                     rect.width().div_ceil(GROUP),
                     rect.height().div_ceil(GROUP),
                     1,
-                ]);
+                ];
+                editor
+                    .brush
+                    .dispatch(rec, editor.set, bytemuck::bytes_of(&push), groups)?;
                 // Strokes may overlap: each reads what the one before wrote.
                 let compute = vk::PipelineStageFlags2::COMPUTE_SHADER;
                 memory_barrier(
