@@ -116,7 +116,7 @@ fn storage_slots(bindings: u32) -> Vec<(u32, vk::DescriptorType)> {
 /// What one build holds in single storage buffers: its pyramid of `node_bytes` a node and its
 /// map of `channels` floats a texel.
 #[derive(Clone, Copy)]
-pub(in crate::render) struct SearchBuffers {
+pub struct SearchBuffers {
     pub node_bytes: u64,
     pub channels: u32,
 }

@@ -14,15 +14,10 @@
 
 use std::sync::Arc;
 
+use super::map_builder_pass::{GpuMap, MapBuilderPass};
 use super::map_search::{level_offsets, top_level, SearchBuffers, SearchPipeline, MODE_REDUCE};
 use crate::heightfield::{Address, Heightfield, MapData};
 use crate::vk::{Context, VkResult};
-
-/// A float per pyramid node; `[a, b, c, h]` per texel.
-const BUFFERS: SearchBuffers = SearchBuffers {
-    node_bytes: 4,
-    channels: 4,
-};
 
 /// The shader's push constants (`Params` in quadric_map.comp).
 #[repr(C)]
@@ -38,33 +33,36 @@ struct Params {
     offsets: [u32; 15],
 }
 
-/// The quadric-map pipeline with its layout and one descriptor set, rewritten for every build
-/// (builds wait for their submissions, so the set is never in use when it is rewritten).
-pub struct QuadricMapPass {
-    ctx: Arc<Context>,
+/// The quadric-map builder.
+pub type QuadricMapPass = MapBuilderPass<QuadricMapSearch>;
+
+/// The quadric map's search pipeline.
+pub struct QuadricMapSearch {
     search: SearchPipeline,
 }
 
-impl QuadricMapPass {
-    /// Creates the pipeline, its layout and its set.
-    pub fn new(ctx: &Arc<Context>) -> VkResult<QuadricMapPass> {
+impl GpuMap for QuadricMapSearch {
+    const NAME: &'static str = "quadric map";
+    /// A float per pyramid node; `[a, b, c, h]` per texel.
+    const BUFFERS: SearchBuffers = SearchBuffers {
+        node_bytes: 4,
+        channels: 4,
+    };
+
+    fn pipelines(ctx: &Arc<Context>) -> VkResult<QuadricMapSearch> {
         let push = std::mem::size_of::<Params>() as u32;
-        Ok(QuadricMapPass {
-            ctx: ctx.clone(),
-            search: SearchPipeline::new(ctx, "quadric_map.comp", push, 2, "quadric map")?,
+        Ok(QuadricMapSearch {
+            search: SearchPipeline::new(ctx, "quadric_map.comp", push, 2, Self::NAME)?,
         })
     }
 
-    /// Whether this device takes the build of a `w` x `h` map.
-    pub fn fits(ctx: &Context, w: u32, h: u32) -> bool {
-        BUFFERS.fit(ctx, w, h)
-    }
-
-    /// Builds the quadric map of `hf` under `address`, with the GPU time in ms (the pyramid and
-    /// every search submission; the transfers are not in it).
-    pub fn build(&self, hf: &Heightfield, address: Address) -> VkResult<(MapData, f64)> {
+    fn build(
+        &self,
+        ctx: &Arc<Context>,
+        hf: &Heightfield,
+        address: Address,
+    ) -> VkResult<(MapData, f64)> {
         let (w, h) = (hf.width(), hf.height());
-        BUFFERS.check(&self.ctx, "quadric map", w, h)?;
         let base = Params {
             mode: MODE_REDUCE,
             width: w,
@@ -82,7 +80,7 @@ impl QuadricMapPass {
             ..base
         };
         self.search
-            .build(&self.ctx, (hf.data(), w, h), 4, "quadric map", &params)
+            .build(ctx, (hf.data(), w, h), 4, Self::NAME, &params)
     }
 }
 

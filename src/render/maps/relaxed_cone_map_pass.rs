@@ -24,6 +24,7 @@ use std::sync::Arc;
 
 use ash::vk;
 
+use super::map_builder_pass::{GpuMap, MapBuilderPass};
 use super::map_search::{
     level_offsets, pyramid_floats, record_reductions, record_row_dispatch, row_chunks, top_level,
     warm_up, SearchBuffers, SearchPipeline, TimedSubmissions, COMPUTE_RW, COPIED, MAX_LEVELS,
@@ -40,12 +41,6 @@ use crate::vk::{
 /// Bytes per pyramid node: the maximum height, the maximum of 1 - height (f32 bits each) and
 /// the least reach of each quadrant (u16).
 const NODE_BYTES: u64 = 16;
-
-/// The node records; ratio and box height per texel.
-const BUFFERS: SearchBuffers = SearchBuffers {
-    node_bytes: NODE_BYTES,
-    channels: 2,
-};
 
 // The shader's modes after MODE_REDUCE (0, map_search's), one pipeline each.
 const MODE_REACH: u32 = 1;
@@ -71,10 +66,11 @@ struct Params {
 
 const _: () = assert!(MAX_LEVELS == 15, "Params::offsets holds MAX_LEVELS offsets");
 
-/// The relaxed-cone pipelines (one per mode) with one descriptor set rewritten for every build
-/// (builds wait for their submissions, so the set is never in use when it is rewritten).
-pub struct RelaxedConeMapPass {
-    ctx: Arc<Context>,
+/// The relaxed cone-map builder.
+pub type RelaxedConeMapPass = MapBuilderPass<RelaxedConeMap>;
+
+/// The relaxed-cone pipelines, one per mode, sharing one set.
+pub struct RelaxedConeMap {
     /// The set and the REDUCE pipeline.
     search: SearchPipeline,
     reach: ComputePass,
@@ -82,18 +78,24 @@ pub struct RelaxedConeMapPass {
     relaxed: ComputePass,
 }
 
-impl RelaxedConeMapPass {
-    /// Creates the pipelines (one per mode), their layout and set.
-    pub fn new(ctx: &Arc<Context>) -> VkResult<RelaxedConeMapPass> {
+impl GpuMap for RelaxedConeMap {
+    const NAME: &'static str = "relaxed cone map";
+    /// The node records ([`NODE_BYTES`] each: about 360 MB at 4096^2); ratio and box height per
+    /// texel.
+    const BUFFERS: SearchBuffers = SearchBuffers {
+        node_bytes: NODE_BYTES,
+        channels: 2,
+    };
+
+    fn pipelines(ctx: &Arc<Context>) -> VkResult<RelaxedConeMap> {
         let push = std::mem::size_of::<Params>() as u32;
         let key = "relaxed_cone_map.comp";
-        let search = SearchPipeline::new(ctx, key, push, 2, "relaxed cone map")?;
+        let search = SearchPipeline::new(ctx, key, push, 2, Self::NAME)?;
         let mode = |mode, name| {
             let spec = SpecConstants::default().u32(0, mode);
             search.specialized(ctx, key, (push, 2), &spec, name)
         };
-        Ok(RelaxedConeMapPass {
-            ctx: ctx.clone(),
+        Ok(RelaxedConeMap {
             reach: mode(MODE_REACH, "relaxed cone map reaches")?,
             reach_reduce: mode(MODE_REACH_REDUCE, "relaxed cone map reach pyramid")?,
             relaxed: mode(MODE_RELAXED, "relaxed cone map search")?,
@@ -101,17 +103,14 @@ impl RelaxedConeMapPass {
         })
     }
 
-    /// Whether the device takes the pyramid of a `w` x `h` map in one storage buffer (16 bytes a
-    /// node: about 360 MB at 4096^2).
-    pub fn fits(ctx: &Context, w: u32, h: u32) -> bool {
-        BUFFERS.fit(ctx, w, h)
-    }
-
-    /// Builds the relaxed cone map of `hf` under `address`, with the GPU time in ms (every
-    /// submission; the CPU's bilinear bound and the transfers are not in it).
-    pub fn build(&self, hf: &Heightfield, address: Address) -> VkResult<(MapData, f64)> {
+    /// The GPU time is every submission's; the CPU's bilinear bound is not in it.
+    fn build(
+        &self,
+        ctx: &Arc<Context>,
+        hf: &Heightfield,
+        address: Address,
+    ) -> VkResult<(MapData, f64)> {
         let (w, h) = (hf.width(), hf.height());
-        BUFFERS.check(&self.ctx, "relaxed cone map", w, h)?;
         let bound = bilinear_box_bound(hf, address);
         let nodes = pyramid_floats(w, h);
         let base = Params {
@@ -133,9 +132,9 @@ impl RelaxedConeMapPass {
             row0,
             ..base
         };
-        let buffers = Buffers::new(&self.ctx, bound.data(), nodes)?;
+        let buffers = Buffers::new(ctx, bound.data(), nodes)?;
         self.search.set.rewrite(
-            &self.ctx,
+            ctx,
             &[
                 Bind::Storage(0, buffers.nodes.raw()),
                 Bind::Storage(1, buffers.map.raw()),
@@ -145,7 +144,7 @@ impl RelaxedConeMapPass {
         for (pipeline, mode) in [(&self.reach, MODE_REACH), (&self.relaxed, MODE_RELAXED)] {
             let past_end = params(mode, 0, h);
             warm_up(
-                &self.ctx,
+                ctx,
                 pipeline.pipeline(),
                 self.search.set,
                 bytemuck::bytes_of(&past_end),
@@ -153,8 +152,8 @@ impl RelaxedConeMapPass {
         }
         let chunks = row_chunks(w, h);
         let submissions = 2 + 2 * chunks.len() as u32;
-        let mut timed = TimedSubmissions::new(&self.ctx, submissions, "relaxed cone map")?;
-        timed.submit(&self.ctx, |rec| {
+        let mut timed = TimedSubmissions::new(ctx, submissions, "relaxed cone map")?;
+        timed.submit(ctx, |rec| {
             rec.copy_buffer(&buffers.staging, &buffers.nodes);
             memory_barrier(rec, COPIED, COMPUTE_RW);
             let reduce = self.search.pass.pipeline();
@@ -178,9 +177,9 @@ impl RelaxedConeMapPass {
             )
         };
         for &chunk in &chunks {
-            timed.submit(&self.ctx, |rec| record_rows(rec, MODE_REACH, chunk))?;
+            timed.submit(ctx, |rec| record_rows(rec, MODE_REACH, chunk))?;
         }
-        timed.submit(&self.ctx, |rec| {
+        timed.submit(ctx, |rec| {
             let reach_reduce = self.reach_reduce.pipeline();
             reach_reduce.bind(rec, set);
             record_reductions(rec, reach_reduce, w, h, |level| {
@@ -188,11 +187,10 @@ impl RelaxedConeMapPass {
             })
         })?;
         for &chunk in &chunks {
-            timed.submit(&self.ctx, |rec| record_rows(rec, MODE_RELAXED, chunk))?;
+            timed.submit(ctx, |rec| record_rows(rec, MODE_RELAXED, chunk))?;
         }
-        let back = Readback::new(&self.ctx, buffers.map.size(), "relaxed cone map readback")?;
-        self.ctx
-            .one_shot(|rec| back.record_copy_from_buffer(rec, &buffers.map, SHADER_WROTE))?;
+        let back = Readback::new(ctx, buffers.map.size(), "relaxed cone map readback")?;
+        ctx.one_shot(|rec| back.record_copy_from_buffer(rec, &buffers.map, SHADER_WROTE))?;
         let gpu_ms = timed.total_ms()?;
         let map = MapData {
             width: w,
