@@ -41,9 +41,8 @@
 
 layout(local_size_x = 64) in;
 
-const uint MODE_SWEEP = 0u;
-const uint MODE_RESOLVE = 1u;
-const uint MODE_UNPACK = 2u;
+// MODE_SWEEP, MODE_RESOLVE, MODE_UNPACK.
+#include "interface.glsl"
 // Hull entries kept per line (a power of two, render::ao_sweep::HULL_CAPACITY). A fuller stack
 // forgets its oldest, farthest entry: only a horizon seen more than 128 hull vertices away, always
 // a very flat one, can be lost.

@@ -40,17 +40,16 @@
 //    an invocation after 65535 iterations in all: 15 levels and ring 8 stay far below).
 layout(local_size_x = 8, local_size_y = 8) in;
 
-const uint MODE_REDUCE = 0u;
-const uint MODE_QUADRIC = 1u;
-const uint MAX_LEVELS = 15u;
+// MODE_REDUCE, MODE_SEARCH (the quadric fit), MAX_LEVELS and the bindings.
+#include "interface.glsl"
 
 // All pyramid levels back to back, level 0 (the heights, width x height) first.
-layout(set = 0, binding = 0, std430) buffer Pyramid {
+layout(set = 0, binding = BINDING_SEARCH_PYRAMID, std430) buffer Pyramid {
     float pyramid[];
 };
 
 // Per texel [a, b, c, h] (QuadricMap's texel), row-major.
-layout(set = 0, binding = 1, std430) writeonly buffer QuadricMap {
+layout(set = 0, binding = BINDING_SEARCH_MAP, std430) writeonly buffer QuadricMap {
     vec4 quadric_map[];
 };
 

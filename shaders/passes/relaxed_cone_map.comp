@@ -39,12 +39,9 @@
 // (cone_search.glsl) and stepped down by STEP_DOWN ulps.
 layout(local_size_x = 8, local_size_y = 8) in;
 
-const uint MODE_REDUCE = 0u;
-const uint MODE_REACH = 1u;
-const uint MODE_REACH_REDUCE = 2u;
-const uint MODE_RELAXED = 3u;
-layout(constant_id = 0) const uint MODE = MODE_REDUCE;
-const uint MAX_LEVELS = 15u;
+// MODE_REDUCE, MODE_REACH, MODE_REACH_REDUCE, MODE_RELAXED, MAX_LEVELS and the bindings.
+#include "interface.glsl"
+layout(constant_id = SPEC_MAP_MODE) const uint MODE = MODE_REDUCE;
 // Quadrants 0..3 from +u toward +v: (+u, +v), (-u, +v), (-u, -v), (+u, -v) (the CPU's sectors
 // 4k..4k+3); those in the open half-planes u > 0 and v > 0.
 const uint ALL_QUADRANTS = 0xfu;
@@ -65,12 +62,12 @@ const int PIN_HI = 3;
 // Node (i, j) of level L covers the texels [i, i + 1) * 2^L (clipped) along each axis, as in
 // buffer_pyramid.glsl. A node's height and reaches sit together because the relaxed search reads
 // both (25% faster on lavapipe than two arrays).
-layout(set = 0, binding = 0, std430) buffer Nodes {
+layout(set = 0, binding = BINDING_SEARCH_PYRAMID, std430) buffer Nodes {
     uvec4 nodes[];
 };
 
 // Per texel of level 0: the ratio and the bound height (MapData's two channels), row-major.
-layout(set = 0, binding = 1, std430) writeonly buffer ConeMap {
+layout(set = 0, binding = BINDING_SEARCH_MAP, std430) writeonly buffer ConeMap {
     vec2 cone_map[];
 };
 

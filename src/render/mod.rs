@@ -15,6 +15,7 @@ mod compute_pass;
 mod frame;
 mod maps;
 mod measure;
+mod shader_interface;
 mod terrain;
 
 pub use cells::cells_pass::{BuiltComplex, CellsOptions};

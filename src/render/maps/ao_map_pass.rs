@@ -53,6 +53,7 @@ use super::pyramid_pass::PyramidPass;
 use crate::heightfield::{Address, Heightfield};
 use crate::render::compute_pass::ComputePass;
 use crate::render::frame::gpu_heightfield::{sampler_address_mode, GpuHeightfield, HeightFormat};
+use crate::render::shader_interface::{MODE_RESOLVE, MODE_SWEEP, MODE_UNPACK};
 use crate::scene::AoMode;
 use crate::vk::{
     memory_barrier, read_mip, transition_images, Bind, Buffer, Context, DescriptorPool,
@@ -68,9 +69,6 @@ pub const AO_MAP_FORMAT: vk::Format = vk::Format::R32_SFLOAT;
 
 const HORIZON_GROUP: u32 = 8;
 const SWEEP_GROUP: u32 = 64;
-const MODE_SWEEP: u32 = 0;
-const MODE_RESOLVE: u32 = 1;
-const MODE_UNPACK: u32 = 2;
 
 /// `Params` of ao_horizon.comp.
 #[repr(C)]

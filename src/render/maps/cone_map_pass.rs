@@ -18,11 +18,10 @@ use std::sync::Arc;
 
 use super::map_builder_pass::{GpuMap, MapBuilderPass};
 pub use super::map_search::MAX_SIDE;
-use super::map_search::{
-    level_offsets, top_level, SearchBuffers, SearchPipeline, MAX_LEVELS, MODE_REDUCE,
-};
+use super::map_search::{level_offsets, top_level, SearchBuffers, SearchPipeline, MAX_LEVELS};
 use crate::heightfield::cone_map::bilinear_box_bound;
 use crate::heightfield::{Address, Heightfield, MapData};
+use crate::render::shader_interface::MODE_REDUCE;
 use crate::vk::{Context, VkResult};
 
 /// Relative amount by which a GPU ratio may fall short of the CPU's (never exceed it): the f32

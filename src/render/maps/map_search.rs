@@ -14,6 +14,9 @@ use ash::vk;
 
 use crate::heightfield::MapData;
 use crate::render::compute_pass::ComputePass;
+use crate::render::shader_interface::{
+    self, BINDING_SEARCH_MAP, BINDING_SEARCH_PYRAMID, MODE_REDUCE, MODE_SEARCH,
+};
 use crate::vk::{
     memory_barrier, Bind, Buffer, Context, DescriptorPool, DescriptorSet, MemoryLocation, Pipeline,
     Readback, Recording, SpecConstants, TimestampPool, VkError, VkResult,
@@ -26,13 +29,8 @@ const ROWS_TEXELS: u32 = 1 << 20;
 /// The largest side the GPU builders take: the cone search packs texel indices in 14 bits, and
 /// the push constants hold [`MAX_LEVELS`] level offsets. Larger maps are built on the CPU.
 pub const MAX_SIDE: u32 = 16384;
-/// Levels of a [`MAX_SIDE`] map (`MAX_LEVELS` in the shaders).
-pub(in crate::render) const MAX_LEVELS: usize = 15;
-
-/// The shaders' `mode` for a reduction dispatch.
-pub(in crate::render) const MODE_REDUCE: u32 = 0;
-/// The shaders' `mode` for a search dispatch.
-pub(in crate::render) const MODE_SEARCH: u32 = 1;
+/// Levels of a [`MAX_SIDE`] map.
+pub(in crate::render) const MAX_LEVELS: usize = shader_interface::MAX_LEVELS as usize;
 
 /// A search shader's pipeline with its layout (bindings 0 and 1, storage buffers) and one
 /// descriptor set, rewritten for every build (builds wait for their submissions, so the set is
@@ -203,7 +201,10 @@ impl<P: bytemuck::Pod> MapSearch<'_, P> {
         let back = Readback::new(ctx, bytes, &format!("{} readback", self.name))?;
         self.set.rewrite(
             ctx,
-            &[Bind::Storage(0, pyramid.raw()), Bind::Storage(1, out.raw())],
+            &[
+                Bind::Storage(BINDING_SEARCH_PYRAMID, pyramid.raw()),
+                Bind::Storage(BINDING_SEARCH_MAP, out.raw()),
+            ],
         );
         let past_end = (self.params)(MODE_SEARCH, 0, h);
         warm_up(ctx, self.pipeline, self.set, bytemuck::bytes_of(&past_end))?;

@@ -15,8 +15,9 @@
 use std::sync::Arc;
 
 use super::map_builder_pass::{GpuMap, MapBuilderPass};
-use super::map_search::{level_offsets, top_level, SearchBuffers, SearchPipeline, MODE_REDUCE};
+use super::map_search::{level_offsets, top_level, SearchBuffers, SearchPipeline};
 use crate::heightfield::{Address, Heightfield, MapData};
+use crate::render::shader_interface::MODE_REDUCE;
 use crate::vk::{Context, VkResult};
 
 /// The shader's push constants (`Params` in quadric_map.comp).

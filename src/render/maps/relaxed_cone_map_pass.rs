@@ -28,11 +28,15 @@ use super::map_builder_pass::{GpuMap, MapBuilderPass};
 use super::map_search::{
     level_offsets, pyramid_floats, record_reductions, record_row_dispatch, row_chunks, top_level,
     warm_up, SearchBuffers, SearchPipeline, TimedSubmissions, COMPUTE_RW, COPIED, MAX_LEVELS,
-    MODE_REDUCE, SHADER_WROTE,
+    SHADER_WROTE,
 };
 use crate::heightfield::cone_map::{bilinear_box_bound, REACH_CAP_TEXELS, REACH_CAP_UV};
 use crate::heightfield::{Address, Heightfield, MapData};
 use crate::render::compute_pass::ComputePass;
+use crate::render::shader_interface::{
+    BINDING_SEARCH_MAP, BINDING_SEARCH_PYRAMID, MODE_REACH, MODE_REACH_REDUCE, MODE_REDUCE,
+    MODE_RELAXED, SPEC_MAP_MODE,
+};
 use crate::vk::{
     memory_barrier, Bind, Buffer, Context, MemoryLocation, Readback, Recording, SpecConstants,
     VkResult,
@@ -41,11 +45,6 @@ use crate::vk::{
 /// Bytes per pyramid node: the maximum height, the maximum of 1 - height (f32 bits each) and
 /// the least reach of each quadrant (u16).
 const NODE_BYTES: u64 = 16;
-
-// The shader's modes after MODE_REDUCE (0, map_search's), one pipeline each.
-const MODE_REACH: u32 = 1;
-const MODE_REACH_REDUCE: u32 = 2;
-const MODE_RELAXED: u32 = 3;
 
 /// The shader's push constants (`Params` in relaxed_cone_map.comp).
 #[repr(C)]
@@ -92,7 +91,7 @@ impl GpuMap for RelaxedConeMap {
         let key = "relaxed_cone_map.comp";
         let search = SearchPipeline::new(ctx, key, push, 2, Self::NAME)?;
         let mode = |mode, name| {
-            let spec = SpecConstants::default().u32(0, mode);
+            let spec = SpecConstants::default().u32(SPEC_MAP_MODE, mode);
             search.specialized(ctx, key, (push, 2), &spec, name)
         };
         Ok(RelaxedConeMap {
@@ -136,8 +135,8 @@ impl GpuMap for RelaxedConeMap {
         self.search.set.rewrite(
             ctx,
             &[
-                Bind::Storage(0, buffers.nodes.raw()),
-                Bind::Storage(1, buffers.map.raw()),
+                Bind::Storage(BINDING_SEARCH_PYRAMID, buffers.nodes.raw()),
+                Bind::Storage(BINDING_SEARCH_MAP, buffers.map.raw()),
             ],
         );
         let set = Some(self.search.set);

@@ -10,8 +10,11 @@ use crate::method::{Budget, Method};
 use crate::render::compute_pass::ComputePass;
 use crate::render::frame::gpu_heightfield::HeightFormat;
 use crate::render::frame::height_resources::HeightResources;
-use crate::render::frame::surface_pass::{
-    hard_shadow_texels, HARD_SHADOW_TEXELS_ID, SHADOW_MODE_ID, SHADOW_REACH_ID, SHADOW_STEPS_ID,
+use crate::render::frame::surface_pass::hard_shadow_texels;
+use crate::render::shader_interface::{
+    SPEC_BUDGET_EXTENT_LIMIT, SPEC_BUDGET_LEAF_EXACT, SPEC_BUDGET_MAX_STEPS,
+    SPEC_BUDGET_REFINE_STEPS, SPEC_HARD_SHADOW_TEXELS, SPEC_SHADOW_MODE, SPEC_SHADOW_REACH,
+    SPEC_SHADOW_STEPS,
 };
 use crate::scene::ShadowMode;
 use crate::vk::{
@@ -239,17 +242,17 @@ fn trace_with(
         (6, vk::DescriptorType::STORAGE_BUFFER),
     ]);
     let spec = SpecConstants::default()
-        .u32(0, req.budget.max_steps)
-        .u32(1, req.budget.refine_steps)
-        .u32(2, req.budget.leaf.spec_value())
-        .u32(3, req.budget.extent_limit);
+        .u32(SPEC_BUDGET_MAX_STEPS, req.budget.max_steps)
+        .u32(SPEC_BUDGET_REFINE_STEPS, req.budget.refine_steps)
+        .u32(SPEC_BUDGET_LEAF_EXACT, req.budget.leaf.spec_value())
+        .u32(SPEC_BUDGET_EXTENT_LIMIT, req.budget.extent_limit);
     let (spec, light) = match req.shadow {
         None => (spec, [0.0, 0.0, 1.0, 0.0]),
         Some(s) => (
-            spec.u32(SHADOW_MODE_ID, s.mode.shader_value())
-                .u32(SHADOW_STEPS_ID, s.steps)
-                .f32(SHADOW_REACH_ID, s.horizon_reach)
-                .f32(HARD_SHADOW_TEXELS_ID, hard_shadow_texels(req.method)),
+            spec.u32(SPEC_SHADOW_MODE, s.mode.shader_value())
+                .u32(SPEC_SHADOW_STEPS, s.steps)
+                .f32(SPEC_SHADOW_REACH, s.horizon_reach)
+                .f32(SPEC_HARD_SHADOW_TEXELS, hard_shadow_texels(req.method)),
             [s.toward[0], s.toward[1], s.toward[2], s.radius],
         ),
     };

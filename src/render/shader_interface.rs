@@ -1,0 +1,148 @@
+//! The numbers the Rust side and the shaders must agree on — descriptor bindings,
+//! specialization-constant ids, mode values and array sizes — written once, here. build.rs
+//! compiles this file as a module of its own and writes every table below into the GLSL header
+//! "interface.glsl", which the shaders include; so this file uses nothing outside itself.
+
+/// Declares each constant as a `u32` and lists it by name in `$table`, for build.rs's header.
+macro_rules! glsl_table {
+    ($(#[$table_doc:meta])* $table:ident { $($(#[$doc:meta])* $name:ident = $value:expr;)* }) => {
+        $($(#[$doc])* pub const $name: u32 = $value;)*
+        $(#[$table_doc])*
+        // Read by build.rs; the library names the constants themselves.
+        #[allow(dead_code)]
+        pub const $table: &[(&str, u32)] = &[$((stringify!($name), $name)),*];
+    };
+}
+
+glsl_table! {
+    /// Set 0 of the passes that trace (surface and trace, `shaders/include/bindings.glsl`,
+    /// `lod.glsl`), written as `#define`s so they can stand in layout qualifiers.
+    FRAME_BINDINGS {
+        /// The frame's uniform block (camera, lights).
+        BINDING_FRAME = 0;
+        /// The height field and its max pyramid, nearest texel, nearest mip.
+        BINDING_HEIGHT_POINT = 1;
+        /// The same image, bilinear.
+        BINDING_HEIGHT_LINEAR = 2;
+        /// The method's precomputed map, for the methods whose table row names one.
+        BINDING_METHOD_MAP = 3;
+        /// The averaged height pyramid of level-of-detail variants.
+        BINDING_HEIGHT_MEAN = 4;
+    }
+}
+
+glsl_table! {
+    /// Set 0 of the map searches (`cone_map.comp`, `quadric_map.comp`,
+    /// `relaxed_cone_map.comp`), as `#define`s.
+    SEARCH_BINDINGS {
+        /// Every pyramid level back to back, level 0 first.
+        BINDING_SEARCH_PYRAMID = 0;
+        /// The map being built, per texel of level 0.
+        BINDING_SEARCH_MAP = 1;
+    }
+}
+
+glsl_table! {
+    /// Specialization-constant ids, as `#define`s. The trace and surface passes share the budget
+    /// and shadow ids; the level-of-detail ids start at 20 to keep clear of them.
+    SPEC_IDS {
+        /// The iteration cap.
+        SPEC_BUDGET_MAX_STEPS = 0;
+        /// Refinement steps after the search.
+        SPEC_BUDGET_REFINE_STEPS = 1;
+        /// 1: methods with a leaf stage finish on the exact bilinear patch.
+        SPEC_BUDGET_LEAF_EXACT = 2;
+        /// Nonzero: each ray's cap grows with the texels it crosses, up to this.
+        SPEC_BUDGET_EXTENT_LIMIT = 3;
+        /// `ShadowMode::shader_value`.
+        SPEC_SHADOW_MODE = 8;
+        /// Shadow samples or the shadow walk's iteration cap.
+        SPEC_SHADOW_STEPS = 9;
+        /// How far the horizon shadow's samples reach.
+        SPEC_SHADOW_REACH = 10;
+        /// How far a hard shadow's first hit must lie from the shaded point, in texels.
+        SPEC_HARD_SHADOW_TEXELS = 11;
+        /// Level of detail: the stop level's scale with distance.
+        SPEC_LOD_FACTOR = 20;
+        /// Level of detail: added to the stop level.
+        SPEC_LOD_BIAS = 21;
+        /// Level of detail: where the fade to normal mapping starts.
+        SPEC_LOD_FADE_START = 22;
+        /// Level of detail: where it ends.
+        SPEC_LOD_FADE_END = 23;
+        /// Level of detail: below this many samples a linear search averages.
+        SPEC_LOD_AVERAGE_BELOW = 24;
+        /// The relaxed cone map's mode, one pipeline each.
+        SPEC_MAP_MODE = 0;
+    }
+}
+
+glsl_table! {
+    /// Array sizes, as `#define`s.
+    SIZES {
+        /// Punctual lights in the frame's uniform block.
+        MAX_LIGHTS = 8;
+        /// Pyramid levels the map searches' push constants hold offsets for.
+        MAX_LEVELS = 15;
+    }
+}
+
+glsl_table! {
+    /// Mode values the passes choose their work by, as `const uint`s.
+    MODES {
+        /// Map searches: one level of the pyramid from the level below.
+        MODE_REDUCE = 0;
+        /// Conservative cone and quadric maps: the per-texel search.
+        MODE_SEARCH = 1;
+        /// Relaxed cone map: each texel's reach per quadrant.
+        MODE_REACH = 1;
+        /// Relaxed cone map: the pyramid of least reaches.
+        MODE_REACH_REDUCE = 2;
+        /// Relaxed cone map: the per-texel relaxed search.
+        MODE_RELAXED = 3;
+        /// Exact-horizon AO: one chunk of one direction's line walks.
+        MODE_SWEEP = 0;
+        /// Exact-horizon AO: the sums turned into the map.
+        MODE_RESOLVE = 1;
+        /// Exact-horizon AO: the heights unpacked into the walks' field.
+        MODE_UNPACK = 2;
+    }
+}
+
+/// The tables written as `#define NAME value`, for layout qualifiers and array sizes.
+#[allow(dead_code)] // Read by build.rs.
+pub const GLSL_DEFINES: &[&[(&str, u32)]] = &[FRAME_BINDINGS, SEARCH_BINDINGS, SPEC_IDS, SIZES];
+/// The tables written as `const uint NAME = valueu;`, compared with `uint`s.
+#[allow(dead_code)] // Read by build.rs.
+pub const GLSL_UINTS: &[&[(&str, u32)]] = &[MODES];
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_name_in_the_header_is_declared_once() {
+        let mut names: Vec<&str> = GLSL_DEFINES
+            .iter()
+            .chain(GLSL_UINTS)
+            .flat_map(|table| table.iter().map(|&(name, _)| name))
+            .collect();
+        let all = names.len();
+        names.sort_unstable();
+        names.dedup();
+        assert_eq!(names.len(), all);
+    }
+
+    #[test]
+    fn ids_in_one_pipeline_do_not_collide() {
+        let mut traced: Vec<u32> = SPEC_IDS
+            .iter()
+            .filter(|(name, _)| *name != "SPEC_MAP_MODE")
+            .map(|&(_, id)| id)
+            .collect();
+        let all = traced.len();
+        traced.sort_unstable();
+        traced.dedup();
+        assert_eq!(traced.len(), all);
+    }
+}
