@@ -1,5 +1,5 @@
 //! The numbers the Rust side and the shaders must agree on — descriptor bindings,
-//! specialization-constant ids, mode values and array sizes — written once, here. build.rs
+//! specialization-constant ids and array sizes — written once, here. build.rs
 //! compiles this file as a module of its own and writes every table below into the GLSL header
 //! "interface.glsl", which the shaders include; so this file uses nothing outside itself.
 
@@ -32,8 +32,8 @@ glsl_table! {
 }
 
 glsl_table! {
-    /// Set 0 of the map searches (`cone_map.comp`, `quadric_map.comp`,
-    /// `relaxed_cone_map.comp`), as `#define`s.
+    /// Set 0 of the map searches (`buffer_pyramid_reduce.comp`, `cone_map.comp`,
+    /// `quadric_map.comp`, `relaxed_cone_*.comp`), as `#define`s.
     SEARCH_BINDINGS {
         /// Every pyramid level back to back, level 0 first.
         BINDING_SEARCH_PYRAMID = 0;
@@ -72,8 +72,6 @@ glsl_table! {
         SPEC_LOD_FADE_END = 23;
         /// Level of detail: below this many samples a linear search averages.
         SPEC_LOD_AVERAGE_BELOW = 24;
-        /// The relaxed cone map's mode, one pipeline each.
-        SPEC_MAP_MODE = 0;
     }
 }
 
@@ -87,34 +85,9 @@ glsl_table! {
     }
 }
 
-glsl_table! {
-    /// Mode values the passes choose their work by, as `const uint`s.
-    MODES {
-        /// Map searches: one level of the pyramid from the level below.
-        MODE_REDUCE = 0;
-        /// Conservative cone and quadric maps: the per-texel search.
-        MODE_SEARCH = 1;
-        /// Relaxed cone map: each texel's reach per quadrant.
-        MODE_REACH = 1;
-        /// Relaxed cone map: the pyramid of least reaches.
-        MODE_REACH_REDUCE = 2;
-        /// Relaxed cone map: the per-texel relaxed search.
-        MODE_RELAXED = 3;
-        /// Exact-horizon AO: one chunk of one direction's line walks.
-        MODE_SWEEP = 0;
-        /// Exact-horizon AO: the sums turned into the map.
-        MODE_RESOLVE = 1;
-        /// Exact-horizon AO: the heights unpacked into the walks' field.
-        MODE_UNPACK = 2;
-    }
-}
-
 /// The tables written as `#define NAME value`, for layout qualifiers and array sizes.
 #[allow(dead_code)] // Read by build.rs.
 pub const GLSL_DEFINES: &[&[(&str, u32)]] = &[FRAME_BINDINGS, SEARCH_BINDINGS, SPEC_IDS, SIZES];
-/// The tables written as `const uint NAME = valueu;`, compared with `uint`s.
-#[allow(dead_code)] // Read by build.rs.
-pub const GLSL_UINTS: &[&[(&str, u32)]] = &[MODES];
 
 #[cfg(test)]
 mod tests {
@@ -124,7 +97,6 @@ mod tests {
     fn every_name_in_the_header_is_declared_once() {
         let mut names: Vec<&str> = GLSL_DEFINES
             .iter()
-            .chain(GLSL_UINTS)
             .flat_map(|table| table.iter().map(|&(name, _)| name))
             .collect();
         let all = names.len();
@@ -135,11 +107,7 @@ mod tests {
 
     #[test]
     fn ids_in_one_pipeline_do_not_collide() {
-        let mut traced: Vec<u32> = SPEC_IDS
-            .iter()
-            .filter(|(name, _)| *name != "SPEC_MAP_MODE")
-            .map(|&(_, id)| id)
-            .collect();
+        let mut traced: Vec<u32> = SPEC_IDS.iter().map(|&(_, id)| id).collect();
         let all = traced.len();
         traced.sort_unstable();
         traced.dedup();

@@ -53,7 +53,6 @@ use super::pyramid_pass::PyramidPass;
 use crate::heightfield::{Address, Heightfield};
 use crate::render::compute_pass::ComputePass;
 use crate::render::frame::gpu_heightfield::{sampler_address_mode, GpuHeightfield, HeightFormat};
-use crate::render::shader_interface::{MODE_RESOLVE, MODE_SWEEP, MODE_UNPACK};
 use crate::scene::AoMode;
 use crate::vk::{
     memory_barrier, read_mip, transition_images, Bind, Buffer, Context, DescriptorPool,
@@ -91,7 +90,7 @@ struct HorizonParams {
 const _: () = assert!(std::mem::size_of::<HorizonParams>() == 56);
 const _: () = assert!(std::mem::offset_of!(HorizonParams, origin) == 40);
 
-/// `Params` of ao_sweep.comp.
+/// `Params` of the exact sweep's kernels (`shaders/include/ao_sweep.glsl`).
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 struct SweepParams {
@@ -103,11 +102,10 @@ struct SweepParams {
     repeat_address: u32,
     period: u32,
     g_a: u32,
-    mode: u32,
+    weight: f32,
     depth_scale: f32,
     step_uv: f32,
     dir: [f32; 2],
-    weight: f32,
     crossing_base: u32,
     crossing_count: u32,
     segments: u32,
@@ -117,7 +115,9 @@ struct SweepParams {
     chunk_steps: u32,
 }
 
-const _: () = assert!(std::mem::size_of::<SweepParams>() == 96);
+const _: () = assert!(std::mem::size_of::<SweepParams>() == 92);
+// std430 puts a vec2 on 8 bytes; Rust's [f32; 2] on 4.
+const _: () = assert!(std::mem::offset_of!(SweepParams, dir) % 8 == 0);
 
 /// A built AO map: `R32_SFLOAT`, one texel per height texel, in `SHADER_READ_ONLY_OPTIMAL`, with a
 /// sampler that filters linearly where the device can (else nearest) under the height field's
@@ -190,7 +190,16 @@ impl AoJob {
 pub struct AoMapPass {
     ctx: Arc<Context>,
     mode: AoMode,
+    /// The horizon kernel, or the exact sweep's per-azimuth walk.
     pass: ComputePass,
+    /// The exact sweep's kernels before and after its walks.
+    sweep_ends: Option<SweepEnds>,
+}
+
+/// `ao_sweep_unpack.comp` and `ao_sweep_resolve.comp`, over the sweep's set layout.
+struct SweepEnds {
+    unpack: ComputePass,
+    resolve: ComputePass,
 }
 
 impl AoMapPass {
@@ -204,11 +213,25 @@ impl AoMapPass {
             AoMode::ExactHorizon => ("ao_sweep.comp", std::mem::size_of::<SweepParams>()),
         };
         let name = format!("ao map {mode}");
-        let pass = ComputePass::plain(ctx, key, &layout_bindings(mode), push as u32, &name)?;
+        let bindings = layout_bindings(mode);
+        let pass = ComputePass::plain(ctx, key, &bindings, push as u32, &name)?;
+        let sweep_ends = if mode == AoMode::ExactHorizon {
+            let kernel = |key, part| {
+                let name = format!("{name} {part}");
+                ComputePass::plain(ctx, key, &bindings, push as u32, &name)
+            };
+            Some(SweepEnds {
+                unpack: kernel("ao_sweep_unpack.comp", "unpack")?,
+                resolve: kernel("ao_sweep_resolve.comp", "resolve")?,
+            })
+        } else {
+            None
+        };
         Ok(AoMapPass {
             ctx: ctx.clone(),
             mode,
             pass,
+            sweep_ends,
         })
     }
 
@@ -401,12 +424,14 @@ impl AoMapPass {
         let repeat = job.map.address == Address::Repeat;
         // Per-texel passes: a group per 64 texels of a row, a row of groups per map row.
         let texel_groups = [w.div_ceil(SWEEP_GROUP), h, 1];
-        let mut whole_map = sweep_params(&scratch.directions[0], w, h, repeat, depth_scale);
-        whole_map.mode = MODE_UNPACK;
-        self.pass
-            .pipeline()
-            .push(rec, bytemuck::bytes_of(&whole_map))?;
-        rec.dispatch(texel_groups);
+        let ends = self
+            .sweep_ends
+            .as_ref()
+            .ok_or_else(|| VkError::Invalid("AO pass built for another mode".into()))?;
+        let whole_map = sweep_params(&scratch.directions[0], w, h, repeat, depth_scale);
+        let whole_map = bytemuck::bytes_of(&whole_map);
+        ends.unpack
+            .dispatch(rec, job.set, whole_map, texel_groups)?;
         rec.fill_buffer(accum, 0, accum.size(), 0);
         memory_barrier(
             rec,
@@ -417,6 +442,8 @@ impl AoMapPass {
             (compute, rw),
         );
         memory_barrier(rec, (compute, rw), (compute, rw));
+        let sweep = self.pass.pipeline();
+        sweep.bind(rec, Some(job.set));
         for (k, dir) in scratch.directions.iter().enumerate() {
             let mut params = sweep_params(dir, w, h, repeat, depth_scale);
             params.crossing_base = (k * MAX_CROSSINGS) as u32;
@@ -424,21 +451,14 @@ impl AoMapPass {
             let chunks = sweep_lines(params.walk, w, h, repeat).chunks();
             for chunk in 0..chunks {
                 params.chunk = chunk;
-                self.pass
-                    .pipeline()
-                    .push(rec, bytemuck::bytes_of(&params))?;
+                sweep.push(rec, bytemuck::bytes_of(&params))?;
                 rec.dispatch([params.lines.div_ceil(SWEEP_GROUP), 1, 1]);
                 // The next chunk resumes from the hull stacks, the next direction reuses them,
                 // and both add to the same sums.
                 memory_barrier(rec, (compute, rw), (compute, rw));
             }
         }
-        whole_map.mode = MODE_RESOLVE;
-        self.pass
-            .pipeline()
-            .push(rec, bytemuck::bytes_of(&whole_map))?;
-        rec.dispatch(texel_groups);
-        Ok(())
+        ends.resolve.dispatch(rec, job.set, whole_map, texel_groups)
     }
 
     /// Uploads `hf` (as `R32_SFLOAT`, so the GPU sees the same heights as the CPU reference),
@@ -525,7 +545,6 @@ fn sweep_params(
         repeat_address: u32::from(repeat),
         period: lines.period,
         g_a: lines.g_a,
-        mode: MODE_SWEEP,
         depth_scale,
         step_uv: step_u.hypot(step_v) as f32,
         dir: [dir.angle.cos() as f32, dir.angle.sin() as f32],

@@ -18,10 +18,9 @@ use std::sync::Arc;
 
 use super::map_builder_pass::{GpuMap, MapBuilderPass};
 pub use super::map_search::MAX_SIDE;
-use super::map_search::{level_offsets, top_level, SearchBuffers, SearchPipeline, MAX_LEVELS};
+use super::map_search::{level_offsets, top_level, PyramidSearch, SearchBuffers, MAX_LEVELS};
 use crate::heightfield::cone_map::bilinear_box_bound;
 use crate::heightfield::{Address, Heightfield, MapData};
-use crate::render::shader_interface::MODE_REDUCE;
 use crate::vk::{Context, VkResult};
 
 /// Relative amount by which a GPU ratio may fall short of the CPU's (never exceed it): the f32
@@ -32,11 +31,9 @@ pub const RATIO_TOLERANCE: f32 = 1.0 / 32768.0;
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 struct Params {
-    mode: u32,
     width: u32,
     height: u32,
     repeat_address: u32,
-    level: u32,
     row0: u32,
     aspect: f32,
     top: u32,
@@ -52,7 +49,7 @@ pub type ConeMapPass = MapBuilderPass<ConservativeConeMap>;
 
 /// The conservative cone map's search pipeline.
 pub struct ConservativeConeMap {
-    search: SearchPipeline,
+    search: PyramidSearch,
 }
 
 impl GpuMap for ConservativeConeMap {
@@ -66,7 +63,7 @@ impl GpuMap for ConservativeConeMap {
     fn pipelines(ctx: &Arc<Context>) -> VkResult<ConservativeConeMap> {
         let push = std::mem::size_of::<Params>() as u32;
         Ok(ConservativeConeMap {
-            search: SearchPipeline::new(ctx, "cone_map.comp", push, 2, Self::NAME)?,
+            search: PyramidSearch::new(ctx, "cone_map.comp", push, Self::NAME)?,
         })
     }
 
@@ -80,22 +77,15 @@ impl GpuMap for ConservativeConeMap {
         let (w, h) = (hf.width(), hf.height());
         let bound = bilinear_box_bound(hf, address);
         let base = Params {
-            mode: MODE_REDUCE,
             width: w,
             height: h,
             repeat_address: u32::from(address == Address::Repeat),
-            level: 0,
             row0: 0,
             aspect: (f64::from(w) / f64::from(h)) as f32,
             top: top_level(w, h),
             offsets: level_offsets(w, h),
         };
-        let params = |mode, level, row0| Params {
-            mode,
-            level,
-            row0,
-            ..base
-        };
+        let params = |row0| Params { row0, ..base };
         self.search
             .build(ctx, (bound.data(), w, h), 2, Self::NAME, &params)
     }

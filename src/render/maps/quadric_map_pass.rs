@@ -15,20 +15,17 @@
 use std::sync::Arc;
 
 use super::map_builder_pass::{GpuMap, MapBuilderPass};
-use super::map_search::{level_offsets, top_level, SearchBuffers, SearchPipeline};
+use super::map_search::{level_offsets, top_level, PyramidSearch, SearchBuffers};
 use crate::heightfield::{Address, Heightfield, MapData};
-use crate::render::shader_interface::MODE_REDUCE;
 use crate::vk::{Context, VkResult};
 
 /// The shader's push constants (`Params` in quadric_map.comp).
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 struct Params {
-    mode: u32,
     width: u32,
     height: u32,
     repeat_address: u32,
-    level: u32,
     row0: u32,
     top: u32,
     offsets: [u32; 15],
@@ -39,7 +36,7 @@ pub type QuadricMapPass = MapBuilderPass<QuadricMapSearch>;
 
 /// The quadric map's search pipeline.
 pub struct QuadricMapSearch {
-    search: SearchPipeline,
+    search: PyramidSearch,
 }
 
 impl GpuMap for QuadricMapSearch {
@@ -53,7 +50,7 @@ impl GpuMap for QuadricMapSearch {
     fn pipelines(ctx: &Arc<Context>) -> VkResult<QuadricMapSearch> {
         let push = std::mem::size_of::<Params>() as u32;
         Ok(QuadricMapSearch {
-            search: SearchPipeline::new(ctx, "quadric_map.comp", push, 2, Self::NAME)?,
+            search: PyramidSearch::new(ctx, "quadric_map.comp", push, Self::NAME)?,
         })
     }
 
@@ -65,21 +62,14 @@ impl GpuMap for QuadricMapSearch {
     ) -> VkResult<(MapData, f64)> {
         let (w, h) = (hf.width(), hf.height());
         let base = Params {
-            mode: MODE_REDUCE,
             width: w,
             height: h,
             repeat_address: u32::from(address == Address::Repeat),
-            level: 0,
             row0: 0,
             top: top_level(w, h),
             offsets: level_offsets(w, h),
         };
-        let params = |mode, level, row0| Params {
-            mode,
-            level,
-            row0,
-            ..base
-        };
+        let params = |row0| Params { row0, ..base };
         self.search
             .build(ctx, (hf.data(), w, h), 4, Self::NAME, &params)
     }

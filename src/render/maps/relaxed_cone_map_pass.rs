@@ -1,4 +1,4 @@
-//! The relaxed cone map built on the GPU (`shaders/passes/relaxed_cone_map.comp`): a map in the
+//! The relaxed cone map built on the GPU (`shaders/passes/relaxed_cone_*.comp`): a map in the
 //! layout of `ConeMap::build(hf, ConeKind::Relaxed, address)` (`MapData`: ratio, bound height),
 //! never wider than the CPU's.
 //!
@@ -33,24 +33,19 @@ use super::map_search::{
 use crate::heightfield::cone_map::{bilinear_box_bound, REACH_CAP_TEXELS, REACH_CAP_UV};
 use crate::heightfield::{Address, Heightfield, MapData};
 use crate::render::compute_pass::ComputePass;
-use crate::render::shader_interface::{
-    BINDING_SEARCH_MAP, BINDING_SEARCH_PYRAMID, MODE_REACH, MODE_REACH_REDUCE, MODE_REDUCE,
-    MODE_RELAXED, SPEC_MAP_MODE,
-};
+use crate::render::shader_interface::{BINDING_SEARCH_MAP, BINDING_SEARCH_PYRAMID};
 use crate::vk::{
-    memory_barrier, Bind, Buffer, Context, MemoryLocation, Readback, Recording, SpecConstants,
-    VkResult,
+    memory_barrier, Bind, Buffer, Context, MemoryLocation, Readback, Recording, VkResult,
 };
 
 /// Bytes per pyramid node: the maximum height, the maximum of 1 - height (f32 bits each) and
 /// the least reach of each quadrant (u16).
 const NODE_BYTES: u64 = 16;
 
-/// The shader's push constants (`Params` in relaxed_cone_map.comp).
+/// The kernels' push constants (`Params` in shaders/include/relaxed_cone.glsl).
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 struct Params {
-    mode: u32,
     width: u32,
     height: u32,
     repeat_address: u32,
@@ -68,9 +63,9 @@ const _: () = assert!(MAX_LEVELS == 15, "Params::offsets holds MAX_LEVELS offset
 /// The relaxed cone-map builder.
 pub type RelaxedConeMapPass = MapBuilderPass<RelaxedConeMap>;
 
-/// The relaxed-cone pipelines, one per mode, sharing one set.
+/// The relaxed-cone pipelines, one per kernel, sharing one set.
 pub struct RelaxedConeMap {
-    /// The set and the REDUCE pipeline.
+    /// The set and the REDUCE kernel.
     search: SearchPipeline,
     reach: ComputePass,
     reach_reduce: ComputePass,
@@ -88,16 +83,15 @@ impl GpuMap for RelaxedConeMap {
 
     fn pipelines(ctx: &Arc<Context>) -> VkResult<RelaxedConeMap> {
         let push = std::mem::size_of::<Params>() as u32;
-        let key = "relaxed_cone_map.comp";
-        let search = SearchPipeline::new(ctx, key, push, 2, Self::NAME)?;
-        let mode = |mode, name| {
-            let spec = SpecConstants::default().u32(SPEC_MAP_MODE, mode);
-            search.specialized(ctx, key, (push, 2), &spec, name)
-        };
+        let search = SearchPipeline::new(ctx, "relaxed_cone_reduce.comp", push, 2, Self::NAME)?;
+        let kernel = |key, name| search.kernel(ctx, key, push, name);
         Ok(RelaxedConeMap {
-            reach: mode(MODE_REACH, "relaxed cone map reaches")?,
-            reach_reduce: mode(MODE_REACH_REDUCE, "relaxed cone map reach pyramid")?,
-            relaxed: mode(MODE_RELAXED, "relaxed cone map search")?,
+            reach: kernel("relaxed_cone_reach.comp", "relaxed cone map reaches")?,
+            reach_reduce: kernel(
+                "relaxed_cone_reach_reduce.comp",
+                "relaxed cone map reach pyramid",
+            )?,
+            relaxed: kernel("relaxed_cone_search.comp", "relaxed cone map search")?,
             search,
         })
     }
@@ -113,7 +107,6 @@ impl GpuMap for RelaxedConeMap {
         let bound = bilinear_box_bound(hf, address);
         let nodes = pyramid_floats(w, h);
         let base = Params {
-            mode: MODE_REDUCE,
             width: w,
             height: h,
             repeat_address: u32::from(address == Address::Repeat),
@@ -125,8 +118,7 @@ impl GpuMap for RelaxedConeMap {
             reach_cap: reach_cap_texels(w) as f32,
             offsets: level_offsets(w, h),
         };
-        let params = |mode, level, row0| Params {
-            mode,
+        let params = |level, row0| Params {
             level,
             row0,
             ..base
@@ -140,8 +132,8 @@ impl GpuMap for RelaxedConeMap {
             ],
         );
         let set = Some(self.search.set);
-        for (pipeline, mode) in [(&self.reach, MODE_REACH), (&self.relaxed, MODE_RELAXED)] {
-            let past_end = params(mode, 0, h);
+        for pipeline in [&self.reach, &self.relaxed] {
+            let past_end = params(0, h);
             warm_up(
                 ctx,
                 pipeline.pipeline(),
@@ -157,15 +149,10 @@ impl GpuMap for RelaxedConeMap {
             memory_barrier(rec, COPIED, COMPUTE_RW);
             let reduce = self.search.pass.pipeline();
             reduce.bind(rec, set);
-            record_reductions(rec, reduce, w, h, |level| params(MODE_REDUCE, level, 0))
+            record_reductions(rec, reduce, w, h, |level| params(level, 0))
         })?;
-        let record_rows = |rec: &Recording, mode, (row0, count): (u32, u32)| {
-            let pipeline = if mode == MODE_REACH {
-                &self.reach
-            } else {
-                &self.relaxed
-            };
-            let push = params(mode, 0, row0);
+        let record_rows = |rec: &Recording, pipeline: &ComputePass, (row0, count): (u32, u32)| {
+            let push = params(0, row0);
             record_row_dispatch(
                 rec,
                 pipeline.pipeline(),
@@ -176,17 +163,15 @@ impl GpuMap for RelaxedConeMap {
             )
         };
         for &chunk in &chunks {
-            timed.submit(ctx, |rec| record_rows(rec, MODE_REACH, chunk))?;
+            timed.submit(ctx, |rec| record_rows(rec, &self.reach, chunk))?;
         }
         timed.submit(ctx, |rec| {
             let reach_reduce = self.reach_reduce.pipeline();
             reach_reduce.bind(rec, set);
-            record_reductions(rec, reach_reduce, w, h, |level| {
-                params(MODE_REACH_REDUCE, level, 0)
-            })
+            record_reductions(rec, reach_reduce, w, h, |level| params(level, 0))
         })?;
         for &chunk in &chunks {
-            timed.submit(ctx, |rec| record_rows(rec, MODE_RELAXED, chunk))?;
+            timed.submit(ctx, |rec| record_rows(rec, &self.relaxed, chunk))?;
         }
         let back = Readback::new(ctx, buffers.map.size(), "relaxed cone map readback")?;
         ctx.one_shot(|rec| back.record_copy_from_buffer(rec, &buffers.map, SHADER_WROTE))?;
