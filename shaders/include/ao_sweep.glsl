@@ -38,6 +38,8 @@
 #define AO_SWEEP_GLSL
 
 #include "ao.glsl"
+// The push-constant fields.
+#include "interface.glsl"
 
 // Hull entries kept per line (a power of two, render::ao_sweep::HULL_CAPACITY). A fuller stack
 // forgets its oldest, farthest entry: only a horizon seen more than 128 hull vertices away, always
@@ -80,37 +82,9 @@ layout(set = 0, binding = 5, std430) readonly buffer Crossings {
     Crossing crossings[];
 };
 
+// The fields: AoSweepParams in src/render/shader_interface.rs.
 layout(push_constant, std430) uniform Params {
-    ivec2 size;
-    // The lattice step of the walk; the horizon looks the other way.
-    ivec2 walk;
-    // (x, y) with x * walk.y - y * walk.x = 1: line c of a clamped sweep passes through c * (x, y).
-    ivec2 euclid;
-    // Clamp: the first line's c = i * walk.y - j * walk.x. Repeat: unused.
-    int c_min;
-    uint lines;
-    uint repeat_address;
-    // Repeat: lattice steps around one orbit; the orbits start at (l % g_a, l / g_a).
-    uint period;
-    uint g_a;
-    // This azimuth's share of the circle (the weights of a sweep sum to 1).
-    float weight;
-    float depth_scale;
-    // Length in uv of one lattice step.
-    float step_uv;
-    // The horizon's azimuth as a uv unit vector (-walk, normalised in uv).
-    vec2 dir;
-    // This azimuth's crossings: `crossing_count` entries of `crossings` from `crossing_base`.
-    uint crossing_base;
-    uint crossing_count;
-    // Repeat: line l is segment l % segments of orbit l / segments: it records segment_steps
-    // texels after warm_steps steps of warm-up (a whole period unless the orbit is very long).
-    uint segments;
-    uint segment_steps;
-    uint warm_steps;
-    // This dispatch walks steps [chunk * chunk_steps, (chunk + 1) * chunk_steps) of every line.
-    uint chunk;
-    uint chunk_steps;
+    AO_SWEEP_PARAMS_FIELDS
 } params;
 
 #endif

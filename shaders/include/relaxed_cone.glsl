@@ -71,22 +71,9 @@ layout(set = 0, binding = BINDING_SEARCH_MAP, std430) writeonly buffer ConeMap {
     vec2 cone_map[];
 };
 
+// The fields: RelaxedConeParams in src/render/shader_interface.rs.
 layout(push_constant, std430) uniform Params {
-    uint width;
-    uint height;
-    // 1 for Repeat, 0 for Clamp.
-    uint repeat_address;
-    // REDUCE, REACH_REDUCE: the level written. REACH, RELAXED: the first row of this dispatch.
-    uint level;
-    uint row0;
-    float aspect;
-    // The level whose single node covers the map.
-    uint top;
-    // The reach cap in u-texels (0.25 uv or 16 texels, whichever is less: heightfield::cone_map)
-    // and its 65535th part, a reach unit (both rounded to f32).
-    float reach_unit;
-    float reach_cap;
-    uint offsets[MAX_LEVELS];
+    RELAXED_CONE_PARAMS_FIELDS
 } params;
 
 // Values, node rectangles, stack entries (needs `params`).

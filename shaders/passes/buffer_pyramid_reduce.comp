@@ -12,14 +12,9 @@ layout(set = 0, binding = BINDING_SEARCH_PYRAMID, std430) buffer Pyramid {
     float pyramid[];
 };
 
+// The fields: PyramidReduceParams in src/render/shader_interface.rs.
 layout(push_constant, std430) uniform Params {
-    // Level 0 size in texels.
-    uint width;
-    uint height;
-    // The level written.
-    uint level;
-    // Where each level starts in `pyramid` (the host computes them once).
-    uint offsets[MAX_LEVELS];
+    PYRAMID_REDUCE_PARAMS_FIELDS
 } params;
 
 #include "buffer_pyramid.glsl"

@@ -37,20 +37,9 @@ layout(set = 0, binding = BINDING_SEARCH_MAP, std430) writeonly buffer ConeMap {
     vec2 cone_map[];
 };
 
+// The fields: ConeMapParams in src/render/shader_interface.rs.
 layout(push_constant, std430) uniform Params {
-    // Level 0 size in texels.
-    uint width;
-    uint height;
-    // 1 for Repeat, 0 for Clamp.
-    uint repeat_address;
-    // The first row of this dispatch.
-    uint row0;
-    // width / height rounded to f32: the v distance in u-texel units is dy * aspect.
-    float aspect;
-    // The level whose single node covers the map.
-    uint top;
-    // Where each level starts in `pyramid` (the host computes them once).
-    uint offsets[MAX_LEVELS];
+    CONE_MAP_PARAMS_FIELDS
 } params;
 
 // Reads `pyramid` above.

@@ -53,18 +53,9 @@ layout(set = 0, binding = BINDING_SEARCH_MAP, std430) writeonly buffer QuadricMa
     vec4 quadric_map[];
 };
 
+// The fields: QuadricMapParams in src/render/shader_interface.rs.
 layout(push_constant, std430) uniform Params {
-    // Level 0 size in texels.
-    uint width;
-    uint height;
-    // 1 for Repeat, 0 for Clamp.
-    uint repeat_address;
-    // The first row of this dispatch.
-    uint row0;
-    // The level whose single node covers the map.
-    uint top;
-    // Where each level starts in `pyramid` (the host computes them once).
-    uint offsets[MAX_LEVELS];
+    QUADRIC_MAP_PARAMS_FIELDS
 } params;
 
 // Reads `pyramid` above.

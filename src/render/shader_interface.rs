@@ -1,7 +1,8 @@
-//! The numbers the Rust side and the shaders must agree on — descriptor bindings,
-//! specialization-constant ids and array sizes — written once, here. build.rs
-//! compiles this file as a module of its own and writes every table below into the GLSL header
-//! "interface.glsl", which the shaders include; so this file uses nothing outside itself.
+//! What the Rust side and the shaders must agree on — descriptor bindings, specialization-constant
+//! ids, array sizes and the push-constant layouts of the map and AO builders — written once,
+//! here. build.rs compiles this file as a module of its own and writes every table below into the
+//! GLSL header "interface.glsl", which the shaders include; so this file uses nothing outside
+//! itself but `bytemuck`.
 
 /// Declares each constant as a `u32` and lists it by name in `$table`, for build.rs's header.
 macro_rules! glsl_table {
@@ -88,6 +89,212 @@ glsl_table! {
 /// The tables written as `#define NAME value`, for layout qualifiers and array sizes.
 #[allow(dead_code)] // Read by build.rs.
 pub const GLSL_DEFINES: &[&[(&str, u32)]] = &[FRAME_BINDINGS, SEARCH_BINDINGS, SPEC_IDS, SIZES];
+
+/// One push-constant field: its GLSL type, its array length (the header's name for it and the
+/// value), and its offset in the Rust struct.
+#[allow(dead_code)] // Read by build.rs, which writes and checks the GLSL side.
+pub struct PushField {
+    pub name: &'static str,
+    pub glsl: &'static str,
+    pub array: Option<(&'static str, usize)>,
+    pub offset: usize,
+}
+
+/// A push-constant struct as the header declares it: the shaders write
+/// `layout(push_constant, std430) uniform Params { <NAME>_FIELDS } params;`.
+#[allow(dead_code)] // Read by build.rs, which writes and checks the GLSL side.
+pub struct PushLayout {
+    /// The Rust struct's name, CamelCase; the header's define is its UPPER_SNAKE form.
+    pub name: &'static str,
+    pub fields: &'static [PushField],
+    pub size: usize,
+}
+
+/// Declares a `#[repr(C)]` push-constant struct with each field's GLSL type, and its
+/// [`PushLayout`] as `LAYOUT`.
+macro_rules! push_constants {
+    (
+        $(#[$doc:meta])*
+        $name:ident {
+            $($(#[$fdoc:meta])* $field:ident: $ty:ty => $glsl:literal $([$len:ident])?,)*
+        }
+    ) => {
+        $(#[$doc])*
+        #[repr(C)]
+        #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+        pub struct $name {
+            $($(#[$fdoc])* pub $field: $ty,)*
+        }
+
+        impl $name {
+            // Read by build.rs and the tests; the library uses the struct.
+            #[allow(dead_code)]
+            pub const LAYOUT: PushLayout = PushLayout {
+                name: stringify!($name),
+                fields: &[$(PushField {
+                    name: stringify!($field),
+                    glsl: $glsl,
+                    array: push_constants!(@len $($len)?),
+                    offset: std::mem::offset_of!($name, $field),
+                }),*],
+                size: std::mem::size_of::<$name>(),
+            };
+        }
+    };
+    (@len) => { None };
+    (@len $len:ident) => { Some((stringify!($len), $len as usize)) };
+}
+
+// Level offsets are spelled `[u32; 15]`: with `MAX_LEVELS` there, rustc 1.95 hit an internal
+// error ("broken MIR") when a closure captured a copy of the struct. The layout check below
+// catches a `MAX_LEVELS` that no longer matches.
+
+push_constants! {
+    /// `buffer_pyramid_reduce.comp`: level `level` of the max pyramid from the level below.
+    PyramidReduceParams {
+        /// Level 0 size in texels.
+        width: u32 => "uint",
+        height: u32 => "uint",
+        level: u32 => "uint",
+        /// Where each level starts in the pyramid buffer, in floats (the host computes them).
+        offsets: [u32; 15] => "uint" [MAX_LEVELS],
+    }
+}
+
+push_constants! {
+    /// `cone_map.comp`: the conservative cone search of rows from `row0`.
+    ConeMapParams {
+        /// Level 0 size in texels.
+        width: u32 => "uint",
+        height: u32 => "uint",
+        /// 1 for Repeat, 0 for Clamp.
+        repeat_address: u32 => "uint",
+        /// The first row of this dispatch.
+        row0: u32 => "uint",
+        /// width / height rounded to f32: the v distance in u-texel units is dy * aspect.
+        aspect: f32 => "float",
+        /// The level whose single node covers the map.
+        top: u32 => "uint",
+        /// Where each level starts in the pyramid buffer.
+        offsets: [u32; 15] => "uint" [MAX_LEVELS],
+    }
+}
+
+push_constants! {
+    /// `quadric_map.comp`: the quadric fit of rows from `row0`.
+    QuadricMapParams {
+        /// Level 0 size in texels.
+        width: u32 => "uint",
+        height: u32 => "uint",
+        /// 1 for Repeat, 0 for Clamp.
+        repeat_address: u32 => "uint",
+        /// The first row of this dispatch.
+        row0: u32 => "uint",
+        /// The level whose single node covers the map.
+        top: u32 => "uint",
+        /// Where each level starts in the pyramid buffer.
+        offsets: [u32; 15] => "uint" [MAX_LEVELS],
+    }
+}
+
+push_constants! {
+    /// The relaxed cone map's kernels (`shaders/include/relaxed_cone.glsl`).
+    RelaxedConeParams {
+        width: u32 => "uint",
+        height: u32 => "uint",
+        /// 1 for Repeat, 0 for Clamp.
+        repeat_address: u32 => "uint",
+        /// The reductions: the level written.
+        level: u32 => "uint",
+        /// The searches: the first row of this dispatch.
+        row0: u32 => "uint",
+        aspect: f32 => "float",
+        /// The level whose single node covers the map.
+        top: u32 => "uint",
+        /// A reach unit: the reach cap's 65535th part.
+        reach_unit: f32 => "float",
+        /// The reach cap in u-texels (0.25 uv or 16 texels, whichever is less).
+        reach_cap: f32 => "float",
+        offsets: [u32; 15] => "uint" [MAX_LEVELS],
+    }
+}
+
+push_constants! {
+    /// `ao_horizon.comp`: the horizon-sampled AO of the texels `origin <= t < end`.
+    AoHorizonParams {
+        size: [i32; 2] => "ivec2",
+        /// 1 for repeat, 0 for clamp.
+        repeat_address: u32 => "uint",
+        directions: u32 => "uint",
+        /// 1 to turn each texel's azimuths by a hash of the texel.
+        rotated: u32 => "uint",
+        depth_scale: f32 => "float",
+        /// The first sample's distance in texels of the longer side, and the growth per sample.
+        first_distance: f32 => "float",
+        growth: f32 => "float",
+        /// Samples stop beyond this distance in uv: the whole profile that can matter, or a
+        /// bounded reach (`AoMapPass::prepare_reaching`) so that a height change is seen from
+        /// nearby only.
+        reach_uv: f32 => "float",
+        /// Level read at distance d texels: floor(log2(d)) - level_bias, within the image's mips.
+        level_bias: i32 => "int",
+        /// The texels written: the whole map, or after a local change of the heights only the
+        /// texels that can see it (every texel's value is the same either way).
+        origin: [i32; 2] => "ivec2",
+        end: [i32; 2] => "ivec2",
+    }
+}
+
+push_constants! {
+    /// The exact-horizon AO kernels (`shaders/include/ao_sweep.glsl`): one azimuth's walk, or
+    /// the whole map for the unpack and resolve kernels.
+    AoSweepParams {
+        size: [i32; 2] => "ivec2",
+        /// The lattice step of the walk; the horizon looks the other way.
+        walk: [i32; 2] => "ivec2",
+        /// (x, y) with x * walk.y - y * walk.x = 1: line c of a clamped sweep passes through
+        /// c * (x, y).
+        euclid: [i32; 2] => "ivec2",
+        /// Clamp: the first line's c = i * walk.y - j * walk.x. Repeat: unused.
+        c_min: i32 => "int",
+        lines: u32 => "uint",
+        repeat_address: u32 => "uint",
+        /// Repeat: lattice steps around one orbit; the orbits start at (l % g_a, l / g_a).
+        period: u32 => "uint",
+        g_a: u32 => "uint",
+        /// This azimuth's share of the circle (the weights of a sweep sum to 1).
+        weight: f32 => "float",
+        depth_scale: f32 => "float",
+        /// Length in uv of one lattice step.
+        step_uv: f32 => "float",
+        /// The horizon's azimuth as a uv unit vector (-walk, normalised in uv).
+        dir: [f32; 2] => "vec2",
+        /// This azimuth's crossings: `crossing_count` entries from `crossing_base`.
+        crossing_base: u32 => "uint",
+        crossing_count: u32 => "uint",
+        /// Repeat: line l is segment l % segments of orbit l / segments: it records
+        /// segment_steps texels after warm_steps steps of warm-up (a whole period unless the
+        /// orbit is very long).
+        segments: u32 => "uint",
+        segment_steps: u32 => "uint",
+        warm_steps: u32 => "uint",
+        /// This dispatch walks steps [chunk * chunk_steps, (chunk + 1) * chunk_steps) of every
+        /// line.
+        chunk: u32 => "uint",
+        chunk_steps: u32 => "uint",
+    }
+}
+
+/// Every push-constant layout above, for build.rs's header.
+#[allow(dead_code)] // Read by build.rs.
+pub const PUSH_LAYOUTS: &[PushLayout] = &[
+    PyramidReduceParams::LAYOUT,
+    ConeMapParams::LAYOUT,
+    QuadricMapParams::LAYOUT,
+    RelaxedConeParams::LAYOUT,
+    AoHorizonParams::LAYOUT,
+    AoSweepParams::LAYOUT,
+];
 
 #[cfg(test)]
 mod tests {

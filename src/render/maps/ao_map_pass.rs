@@ -53,6 +53,7 @@ use super::pyramid_pass::PyramidPass;
 use crate::heightfield::{Address, Heightfield};
 use crate::render::compute_pass::ComputePass;
 use crate::render::frame::gpu_heightfield::{sampler_address_mode, GpuHeightfield, HeightFormat};
+use crate::render::shader_interface::{AoHorizonParams, AoSweepParams};
 use crate::scene::AoMode;
 use crate::vk::{
     memory_barrier, read_mip, transition_images, Bind, Buffer, Context, DescriptorPool,
@@ -68,56 +69,6 @@ pub const AO_MAP_FORMAT: vk::Format = vk::Format::R32_SFLOAT;
 
 const HORIZON_GROUP: u32 = 8;
 const SWEEP_GROUP: u32 = 64;
-
-/// `Params` of ao_horizon.comp.
-#[repr(C)]
-#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
-struct HorizonParams {
-    size: [i32; 2],
-    repeat_address: u32,
-    directions: u32,
-    rotated: u32,
-    depth_scale: f32,
-    first_distance: f32,
-    growth: f32,
-    reach_uv: f32,
-    level_bias: i32,
-    // ivec2s at offset 40 and 48: 8-aligned under std430, so no padding before them.
-    origin: [i32; 2],
-    end: [i32; 2],
-}
-
-const _: () = assert!(std::mem::size_of::<HorizonParams>() == 56);
-const _: () = assert!(std::mem::offset_of!(HorizonParams, origin) == 40);
-
-/// `Params` of the exact sweep's kernels (`shaders/include/ao_sweep.glsl`).
-#[repr(C)]
-#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
-struct SweepParams {
-    size: [i32; 2],
-    walk: [i32; 2],
-    euclid: [i32; 2],
-    c_min: i32,
-    lines: u32,
-    repeat_address: u32,
-    period: u32,
-    g_a: u32,
-    weight: f32,
-    depth_scale: f32,
-    step_uv: f32,
-    dir: [f32; 2],
-    crossing_base: u32,
-    crossing_count: u32,
-    segments: u32,
-    segment_steps: u32,
-    warm_steps: u32,
-    chunk: u32,
-    chunk_steps: u32,
-}
-
-const _: () = assert!(std::mem::size_of::<SweepParams>() == 92);
-// std430 puts a vec2 on 8 bytes; Rust's [f32; 2] on 4.
-const _: () = assert!(std::mem::offset_of!(SweepParams, dir) % 8 == 0);
 
 /// A built AO map: `R32_SFLOAT`, one texel per height texel, in `SHADER_READ_ONLY_OPTIMAL`, with a
 /// sampler that filters linearly where the device can (else nearest) under the height field's
@@ -209,8 +160,8 @@ impl AoMapPass {
             AoMode::None => {
                 return Err(VkError::Invalid("AO mode none builds no AO map".into()));
             }
-            AoMode::Horizon { .. } => ("ao_horizon.comp", std::mem::size_of::<HorizonParams>()),
-            AoMode::ExactHorizon => ("ao_sweep.comp", std::mem::size_of::<SweepParams>()),
+            AoMode::Horizon { .. } => ("ao_horizon.comp", std::mem::size_of::<AoHorizonParams>()),
+            AoMode::ExactHorizon => ("ao_sweep.comp", std::mem::size_of::<AoSweepParams>()),
         };
         let name = format!("ao map {mode}");
         let bindings = layout_bindings(mode);
@@ -388,7 +339,7 @@ impl AoMapPass {
         region: [u32; 4],
     ) -> VkResult<()> {
         let d = job.map.image.desc();
-        let params = HorizonParams {
+        let params = AoHorizonParams {
             size: [d.width as i32, d.height as i32],
             repeat_address: u32::from(job.map.address == Address::Repeat),
             directions,
@@ -530,13 +481,13 @@ fn sweep_params(
     h: u32,
     repeat: bool,
     depth_scale: f32,
-) -> SweepParams {
+) -> AoSweepParams {
     let walk = [-dir.step[0], -dir.step[1]];
     let lines = sweep_lines(walk, w, h, repeat);
     let crossing_count = crossings(walk).len() as u32;
     let step_u = f64::from(dir.step[0]) / f64::from(w);
     let step_v = f64::from(dir.step[1]) / f64::from(h);
-    SweepParams {
+    AoSweepParams {
         size: [w as i32, h as i32],
         walk,
         euclid: lines.euclid,

@@ -18,31 +18,15 @@ use std::sync::Arc;
 
 use super::map_builder_pass::{GpuMap, MapBuilderPass};
 pub use super::map_search::MAX_SIDE;
-use super::map_search::{level_offsets, top_level, PyramidSearch, SearchBuffers, MAX_LEVELS};
+use super::map_search::{level_offsets, top_level, PyramidSearch, SearchBuffers};
 use crate::heightfield::cone_map::bilinear_box_bound;
 use crate::heightfield::{Address, Heightfield, MapData};
+use crate::render::shader_interface::ConeMapParams;
 use crate::vk::{Context, VkResult};
 
 /// Relative amount by which a GPU ratio may fall short of the CPU's (never exceed it): the f32
 /// search's error plus the step down that makes it conservative (see `cone_map.comp`).
 pub const RATIO_TOLERANCE: f32 = 1.0 / 32768.0;
-
-/// The shader's push constants (`Params` in cone_map.comp).
-#[repr(C)]
-#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
-struct Params {
-    width: u32,
-    height: u32,
-    repeat_address: u32,
-    row0: u32,
-    aspect: f32,
-    top: u32,
-    // Spelled out: with `MAX_LEVELS` here, rustc 1.95 hit an internal error ("broken MIR")
-    // when a closure captured a copy of `Params`.
-    offsets: [u32; 15],
-}
-
-const _: () = assert!(MAX_LEVELS == 15, "Params::offsets holds MAX_LEVELS offsets");
 
 /// The conservative cone-map builder.
 pub type ConeMapPass = MapBuilderPass<ConservativeConeMap>;
@@ -61,7 +45,7 @@ impl GpuMap for ConservativeConeMap {
     };
 
     fn pipelines(ctx: &Arc<Context>) -> VkResult<ConservativeConeMap> {
-        let push = std::mem::size_of::<Params>() as u32;
+        let push = std::mem::size_of::<ConeMapParams>() as u32;
         Ok(ConservativeConeMap {
             search: PyramidSearch::new(ctx, "cone_map.comp", push, Self::NAME)?,
         })
@@ -76,7 +60,7 @@ impl GpuMap for ConservativeConeMap {
     ) -> VkResult<(MapData, f64)> {
         let (w, h) = (hf.width(), hf.height());
         let bound = bilinear_box_bound(hf, address);
-        let base = Params {
+        let base = ConeMapParams {
             width: w,
             height: h,
             repeat_address: u32::from(address == Address::Repeat),
@@ -85,7 +69,7 @@ impl GpuMap for ConservativeConeMap {
             top: top_level(w, h),
             offsets: level_offsets(w, h),
         };
-        let params = |row0| Params { row0, ..base };
+        let params = |row0| ConeMapParams { row0, ..base };
         self.search
             .build(ctx, (bound.data(), w, h), 2, Self::NAME, &params)
     }

@@ -15,7 +15,9 @@ use ash::vk;
 
 use crate::heightfield::MapData;
 use crate::render::compute_pass::ComputePass;
-use crate::render::shader_interface::{self, BINDING_SEARCH_MAP, BINDING_SEARCH_PYRAMID};
+use crate::render::shader_interface::{
+    self, PyramidReduceParams, BINDING_SEARCH_MAP, BINDING_SEARCH_PYRAMID,
+};
 use crate::vk::{
     memory_barrier, Bind, Buffer, Context, DescriptorPool, DescriptorSet, MemoryLocation, Pipeline,
     Readback, Recording, TimestampPool, VkError, VkResult,
@@ -76,22 +78,6 @@ impl SearchPipeline {
     }
 }
 
-/// `Params` of buffer_pyramid_reduce.comp.
-#[repr(C)]
-#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
-struct ReduceParams {
-    width: u32,
-    height: u32,
-    level: u32,
-    // Spelled out for the reason `cone_map_pass::Params` gives.
-    offsets: [u32; 15],
-}
-
-const _: () = assert!(
-    MAX_LEVELS == 15,
-    "ReduceParams::offsets holds MAX_LEVELS offsets"
-);
-
 /// A search kernel over a max pyramid in one buffer, with the kernel that reduces the pyramid,
 /// both over one set.
 pub(in crate::render) struct PyramidSearch {
@@ -103,7 +89,7 @@ impl PyramidSearch {
     /// The search of shader `key` with `push` bytes of push constants, named `name`.
     pub fn new(ctx: &Arc<Context>, key: &str, push: u32, name: &str) -> VkResult<PyramidSearch> {
         let search = SearchPipeline::new(ctx, key, push, 2, name)?;
-        let reduce_push = std::mem::size_of::<ReduceParams>() as u32;
+        let reduce_push = std::mem::size_of::<PyramidReduceParams>() as u32;
         let reduce = search.kernel(
             ctx,
             "buffer_pyramid_reduce.comp",
@@ -248,7 +234,7 @@ impl<P: bytemuck::Pod> MapSearch<'_, P> {
         let past_end = (self.params)(h);
         warm_up(ctx, self.pipeline, self.set, bytemuck::bytes_of(&past_end))?;
         // A 0 x 0 map has no nodes on level 1.
-        let no_nodes = ReduceParams {
+        let no_nodes = PyramidReduceParams {
             width: 0,
             height: 0,
             level: 1,
@@ -262,7 +248,7 @@ impl<P: bytemuck::Pod> MapSearch<'_, P> {
             rec.copy_buffer(&staging, &pyramid);
             memory_barrier(rec, COPIED, COMPUTE_RW);
             self.reduce.bind(rec, Some(self.set));
-            record_reductions(rec, self.reduce, w, h, |level| ReduceParams {
+            record_reductions(rec, self.reduce, w, h, |level| PyramidReduceParams {
                 width: w,
                 height: h,
                 level,

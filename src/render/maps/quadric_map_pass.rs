@@ -17,19 +17,8 @@ use std::sync::Arc;
 use super::map_builder_pass::{GpuMap, MapBuilderPass};
 use super::map_search::{level_offsets, top_level, PyramidSearch, SearchBuffers};
 use crate::heightfield::{Address, Heightfield, MapData};
+use crate::render::shader_interface::QuadricMapParams;
 use crate::vk::{Context, VkResult};
-
-/// The shader's push constants (`Params` in quadric_map.comp).
-#[repr(C)]
-#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
-struct Params {
-    width: u32,
-    height: u32,
-    repeat_address: u32,
-    row0: u32,
-    top: u32,
-    offsets: [u32; 15],
-}
 
 /// The quadric-map builder.
 pub type QuadricMapPass = MapBuilderPass<QuadricMapSearch>;
@@ -48,7 +37,7 @@ impl GpuMap for QuadricMapSearch {
     };
 
     fn pipelines(ctx: &Arc<Context>) -> VkResult<QuadricMapSearch> {
-        let push = std::mem::size_of::<Params>() as u32;
+        let push = std::mem::size_of::<QuadricMapParams>() as u32;
         Ok(QuadricMapSearch {
             search: PyramidSearch::new(ctx, "quadric_map.comp", push, Self::NAME)?,
         })
@@ -61,7 +50,7 @@ impl GpuMap for QuadricMapSearch {
         address: Address,
     ) -> VkResult<(MapData, f64)> {
         let (w, h) = (hf.width(), hf.height());
-        let base = Params {
+        let base = QuadricMapParams {
             width: w,
             height: h,
             repeat_address: u32::from(address == Address::Repeat),
@@ -69,7 +58,7 @@ impl GpuMap for QuadricMapSearch {
             top: top_level(w, h),
             offsets: level_offsets(w, h),
         };
-        let params = |row0| Params { row0, ..base };
+        let params = |row0| QuadricMapParams { row0, ..base };
         self.search
             .build(ctx, (hf.data(), w, h), 4, Self::NAME, &params)
     }

@@ -27,13 +27,14 @@ use ash::vk;
 use super::map_builder_pass::{GpuMap, MapBuilderPass};
 use super::map_search::{
     level_offsets, pyramid_floats, record_reductions, record_row_dispatch, row_chunks, top_level,
-    warm_up, SearchBuffers, SearchPipeline, TimedSubmissions, COMPUTE_RW, COPIED, MAX_LEVELS,
-    SHADER_WROTE,
+    warm_up, SearchBuffers, SearchPipeline, TimedSubmissions, COMPUTE_RW, COPIED, SHADER_WROTE,
 };
 use crate::heightfield::cone_map::{bilinear_box_bound, REACH_CAP_TEXELS, REACH_CAP_UV};
 use crate::heightfield::{Address, Heightfield, MapData};
 use crate::render::compute_pass::ComputePass;
-use crate::render::shader_interface::{BINDING_SEARCH_MAP, BINDING_SEARCH_PYRAMID};
+use crate::render::shader_interface::{
+    RelaxedConeParams, BINDING_SEARCH_MAP, BINDING_SEARCH_PYRAMID,
+};
 use crate::vk::{
     memory_barrier, Bind, Buffer, Context, MemoryLocation, Readback, Recording, VkResult,
 };
@@ -41,24 +42,6 @@ use crate::vk::{
 /// Bytes per pyramid node: the maximum height, the maximum of 1 - height (f32 bits each) and
 /// the least reach of each quadrant (u16).
 const NODE_BYTES: u64 = 16;
-
-/// The kernels' push constants (`Params` in shaders/include/relaxed_cone.glsl).
-#[repr(C)]
-#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
-struct Params {
-    width: u32,
-    height: u32,
-    repeat_address: u32,
-    level: u32,
-    row0: u32,
-    aspect: f32,
-    top: u32,
-    reach_unit: f32,
-    reach_cap: f32,
-    offsets: [u32; 15],
-}
-
-const _: () = assert!(MAX_LEVELS == 15, "Params::offsets holds MAX_LEVELS offsets");
 
 /// The relaxed cone-map builder.
 pub type RelaxedConeMapPass = MapBuilderPass<RelaxedConeMap>;
@@ -82,7 +65,7 @@ impl GpuMap for RelaxedConeMap {
     };
 
     fn pipelines(ctx: &Arc<Context>) -> VkResult<RelaxedConeMap> {
-        let push = std::mem::size_of::<Params>() as u32;
+        let push = std::mem::size_of::<RelaxedConeParams>() as u32;
         let search = SearchPipeline::new(ctx, "relaxed_cone_reduce.comp", push, 2, Self::NAME)?;
         let kernel = |key, name| search.kernel(ctx, key, push, name);
         Ok(RelaxedConeMap {
@@ -106,7 +89,7 @@ impl GpuMap for RelaxedConeMap {
         let (w, h) = (hf.width(), hf.height());
         let bound = bilinear_box_bound(hf, address);
         let nodes = pyramid_floats(w, h);
-        let base = Params {
+        let base = RelaxedConeParams {
             width: w,
             height: h,
             repeat_address: u32::from(address == Address::Repeat),
@@ -118,7 +101,7 @@ impl GpuMap for RelaxedConeMap {
             reach_cap: reach_cap_texels(w) as f32,
             offsets: level_offsets(w, h),
         };
-        let params = |level, row0| Params {
+        let params = |level, row0| RelaxedConeParams {
             level,
             row0,
             ..base
