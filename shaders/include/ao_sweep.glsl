@@ -38,8 +38,6 @@
 #define AO_SWEEP_GLSL
 
 #include "ao.glsl"
-// The push-constant fields.
-#include "interface.glsl"
 
 // Hull entries kept per line (a power of two, render::ao_sweep::HULL_CAPACITY). A fuller stack
 // forgets its oldest, farthest entry: only a horizon seen more than 128 hull vertices away, always
@@ -53,18 +51,18 @@ const uint STATE_SLOTS = 2u;
 // (hull base); the newest hull entry is the ring's at top - 1. Steps, points and counts are plain
 // floats, exact below 2^24 (walks are far shorter): their int bits would be denormals, which
 // implementations may flush to zero on the way through memory.
-layout(set = 0, binding = 2, std430) buffer Hulls {
+layout(set = 0, binding = BINDING_AO_HULLS, std430) buffer Hulls {
     vec4 hulls[];
 };
 
 // Per texel (row-major), the weighted occlusion summed over the directions done so far.
-layout(set = 0, binding = 3, std430) buffer Accum {
+layout(set = 0, binding = BINDING_AO_ACCUM, std430) buffer Accum {
     float accum[];
 };
 
 // Level 0 of the height image, row-major, unpacked once: the walks read it at every profile
 // point, and a buffer load is far cheaper than a texel fetch on software rasterisers.
-layout(set = 0, binding = 4, std430) buffer Field {
+layout(set = 0, binding = BINDING_AO_FIELD, std430) buffer Field {
     float field[];
 };
 
@@ -78,7 +76,7 @@ struct Crossing {
     vec2 fractions;
 };
 
-layout(set = 0, binding = 5, std430) readonly buffer Crossings {
+layout(set = 0, binding = BINDING_AO_CROSSINGS, std430) readonly buffer Crossings {
     Crossing crossings[];
 };
 

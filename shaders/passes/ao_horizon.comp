@@ -14,8 +14,6 @@
 // (MAX_SAMPLES per azimuth).
 #extension GL_GOOGLE_include_directive : require
 #include "ao.glsl"
-// The push-constant fields.
-#include "interface.glsl"
 
 layout(local_size_x = 8, local_size_y = 8) in;
 

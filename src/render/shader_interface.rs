@@ -44,6 +44,47 @@ glsl_table! {
 }
 
 glsl_table! {
+    /// Set 0 of the trace pass after the frame bindings (`trace.comp`), as `#define`s.
+    TRACE_BINDINGS {
+        /// Per ray: origin, direction and hit (eight floats).
+        BINDING_TRACE_HITS = 4;
+        /// Per ray: steps used, and 1 if the method hit its cap.
+        BINDING_TRACE_STEPS = 5;
+        /// Per ray: the light's visible fraction at the hit.
+        BINDING_TRACE_VISIBLE = 6;
+    }
+}
+
+glsl_table! {
+    /// Set 0 of the pyramid reductions over images (`pyramid.comp`, `mean_pyramid.comp`), as
+    /// `#define`s.
+    PYRAMID_BINDINGS {
+        /// The finer level, read.
+        BINDING_PYRAMID_FINE = 0;
+        /// The level written.
+        BINDING_PYRAMID_COARSE = 1;
+    }
+}
+
+glsl_table! {
+    /// Set 0 of the AO map kernels (`shaders/include/ao.glsl`, `ao_sweep.glsl`), as `#define`s.
+    AO_BINDINGS {
+        /// The height image (and, for the horizon kernel, its max pyramid in the mips).
+        BINDING_AO_HEIGHTS = 0;
+        /// The AO map, written as r32f.
+        BINDING_AO_MAP = 1;
+        /// The exact sweep: per line, its hull ring and walk state.
+        BINDING_AO_HULLS = 2;
+        /// The exact sweep: per texel, the weighted occlusion summed so far.
+        BINDING_AO_ACCUM = 3;
+        /// The exact sweep: level 0 of the heights, unpacked.
+        BINDING_AO_FIELD = 4;
+        /// The exact sweep: each azimuth's grid-line crossings.
+        BINDING_AO_CROSSINGS = 5;
+    }
+}
+
+glsl_table! {
     /// Specialization-constant ids, as `#define`s. The trace and surface passes share the budget
     /// and shadow ids; the level-of-detail ids start at 20 to keep clear of them.
     SPEC_IDS {
@@ -88,7 +129,15 @@ glsl_table! {
 
 /// The tables written as `#define NAME value`, for layout qualifiers and array sizes.
 #[allow(dead_code)] // Read by build.rs.
-pub const GLSL_DEFINES: &[&[(&str, u32)]] = &[FRAME_BINDINGS, SEARCH_BINDINGS, SPEC_IDS, SIZES];
+pub const GLSL_DEFINES: &[&[(&str, u32)]] = &[
+    FRAME_BINDINGS,
+    SEARCH_BINDINGS,
+    TRACE_BINDINGS,
+    PYRAMID_BINDINGS,
+    AO_BINDINGS,
+    SPEC_IDS,
+    SIZES,
+];
 
 /// One push-constant field: its GLSL type, its array length (the header's name for it and the
 /// value), and its offset in the Rust struct.
@@ -285,6 +334,31 @@ push_constants! {
     }
 }
 
+push_constants! {
+    /// `pyramid.comp`: one level of the conservative max pyramid, over `region`.
+    PyramidParams {
+        /// x: 1 when building level 1 from the map (each range widened by a texel, so the node
+        /// bounds the bilinear surface); y: 1 to wrap the widened range around the map (repeat
+        /// addressing), 0 to clamp it.
+        flags: [u32; 4] => "uvec4",
+        /// The coarse texels to write, (x0, y0, width, height): the whole level, or after a brush
+        /// stroke only the nodes that read a changed texel.
+        region: [u32; 4] => "uvec4",
+    }
+}
+
+push_constants! {
+    /// `trace.comp`: one sweep of parallel rays.
+    TraceParams {
+        /// xyz: the ray direction (dz > 0); w: the depth scale.
+        dir: [f32; 4] => "vec4",
+        /// x: columns, y: rows.
+        grid: [u32; 4] => "uvec4",
+        /// xyz: the unit direction toward the light (u, v, up); w: its angular radius (radians).
+        light: [f32; 4] => "vec4",
+    }
+}
+
 /// Every push-constant layout above, for build.rs's header.
 #[allow(dead_code)] // Read by build.rs.
 pub const PUSH_LAYOUTS: &[PushLayout] = &[
@@ -294,6 +368,8 @@ pub const PUSH_LAYOUTS: &[PushLayout] = &[
     RelaxedConeParams::LAYOUT,
     AoHorizonParams::LAYOUT,
     AoSweepParams::LAYOUT,
+    PyramidParams::LAYOUT,
+    TraceParams::LAYOUT,
 ];
 
 #[cfg(test)]

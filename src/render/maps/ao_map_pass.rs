@@ -53,7 +53,10 @@ use super::pyramid_pass::PyramidPass;
 use crate::heightfield::{Address, Heightfield};
 use crate::render::compute_pass::ComputePass;
 use crate::render::frame::gpu_heightfield::{sampler_address_mode, GpuHeightfield, HeightFormat};
-use crate::render::shader_interface::{AoHorizonParams, AoSweepParams};
+use crate::render::shader_interface::{
+    AoHorizonParams, AoSweepParams, BINDING_AO_ACCUM, BINDING_AO_CROSSINGS, BINDING_AO_FIELD,
+    BINDING_AO_HEIGHTS, BINDING_AO_HULLS, BINDING_AO_MAP,
+};
 use crate::scene::AoMode;
 use crate::vk::{
     memory_barrier, read_mip, transition_images, Bind, Buffer, Context, DescriptorPool,
@@ -465,11 +468,20 @@ fn whole_reach_uv(address: Address) -> f32 {
 /// (hulls, sums, unpacked heights, crossings).
 fn layout_bindings(mode: AoMode) -> Vec<(u32, vk::DescriptorType)> {
     let mut bindings = vec![
-        (0, vk::DescriptorType::COMBINED_IMAGE_SAMPLER),
-        (1, vk::DescriptorType::STORAGE_IMAGE),
+        (
+            BINDING_AO_HEIGHTS,
+            vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+        ),
+        (BINDING_AO_MAP, vk::DescriptorType::STORAGE_IMAGE),
     ];
     if mode == AoMode::ExactHorizon {
-        bindings.extend((2..=5).map(|b| (b, vk::DescriptorType::STORAGE_BUFFER)));
+        let scratch = [
+            BINDING_AO_HULLS,
+            BINDING_AO_ACCUM,
+            BINDING_AO_FIELD,
+            BINDING_AO_CROSSINGS,
+        ];
+        bindings.extend(scratch.map(|b| (b, vk::DescriptorType::STORAGE_BUFFER)));
     }
     bindings
 }

@@ -11,6 +11,7 @@ use ash::vk;
 use crate::heightfield::{mip_level_count, Heightfield};
 use crate::render::compute_pass::ComputePass;
 use crate::render::frame::gpu_heightfield::HeightFormat;
+use crate::render::shader_interface::{BINDING_PYRAMID_COARSE, BINDING_PYRAMID_FINE};
 use crate::vk::{
     memory_barrier, transition_images, upload_mips, Bind, Context, DescriptorPool, DescriptorSet,
     Image, ImageDesc, ImageTransition, ImageView, Recording, VkResult,
@@ -52,8 +53,8 @@ impl MeanPyramid {
             ctx,
             &format!("mean_pyramid.comp:{}", format.shader_suffix()),
             &[
-                (0, vk::DescriptorType::STORAGE_IMAGE),
-                (1, vk::DescriptorType::STORAGE_IMAGE),
+                (BINDING_PYRAMID_FINE, vk::DescriptorType::STORAGE_IMAGE),
+                (BINDING_PYRAMID_COARSE, vk::DescriptorType::STORAGE_IMAGE),
             ],
             0,
             "averaged pyramid",

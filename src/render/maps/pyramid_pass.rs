@@ -10,6 +10,9 @@ use ash::vk;
 use crate::heightfield::Address;
 use crate::render::compute_pass::ComputePass;
 use crate::render::frame::gpu_heightfield::GpuHeightfield;
+use crate::render::shader_interface::{
+    PyramidParams, BINDING_PYRAMID_COARSE, BINDING_PYRAMID_FINE,
+};
 use crate::terrain::{coarse_span, TexelRect};
 use crate::vk::{
     memory_barrier, transition_images, Bind, Context, DescriptorPool, DescriptorSet, Image,
@@ -74,10 +77,10 @@ impl PyramidPass {
             ctx,
             &format!("pyramid.comp:{suffix}"),
             &[
-                (0, vk::DescriptorType::STORAGE_IMAGE),
-                (1, vk::DescriptorType::STORAGE_IMAGE),
+                (BINDING_PYRAMID_FINE, vk::DescriptorType::STORAGE_IMAGE),
+                (BINDING_PYRAMID_COARSE, vk::DescriptorType::STORAGE_IMAGE),
             ],
-            32,
+            std::mem::size_of::<PyramidParams>() as u32,
             "pyramid",
         )?;
         Ok(PyramidPass {
@@ -166,9 +169,10 @@ impl PyramidPass {
             let widen = u32::from(k == 0);
             let wrap = u32::from(address == Address::Repeat);
             for region in level {
-                let push: [u32; 8] = [
-                    widen, wrap, 0, 0, region[0], region[1], region[2], region[3],
-                ];
+                let push = PyramidParams {
+                    flags: [widen, wrap, 0, 0],
+                    region: *region,
+                };
                 pipeline.push(rec, bytemuck::bytes_of(&push))?;
                 rec.dispatch([region[2].div_ceil(GROUP), region[3].div_ceil(GROUP), 1]);
             }

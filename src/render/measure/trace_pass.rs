@@ -12,6 +12,7 @@ use crate::render::frame::gpu_heightfield::HeightFormat;
 use crate::render::frame::height_resources::HeightResources;
 use crate::render::frame::surface_pass::hard_shadow_texels;
 use crate::render::shader_interface::{
+    TraceParams, BINDING_TRACE_HITS, BINDING_TRACE_STEPS, BINDING_TRACE_VISIBLE,
     SPEC_BUDGET_EXTENT_LIMIT, SPEC_BUDGET_LEAF_EXACT, SPEC_BUDGET_MAX_STEPS,
     SPEC_BUDGET_REFINE_STEPS, SPEC_HARD_SHADOW_TEXELS, SPEC_SHADOW_MODE, SPEC_SHADOW_REACH,
     SPEC_SHADOW_STEPS,
@@ -97,15 +98,6 @@ pub struct TraceOutput {
 fn all_stages() -> vk::PipelineStageFlags2 {
     vk::PipelineStageFlags2::ALL_COMMANDS
 }
-
-#[repr(C)]
-#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
-struct TraceParams {
-    dir: [f32; 4],
-    grid: [u32; 4],
-    light: [f32; 4],
-}
-const _: () = assert!(std::mem::size_of::<TraceParams>() == 48);
 
 /// Where the timed dispatches write (device-local, so the timing has no bus writes in it) and the
 /// host-visible buffers their results are copied to after the closing timestamp.
@@ -236,11 +228,14 @@ fn trace_with(
     };
     let targets = TraceTargets::new(ctx, count)?;
     let mut bindings = res.layout_bindings();
-    bindings.extend([
-        (4, vk::DescriptorType::STORAGE_BUFFER),
-        (5, vk::DescriptorType::STORAGE_BUFFER),
-        (6, vk::DescriptorType::STORAGE_BUFFER),
-    ]);
+    bindings.extend(
+        [
+            BINDING_TRACE_HITS,
+            BINDING_TRACE_STEPS,
+            BINDING_TRACE_VISIBLE,
+        ]
+        .map(|b| (b, vk::DescriptorType::STORAGE_BUFFER)),
+    );
     let spec = SpecConstants::default()
         .u32(SPEC_BUDGET_MAX_STEPS, req.budget.max_steps)
         .u32(SPEC_BUDGET_REFINE_STEPS, req.budget.refine_steps)
