@@ -39,12 +39,12 @@
 
 #include "ao.glsl"
 
-// Hull entries kept per line (a power of two, render::ao_sweep::HULL_CAPACITY). A fuller stack
-// forgets its oldest, farthest entry: only a horizon seen more than 128 hull vertices away, always
-// a very flat one, can be lost.
-const uint HULL_CAPACITY = 128u;
-// Slots per line after the ring (render::ao_sweep::STATE_SLOTS).
-const uint STATE_SLOTS = 2u;
+// Hull entries kept per line (a power of two). A fuller stack forgets its oldest, farthest entry:
+// only a horizon seen more than AO_HULL_CAPACITY (128) hull vertices away, always a very flat
+// one, can be lost.
+const uint HULL_CAPACITY = AO_HULL_CAPACITY;
+// Slots per line after the ring.
+const uint STATE_SLOTS = AO_STATE_SLOTS;
 
 // Per line, a ring of hull entries: (lattice step, fraction of the step, height), then two slots
 // of walk state saved between dispatches (STATE_SLOTS): (next step, lattice point, hull top) and

@@ -124,6 +124,14 @@ glsl_table! {
         MAX_LIGHTS = 8;
         /// Pyramid levels the map searches' push constants hold offsets for.
         MAX_LEVELS = 15;
+        /// The horizon AO's cap on samples per azimuth.
+        AO_HORIZON_MAX_SAMPLES = 64;
+        /// The exact AO sweep's hull entries per line, a power of two: a fuller stack forgets
+        /// its oldest, farthest entry.
+        AO_HULL_CAPACITY = 128;
+        /// The exact AO sweep's slots of 16 bytes per line after its hull ring: the walk's state
+        /// between dispatches.
+        AO_STATE_SLOTS = 2;
     }
 }
 
