@@ -85,6 +85,37 @@ glsl_table! {
 }
 
 glsl_table! {
+    /// Set 0 of the terrain kernels (`brush.comp`, `blended_pyramid.comp`), as `#define`s.
+    TERRAIN_BINDINGS {
+        /// `brush.comp`: level 0 of the elevation, read and written.
+        BINDING_BRUSH_HEIGHTS = 0;
+        /// `blended_pyramid.comp`: the layers' max pyramids, one layer per channel.
+        BINDING_BLEND_LAYER_HEIGHTS = 0;
+        /// `blended_pyramid.comp`: the weights' max pyramids.
+        BINDING_BLEND_LAYER_WEIGHTS = 1;
+        /// `blended_pyramid.comp`: the level of the blended pyramid written.
+        BINDING_BLEND_OUT = 2;
+        /// `blended_pyramid.comp`: the max pyramid of 1 - min(sum of weights, 1).
+        BINDING_BLEND_SLACK = 3;
+    }
+}
+
+glsl_table! {
+    /// Mode values the terrain kernels branch on per dispatch, as `#define`s.
+    TERRAIN_MODES {
+        /// `brush.comp`'s kind: raise, lower, flatten, crater (`BrushKind`).
+        BRUSH_RAISE = 0;
+        BRUSH_LOWER = 1;
+        BRUSH_FLATTEN = 2;
+        BRUSH_CRATER = 3;
+        /// `blended_pyramid.comp`'s blend mode (`BlendMode`).
+        BLEND_ALPHA = 0;
+        BLEND_HEIGHT = 1;
+        BLEND_HEIGHT_INTERSECT = 2;
+    }
+}
+
+glsl_table! {
     /// Specialization-constant ids, as `#define`s. The trace and surface passes share the budget
     /// and shadow ids; the level-of-detail ids start at 20 to keep clear of them.
     SPEC_IDS {
@@ -143,6 +174,8 @@ pub const GLSL_DEFINES: &[&[(&str, u32)]] = &[
     TRACE_BINDINGS,
     PYRAMID_BINDINGS,
     AO_BINDINGS,
+    TERRAIN_BINDINGS,
+    TERRAIN_MODES,
     SPEC_IDS,
     SIZES,
 ];
@@ -367,6 +400,30 @@ push_constants! {
     }
 }
 
+push_constants! {
+    /// `brush.comp`: one stroke over the texels of `region`.
+    BrushParams {
+        /// Centre x, y (texels), radius (texels), strength.
+        stroke: [f32; 4] => "vec4",
+        /// x: the flatten target; y: the kind (`BRUSH_*`, as a float).
+        shape: [f32; 4] => "vec4",
+        /// The texels to visit (x0, y0, width, height).
+        region: [u32; 4] => "uvec4",
+    }
+}
+
+push_constants! {
+    /// `blended_pyramid.comp`: one level of the blended pyramid over `region`.
+    BlendParams {
+        /// x: the blend mode (`BLEND_*`); y: the level; z: 1 when the output stores 16-bit unorm,
+        /// so that bounds round up to the next step.
+        flags: [u32; 4] => "uvec4",
+        /// The texels written (x0, y0, width, height): the whole level, or what painted weights
+        /// changed.
+        region: [u32; 4] => "uvec4",
+    }
+}
+
 /// Every push-constant layout above, for build.rs's header.
 #[allow(dead_code)] // Read by build.rs.
 pub const PUSH_LAYOUTS: &[PushLayout] = &[
@@ -378,6 +435,8 @@ pub const PUSH_LAYOUTS: &[PushLayout] = &[
     AoSweepParams::LAYOUT,
     PyramidParams::LAYOUT,
     TraceParams::LAYOUT,
+    BrushParams::LAYOUT,
+    BlendParams::LAYOUT,
 ];
 
 #[cfg(test)]

@@ -17,6 +17,10 @@ use crate::heightfield::{mip_level_count, Address, Heightfield};
 use crate::render::compute_pass::ComputePass;
 use crate::render::frame::gpu_heightfield::HeightFormat;
 use crate::render::maps::pyramid_pass::{regions_above, PyramidJob, PyramidPass, Region};
+use crate::render::shader_interface::{
+    BlendParams, BINDING_BLEND_LAYER_HEIGHTS, BINDING_BLEND_LAYER_WEIGHTS, BINDING_BLEND_OUT,
+    BINDING_BLEND_SLACK, BLEND_ALPHA, BLEND_HEIGHT, BLEND_HEIGHT_INTERSECT,
+};
 use crate::terrain::{least_sum_slack, BlendMode, LayerStack, TexelRect};
 use crate::vk::{
     memory_barrier, read_mip, transition_images, upload_mips, Bind, Context, DescriptorPool,
@@ -28,22 +32,16 @@ const GROUP: u32 = 8;
 
 /// The blend pass's push constants: mode, level, 16-bit output (round bounds up), unused; the
 /// region written.
-fn blend_push(mode: BlendMode, level: u32, unorm: bool, region: Region) -> [u32; 8] {
+fn blend_push(mode: BlendMode, level: u32, unorm: bool, region: Region) -> BlendParams {
     let mode = match mode {
-        BlendMode::Alpha => 0,
-        BlendMode::Height => 1,
-        BlendMode::HeightIntersect => 2,
+        BlendMode::Alpha => BLEND_ALPHA,
+        BlendMode::Height => BLEND_HEIGHT,
+        BlendMode::HeightIntersect => BLEND_HEIGHT_INTERSECT,
     };
-    [
-        mode,
-        level,
-        u32::from(unorm),
-        0,
-        region[0],
-        region[1],
-        region[2],
-        region[3],
-    ]
+    BlendParams {
+        flags: [mode, level, u32::from(unorm), 0],
+        region,
+    }
 }
 
 /// The four-channel format a stack's layers are stored in next to height format `format`, and
@@ -213,16 +211,17 @@ impl BlendedPyramid {
         ];
         let slack_pyramid = PyramidPass::new(ctx, format.shader_suffix())?;
         let slack_job = slack_pyramid.prepare_image(&slack)?;
+        let sampled = vk::DescriptorType::COMBINED_IMAGE_SAMPLER;
         let pass = ComputePass::plain(
             ctx,
             &format!("blended_pyramid.comp:{}", format.shader_suffix()),
             &[
-                (0, vk::DescriptorType::COMBINED_IMAGE_SAMPLER),
-                (1, vk::DescriptorType::COMBINED_IMAGE_SAMPLER),
-                (2, vk::DescriptorType::STORAGE_IMAGE),
-                (3, vk::DescriptorType::COMBINED_IMAGE_SAMPLER),
+                (BINDING_BLEND_LAYER_HEIGHTS, sampled),
+                (BINDING_BLEND_LAYER_WEIGHTS, sampled),
+                (BINDING_BLEND_OUT, vk::DescriptorType::STORAGE_IMAGE),
+                (BINDING_BLEND_SLACK, sampled),
             ],
-            32,
+            std::mem::size_of::<BlendParams>() as u32,
             "blended pyramid",
         )?;
         let texels = Sampler::new(

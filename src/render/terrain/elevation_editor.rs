@@ -11,6 +11,9 @@ use crate::heightfield::{Address, Heightfield};
 use crate::render::compute_pass::ComputePass;
 use crate::render::frame::gpu_heightfield::{GpuHeightfield, HeightFormat};
 use crate::render::maps::pyramid_pass::{regions_above, PyramidJob, PyramidPass, Region};
+use crate::render::shader_interface::{
+    BrushParams, BINDING_BRUSH_HEIGHTS, BRUSH_CRATER, BRUSH_FLATTEN, BRUSH_LOWER, BRUSH_RAISE,
+};
 use crate::terrain::{BrushKind, Stroke, StrokeError, StrokeTarget, TexelRect};
 use crate::vk::{
     memory_barrier, read_mip, transition_images, Bind, Context, DescriptorPool, DescriptorSet,
@@ -64,8 +67,8 @@ impl ElevationEditor {
         let brush = ComputePass::plain(
             ctx,
             &format!("brush.comp:{}", format.shader_suffix()),
-            &[(0, vk::DescriptorType::STORAGE_IMAGE)],
-            48,
+            &[(BINDING_BRUSH_HEIGHTS, vk::DescriptorType::STORAGE_IMAGE)],
+            std::mem::size_of::<BrushParams>() as u32,
             "brush",
         )?;
         let level0 = heights.image.level_view(0)?;
@@ -229,28 +232,18 @@ impl ElevationEditor {
 }
 
 /// `brush.comp`'s push constants for `stroke` over `rect`.
-fn brush_push(stroke: &Stroke, rect: &TexelRect) -> [u32; 12] {
+fn brush_push(stroke: &Stroke, rect: &TexelRect) -> BrushParams {
     let kind = match stroke.kind {
-        BrushKind::Raise => 0.0f32,
-        BrushKind::Lower => 1.0,
-        BrushKind::Flatten => 2.0,
-        BrushKind::Crater => 3.0,
+        BrushKind::Raise => BRUSH_RAISE,
+        BrushKind::Lower => BRUSH_LOWER,
+        BrushKind::Flatten => BRUSH_FLATTEN,
+        BrushKind::Crater => BRUSH_CRATER,
         // Refused by `apply` before anything is recorded.
-        BrushKind::Paint => 4.0,
+        BrushKind::Paint => BRUSH_CRATER + 1,
     };
-    let f = |x: f32| x.to_bits();
-    [
-        f(stroke.x),
-        f(stroke.y),
-        f(stroke.radius),
-        f(stroke.strength),
-        f(stroke.target),
-        f(kind),
-        0,
-        0,
-        rect.x0,
-        rect.y0,
-        rect.width(),
-        rect.height(),
-    ]
+    BrushParams {
+        stroke: [stroke.x, stroke.y, stroke.radius, stroke.strength],
+        shape: [stroke.target, kind as f32, 0.0, 0.0],
+        region: [rect.x0, rect.y0, rect.width(), rect.height()],
+    }
 }
