@@ -80,7 +80,7 @@ layout(set = 0, binding = BINDING_AO_CROSSINGS, std430) readonly buffer Crossing
     Crossing crossings[];
 };
 
-// The fields: AoSweepParams in src/render/shader_interface.rs.
+// The fields: AoSweepParams in src/render/shader_interface/push_constants.rs.
 layout(push_constant, std430) uniform Params {
     AO_SWEEP_PARAMS_FIELDS
 } params;

@@ -16,7 +16,7 @@
 
 #include "interface.glsl"
 
-// Ids: src/render/shader_interface.rs. Values: src/scene/lod.rs.
+// Ids: src/render/shader_interface/mod.rs. Values: src/scene/lod.rs.
 layout(constant_id = SPEC_LOD_FACTOR) const float LOD_FACTOR = 1.0;
 layout(constant_id = SPEC_LOD_BIAS) const float LOD_BIAS = 0.0;
 layout(constant_id = SPEC_LOD_FADE_START) const float LOD_FADE_START = 0.0;

@@ -20,7 +20,7 @@ layout(local_size_x = 8, local_size_y = 8) in;
 const float TAU = 6.28318530718;
 const int MAX_SAMPLES = AO_HORIZON_MAX_SAMPLES;
 
-// The fields: AoHorizonParams in src/render/shader_interface.rs.
+// The fields: AoHorizonParams in src/render/shader_interface/push_constants.rs.
 layout(push_constant, std430) uniform Params {
     AO_HORIZON_PARAMS_FIELDS
 } params;

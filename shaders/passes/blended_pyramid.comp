@@ -24,7 +24,7 @@ layout(set = 0, binding = BINDING_BLEND_SLACK) uniform sampler2D least_sum_slack
 // Relative margin on the convex blends' weighted bound (WEIGHTED_MARGIN in blended_pyramid.rs).
 const float WEIGHTED_MARGIN = 1.0 + 8.0 * 1.1920929e-7;
 
-// The fields: BlendParams in src/render/shader_interface.rs.
+// The fields: BlendParams in src/render/shader_interface/push_constants.rs.
 layout(push_constant, std430) uniform Params {
     BLEND_PARAMS_FIELDS
 } params;

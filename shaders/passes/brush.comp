@@ -10,7 +10,7 @@ layout(local_size_x = 8, local_size_y = 8) in;
 
 layout(set = 0, binding = BINDING_BRUSH_HEIGHTS, HEIGHT_FORMAT) uniform image2D heights;
 
-// The fields: BrushParams in src/render/shader_interface.rs.
+// The fields: BrushParams in src/render/shader_interface/push_constants.rs.
 layout(push_constant, std430) uniform Params {
     BRUSH_PARAMS_FIELDS
 } params;

@@ -12,7 +12,7 @@ layout(set = 0, binding = BINDING_SEARCH_PYRAMID, std430) buffer Pyramid {
     float pyramid[];
 };
 
-// The fields: PyramidReduceParams in src/render/shader_interface.rs.
+// The fields: PyramidReduceParams in src/render/shader_interface/push_constants.rs.
 layout(push_constant, std430) uniform Params {
     PYRAMID_REDUCE_PARAMS_FIELDS
 } params;

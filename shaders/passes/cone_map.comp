@@ -37,7 +37,7 @@ layout(set = 0, binding = BINDING_SEARCH_MAP, std430) writeonly buffer ConeMap {
     vec2 cone_map[];
 };
 
-// The fields: ConeMapParams in src/render/shader_interface.rs.
+// The fields: ConeMapParams in src/render/shader_interface/push_constants.rs.
 layout(push_constant, std430) uniform Params {
     CONE_MAP_PARAMS_FIELDS
 } params;

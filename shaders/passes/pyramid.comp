@@ -15,7 +15,7 @@ layout(local_size_x = 8, local_size_y = 8) in;
 layout(set = 0, binding = BINDING_PYRAMID_FINE, HEIGHT_FORMAT) uniform readonly image2D fine;
 layout(set = 0, binding = BINDING_PYRAMID_COARSE, HEIGHT_FORMAT) uniform writeonly image2D coarse;
 
-// The fields: PyramidParams in src/render/shader_interface.rs (the widening is
+// The fields: PyramidParams in src/render/shader_interface/push_constants.rs (the widening is
 // heightfield::pyramid::build_bilinear_bound's, the regions terrain::coarse_span's).
 layout(push_constant, std430) uniform Params {
     PYRAMID_PARAMS_FIELDS

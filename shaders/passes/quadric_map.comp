@@ -53,7 +53,7 @@ layout(set = 0, binding = BINDING_SEARCH_MAP, std430) writeonly buffer QuadricMa
     vec4 quadric_map[];
 };
 
-// The fields: QuadricMapParams in src/render/shader_interface.rs.
+// The fields: QuadricMapParams in src/render/shader_interface/push_constants.rs.
 layout(push_constant, std430) uniform Params {
     QUADRIC_MAP_PARAMS_FIELDS
 } params;

@@ -20,7 +20,7 @@ layout(set = 0, binding = BINDING_TRACE_STEPS, std430) writeonly buffer Steps { 
 // Per ray: the light's visible fraction at the hit (1 when SHADOW_MODE is 0).
 layout(set = 0, binding = BINDING_TRACE_VISIBLE, std430) writeonly buffer Visible { float visible[]; };
 
-// The fields: TraceParams in src/render/shader_interface.rs.
+// The fields: TraceParams in src/render/shader_interface/push_constants.rs.
 layout(push_constant, std430) uniform TraceParams {
     TRACE_PARAMS_FIELDS
 } params;
