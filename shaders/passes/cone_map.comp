@@ -8,11 +8,13 @@
 // sqrt(0.5) uv, so they never hold the minimum) and over the map alone under Clamp (the border's
 // copies are never nearer than the border texels). Capped at CONE_RATIO_MAX.
 //
-// Level 0 of the max pyramid (buffer_pyramid.glsl) is reduced by buffer_pyramid_reduce.comp; this
-// kernel then runs one invocation per texel of rows [row0, row0 + rows): the best seeded with the 8
-// neighbours, then a depth-first search of each tile's pyramid, lowest-bound child first,
-// skipping every node whose bound (its rectangle's distance over its maximum's rise) is no lower
-// than the best found. The search itself is exact; only the arithmetic is f32.
+// Two modes, chosen per dispatch by params.mode:
+//  REDUCE: level L of the max pyramid (buffer_pyramid.glsl) from level L - 1.
+//  CONE (MODE_SEARCH): one invocation per texel of rows [row0, row0 + rows): the best seeded with the 8
+//    neighbours, then a depth-first search of each tile's pyramid, lowest-bound child first,
+//    skipping every node whose bound (its rectangle's distance over its maximum's rise) is no
+//    lower than the best found. The search itself is
+//    exact; only the arithmetic is f32.
 //
 // Rounding (the guarantee): every candidate's value is computed in f32 with relative error at
 // most EPS_ULPS units of 2^-23 under the Vulkan precision rules (sqrt about 5 ULP, division
@@ -24,7 +26,7 @@
 // tests check it against the CPU builder).
 layout(local_size_x = 8, local_size_y = 8) in;
 
-// MAX_LEVELS and the bindings.
+// MODE_REDUCE, MODE_SEARCH (CONE above), MAX_LEVELS and the bindings.
 #include "interface.glsl"
 
 // All pyramid levels back to back, level 0 (the bound heights, width x height) first.
@@ -42,13 +44,19 @@ layout(push_constant, std430) uniform Params {
     CONE_MAP_PARAMS_FIELDS
 } params;
 
-// Reads `pyramid` above.
+// Reads and writes `pyramid` above.
 #include "buffer_pyramid.glsl"
 // Values, node rectangles and stack entries (needs `params`).
 #include "cone_search.glsl"
 
 uvec2 level_size(uint level) {
     return pyramid_level_size(uvec2(params.width, params.height), level);
+}
+
+void reduce() {
+    uint level = params.level;
+    pyramid_reduce(uvec2(params.width, params.height), level, params.offsets[level - 1u],
+                   params.offsets[level], gl_GlobalInvocationID.xy);
 }
 
 // Child (x, y) of `level` as a stack entry, or NO_BOUND when it holds nothing higher than hp or
@@ -140,5 +148,9 @@ void cone() {
 }
 
 void main() {
-    cone();
+    if (params.mode == MODE_REDUCE) {
+        reduce();
+    } else {
+        cone();
+    }
 }

@@ -33,14 +33,14 @@
 // the few-ulp errors of the f32 arithmetic under the Vulkan precision rules. These margins lift
 // the GPU profile a little above the exact one for the same points.
 //
-// The max pyramid of the heights (buffer_pyramid.glsl) is reduced by buffer_pyramid_reduce.comp;
-// this kernel then runs one invocation per texel of rows [row0, row0 + rows): the near texels,
-// then one pass over its rings, at most about (levels) (2 RING + 5)^2 loop iterations (lavapipe
-// ends every loop of an invocation after 65535 iterations in all: 15 levels and ring 8 stay far
-// below).
+// Two modes, chosen per dispatch by params.mode:
+//  REDUCE: level L of the max pyramid of the heights (buffer_pyramid.glsl) from level L - 1.
+//  QUADRIC: one invocation per texel of rows [row0, row0 + rows): the near texels, then one
+//    pass over its rings, at most about (levels) (2 RING + 5)^2 loop iterations (lavapipe ends every loop of
+//    an invocation after 65535 iterations in all: 15 levels and ring 8 stay far below).
 layout(local_size_x = 8, local_size_y = 8) in;
 
-// MAX_LEVELS and the bindings.
+// MODE_REDUCE, MODE_SEARCH (the quadric fit), MAX_LEVELS and the bindings.
 #include "interface.glsl"
 
 // All pyramid levels back to back, level 0 (the heights, width x height) first.
@@ -58,7 +58,7 @@ layout(push_constant, std430) uniform Params {
     QUADRIC_MAP_PARAMS_FIELDS
 } params;
 
-// Reads `pyramid` above.
+// Reads and writes `pyramid` above.
 #include "buffer_pyramid.glsl"
 
 bool repeat_address() {
@@ -504,5 +504,11 @@ void quadric() {
 }
 
 void main() {
-    quadric();
+    if (params.mode == MODE_REDUCE) {
+        uint level = params.level;
+        pyramid_reduce(uvec2(params.width, params.height), level, params.offsets[level - 1u],
+                       params.offsets[level], gl_GlobalInvocationID.xy);
+    } else {
+        quadric();
+    }
 }

@@ -55,7 +55,7 @@ use crate::render::compute_pass::ComputePass;
 use crate::render::frame::gpu_heightfield::{sampler_address_mode, GpuHeightfield, HeightFormat};
 use crate::render::shader_interface::{
     AoHorizonParams, AoSweepParams, BINDING_AO_ACCUM, BINDING_AO_CROSSINGS, BINDING_AO_FIELD,
-    BINDING_AO_HEIGHTS, BINDING_AO_HULLS, BINDING_AO_MAP,
+    BINDING_AO_HEIGHTS, BINDING_AO_HULLS, BINDING_AO_MAP, MODE_RESOLVE, MODE_SWEEP, MODE_UNPACK,
 };
 use crate::scene::AoMode;
 use crate::vk::{
@@ -144,16 +144,7 @@ impl AoJob {
 pub struct AoMapPass {
     ctx: Arc<Context>,
     mode: AoMode,
-    /// The horizon kernel, or the exact sweep's per-azimuth walk.
     pass: ComputePass,
-    /// The exact sweep's kernels before and after its walks.
-    sweep_ends: Option<SweepEnds>,
-}
-
-/// `ao_sweep_unpack.comp` and `ao_sweep_resolve.comp`, over the sweep's set layout.
-struct SweepEnds {
-    unpack: ComputePass,
-    resolve: ComputePass,
 }
 
 impl AoMapPass {
@@ -167,25 +158,11 @@ impl AoMapPass {
             AoMode::ExactHorizon => ("ao_sweep.comp", std::mem::size_of::<AoSweepParams>()),
         };
         let name = format!("ao map {mode}");
-        let bindings = layout_bindings(mode);
-        let pass = ComputePass::plain(ctx, key, &bindings, push as u32, &name)?;
-        let sweep_ends = if mode == AoMode::ExactHorizon {
-            let kernel = |key, part| {
-                let name = format!("{name} {part}");
-                ComputePass::plain(ctx, key, &bindings, push as u32, &name)
-            };
-            Some(SweepEnds {
-                unpack: kernel("ao_sweep_unpack.comp", "unpack")?,
-                resolve: kernel("ao_sweep_resolve.comp", "resolve")?,
-            })
-        } else {
-            None
-        };
+        let pass = ComputePass::plain(ctx, key, &layout_bindings(mode), push as u32, &name)?;
         Ok(AoMapPass {
             ctx: ctx.clone(),
             mode,
             pass,
-            sweep_ends,
         })
     }
 
@@ -378,14 +355,11 @@ impl AoMapPass {
         let repeat = job.map.address == Address::Repeat;
         // Per-texel passes: a group per 64 texels of a row, a row of groups per map row.
         let texel_groups = [w.div_ceil(SWEEP_GROUP), h, 1];
-        let ends = self
-            .sweep_ends
-            .as_ref()
-            .ok_or_else(|| VkError::Invalid("AO pass built for another mode".into()))?;
-        let whole_map = sweep_params(&scratch.directions[0], w, h, repeat, depth_scale);
-        let whole_map = bytemuck::bytes_of(&whole_map);
-        ends.unpack
-            .dispatch(rec, job.set, whole_map, texel_groups)?;
+        let sweep = self.pass.pipeline();
+        let mut whole_map = sweep_params(&scratch.directions[0], w, h, repeat, depth_scale);
+        whole_map.mode = MODE_UNPACK;
+        sweep.push(rec, bytemuck::bytes_of(&whole_map))?;
+        rec.dispatch(texel_groups);
         rec.fill_buffer(accum, 0, accum.size(), 0);
         memory_barrier(
             rec,
@@ -396,8 +370,6 @@ impl AoMapPass {
             (compute, rw),
         );
         memory_barrier(rec, (compute, rw), (compute, rw));
-        let sweep = self.pass.pipeline();
-        sweep.bind(rec, Some(job.set));
         for (k, dir) in scratch.directions.iter().enumerate() {
             let mut params = sweep_params(dir, w, h, repeat, depth_scale);
             params.crossing_base = (k * MAX_CROSSINGS) as u32;
@@ -412,7 +384,10 @@ impl AoMapPass {
                 memory_barrier(rec, (compute, rw), (compute, rw));
             }
         }
-        ends.resolve.dispatch(rec, job.set, whole_map, texel_groups)
+        whole_map.mode = MODE_RESOLVE;
+        sweep.push(rec, bytemuck::bytes_of(&whole_map))?;
+        rec.dispatch(texel_groups);
+        Ok(())
     }
 
     /// Uploads `hf` (as `R32_SFLOAT`, so the GPU sees the same heights as the CPU reference),
@@ -508,6 +483,7 @@ fn sweep_params(
         repeat_address: u32::from(repeat),
         period: lines.period,
         g_a: lines.g_a,
+        mode: MODE_SWEEP,
         depth_scale,
         step_uv: step_u.hypot(step_v) as f32,
         dir: [dir.angle.cos() as f32, dir.angle.sin() as f32],

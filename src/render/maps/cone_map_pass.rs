@@ -18,10 +18,10 @@ use std::sync::Arc;
 
 use super::map_builder_pass::{GpuMap, MapBuilderPass};
 pub use super::map_search::MAX_SIDE;
-use super::map_search::{level_offsets, top_level, PyramidSearch, SearchBuffers};
+use super::map_search::{level_offsets, top_level, SearchBuffers, SearchPipeline};
 use crate::heightfield::cone_map::bilinear_box_bound;
 use crate::heightfield::{Address, Heightfield, MapData};
-use crate::render::shader_interface::ConeMapParams;
+use crate::render::shader_interface::{ConeMapParams, MODE_REDUCE};
 use crate::vk::{Context, VkResult};
 
 /// Relative amount by which a GPU ratio may fall short of the CPU's (never exceed it): the f32
@@ -33,7 +33,7 @@ pub type ConeMapPass = MapBuilderPass<ConservativeConeMap>;
 
 /// The conservative cone map's search pipeline.
 pub struct ConservativeConeMap {
-    search: PyramidSearch,
+    search: SearchPipeline,
 }
 
 impl GpuMap for ConservativeConeMap {
@@ -47,7 +47,7 @@ impl GpuMap for ConservativeConeMap {
     fn pipelines(ctx: &Arc<Context>) -> VkResult<ConservativeConeMap> {
         let push = std::mem::size_of::<ConeMapParams>() as u32;
         Ok(ConservativeConeMap {
-            search: PyramidSearch::new(ctx, "cone_map.comp", push, Self::NAME)?,
+            search: SearchPipeline::new(ctx, "cone_map.comp", push, 2, Self::NAME)?,
         })
     }
 
@@ -61,15 +61,22 @@ impl GpuMap for ConservativeConeMap {
         let (w, h) = (hf.width(), hf.height());
         let bound = bilinear_box_bound(hf, address);
         let base = ConeMapParams {
+            mode: MODE_REDUCE,
             width: w,
             height: h,
             repeat_address: u32::from(address == Address::Repeat),
+            level: 0,
             row0: 0,
             aspect: (f64::from(w) / f64::from(h)) as f32,
             top: top_level(w, h),
             offsets: level_offsets(w, h),
         };
-        let params = |row0| ConeMapParams { row0, ..base };
+        let params = |mode, level, row0| ConeMapParams {
+            mode,
+            level,
+            row0,
+            ..base
+        };
         self.search
             .build(ctx, (bound.data(), w, h), 2, Self::NAME, &params)
     }

@@ -5,9 +5,8 @@
 //! submission holds the queue for seconds: real GPUs reset a device that does; lavapipe has no
 //! such watchdog), read the map back, and sum the GPU time of every submission.
 //!
-//! The reduction is `buffer_pyramid_reduce.comp`'s, shared by both maps; each search kernel's
-//! push constants are its own, given per first row. Binding 0 is the pyramid, binding 1 the map
-//! (`BINDING_SEARCH_*` in `shader_interface`).
+//! Each shader's push constants start with `mode, width, height, repeat_address, level, row0`;
+//! the builder fills in the rest. Binding 0 is the pyramid, binding 1 the map.
 
 use std::sync::Arc;
 
@@ -16,7 +15,7 @@ use ash::vk;
 use crate::heightfield::MapData;
 use crate::render::compute_pass::ComputePass;
 use crate::render::shader_interface::{
-    self, PyramidReduceParams, BINDING_SEARCH_MAP, BINDING_SEARCH_PYRAMID,
+    self, BINDING_SEARCH_MAP, BINDING_SEARCH_PYRAMID, MODE_REDUCE, MODE_SEARCH,
 };
 use crate::vk::{
     memory_barrier, Bind, Buffer, Context, DescriptorPool, DescriptorSet, MemoryLocation, Pipeline,
@@ -76,43 +75,20 @@ impl SearchPipeline {
     ) -> VkResult<ComputePass> {
         ComputePass::plain(ctx, key, &storage_slots(self.bindings), push, name)
     }
-}
 
-/// A search kernel over a max pyramid in one buffer, with the kernel that reduces the pyramid,
-/// both over one set.
-pub(in crate::render) struct PyramidSearch {
-    search: SearchPipeline,
-    reduce: ComputePass,
-}
-
-impl PyramidSearch {
-    /// The search of shader `key` with `push` bytes of push constants, named `name`.
-    pub fn new(ctx: &Arc<Context>, key: &str, push: u32, name: &str) -> VkResult<PyramidSearch> {
-        let search = SearchPipeline::new(ctx, key, push, 2, name)?;
-        let reduce_push = std::mem::size_of::<PyramidReduceParams>() as u32;
-        let reduce = search.kernel(
-            ctx,
-            "buffer_pyramid_reduce.comp",
-            reduce_push,
-            &format!("{name} pyramid"),
-        )?;
-        Ok(PyramidSearch { search, reduce })
-    }
-
-    /// Builds a map of `channels` floats per texel from `level0` (`w` x `h`) with the search's
-    /// push constants `params` gives per first row: the map and the GPU ms.
+    /// Builds a map of `channels` floats per texel from `level0` (`w` x `h`) with the push
+    /// constants `params` gives per mode, level and first row: the map and the GPU ms.
     pub fn build<P: bytemuck::Pod>(
         &self,
         ctx: &Arc<Context>,
         (level0, w, h): (&[f32], u32, u32),
         channels: u32,
         name: &str,
-        params: &dyn Fn(u32) -> P,
+        params: &dyn Fn(u32, u32, u32) -> P,
     ) -> VkResult<(MapData, f64)> {
         let search = MapSearch {
-            reduce: self.reduce.pipeline(),
-            pipeline: self.search.pass.pipeline(),
-            set: self.search.set,
+            pipeline: self.pass.pipeline(),
+            set: self.set,
             channels,
             name,
             params,
@@ -178,17 +154,16 @@ impl SearchBuffers {
     }
 }
 
-/// What one build dispatches: the reduction, the search, their set (rewritten for the build's
-/// buffers) and the search's push constants for a first row.
+/// What one build dispatches: the pipeline, its set (rewritten for the build's buffers) and the
+/// push constants for a mode, a level and a first row.
 pub(in crate::render) struct MapSearch<'a, P> {
-    pub reduce: &'a Pipeline,
     pub pipeline: &'a Pipeline,
     pub set: DescriptorSet,
     /// Floats per texel of the map.
     pub channels: u32,
     /// Names the buffers (validation messages show it).
     pub name: &'a str,
-    pub params: &'a dyn Fn(u32) -> P,
+    pub params: &'a dyn Fn(u32, u32, u32) -> P,
 }
 
 impl<P: bytemuck::Pod> MapSearch<'_, P> {
@@ -231,28 +206,16 @@ impl<P: bytemuck::Pod> MapSearch<'_, P> {
                 Bind::Storage(BINDING_SEARCH_MAP, out.raw()),
             ],
         );
-        let past_end = (self.params)(h);
+        let past_end = (self.params)(MODE_SEARCH, 0, h);
         warm_up(ctx, self.pipeline, self.set, bytemuck::bytes_of(&past_end))?;
-        // A 0 x 0 map has no nodes on level 1.
-        let no_nodes = PyramidReduceParams {
-            width: 0,
-            height: 0,
-            level: 1,
-            offsets: [0; 15],
-        };
-        warm_up(ctx, self.reduce, self.set, bytemuck::bytes_of(&no_nodes))?;
-        let offsets = level_offsets(w, h);
         let chunks = row_chunks(w, h);
         let mut timed = TimedSubmissions::new(ctx, 1 + chunks.len() as u32, self.name)?;
         timed.submit(ctx, |rec| {
             rec.copy_buffer(&staging, &pyramid);
             memory_barrier(rec, COPIED, COMPUTE_RW);
-            self.reduce.bind(rec, Some(self.set));
-            record_reductions(rec, self.reduce, w, h, |level| PyramidReduceParams {
-                width: w,
-                height: h,
-                level,
-                offsets,
+            self.pipeline.bind(rec, Some(self.set));
+            record_reductions(rec, self.pipeline, w, h, |level| {
+                (self.params)(MODE_REDUCE, level, 0)
             })
         })?;
         for (row0, count) in chunks {
@@ -266,7 +229,7 @@ impl<P: bytemuck::Pod> MapSearch<'_, P> {
 
     /// Searches `count` rows from `row0`.
     fn record_rows(&self, rec: &Recording, w: u32, row0: u32, count: u32) -> VkResult<()> {
-        let params = (self.params)(row0);
+        let params = (self.params)(MODE_SEARCH, 0, row0);
         let push = bytemuck::bytes_of(&params);
         record_row_dispatch(rec, self.pipeline, self.set, push, w, count)
     }

@@ -15,9 +15,9 @@
 use std::sync::Arc;
 
 use super::map_builder_pass::{GpuMap, MapBuilderPass};
-use super::map_search::{level_offsets, top_level, PyramidSearch, SearchBuffers};
+use super::map_search::{level_offsets, top_level, SearchBuffers, SearchPipeline};
 use crate::heightfield::{Address, Heightfield, MapData};
-use crate::render::shader_interface::QuadricMapParams;
+use crate::render::shader_interface::{QuadricMapParams, MODE_REDUCE};
 use crate::vk::{Context, VkResult};
 
 /// The quadric-map builder.
@@ -25,7 +25,7 @@ pub type QuadricMapPass = MapBuilderPass<QuadricMapSearch>;
 
 /// The quadric map's search pipeline.
 pub struct QuadricMapSearch {
-    search: PyramidSearch,
+    search: SearchPipeline,
 }
 
 impl GpuMap for QuadricMapSearch {
@@ -39,7 +39,7 @@ impl GpuMap for QuadricMapSearch {
     fn pipelines(ctx: &Arc<Context>) -> VkResult<QuadricMapSearch> {
         let push = std::mem::size_of::<QuadricMapParams>() as u32;
         Ok(QuadricMapSearch {
-            search: PyramidSearch::new(ctx, "quadric_map.comp", push, Self::NAME)?,
+            search: SearchPipeline::new(ctx, "quadric_map.comp", push, 2, Self::NAME)?,
         })
     }
 
@@ -51,14 +51,21 @@ impl GpuMap for QuadricMapSearch {
     ) -> VkResult<(MapData, f64)> {
         let (w, h) = (hf.width(), hf.height());
         let base = QuadricMapParams {
+            mode: MODE_REDUCE,
             width: w,
             height: h,
             repeat_address: u32::from(address == Address::Repeat),
+            level: 0,
             row0: 0,
             top: top_level(w, h),
             offsets: level_offsets(w, h),
         };
-        let params = |row0| QuadricMapParams { row0, ..base };
+        let params = |mode, level, row0| QuadricMapParams {
+            mode,
+            level,
+            row0,
+            ..base
+        };
         self.search
             .build(ctx, (hf.data(), w, h), 4, Self::NAME, &params)
     }

@@ -36,7 +36,7 @@ glsl_table! {
 }
 
 glsl_table! {
-    /// Set 0 of the map searches (`buffer_pyramid_reduce.comp`, `cone_map.comp`,
+    /// Set 0 of the map searches (`cone_map.comp`,
     /// `quadric_map.comp`, `relaxed_cone_*.comp`), as `#define`s.
     SEARCH_BINDINGS {
         /// Every pyramid level back to back, level 0 first.
@@ -70,7 +70,7 @@ glsl_table! {
 }
 
 glsl_table! {
-    /// Set 0 of the AO map kernels (`shaders/include/ao.glsl`, `ao_sweep.glsl`), as `#define`s.
+    /// Set 0 of the AO map kernels (`shaders/include/ao.glsl`, `ao_sweep.comp`), as `#define`s.
     AO_BINDINGS {
         /// The height image (and, for the horizon kernel, its max pyramid in the mips).
         BINDING_AO_HEIGHTS = 0;
@@ -100,6 +100,22 @@ glsl_table! {
         BINDING_BLEND_OUT = 2;
         /// `blended_pyramid.comp`: the max pyramid of 1 - min(sum of weights, 1).
         BINDING_BLEND_SLACK = 3;
+    }
+}
+
+glsl_table! {
+    /// Mode values the map and AO kernels branch on per dispatch (`params.mode`), as `#define`s.
+    MODES {
+        /// `cone_map.comp`, `quadric_map.comp`: one level of the max pyramid from the level below.
+        MODE_REDUCE = 0;
+        /// `cone_map.comp`, `quadric_map.comp`: the per-texel search of rows from `row0`.
+        MODE_SEARCH = 1;
+        /// `ao_sweep.comp`: one chunk of one azimuth's line walks.
+        MODE_SWEEP = 0;
+        /// `ao_sweep.comp`: the sums turned into the map.
+        MODE_RESOLVE = 1;
+        /// `ao_sweep.comp`: level 0 of the heights unpacked for the walks.
+        MODE_UNPACK = 2;
     }
 }
 
@@ -179,6 +195,7 @@ pub const GLSL_DEFINES: &[&[(&str, u32)]] = &[
     AO_BINDINGS,
     TERRAIN_BINDINGS,
     TERRAIN_MODES,
+    MODES,
     SPEC_IDS,
     SIZES,
 ];

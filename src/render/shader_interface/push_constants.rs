@@ -64,26 +64,18 @@ macro_rules! push_constants {
 // catches a `MAX_LEVELS` that no longer matches.
 
 push_constants! {
-    /// `buffer_pyramid_reduce.comp`: level `level` of the max pyramid from the level below.
-    PyramidReduceParams {
-        /// Level 0 size in texels.
-        width: u32 => "uint",
-        height: u32 => "uint",
-        level: u32 => "uint",
-        /// Where each level starts in the pyramid buffer, in floats (the host computes them).
-        offsets: [u32; 15] => "uint" [MAX_LEVELS],
-    }
-}
-
-push_constants! {
-    /// `cone_map.comp`: the conservative cone search of rows from `row0`.
+    /// `cone_map.comp`: a pyramid level or the conservative cone search of rows.
     ConeMapParams {
+        /// `MODE_REDUCE` or `MODE_SEARCH`.
+        mode: u32 => "uint",
         /// Level 0 size in texels.
         width: u32 => "uint",
         height: u32 => "uint",
         /// 1 for Repeat, 0 for Clamp.
         repeat_address: u32 => "uint",
-        /// The first row of this dispatch.
+        /// Reductions: the level written.
+        level: u32 => "uint",
+        /// Searches: the first row of this dispatch.
         row0: u32 => "uint",
         /// width / height rounded to f32: the v distance in u-texel units is dy * aspect.
         aspect: f32 => "float",
@@ -95,14 +87,18 @@ push_constants! {
 }
 
 push_constants! {
-    /// `quadric_map.comp`: the quadric fit of rows from `row0`.
+    /// `quadric_map.comp`: a pyramid level or the quadric fit of rows.
     QuadricMapParams {
+        /// `MODE_REDUCE` or `MODE_SEARCH`.
+        mode: u32 => "uint",
         /// Level 0 size in texels.
         width: u32 => "uint",
         height: u32 => "uint",
         /// 1 for Repeat, 0 for Clamp.
         repeat_address: u32 => "uint",
-        /// The first row of this dispatch.
+        /// Reductions: the level written.
+        level: u32 => "uint",
+        /// Searches: the first row of this dispatch.
         row0: u32 => "uint",
         /// The level whose single node covers the map.
         top: u32 => "uint",
@@ -160,8 +156,7 @@ push_constants! {
 }
 
 push_constants! {
-    /// The exact-horizon AO kernels (`shaders/include/ao_sweep.glsl`): one azimuth's walk, or
-    /// the whole map for the unpack and resolve kernels.
+    /// `ao_sweep.comp`: one azimuth's walk, or the whole map for the unpack and resolve modes.
     AoSweepParams {
         size: [i32; 2] => "ivec2",
         /// The lattice step of the walk; the horizon looks the other way.
@@ -176,13 +171,15 @@ push_constants! {
         /// Repeat: lattice steps around one orbit; the orbits start at (l % g_a, l / g_a).
         period: u32 => "uint",
         g_a: u32 => "uint",
-        /// This azimuth's share of the circle (the weights of a sweep sum to 1).
-        weight: f32 => "float",
+        /// `MODE_SWEEP`, `MODE_RESOLVE` or `MODE_UNPACK`.
+        mode: u32 => "uint",
         depth_scale: f32 => "float",
         /// Length in uv of one lattice step.
         step_uv: f32 => "float",
         /// The horizon's azimuth as a uv unit vector (-walk, normalised in uv).
         dir: [f32; 2] => "vec2",
+        /// This azimuth's share of the circle (the weights of a sweep sum to 1).
+        weight: f32 => "float",
         /// This azimuth's crossings: `crossing_count` entries from `crossing_base`.
         crossing_base: u32 => "uint",
         crossing_count: u32 => "uint",
@@ -251,7 +248,6 @@ push_constants! {
 /// Every push-constant layout above, for build.rs's header.
 #[allow(dead_code)] // Read by build.rs.
 pub const PUSH_LAYOUTS: &[PushLayout] = &[
-    PyramidReduceParams::LAYOUT,
     ConeMapParams::LAYOUT,
     QuadricMapParams::LAYOUT,
     RelaxedConeParams::LAYOUT,
