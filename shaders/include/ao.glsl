@@ -2,16 +2,18 @@
 // addressing, the texel normal and the closed-form occlusion of one azimuth slice, exactly as
 // DESIGN.md section 2 ("Normal and AO") and heightfield::ambient_occlusion define them.
 //
-// Bindings every AO pass shares: 0 the height image (level 0 and, for the horizon pass, its max
-// pyramid in the mips; read with texelFetch, so the sampler's filter and addressing play no part),
-// 1 the AO map written as r32f.
+// Bindings every AO pass shares: the height image (level 0 and, for the horizon pass, its max
+// pyramid in the mips; read with texelFetch, so the sampler's filter and addressing play no part)
+// and the AO map written as r32f.
 #ifndef AO_GLSL
 #define AO_GLSL
 
 const float AO_HALF_PI = 1.57079632679;
 
-layout(set = 0, binding = 0) uniform sampler2D heights;
-layout(set = 0, binding = 1, r32f) uniform writeonly image2D ao_out;
+#include "interface.glsl"
+
+layout(set = 0, binding = BINDING_AO_HEIGHTS) uniform sampler2D heights;
+layout(set = 0, binding = BINDING_AO_MAP, r32f) uniform writeonly image2D ao_out;
 
 // Texel index k of an axis of n texels under the map's addressing: wrapped (repeat) or clamped
 // (the border extends outward). GLSL leaves % of negatives undefined, hence the correction.

@@ -3,6 +3,8 @@
 #ifndef BINDINGS_GLSL
 #define BINDINGS_GLSL
 
+#include "interface.glsl"
+
 // A punctual light; mirrors `LightUniform` in src/render/frame_uniforms.rs.
 struct LightData {
     vec4 position;   // xyz: world position (point, spot); w: kind, 0 directional, 1 point, 2 spot
@@ -11,9 +13,7 @@ struct LightData {
     vec4 cone;       // x, y: cos of the outer and inner cone angles (spot); z: radius (see Light)
 };
 
-const int MAX_LIGHTS = 8;
-
-layout(set = 0, binding = 0, std140) uniform Frame {
+layout(set = 0, binding = BINDING_FRAME, std140) uniform Frame {
     mat4 view_proj;
     vec4 eye;          // xyz: camera position (world)
     vec4 ambient;      // rgb: ambient radiance
@@ -24,14 +24,14 @@ layout(set = 0, binding = 0, std140) uniform Frame {
 
 #ifndef PLAIN_SURFACE
 // The height field and its max pyramid in one mip-chained image, read two ways.
-layout(set = 0, binding = 1) uniform sampler2D height_point;   // nearest, nearest mip
-layout(set = 0, binding = 2) uniform sampler2D height_linear;  // bilinear
+layout(set = 0, binding = BINDING_HEIGHT_POINT) uniform sampler2D height_point;   // nearest, nearest mip
+layout(set = 0, binding = BINDING_HEIGHT_LINEAR) uniform sampler2D height_linear;  // bilinear
 
 #ifdef USES_METHOD_MAP
 // The method's precomputed map (cone ratios, quadric coefficients), one texel per height texel,
 // read by integer texel. build.rs defines USES_METHOD_MAP for the methods whose row in the method
 // table (src/method/table.rs) names a method map.
-layout(set = 0, binding = 3) uniform sampler2D method_map;
+layout(set = 0, binding = BINDING_METHOD_MAP) uniform sampler2D method_map;
 #endif
 #endif
 

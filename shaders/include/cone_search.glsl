@@ -1,4 +1,4 @@
-// What the cone-map builders' per-texel searches share (cone_map.comp, relaxed_cone_map.comp): a
+// What the cone-map builders' per-texel searches share (cone_map.comp, relaxed_cone.glsl): a
 // candidate's value, node rectangles of the buffer pyramid, and the packed stack entries with their
 // ordering. The includer declares a push-constant block `params` with `width`, `height` (level 0
 // in texels) and `aspect` (width / height rounded to f32: a v distance in u-texel units is

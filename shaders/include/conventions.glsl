@@ -4,6 +4,8 @@
 #ifndef CONVENTIONS_GLSL
 #define CONVENTIONS_GLSL
 
+#include "interface.glsl"
+
 // A ray entering the top plane at (origin, 0) going along dir (dir.z > 0), parameterised by
 // depth: p(z) = origin + z * dir.xy / dir.z.
 struct Ray {
@@ -21,17 +23,17 @@ struct Hit {
 
 // Iteration cap and refinement steps: specialization constants, so each pipeline is tuned without
 // recompiling SPIR-V. Defaults suit the renderer; the bench sweeps them.
-layout(constant_id = 0) const uint BUDGET_MAX_STEPS = 32;
-layout(constant_id = 1) const uint BUDGET_REFINE_STEPS = 5;
+layout(constant_id = SPEC_BUDGET_MAX_STEPS) const uint BUDGET_MAX_STEPS = 32;
+layout(constant_id = SPEC_BUDGET_REFINE_STEPS) const uint BUDGET_REFINE_STEPS = 5;
 // How methods with a leaf stage (qrm, pdm, qdm, csm, rcsm, quadric) finish: 1 = the exact
 // intersection of the ray with the bilinear patches it crosses, 0 = the paper's own refinement
 // (linear search or interpolation, binary search, or stopping on the box surface). Methods
 // without a leaf stage ignore it. The default is exact because the surface pass sets only
 // constants 0 and 1, and the renderer wants the accurate answer.
-layout(constant_id = 2) const uint BUDGET_LEAF_EXACT = 1;
+layout(constant_id = SPEC_BUDGET_LEAF_EXACT) const uint BUDGET_LEAF_EXACT = 1;
 // 0: BUDGET_MAX_STEPS is the cap. Otherwise each ray's cap grows by the texels its path crosses,
 // up to this many steps (`ray_budget` in heightfield.glsl; Budget::extent_limit in Rust).
-layout(constant_id = 3) const uint BUDGET_EXTENT_LIMIT = 0;
+layout(constant_id = SPEC_BUDGET_EXTENT_LIMIT) const uint BUDGET_EXTENT_LIMIT = 0;
 
 struct Budget {
     uint max_steps;

@@ -14,17 +14,19 @@
 #ifndef LOD_GLSL
 #define LOD_GLSL
 
-// Ids 20+ keep clear of the surface pass's other constants. Values: src/scene/lod.rs.
-layout(constant_id = 20) const float LOD_FACTOR = 1.0;
-layout(constant_id = 21) const float LOD_BIAS = 0.0;
-layout(constant_id = 22) const float LOD_FADE_START = 0.0;
-layout(constant_id = 23) const float LOD_FADE_END = 0.0;
-layout(constant_id = 24) const uint LOD_AVERAGE_BELOW = 16;
+#include "interface.glsl"
+
+// Ids: src/render/shader_interface/mod.rs. Values: src/scene/lod.rs.
+layout(constant_id = SPEC_LOD_FACTOR) const float LOD_FACTOR = 1.0;
+layout(constant_id = SPEC_LOD_BIAS) const float LOD_BIAS = 0.0;
+layout(constant_id = SPEC_LOD_FADE_START) const float LOD_FADE_START = 0.0;
+layout(constant_id = SPEC_LOD_FADE_END) const float LOD_FADE_END = 0.0;
+layout(constant_id = SPEC_LOD_AVERAGE_BELOW) const uint LOD_AVERAGE_BELOW = 16;
 
 #ifdef LOD_MEAN_PYRAMID
 // The averaged height pyramid: level L holds the mean of the level-0 texels its texel covers.
 // Variants whose material does not use it bind the max pyramid here and never read it.
-layout(set = 0, binding = 4) uniform sampler2D height_mean;
+layout(set = 0, binding = BINDING_HEIGHT_MEAN) uniform sampler2D height_mean;
 #endif
 
 // The pixel's stop level (floor and fraction) and fade, written by lod_begin. Globals, because

@@ -16,15 +16,16 @@
 #ifndef SHADOWS_GLSL
 #define SHADOWS_GLSL
 
+#include "interface.glsl"
 #include "pyramid.glsl"
 
 // 0 none, 1 hard, 2 pom-soft, 3 horizon, 4 cone; mirrors `ShadowMode::shader_value`.
-layout(constant_id = 8) const uint SHADOW_MODE = 0u;
+layout(constant_id = SPEC_SHADOW_MODE) const uint SHADOW_MODE = 0u;
 // Samples (pom-soft, horizon) or the iteration cap of the pyramid walk (cone).
-layout(constant_id = 9) const uint SHADOW_STEPS = 16u;
+layout(constant_id = SPEC_SHADOW_STEPS) const uint SHADOW_STEPS = 16u;
 // Horizon mode: how far out its samples reach, as a multiple of the distance at which the disk's
 // lowest direction clears the top plane (paper 001's light vector scale).
-layout(constant_id = 10) const float SHADOW_REACH = 1.0;
+layout(constant_id = SPEC_SHADOW_REACH) const float SHADOW_REACH = 1.0;
 
 const float SHADOW_PI = 3.14159265358979;
 // Elevations are clamped below pi/2 before tan(): float's pi/2 lies past the pole, where tan() is
@@ -36,7 +37,7 @@ const float MAX_SHADOW_ELEVATION = 1.5707;
 // error: set per method (`hard_shadow_texels` in src/render/surface_pass.rs), small for methods
 // that meet the surface exactly, larger for fixed-step searches, whose shadow rays land short
 // or long of the point.
-layout(constant_id = 11) const float HARD_SHADOW_TEXELS = 0.25;
+layout(constant_id = SPEC_HARD_SHADOW_TEXELS) const float HARD_SHADOW_TEXELS = 0.25;
 
 // Farthest the sampling modes (pom-soft, horizon) spread their samples, in uv units: one map
 // width covers a repeating tile, and a clamped map is a plateau beyond its edge. The cone walk

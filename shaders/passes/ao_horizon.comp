@@ -18,28 +18,11 @@
 layout(local_size_x = 8, local_size_y = 8) in;
 
 const float TAU = 6.28318530718;
-const int MAX_SAMPLES = 64;
+const int MAX_SAMPLES = AO_HORIZON_MAX_SAMPLES;
 
+// The fields: AoHorizonParams in src/render/shader_interface/push_constants.rs.
 layout(push_constant, std430) uniform Params {
-    ivec2 size;
-    // 1 for repeat, 0 for clamp.
-    uint repeat_address;
-    uint directions;
-    // 1 to turn each texel's azimuths by a hash of the texel.
-    uint rotated;
-    float depth_scale;
-    // The first sample's distance in texels of the longer side, and the growth per sample.
-    float first_distance;
-    float growth;
-    // Samples stop beyond this distance in uv: the whole profile that can matter, or a bounded
-    // reach (AoMapPass::prepare_reaching) so that a height change is seen from nearby only.
-    float reach_uv;
-    // Level read at distance d texels: floor(log2(d)) - level_bias, within the image's mips.
-    int level_bias;
-    // The texels written: origin <= t < end (the whole map, or after a local change of the
-    // heights only the texels that can see it; every texel's value is the same either way).
-    ivec2 origin;
-    ivec2 end;
+    AO_HORIZON_PARAMS_FIELDS
 } params;
 
 // A per-texel number in [0, 1) (PCG hash), for the rotated variant.

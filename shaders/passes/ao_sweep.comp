@@ -41,33 +41,32 @@
 
 layout(local_size_x = 64) in;
 
-const uint MODE_SWEEP = 0u;
-const uint MODE_RESOLVE = 1u;
-const uint MODE_UNPACK = 2u;
-// Hull entries kept per line (a power of two, render::ao_sweep::HULL_CAPACITY). A fuller stack
-// forgets its oldest, farthest entry: only a horizon seen more than 128 hull vertices away, always
-// a very flat one, can be lost.
-const uint HULL_CAPACITY = 128u;
-// Slots per line after the ring (render::ao_sweep::STATE_SLOTS).
-const uint STATE_SLOTS = 2u;
+// MODE_SWEEP, MODE_RESOLVE, MODE_UNPACK, the bindings and the push-constant fields come with
+// ao.glsl's include of interface.glsl.
+// Hull entries kept per line (a power of two). A fuller stack forgets its oldest, farthest entry:
+// only a horizon seen more than AO_HULL_CAPACITY (128) hull vertices away, always a very flat
+// one, can be lost.
+const uint HULL_CAPACITY = AO_HULL_CAPACITY;
+// Slots per line after the ring.
+const uint STATE_SLOTS = AO_STATE_SLOTS;
 
 // Per line, a ring of hull entries: (lattice step, fraction of the step, height), then two slots
 // of walk state saved between dispatches (STATE_SLOTS): (next step, lattice point, hull top) and
 // (hull base); the newest hull entry is the ring's at top - 1. Steps, points and counts are plain
 // floats, exact below 2^24 (walks are far shorter): their int bits would be denormals, which
 // implementations may flush to zero on the way through memory.
-layout(set = 0, binding = 2, std430) buffer Hulls {
+layout(set = 0, binding = BINDING_AO_HULLS, std430) buffer Hulls {
     vec4 hulls[];
 };
 
 // Per texel (row-major), the weighted occlusion summed over the directions done so far.
-layout(set = 0, binding = 3, std430) buffer Accum {
+layout(set = 0, binding = BINDING_AO_ACCUM, std430) buffer Accum {
     float accum[];
 };
 
 // Level 0 of the height image, row-major, unpacked once: the walks read it at every profile
 // point, and a buffer load is far cheaper than a texel fetch on software rasterisers.
-layout(set = 0, binding = 4, std430) buffer Field {
+layout(set = 0, binding = BINDING_AO_FIELD, std430) buffer Field {
     float field[];
 };
 
@@ -81,42 +80,13 @@ struct Crossing {
     vec2 fractions;
 };
 
-layout(set = 0, binding = 5, std430) readonly buffer Crossings {
+layout(set = 0, binding = BINDING_AO_CROSSINGS, std430) readonly buffer Crossings {
     Crossing crossings[];
 };
 
+// The fields: AoSweepParams in src/render/shader_interface/push_constants.rs.
 layout(push_constant, std430) uniform Params {
-    ivec2 size;
-    // The lattice step of the walk; the horizon looks the other way.
-    ivec2 walk;
-    // (x, y) with x * walk.y - y * walk.x = 1: line c of a clamped sweep passes through c * (x, y).
-    ivec2 euclid;
-    // Clamp: the first line's c = i * walk.y - j * walk.x. Repeat: unused.
-    int c_min;
-    uint lines;
-    uint repeat_address;
-    // Repeat: lattice steps around one orbit; the orbits start at (l % g_a, l / g_a).
-    uint period;
-    uint g_a;
-    uint mode;
-    float depth_scale;
-    // Length in uv of one lattice step.
-    float step_uv;
-    // The horizon's azimuth as a uv unit vector (-walk, normalised in uv).
-    vec2 dir;
-    // This azimuth's share of the circle (the weights of a sweep sum to 1).
-    float weight;
-    // This azimuth's crossings: `crossing_count` entries of `crossings` from `crossing_base`.
-    uint crossing_base;
-    uint crossing_count;
-    // Repeat: line l is segment l % segments of orbit l / segments: it records segment_steps
-    // texels after warm_steps steps of warm-up (a whole period unless the orbit is very long).
-    uint segments;
-    uint segment_steps;
-    uint warm_steps;
-    // This dispatch walks steps [chunk * chunk_steps, (chunk + 1) * chunk_steps) of every line.
-    uint chunk;
-    uint chunk_steps;
+    AO_SWEEP_PARAMS_FIELDS
 } params;
 
 // floor(a / b) for b != 0, whatever the signs.

@@ -1,4 +1,5 @@
 #version 460
+#extension GL_GOOGLE_include_directive : require
 // One level of a terrain's blended height pyramid (src/terrain, paper 001 section 1.7) from the
 // same level of its layers' and weights' max pyramids (pyramid.comp's rgba variants, one layer per
 // channel). Level 0 is the blended surface itself, BlendMode::surface in src/terrain/blend.rs;
@@ -8,27 +9,27 @@
 // HEIGHT_FORMAT (r16 or r32f) is set per variant by build.rs.
 layout(local_size_x = 8, local_size_y = 8) in;
 
+// The bindings, the blend modes and the push-constant fields.
+#include "interface.glsl"
+
 // The layers' and the weights' pyramids, read texel by texel at the level built.
-layout(set = 0, binding = 0) uniform sampler2D layer_heights;
-layout(set = 0, binding = 1) uniform sampler2D layer_weights;
+layout(set = 0, binding = BINDING_BLEND_LAYER_HEIGHTS) uniform sampler2D layer_heights;
+layout(set = 0, binding = BINDING_BLEND_LAYER_WEIGHTS) uniform sampler2D layer_weights;
 // The level of the blended pyramid being written.
-layout(set = 0, binding = 2, HEIGHT_FORMAT) uniform writeonly image2D blended;
+layout(set = 0, binding = BINDING_BLEND_OUT, HEIGHT_FORMAT) uniform writeonly image2D blended;
 // The max pyramid of 1 - min(sum of weights, 1): 1 minus it is a node's least weight sum
 // (terrain::least_sum_slack).
-layout(set = 0, binding = 3) uniform sampler2D least_sum_slack;
+layout(set = 0, binding = BINDING_BLEND_SLACK) uniform sampler2D least_sum_slack;
 
 // Relative margin on the convex blends' weighted bound (WEIGHTED_MARGIN in blended_pyramid.rs).
 const float WEIGHTED_MARGIN = 1.0 + 8.0 * 1.1920929e-7;
 
-// flags x: blend mode (0 alpha, 1 height, 2 height-intersect); y: the level; z: 1 when the
-// output stores 16-bit unorm, so that bounds round up to the next step. region: the texels
-// written (x0, y0, width, height), the whole level or what painted weights changed.
+// The fields: BlendParams in src/render/shader_interface/push_constants.rs.
 layout(push_constant, std430) uniform Params {
-    uvec4 flags;
-    uvec4 region;
+    BLEND_PARAMS_FIELDS
 } params;
 
-const uint HEIGHT_INTERSECT = 2u;
+const uint HEIGHT_INTERSECT = BLEND_HEIGHT_INTERSECT;
 
 // max(w h): the height-intersect surface at a texel, and its bound over a node from the maxima.
 float highest_weighted(vec4 h, vec4 w) {

@@ -1,17 +1,18 @@
 #version 460
+#extension GL_GOOGLE_include_directive : require
 // One brush stroke on a terrain's elevation (level 0 of its height image), over the texels of the
 // stroke's rectangle: the formulas of terrain::Stroke::apply in src/terrain/brush.rs, in the same
 // order. HEIGHT_FORMAT (r16 or r32f) is set per variant by build.rs.
 layout(local_size_x = 8, local_size_y = 8) in;
 
-layout(set = 0, binding = 0, HEIGHT_FORMAT) uniform image2D heights;
+// The binding, the kinds and the push-constant fields.
+#include "interface.glsl"
 
-// stroke: centre x, y (texels), radius (texels), strength; shape: target, kind (0 raise, 1 lower,
-// 2 flatten, 3 crater); region: the texels to visit (x0, y0, width, height).
+layout(set = 0, binding = BINDING_BRUSH_HEIGHTS, HEIGHT_FORMAT) uniform image2D heights;
+
+// The fields: BrushParams in src/render/shader_interface/push_constants.rs.
 layout(push_constant, std430) uniform Params {
-    vec4 stroke;
-    vec4 shape;
-    uvec4 region;
+    BRUSH_PARAMS_FIELDS
 } params;
 
 void main() {
@@ -30,11 +31,11 @@ void main() {
     float strength = params.stroke.w;
     uint kind = uint(params.shape.y);
     float out_h;
-    if (kind == 0u) {
+    if (kind == BRUSH_RAISE) {
         out_h = h + strength * falloff;
-    } else if (kind == 1u) {
+    } else if (kind == BRUSH_LOWER) {
         out_h = h - strength * falloff;
-    } else if (kind == 2u) {
+    } else if (kind == BRUSH_FLATTEN) {
         out_h = h + (params.shape.x - h) * (clamp(strength, 0.0, 1.0) * falloff);
     } else {
         float bowl = 1.0 - (r / 0.8) * (r / 0.8);

@@ -10,7 +10,7 @@
 //
 // Two modes, chosen per dispatch by params.mode:
 //  REDUCE: level L of the max pyramid (buffer_pyramid.glsl) from level L - 1.
-//  CONE: one invocation per texel of rows [row0, row0 + rows): the best seeded with the 8
+//  CONE (MODE_SEARCH): one invocation per texel of rows [row0, row0 + rows): the best seeded with the 8
 //    neighbours, then a depth-first search of each tile's pyramid, lowest-bound child first,
 //    skipping every node whose bound (its rectangle's distance over its maximum's rise) is no
 //    lower than the best found. The search itself is
@@ -26,36 +26,22 @@
 // tests check it against the CPU builder).
 layout(local_size_x = 8, local_size_y = 8) in;
 
-const uint MODE_REDUCE = 0u;
-const uint MODE_CONE = 1u;
-const uint MAX_LEVELS = 15u;
+// MODE_REDUCE, MODE_SEARCH (CONE above), MAX_LEVELS and the bindings.
+#include "interface.glsl"
 
 // All pyramid levels back to back, level 0 (the bound heights, width x height) first.
-layout(set = 0, binding = 0, std430) buffer Pyramid {
+layout(set = 0, binding = BINDING_SEARCH_PYRAMID, std430) buffer Pyramid {
     float pyramid[];
 };
 
 // Per texel of level 0: the ratio and the bound height (MapData's two channels), row-major.
-layout(set = 0, binding = 1, std430) writeonly buffer ConeMap {
+layout(set = 0, binding = BINDING_SEARCH_MAP, std430) writeonly buffer ConeMap {
     vec2 cone_map[];
 };
 
+// The fields: ConeMapParams in src/render/shader_interface/push_constants.rs.
 layout(push_constant, std430) uniform Params {
-    uint mode;
-    // Level 0 size in texels.
-    uint width;
-    uint height;
-    // 1 for Repeat, 0 for Clamp.
-    uint repeat_address;
-    // REDUCE: the level written. CONE: the first row of this dispatch.
-    uint level;
-    uint row0;
-    // width / height rounded to f32: the v distance in u-texel units is dy * aspect.
-    float aspect;
-    // The level whose single node covers the map.
-    uint top;
-    // Where each level starts in `pyramid` (the host computes them once).
-    uint offsets[MAX_LEVELS];
+    CONE_MAP_PARAMS_FIELDS
 } params;
 
 // Reads and writes `pyramid` above.

@@ -1,4 +1,5 @@
 #version 460
+#extension GL_GOOGLE_include_directive : require
 // One level of the averaged (mean) height pyramid of paper 003 section 2.5: each coarse texel is
 // the mean of the finer level's texels it covers in uv, the same covered range as the max
 // pyramid (heightfield::pyramid::covered_range) without its bilinear widening, so odd sizes
@@ -6,8 +7,10 @@
 // (shaders/include/lod.glsl). HEIGHT_FORMAT (r16 or r32f) is set per variant by build.rs.
 layout(local_size_x = 8, local_size_y = 8) in;
 
-layout(set = 0, binding = 0, HEIGHT_FORMAT) uniform readonly image2D fine;
-layout(set = 0, binding = 1, HEIGHT_FORMAT) uniform writeonly image2D coarse;
+#include "interface.glsl"
+
+layout(set = 0, binding = BINDING_PYRAMID_FINE, HEIGHT_FORMAT) uniform readonly image2D fine;
+layout(set = 0, binding = BINDING_PYRAMID_COARSE, HEIGHT_FORMAT) uniform writeonly image2D coarse;
 
 void main() {
     uvec2 coarse_len = uvec2(imageSize(coarse));

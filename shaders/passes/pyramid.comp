@@ -1,4 +1,5 @@
 #version 460
+#extension GL_GOOGLE_include_directive : require
 // One level of the conservative max pyramid: each coarse texel takes the max of every texel of
 // the finer level that it overlaps in uv (widened by a texel for level 1), so odd sizes and the
 // bilinear surface stay bounded. Must match
@@ -8,17 +9,16 @@
 // pyramid per channel) is set per variant by build.rs.
 layout(local_size_x = 8, local_size_y = 8) in;
 
-layout(set = 0, binding = 0, HEIGHT_FORMAT) uniform readonly image2D fine;
-layout(set = 0, binding = 1, HEIGHT_FORMAT) uniform writeonly image2D coarse;
+// The bindings and the push-constant fields.
+#include "interface.glsl"
 
-// x: 1 when building level 1 from the map (widen each range by a texel on both sides, so the
-// node bounds the bilinear surface: heightfield::pyramid::build_bilinear_bound), y: 1 to wrap
-// the widened range around the map (repeat addressing), 0 to clamp it.
-// region: the coarse texels to write, (x0, y0, width, height): the whole level, or after a brush
-// stroke only the nodes that read a changed texel (terrain::coarse_span).
+layout(set = 0, binding = BINDING_PYRAMID_FINE, HEIGHT_FORMAT) uniform readonly image2D fine;
+layout(set = 0, binding = BINDING_PYRAMID_COARSE, HEIGHT_FORMAT) uniform writeonly image2D coarse;
+
+// The fields: PyramidParams in src/render/shader_interface/push_constants.rs (the widening is
+// heightfield::pyramid::build_bilinear_bound's, the regions terrain::coarse_span's).
 layout(push_constant, std430) uniform Params {
-    uvec4 flags;
-    uvec4 region;
+    PYRAMID_PARAMS_FIELDS
 } params;
 
 // k lies at most one texel outside [0, len); GLSL leaves % of negatives undefined, so wrap by hand.

@@ -40,34 +40,22 @@
 //    an invocation after 65535 iterations in all: 15 levels and ring 8 stay far below).
 layout(local_size_x = 8, local_size_y = 8) in;
 
-const uint MODE_REDUCE = 0u;
-const uint MODE_QUADRIC = 1u;
-const uint MAX_LEVELS = 15u;
+// MODE_REDUCE, MODE_SEARCH (the quadric fit), MAX_LEVELS and the bindings.
+#include "interface.glsl"
 
 // All pyramid levels back to back, level 0 (the heights, width x height) first.
-layout(set = 0, binding = 0, std430) buffer Pyramid {
+layout(set = 0, binding = BINDING_SEARCH_PYRAMID, std430) buffer Pyramid {
     float pyramid[];
 };
 
 // Per texel [a, b, c, h] (QuadricMap's texel), row-major.
-layout(set = 0, binding = 1, std430) writeonly buffer QuadricMap {
+layout(set = 0, binding = BINDING_SEARCH_MAP, std430) writeonly buffer QuadricMap {
     vec4 quadric_map[];
 };
 
+// The fields: QuadricMapParams in src/render/shader_interface/push_constants.rs.
 layout(push_constant, std430) uniform Params {
-    uint mode;
-    // Level 0 size in texels.
-    uint width;
-    uint height;
-    // 1 for Repeat, 0 for Clamp.
-    uint repeat_address;
-    // REDUCE: the level written. QUADRIC: the first row of this dispatch.
-    uint level;
-    uint row0;
-    // The level whose single node covers the map.
-    uint top;
-    // Where each level starts in `pyramid` (the host computes them once).
-    uint offsets[MAX_LEVELS];
+    QUADRIC_MAP_PARAMS_FIELDS
 } params;
 
 // Reads and writes `pyramid` above.

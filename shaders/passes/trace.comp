@@ -14,16 +14,15 @@
 layout(local_size_x = 8, local_size_y = 8) in;
 
 // One record per ray: u0 v0 dx dy dz u_hit v_hit z_hit (DESIGN.md section 3).
-layout(set = 0, binding = 4, std430) writeonly buffer Hits { float hits[]; };
+layout(set = 0, binding = BINDING_TRACE_HITS, std430) writeonly buffer Hits { float hits[]; };
 // Per ray: steps used, and 1 if the method hit its iteration cap.
-layout(set = 0, binding = 5, std430) writeonly buffer Steps { uvec2 steps[]; };
+layout(set = 0, binding = BINDING_TRACE_STEPS, std430) writeonly buffer Steps { uvec2 steps[]; };
 // Per ray: the light's visible fraction at the hit (1 when SHADOW_MODE is 0).
-layout(set = 0, binding = 6, std430) writeonly buffer Visible { float visible[]; };
+layout(set = 0, binding = BINDING_TRACE_VISIBLE, std430) writeonly buffer Visible { float visible[]; };
 
+// The fields: TraceParams in src/render/shader_interface/push_constants.rs.
 layout(push_constant, std430) uniform TraceParams {
-    vec4 dir;      // xyz: ray direction (dz > 0), w: depth scale
-    uvec4 grid;    // x: columns, y: rows
-    vec4 light;    // xyz: unit direction toward the light (u, v, up), w: angular radius (radians)
+    TRACE_PARAMS_FIELDS
 } params;
 
 void main() {

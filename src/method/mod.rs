@@ -164,7 +164,7 @@ mod tests {
         let glsl = include_str!("../../shaders/include/conventions.glsl");
         let line = glsl
             .lines()
-            .find(|l| l.contains("constant_id = 2"))
+            .find(|l| l.contains("constant_id = SPEC_BUDGET_LEAF_EXACT"))
             .expect("conventions.glsl declares constant 2");
         let default = line
             .trim_end_matches(';')

@@ -11,9 +11,11 @@
 //! - `measure`: traces and timings for the bench and `relief trace`.
 
 mod cells;
+mod compute_pass;
 mod frame;
 mod maps;
 mod measure;
+mod shader_interface;
 mod terrain;
 
 pub use cells::cells_pass::{BuiltComplex, CellsOptions};

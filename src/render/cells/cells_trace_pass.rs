@@ -143,13 +143,18 @@ pub fn march_cells_on_gpu(
         ray_count: 0,
         ..params
     };
-    warm_up(ctx, &search.pipeline, search.set, bytemuck::bytes_of(&idle))?;
+    warm_up(
+        ctx,
+        search.pass.pipeline(),
+        search.set,
+        bytemuck::bytes_of(&idle),
+    )?;
     let mut timed = TimedSubmissions::new(ctx, 1, "cells trace")?;
     timed.submit(ctx, |rec| {
-        search.pipeline.bind(rec, Some(search.set));
-        search.pipeline.push(rec, bytemuck::bytes_of(&params))?;
-        rec.dispatch([(rays.len() as u32).div_ceil(GROUP).max(1), 1, 1]);
-        Ok(())
+        let groups = [(rays.len() as u32).div_ceil(GROUP).max(1), 1, 1];
+        search
+            .pass
+            .dispatch(rec, search.set, bytemuck::bytes_of(&params), groups)
     })?;
     let back = Readback::new(ctx, hit_bytes, "cell hits readback")?;
     ctx.one_shot(|rec| back.record_copy_from_buffer(rec, &hits, SHADER_WROTE))?;

@@ -6,7 +6,7 @@ use glam::{Mat4, Vec3};
 use crate::scene::{Camera, Light, LightKind, Scene};
 
 /// Lights the shaders read; a scene with more is lit by its first ones (the plan says so).
-pub const MAX_LIGHTS: usize = 8;
+pub const MAX_LIGHTS: usize = crate::render::shader_interface::MAX_LIGHTS as usize;
 
 /// One light; mirrors `LightData` in `bindings.glsl`.
 #[repr(C)]

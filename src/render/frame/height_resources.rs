@@ -15,6 +15,10 @@ use super::method_map::GpuMethodMap;
 use crate::heightfield::{Address, Heightfield, MapData, MaxPyramid};
 use crate::render::maps::mean_pyramid_pass::MeanPyramid;
 use crate::render::maps::pyramid_pass::{PyramidJob, PyramidPass};
+use crate::render::shader_interface::{
+    BINDING_FRAME, BINDING_HEIGHT_LINEAR, BINDING_HEIGHT_MEAN, BINDING_HEIGHT_POINT,
+    BINDING_METHOD_MAP,
+};
 use crate::vk::{Bind, Buffer, Context, Recording, VkError, VkResult};
 
 /// Uploaded heights, their pyramid pass (when a method reads it), uniforms and the optional
@@ -194,16 +198,17 @@ impl HeightResources {
 
     /// The descriptor types of bindings 0..=3 (3 only with a map).
     pub fn layout_bindings(&self) -> Vec<(u32, vk::DescriptorType)> {
+        let sampled = vk::DescriptorType::COMBINED_IMAGE_SAMPLER;
         let mut list = vec![
-            (0, vk::DescriptorType::UNIFORM_BUFFER),
-            (1, vk::DescriptorType::COMBINED_IMAGE_SAMPLER),
-            (2, vk::DescriptorType::COMBINED_IMAGE_SAMPLER),
+            (BINDING_FRAME, vk::DescriptorType::UNIFORM_BUFFER),
+            (BINDING_HEIGHT_POINT, sampled),
+            (BINDING_HEIGHT_LINEAR, sampled),
         ];
         if self.map.is_some() {
-            list.push((3, vk::DescriptorType::COMBINED_IMAGE_SAMPLER));
+            list.push((BINDING_METHOD_MAP, sampled));
         }
         if self.has_mean_binding() {
-            list.push((4, vk::DescriptorType::COMBINED_IMAGE_SAMPLER));
+            list.push((BINDING_HEIGHT_MEAN, sampled));
         }
         list
     }

@@ -15,6 +15,12 @@ use super::plan::{DrawPlan, PipelineKey, Plan};
 use super::scene_ao::SceneAo;
 use super::scene_textures::SceneTextures;
 use crate::method::Method;
+use crate::render::shader_interface::{
+    SPEC_BUDGET_EXTENT_LIMIT, SPEC_BUDGET_LEAF_EXACT, SPEC_BUDGET_MAX_STEPS,
+    SPEC_BUDGET_REFINE_STEPS, SPEC_HARD_SHADOW_TEXELS, SPEC_LOD_AVERAGE_BELOW, SPEC_LOD_BIAS,
+    SPEC_LOD_FACTOR, SPEC_LOD_FADE_END, SPEC_LOD_FADE_START, SPEC_SHADOW_MODE, SPEC_SHADOW_REACH,
+    SPEC_SHADOW_STEPS,
+};
 use crate::render::terrain::layer_set::{layer_layout, LayerSets};
 use crate::scene::{Frustum, Lod, Mesh, Scene, Vertex};
 use crate::shaders;
@@ -60,14 +66,6 @@ impl DrawPush {
     }
 }
 
-/// Specialization constant ids of `SHADOW_MODE` and `SHADOW_STEPS` in `shadows.glsl`.
-pub const SHADOW_MODE_ID: u32 = 8;
-pub const SHADOW_STEPS_ID: u32 = 9;
-/// Specialization constant id of `SHADOW_REACH` (horizon mode) in `shadows.glsl`.
-pub const SHADOW_REACH_ID: u32 = 10;
-/// Specialization constant id of `HARD_SHADOW_TEXELS` in `shadows.glsl`.
-pub const HARD_SHADOW_TEXELS_ID: u32 = 11;
-
 /// How far from the shaded point a hard shadow ray's hit must be to count as a blocker, in
 /// texels. Methods that meet the surface to float rounding get a twentieth of a texel (measured:
 /// a quarter let 0.13% of bricks' points at 5 degrees see past a blocker); fixed-step searches a
@@ -81,13 +79,13 @@ pub fn hard_shadow_texels(method: Method) -> f32 {
     }
 }
 
-/// The LOD variants' constants (ids 20..=24 of `shaders/include/lod.glsl`).
+/// The LOD variants' constants (`shaders/include/lod.glsl`).
 fn lod_spec_constants(spec: SpecConstants, lod: &Lod) -> SpecConstants {
-    spec.f32(20, lod.factor)
-        .f32(21, lod.bias)
-        .f32(22, lod.fade_start)
-        .f32(23, lod.fade_end)
-        .u32(24, lod.average_below)
+    spec.f32(SPEC_LOD_FACTOR, lod.factor)
+        .f32(SPEC_LOD_BIAS, lod.bias)
+        .f32(SPEC_LOD_FADE_START, lod.fade_start)
+        .f32(SPEC_LOD_FADE_END, lod.fade_end)
+        .u32(SPEC_LOD_AVERAGE_BELOW, lod.average_below)
 }
 
 struct MeshDraw {
@@ -549,18 +547,24 @@ fn create_pipeline(
     let shader = key.shader();
     let fs = shaders::spirv(&shader).ok_or_else(|| missing(&shader))?;
     let mut spec = SpecConstants::default()
-        .u32(SHADOW_MODE_ID, key.shadows.mode.shader_value())
-        .u32(SHADOW_STEPS_ID, key.shadows.resolved_steps())
-        .f32(SHADOW_REACH_ID, key.shadows.horizon_reach);
+        .u32(SPEC_SHADOW_MODE, key.shadows.mode.shader_value())
+        .u32(SPEC_SHADOW_STEPS, key.shadows.resolved_steps())
+        .f32(SPEC_SHADOW_REACH, key.shadows.horizon_reach);
     if let Some(method) = key.method {
         let budget = method.info().default_budget;
         spec = spec
-            .f32(HARD_SHADOW_TEXELS_ID, hard_shadow_texels(method))
-            .u32(0, key.max_steps.unwrap_or(budget.max_steps))
-            .u32(1, budget.refine_steps)
-            .u32(2, budget.leaf.spec_value())
+            .f32(SPEC_HARD_SHADOW_TEXELS, hard_shadow_texels(method))
+            .u32(
+                SPEC_BUDGET_MAX_STEPS,
+                key.max_steps.unwrap_or(budget.max_steps),
+            )
+            .u32(SPEC_BUDGET_REFINE_STEPS, budget.refine_steps)
+            .u32(SPEC_BUDGET_LEAF_EXACT, budget.leaf.spec_value())
             // A material's own budget is a fixed cap.
-            .u32(3, key.max_steps.map_or(budget.extent_limit, |_| 0));
+            .u32(
+                SPEC_BUDGET_EXTENT_LIMIT,
+                key.max_steps.map_or(budget.extent_limit, |_| 0),
+            );
     }
     if let Some(lod) = key.lod {
         spec = lod_spec_constants(spec, &lod);

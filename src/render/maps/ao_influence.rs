@@ -3,6 +3,8 @@
 //! ([`influence_radius`]) and the region a changed rectangle makes stale ([`influence_region`]),
 //! so that edits rebuild the AO near them alone (`AoMapPass::record_region`).
 
+use crate::render::shader_interface;
+
 /// The horizon pass's sample pattern: the first sample a texel away, each next one twice as far
 /// (log2 n samples per azimuth, the paper's count), read from the pyramid level two below the one
 /// whose nodes match the distance (nodes a quarter of the distance wide). Measured against the
@@ -13,8 +15,8 @@
 pub(in crate::render) const HORIZON_FIRST_DISTANCE: f32 = 1.0;
 pub(in crate::render) const HORIZON_GROWTH: f32 = 2.0;
 pub(in crate::render) const HORIZON_LEVEL_BIAS: i32 = 2;
-/// The shader's cap on samples per azimuth (`MAX_SAMPLES` in ao_horizon.comp).
-const HORIZON_MAX_SAMPLES: u32 = 64;
+/// The shader's cap on samples per azimuth.
+const HORIZON_MAX_SAMPLES: u32 = shader_interface::AO_HORIZON_MAX_SAMPLES;
 /// Texels added to the derived influence radius, against rounding in the shader's sample
 /// positions (`p + x dir` in uv, floored to a node) that the derivation treats as exact.
 const INFLUENCE_SAFETY_TEXELS: u32 = 2;

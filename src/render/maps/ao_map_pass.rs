@@ -51,13 +51,17 @@ use super::ao_sweep::{
 };
 use super::pyramid_pass::PyramidPass;
 use crate::heightfield::{Address, Heightfield};
+use crate::render::compute_pass::ComputePass;
 use crate::render::frame::gpu_heightfield::{sampler_address_mode, GpuHeightfield, HeightFormat};
+use crate::render::shader_interface::{
+    AoHorizonParams, AoSweepParams, BINDING_AO_ACCUM, BINDING_AO_CROSSINGS, BINDING_AO_FIELD,
+    BINDING_AO_HEIGHTS, BINDING_AO_HULLS, BINDING_AO_MAP, MODE_RESOLVE, MODE_SWEEP, MODE_UNPACK,
+};
 use crate::scene::AoMode;
-use crate::shaders;
 use crate::vk::{
-    compute_pipeline, memory_barrier, read_mip, transition_images, Bind, Buffer, Context,
-    DescriptorLayout, DescriptorPool, DescriptorSet, Image, ImageDesc, ImageTransition,
-    MemoryLocation, Pipeline, Recording, Sampler, SpecConstants, TimestampPool, VkError, VkResult,
+    memory_barrier, read_mip, transition_images, Bind, Buffer, Context, DescriptorPool,
+    DescriptorSet, Image, ImageDesc, ImageTransition, MemoryLocation, Recording, Sampler,
+    TimestampPool, VkError, VkResult,
 };
 
 /// Azimuths the exact-horizon sweep targets (fewer when a map's lattice offers fewer steps).
@@ -68,58 +72,6 @@ pub const AO_MAP_FORMAT: vk::Format = vk::Format::R32_SFLOAT;
 
 const HORIZON_GROUP: u32 = 8;
 const SWEEP_GROUP: u32 = 64;
-const MODE_SWEEP: u32 = 0;
-const MODE_RESOLVE: u32 = 1;
-const MODE_UNPACK: u32 = 2;
-
-/// `Params` of ao_horizon.comp.
-#[repr(C)]
-#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
-struct HorizonParams {
-    size: [i32; 2],
-    repeat_address: u32,
-    directions: u32,
-    rotated: u32,
-    depth_scale: f32,
-    first_distance: f32,
-    growth: f32,
-    reach_uv: f32,
-    level_bias: i32,
-    // ivec2s at offset 40 and 48: 8-aligned under std430, so no padding before them.
-    origin: [i32; 2],
-    end: [i32; 2],
-}
-
-const _: () = assert!(std::mem::size_of::<HorizonParams>() == 56);
-const _: () = assert!(std::mem::offset_of!(HorizonParams, origin) == 40);
-
-/// `Params` of ao_sweep.comp.
-#[repr(C)]
-#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
-struct SweepParams {
-    size: [i32; 2],
-    walk: [i32; 2],
-    euclid: [i32; 2],
-    c_min: i32,
-    lines: u32,
-    repeat_address: u32,
-    period: u32,
-    g_a: u32,
-    mode: u32,
-    depth_scale: f32,
-    step_uv: f32,
-    dir: [f32; 2],
-    weight: f32,
-    crossing_base: u32,
-    crossing_count: u32,
-    segments: u32,
-    segment_steps: u32,
-    warm_steps: u32,
-    chunk: u32,
-    chunk_steps: u32,
-}
-
-const _: () = assert!(std::mem::size_of::<SweepParams>() == 96);
 
 /// A built AO map: `R32_SFLOAT`, one texel per height texel, in `SHADER_READ_ONLY_OPTIMAL`, with a
 /// sampler that filters linearly where the device can (else nearest) under the height field's
@@ -192,8 +144,7 @@ impl AoJob {
 pub struct AoMapPass {
     ctx: Arc<Context>,
     mode: AoMode,
-    layout: DescriptorLayout,
-    pipeline: Pipeline,
+    pass: ComputePass,
 }
 
 impl AoMapPass {
@@ -203,31 +154,15 @@ impl AoMapPass {
             AoMode::None => {
                 return Err(VkError::Invalid("AO mode none builds no AO map".into()));
             }
-            AoMode::Horizon { .. } => ("ao_horizon.comp", std::mem::size_of::<HorizonParams>()),
-            AoMode::ExactHorizon => ("ao_sweep.comp", std::mem::size_of::<SweepParams>()),
+            AoMode::Horizon { .. } => ("ao_horizon.comp", std::mem::size_of::<AoHorizonParams>()),
+            AoMode::ExactHorizon => ("ao_sweep.comp", std::mem::size_of::<AoSweepParams>()),
         };
-        let spirv =
-            shaders::spirv(key).ok_or_else(|| VkError::Invalid(format!("no shader {key}")))?;
         let name = format!("ao map {mode}");
-        let layout = DescriptorLayout::new(
-            ctx,
-            &layout_bindings(mode),
-            vk::ShaderStageFlags::COMPUTE,
-            &format!("{name} layout"),
-        )?;
-        let pipeline = compute_pipeline(
-            ctx,
-            spirv,
-            &[layout.raw()],
-            push as u32,
-            &SpecConstants::default(),
-            &name,
-        )?;
+        let pass = ComputePass::plain(ctx, key, &layout_bindings(mode), push as u32, &name)?;
         Ok(AoMapPass {
             ctx: ctx.clone(),
             mode,
-            layout,
-            pipeline,
+            pass,
         })
     }
 
@@ -289,7 +224,7 @@ impl AoMapPass {
         } else {
             None
         };
-        let set = pool.allocate(&self.layout, &binds)?;
+        let set = pool.allocate(self.pass.layout(), &binds)?;
         let d = hf.image.desc();
         let reach_uv = match reach_texels {
             Some(reach) => whole_reach_uv(hf.address).min(reach / d.width.max(d.height) as f32),
@@ -315,7 +250,7 @@ impl AoMapPass {
         self.check_job(job)?;
         let image = &job.map.image;
         transition_map(rec, image, MapStep::Write);
-        self.pipeline.bind(rec, Some(job.set));
+        self.pass.pipeline().bind(rec, Some(job.set));
         match (self.mode, &job.scratch) {
             (
                 AoMode::Horizon {
@@ -359,7 +294,7 @@ impl AoMapPass {
         };
         let image = &job.map.image;
         transition_map(rec, image, MapStep::Rewrite);
-        self.pipeline.bind(rec, Some(job.set));
+        self.pass.pipeline().bind(rec, Some(job.set));
         self.record_horizon(rec, job, (directions, rotated), region)?;
         transition_map(rec, image, MapStep::Read);
         Ok(())
@@ -384,7 +319,7 @@ impl AoMapPass {
         region: [u32; 4],
     ) -> VkResult<()> {
         let d = job.map.image.desc();
-        let params = HorizonParams {
+        let params = AoHorizonParams {
             size: [d.width as i32, d.height as i32],
             repeat_address: u32::from(job.map.address == Address::Repeat),
             directions,
@@ -400,7 +335,9 @@ impl AoMapPass {
                 (region[1] + region[3]) as i32,
             ],
         };
-        self.pipeline.push(rec, bytemuck::bytes_of(&params))?;
+        self.pass
+            .pipeline()
+            .push(rec, bytemuck::bytes_of(&params))?;
         rec.dispatch([
             region[2].div_ceil(HORIZON_GROUP),
             region[3].div_ceil(HORIZON_GROUP),
@@ -418,9 +355,10 @@ impl AoMapPass {
         let repeat = job.map.address == Address::Repeat;
         // Per-texel passes: a group per 64 texels of a row, a row of groups per map row.
         let texel_groups = [w.div_ceil(SWEEP_GROUP), h, 1];
+        let sweep = self.pass.pipeline();
         let mut whole_map = sweep_params(&scratch.directions[0], w, h, repeat, depth_scale);
         whole_map.mode = MODE_UNPACK;
-        self.pipeline.push(rec, bytemuck::bytes_of(&whole_map))?;
+        sweep.push(rec, bytemuck::bytes_of(&whole_map))?;
         rec.dispatch(texel_groups);
         rec.fill_buffer(accum, 0, accum.size(), 0);
         memory_barrier(
@@ -439,7 +377,7 @@ impl AoMapPass {
             let chunks = sweep_lines(params.walk, w, h, repeat).chunks();
             for chunk in 0..chunks {
                 params.chunk = chunk;
-                self.pipeline.push(rec, bytemuck::bytes_of(&params))?;
+                sweep.push(rec, bytemuck::bytes_of(&params))?;
                 rec.dispatch([params.lines.div_ceil(SWEEP_GROUP), 1, 1]);
                 // The next chunk resumes from the hull stacks, the next direction reuses them,
                 // and both add to the same sums.
@@ -447,7 +385,7 @@ impl AoMapPass {
             }
         }
         whole_map.mode = MODE_RESOLVE;
-        self.pipeline.push(rec, bytemuck::bytes_of(&whole_map))?;
+        sweep.push(rec, bytemuck::bytes_of(&whole_map))?;
         rec.dispatch(texel_groups);
         Ok(())
     }
@@ -505,11 +443,20 @@ fn whole_reach_uv(address: Address) -> f32 {
 /// (hulls, sums, unpacked heights, crossings).
 fn layout_bindings(mode: AoMode) -> Vec<(u32, vk::DescriptorType)> {
     let mut bindings = vec![
-        (0, vk::DescriptorType::COMBINED_IMAGE_SAMPLER),
-        (1, vk::DescriptorType::STORAGE_IMAGE),
+        (
+            BINDING_AO_HEIGHTS,
+            vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+        ),
+        (BINDING_AO_MAP, vk::DescriptorType::STORAGE_IMAGE),
     ];
     if mode == AoMode::ExactHorizon {
-        bindings.extend((2..=5).map(|b| (b, vk::DescriptorType::STORAGE_BUFFER)));
+        let scratch = [
+            BINDING_AO_HULLS,
+            BINDING_AO_ACCUM,
+            BINDING_AO_FIELD,
+            BINDING_AO_CROSSINGS,
+        ];
+        bindings.extend(scratch.map(|b| (b, vk::DescriptorType::STORAGE_BUFFER)));
     }
     bindings
 }
@@ -521,13 +468,13 @@ fn sweep_params(
     h: u32,
     repeat: bool,
     depth_scale: f32,
-) -> SweepParams {
+) -> AoSweepParams {
     let walk = [-dir.step[0], -dir.step[1]];
     let lines = sweep_lines(walk, w, h, repeat);
     let crossing_count = crossings(walk).len() as u32;
     let step_u = f64::from(dir.step[0]) / f64::from(w);
     let step_v = f64::from(dir.step[1]) / f64::from(h);
-    SweepParams {
+    AoSweepParams {
         size: [w as i32, h as i32],
         walk,
         euclid: lines.euclid,

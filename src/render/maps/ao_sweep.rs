@@ -16,12 +16,13 @@
 
 use std::f64::consts::TAU;
 
-/// Hull entries per line (`HULL_CAPACITY` in the shader).
-pub(crate) const HULL_CAPACITY: u64 = 128;
+use crate::render::shader_interface;
 
-/// Slots of 16 bytes per line after its hull ring: the walk's state between dispatches
-/// (`STATE_SLOTS` in the shader).
-pub(crate) const STATE_SLOTS: u64 = 2;
+/// Hull entries per line.
+pub(crate) const HULL_CAPACITY: u64 = shader_interface::AO_HULL_CAPACITY as u64;
+
+/// Slots of 16 bytes per line after its hull ring: the walk's state between dispatches.
+pub(crate) const STATE_SLOTS: u64 = shader_interface::AO_STATE_SLOTS as u64;
 
 /// Lattice steps one invocation walks per dispatch: a longer walk is resumed by the next dispatch
 /// from the state it saved. Lavapipe (llvmpipe's gallivm) gives a shader invocation 65535 loop

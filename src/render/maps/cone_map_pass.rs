@@ -16,73 +16,51 @@
 
 use std::sync::Arc;
 
+use super::map_builder_pass::{GpuMap, MapBuilderPass};
 pub use super::map_search::MAX_SIDE;
-use super::map_search::{
-    level_offsets, top_level, SearchBuffers, SearchPipeline, MAX_LEVELS, MODE_REDUCE,
-};
+use super::map_search::{level_offsets, top_level, SearchBuffers, SearchPipeline};
 use crate::heightfield::cone_map::bilinear_box_bound;
 use crate::heightfield::{Address, Heightfield, MapData};
+use crate::render::shader_interface::{ConeMapParams, MODE_REDUCE};
 use crate::vk::{Context, VkResult};
 
 /// Relative amount by which a GPU ratio may fall short of the CPU's (never exceed it): the f32
 /// search's error plus the step down that makes it conservative (see `cone_map.comp`).
-/// A float per pyramid node; ratio and box height per texel.
-const BUFFERS: SearchBuffers = SearchBuffers {
-    node_bytes: 4,
-    channels: 2,
-};
-
 pub const RATIO_TOLERANCE: f32 = 1.0 / 32768.0;
 
-/// The shader's push constants (`Params` in cone_map.comp).
-#[repr(C)]
-#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
-struct Params {
-    mode: u32,
-    width: u32,
-    height: u32,
-    repeat_address: u32,
-    level: u32,
-    row0: u32,
-    aspect: f32,
-    top: u32,
-    // Spelled out: with `MAX_LEVELS` here, rustc 1.95 hit an internal error ("broken MIR")
-    // when a closure captured a copy of `Params`.
-    offsets: [u32; 15],
-}
+/// The conservative cone-map builder.
+pub type ConeMapPass = MapBuilderPass<ConservativeConeMap>;
 
-const _: () = assert!(MAX_LEVELS == 15, "Params::offsets holds MAX_LEVELS offsets");
-
-/// The cone-map pipeline with its layout and one descriptor set, rewritten for every build (builds
-/// wait for their submissions, so the set is never in use when it is rewritten).
-pub struct ConeMapPass {
-    ctx: Arc<Context>,
+/// The conservative cone map's search pipeline.
+pub struct ConservativeConeMap {
     search: SearchPipeline,
 }
 
-impl ConeMapPass {
-    /// Creates the pipeline, its layout and its set.
-    pub fn new(ctx: &Arc<Context>) -> VkResult<ConeMapPass> {
-        let push = std::mem::size_of::<Params>() as u32;
-        Ok(ConeMapPass {
-            ctx: ctx.clone(),
-            search: SearchPipeline::new(ctx, "cone_map.comp", push, 2, "cone map")?,
+impl GpuMap for ConservativeConeMap {
+    const NAME: &'static str = "cone map";
+    /// A float per pyramid node; ratio and box height per texel.
+    const BUFFERS: SearchBuffers = SearchBuffers {
+        node_bytes: 4,
+        channels: 2,
+    };
+
+    fn pipelines(ctx: &Arc<Context>) -> VkResult<ConservativeConeMap> {
+        let push = std::mem::size_of::<ConeMapParams>() as u32;
+        Ok(ConservativeConeMap {
+            search: SearchPipeline::new(ctx, "cone_map.comp", push, 2, Self::NAME)?,
         })
     }
 
-    /// Whether this device takes the build of a `w` x `h` map.
-    pub fn fits(ctx: &Context, w: u32, h: u32) -> bool {
-        BUFFERS.fit(ctx, w, h)
-    }
-
-    /// Builds the conservative cone map of `hf` under `address`, with the GPU time in ms (the
-    /// pyramid and every search submission; the CPU's bilinear bound and the transfers are not in
-    /// it).
-    pub fn build(&self, hf: &Heightfield, address: Address) -> VkResult<(MapData, f64)> {
+    /// The CPU's bilinear bound is not in the GPU time.
+    fn build(
+        &self,
+        ctx: &Arc<Context>,
+        hf: &Heightfield,
+        address: Address,
+    ) -> VkResult<(MapData, f64)> {
         let (w, h) = (hf.width(), hf.height());
-        BUFFERS.check(&self.ctx, "cone map", w, h)?;
         let bound = bilinear_box_bound(hf, address);
-        let base = Params {
+        let base = ConeMapParams {
             mode: MODE_REDUCE,
             width: w,
             height: h,
@@ -93,14 +71,14 @@ impl ConeMapPass {
             top: top_level(w, h),
             offsets: level_offsets(w, h),
         };
-        let params = |mode, level, row0| Params {
+        let params = |mode, level, row0| ConeMapParams {
             mode,
             level,
             row0,
             ..base
         };
         self.search
-            .build(&self.ctx, (bound.data(), w, h), 2, "cone map", &params)
+            .build(ctx, (bound.data(), w, h), 2, Self::NAME, &params)
     }
 }
 

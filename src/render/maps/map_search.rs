@@ -13,11 +13,13 @@ use std::sync::Arc;
 use ash::vk;
 
 use crate::heightfield::MapData;
-use crate::shaders;
+use crate::render::compute_pass::ComputePass;
+use crate::render::shader_interface::{
+    self, BINDING_SEARCH_MAP, BINDING_SEARCH_PYRAMID, MODE_REDUCE, MODE_SEARCH,
+};
 use crate::vk::{
-    compute_pipeline, memory_barrier, Bind, Buffer, Context, DescriptorLayout, DescriptorPool,
-    DescriptorSet, MemoryLocation, Pipeline, Readback, Recording, SpecConstants, TimestampPool,
-    VkError, VkResult,
+    memory_barrier, Bind, Buffer, Context, DescriptorPool, DescriptorSet, MemoryLocation, Pipeline,
+    Readback, Recording, TimestampPool, VkError, VkResult,
 };
 
 /// The workgroup is 8x8 texels.
@@ -27,22 +29,18 @@ const ROWS_TEXELS: u32 = 1 << 20;
 /// The largest side the GPU builders take: the cone search packs texel indices in 14 bits, and
 /// the push constants hold `MAX_LEVELS` level offsets. Larger maps are built on the CPU.
 pub const MAX_SIDE: u32 = crate::heightfield::MAX_SIDE;
-/// Levels of a [`MAX_SIDE`] map (`MAX_LEVELS` in the shaders).
-pub(in crate::render) const MAX_LEVELS: usize = 15;
-
-/// The shaders' `mode` for a reduction dispatch.
-pub(in crate::render) const MODE_REDUCE: u32 = 0;
-/// The shaders' `mode` for a search dispatch.
-pub(in crate::render) const MODE_SEARCH: u32 = 1;
+/// Levels of a [`MAX_SIDE`] map.
+pub(in crate::render) const MAX_LEVELS: usize = shader_interface::MAX_LEVELS as usize;
 
 /// A search shader's pipeline with its layout (bindings 0 and 1, storage buffers) and one
 /// descriptor set, rewritten for every build (builds wait for their submissions, so the set is
 /// never in use when it is rewritten).
 pub(in crate::render) struct SearchPipeline {
-    layout: DescriptorLayout,
+    pub pass: ComputePass,
     _pool: DescriptorPool,
     pub set: DescriptorSet,
-    pub pipeline: Pipeline,
+    /// Storage buffers at `0..bindings`.
+    bindings: u32,
 }
 
 impl SearchPipeline {
@@ -55,49 +53,27 @@ impl SearchPipeline {
         bindings: u32,
         name: &str,
     ) -> VkResult<SearchPipeline> {
-        let spirv =
-            shaders::spirv(key).ok_or_else(|| VkError::Invalid(format!("no shader {key}")))?;
-        let storage = vk::DescriptorType::STORAGE_BUFFER;
-        let slots: Vec<_> = (0..bindings).map(|b| (b, storage)).collect();
-        let layout = DescriptorLayout::new(
-            ctx,
-            &slots,
-            vk::ShaderStageFlags::COMPUTE,
-            &format!("{name} layout"),
-        )?;
-        let pipeline = compute_pipeline(
-            ctx,
-            spirv,
-            &[layout.raw()],
-            push,
-            &SpecConstants::default(),
-            name,
-        )?;
+        let pass = ComputePass::plain(ctx, key, &storage_slots(bindings), push, name)?;
         let pool = DescriptorPool::new(ctx, 1, bindings, &format!("{name} sets"))?;
-        let set = pool.allocate(&layout, &[])?;
+        let set = pool.allocate(pass.layout(), &[])?;
         Ok(SearchPipeline {
-            layout,
+            pass,
             _pool: pool,
             set,
-            pipeline,
+            bindings,
         })
     }
 
-    /// Another pipeline of shader `key` over the same set layout (one set serves both),
-    /// specialized by `spec`: a shader whose modes are specialization constants gets each mode
-    /// compiled alone, which lavapipe runs several times faster than one shader branching on a
-    /// push constant.
-    pub fn specialized(
+    /// The pipeline of another kernel, shader `key` with `push` bytes of push constants, whose
+    /// set layout is defined as this one's, so the one set serves both.
+    pub fn kernel(
         &self,
         ctx: &Arc<Context>,
         key: &str,
         push: u32,
-        spec: &SpecConstants,
         name: &str,
-    ) -> VkResult<Pipeline> {
-        let spirv =
-            shaders::spirv(key).ok_or_else(|| VkError::Invalid(format!("no shader {key}")))?;
-        compute_pipeline(ctx, spirv, &[self.layout.raw()], push, spec, name)
+    ) -> VkResult<ComputePass> {
+        ComputePass::plain(ctx, key, &storage_slots(self.bindings), push, name)
     }
 
     /// Builds a map of `channels` floats per texel from `level0` (`w` x `h`) with the push
@@ -111,7 +87,7 @@ impl SearchPipeline {
         params: &dyn Fn(u32, u32, u32) -> P,
     ) -> VkResult<(MapData, f64)> {
         let search = MapSearch {
-            pipeline: &self.pipeline,
+            pipeline: self.pass.pipeline(),
             set: self.set,
             channels,
             name,
@@ -128,10 +104,17 @@ impl SearchPipeline {
     }
 }
 
+/// Storage buffers at bindings `0..bindings`, the layout of every search shader's set.
+fn storage_slots(bindings: u32) -> Vec<(u32, vk::DescriptorType)> {
+    (0..bindings)
+        .map(|b| (b, vk::DescriptorType::STORAGE_BUFFER))
+        .collect()
+}
+
 /// What one build holds in single storage buffers: its pyramid of `node_bytes` a node and its
 /// map of `channels` floats a texel.
 #[derive(Clone, Copy)]
-pub(in crate::render) struct SearchBuffers {
+pub struct SearchBuffers {
     pub node_bytes: u64,
     pub channels: u32,
 }
@@ -218,7 +201,10 @@ impl<P: bytemuck::Pod> MapSearch<'_, P> {
         let back = Readback::new(ctx, bytes, &format!("{} readback", self.name))?;
         self.set.rewrite(
             ctx,
-            &[Bind::Storage(0, pyramid.raw()), Bind::Storage(1, out.raw())],
+            &[
+                Bind::Storage(BINDING_SEARCH_PYRAMID, pyramid.raw()),
+                Bind::Storage(BINDING_SEARCH_MAP, out.raw()),
+            ],
         );
         let past_end = (self.params)(MODE_SEARCH, 0, h);
         warm_up(ctx, self.pipeline, self.set, bytemuck::bytes_of(&past_end))?;

@@ -9,12 +9,12 @@ use std::sync::Arc;
 use ash::vk;
 
 use crate::heightfield::{mip_level_count, Heightfield};
+use crate::render::compute_pass::ComputePass;
 use crate::render::frame::gpu_heightfield::HeightFormat;
-use crate::shaders;
+use crate::render::shader_interface::{BINDING_PYRAMID_COARSE, BINDING_PYRAMID_FINE};
 use crate::vk::{
-    compute_pipeline, memory_barrier, transition_images, upload_mips, Bind, Context,
-    DescriptorLayout, DescriptorPool, DescriptorSet, Image, ImageDesc, ImageTransition, ImageView,
-    Pipeline, Recording, SpecConstants, VkError, VkResult,
+    memory_barrier, transition_images, upload_mips, Bind, Context, DescriptorPool, DescriptorSet,
+    Image, ImageDesc, ImageTransition, ImageView, Recording, VkResult,
 };
 
 const GROUP: u32 = 8;
@@ -22,19 +22,15 @@ const GROUP: u32 = 8;
 /// The averaged pyramid's image and everything its build records.
 pub struct MeanPyramid {
     image: Image,
-    pipeline: Pipeline,
+    pass: ComputePass,
     sets: Vec<DescriptorSet>,
     _views: Vec<ImageView>,
     _pool: DescriptorPool,
-    _layout: DescriptorLayout,
 }
 
 impl MeanPyramid {
     /// Uploads `hf` as level 0 of a full mip chain stored as `format` and prepares the build.
     pub fn new(ctx: &Arc<Context>, hf: &Heightfield, format: HeightFormat) -> VkResult<Self> {
-        let key = format!("mean_pyramid.comp:{}", format.shader_suffix());
-        let spirv =
-            shaders::spirv(&key).ok_or_else(|| VkError::Invalid(format!("no shader {key}")))?;
         let desc = ImageDesc {
             width: hf.width(),
             height: hf.height(),
@@ -53,21 +49,14 @@ impl MeanPyramid {
             &[&format.encode(hf.data())],
             vk::ImageLayout::GENERAL,
         )?;
-        let layout = DescriptorLayout::new(
+        let pass = ComputePass::plain(
             ctx,
+            &format!("mean_pyramid.comp:{}", format.shader_suffix()),
             &[
-                (0, vk::DescriptorType::STORAGE_IMAGE),
-                (1, vk::DescriptorType::STORAGE_IMAGE),
+                (BINDING_PYRAMID_FINE, vk::DescriptorType::STORAGE_IMAGE),
+                (BINDING_PYRAMID_COARSE, vk::DescriptorType::STORAGE_IMAGE),
             ],
-            vk::ShaderStageFlags::COMPUTE,
-            "averaged pyramid layout",
-        )?;
-        let pipeline = compute_pipeline(
-            ctx,
-            spirv,
-            &[layout.raw()],
             0,
-            &SpecConstants::default(),
             "averaged pyramid",
         )?;
         let views = (0..desc.mip_levels)
@@ -82,16 +71,15 @@ impl MeanPyramid {
                     Bind::StorageImage(0, pair[0].raw()),
                     Bind::StorageImage(1, pair[1].raw()),
                 ];
-                pool.allocate(&layout, &binds)
+                pool.allocate(pass.layout(), &binds)
             })
             .collect::<VkResult<Vec<_>>>()?;
         Ok(MeanPyramid {
             image,
-            pipeline,
+            pass,
             sets,
             _views: views,
             _pool: pool,
-            _layout: layout,
         })
     }
 
@@ -112,8 +100,8 @@ impl MeanPyramid {
         );
         for (k, &set) in self.sets.iter().enumerate() {
             let (w, h) = self.image.level_extent(k as u32 + 1);
-            self.pipeline.bind(rec, Some(set));
-            rec.dispatch([w.div_ceil(GROUP), h.div_ceil(GROUP), 1]);
+            self.pass
+                .dispatch(rec, set, &[], [w.div_ceil(GROUP), h.div_ceil(GROUP), 1])?;
             memory_barrier(rec, write, read);
         }
         transition_images(

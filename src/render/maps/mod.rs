@@ -5,6 +5,7 @@ pub(in crate::render) mod ao_map_pass;
 pub(in crate::render) mod ao_sweep;
 pub(in crate::render) mod cone_map_pass;
 pub(in crate::render) mod map_builder;
+pub(in crate::render) mod map_builder_pass;
 pub(in crate::render) mod map_search;
 pub(in crate::render) mod mean_pyramid_pass;
 pub(in crate::render) mod pyramid_pass;

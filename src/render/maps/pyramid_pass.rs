@@ -8,13 +8,15 @@ use std::sync::Arc;
 use ash::vk;
 
 use crate::heightfield::Address;
+use crate::render::compute_pass::ComputePass;
 use crate::render::frame::gpu_heightfield::GpuHeightfield;
-use crate::shaders;
+use crate::render::shader_interface::{
+    PyramidParams, BINDING_PYRAMID_COARSE, BINDING_PYRAMID_FINE,
+};
 use crate::terrain::{coarse_span, TexelRect};
 use crate::vk::{
-    compute_pipeline, memory_barrier, transition_images, Bind, Context, DescriptorLayout,
-    DescriptorPool, DescriptorSet, Image, ImageTransition, ImageView, Pipeline, Recording,
-    SpecConstants, VkError, VkResult,
+    memory_barrier, transition_images, Bind, Context, DescriptorPool, DescriptorSet, Image,
+    ImageTransition, ImageView, Recording, VkResult,
 };
 
 const GROUP: u32 = 8;
@@ -57,8 +59,7 @@ pub fn regions_above(image: &Image, rects: &[TexelRect], wrap: bool) -> Vec<Vec<
 /// The compute pipeline that builds one pyramid level from the one below.
 pub struct PyramidPass {
     ctx: Arc<Context>,
-    layout: DescriptorLayout,
-    pipeline: Pipeline,
+    pass: ComputePass,
 }
 
 /// Per-height-field resources of one build: a view per level and a set per dispatch. Keep it
@@ -72,30 +73,19 @@ pub struct PyramidJob {
 impl PyramidPass {
     /// Creates the pipeline for heights stored as `suffix` ("r16" or "r32f").
     pub fn new(ctx: &Arc<Context>, suffix: &str) -> VkResult<PyramidPass> {
-        let key = format!("pyramid.comp:{suffix}");
-        let spirv =
-            shaders::spirv(&key).ok_or_else(|| VkError::Invalid(format!("no shader {key}")))?;
-        let layout = DescriptorLayout::new(
+        let pass = ComputePass::plain(
             ctx,
+            &format!("pyramid.comp:{suffix}"),
             &[
-                (0, vk::DescriptorType::STORAGE_IMAGE),
-                (1, vk::DescriptorType::STORAGE_IMAGE),
+                (BINDING_PYRAMID_FINE, vk::DescriptorType::STORAGE_IMAGE),
+                (BINDING_PYRAMID_COARSE, vk::DescriptorType::STORAGE_IMAGE),
             ],
-            vk::ShaderStageFlags::COMPUTE,
-            "pyramid layout",
-        )?;
-        let pipeline = compute_pipeline(
-            ctx,
-            spirv,
-            &[layout.raw()],
-            32,
-            &SpecConstants::default(),
+            std::mem::size_of::<PyramidParams>() as u32,
             "pyramid",
         )?;
         Ok(PyramidPass {
             ctx: ctx.clone(),
-            layout,
-            pipeline,
+            pass,
         })
     }
 
@@ -116,7 +106,7 @@ impl PyramidPass {
             .windows(2)
             .map(|pair| {
                 pool.allocate(
-                    &self.layout,
+                    self.pass.layout(),
                     &[
                         Bind::StorageImage(0, pair[0].raw()),
                         Bind::StorageImage(1, pair[1].raw()),
@@ -174,14 +164,16 @@ impl PyramidPass {
             vk::AccessFlags2::SHADER_STORAGE_READ,
         );
         for (k, (&set, level)) in job.sets.iter().zip(regions).enumerate() {
-            self.pipeline.bind(rec, Some(set));
+            let pipeline = self.pass.pipeline();
+            pipeline.bind(rec, Some(set));
             let widen = u32::from(k == 0);
             let wrap = u32::from(address == Address::Repeat);
             for region in level {
-                let push: [u32; 8] = [
-                    widen, wrap, 0, 0, region[0], region[1], region[2], region[3],
-                ];
-                self.pipeline.push(rec, bytemuck::bytes_of(&push))?;
+                let push = PyramidParams {
+                    flags: [widen, wrap, 0, 0],
+                    region: *region,
+                };
+                pipeline.push(rec, bytemuck::bytes_of(&push))?;
                 rec.dispatch([region[2].div_ceil(GROUP), region[3].div_ceil(GROUP), 1]);
             }
             memory_barrier(rec, write, read);

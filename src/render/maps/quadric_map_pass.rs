@@ -14,58 +14,43 @@
 
 use std::sync::Arc;
 
-use super::map_search::{level_offsets, top_level, SearchBuffers, SearchPipeline, MODE_REDUCE};
+use super::map_builder_pass::{GpuMap, MapBuilderPass};
+use super::map_search::{level_offsets, top_level, SearchBuffers, SearchPipeline};
 use crate::heightfield::{Address, Heightfield, MapData};
+use crate::render::shader_interface::{QuadricMapParams, MODE_REDUCE};
 use crate::vk::{Context, VkResult};
 
-/// A float per pyramid node; `[a, b, c, h]` per texel.
-const BUFFERS: SearchBuffers = SearchBuffers {
-    node_bytes: 4,
-    channels: 4,
-};
+/// The quadric-map builder.
+pub type QuadricMapPass = MapBuilderPass<QuadricMapSearch>;
 
-/// The shader's push constants (`Params` in quadric_map.comp).
-#[repr(C)]
-#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
-struct Params {
-    mode: u32,
-    width: u32,
-    height: u32,
-    repeat_address: u32,
-    level: u32,
-    row0: u32,
-    top: u32,
-    offsets: [u32; 15],
-}
-
-/// The quadric-map pipeline with its layout and one descriptor set, rewritten for every build
-/// (builds wait for their submissions, so the set is never in use when it is rewritten).
-pub struct QuadricMapPass {
-    ctx: Arc<Context>,
+/// The quadric map's search pipeline.
+pub struct QuadricMapSearch {
     search: SearchPipeline,
 }
 
-impl QuadricMapPass {
-    /// Creates the pipeline, its layout and its set.
-    pub fn new(ctx: &Arc<Context>) -> VkResult<QuadricMapPass> {
-        let push = std::mem::size_of::<Params>() as u32;
-        Ok(QuadricMapPass {
-            ctx: ctx.clone(),
-            search: SearchPipeline::new(ctx, "quadric_map.comp", push, 2, "quadric map")?,
+impl GpuMap for QuadricMapSearch {
+    const NAME: &'static str = "quadric map";
+    /// A float per pyramid node; `[a, b, c, h]` per texel.
+    const BUFFERS: SearchBuffers = SearchBuffers {
+        node_bytes: 4,
+        channels: 4,
+    };
+
+    fn pipelines(ctx: &Arc<Context>) -> VkResult<QuadricMapSearch> {
+        let push = std::mem::size_of::<QuadricMapParams>() as u32;
+        Ok(QuadricMapSearch {
+            search: SearchPipeline::new(ctx, "quadric_map.comp", push, 2, Self::NAME)?,
         })
     }
 
-    /// Whether this device takes the build of a `w` x `h` map.
-    pub fn fits(ctx: &Context, w: u32, h: u32) -> bool {
-        BUFFERS.fit(ctx, w, h)
-    }
-
-    /// Builds the quadric map of `hf` under `address`, with the GPU time in ms (the pyramid and
-    /// every search submission; the transfers are not in it).
-    pub fn build(&self, hf: &Heightfield, address: Address) -> VkResult<(MapData, f64)> {
+    fn build(
+        &self,
+        ctx: &Arc<Context>,
+        hf: &Heightfield,
+        address: Address,
+    ) -> VkResult<(MapData, f64)> {
         let (w, h) = (hf.width(), hf.height());
-        BUFFERS.check(&self.ctx, "quadric map", w, h)?;
-        let base = Params {
+        let base = QuadricMapParams {
             mode: MODE_REDUCE,
             width: w,
             height: h,
@@ -75,14 +60,14 @@ impl QuadricMapPass {
             top: top_level(w, h),
             offsets: level_offsets(w, h),
         };
-        let params = |mode, level, row0| Params {
+        let params = |mode, level, row0| QuadricMapParams {
             mode,
             level,
             row0,
             ..base
         };
         self.search
-            .build(&self.ctx, (hf.data(), w, h), 4, "quadric map", &params)
+            .build(ctx, (hf.data(), w, h), 4, Self::NAME, &params)
     }
 }
 

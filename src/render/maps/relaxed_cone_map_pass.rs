@@ -1,4 +1,4 @@
-//! The relaxed cone map built on the GPU (`shaders/passes/relaxed_cone_map.comp`): a map in the
+//! The relaxed cone map built on the GPU (`shaders/passes/relaxed_cone_*.comp`): a map in the
 //! layout of `ConeMap::build(hf, ConeKind::Relaxed, address)` (`MapData`: ratio, bound height),
 //! never wider than the CPU's.
 //!
@@ -24,97 +24,72 @@ use std::sync::Arc;
 
 use ash::vk;
 
+use super::map_builder_pass::{GpuMap, MapBuilderPass};
 use super::map_search::{
     level_offsets, pyramid_floats, record_reductions, record_row_dispatch, row_chunks, top_level,
-    warm_up, SearchBuffers, SearchPipeline, TimedSubmissions, COMPUTE_RW, COPIED, MAX_LEVELS,
-    MODE_REDUCE, SHADER_WROTE,
+    warm_up, SearchBuffers, SearchPipeline, TimedSubmissions, COMPUTE_RW, COPIED, SHADER_WROTE,
 };
 use crate::heightfield::cone_map::{bilinear_box_bound, REACH_CAP_TEXELS, REACH_CAP_UV};
 use crate::heightfield::{Address, Heightfield, MapData};
+use crate::render::compute_pass::ComputePass;
+use crate::render::shader_interface::{
+    RelaxedConeParams, BINDING_SEARCH_MAP, BINDING_SEARCH_PYRAMID,
+};
 use crate::vk::{
-    memory_barrier, Bind, Buffer, Context, MemoryLocation, Pipeline, Readback, Recording,
-    SpecConstants, VkResult,
+    memory_barrier, Bind, Buffer, Context, MemoryLocation, Readback, Recording, VkResult,
 };
 
 /// Bytes per pyramid node: the maximum height, the maximum of 1 - height (f32 bits each) and
 /// the least reach of each quadrant (u16).
 const NODE_BYTES: u64 = 16;
 
-/// The node records; ratio and box height per texel.
-const BUFFERS: SearchBuffers = SearchBuffers {
-    node_bytes: NODE_BYTES,
-    channels: 2,
-};
+/// The relaxed cone-map builder.
+pub type RelaxedConeMapPass = MapBuilderPass<RelaxedConeMap>;
 
-// The shader's modes after MODE_REDUCE (0, map_search's), one pipeline each.
-const MODE_REACH: u32 = 1;
-const MODE_REACH_REDUCE: u32 = 2;
-const MODE_RELAXED: u32 = 3;
-
-/// The shader's push constants (`Params` in relaxed_cone_map.comp).
-#[repr(C)]
-#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
-struct Params {
-    mode: u32,
-    width: u32,
-    height: u32,
-    repeat_address: u32,
-    level: u32,
-    row0: u32,
-    aspect: f32,
-    top: u32,
-    reach_unit: f32,
-    reach_cap: f32,
-    offsets: [u32; 15],
-}
-
-const _: () = assert!(MAX_LEVELS == 15, "Params::offsets holds MAX_LEVELS offsets");
-
-/// The relaxed-cone pipelines (one per mode) with one descriptor set rewritten for every build
-/// (builds wait for their submissions, so the set is never in use when it is rewritten).
-pub struct RelaxedConeMapPass {
-    ctx: Arc<Context>,
-    /// The set and the REDUCE pipeline.
+/// The relaxed-cone pipelines, one per kernel, sharing one set.
+pub struct RelaxedConeMap {
+    /// The set and the REDUCE kernel.
     search: SearchPipeline,
-    reach: Pipeline,
-    reach_reduce: Pipeline,
-    relaxed: Pipeline,
+    reach: ComputePass,
+    reach_reduce: ComputePass,
+    relaxed: ComputePass,
 }
 
-impl RelaxedConeMapPass {
-    /// Creates the pipelines (one per mode), their layout and set.
-    pub fn new(ctx: &Arc<Context>) -> VkResult<RelaxedConeMapPass> {
-        let push = std::mem::size_of::<Params>() as u32;
-        let key = "relaxed_cone_map.comp";
-        let search = SearchPipeline::new(ctx, key, push, 2, "relaxed cone map")?;
-        let mode = |mode, name| {
-            let spec = SpecConstants::default().u32(0, mode);
-            search.specialized(ctx, key, push, &spec, name)
-        };
-        Ok(RelaxedConeMapPass {
-            ctx: ctx.clone(),
-            reach: mode(MODE_REACH, "relaxed cone map reaches")?,
-            reach_reduce: mode(MODE_REACH_REDUCE, "relaxed cone map reach pyramid")?,
-            relaxed: mode(MODE_RELAXED, "relaxed cone map search")?,
+impl GpuMap for RelaxedConeMap {
+    const NAME: &'static str = "relaxed cone map";
+    /// The node records ([`NODE_BYTES`] each: about 360 MB at 4096^2); ratio and box height per
+    /// texel.
+    const BUFFERS: SearchBuffers = SearchBuffers {
+        node_bytes: NODE_BYTES,
+        channels: 2,
+    };
+
+    fn pipelines(ctx: &Arc<Context>) -> VkResult<RelaxedConeMap> {
+        let push = std::mem::size_of::<RelaxedConeParams>() as u32;
+        let search = SearchPipeline::new(ctx, "relaxed_cone_reduce.comp", push, 2, Self::NAME)?;
+        let kernel = |key, name| search.kernel(ctx, key, push, name);
+        Ok(RelaxedConeMap {
+            reach: kernel("relaxed_cone_reach.comp", "relaxed cone map reaches")?,
+            reach_reduce: kernel(
+                "relaxed_cone_reach_reduce.comp",
+                "relaxed cone map reach pyramid",
+            )?,
+            relaxed: kernel("relaxed_cone_search.comp", "relaxed cone map search")?,
             search,
         })
     }
 
-    /// Whether the device takes the pyramid of a `w` x `h` map in one storage buffer (16 bytes a
-    /// node: about 360 MB at 4096^2).
-    pub fn fits(ctx: &Context, w: u32, h: u32) -> bool {
-        BUFFERS.fit(ctx, w, h)
-    }
-
-    /// Builds the relaxed cone map of `hf` under `address`, with the GPU time in ms (every
-    /// submission; the CPU's bilinear bound and the transfers are not in it).
-    pub fn build(&self, hf: &Heightfield, address: Address) -> VkResult<(MapData, f64)> {
+    /// The GPU time is every submission's; the CPU's bilinear bound is not in it.
+    fn build(
+        &self,
+        ctx: &Arc<Context>,
+        hf: &Heightfield,
+        address: Address,
+    ) -> VkResult<(MapData, f64)> {
         let (w, h) = (hf.width(), hf.height());
-        BUFFERS.check(&self.ctx, "relaxed cone map", w, h)?;
         let bound = bilinear_box_bound(hf, address);
         let nodes = pyramid_floats(w, h);
-        let base = Params {
-            mode: MODE_REDUCE,
+        let base = RelaxedConeParams {
             width: w,
             height: h,
             repeat_address: u32::from(address == Address::Repeat),
@@ -126,50 +101,44 @@ impl RelaxedConeMapPass {
             reach_cap: reach_cap_texels(w) as f32,
             offsets: level_offsets(w, h),
         };
-        let params = |mode, level, row0| Params {
-            mode,
+        let params = |level, row0| RelaxedConeParams {
             level,
             row0,
             ..base
         };
-        let buffers = Buffers::new(&self.ctx, bound.data(), nodes)?;
+        let buffers = Buffers::new(ctx, bound.data(), nodes)?;
         self.search.set.rewrite(
-            &self.ctx,
+            ctx,
             &[
-                Bind::Storage(0, buffers.nodes.raw()),
-                Bind::Storage(1, buffers.map.raw()),
+                Bind::Storage(BINDING_SEARCH_PYRAMID, buffers.nodes.raw()),
+                Bind::Storage(BINDING_SEARCH_MAP, buffers.map.raw()),
             ],
         );
         let set = Some(self.search.set);
-        for (pipeline, mode) in [(&self.reach, MODE_REACH), (&self.relaxed, MODE_RELAXED)] {
-            let past_end = params(mode, 0, h);
+        for pipeline in [&self.reach, &self.relaxed] {
+            let past_end = params(0, h);
             warm_up(
-                &self.ctx,
-                pipeline,
+                ctx,
+                pipeline.pipeline(),
                 self.search.set,
                 bytemuck::bytes_of(&past_end),
             )?;
         }
         let chunks = row_chunks(w, h);
         let submissions = 2 + 2 * chunks.len() as u32;
-        let mut timed = TimedSubmissions::new(&self.ctx, submissions, "relaxed cone map")?;
-        timed.submit(&self.ctx, |rec| {
+        let mut timed = TimedSubmissions::new(ctx, submissions, "relaxed cone map")?;
+        timed.submit(ctx, |rec| {
             rec.copy_buffer(&buffers.staging, &buffers.nodes);
             memory_barrier(rec, COPIED, COMPUTE_RW);
-            let reduce = &self.search.pipeline;
+            let reduce = self.search.pass.pipeline();
             reduce.bind(rec, set);
-            record_reductions(rec, reduce, w, h, |level| params(MODE_REDUCE, level, 0))
+            record_reductions(rec, reduce, w, h, |level| params(level, 0))
         })?;
-        let record_rows = |rec: &Recording, mode, (row0, count): (u32, u32)| {
-            let pipeline = if mode == MODE_REACH {
-                &self.reach
-            } else {
-                &self.relaxed
-            };
-            let push = params(mode, 0, row0);
+        let record_rows = |rec: &Recording, pipeline: &ComputePass, (row0, count): (u32, u32)| {
+            let push = params(0, row0);
             record_row_dispatch(
                 rec,
-                pipeline,
+                pipeline.pipeline(),
                 self.search.set,
                 bytemuck::bytes_of(&push),
                 w,
@@ -177,20 +146,18 @@ impl RelaxedConeMapPass {
             )
         };
         for &chunk in &chunks {
-            timed.submit(&self.ctx, |rec| record_rows(rec, MODE_REACH, chunk))?;
+            timed.submit(ctx, |rec| record_rows(rec, &self.reach, chunk))?;
         }
-        timed.submit(&self.ctx, |rec| {
-            self.reach_reduce.bind(rec, set);
-            record_reductions(rec, &self.reach_reduce, w, h, |level| {
-                params(MODE_REACH_REDUCE, level, 0)
-            })
+        timed.submit(ctx, |rec| {
+            let reach_reduce = self.reach_reduce.pipeline();
+            reach_reduce.bind(rec, set);
+            record_reductions(rec, reach_reduce, w, h, |level| params(level, 0))
         })?;
         for &chunk in &chunks {
-            timed.submit(&self.ctx, |rec| record_rows(rec, MODE_RELAXED, chunk))?;
+            timed.submit(ctx, |rec| record_rows(rec, &self.relaxed, chunk))?;
         }
-        let back = Readback::new(&self.ctx, buffers.map.size(), "relaxed cone map readback")?;
-        self.ctx
-            .one_shot(|rec| back.record_copy_from_buffer(rec, &buffers.map, SHADER_WROTE))?;
+        let back = Readback::new(ctx, buffers.map.size(), "relaxed cone map readback")?;
+        ctx.one_shot(|rec| back.record_copy_from_buffer(rec, &buffers.map, SHADER_WROTE))?;
         let gpu_ms = timed.total_ms()?;
         let map = MapData {
             width: w,

@@ -7,16 +7,20 @@ use ash::vk;
 
 use crate::heightfield::{Address, Heightfield, MapData, MaxPyramid};
 use crate::method::{Budget, Method};
+use crate::render::compute_pass::ComputePass;
 use crate::render::frame::gpu_heightfield::HeightFormat;
 use crate::render::frame::height_resources::HeightResources;
-use crate::render::frame::surface_pass::{
-    hard_shadow_texels, HARD_SHADOW_TEXELS_ID, SHADOW_MODE_ID, SHADOW_REACH_ID, SHADOW_STEPS_ID,
+use crate::render::frame::surface_pass::hard_shadow_texels;
+use crate::render::shader_interface::{
+    TraceParams, BINDING_TRACE_HITS, BINDING_TRACE_STEPS, BINDING_TRACE_VISIBLE,
+    SPEC_BUDGET_EXTENT_LIMIT, SPEC_BUDGET_LEAF_EXACT, SPEC_BUDGET_MAX_STEPS,
+    SPEC_BUDGET_REFINE_STEPS, SPEC_HARD_SHADOW_TEXELS, SPEC_SHADOW_MODE, SPEC_SHADOW_REACH,
+    SPEC_SHADOW_STEPS,
 };
 use crate::scene::ShadowMode;
-use crate::shaders;
 use crate::vk::{
-    compute_pipeline, memory_barrier, Bind, Buffer, Context, DescriptorLayout, DescriptorPool,
-    MemoryLocation, Readback, Recording, SpecConstants, TimestampPool, VkError, VkResult,
+    memory_barrier, Bind, Buffer, Context, DescriptorPool, MemoryLocation, Readback, Recording,
+    SpecConstants, TimestampPool, VkError, VkResult,
 };
 
 /// Side of the trace pass's square workgroups (`local_size_x` and `_y` in trace.comp).
@@ -94,15 +98,6 @@ pub struct TraceOutput {
 fn all_stages() -> vk::PipelineStageFlags2 {
     vk::PipelineStageFlags2::ALL_COMMANDS
 }
-
-#[repr(C)]
-#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
-struct TraceParams {
-    dir: [f32; 4],
-    grid: [u32; 4],
-    light: [f32; 4],
-}
-const _: () = assert!(std::mem::size_of::<TraceParams>() == 48);
 
 /// Where the timed dispatches write (device-local, so the timing has no bus writes in it) and the
 /// host-visible buffers their results are copied to after the closing timestamp.
@@ -225,17 +220,17 @@ impl Heights<'_> {
 /// toward (straight up, unused, without a shadow).
 fn trace_constants(req: &TraceRequest) -> (SpecConstants, [f32; 4]) {
     let spec = SpecConstants::default()
-        .u32(0, req.budget.max_steps)
-        .u32(1, req.budget.refine_steps)
-        .u32(2, req.budget.leaf.spec_value())
-        .u32(3, req.budget.extent_limit);
+        .u32(SPEC_BUDGET_MAX_STEPS, req.budget.max_steps)
+        .u32(SPEC_BUDGET_REFINE_STEPS, req.budget.refine_steps)
+        .u32(SPEC_BUDGET_LEAF_EXACT, req.budget.leaf.spec_value())
+        .u32(SPEC_BUDGET_EXTENT_LIMIT, req.budget.extent_limit);
     match req.shadow {
         None => (spec, [0.0, 0.0, 1.0, 0.0]),
         Some(s) => (
-            spec.u32(SHADOW_MODE_ID, s.mode.shader_value())
-                .u32(SHADOW_STEPS_ID, s.steps)
-                .f32(SHADOW_REACH_ID, s.horizon_reach)
-                .f32(HARD_SHADOW_TEXELS_ID, hard_shadow_texels(req.method)),
+            spec.u32(SPEC_SHADOW_MODE, s.mode.shader_value())
+                .u32(SPEC_SHADOW_STEPS, s.steps)
+                .f32(SPEC_SHADOW_REACH, s.horizon_reach)
+                .f32(SPEC_HARD_SHADOW_TEXELS, hard_shadow_texels(req.method)),
             [s.toward[0], s.toward[1], s.toward[2], s.radius],
         ),
     }
@@ -257,30 +252,17 @@ fn trace_with(
     }
     let count = cols as u64 * rows as u64;
     let key = req.method.shader_key("trace.comp");
-    let spirv = shaders::spirv(&key)
-        .ok_or_else(|| VkError::Invalid(format!("no compiled shader {key}")))?;
     let res = heights.upload(ctx, req)?;
     let targets = TraceTargets::new(ctx, count)?;
     let mut bindings = res.layout_bindings();
-    bindings.extend([
-        (4, vk::DescriptorType::STORAGE_BUFFER),
-        (5, vk::DescriptorType::STORAGE_BUFFER),
-        (6, vk::DescriptorType::STORAGE_BUFFER),
-    ]);
-    let layout = DescriptorLayout::new(
-        ctx,
-        &bindings,
-        vk::ShaderStageFlags::COMPUTE,
-        "trace layout",
-    )?;
-    let pool = DescriptorPool::new(ctx, 1, 3, "trace sets")?;
-    let mut binds = res.binds();
-    binds.extend([
-        Bind::Storage(4, targets.hits.raw()),
-        Bind::Storage(5, targets.steps.raw()),
-        Bind::Storage(6, targets.visible.raw()),
-    ]);
-    let set = pool.allocate(&layout, &binds)?;
+    bindings.extend(
+        [
+            BINDING_TRACE_HITS,
+            BINDING_TRACE_STEPS,
+            BINDING_TRACE_VISIBLE,
+        ]
+        .map(|b| (b, vk::DescriptorType::STORAGE_BUFFER)),
+    );
     let (spec, light) = trace_constants(req);
     let params = TraceParams {
         dir: [req.dir[0], req.dir[1], req.dir[2], req.depth_scale],
@@ -288,7 +270,15 @@ fn trace_with(
         light,
     };
     let push = std::mem::size_of::<TraceParams>() as u32;
-    let pipeline = compute_pipeline(ctx, spirv, &[layout.raw()], push, &spec, &key)?;
+    let pass = ComputePass::new(ctx, &key, &bindings, push, &spec, &key)?;
+    let pool = DescriptorPool::new(ctx, 1, 3, "trace sets")?;
+    let mut binds = res.binds();
+    binds.extend([
+        Bind::Storage(4, targets.hits.raw()),
+        Bind::Storage(5, targets.steps.raw()),
+        Bind::Storage(6, targets.visible.raw()),
+    ]);
+    let set = pool.allocate(pass.layout(), &binds)?;
     let timestamps = TimestampPool::new(ctx, 2 * frames, "trace timestamps")?;
     let full = (
         all_stages(),
@@ -297,6 +287,7 @@ fn trace_with(
     let all = vk::PipelineStageFlags2::ALL_COMMANDS;
     ctx.one_shot(|rec| {
         res.record_pyramid(rec)?;
+        let pipeline = pass.pipeline();
         pipeline.bind(rec, Some(set));
         pipeline.push(rec, bytemuck::bytes_of(&params))?;
         for frame in 0..warmup + frames {

@@ -14,37 +14,34 @@ use std::sync::Arc;
 use ash::vk;
 
 use crate::heightfield::{mip_level_count, Address, Heightfield};
+use crate::render::compute_pass::ComputePass;
 use crate::render::frame::gpu_heightfield::HeightFormat;
 use crate::render::maps::pyramid_pass::{regions_above, PyramidJob, PyramidPass, Region};
-use crate::shaders;
+use crate::render::shader_interface::{
+    BlendParams, BINDING_BLEND_LAYER_HEIGHTS, BINDING_BLEND_LAYER_WEIGHTS, BINDING_BLEND_OUT,
+    BINDING_BLEND_SLACK, BLEND_ALPHA, BLEND_HEIGHT, BLEND_HEIGHT_INTERSECT,
+};
 use crate::terrain::{least_sum_slack, BlendMode, LayerStack, TexelRect};
 use crate::vk::{
-    compute_pipeline, memory_barrier, read_mip, transition_images, upload_mips, Bind, Context,
-    DescriptorLayout, DescriptorPool, DescriptorSet, Image, ImageDesc, ImageTransition, ImageView,
-    Pipeline, Recording, RegionTexels, Sampler, SpecConstants, StagedRegions, TimestampPool,
-    VkError, VkResult,
+    memory_barrier, read_mip, transition_images, upload_mips, Bind, Context, DescriptorPool,
+    DescriptorSet, Image, ImageDesc, ImageTransition, ImageView, Recording, RegionTexels, Sampler,
+    StagedRegions, TimestampPool, VkError, VkResult,
 };
 
 const GROUP: u32 = 8;
 
 /// The blend pass's push constants: mode, level, 16-bit output (round bounds up), unused; the
 /// region written.
-fn blend_push(mode: BlendMode, level: u32, unorm: bool, region: Region) -> [u32; 8] {
+fn blend_push(mode: BlendMode, level: u32, unorm: bool, region: Region) -> BlendParams {
     let mode = match mode {
-        BlendMode::Alpha => 0,
-        BlendMode::Height => 1,
-        BlendMode::HeightIntersect => 2,
+        BlendMode::Alpha => BLEND_ALPHA,
+        BlendMode::Height => BLEND_HEIGHT,
+        BlendMode::HeightIntersect => BLEND_HEIGHT_INTERSECT,
     };
-    [
-        mode,
-        level,
-        u32::from(unorm),
-        0,
-        region[0],
-        region[1],
-        region[2],
-        region[3],
-    ]
+    BlendParams {
+        flags: [mode, level, u32::from(unorm), 0],
+        region,
+    }
 }
 
 /// The four-channel format a stack's layers are stored in next to height format `format`, and
@@ -162,8 +159,7 @@ pub struct BlendedPyramid {
     jobs: [PyramidJob; 2],
     slack_pyramid: PyramidPass,
     slack_job: PyramidJob,
-    pipeline: Pipeline,
-    _layout: DescriptorLayout,
+    pass: ComputePass,
     _views: Vec<ImageView>,
     _pool: DescriptorPool,
     sets: Vec<DescriptorSet>,
@@ -195,26 +191,17 @@ impl BlendedPyramid {
         ];
         let slack_pyramid = PyramidPass::new(ctx, format.shader_suffix())?;
         let slack_job = slack_pyramid.prepare_image(&slack)?;
-        let key = format!("blended_pyramid.comp:{}", format.shader_suffix());
-        let spirv =
-            shaders::spirv(&key).ok_or_else(|| VkError::Invalid(format!("no shader {key}")))?;
-        let layout = DescriptorLayout::new(
+        let sampled = vk::DescriptorType::COMBINED_IMAGE_SAMPLER;
+        let pass = ComputePass::plain(
             ctx,
+            &format!("blended_pyramid.comp:{}", format.shader_suffix()),
             &[
-                (0, vk::DescriptorType::COMBINED_IMAGE_SAMPLER),
-                (1, vk::DescriptorType::COMBINED_IMAGE_SAMPLER),
-                (2, vk::DescriptorType::STORAGE_IMAGE),
-                (3, vk::DescriptorType::COMBINED_IMAGE_SAMPLER),
+                (BINDING_BLEND_LAYER_HEIGHTS, sampled),
+                (BINDING_BLEND_LAYER_WEIGHTS, sampled),
+                (BINDING_BLEND_OUT, vk::DescriptorType::STORAGE_IMAGE),
+                (BINDING_BLEND_SLACK, sampled),
             ],
-            vk::ShaderStageFlags::COMPUTE,
-            "blended pyramid layout",
-        )?;
-        let pipeline = compute_pipeline(
-            ctx,
-            spirv,
-            &[layout.raw()],
-            32,
-            &SpecConstants::default(),
+            std::mem::size_of::<BlendParams>() as u32,
             "blended pyramid",
         )?;
         let texels = Sampler::new(
@@ -231,7 +218,7 @@ impl BlendedPyramid {
             .iter()
             .map(|view| {
                 pool.allocate(
-                    &layout,
+                    pass.layout(),
                     &[
                         Bind::Texture(0, heights.view(), texels.raw()),
                         Bind::Texture(1, weights.view(), texels.raw()),
@@ -255,8 +242,7 @@ impl BlendedPyramid {
             jobs,
             slack_pyramid,
             slack_job,
-            pipeline,
-            _layout: layout,
+            pass,
             _views: views,
             _pool: pool,
             sets,
@@ -417,10 +403,11 @@ impl BlendedPyramid {
         );
         let unorm = self.format == HeightFormat::R16Unorm;
         for (level, (&set, level_regions)) in self.sets.iter().zip(regions).enumerate() {
-            self.pipeline.bind(rec, Some(set));
+            let pipeline = self.pass.pipeline();
+            pipeline.bind(rec, Some(set));
             for &region in level_regions {
                 let push = blend_push(self.mode, level as u32, unorm, region);
-                self.pipeline.push(rec, bytemuck::bytes_of(&push))?;
+                pipeline.push(rec, bytemuck::bytes_of(&push))?;
                 rec.dispatch([region[2].div_ceil(GROUP), region[3].div_ceil(GROUP), 1]);
             }
         }

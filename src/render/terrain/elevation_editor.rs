@@ -8,14 +8,16 @@ use std::sync::Arc;
 use ash::vk;
 
 use crate::heightfield::{Address, Heightfield};
+use crate::render::compute_pass::ComputePass;
 use crate::render::frame::gpu_heightfield::{GpuHeightfield, HeightFormat};
 use crate::render::maps::pyramid_pass::{regions_above, PyramidJob, PyramidPass, Region};
-use crate::shaders;
+use crate::render::shader_interface::{
+    BrushParams, BINDING_BRUSH_HEIGHTS, BRUSH_CRATER, BRUSH_FLATTEN, BRUSH_LOWER, BRUSH_RAISE,
+};
 use crate::terrain::{BrushKind, Stroke, StrokeError, StrokeTarget, TexelRect};
 use crate::vk::{
-    compute_pipeline, memory_barrier, read_mip, transition_images, Bind, Context, DescriptorLayout,
-    DescriptorPool, DescriptorSet, ImageTransition, ImageView, Pipeline, SpecConstants,
-    TimestampPool, VkError, VkResult,
+    memory_barrier, read_mip, transition_images, Bind, Context, DescriptorPool, DescriptorSet,
+    ImageTransition, ImageView, TimestampPool, VkError, VkResult,
 };
 
 const GROUP: u32 = 8;
@@ -44,8 +46,7 @@ pub struct ElevationEditor {
     heights: GpuHeightfield,
     pyramid: PyramidPass,
     job: PyramidJob,
-    brush: Pipeline,
-    _layout: DescriptorLayout,
+    brush: ComputePass,
     _pool: DescriptorPool,
     _level0: ImageView,
     set: DescriptorSet,
@@ -63,33 +64,22 @@ impl ElevationEditor {
         let heights = GpuHeightfield::upload(ctx, elevation, format, address)?;
         let pyramid = PyramidPass::new(ctx, format.shader_suffix())?;
         let job = pyramid.prepare(&heights)?;
-        let key = format!("brush.comp:{}", format.shader_suffix());
-        let spirv =
-            shaders::spirv(&key).ok_or_else(|| VkError::Invalid(format!("no shader {key}")))?;
-        let layout = DescriptorLayout::new(
+        let brush = ComputePass::plain(
             ctx,
-            &[(0, vk::DescriptorType::STORAGE_IMAGE)],
-            vk::ShaderStageFlags::COMPUTE,
-            "brush layout",
-        )?;
-        let brush = compute_pipeline(
-            ctx,
-            spirv,
-            &[layout.raw()],
-            48,
-            &SpecConstants::default(),
+            &format!("brush.comp:{}", format.shader_suffix()),
+            &[(BINDING_BRUSH_HEIGHTS, vk::DescriptorType::STORAGE_IMAGE)],
+            std::mem::size_of::<BrushParams>() as u32,
             "brush",
         )?;
         let level0 = heights.image.level_view(0)?;
         let pool = DescriptorPool::new(ctx, 1, 1, "brush set")?;
-        let set = pool.allocate(&layout, &[Bind::StorageImage(0, level0.raw())])?;
+        let set = pool.allocate(brush.layout(), &[Bind::StorageImage(0, level0.raw())])?;
         let editor = ElevationEditor {
             ctx: ctx.clone(),
             heights,
             pyramid,
             job,
             brush,
-            _layout: layout,
             _pool: pool,
             _level0: level0,
             set,
@@ -130,15 +120,15 @@ impl ElevationEditor {
         }));
         self.record(|rec, editor| {
             for (stroke, rect) in strokes.iter().zip(&rects) {
-                editor.brush.bind(rec, Some(editor.set));
-                editor
-                    .brush
-                    .push(rec, bytemuck::bytes_of(&brush_push(stroke, rect)))?;
-                rec.dispatch([
+                let push = brush_push(stroke, rect);
+                let groups = [
                     rect.width().div_ceil(GROUP),
                     rect.height().div_ceil(GROUP),
                     1,
-                ]);
+                ];
+                editor
+                    .brush
+                    .dispatch(rec, editor.set, bytemuck::bytes_of(&push), groups)?;
                 // Strokes may overlap: each reads what the one before wrote.
                 let compute = vk::PipelineStageFlags2::COMPUTE_SHADER;
                 memory_barrier(
@@ -242,28 +232,18 @@ impl ElevationEditor {
 }
 
 /// `brush.comp`'s push constants for `stroke` over `rect`.
-fn brush_push(stroke: &Stroke, rect: &TexelRect) -> [u32; 12] {
+fn brush_push(stroke: &Stroke, rect: &TexelRect) -> BrushParams {
     let kind = match stroke.kind {
-        BrushKind::Raise => 0.0f32,
-        BrushKind::Lower => 1.0,
-        BrushKind::Flatten => 2.0,
-        BrushKind::Crater => 3.0,
+        BrushKind::Raise => BRUSH_RAISE,
+        BrushKind::Lower => BRUSH_LOWER,
+        BrushKind::Flatten => BRUSH_FLATTEN,
+        BrushKind::Crater => BRUSH_CRATER,
         // Refused by `apply` before anything is recorded.
-        BrushKind::Paint => 4.0,
+        BrushKind::Paint => BRUSH_CRATER + 1,
     };
-    let f = |x: f32| x.to_bits();
-    [
-        f(stroke.x),
-        f(stroke.y),
-        f(stroke.radius),
-        f(stroke.strength),
-        f(stroke.target),
-        f(kind),
-        0,
-        0,
-        rect.x0,
-        rect.y0,
-        rect.width(),
-        rect.height(),
-    ]
+    BrushParams {
+        stroke: [stroke.x, stroke.y, stroke.radius, stroke.strength],
+        shape: [stroke.target, kind as f32, 0.0, 0.0],
+        region: [rect.x0, rect.y0, rect.width(), rect.height()],
+    }
 }

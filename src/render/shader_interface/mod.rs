@@ -1,0 +1,227 @@
+//! What the Rust side and the shaders must agree on — descriptor bindings, specialization-constant
+//! ids, array sizes, mode values and push-constant layouts — written once, here. build.rs compiles
+//! this module as one of its own and writes every table below, and each layout of
+//! `push_constants`, into the GLSL header "interface.glsl", which the shaders include; so the
+//! module uses nothing outside itself but `bytemuck`.
+
+/// Declares each constant as a `u32` and lists it by name in `$table`, for build.rs's header.
+macro_rules! glsl_table {
+    ($(#[$table_doc:meta])* $table:ident { $($(#[$doc:meta])* $name:ident = $value:expr;)* }) => {
+        $($(#[$doc])* pub const $name: u32 = $value;)*
+        $(#[$table_doc])*
+        // Read by build.rs; the library names the constants themselves.
+        #[allow(dead_code)]
+        pub const $table: &[(&str, u32)] = &[$((stringify!($name), $name)),*];
+    };
+}
+
+mod push_constants;
+pub use push_constants::*;
+
+glsl_table! {
+    /// Set 0 of the passes that trace (surface and trace, `shaders/include/bindings.glsl`,
+    /// `lod.glsl`), written as `#define`s so they can stand in layout qualifiers.
+    FRAME_BINDINGS {
+        /// The frame's uniform block (camera, lights).
+        BINDING_FRAME = 0;
+        /// The height field and its max pyramid, nearest texel, nearest mip.
+        BINDING_HEIGHT_POINT = 1;
+        /// The same image, bilinear.
+        BINDING_HEIGHT_LINEAR = 2;
+        /// The method's precomputed map, for the methods whose table row names one.
+        BINDING_METHOD_MAP = 3;
+        /// The averaged height pyramid of level-of-detail variants.
+        BINDING_HEIGHT_MEAN = 4;
+    }
+}
+
+glsl_table! {
+    /// Set 0 of the map searches (`cone_map.comp`,
+    /// `quadric_map.comp`, `relaxed_cone_*.comp`), as `#define`s.
+    SEARCH_BINDINGS {
+        /// Every pyramid level back to back, level 0 first.
+        BINDING_SEARCH_PYRAMID = 0;
+        /// The map being built, per texel of level 0.
+        BINDING_SEARCH_MAP = 1;
+    }
+}
+
+glsl_table! {
+    /// Set 0 of the trace pass after the frame bindings (`trace.comp`), as `#define`s.
+    TRACE_BINDINGS {
+        /// Per ray: origin, direction and hit (eight floats).
+        BINDING_TRACE_HITS = 4;
+        /// Per ray: steps used, and 1 if the method hit its cap.
+        BINDING_TRACE_STEPS = 5;
+        /// Per ray: the light's visible fraction at the hit.
+        BINDING_TRACE_VISIBLE = 6;
+    }
+}
+
+glsl_table! {
+    /// Set 0 of the pyramid reductions over images (`pyramid.comp`, `mean_pyramid.comp`), as
+    /// `#define`s.
+    PYRAMID_BINDINGS {
+        /// The finer level, read.
+        BINDING_PYRAMID_FINE = 0;
+        /// The level written.
+        BINDING_PYRAMID_COARSE = 1;
+    }
+}
+
+glsl_table! {
+    /// Set 0 of the AO map kernels (`shaders/include/ao.glsl`, `ao_sweep.comp`), as `#define`s.
+    AO_BINDINGS {
+        /// The height image (and, for the horizon kernel, its max pyramid in the mips).
+        BINDING_AO_HEIGHTS = 0;
+        /// The AO map, written as r32f.
+        BINDING_AO_MAP = 1;
+        /// The exact sweep: per line, its hull ring and walk state.
+        BINDING_AO_HULLS = 2;
+        /// The exact sweep: per texel, the weighted occlusion summed so far.
+        BINDING_AO_ACCUM = 3;
+        /// The exact sweep: level 0 of the heights, unpacked.
+        BINDING_AO_FIELD = 4;
+        /// The exact sweep: each azimuth's grid-line crossings.
+        BINDING_AO_CROSSINGS = 5;
+    }
+}
+
+glsl_table! {
+    /// Set 0 of the terrain kernels (`brush.comp`, `blended_pyramid.comp`), as `#define`s.
+    TERRAIN_BINDINGS {
+        /// `brush.comp`: level 0 of the elevation, read and written.
+        BINDING_BRUSH_HEIGHTS = 0;
+        /// `blended_pyramid.comp`: the layers' max pyramids, one layer per channel.
+        BINDING_BLEND_LAYER_HEIGHTS = 0;
+        /// `blended_pyramid.comp`: the weights' max pyramids.
+        BINDING_BLEND_LAYER_WEIGHTS = 1;
+        /// `blended_pyramid.comp`: the level of the blended pyramid written.
+        BINDING_BLEND_OUT = 2;
+        /// `blended_pyramid.comp`: the max pyramid of 1 - min(sum of weights, 1).
+        BINDING_BLEND_SLACK = 3;
+    }
+}
+
+glsl_table! {
+    /// Mode values the map and AO kernels branch on per dispatch (`params.mode`), as `#define`s.
+    MODES {
+        /// `cone_map.comp`, `quadric_map.comp`: one level of the max pyramid from the level below.
+        MODE_REDUCE = 0;
+        /// `cone_map.comp`, `quadric_map.comp`: the per-texel search of rows from `row0`.
+        MODE_SEARCH = 1;
+        /// `ao_sweep.comp`: one chunk of one azimuth's line walks.
+        MODE_SWEEP = 0;
+        /// `ao_sweep.comp`: the sums turned into the map.
+        MODE_RESOLVE = 1;
+        /// `ao_sweep.comp`: level 0 of the heights unpacked for the walks.
+        MODE_UNPACK = 2;
+    }
+}
+
+glsl_table! {
+    /// Mode values the terrain kernels branch on per dispatch, as `#define`s.
+    TERRAIN_MODES {
+        /// `brush.comp`'s kind: raise, lower, flatten, crater (`BrushKind`).
+        BRUSH_RAISE = 0;
+        BRUSH_LOWER = 1;
+        BRUSH_FLATTEN = 2;
+        BRUSH_CRATER = 3;
+        /// `blended_pyramid.comp`'s blend mode (`BlendMode`).
+        BLEND_ALPHA = 0;
+        BLEND_HEIGHT = 1;
+        BLEND_HEIGHT_INTERSECT = 2;
+    }
+}
+
+glsl_table! {
+    /// Specialization-constant ids, as `#define`s. The trace and surface passes share the budget
+    /// and shadow ids; the level-of-detail ids start at 20 to keep clear of them.
+    SPEC_IDS {
+        /// The iteration cap.
+        SPEC_BUDGET_MAX_STEPS = 0;
+        /// Refinement steps after the search.
+        SPEC_BUDGET_REFINE_STEPS = 1;
+        /// 1: methods with a leaf stage finish on the exact bilinear patch.
+        SPEC_BUDGET_LEAF_EXACT = 2;
+        /// Nonzero: each ray's cap grows with the texels it crosses, up to this.
+        SPEC_BUDGET_EXTENT_LIMIT = 3;
+        /// `ShadowMode::shader_value`.
+        SPEC_SHADOW_MODE = 8;
+        /// Shadow samples or the shadow walk's iteration cap.
+        SPEC_SHADOW_STEPS = 9;
+        /// How far the horizon shadow's samples reach.
+        SPEC_SHADOW_REACH = 10;
+        /// How far a hard shadow's first hit must lie from the shaded point, in texels.
+        SPEC_HARD_SHADOW_TEXELS = 11;
+        /// Level of detail: the stop level's scale with distance.
+        SPEC_LOD_FACTOR = 20;
+        /// Level of detail: added to the stop level.
+        SPEC_LOD_BIAS = 21;
+        /// Level of detail: where the fade to normal mapping starts.
+        SPEC_LOD_FADE_START = 22;
+        /// Level of detail: where it ends.
+        SPEC_LOD_FADE_END = 23;
+        /// Level of detail: below this many samples a linear search averages.
+        SPEC_LOD_AVERAGE_BELOW = 24;
+    }
+}
+
+glsl_table! {
+    /// Array sizes, as `#define`s.
+    SIZES {
+        /// Punctual lights in the frame's uniform block.
+        MAX_LIGHTS = 8;
+        /// Pyramid levels the map searches' push constants hold offsets for.
+        MAX_LEVELS = 15;
+        /// The horizon AO's cap on samples per azimuth.
+        AO_HORIZON_MAX_SAMPLES = 64;
+        /// The exact AO sweep's hull entries per line, a power of two: a fuller stack forgets
+        /// its oldest, farthest entry.
+        AO_HULL_CAPACITY = 128;
+        /// The exact AO sweep's slots of 16 bytes per line after its hull ring: the walk's state
+        /// between dispatches.
+        AO_STATE_SLOTS = 2;
+    }
+}
+
+/// The tables written as `#define NAME value`, for layout qualifiers and array sizes.
+#[allow(dead_code)] // Read by build.rs.
+pub const GLSL_DEFINES: &[&[(&str, u32)]] = &[
+    FRAME_BINDINGS,
+    SEARCH_BINDINGS,
+    TRACE_BINDINGS,
+    PYRAMID_BINDINGS,
+    AO_BINDINGS,
+    TERRAIN_BINDINGS,
+    TERRAIN_MODES,
+    MODES,
+    SPEC_IDS,
+    SIZES,
+];
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_name_in_the_header_is_declared_once() {
+        let mut names: Vec<&str> = GLSL_DEFINES
+            .iter()
+            .flat_map(|table| table.iter().map(|&(name, _)| name))
+            .collect();
+        let all = names.len();
+        names.sort_unstable();
+        names.dedup();
+        assert_eq!(names.len(), all);
+    }
+
+    #[test]
+    fn ids_in_one_pipeline_do_not_collide() {
+        let mut traced: Vec<u32> = SPEC_IDS.iter().map(|&(_, id)| id).collect();
+        let all = traced.len();
+        traced.sort_unstable();
+        traced.dedup();
+        assert_eq!(traced.len(), all);
+    }
+}
