@@ -51,6 +51,7 @@ impl Context {
             .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
         // SAFETY: freshly allocated command buffer.
         unsafe { device.begin_command_buffer(cmd, &begin) }.named("vkBeginCommandBuffer")?;
+        let open = self.open_recording();
         let value = record(&Recording::new(device, cmd))?;
         // SAFETY: recording was begun above.
         unsafe { device.end_command_buffer(cmd) }.named("vkEndCommandBuffer")?;
@@ -58,26 +59,15 @@ impl Context {
         let fence = unsafe { device.create_fence(&vk::FenceCreateInfo::default(), None) }
             .named("vkCreateFence")?;
         self.count(Created::Fence);
-        let waited = self
-            .submit(cmd, fence)
-            .and_then(|_| self.wait_fence(fence, "a one-shot submission"));
+        let submitted = self.submit_tracked(cmd, &[], &[], fence);
+        drop(open);
+        let waited = submitted.and_then(|_| self.wait_fence(fence, "a one-shot submission"));
+        self.retire();
         if !matches!(waited, Err(VkError::Hang { .. })) {
             // SAFETY: the fence is signalled or was never submitted.
             unsafe { device.destroy_fence(fence, None) };
         }
         waited.map(|_| value)
-    }
-
-    fn submit(&self, cmd: vk::CommandBuffer, fence: vk::Fence) -> VkResult<()> {
-        let cmds = [cmd];
-        let submit = vk::SubmitInfo::default().command_buffers(&cmds);
-        let queue = self
-            .queue()
-            .lock()
-            .map_err(|_| VkError::Invalid("queue lock poisoned".into()))?;
-        // SAFETY: the command buffer is fully recorded; the queue is externally synchronised by
-        // the lock.
-        unsafe { self.device().queue_submit(*queue, &[submit], fence) }.named("vkQueueSubmit")
     }
 }
 

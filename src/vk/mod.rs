@@ -9,6 +9,7 @@ mod command_slot;
 mod commands;
 mod context;
 mod counters;
+mod deferred;
 mod descriptors;
 mod error;
 mod fence;
