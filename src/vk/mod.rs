@@ -34,7 +34,7 @@ pub use counters::ObjectCounts;
 pub use descriptors::{Bind, DescriptorLayout, DescriptorPool, DescriptorSet};
 pub use error::{VkError, VkResult};
 pub use fence::{gpu_timeout_from, DEFAULT_GPU_TIMEOUT, GPU_TIMEOUT_ENV};
-pub use image::{Image, ImageDesc, ImageView, Sampler};
+pub use image::{Image, ImageDesc, ImageView, Sampler, WholeImage};
 pub use instance::{MessageCounts, Validation};
 pub use physical::{list_devices, DeviceInfo};
 pub use pipeline::{compute_pipeline, graphics_pipeline, GraphicsDesc, Pipeline, SpecConstants};
@@ -46,7 +46,7 @@ pub use readback::{host_read_barrier, Readback};
 pub use recording::Recording;
 pub use semaphore::Semaphore;
 pub use surface::WindowHandles;
-pub use swapchain::{Acquired, PresentMode, Swapchain, SwapchainLost};
+pub use swapchain::{Acquired, PresentMode, Swapchain, SwapchainImage, SwapchainLost};
 pub use transfer::{
     read_mip, record_copy_regions, texel_size, upload_layers, upload_mips, RegionTexels,
     StagedRegions,

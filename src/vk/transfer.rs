@@ -23,6 +23,7 @@ pub fn texel_size(format: vk::Format) -> VkResult<usize> {
         vk::Format::R32_SFLOAT
         | vk::Format::R8G8B8A8_UNORM
         | vk::Format::R8G8B8A8_SRGB
+        | vk::Format::B8G8R8A8_UNORM
         | vk::Format::B8G8R8A8_SRGB => 4,
         vk::Format::R16G16B16A16_SFLOAT
         | vk::Format::R16G16B16A16_UNORM
@@ -188,7 +189,7 @@ pub fn read_mip(
                 height: h,
                 depth: 1,
             });
-        readback.record_copy_from_image(rec, image, region);
+        readback.record_copy_from_image(rec, image, region)?;
         transition_images(rec, &[all_mips(image, src, layout)]);
         Ok(())
     })?;

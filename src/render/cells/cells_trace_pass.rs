@@ -71,11 +71,11 @@ impl ComplexBuffers {
     }
 
     /// Their bindings, 0 to 2.
-    pub(in crate::render) fn binds(&self) -> [Bind; 3] {
+    pub(in crate::render) fn binds(&self) -> [Bind<'_>; 3] {
         [
-            Bind::Storage(0, self.cells.raw()),
-            Bind::Storage(1, self.grey.raw()),
-            Bind::Storage(2, self.maps.raw()),
+            Bind::Storage(0, &self.cells),
+            Bind::Storage(1, &self.grey),
+            Bind::Storage(2, &self.maps),
         ]
     }
 
@@ -123,9 +123,11 @@ pub fn march_cells_on_gpu(
         "cell hits",
     )?;
     let mut binds = arrays.binds().to_vec();
-    binds.push(Bind::Storage(3, ray_buffer.raw()));
-    binds.push(Bind::Storage(4, hits.raw()));
-    search.set.rewrite(ctx, &binds);
+    binds.push(Bind::Storage(3, &ray_buffer));
+    binds.push(Bind::Storage(4, &hits));
+    // SAFETY: every submission that bound the set was a one-shot (warm-ups and timed
+    // submissions), and one-shots return only once their work has finished.
+    unsafe { search.set.rewrite(&binds) };
     let params = Params {
         origin_size: [
             complex.origin[0],
@@ -143,10 +145,15 @@ pub fn march_cells_on_gpu(
         ray_count: 0,
         ..params
     };
-    warm_up(ctx, &search.pipeline, search.set, bytemuck::bytes_of(&idle))?;
+    warm_up(
+        ctx,
+        &search.pipeline,
+        &search.set,
+        bytemuck::bytes_of(&idle),
+    )?;
     let mut timed = TimedSubmissions::new(ctx, 1, "cells trace")?;
     timed.submit(ctx, |rec| {
-        search.pipeline.bind(rec, Some(search.set));
+        search.pipeline.bind(rec, Some(&search.set));
         search.pipeline.push(rec, bytemuck::bytes_of(&params))?;
         rec.dispatch([(rays.len() as u32).div_ceil(GROUP).max(1), 1, 1]);
         Ok(())

@@ -253,7 +253,7 @@ impl SurfacePass {
         };
         let plain_sets = plain_uniforms
             .iter()
-            .map(|b| frame_pool.allocate(&layouts.plain, &[Bind::Uniform(0, b.raw())]))
+            .map(|b| frame_pool.allocate(&layouts.plain, &[Bind::Uniform(0, &b)]))
             .collect::<VkResult<Vec<_>>>()?;
         let pipelines = plan
             .pipelines
@@ -266,10 +266,10 @@ impl SurfacePass {
                     Some(_) => &layouts.heights,
                 };
                 if key.layers {
-                    let sets = [set0.raw(), material_layout.raw(), layer_layout.raw()];
+                    let sets = [set0, &material_layout, &layer_layout];
                     create_pipeline(ctx, key, &sets)
                 } else {
-                    create_pipeline(ctx, key, &[set0.raw(), material_layout.raw()])
+                    create_pipeline(ctx, key, &[set0, &material_layout])
                 }
             })
             .collect::<VkResult<Vec<_>>>()?;
@@ -370,7 +370,7 @@ impl SurfacePass {
 
     /// Set 0 without heights for frame slot `slot` (none when nothing reads it).
     pub fn plain_set(&self, slot: usize) -> Option<DescriptorSet> {
-        self.plain_sets.get(slot).copied()
+        self.plain_sets.get(slot).cloned()
     }
 
     /// The set of material `index`, if a draw of the plan reads it.
@@ -410,10 +410,10 @@ impl SurfacePass {
         order.extend(blended);
         for draw in order {
             let pipeline = &self.pipelines[draw.pipeline];
-            let set = draw.frame_sets[slot.min(draw.frame_sets.len() - 1)];
+            let set = &draw.frame_sets[slot.min(draw.frame_sets.len() - 1)];
             pipeline.bind(rec, Some(set));
-            pipeline.bind_set(rec, 1, draw.material_set);
-            if let Some(layers) = draw.layer_set {
+            pipeline.bind_set(rec, 1, &draw.material_set);
+            if let Some(layers) = &draw.layer_set {
                 pipeline.bind_set(rec, 2, layers);
             }
             pipeline.push(rec, bytemuck::bytes_of(&draw.push))?;
@@ -453,7 +453,7 @@ fn mesh_bounds(vertices: &[Vertex]) -> (Vec3, Vec3) {
 fn create_pipeline(
     ctx: &Arc<Context>,
     key: &PipelineKey,
-    set_layouts: &[vk::DescriptorSetLayout],
+    set_layouts: &[&DescriptorLayout],
 ) -> VkResult<Pipeline> {
     let missing = |k: &str| VkError::Invalid(format!("no compiled shader {k}"));
     let vs = shaders::spirv("mesh.vert").ok_or_else(|| missing("mesh.vert"))?;

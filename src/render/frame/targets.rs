@@ -112,10 +112,10 @@ impl Targets {
 
     /// Ends rendering and, if `readback` is given, copies the colour image into it and makes the
     /// copy visible to the host.
-    pub fn end(&self, rec: &Recording, readback: Option<&Readback>) {
+    pub fn end(&self, rec: &Recording, readback: Option<&Readback>) -> VkResult<()> {
         rec.end_rendering();
         let Some(buffer) = readback else {
-            return;
+            return Ok(());
         };
         transition_images(
             rec,
@@ -138,6 +138,6 @@ impl Targets {
         );
         let desc = self.color.desc();
         let region = whole_color_region(desc.width, desc.height);
-        buffer.record_copy_from_image(rec, &self.color, region);
+        buffer.record_copy_from_image(rec, &self.color, region)
     }
 }

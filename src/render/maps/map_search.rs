@@ -68,7 +68,7 @@ impl SearchPipeline {
         let pipeline = compute_pipeline(
             ctx,
             spirv,
-            &[layout.raw()],
+            &[&layout],
             push,
             &SpecConstants::default(),
             name,
@@ -97,7 +97,7 @@ impl SearchPipeline {
     ) -> VkResult<Pipeline> {
         let spirv =
             shaders::spirv(key).ok_or_else(|| VkError::Invalid(format!("no shader {key}")))?;
-        compute_pipeline(ctx, spirv, &[self.layout.raw()], push, spec, name)
+        compute_pipeline(ctx, spirv, &[&self.layout], push, spec, name)
     }
 
     /// Builds a map of `channels` floats per texel from `level0` (`w` x `h`) with the push
@@ -112,7 +112,7 @@ impl SearchPipeline {
     ) -> VkResult<(MapData, f64)> {
         let search = MapSearch {
             pipeline: &self.pipeline,
-            set: self.set,
+            set: self.set.clone(),
             channels,
             name,
             params,
@@ -216,18 +216,20 @@ impl<P: bytemuck::Pod> MapSearch<'_, P> {
             self.name,
         )?;
         let back = Readback::new(ctx, bytes, &format!("{} readback", self.name))?;
-        self.set.rewrite(
-            ctx,
-            &[Bind::Storage(0, pyramid.raw()), Bind::Storage(1, out.raw())],
-        );
+        // SAFETY: every submission that bound the set was a one-shot (warm-ups and timed
+        // submissions), and one-shots return only once their work has finished.
+        unsafe {
+            self.set
+                .rewrite(&[Bind::Storage(0, &pyramid), Bind::Storage(1, &out)])
+        };
         let past_end = (self.params)(MODE_SEARCH, 0, h);
-        warm_up(ctx, self.pipeline, self.set, bytemuck::bytes_of(&past_end))?;
+        warm_up(ctx, self.pipeline, &self.set, bytemuck::bytes_of(&past_end))?;
         let chunks = row_chunks(w, h);
         let mut timed = TimedSubmissions::new(ctx, 1 + chunks.len() as u32, self.name)?;
         timed.submit(ctx, |rec| {
             rec.copy_buffer(&staging, &pyramid);
             memory_barrier(rec, COPIED, COMPUTE_RW);
-            self.pipeline.bind(rec, Some(self.set));
+            self.pipeline.bind(rec, Some(&self.set));
             record_reductions(rec, self.pipeline, w, h, |level| {
                 (self.params)(MODE_REDUCE, level, 0)
             })
@@ -245,7 +247,7 @@ impl<P: bytemuck::Pod> MapSearch<'_, P> {
     fn record_rows(&self, rec: &Recording, w: u32, row0: u32, count: u32) -> VkResult<()> {
         let params = (self.params)(MODE_SEARCH, 0, row0);
         let push = bytemuck::bytes_of(&params);
-        record_row_dispatch(rec, self.pipeline, self.set, push, w, count)
+        record_row_dispatch(rec, self.pipeline, &self.set, push, w, count)
     }
 }
 
@@ -255,7 +257,7 @@ impl<P: bytemuck::Pod> MapSearch<'_, P> {
 pub(in crate::render) fn record_row_dispatch(
     rec: &Recording,
     pipeline: &Pipeline,
-    set: DescriptorSet,
+    set: &DescriptorSet,
     push: &[u8],
     w: u32,
     count: u32,
@@ -275,7 +277,7 @@ pub(in crate::render) fn record_row_dispatch(
 pub(in crate::render) fn warm_up(
     ctx: &Arc<Context>,
     pipeline: &Pipeline,
-    set: DescriptorSet,
+    set: &DescriptorSet,
     push: &[u8],
 ) -> VkResult<()> {
     ctx.one_shot(|rec| {

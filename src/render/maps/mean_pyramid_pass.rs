@@ -65,7 +65,7 @@ impl MeanPyramid {
         let pipeline = compute_pipeline(
             ctx,
             spirv,
-            &[layout.raw()],
+            &[&layout],
             0,
             &SpecConstants::default(),
             "averaged pyramid",
@@ -79,8 +79,8 @@ impl MeanPyramid {
             .windows(2)
             .map(|pair| {
                 let binds = [
-                    Bind::StorageImage(0, pair[0].raw()),
-                    Bind::StorageImage(1, pair[1].raw()),
+                    Bind::StorageImage(0, &pair[0]),
+                    Bind::StorageImage(1, &pair[1]),
                 ];
                 pool.allocate(&layout, &binds)
             })
@@ -96,7 +96,7 @@ impl MeanPyramid {
     }
 
     /// The view of every level, for sampling once built.
-    pub fn view(&self) -> vk::ImageView {
+    pub fn view(&self) -> &ImageView {
         self.image.view()
     }
 
@@ -110,7 +110,7 @@ impl MeanPyramid {
             vk::PipelineStageFlags2::COMPUTE_SHADER,
             vk::AccessFlags2::SHADER_STORAGE_READ,
         );
-        for (k, &set) in self.sets.iter().enumerate() {
+        for (k, set) in self.sets.iter().enumerate() {
             let (w, h) = self.image.level_extent(k as u32 + 1);
             self.pipeline.bind(rec, Some(set));
             rec.dispatch([w.div_ceil(GROUP), h.div_ceil(GROUP), 1]);

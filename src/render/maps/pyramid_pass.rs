@@ -87,7 +87,7 @@ impl PyramidPass {
         let pipeline = compute_pipeline(
             ctx,
             spirv,
-            &[layout.raw()],
+            &[&layout],
             32,
             &SpecConstants::default(),
             "pyramid",
@@ -118,8 +118,8 @@ impl PyramidPass {
                 pool.allocate(
                     &self.layout,
                     &[
-                        Bind::StorageImage(0, pair[0].raw()),
-                        Bind::StorageImage(1, pair[1].raw()),
+                        Bind::StorageImage(0, &pair[0]),
+                        Bind::StorageImage(1, &pair[1]),
                     ],
                 )
             })
@@ -173,7 +173,7 @@ impl PyramidPass {
             vk::PipelineStageFlags2::COMPUTE_SHADER,
             vk::AccessFlags2::SHADER_STORAGE_READ,
         );
-        for (k, (&set, level)) in job.sets.iter().zip(regions).enumerate() {
+        for (k, (set, level)) in job.sets.iter().zip(regions).enumerate() {
             self.pipeline.bind(rec, Some(set));
             let widen = u32::from(k == 0);
             let wrap = u32::from(address == Address::Repeat);

@@ -133,20 +133,21 @@ impl RelaxedConeMapPass {
             ..base
         };
         let buffers = Buffers::new(&self.ctx, bound.data(), nodes)?;
-        self.search.set.rewrite(
-            &self.ctx,
-            &[
-                Bind::Storage(0, buffers.nodes.raw()),
-                Bind::Storage(1, buffers.map.raw()),
-            ],
-        );
-        let set = Some(self.search.set);
+        // SAFETY: every submission that bound the set was a one-shot (warm-ups and timed
+        // submissions), and one-shots return only once their work has finished.
+        unsafe {
+            self.search.set.rewrite(&[
+                Bind::Storage(0, &buffers.nodes),
+                Bind::Storage(1, &buffers.map),
+            ])
+        };
+        let set = Some(&self.search.set);
         for (pipeline, mode) in [(&self.reach, MODE_REACH), (&self.relaxed, MODE_RELAXED)] {
             let past_end = params(mode, 0, h);
             warm_up(
                 &self.ctx,
                 pipeline,
-                self.search.set,
+                &self.search.set,
                 bytemuck::bytes_of(&past_end),
             )?;
         }
@@ -170,7 +171,7 @@ impl RelaxedConeMapPass {
             record_row_dispatch(
                 rec,
                 pipeline,
-                self.search.set,
+                &self.search.set,
                 bytemuck::bytes_of(&push),
                 w,
                 count,

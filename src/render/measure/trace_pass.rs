@@ -249,9 +249,9 @@ fn trace_with(
     let pool = DescriptorPool::new(ctx, 1, 3, "trace sets")?;
     let mut binds = res.binds();
     binds.extend([
-        Bind::Storage(4, targets.hits.raw()),
-        Bind::Storage(5, targets.steps.raw()),
-        Bind::Storage(6, targets.visible.raw()),
+        Bind::Storage(4, &targets.hits),
+        Bind::Storage(5, &targets.steps),
+        Bind::Storage(6, &targets.visible),
     ]);
     let set = pool.allocate(&layout, &binds)?;
     let spec = SpecConstants::default()
@@ -275,7 +275,7 @@ fn trace_with(
         light,
     };
     let push = std::mem::size_of::<TraceParams>() as u32;
-    let pipeline = compute_pipeline(ctx, spirv, &[layout.raw()], push, &spec, &key)?;
+    let pipeline = compute_pipeline(ctx, spirv, &[&layout], push, &spec, &key)?;
     let timestamps = TimestampPool::new(ctx, 2 * frames, "trace timestamps")?;
     let full = (
         all_stages(),
@@ -284,7 +284,7 @@ fn trace_with(
     let all = vk::PipelineStageFlags2::ALL_COMMANDS;
     ctx.one_shot(|rec| {
         res.record_pyramid(rec)?;
-        pipeline.bind(rec, Some(set));
+        pipeline.bind(rec, Some(&set));
         pipeline.push(rec, bytemuck::bytes_of(&params))?;
         for frame in 0..warmup + frames {
             let timed = frame.checked_sub(warmup);

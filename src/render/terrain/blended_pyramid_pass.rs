@@ -232,7 +232,7 @@ impl BlendedPyramid {
         let pipeline = compute_pipeline(
             ctx,
             spirv,
-            &[layout.raw()],
+            &[&layout],
             32,
             &SpecConstants::default(),
             "blended pyramid",
@@ -253,10 +253,10 @@ impl BlendedPyramid {
                 pool.allocate(
                     &layout,
                     &[
-                        Bind::Texture(0, heights.view(), texels.raw()),
-                        Bind::Texture(1, weights.view(), texels.raw()),
-                        Bind::StorageImage(2, view.raw()),
-                        Bind::Texture(3, slack.view(), texels.raw()),
+                        Bind::Texture(0, heights.view(), &texels),
+                        Bind::Texture(1, weights.view(), &texels),
+                        Bind::StorageImage(2, &view),
+                        Bind::Texture(3, slack.view(), &texels),
                     ],
                 )
             })
@@ -436,7 +436,7 @@ impl BlendedPyramid {
             )],
         );
         let unorm = self.format == HeightFormat::R16Unorm;
-        for (level, (&set, level_regions)) in self.sets.iter().zip(regions).enumerate() {
+        for (level, (set, level_regions)) in self.sets.iter().zip(regions).enumerate() {
             self.pipeline.bind(rec, Some(set));
             for &region in level_regions {
                 let push = blend_push(self.mode, level as u32, unorm, region);

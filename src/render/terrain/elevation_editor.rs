@@ -75,14 +75,14 @@ impl ElevationEditor {
         let brush = compute_pipeline(
             ctx,
             spirv,
-            &[layout.raw()],
+            &[&layout],
             48,
             &SpecConstants::default(),
             "brush",
         )?;
         let level0 = heights.image.level_view(0)?;
         let pool = DescriptorPool::new(ctx, 1, 1, "brush set")?;
-        let set = pool.allocate(&layout, &[Bind::StorageImage(0, level0.raw())])?;
+        let set = pool.allocate(&layout, &[Bind::StorageImage(0, &level0)])?;
         let editor = ElevationEditor {
             ctx: ctx.clone(),
             heights,
@@ -130,7 +130,7 @@ impl ElevationEditor {
         }));
         self.record(|rec, editor| {
             for (stroke, rect) in strokes.iter().zip(&rects) {
-                editor.brush.bind(rec, Some(editor.set));
+                editor.brush.bind(rec, Some(&editor.set));
                 editor
                     .brush
                     .push(rec, bytemuck::bytes_of(&brush_push(stroke, rect)))?;
@@ -208,7 +208,9 @@ impl ElevationEditor {
         let levels = self.heights.levels();
         let editor = &*self;
         // The last call's timestamps were read; the queries must be reset before they are reused.
-        editor.timestamps.reset();
+        // SAFETY: the pool is written only by this function's one-shots, which have returned, so
+        // their work has finished.
+        unsafe { editor.timestamps.reset() };
         editor.ctx.one_shot(|rec| {
             editor.timestamps.write(rec, all, 0)?;
             transition_images(
