@@ -142,7 +142,7 @@ impl Presenter {
             signal: Some(chain.filled(acquired.index)),
         };
         slot.commands.submit_synced(sync, |rec| {
-            to_transfer(rec, color.raw(), target.raw());
+            to_transfer(rec, color, &target);
             rec.blit_whole(color, &target);
             finish_image(rec, target, extent, readback)
         })?;
@@ -172,7 +172,7 @@ impl Presenter {
 }
 
 /// The colour target from drawing to blit source, the acquired image from nothing to blit target.
-fn to_transfer(rec: &Recording, color: vk::Image, target: vk::Image) {
+fn to_transfer(rec: &Recording, color: &Image, target: &SwapchainImage) {
     let blit = vk::PipelineStageFlags2::BLIT;
     transition_images(
         rec,
@@ -223,10 +223,7 @@ fn finish_image(
         vk::AccessFlags2::NONE,
     );
     let step = |layouts, src, dst| {
-        transition_images(
-            rec,
-            &[ImageTransition::color(target.raw(), layouts, src, dst)],
-        );
+        transition_images(rec, &[ImageTransition::color(&target, layouts, src, dst)]);
     };
     let Some(buffer) = readback else {
         step(

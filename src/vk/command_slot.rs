@@ -77,7 +77,8 @@ impl CommandSlot {
         if !self.in_flight {
             return Ok(());
         }
-        self.ctx.wait_fence(self.fence, &self.name)?;
+        // SAFETY: the slot's own fence, alive until the slot drops.
+        unsafe { self.ctx.wait_fence(self.fence, &self.name) }?;
         // SAFETY: the fence is signalled and no submission waits on it.
         unsafe { self.ctx.device().reset_fences(&[self.fence]) }.named("vkResetFences")?;
         self.in_flight = false;

@@ -357,7 +357,7 @@ impl Context {
     }
 
     /// Gives a Vulkan object a debug name, so validation messages say what they are about.
-    pub fn set_name<H: vk::Handle>(&self, handle: H, name: &str) {
+    pub(crate) fn set_name<H: vk::Handle>(&self, handle: H, name: &str) {
         let Some(debug) = &self.debug_device else {
             return;
         };

@@ -132,8 +132,8 @@ impl Image {
         Ok(view)
     }
 
-    /// The raw handle, for layout transitions ([`ImageTransition`](super::ImageTransition)).
-    pub fn raw(&self) -> vk::Image {
+    /// The raw handle, for the vk layer's own commands.
+    pub(crate) fn raw(&self) -> vk::Image {
         self.inner.raw
     }
 

@@ -30,7 +30,7 @@ impl Semaphore {
     }
 
     /// The raw handle, for submissions and presentation.
-    pub fn raw(&self) -> vk::Semaphore {
+    pub(crate) fn raw(&self) -> vk::Semaphore {
         self.raw
     }
 }

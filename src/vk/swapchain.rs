@@ -23,13 +23,6 @@ pub struct SwapchainImage<'s> {
     _chain: PhantomData<&'s Swapchain>,
 }
 
-impl SwapchainImage<'_> {
-    /// The raw handle, for layout transitions ([`ImageTransition`](super::ImageTransition)).
-    pub fn raw(&self) -> vk::Image {
-        self.raw
-    }
-}
-
 impl sealed::Sealed for SwapchainImage<'_> {}
 
 impl WholeImage for SwapchainImage<'_> {

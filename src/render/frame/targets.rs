@@ -80,7 +80,7 @@ impl Targets {
             rec,
             &[
                 ImageTransition {
-                    image: self.color.raw(),
+                    image: &self.color,
                     aspect: vk::ImageAspectFlags::COLOR,
                     base_mip: 0,
                     mip_count: 1,
@@ -93,7 +93,7 @@ impl Targets {
                     ),
                 },
                 ImageTransition {
-                    image: self.depth.raw(),
+                    image: &self.depth,
                     aspect: vk::ImageAspectFlags::DEPTH,
                     base_mip: 0,
                     mip_count: 1,
@@ -120,7 +120,7 @@ impl Targets {
         transition_images(
             rec,
             &[ImageTransition {
-                image: self.color.raw(),
+                image: &self.color,
                 aspect: vk::ImageAspectFlags::COLOR,
                 base_mip: 0,
                 mip_count: 1,

@@ -690,8 +690,5 @@ fn transition_map(rec: &Recording, image: &Image, step: MapStep) {
             readers,
         ),
     };
-    transition_images(
-        rec,
-        &[ImageTransition::color(image.raw(), (old, new), src, dst)],
-    );
+    transition_images(rec, &[ImageTransition::color(image, (old, new), src, dst)]);
 }

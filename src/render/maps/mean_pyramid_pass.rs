@@ -119,7 +119,7 @@ impl MeanPyramid {
         transition_images(
             rec,
             &[ImageTransition {
-                image: self.image.raw(),
+                image: &self.image,
                 aspect: vk::ImageAspectFlags::COLOR,
                 base_mip: 0,
                 mip_count: self.image.desc().mip_levels,

@@ -189,7 +189,7 @@ impl PyramidPass {
         transition_images(
             rec,
             &[ImageTransition {
-                image: image.raw(),
+                image,
                 aspect: vk::ImageAspectFlags::COLOR,
                 base_mip: 0,
                 mip_count: image.desc().mip_levels,

@@ -350,8 +350,8 @@ impl BlendedPyramid {
     ) -> VkResult<Vec<Vec<Region>>> {
         let compute = vk::PipelineStageFlags2::COMPUTE_SHADER;
         let rw = vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE;
-        let to_general = |image: &Image| ImageTransition {
-            image: image.raw(),
+        let to_general: &dyn Fn(&Image) -> ImageTransition<'_> = &|image| ImageTransition {
+            image,
             aspect: vk::ImageAspectFlags::COLOR,
             base_mip: 0,
             mip_count: image.desc().mip_levels,
@@ -367,8 +367,8 @@ impl BlendedPyramid {
             ),
         };
         transition_images(rec, &[to_general(&self.weights), to_general(&self.slack)]);
-        staged[0].record(rec, &self.weights, vk::ImageLayout::GENERAL);
-        staged[1].record(rec, &self.slack, vk::ImageLayout::GENERAL);
+        staged[0].record(rec, &self.weights, vk::ImageLayout::GENERAL)?;
+        staged[1].record(rec, &self.slack, vk::ImageLayout::GENERAL)?;
         memory_barrier(
             rec,
             (
@@ -408,7 +408,7 @@ impl BlendedPyramid {
         let compute = vk::PipelineStageFlags2::COMPUTE_SHADER;
         let levels = self.blended.desc().mip_levels;
         let whole = |old, new, src, dst| ImageTransition {
-            image: self.blended.raw(),
+            image: &self.blended,
             aspect: vk::ImageAspectFlags::COLOR,
             base_mip: 0,
             mip_count: levels,

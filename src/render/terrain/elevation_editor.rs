@@ -216,7 +216,7 @@ impl ElevationEditor {
             transition_images(
                 rec,
                 &[ImageTransition {
-                    image: editor.heights.image.raw(),
+                    image: &editor.heights.image,
                     aspect: vk::ImageAspectFlags::COLOR,
                     base_mip: 0,
                     mip_count: levels,
