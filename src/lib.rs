@@ -5,6 +5,7 @@
 //! paper 002) and [`scene`] (glTF to plain data) know nothing of Vulkan; [`vk`] knows nothing of relief; [`render`] joins them; [`view`] puts the
 //! renderer in a window.
 #![deny(unsafe_op_in_unsafe_fn)]
+#![deny(clippy::undocumented_unsafe_blocks)]
 
 pub mod bench;
 pub mod cells;

@@ -1,5 +1,6 @@
 //! Failures below `relief::vk` end in errors that say what happened: a GPU that does not finish
 //! in time, memory that cannot be had (with the allocator's own reason and the buffer's name).
+#![deny(clippy::undocumented_unsafe_blocks)]
 
 mod common;
 

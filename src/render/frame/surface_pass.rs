@@ -253,7 +253,7 @@ impl SurfacePass {
         };
         let plain_sets = plain_uniforms
             .iter()
-            .map(|b| frame_pool.allocate(&layouts.plain, &[Bind::Uniform(0, &b)]))
+            .map(|b| frame_pool.allocate(&layouts.plain, &[Bind::Uniform(0, b)]))
             .collect::<VkResult<Vec<_>>>()?;
         let pipelines = plan
             .pipelines

@@ -255,7 +255,7 @@ impl BlendedPyramid {
                     &[
                         Bind::Texture(0, heights.view(), &texels),
                         Bind::Texture(1, weights.view(), &texels),
-                        Bind::StorageImage(2, &view),
+                        Bind::StorageImage(2, view),
                         Bind::Texture(3, slack.view(), &texels),
                     ],
                 )
