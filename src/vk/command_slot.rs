@@ -17,7 +17,9 @@ use super::semaphore::Semaphore;
 /// finish: a swapchain image's acquisition and its presentation.
 #[derive(Clone, Copy, Default)]
 pub struct SubmitSync<'a> {
+    /// A semaphore to wait for, and the stage that waits.
     pub wait: Option<(&'a Semaphore, vk::PipelineStageFlags)>,
+    /// A semaphore to signal once the commands finish.
     pub signal: Option<&'a Semaphore>,
 }
 

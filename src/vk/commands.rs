@@ -78,12 +78,23 @@ impl Context {
 /// The image is one of this layer's ([`Image`](super::Image) or
 /// [`SwapchainImage`](super::SwapchainImage)), never a raw handle:
 ///
-/// ```compile_fail
+/// ```compile_fail,E0277
 /// use relief::vk::{raw, ImageTransition};
 /// fn forge() -> ImageTransition<'static> {
 ///     let none = (raw::PipelineStageFlags2::NONE, raw::AccessFlags2::NONE);
 ///     let layouts = (raw::ImageLayout::UNDEFINED, raw::ImageLayout::GENERAL);
 ///     ImageTransition::color(&raw::Image::null(), layouts, none, none)
+/// }
+/// ```
+///
+/// while this layer's images are accepted:
+///
+/// ```no_run
+/// use relief::vk::{raw, Image, ImageTransition};
+/// fn real(image: &Image) -> ImageTransition<'_> {
+///     let none = (raw::PipelineStageFlags2::NONE, raw::AccessFlags2::NONE);
+///     let layouts = (raw::ImageLayout::UNDEFINED, raw::ImageLayout::GENERAL);
+///     ImageTransition::color(image, layouts, none, none)
 /// }
 /// ```
 #[derive(Clone, Copy)]

@@ -50,7 +50,13 @@ impl DescriptorSet {
     /// No command buffer that binds the set may be pending or still recording: Vulkan forbids
     /// updating a set in use, and a recording that bound it would be invalidated. Waiting for the
     /// submissions that used it ([`CommandSlot::wait`](super::CommandSlot::wait), or a one-shot
-    /// having returned) meets this.
+    /// having returned) meets this. Safe code cannot call it:
+    ///
+    /// ```compile_fail,E0133
+    /// fn rewrite(set: &relief::vk::DescriptorSet) {
+    ///     set.rewrite(&[]);
+    /// }
+    /// ```
     pub unsafe fn rewrite(&self, binds: &[Bind]) {
         write_set(&self.inner.pool.ctx, self.inner.raw, binds);
         let mut held = self.inner.held.lock().unwrap_or_else(|p| p.into_inner());
@@ -61,12 +67,12 @@ impl DescriptorSet {
 /// One resource bound at a binding number. It borrows typed objects, so only live objects of
 /// this layer can be written into a set; raw handles are refused:
 ///
-/// ```compile_fail
+/// ```compile_fail,E0308
 /// use relief::vk::{raw, Bind};
 /// let forged = Bind::Storage(0, raw::Buffer::null());
 /// ```
 ///
-/// ```compile_fail
+/// ```compile_fail,E0308
 /// use relief::vk::{raw, Bind, Sampler};
 /// fn forge(sampler: &Sampler) -> Bind<'_> {
 ///     Bind::Texture(1, raw::ImageView::null(), sampler)

@@ -15,11 +15,17 @@ use super::error::{Named, VkError, VkResult};
 /// What to create: size, format, mip count, usage, and the aspect its views see.
 #[derive(Debug, Clone, Copy)]
 pub struct ImageDesc {
+    /// Width of mip level 0, in texels.
     pub width: u32,
+    /// Height of mip level 0, in texels.
     pub height: u32,
+    /// Texel format.
     pub format: vk::Format,
+    /// Mip levels, at least 1.
     pub mip_levels: u32,
+    /// How the image is used (sampled, storage, transfers, attachments).
     pub usage: vk::ImageUsageFlags,
+    /// The aspect its views and transfers see (colour or depth).
     pub aspect: vk::ImageAspectFlags,
 }
 

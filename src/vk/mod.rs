@@ -3,6 +3,24 @@
 //!
 //! Ownership: every object holds an `Arc<Context>`; the context is destroyed last, in the one
 //! order written out in its `Drop`.
+//!
+//! Lifetimes on the GPU (the model: deferred destruction retired by a timeline semaphore). Safe
+//! code may drop a [`Buffer`], [`Image`], [`ImageView`], [`Sampler`], [`Pipeline`],
+//! [`DescriptorPool`], [`DescriptorLayout`] or [`TimestampPool`] while a submitted frame still
+//! reads it. Dropping hands the handles (and the memory) to the context, tagged with the last
+//! submission; every submission signals the next value of the context's timeline semaphore, and
+//! objects whose tag the semaphore has passed are destroyed at the next submit, wait or drop (all
+//! that remain when the context drops, after a device wait). Objects dropped while a recording is
+//! open wait until no recording is open, since that recording may use them. A
+//! [`DescriptorSet`] keeps its pool, its layout and everything written into it alive, so a bound
+//! set never names a destroyed object.
+//!
+//! No safe function takes a raw Vulkan handle: commands and descriptor writes borrow this
+//! layer's objects ([`Bind`], [`ImageTransition`], [`Recording::blit_whole`]), so the [`raw`]
+//! re-export is for flags, formats and enums only. Ranges that safe code can get wrong (fills,
+//! copies, timestamps, push constants) are checked at runtime and refused with a [`VkError`].
+//! What cannot be checked cheaply is an `unsafe fn` with its contract written out
+//! ([`DescriptorSet::rewrite`], [`TimestampPool::reset`], [`Context::wait_fence`]).
 
 mod buffer;
 mod command_slot;

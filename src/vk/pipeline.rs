@@ -235,17 +235,25 @@ fn finish(
 
 /// Everything a graphics pipeline of relief varies in.
 pub struct GraphicsDesc<'a> {
+    /// The vertex shader's SPIR-V.
     pub vertex: &'a [u32],
+    /// The fragment shader's SPIR-V.
     pub fragment: &'a [u32],
+    /// Specialization constants of the fragment shader.
     pub fragment_spec: &'a SpecConstants,
     /// 0 for a pass whose vertex shader makes its own vertices.
     pub vertex_stride: u32,
+    /// Vertex attributes read from binding 0.
     pub attributes: &'a [vk::VertexInputAttributeDescription],
+    /// The colour attachment's format.
     pub color_format: vk::Format,
     /// `UNDEFINED` for a pass without depth.
     pub depth_format: vk::Format,
+    /// Which faces are culled.
     pub cull: vk::CullModeFlags,
+    /// The descriptor set layouts, set 0 first.
     pub set_layouts: &'a [&'a DescriptorLayout],
+    /// Bytes of push constants, seen by both stages.
     pub push_bytes: u32,
     /// Blend over the target with the fragment's alpha (and leave depth unwritten).
     pub blend: bool,

@@ -71,6 +71,13 @@ impl TimestampPool {
     /// No pending submission and no open recording may write the pool: Vulkan forbids a host
     /// reset of queries the device may still use. Waiting for the submissions that wrote it
     /// ([`CommandSlot::wait`](super::CommandSlot::wait), or a one-shot having returned) meets this.
+    /// Safe code cannot call it:
+    ///
+    /// ```compile_fail,E0133
+    /// fn reset(pool: &relief::vk::TimestampPool) {
+    ///     pool.reset();
+    /// }
+    /// ```
     pub unsafe fn reset(&self) {
         // SAFETY: hostQueryReset is enabled; the caller's contract keeps the device away.
         unsafe {

@@ -204,7 +204,7 @@ impl<'a> Recording<'a> {
     /// formats (sRGB decoded, then encoded). Both are images of this layer (an [`Image`] or a
     /// [`SwapchainImage`](super::SwapchainImage)), never raw handles:
     ///
-    /// ```compile_fail
+    /// ```compile_fail,E0277
     /// use relief::vk::{raw, Image, Recording};
     /// fn forge(rec: &Recording, image: &Image) {
     ///     rec.blit_whole(image, &raw::Image::null());

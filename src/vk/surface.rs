@@ -13,7 +13,9 @@ use super::error::{Named, VkError, VkResult};
 /// [`super::Context::new_presenting`] keeps the window alive until the context is dropped.
 #[derive(Debug, Clone, Copy)]
 pub struct WindowHandles {
+    /// The display (X11, Wayland) or none.
     pub display: RawDisplayHandle,
+    /// The window.
     pub window: RawWindowHandle,
 }
 

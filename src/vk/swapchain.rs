@@ -59,6 +59,7 @@ pub enum PresentMode {
 /// An image acquired for the next frame.
 #[derive(Debug, Clone, Copy)]
 pub struct Acquired {
+    /// Which of the swapchain's images.
     pub index: u32,
     /// The swapchain still works but no longer matches the surface: re-create it after this frame.
     pub suboptimal: bool,
