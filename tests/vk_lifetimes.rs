@@ -2,6 +2,8 @@
 //! GPU is past that frame, so the validation layer sees no use of a destroyed object. Ranges that
 //! safe code gets wrong are errors, not undefined behaviour.
 
+#![deny(clippy::undocumented_unsafe_blocks)]
+
 mod common;
 
 use relief::vk::{
@@ -174,6 +176,64 @@ fn timestamps_beyond_the_pool_or_never_written_are_errors() {
         pool.read_ticks(0).expect("no timestamps"),
         Vec::<u64>::new()
     );
+    drop(pool);
+    common::assert_no_validation_errors(&ctx);
+}
+
+#[test]
+fn a_timestamp_written_twice_without_a_reset_is_an_error() {
+    let Some(ctx) = common::device("a_timestamp_written_twice_without_a_reset_is_an_error") else {
+        return;
+    };
+    let pool = TimestampPool::new(&ctx, 1, "written twice").expect("timestamps");
+    let all = vk::PipelineStageFlags2::ALL_COMMANDS;
+    ctx.one_shot(|rec| {
+        pool.write(rec, all, 0)?;
+        assert!(
+            pool.write(rec, all, 0).is_err(),
+            "a second write is refused"
+        );
+        Ok(())
+    })
+    .expect("submission");
+    assert_eq!(pool.read_ticks(1).expect("one timestamp").len(), 1);
+    // SAFETY: the one-shot that wrote the pool has returned, so its work has finished.
+    unsafe { pool.reset() };
+    ctx.one_shot(|rec| pool.write(rec, all, 0))
+        .expect("written again after the reset");
+    drop(pool);
+    common::assert_no_validation_errors(&ctx);
+}
+
+#[test]
+fn binds_the_layout_lacks_are_errors() {
+    let Some(ctx) = common::device("binds_the_layout_lacks_are_errors") else {
+        return;
+    };
+    let usage = vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::UNIFORM_BUFFER;
+    let buffer = Buffer::new(&ctx, 256, usage, MemoryLocation::GpuOnly, "bound").expect("buffer");
+    let layout = DescriptorLayout::new(
+        &ctx,
+        &[(0, vk::DescriptorType::STORAGE_BUFFER)],
+        vk::ShaderStageFlags::COMPUTE,
+        "one storage buffer",
+    )
+    .expect("layout");
+    let pool = DescriptorPool::new(&ctx, 2, 2, "mismatch pool").expect("pool");
+    let wrong_kind = pool.allocate(&layout, &[Bind::Uniform(0, &buffer)]);
+    assert!(
+        wrong_kind.is_err(),
+        "a uniform where the layout has storage"
+    );
+    let wrong_binding = pool.allocate(&layout, &[Bind::Storage(1, &buffer)]);
+    assert!(wrong_binding.is_err(), "binding 1 of a layout with only 0");
+    let set = pool
+        .allocate(&layout, &[Bind::Storage(0, &buffer)])
+        .expect("the matching bind");
+    // SAFETY: the set was never bound, so no submission uses it.
+    let rewritten = unsafe { set.rewrite(&[Bind::Uniform(0, &buffer)]) };
+    assert!(rewritten.is_err());
+    drop(set);
     drop(pool);
     common::assert_no_validation_errors(&ctx);
 }

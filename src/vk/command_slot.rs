@@ -134,6 +134,11 @@ impl Drop for CommandSlot {
     fn drop(&mut self) {
         // A failed wait (device lost) still lets the objects go: the device is past using them.
         let _ = self.wait();
+        if self.ctx.is_hung() && self.in_flight {
+            // The hung submission may still use the buffer and signal the fence: leave both to
+            // the process exit.
+            return;
+        }
         // SAFETY: no submission from this slot is pending; the fence and pool are ours alone.
         unsafe {
             self.ctx.device().destroy_fence(self.fence, None);

@@ -26,6 +26,7 @@ pub(crate) enum Doomed {
     DescriptorPool(vk::DescriptorPool),
     DescriptorLayout(vk::DescriptorSetLayout),
     QueryPool(vk::QueryPool),
+    Semaphore(vk::Semaphore),
 }
 
 /// The timeline semaphore and what waits on it.
@@ -263,6 +264,12 @@ fn destroy(ctx: &Context, doomed: Doomed) {
         Doomed::QueryPool(raw) => {
             // SAFETY: see above.
             unsafe { device.destroy_query_pool(raw, None) };
+            None
+        }
+        Doomed::Semaphore(raw) => {
+            // SAFETY: see above; a presentation's wait on it is the swapchain's to finish (it
+            // waits for an idle device before its semaphores go).
+            unsafe { device.destroy_semaphore(raw, None) };
             None
         }
     };

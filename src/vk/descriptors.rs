@@ -8,7 +8,7 @@ use super::buffer::Buffer;
 use super::context::Context;
 use super::counters::Created;
 use super::deferred::Doomed;
-use super::error::{Named, VkResult};
+use super::error::{Named, VkError, VkResult};
 use super::image::{ImageView, Sampler};
 
 /// What a descriptor set holds so that nothing written into it is destroyed before it.
@@ -26,8 +26,9 @@ pub struct DescriptorSet {
 struct SetInner {
     raw: vk::DescriptorSet,
     pool: Arc<PoolInner>,
-    /// Kept because Vulkan forbids updating a set whose layout is destroyed.
-    _layout: Arc<LayoutInner>,
+    /// Kept because Vulkan forbids updating a set whose layout is destroyed; rewrites are checked
+    /// against it.
+    layout: Arc<LayoutInner>,
     held: Mutex<Vec<KeepAlive>>,
 }
 
@@ -44,7 +45,9 @@ impl DescriptorSet {
         self.inner.raw
     }
 
-    /// Rewrites `binds` into the set, which then holds them (and lets go of what it held).
+    /// Rewrites `binds` into the set, which then holds them (and lets go of what it held). A
+    /// bind whose binding number or kind the set's layout lacks is an error, and nothing is
+    /// written.
     ///
     /// # Safety
     /// No command buffer that binds the set may be pending or still recording: Vulkan forbids
@@ -57,10 +60,12 @@ impl DescriptorSet {
     ///     set.rewrite(&[]);
     /// }
     /// ```
-    pub unsafe fn rewrite(&self, binds: &[Bind]) {
+    pub unsafe fn rewrite(&self, binds: &[Bind]) -> VkResult<()> {
+        self.inner.layout.check(binds)?;
         write_set(&self.inner.pool.ctx, self.inner.raw, binds);
         let mut held = self.inner.held.lock().unwrap_or_else(|p| p.into_inner());
         *held = binds.iter().map(Bind::keep_alive).collect();
+        Ok(())
     }
 }
 
@@ -136,6 +141,25 @@ pub struct DescriptorLayout {
 struct LayoutInner {
     ctx: Arc<Context>,
     raw: vk::DescriptorSetLayout,
+    bindings: Vec<(u32, vk::DescriptorType)>,
+    name: String,
+}
+
+impl LayoutInner {
+    /// Refuses binds the layout has no binding of that number and kind for: Vulkan leaves such
+    /// writes undefined.
+    fn check(&self, binds: &[Bind]) -> VkResult<()> {
+        for b in binds {
+            let wanted = (b.binding(), b.kind());
+            if !self.bindings.contains(&wanted) {
+                return Err(VkError::Invalid(format!(
+                    "{:?} at binding {} of layout {:?}, which has {:?}",
+                    wanted.1, wanted.0, self.name, self.bindings
+                )));
+            }
+        }
+        Ok(())
+    }
 }
 
 impl DescriptorLayout {
@@ -165,6 +189,8 @@ impl DescriptorLayout {
             inner: Arc::new(LayoutInner {
                 ctx: ctx.clone(),
                 raw,
+                bindings: bindings.to_vec(),
+                name: name.to_owned(),
             }),
         })
     }
@@ -225,8 +251,10 @@ impl DescriptorPool {
         })
     }
 
-    /// Allocates one set of `layout` and writes `binds` into it.
+    /// Allocates one set of `layout` and writes `binds` into it. A bind whose binding number or
+    /// kind the layout lacks is an error.
     pub fn allocate(&self, layout: &DescriptorLayout, binds: &[Bind]) -> VkResult<DescriptorSet> {
+        layout.inner.check(binds)?;
         let ctx = &self.inner.ctx;
         let layouts = [layout.raw()];
         let info = vk::DescriptorSetAllocateInfo::default()
@@ -242,7 +270,7 @@ impl DescriptorPool {
             inner: Arc::new(SetInner {
                 raw: set,
                 pool: self.inner.clone(),
-                _layout: layout.inner.clone(),
+                layout: layout.inner.clone(),
                 held: Mutex::new(binds.iter().map(Bind::keep_alive).collect()),
             }),
         })

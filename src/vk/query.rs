@@ -1,6 +1,7 @@
 //! GPU timestamps: a query pool that checks the device supports them, masks the values to the
 //! valid bits and converts ticks to milliseconds with `timestampPeriod`.
 
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 
 use ash::vk;
@@ -16,6 +17,9 @@ pub struct TimestampPool {
     ctx: Arc<Context>,
     raw: vk::QueryPool,
     capacity: u32,
+    /// Which queries a recording has written since the last reset: Vulkan allows one write per
+    /// reset, so a second is refused.
+    written: Vec<AtomicBool>,
     mask: u64,
     period_ns: f64,
 }
@@ -50,6 +54,7 @@ impl TimestampPool {
             ctx: ctx.clone(),
             raw,
             capacity,
+            written: (0..capacity).map(|_| AtomicBool::new(false)).collect(),
             mask,
             period_ns: f64::from(info.timestamp_period_ns),
         })
@@ -85,9 +90,13 @@ impl TimestampPool {
                 .device()
                 .reset_query_pool(self.raw, 0, self.capacity)
         };
+        for w in &self.written {
+            w.store(false, Ordering::Relaxed);
+        }
     }
 
-    /// Records a timestamp into `index` once all earlier work has passed `stage`.
+    /// Records a timestamp into `index` once all earlier work has passed `stage`. An index past
+    /// the pool, or one already written since the last [`TimestampPool::reset`], is an error.
     pub fn write(
         &self,
         rec: &Recording,
@@ -100,7 +109,12 @@ impl TimestampPool {
                 self.capacity
             )));
         }
-        // SAFETY: `rec` is recording; the query was reset since its last use.
+        if self.written[index as usize].swap(true, Ordering::Relaxed) {
+            return Err(VkError::Invalid(format!(
+                "timestamp {index} written twice without a reset"
+            )));
+        }
+        // SAFETY: `rec` is recording; the query was reset and not written since (checked above).
         unsafe {
             self.ctx
                 .device()

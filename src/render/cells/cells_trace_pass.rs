@@ -127,7 +127,7 @@ pub fn march_cells_on_gpu(
     binds.push(Bind::Storage(4, &hits));
     // SAFETY: every submission that bound the set was a one-shot (warm-ups and timed
     // submissions), and one-shots return only once their work has finished.
-    unsafe { search.set.rewrite(&binds) };
+    unsafe { search.set.rewrite(&binds) }?;
     let params = Params {
         origin_size: [
             complex.origin[0],

@@ -221,7 +221,7 @@ impl<P: bytemuck::Pod> MapSearch<'_, P> {
         unsafe {
             self.set
                 .rewrite(&[Bind::Storage(0, &pyramid), Bind::Storage(1, &out)])
-        };
+        }?;
         let past_end = (self.params)(MODE_SEARCH, 0, h);
         warm_up(ctx, self.pipeline, &self.set, bytemuck::bytes_of(&past_end))?;
         let chunks = row_chunks(w, h);

@@ -140,7 +140,7 @@ impl RelaxedConeMapPass {
                 Bind::Storage(0, &buffers.nodes),
                 Bind::Storage(1, &buffers.map),
             ])
-        };
+        }?;
         let set = Some(&self.search.set);
         for (pipeline, mode) in [(&self.reach, MODE_REACH), (&self.relaxed, MODE_RELAXED)] {
             let past_end = params(mode, 0, h);
