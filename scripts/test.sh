@@ -8,7 +8,7 @@ cargo fmt --all -- --check
 cargo clippy --all-targets --quiet -- -D warnings
 cargo test --all-targets "$@"
 # --all-targets leaves out doctests; they hold the compile_fail checks that safe code cannot
-# record into a command buffer outside a submission.
+# record into a command buffer outside a submission nor hand relief::vk a raw Vulkan handle.
 if (($# == 0)); then
     cargo test --doc
 fi
