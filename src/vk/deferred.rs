@@ -10,7 +10,7 @@
 use std::collections::VecDeque;
 use std::sync::{Mutex, MutexGuard};
 
-use ash::vk;
+use ash::{khr, vk};
 use gpu_allocator::vulkan::Allocation;
 
 use super::context::Context;
@@ -27,6 +27,8 @@ pub(crate) enum Doomed {
     DescriptorLayout(vk::DescriptorSetLayout),
     QueryPool(vk::QueryPool),
     Semaphore(vk::Semaphore),
+    /// With the loader of its extension's functions.
+    Swapchain(khr::swapchain::Device, vk::SwapchainKHR),
 }
 
 /// The timeline semaphore and what waits on it.
@@ -264,6 +266,12 @@ fn destroy(ctx: &Context, doomed: Doomed) {
         Doomed::QueryPool(raw) => {
             // SAFETY: see above.
             unsafe { device.destroy_query_pool(raw, None) };
+            None
+        }
+        Doomed::Swapchain(loader, raw) => {
+            // SAFETY: see above; its owner waited for an idle device before handing it over, so
+            // no presentation uses it; its images go with it.
+            unsafe { loader.destroy_swapchain(raw, None) };
             None
         }
         Doomed::Semaphore(raw) => {

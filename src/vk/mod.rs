@@ -6,8 +6,8 @@
 //!
 //! Lifetimes on the GPU (the model: deferred destruction retired by a timeline semaphore). Safe
 //! code may drop a [`Buffer`], [`Image`], [`ImageView`], [`Sampler`], [`Pipeline`],
-//! [`DescriptorPool`], [`DescriptorLayout`] or [`TimestampPool`] while a submitted frame still
-//! reads it. Dropping hands the handles (and the memory) to the context, tagged with the last
+//! [`DescriptorPool`], [`DescriptorLayout`], [`TimestampPool`], [`Semaphore`] or [`Swapchain`]
+//! while a submitted frame still uses it. Dropping hands the handles (and the memory) to the context, tagged with the last
 //! submission; every submission signals the next value of the context's timeline semaphore, and
 //! objects whose tag the semaphore has passed are destroyed at the next submit, wait or drop (all
 //! that remain when the context drops, after a device wait). Objects dropped while a recording is
@@ -21,6 +21,11 @@
 //! copies, timestamps, push constants) are checked at runtime and refused with a [`VkError`].
 //! What cannot be checked cheaply is an `unsafe fn` with its contract written out
 //! ([`DescriptorSet::rewrite`], [`TimestampPool::reset`], [`Context::wait_fence`]).
+//!
+//! Left to the validation layer (it reports them, and the tests fail on any report): whether
+//! the state a dispatch or draw needs is complete and compatible (pipeline, sets, push constants,
+//! index range), image layouts, and reading a [`Readback`] or a mapped [`Buffer`] before the
+//! submission writing it has finished (the values are then undefined).
 
 mod buffer;
 mod command_slot;

@@ -68,7 +68,7 @@ impl Readback {
         Ok(())
     }
 
-    /// Records the copy of `region` of `image` (an [`Image`] or a
+    /// Records the copy of `region` of `image` (an [`Image`](super::Image) or a
     /// [`SwapchainImage`](super::SwapchainImage), in `TRANSFER_SRC_OPTIMAL`, made available to
     /// transfers by the caller's layout transition) and the host-read barrier. The region must
     /// lie within the image's level and, as tightly packed rows, within this buffer; otherwise

@@ -9,6 +9,7 @@ use std::sync::Arc;
 use ash::{khr, vk};
 
 use super::context::Context;
+use super::deferred::Doomed;
 use super::error::{Named, VkError, VkResult};
 use super::image::{sealed, WholeImage};
 use super::semaphore::Semaphore;
@@ -260,8 +261,9 @@ impl Drop for Swapchain {
         // Presentation is not fenced: only an idle device proves its semaphore waits are over.
         let _ = self.ctx.wait_idle();
         self.filled.clear();
-        // SAFETY: the device is idle; the images go with the swapchain.
-        unsafe { self.loader.destroy_swapchain(self.raw, None) };
+        // Destroyed at once unless a recording still open blits into one of its images.
+        self.ctx
+            .defer(Doomed::Swapchain(self.loader.clone(), self.raw));
     }
 }
 
