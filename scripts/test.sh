@@ -21,7 +21,8 @@ fi
 cargo test --all-targets "$@"
 if (($# == 0)); then
     # --all-targets leaves out doctests; they hold the compile_fail checks that safe code cannot
-    # record into a command buffer outside a submission, and the guide's frame render.
+    # record into a command buffer outside a submission nor hand relief::vk a raw Vulkan handle,
+    # and the guide's frame render.
     cargo test --doc
     cargo build --lib --no-default-features
     RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --lib

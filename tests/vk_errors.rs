@@ -1,5 +1,6 @@
 //! Failures below `relief::vk` end in errors that say what happened: a GPU that does not finish
 //! in time, memory that cannot be had (with the allocator's own reason and the buffer's name).
+#![deny(clippy::undocumented_unsafe_blocks)]
 
 mod common;
 
@@ -24,8 +25,8 @@ fn fence_wait_past_the_timeout_is_a_hang_error() {
             .create_fence(&vk::FenceCreateInfo::default(), None)
     }
     .expect("fence");
-    let e = ctx
-        .wait_fence(fence, "the never-signalled test fence")
+    // SAFETY: the fence was created above on this context's device and is destroyed below.
+    let e = unsafe { ctx.wait_fence(fence, "the never-signalled test fence") }
         .expect_err("the fence is never signalled");
     assert!(matches!(e, VkError::Hang { .. }), "{e:?}");
     let text = e.to_string();
@@ -33,8 +34,8 @@ fn fence_wait_past_the_timeout_is_a_hang_error() {
         text.starts_with("the GPU did not finish the never-signalled test fence within 0.02 s"),
         "{text}"
     );
-    let e = ctx
-        .wait_fence_within(fence, "again", Duration::from_millis(1))
+    // SAFETY: as above.
+    let e = unsafe { ctx.wait_fence_within(fence, "again", Duration::from_millis(1)) }
         .expect_err("still unsignalled");
     assert!(e.to_string().contains("within 0.001 s"), "{e}");
     // SAFETY: the fence was never submitted, so nothing uses it.

@@ -37,7 +37,7 @@ fn fill_and_read(ctx: &Arc<Context>, words: &[u32], name: &str) -> Vec<u32> {
     let back = Readback::new(ctx, size, name).expect("readback");
     ctx.one_shot(|rec| {
         for (i, &word) in words.iter().enumerate() {
-            rec.fill_buffer(&gpu, i as u64 * 16, 16, word);
+            rec.fill_buffer(&gpu, i as u64 * 16, 16, word)?;
         }
         let written = (
             vk::PipelineStageFlags2::CLEAR,

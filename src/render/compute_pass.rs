@@ -39,7 +39,7 @@ impl ComputePass {
             vk::ShaderStageFlags::COMPUTE,
             &format!("{name} layout"),
         )?;
-        let pipeline = compute_pipeline(ctx, spirv, &[layout.raw()], push_bytes, spec, name)?;
+        let pipeline = compute_pipeline(ctx, spirv, &[&layout], push_bytes, spec, name)?;
         Ok(ComputePass { pipeline, layout })
     }
 
@@ -76,7 +76,7 @@ impl ComputePass {
     pub fn dispatch(
         &self,
         rec: &Recording,
-        set: DescriptorSet,
+        set: &DescriptorSet,
         push: &[u8],
         groups: [u32; 3],
     ) -> VkResult<()> {

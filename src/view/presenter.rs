@@ -14,7 +14,7 @@ use ash::vk;
 use crate::render::FRAMES_IN_FLIGHT;
 use crate::vk::{
     transition_images, whole_color_region, CommandSlot, Context, Image, ImageTransition,
-    PresentMode, Readback, Recording, Semaphore, SubmitSync, Swapchain, VkResult,
+    PresentMode, Readback, Recording, Semaphore, SubmitSync, Swapchain, SwapchainImage, VkResult,
 };
 
 /// A presented image read back: RGBA8 (sRGB), rows top to bottom.
@@ -139,20 +139,15 @@ impl Presenter {
         }
         let target = chain.image(acquired.index);
         let readback = self.capture.as_ref().filter(|_| capture);
-        let src_extent = vk::Extent2D {
-            width: color.desc().width,
-            height: color.desc().height,
-        };
         let slot = &mut self.slots[k];
         let sync = SubmitSync {
             wait: Some((&slot.acquired, vk::PipelineStageFlags::TRANSFER)),
             signal: Some(chain.filled(acquired.index)),
         };
         slot.commands.submit_synced(sync, |rec| {
-            to_transfer(rec, color.raw(), target);
-            rec.blit_whole((color.raw(), src_extent), (target, extent));
-            finish_image(rec, target, extent, readback);
-            Ok(())
+            to_transfer(rec, color, &target);
+            rec.blit_whole(color, &target);
+            finish_image(rec, target, extent, readback)
         })?;
         let current = chain.present(acquired.index)?;
         self.next = (k + 1) % self.slots.len();
@@ -180,7 +175,7 @@ impl Presenter {
 }
 
 /// The colour target from drawing to blit source, the acquired image from nothing to blit target.
-fn to_transfer(rec: &Recording, color: vk::Image, target: vk::Image) {
+fn to_transfer(rec: &Recording, color: &Image, target: &SwapchainImage) {
     let blit = vk::PipelineStageFlags2::BLIT;
     transition_images(
         rec,
@@ -217,10 +212,10 @@ fn to_transfer(rec: &Recording, color: vk::Image, target: vk::Image) {
 /// The blitted image to presentation, through a copy into `readback` when given.
 fn finish_image(
     rec: &Recording,
-    target: vk::Image,
+    target: SwapchainImage,
     extent: vk::Extent2D,
     readback: Option<&Readback>,
-) {
+) -> VkResult<()> {
     use vk::ImageLayout as L;
     let written = (
         vk::PipelineStageFlags2::BLIT,
@@ -231,7 +226,7 @@ fn finish_image(
         vk::AccessFlags2::NONE,
     );
     let step = |layouts, src, dst| {
-        transition_images(rec, &[ImageTransition::color(target, layouts, src, dst)]);
+        transition_images(rec, &[ImageTransition::color(&target, layouts, src, dst)]);
     };
     let Some(buffer) = readback else {
         step(
@@ -239,7 +234,7 @@ fn finish_image(
             written,
             presented,
         );
-        return;
+        return Ok(());
     };
     let copied = (
         vk::PipelineStageFlags2::COPY,
@@ -251,10 +246,11 @@ fn finish_image(
         copied,
     );
     let region = whole_color_region(extent.width, extent.height);
-    buffer.record_copy_from_raw_image(rec, target, region);
+    buffer.record_copy_from_image(rec, &target, region)?;
     step(
         (L::TRANSFER_SRC_OPTIMAL, L::PRESENT_SRC_KHR),
         (vk::PipelineStageFlags2::COPY, vk::AccessFlags2::NONE),
         presented,
     );
+    Ok(())
 }

@@ -8,10 +8,18 @@ use gpu_allocator::MemoryLocation;
 
 use super::context::Context;
 use super::counters::Created;
+use super::deferred::Doomed;
 use super::error::{Named, VkError, VkResult};
 
-/// A buffer and its allocation, owned together.
+/// A buffer and its allocation, owned together. Dropping it hands both to the context, which
+/// destroys them once the GPU has finished every submission that may read them; descriptor sets
+/// written with it keep it alive as long as they live.
 pub struct Buffer {
+    inner: Arc<BufferInner>,
+}
+
+/// What a [`Buffer`] shares with the descriptor sets that reference it.
+struct BufferInner {
     ctx: Arc<Context>,
     raw: vk::Buffer,
     allocation: Option<Allocation>,
@@ -71,20 +79,21 @@ impl Buffer {
             }
         };
         let buffer = Buffer {
-            ctx: ctx.clone(),
-            raw,
-            allocation: Some(allocation),
-            size,
-            location,
-            name: name.to_owned(),
+            inner: Arc::new(BufferInner {
+                ctx: ctx.clone(),
+                raw,
+                allocation: Some(allocation),
+                size,
+                location,
+                name: name.to_owned(),
+            }),
         };
-        let a = buffer
-            .allocation
-            .as_ref()
-            .ok_or(VkError::Invalid("no allocation".into()))?;
-        // SAFETY: memory and offset come from an allocation made for this buffer's requirements.
-        unsafe { device.bind_buffer_memory(raw, a.memory(), a.offset()) }
-            .named("vkBindBufferMemory")?;
+        if let Some(a) = &buffer.inner.allocation {
+            // SAFETY: memory and offset come from an allocation made for this buffer's
+            // requirements, and stay allocated while the buffer lives.
+            unsafe { device.bind_buffer_memory(raw, a.memory(), a.offset()) }
+                .named("vkBindBufferMemory")?;
+        }
         ctx.set_name(raw, name);
         Ok(buffer)
     }
@@ -107,64 +116,93 @@ impl Buffer {
         Ok(buffer)
     }
 
-    /// The raw handle.
-    pub fn raw(&self) -> vk::Buffer {
-        self.raw
+    /// The raw handle, for the vk layer's own commands.
+    pub(crate) fn raw(&self) -> vk::Buffer {
+        self.inner.raw
+    }
+
+    /// What a descriptor set holds to keep the buffer alive.
+    pub(crate) fn keep_alive(&self) -> Arc<dyn Send + Sync> {
+        self.inner.clone()
     }
 
     /// Size in bytes.
     pub fn size(&self) -> u64 {
-        self.size
+        self.inner.size
     }
 
     /// Where the buffer's memory was asked to live (`GpuOnly`: device-local).
     pub fn location(&self) -> MemoryLocation {
-        self.location
+        self.inner.location
     }
 
     /// The debug name.
     pub fn name(&self) -> &str {
-        &self.name
+        &self.inner.name
+    }
+
+    /// Checks that `size` bytes from `offset` lie inside the buffer; `what` names the use.
+    pub(crate) fn check_range(&self, offset: u64, size: u64, what: &str) -> VkResult<()> {
+        if offset
+            .checked_add(size)
+            .is_some_and(|end| end <= self.size())
+        {
+            return Ok(());
+        }
+        Err(VkError::Invalid(format!(
+            "{what} of {size} bytes at {offset} in buffer {:?} of {} bytes",
+            self.name(),
+            self.size()
+        )))
     }
 
     /// Copies `bytes` into a mapped buffer at `offset`.
     pub fn write(&mut self, offset: usize, bytes: &[u8]) -> VkResult<()> {
-        let name = self.name.clone();
-        let slice = self
+        let name = self.name();
+        let ptr = self
+            .inner
             .allocation
-            .as_mut()
-            .and_then(|a| a.mapped_slice_mut())
+            .as_ref()
+            .and_then(|a| a.mapped_ptr())
             .ok_or_else(|| VkError::Invalid(format!("buffer {name:?} is not host-visible")))?;
-        let end = offset + bytes.len();
-        let dst = slice
-            .get_mut(offset..end)
-            .ok_or_else(|| VkError::Invalid(format!("write past the end of buffer {name:?}")))?;
-        dst.copy_from_slice(bytes);
+        if offset
+            .checked_add(bytes.len())
+            .is_none_or(|end| end as u64 > self.size())
+        {
+            return Err(VkError::Invalid(format!(
+                "write past the end of buffer {name:?}"
+            )));
+        }
+        // SAFETY: the mapping covers the whole buffer and the range was checked above; `&mut
+        // self` keeps `mapped`'s shared slices away, and the clones descriptor sets hold never
+        // touch the mapping.
+        unsafe {
+            std::ptr::copy_nonoverlapping(
+                bytes.as_ptr(),
+                ptr.as_ptr().cast::<u8>().add(offset),
+                bytes.len(),
+            )
+        };
         Ok(())
     }
 
     /// The mapped contents of a host-visible buffer, as the host last wrote them. For what the GPU
     /// wrote, copy into a [`Readback`](super::Readback): it records the host-read barrier.
     pub fn mapped(&self) -> VkResult<&[u8]> {
-        self.allocation
+        self.inner
+            .allocation
             .as_ref()
             .and_then(|a| a.mapped_slice())
-            .map(|s| &s[..self.size as usize])
-            .ok_or_else(|| VkError::Invalid(format!("buffer {:?} is not host-visible", self.name)))
+            .map(|s| &s[..self.size() as usize])
+            .ok_or_else(|| {
+                VkError::Invalid(format!("buffer {:?} is not host-visible", self.name()))
+            })
     }
 }
 
-impl Drop for Buffer {
+impl Drop for BufferInner {
     fn drop(&mut self) {
-        if self.ctx.is_hung() {
-            // Hung work may still use the buffer: leave it (and its memory) to the process exit.
-            return;
-        }
-        // SAFETY: users keep a Buffer alive until the GPU work that uses it has completed
-        // (one-shot submissions wait on their fence).
-        unsafe { self.ctx.device().destroy_buffer(self.raw, None) };
-        if let (Some(a), Ok(mut alloc)) = (self.allocation.take(), self.ctx.allocator().lock()) {
-            let _ = alloc.free(a);
-        }
+        self.ctx
+            .defer(Doomed::Buffer(self.raw, self.allocation.take()));
     }
 }

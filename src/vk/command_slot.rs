@@ -9,7 +9,7 @@ use ash::vk;
 
 use super::context::Context;
 use super::counters::Created;
-use super::error::{Named, VkError, VkResult};
+use super::error::{Named, VkResult};
 use super::recording::Recording;
 use super::semaphore::Semaphore;
 
@@ -17,7 +17,9 @@ use super::semaphore::Semaphore;
 /// finish: a swapchain image's acquisition and its presentation.
 #[derive(Clone, Copy, Default)]
 pub struct SubmitSync<'a> {
+    /// A semaphore to wait for, and the stage that waits.
     pub wait: Option<(&'a Semaphore, vk::PipelineStageFlags)>,
+    /// A semaphore to signal once the commands finish.
     pub signal: Option<&'a Semaphore>,
 }
 
@@ -77,10 +79,12 @@ impl CommandSlot {
         if !self.in_flight {
             return Ok(());
         }
-        self.ctx.wait_fence(self.fence, &self.name)?;
+        // SAFETY: the slot's own fence, alive until the slot drops.
+        unsafe { self.ctx.wait_fence(self.fence, &self.name) }?;
         // SAFETY: the fence is signalled and no submission waits on it.
         unsafe { self.ctx.device().reset_fences(&[self.fence]) }.named("vkResetFences")?;
         self.in_flight = false;
+        self.ctx.retire();
         Ok(())
     }
 
@@ -105,28 +109,22 @@ impl CommandSlot {
             .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
         // SAFETY: the buffer was reset above.
         unsafe { device.begin_command_buffer(self.cmd, &begin) }.named("vkBeginCommandBuffer")?;
+        let open = self.ctx.open_recording();
         let recorded = record(&Recording::new(device, self.cmd));
         // SAFETY: recording was begun above; ending it also closes a recording cut short by an
         // error, so the pool reset next time finds no buffer in the recording state.
         let ended = unsafe { device.end_command_buffer(self.cmd) }.named("vkEndCommandBuffer");
         let value = recorded?;
         ended?;
-        let cmds = [self.cmd];
-        let waits: Vec<_> = sync.wait.iter().map(|(s, _)| s.raw()).collect();
-        let stages: Vec<_> = sync.wait.iter().map(|&(_, stage)| stage).collect();
+        let waits: Vec<_> = sync
+            .wait
+            .iter()
+            .map(|&(s, stage)| (s.raw(), stage))
+            .collect();
         let signals: Vec<_> = sync.signal.iter().map(|s| s.raw()).collect();
-        let submit = vk::SubmitInfo::default()
-            .command_buffers(&cmds)
-            .wait_semaphores(&waits)
-            .wait_dst_stage_mask(&stages)
-            .signal_semaphores(&signals);
-        let queue = self
-            .ctx
-            .queue()
-            .lock()
-            .map_err(|_| VkError::Invalid("queue lock poisoned".into()))?;
-        // SAFETY: the buffer is fully recorded; the queue is externally synchronised by the lock.
-        unsafe { device.queue_submit(*queue, &[submit], self.fence) }.named("vkQueueSubmit")?;
+        self.ctx
+            .submit_tracked(self.cmd, &waits, &signals, self.fence)?;
+        drop(open);
         self.in_flight = true;
         Ok(value)
     }
@@ -136,6 +134,11 @@ impl Drop for CommandSlot {
     fn drop(&mut self) {
         // A failed wait (device lost) still lets the objects go: the device is past using them.
         let _ = self.wait();
+        if self.ctx.is_hung() && self.in_flight {
+            // The hung submission may still use the buffer and signal the fence: leave both to
+            // the process exit.
+            return;
+        }
         // SAFETY: no submission from this slot is pending; the fence and pool are ours alone.
         unsafe {
             self.ctx.device().destroy_fence(self.fence, None);

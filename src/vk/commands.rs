@@ -6,6 +6,7 @@ use ash::vk;
 use super::context::Context;
 use super::counters::Created;
 use super::error::{Named, VkError, VkResult};
+use super::image::WholeImage;
 use super::recording::Recording;
 
 impl Context {
@@ -51,6 +52,7 @@ impl Context {
             .flags(vk::CommandBufferUsageFlags::ONE_TIME_SUBMIT);
         // SAFETY: freshly allocated command buffer.
         unsafe { device.begin_command_buffer(cmd, &begin) }.named("vkBeginCommandBuffer")?;
+        let open = self.open_recording();
         let value = record(&Recording::new(device, cmd))?;
         // SAFETY: recording was begun above.
         unsafe { device.end_command_buffer(cmd) }.named("vkEndCommandBuffer")?;
@@ -58,50 +60,71 @@ impl Context {
         let fence = unsafe { device.create_fence(&vk::FenceCreateInfo::default(), None) }
             .named("vkCreateFence")?;
         self.count(Created::Fence);
-        let waited = self
-            .submit(cmd, fence)
-            .and_then(|_| self.wait_fence(fence, "a one-shot submission"));
+        let submitted = self.submit_tracked(cmd, &[], &[], fence);
+        drop(open);
+        // SAFETY: the fence was created above and is destroyed only below.
+        let waited =
+            submitted.and_then(|_| unsafe { self.wait_fence(fence, "a one-shot submission") });
+        self.retire();
         if !matches!(waited, Err(VkError::Hang { .. })) {
             // SAFETY: the fence is signalled or was never submitted.
             unsafe { device.destroy_fence(fence, None) };
         }
         waited.map(|_| value)
     }
-
-    fn submit(&self, cmd: vk::CommandBuffer, fence: vk::Fence) -> VkResult<()> {
-        let cmds = [cmd];
-        let submit = vk::SubmitInfo::default().command_buffers(&cmds);
-        let queue = self
-            .queue()
-            .lock()
-            .map_err(|_| VkError::Invalid("queue lock poisoned".into()))?;
-        // SAFETY: the command buffer is fully recorded; the queue is externally synchronised by
-        // the lock.
-        unsafe { self.device().queue_submit(*queue, &[submit], fence) }.named("vkQueueSubmit")
-    }
 }
 
 /// One image layout transition over a range of mip levels (colour aspect unless `aspect` says).
-#[derive(Debug, Clone, Copy)]
-pub struct ImageTransition {
-    pub image: vk::Image,
+/// The image is one of this layer's ([`Image`](super::Image) or
+/// [`SwapchainImage`](super::SwapchainImage)), never a raw handle:
+///
+/// ```compile_fail,E0277
+/// use relief::vk::{raw, ImageTransition};
+/// fn forge() -> ImageTransition<'static> {
+///     let none = (raw::PipelineStageFlags2::NONE, raw::AccessFlags2::NONE);
+///     let layouts = (raw::ImageLayout::UNDEFINED, raw::ImageLayout::GENERAL);
+///     ImageTransition::color(&raw::Image::null(), layouts, none, none)
+/// }
+/// ```
+///
+/// while this layer's images are accepted:
+///
+/// ```no_run
+/// use relief::vk::{raw, Image, ImageTransition};
+/// fn real(image: &Image) -> ImageTransition<'_> {
+///     let none = (raw::PipelineStageFlags2::NONE, raw::AccessFlags2::NONE);
+///     let layouts = (raw::ImageLayout::UNDEFINED, raw::ImageLayout::GENERAL);
+///     ImageTransition::color(image, layouts, none, none)
+/// }
+/// ```
+#[derive(Clone, Copy)]
+pub struct ImageTransition<'a> {
+    /// The image whose layout changes.
+    pub image: &'a dyn WholeImage,
+    /// The aspect the barrier covers.
     pub aspect: vk::ImageAspectFlags,
+    /// The first mip level.
     pub base_mip: u32,
+    /// How many mip levels, from `base_mip`.
     pub mip_count: u32,
+    /// The layout before.
     pub old: vk::ImageLayout,
+    /// The layout after.
     pub new: vk::ImageLayout,
+    /// The stages and accesses that must finish first.
     pub src: (vk::PipelineStageFlags2, vk::AccessFlags2),
+    /// The stages and accesses that wait.
     pub dst: (vk::PipelineStageFlags2, vk::AccessFlags2),
 }
 
-impl ImageTransition {
+impl<'a> ImageTransition<'a> {
     /// The transition of a single-mip colour image.
     pub fn color(
-        image: vk::Image,
+        image: &'a dyn WholeImage,
         (old, new): (vk::ImageLayout, vk::ImageLayout),
         src: (vk::PipelineStageFlags2, vk::AccessFlags2),
         dst: (vk::PipelineStageFlags2, vk::AccessFlags2),
-    ) -> ImageTransition {
+    ) -> ImageTransition<'a> {
         ImageTransition {
             image,
             aspect: vk::ImageAspectFlags::COLOR,
@@ -137,7 +160,7 @@ pub fn transition_images(rec: &Recording, list: &[ImageTransition]) {
         .iter()
         .map(|t| {
             vk::ImageMemoryBarrier2::default()
-                .image(t.image)
+                .image(t.image.whole_raw())
                 .old_layout(t.old)
                 .new_layout(t.new)
                 .src_stage_mask(t.src.0)
@@ -157,7 +180,8 @@ pub fn transition_images(rec: &Recording, list: &[ImageTransition]) {
         })
         .collect();
     let dep = vk::DependencyInfo::default().image_memory_barriers(&barriers);
-    // SAFETY: `rec` is recording; the barriers reference images owned by the caller.
+    // SAFETY: `rec` is recording; the barriers reference images of this layer, borrowed, so alive
+    // (and kept to the end of the submission by deferred destruction or the swapchain).
     unsafe { rec.device().cmd_pipeline_barrier2(rec.raw(), &dep) };
 }
 

@@ -12,6 +12,7 @@ use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
 use gpu_allocator::{AllocationSizes, AllocatorDebugSettings};
 
 use super::counters::{Created, ObjectCounters, ObjectCounts};
+use super::deferred::Retirement;
 use super::error::{Named, VkError, VkResult};
 use super::fence::gpu_timeout_from_env;
 use super::instance::{create_instance, InstanceParts, MessageCounts, Validation};
@@ -49,6 +50,8 @@ pub struct Context {
     /// Read-locked while pipelines are created (the cache is internally synchronised for that),
     /// write-locked to merge into it (`vkMergePipelineCaches` needs its target to itself).
     pipeline_cache: ManuallyDrop<RwLock<PipelineCache>>,
+    /// The timeline semaphore every submission signals, and the objects waiting on it.
+    retirement: Retirement,
     gpu_timeout: Duration,
     /// Set when a fence wait timed out: work may still be pending, so `Drop` must not wait for the
     /// device or destroy it.
@@ -61,6 +64,7 @@ struct DeviceOwned {
     pool: vk::CommandPool,
     allocator: Allocator,
     cache: PipelineCache,
+    retirement: Retirement,
 }
 
 impl DeviceOwned {
@@ -94,13 +98,23 @@ impl DeviceOwned {
                 return Err(VkError::AllocatorSetup { reason: source });
             }
         };
-        match PipelineCache::new(device, &CacheIdentity::of(info), cache_data) {
-            Ok(cache) => Ok(DeviceOwned {
+        let cache = match PipelineCache::new(device, &CacheIdentity::of(info), cache_data) {
+            Ok(cache) => cache,
+            Err(e) => {
+                drop(allocator);
+                drop_pool();
+                return Err(e);
+            }
+        };
+        match Retirement::new(device) {
+            Ok(retirement) => Ok(DeviceOwned {
                 pool,
                 allocator,
                 cache,
+                retirement,
             }),
             Err(e) => {
+                drop(cache);
                 drop(allocator);
                 drop_pool();
                 Err(e)
@@ -194,6 +208,7 @@ impl Context {
         };
         let ctx = Self::assemble(parts, counts, (physical, info), device, owned, gpu_timeout);
         ctx.with_pipeline_cache(|raw| ctx.set_name(raw, "pipeline cache"));
+        ctx.set_name(ctx.retirement.timeline(), "retirement timeline");
         Ok(ctx)
     }
 
@@ -224,6 +239,7 @@ impl Context {
             allocator: ManuallyDrop::new(Mutex::new(owned.allocator)),
             command_pool: Mutex::new(owned.pool),
             pipeline_cache: ManuallyDrop::new(RwLock::new(owned.cache)),
+            retirement: owned.retirement,
             gpu_timeout,
             hung: AtomicBool::new(false),
             created: ObjectCounters::default(),
@@ -307,6 +323,10 @@ impl Context {
         &self.command_pool
     }
 
+    pub(crate) fn retirement(&self) -> &Retirement {
+        &self.retirement
+    }
+
     pub(crate) fn pipeline_cache_lock(&self) -> &RwLock<PipelineCache> {
         &self.pipeline_cache
     }
@@ -338,7 +358,7 @@ impl Context {
     }
 
     /// Gives a Vulkan object a debug name, so validation messages say what they are about.
-    pub fn set_name<H: vk::Handle>(&self, handle: H, name: &str) {
+    pub(crate) fn set_name<H: vk::Handle>(&self, handle: H, name: &str) {
         let Some(debug) = &self.debug_device else {
             return;
         };
@@ -352,11 +372,15 @@ impl Context {
         let _ = unsafe { debug.set_debug_utils_object_name(&info) };
     }
 
-    /// Waits for the device to finish all submitted work.
+    /// Waits for the device to finish all submitted work, then destroys the objects dropped
+    /// while it ran.
     pub fn wait_idle(&self) -> VkResult<()> {
+        let queue = self.queue.lock();
         // SAFETY: valid device; the queue lock keeps submissions out while we wait.
-        let _queue = self.queue.lock();
-        unsafe { self.device.device_wait_idle() }.named("vkDeviceWaitIdle")
+        let waited = unsafe { self.device.device_wait_idle() }.named("vkDeviceWaitIdle");
+        drop(queue);
+        self.retire();
+        waited
     }
 }
 
@@ -369,10 +393,12 @@ impl Drop for Context {
             return;
         }
         // SAFETY: every object made from this device holds an Arc of this context, so all of them
-        // are gone. Order: wait idle, allocator (frees its memory blocks), pipeline cache, pools,
+        // are gone. Order: wait idle, objects still waiting for retirement (their memory goes
+        // back to the allocator), allocator (frees its memory blocks), pipeline cache, pools,
         // device, messenger, instance.
         unsafe {
             let _ = self.device.device_wait_idle();
+            self.retirement.drain(self);
             ManuallyDrop::drop(&mut self.allocator);
             ManuallyDrop::drop(&mut self.pipeline_cache);
             if let Ok(pool) = self.command_pool.lock() {
@@ -408,7 +434,10 @@ fn create_device(
     let queues = [vk::DeviceQueueCreateInfo::default()
         .queue_family_index(queue_family)
         .queue_priorities(&priorities)];
-    let mut v12 = vk::PhysicalDeviceVulkan12Features::default().host_query_reset(true);
+    let mut v12 = vk::PhysicalDeviceVulkan12Features::default()
+        .host_query_reset(true)
+        // Retires dropped objects after the submissions that use them (see `deferred`).
+        .timeline_semaphore(true);
     let mut v13 = vk::PhysicalDeviceVulkan13Features::default()
         .dynamic_rendering(true)
         .synchronization2(true)

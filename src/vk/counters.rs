@@ -6,19 +6,29 @@ use std::sync::atomic::{AtomicU64, Ordering};
 /// Counts of objects created so far (never decremented).
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize)]
 pub struct ObjectCounts {
+    /// Graphics pipelines.
     pub graphics_pipelines: u64,
+    /// Compute pipelines.
     pub compute_pipelines: u64,
+    /// Images (each with its own allocation).
     pub images: u64,
+    /// Buffers (each with its own allocation).
     pub buffers: u64,
+    /// Samplers.
     pub samplers: u64,
+    /// Descriptor sets.
     pub descriptor_sets: u64,
+    /// Timestamp query pools.
     pub query_pools: u64,
+    /// Command buffers (one-shot and frame slots).
     pub command_buffers: u64,
+    /// Fences.
     pub fences: u64,
     /// CPU time spent in `vkCreate*Pipelines`, in microseconds.
     pub pipeline_create_us: u64,
     /// Device memory allocations (one per image and buffer, through gpu-allocator).
     pub allocations: u64,
+    /// Bytes of those allocations.
     pub allocated_bytes: u64,
 }
 

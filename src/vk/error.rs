@@ -19,20 +19,30 @@ pub enum VkError {
     NoDevice,
     /// `--device SUBSTRING` matched nothing.
     #[error("no Vulkan device matches {wanted:?}; available: {available}")]
-    NoMatchingDevice { wanted: String, available: String },
+    NoMatchingDevice {
+        /// The substring asked for.
+        wanted: String,
+        /// The devices there are, for the message.
+        available: String,
+    },
     /// The device was lost (driver crash, GPU reset, hardware removed); nothing on it can be used
     /// any more.
     #[error(
         "{call} failed: the GPU device was lost (driver crash, GPU reset or removal); \
          nothing more can run on it"
     )]
-    DeviceLost { call: &'static str },
+    DeviceLost {
+        /// The Vulkan call that reported it.
+        call: &'static str,
+    },
     /// The driver ran out of device or host memory.
     #[error("{call} failed: out of {memory} memory ({result}); try smaller maps or images")]
     OutOfMemory {
+        /// The Vulkan call that failed.
         call: &'static str,
         /// "device" (GPU) or "host" (CPU).
         memory: &'static str,
+        /// The driver's result code.
         result: vk::Result,
     },
     /// Submitted work did not finish within the GPU timeout (`RELIEF_GPU_TIMEOUT_S`).
@@ -40,30 +50,43 @@ pub enum VkError {
         "the GPU did not finish {what} within {seconds} s \
          (a hang, or slow work: raise RELIEF_GPU_TIMEOUT_S)"
     )]
-    Hang { what: String, seconds: f64 },
+    Hang {
+        /// What the GPU was doing.
+        what: String,
+        /// The limit that passed.
+        seconds: f64,
+    },
     /// A Vulkan call returned an error code.
     #[error("{call} failed: {result}")]
     Call {
+        /// The Vulkan call.
         call: &'static str,
+        /// Its result code.
         result: vk::Result,
     },
     /// gpu-allocator could not place an allocation. (`reason` is not a `source`: the message
     /// already holds it, and `{:#}` would print it twice.)
     #[error("GPU memory allocation for {name:?} failed: {reason}")]
     Allocation {
+        /// The debug name of the buffer or image.
         name: String,
+        /// gpu-allocator's reason.
         reason: gpu_allocator::AllocationError,
     },
     /// Creating a named object failed; `reason` says how (e.g. the driver's out of memory).
     #[error("{kind} {name:?}: {reason}")]
     Object {
+        /// What kind of object ("buffer", "image").
         kind: &'static str,
+        /// Its debug name.
         name: String,
+        /// Why creating it failed.
         reason: Box<VkError>,
     },
     /// gpu-allocator could not be set up for the device (its own reason is kept).
     #[error("creating the GPU memory allocator failed: {reason}")]
     AllocatorSetup {
+        /// gpu-allocator's reason.
         reason: gpu_allocator::AllocationError,
     },
     /// The device lacks something relief needs (a format feature, timestamps, ...).

@@ -42,19 +42,28 @@ impl Context {
     /// Returns [`VkError::Hang`] when the limit passes and [`VkError::DeviceLost`] when the device
     /// is lost. After a hang the fence and whatever its submission uses are still pending: the
     /// caller must not destroy them (the context stops tearing down the device, see `Drop`).
-    pub fn wait_fence(&self, fence: vk::Fence, what: &str) -> VkResult<()> {
-        self.wait_fence_within(fence, what, self.gpu_timeout())
+    ///
+    /// # Safety
+    /// `fence` is a live fence of this context's device (it takes a raw handle, which safe code
+    /// could otherwise forge).
+    pub unsafe fn wait_fence(&self, fence: vk::Fence, what: &str) -> VkResult<()> {
+        // SAFETY: the caller's contract.
+        unsafe { self.wait_fence_within(fence, what, self.gpu_timeout()) }
     }
 
     /// [`Context::wait_fence`] with an explicit limit.
-    pub fn wait_fence_within(
+    ///
+    /// # Safety
+    /// As [`Context::wait_fence`].
+    pub unsafe fn wait_fence_within(
         &self,
         fence: vk::Fence,
         what: &str,
         timeout: Duration,
     ) -> VkResult<()> {
         let nanos = u64::try_from(timeout.as_nanos()).unwrap_or(u64::MAX);
-        // SAFETY: the caller passes a fence of this device; waiting needs no external sync.
+        // SAFETY: a live fence of this device (the caller's contract); waiting needs no external
+        // sync.
         match unsafe { self.device().wait_for_fences(&[fence], true, nanos) } {
             Err(vk::Result::TIMEOUT) => {
                 self.mark_hung();

@@ -9,24 +9,38 @@ use gpu_allocator::MemoryLocation;
 
 use super::context::Context;
 use super::counters::Created;
+use super::deferred::Doomed;
 use super::error::{Named, VkError, VkResult};
 
 /// What to create: size, format, mip count, usage, and the aspect its views see.
 #[derive(Debug, Clone, Copy)]
 pub struct ImageDesc {
+    /// Width of mip level 0, in texels.
     pub width: u32,
+    /// Height of mip level 0, in texels.
     pub height: u32,
+    /// Texel format.
     pub format: vk::Format,
+    /// Mip levels, at least 1.
     pub mip_levels: u32,
+    /// How the image is used (sampled, storage, transfers, attachments).
     pub usage: vk::ImageUsageFlags,
+    /// The aspect its views and transfers see (colour or depth).
     pub aspect: vk::ImageAspectFlags,
 }
 
-/// A 2D image, its allocation and a view over all its mip levels.
+/// A 2D image, its allocation and a view over all its mip levels. Dropping it hands them to the
+/// context, which destroys them once the GPU has finished every submission that may use them;
+/// views (and so descriptor sets) of it keep the image alive as long as they live.
 pub struct Image {
+    inner: Arc<ImageInner>,
+    view: ImageView,
+}
+
+/// What an [`Image`] shares with its views.
+struct ImageInner {
     ctx: Arc<Context>,
     raw: vk::Image,
-    view: vk::ImageView,
     allocation: Option<Allocation>,
     desc: ImageDesc,
     /// Array layers; views of array images are `TYPE_2D_ARRAY` even with one layer.
@@ -92,23 +106,120 @@ impl Image {
         let raw = unsafe { device.create_image(&info, None) }
             .named("vkCreateImage")
             .map_err(|e| e.for_object("image", name))?;
-        let mut image = Image {
+        let mut inner = ImageInner {
             ctx: ctx.clone(),
             raw,
-            view: vk::ImageView::null(),
             allocation: None,
             desc,
             layers: array.unwrap_or(1),
             array: array.is_some(),
             name: name.to_owned(),
         };
-        image.bind_memory()?;
-        image.view = image.create_view(0, desc.mip_levels)?;
+        inner.bind_memory()?;
+        let inner = Arc::new(inner);
+        let view = ImageView::new(&inner, 0, desc.mip_levels)?;
         ctx.set_name(raw, name);
-        ctx.set_name(image.view, &format!("{name} view"));
-        Ok(image)
+        ctx.set_name(view.raw(), &format!("{name} view"));
+        Ok(Image { inner, view })
     }
 
+    /// A view of one mip level, owned by the returned value.
+    pub fn level_view(&self, level: u32) -> VkResult<ImageView> {
+        if level >= self.desc().mip_levels {
+            return Err(VkError::Invalid(format!(
+                "mip {level} of image {:?}",
+                self.name()
+            )));
+        }
+        let view = ImageView::new(&self.inner, level, 1)?;
+        self.inner
+            .ctx
+            .set_name(view.raw(), &format!("{} mip {level}", self.name()));
+        Ok(view)
+    }
+
+    /// The raw handle, for the vk layer's own commands.
+    pub(crate) fn raw(&self) -> vk::Image {
+        self.inner.raw
+    }
+
+    /// The view over all mip levels and layers.
+    pub fn view(&self) -> &ImageView {
+        &self.view
+    }
+
+    /// What the image was created with.
+    pub fn desc(&self) -> &ImageDesc {
+        &self.inner.desc
+    }
+
+    /// Array layers (1 for plain images).
+    pub fn layer_count(&self) -> u32 {
+        self.inner.layers
+    }
+
+    /// The debug name.
+    pub fn name(&self) -> &str {
+        &self.inner.name
+    }
+
+    /// Width and height of mip `level`, by Vulkan's rule (halve, round down, at least 1).
+    pub fn level_extent(&self, level: u32) -> (u32, u32) {
+        let desc = self.desc();
+        ((desc.width >> level).max(1), (desc.height >> level).max(1))
+    }
+}
+
+/// A colour image recorded whole (blits, screenshots): an [`Image`] or a
+/// [`SwapchainImage`](super::SwapchainImage). Sealed: only this layer's images implement it, so
+/// no raw handle reaches a recording through it.
+pub trait WholeImage: sealed::Sealed {
+    /// The raw handle.
+    #[doc(hidden)]
+    fn whole_raw(&self) -> vk::Image;
+    /// The size of mip level 0.
+    fn whole_extent(&self) -> vk::Extent2D;
+    /// The format.
+    fn whole_format(&self) -> vk::Format;
+    /// Mip levels.
+    fn whole_levels(&self) -> u32;
+    /// Array layers.
+    fn whole_layers(&self) -> u32;
+}
+
+pub(crate) mod sealed {
+    /// Keeps [`WholeImage`](super::WholeImage) to this layer's images.
+    pub trait Sealed {}
+}
+
+impl sealed::Sealed for Image {}
+
+impl WholeImage for Image {
+    fn whole_raw(&self) -> vk::Image {
+        self.raw()
+    }
+
+    fn whole_extent(&self) -> vk::Extent2D {
+        vk::Extent2D {
+            width: self.desc().width,
+            height: self.desc().height,
+        }
+    }
+
+    fn whole_format(&self) -> vk::Format {
+        self.desc().format
+    }
+
+    fn whole_levels(&self) -> u32 {
+        self.desc().mip_levels
+    }
+
+    fn whole_layers(&self) -> u32 {
+        self.layer_count()
+    }
+}
+
+impl ImageInner {
     fn bind_memory(&mut self) -> VkResult<()> {
         let device = self.ctx.device();
         // SAFETY: the image was created on this device.
@@ -132,123 +243,88 @@ impl Image {
         self.ctx.count(Created::Image {
             bytes: requirements.size,
         });
-        // SAFETY: the allocation satisfies the image's requirements.
+        // SAFETY: the allocation satisfies the image's requirements and is kept with the image.
         let bound =
             unsafe { device.bind_image_memory(self.raw, allocation.memory(), allocation.offset()) };
         self.allocation = Some(allocation);
         bound.named("vkBindImageMemory")
     }
+}
 
-    fn create_view(&self, base_mip: u32, mip_count: u32) -> VkResult<vk::ImageView> {
+impl Drop for ImageInner {
+    fn drop(&mut self) {
+        self.ctx
+            .defer(Doomed::Image(self.raw, self.allocation.take()));
+    }
+}
+
+/// An image view: the whole image's ([`Image::view`]) or one mip level's
+/// ([`Image::level_view`]). Clones share the view; it keeps its image alive, and goes (after the
+/// GPU is done with it) when the last clone, and every descriptor set written with it, is gone.
+#[derive(Clone)]
+pub struct ImageView {
+    inner: Arc<ViewInner>,
+}
+
+struct ViewInner {
+    raw: vk::ImageView,
+    /// Dropped after the view is handed over, so the image is destroyed after it.
+    image: Arc<ImageInner>,
+}
+
+impl ImageView {
+    fn new(image: &Arc<ImageInner>, base_mip: u32, mip_count: u32) -> VkResult<ImageView> {
         let info = vk::ImageViewCreateInfo::default()
-            .image(self.raw)
-            .view_type(if self.array {
+            .image(image.raw)
+            .view_type(if image.array {
                 vk::ImageViewType::TYPE_2D_ARRAY
             } else {
                 vk::ImageViewType::TYPE_2D
             })
-            .format(self.desc.format)
+            .format(image.desc.format)
             .subresource_range(
                 vk::ImageSubresourceRange::default()
-                    .aspect_mask(self.desc.aspect)
+                    .aspect_mask(image.desc.aspect)
                     .base_mip_level(base_mip)
                     .level_count(mip_count)
-                    .layer_count(self.layers),
+                    .layer_count(image.layers),
             );
-        // SAFETY: the range lies within the image.
-        unsafe { self.ctx.device().create_image_view(&info, None) }.named("vkCreateImageView")
-    }
-
-    /// A view of one mip level, owned by the returned value.
-    pub fn level_view(&self, level: u32) -> VkResult<ImageView> {
-        if level >= self.desc.mip_levels {
-            return Err(VkError::Invalid(format!(
-                "mip {level} of image {:?}",
-                self.name
-            )));
-        }
-        let raw = self.create_view(level, 1)?;
-        self.ctx
-            .set_name(raw, &format!("{} mip {level}", self.name));
+        // SAFETY: the range lies within the image (callers check the level).
+        let raw = unsafe { image.ctx.device().create_image_view(&info, None) }
+            .named("vkCreateImageView")?;
         Ok(ImageView {
-            ctx: self.ctx.clone(),
-            raw,
+            inner: Arc::new(ViewInner {
+                raw,
+                image: image.clone(),
+            }),
         })
     }
 
-    /// The raw handle.
-    pub fn raw(&self) -> vk::Image {
-        self.raw
+    /// The raw handle, for the vk layer's own commands.
+    pub(crate) fn raw(&self) -> vk::ImageView {
+        self.inner.raw
     }
 
-    /// The view over all mip levels.
-    pub fn view(&self) -> vk::ImageView {
-        self.view
-    }
-
-    /// What the image was created with.
-    pub fn desc(&self) -> &ImageDesc {
-        &self.desc
-    }
-
-    /// Array layers (1 for plain images).
-    pub fn layer_count(&self) -> u32 {
-        self.layers
-    }
-
-    /// The debug name.
-    pub fn name(&self) -> &str {
-        &self.name
-    }
-
-    /// Width and height of mip `level`, by Vulkan's rule (halve, round down, at least 1).
-    pub fn level_extent(&self, level: u32) -> (u32, u32) {
-        (
-            (self.desc.width >> level).max(1),
-            (self.desc.height >> level).max(1),
-        )
+    /// What a descriptor set holds to keep the view (and its image) alive.
+    pub(crate) fn keep_alive(&self) -> Arc<dyn Send + Sync> {
+        self.inner.clone()
     }
 }
 
-impl Drop for Image {
+impl Drop for ViewInner {
     fn drop(&mut self) {
-        if self.ctx.is_hung() {
-            // Hung work may still use the image: leave it (and its memory) to the process exit.
-            return;
-        }
-        // SAFETY: users keep an Image alive until GPU work using it has completed.
-        unsafe {
-            self.ctx.device().destroy_image_view(self.view, None);
-            self.ctx.device().destroy_image(self.raw, None);
-        }
-        if let (Some(a), Ok(mut alloc)) = (self.allocation.take(), self.ctx.allocator().lock()) {
-            let _ = alloc.free(a);
-        }
+        self.image.ctx.defer(Doomed::ImageView(self.raw));
     }
 }
 
-/// An extra image view (e.g. one mip level); destroyed on drop.
-pub struct ImageView {
-    ctx: Arc<Context>,
-    raw: vk::ImageView,
-}
-
-impl ImageView {
-    /// The raw handle.
-    pub fn raw(&self) -> vk::ImageView {
-        self.raw
-    }
-}
-
-impl Drop for ImageView {
-    fn drop(&mut self) {
-        // SAFETY: the view is not used by pending GPU work once its owner drops it.
-        unsafe { self.ctx.device().destroy_image_view(self.raw, None) };
-    }
-}
-
-/// A sampler; destroyed on drop.
+/// A sampler. Clones share it; it goes (after the GPU is done with it) when the last clone, and
+/// every descriptor set written with it, is gone.
+#[derive(Clone)]
 pub struct Sampler {
+    inner: Arc<SamplerInner>,
+}
+
+struct SamplerInner {
     ctx: Arc<Context>,
     raw: vk::Sampler,
 }
@@ -279,8 +355,10 @@ impl Sampler {
         ctx.count(Created::Sampler);
         ctx.set_name(raw, name);
         Ok(Sampler {
-            ctx: ctx.clone(),
-            raw,
+            inner: Arc::new(SamplerInner {
+                ctx: ctx.clone(),
+                raw,
+            }),
         })
     }
 
@@ -295,20 +373,26 @@ impl Sampler {
         ctx.count(Created::Sampler);
         ctx.set_name(raw, name);
         Ok(Sampler {
-            ctx: ctx.clone(),
-            raw,
+            inner: Arc::new(SamplerInner {
+                ctx: ctx.clone(),
+                raw,
+            }),
         })
     }
 
-    /// The raw handle.
-    pub fn raw(&self) -> vk::Sampler {
-        self.raw
+    /// The raw handle, for the vk layer's own descriptor writes.
+    pub(crate) fn raw(&self) -> vk::Sampler {
+        self.inner.raw
+    }
+
+    /// What a descriptor set holds to keep the sampler alive.
+    pub(crate) fn keep_alive(&self) -> Arc<dyn Send + Sync> {
+        self.inner.clone()
     }
 }
 
-impl Drop for Sampler {
+impl Drop for SamplerInner {
     fn drop(&mut self) {
-        // SAFETY: no pending GPU work uses the sampler once its owner drops it.
-        unsafe { self.ctx.device().destroy_sampler(self.raw, None) };
+        self.ctx.defer(Doomed::Sampler(self.raw));
     }
 }

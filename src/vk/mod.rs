@@ -3,12 +3,36 @@
 //!
 //! Ownership: every object holds an `Arc<Context>`; the context is destroyed last, in the one
 //! order written out in its `Drop`.
+//!
+//! Lifetimes on the GPU (the model: deferred destruction retired by a timeline semaphore). Safe
+//! code may drop a [`Buffer`], [`Image`], [`ImageView`], [`Sampler`], [`Pipeline`],
+//! [`DescriptorPool`], [`DescriptorLayout`], [`TimestampPool`], [`Semaphore`] or [`Swapchain`]
+//! while a submitted frame still uses it. Dropping hands the handles (and the memory) to the context, tagged with the last
+//! submission; every submission signals the next value of the context's timeline semaphore, and
+//! objects whose tag the semaphore has passed are destroyed at the next submit, wait or drop (all
+//! that remain when the context drops, after a device wait). Objects dropped while a recording is
+//! open wait until no recording is open, since that recording may use them. A
+//! [`DescriptorSet`] keeps its pool, its layout and everything written into it alive, so a bound
+//! set never names a destroyed object.
+//!
+//! No safe function takes a raw Vulkan handle: commands and descriptor writes borrow this
+//! layer's objects ([`Bind`], [`ImageTransition`], [`Recording::blit_whole`]), so the [`raw`]
+//! re-export is for flags, formats and enums only. Ranges that safe code can get wrong (fills,
+//! copies, timestamps, push constants) are checked at runtime and refused with a [`VkError`].
+//! What cannot be checked cheaply is an `unsafe fn` with its contract written out
+//! ([`DescriptorSet::rewrite`], [`TimestampPool::reset`], [`Context::wait_fence`]).
+//!
+//! Left to the validation layer (it reports them, and the tests fail on any report): whether
+//! the state a dispatch or draw needs is complete and compatible (pipeline, sets, push constants,
+//! index range), image layouts, and reading a [`Readback`] or a mapped [`Buffer`] before the
+//! submission writing it has finished (the values are then undefined).
 
 mod buffer;
 mod command_slot;
 mod commands;
 mod context;
 mod counters;
+mod deferred;
 mod descriptors;
 mod error;
 mod fence;
@@ -33,7 +57,7 @@ pub use counters::ObjectCounts;
 pub use descriptors::{Bind, DescriptorLayout, DescriptorPool, DescriptorSet};
 pub use error::{VkError, VkResult};
 pub use fence::{gpu_timeout_from, DEFAULT_GPU_TIMEOUT, GPU_TIMEOUT_ENV};
-pub use image::{Image, ImageDesc, ImageView, Sampler};
+pub use image::{Image, ImageDesc, ImageView, Sampler, WholeImage};
 pub use instance::{MessageCounts, Validation};
 pub use physical::{list_devices, DeviceInfo};
 pub use pipeline::{compute_pipeline, graphics_pipeline, GraphicsDesc, Pipeline, SpecConstants};
@@ -46,7 +70,7 @@ pub use recording::Recording;
 pub use semaphore::Semaphore;
 #[cfg(feature = "window")]
 pub use surface::WindowHandles;
-pub use swapchain::{Acquired, PresentMode, Swapchain, SwapchainLost};
+pub use swapchain::{Acquired, PresentMode, Swapchain, SwapchainImage, SwapchainLost};
 pub use transfer::{
     read_mip, record_copy_regions, texel_size, upload_layers, upload_mips, RegionTexels,
     StagedRegions,

@@ -8,7 +8,8 @@ use ash::vk;
 
 use super::context::Context;
 use super::counters::Created;
-use super::descriptors::DescriptorSet;
+use super::deferred::Doomed;
+use super::descriptors::{DescriptorLayout, DescriptorSet};
 use super::error::{Named, VkError, VkResult};
 use super::recording::Recording;
 
@@ -48,7 +49,8 @@ impl SpecConstants {
     }
 }
 
-/// A pipeline with its layout; both destroyed on drop.
+/// A pipeline with its layout. Dropping it hands both to the context, which destroys them once
+/// the GPU has finished every submission that may use them.
 pub struct Pipeline {
     ctx: Arc<Context>,
     raw: vk::Pipeline,
@@ -59,18 +61,8 @@ pub struct Pipeline {
 }
 
 impl Pipeline {
-    /// The raw pipeline.
-    pub fn raw(&self) -> vk::Pipeline {
-        self.raw
-    }
-
-    /// The pipeline layout.
-    pub fn layout(&self) -> vk::PipelineLayout {
-        self.layout
-    }
-
     /// Binds the pipeline and, if given, descriptor set 0.
-    pub fn bind(&self, rec: &Recording, set: Option<DescriptorSet>) {
+    pub fn bind(&self, rec: &Recording, set: Option<&DescriptorSet>) {
         // SAFETY: `rec` is recording on this device; the set's layout is the validation layer's
         // to check against the pipeline layout.
         unsafe {
@@ -83,7 +75,7 @@ impl Pipeline {
     }
 
     /// Binds `set` at index `index` (the pipeline itself must be bound).
-    pub fn bind_set(&self, rec: &Recording, index: u32, set: DescriptorSet) {
+    pub fn bind_set(&self, rec: &Recording, index: u32, set: &DescriptorSet) {
         // SAFETY: `rec` is recording on this device; the set was made by a relief pool.
         unsafe {
             rec.device().cmd_bind_descriptor_sets(
@@ -119,11 +111,7 @@ impl Pipeline {
 
 impl Drop for Pipeline {
     fn drop(&mut self) {
-        // SAFETY: no pending GPU work uses the pipeline once its owner drops it.
-        unsafe {
-            self.ctx.device().destroy_pipeline(self.raw, None);
-            self.ctx.device().destroy_pipeline_layout(self.layout, None);
-        }
+        self.ctx.defer(Doomed::Pipeline(self.raw, self.layout));
     }
 }
 
@@ -156,11 +144,12 @@ impl Drop for Module<'_> {
 
 fn create_layout(
     ctx: &Context,
-    set_layouts: &[vk::DescriptorSetLayout],
+    set_layouts: &[&DescriptorLayout],
     push_bytes: u32,
     push_stages: vk::ShaderStageFlags,
     name: &str,
 ) -> VkResult<vk::PipelineLayout> {
+    let set_layouts: Vec<_> = set_layouts.iter().map(|l| l.raw()).collect();
     // The range names exactly the stages the pipeline has, so pushes and layouts agree.
     let ranges = [vk::PushConstantRange {
         stage_flags: push_stages,
@@ -169,7 +158,7 @@ fn create_layout(
     }];
     let ranges: &[_] = if push_bytes > 0 { &ranges } else { &[] };
     let info = vk::PipelineLayoutCreateInfo::default()
-        .set_layouts(set_layouts)
+        .set_layouts(&set_layouts)
         .push_constant_ranges(ranges);
     // SAFETY: valid device and create info.
     let layout = unsafe { ctx.device().create_pipeline_layout(&info, None) }
@@ -182,7 +171,7 @@ fn create_layout(
 pub fn compute_pipeline(
     ctx: &Arc<Context>,
     spirv: &[u32],
-    set_layouts: &[vk::DescriptorSetLayout],
+    set_layouts: &[&DescriptorLayout],
     push_bytes: u32,
     spec: &SpecConstants,
     name: &str,
@@ -246,17 +235,25 @@ fn finish(
 
 /// Everything a graphics pipeline of relief varies in.
 pub struct GraphicsDesc<'a> {
+    /// The vertex shader's SPIR-V.
     pub vertex: &'a [u32],
+    /// The fragment shader's SPIR-V.
     pub fragment: &'a [u32],
+    /// Specialization constants of the fragment shader.
     pub fragment_spec: &'a SpecConstants,
     /// 0 for a pass whose vertex shader makes its own vertices.
     pub vertex_stride: u32,
+    /// Vertex attributes read from binding 0.
     pub attributes: &'a [vk::VertexInputAttributeDescription],
+    /// The colour attachment's format.
     pub color_format: vk::Format,
     /// `UNDEFINED` for a pass without depth.
     pub depth_format: vk::Format,
+    /// Which faces are culled.
     pub cull: vk::CullModeFlags,
-    pub set_layouts: &'a [vk::DescriptorSetLayout],
+    /// The descriptor set layouts, set 0 first.
+    pub set_layouts: &'a [&'a DescriptorLayout],
+    /// Bytes of push constants, seen by both stages.
     pub push_bytes: u32,
     /// Blend over the target with the fragment's alpha (and leave depth unwritten).
     pub blend: bool,

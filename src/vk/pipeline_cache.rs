@@ -20,8 +20,11 @@ pub const HEADER_BYTES: usize = 32;
 /// What a pipeline cache header must name to be accepted by a device.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct CacheIdentity {
+    /// `VkPhysicalDeviceProperties::vendorID`.
     pub vendor_id: u32,
+    /// `VkPhysicalDeviceProperties::deviceID`.
     pub device_id: u32,
+    /// `VkPhysicalDeviceProperties::pipelineCacheUUID`.
     pub uuid: [u8; 16],
 }
 

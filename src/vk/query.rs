@@ -1,12 +1,14 @@
 //! GPU timestamps: a query pool that checks the device supports them, masks the values to the
 //! valid bits and converts ticks to milliseconds with `timestampPeriod`.
 
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 
 use ash::vk;
 
 use super::context::Context;
 use super::counters::Created;
+use super::deferred::Doomed;
 use super::error::{Named, VkError, VkResult};
 use super::recording::Recording;
 
@@ -15,6 +17,9 @@ pub struct TimestampPool {
     ctx: Arc<Context>,
     raw: vk::QueryPool,
     capacity: u32,
+    /// Which queries a recording has written since the last reset: Vulkan allows one write per
+    /// reset, so a second is refused.
+    written: Vec<AtomicBool>,
     mask: u64,
     period_ns: f64,
 }
@@ -49,6 +54,7 @@ impl TimestampPool {
             ctx: ctx.clone(),
             raw,
             capacity,
+            written: (0..capacity).map(|_| AtomicBool::new(false)).collect(),
             mask,
             period_ns: f64::from(info.timestamp_period_ns),
         })
@@ -64,17 +70,33 @@ impl TimestampPool {
         self.period_ns
     }
 
-    /// Resets every query; call when no submitted work uses the pool.
-    pub fn reset(&self) {
-        // SAFETY: hostQueryReset is enabled; no pending work uses the pool.
+    /// Resets every query from the host.
+    ///
+    /// # Safety
+    /// No pending submission and no open recording may write the pool: Vulkan forbids a host
+    /// reset of queries the device may still use. Waiting for the submissions that wrote it
+    /// ([`CommandSlot::wait`](super::CommandSlot::wait), or a one-shot having returned) meets this.
+    /// Safe code cannot call it:
+    ///
+    /// ```compile_fail,E0133
+    /// fn reset(pool: &relief::vk::TimestampPool) {
+    ///     pool.reset();
+    /// }
+    /// ```
+    pub unsafe fn reset(&self) {
+        // SAFETY: hostQueryReset is enabled; the caller's contract keeps the device away.
         unsafe {
             self.ctx
                 .device()
                 .reset_query_pool(self.raw, 0, self.capacity)
         };
+        for w in &self.written {
+            w.store(false, Ordering::Relaxed);
+        }
     }
 
-    /// Records a timestamp into `index` once all earlier work has passed `stage`.
+    /// Records a timestamp into `index` once all earlier work has passed `stage`. An index past
+    /// the pool, or one already written since the last [`TimestampPool::reset`], is an error.
     pub fn write(
         &self,
         rec: &Recording,
@@ -87,7 +109,12 @@ impl TimestampPool {
                 self.capacity
             )));
         }
-        // SAFETY: `rec` is recording; the query was reset since its last use.
+        if self.written[index as usize].swap(true, Ordering::Relaxed) {
+            return Err(VkError::Invalid(format!(
+                "timestamp {index} written twice without a reset"
+            )));
+        }
+        // SAFETY: `rec` is recording; the query was reset and not written since (checked above).
         unsafe {
             self.ctx
                 .device()
@@ -96,20 +123,48 @@ impl TimestampPool {
         Ok(())
     }
 
-    /// Reads the first `count` raw timestamps (masked to the valid bits), waiting for them.
+    /// Reads the first `count` raw timestamps (masked to the valid bits). If they are not ready,
+    /// waits (at most the GPU timeout) for every submission made so far; timestamps still
+    /// missing then were never submitted, which is an error rather than a wait forever.
     pub fn read_ticks(&self, count: u32) -> VkResult<Vec<u64>> {
+        if count > self.capacity {
+            return Err(VkError::Invalid(format!(
+                "{count} timestamps read from a pool of {}",
+                self.capacity
+            )));
+        }
         let mut ticks = vec![0u64; count as usize];
-        // SAFETY: `ticks` has room for `count` 64-bit results.
-        unsafe {
+        if count == 0 {
+            return Ok(ticks);
+        }
+        if !self.try_read(&mut ticks)? {
+            self.ctx.wait_submitted("timestamp queries")?;
+            if !self.try_read(&mut ticks)? {
+                return Err(VkError::Invalid(format!(
+                    "{count} timestamps read before the work writing them was submitted"
+                )));
+            }
+        }
+        Ok(ticks.into_iter().map(|t| t & self.mask).collect())
+    }
+
+    /// Reads `ticks.len()` results without waiting; `false` when some are not available yet.
+    fn try_read(&self, ticks: &mut [u64]) -> VkResult<bool> {
+        // SAFETY: `ticks` has room for its length of 64-bit results, and that length is at most
+        // the pool's capacity (checked by the caller).
+        let got = unsafe {
             self.ctx.device().get_query_pool_results(
                 self.raw,
                 0,
-                &mut ticks,
-                vk::QueryResultFlags::TYPE_64 | vk::QueryResultFlags::WAIT,
+                ticks,
+                vk::QueryResultFlags::TYPE_64,
             )
+        };
+        match got {
+            Ok(()) => Ok(true),
+            Err(vk::Result::NOT_READY) => Ok(false),
+            Err(e) => Err(e).named("vkGetQueryPoolResults"),
         }
-        .named("vkGetQueryPoolResults")?;
-        Ok(ticks.into_iter().map(|t| t & self.mask).collect())
     }
 
     /// Milliseconds between two raw ticks (handles a wrap of the valid bits).
@@ -121,7 +176,6 @@ impl TimestampPool {
 
 impl Drop for TimestampPool {
     fn drop(&mut self) {
-        // SAFETY: no pending GPU work writes the pool once its owner drops it.
-        unsafe { self.ctx.device().destroy_query_pool(self.raw, None) };
+        self.ctx.defer(Doomed::QueryPool(self.raw));
     }
 }

@@ -16,8 +16,9 @@ use super::buffer::Buffer;
 use super::commands::memory_barrier;
 use super::context::Context;
 use super::error::{VkError, VkResult};
-use super::image::Image;
+use super::image::WholeImage;
 use super::recording::Recording;
+use super::transfer::texel_size;
 
 /// A host-visible (`GpuToCpu`) buffer that GPU results are copied into and read from.
 pub struct Readback {
@@ -67,32 +68,85 @@ impl Readback {
         Ok(())
     }
 
-    /// Records the copy of `region` of `image` (in `TRANSFER_SRC_OPTIMAL`, made
-    /// available to transfers by the caller's layout transition) and the host-read barrier.
+    /// Records the copy of `region` of `image` (an [`Image`](super::Image) or a
+    /// [`SwapchainImage`](super::SwapchainImage), in `TRANSFER_SRC_OPTIMAL`, made available to
+    /// transfers by the caller's layout transition) and the host-read barrier. The region must
+    /// lie within the image's level and, as tightly packed rows, within this buffer; otherwise
+    /// nothing is recorded and the error says why.
     pub fn record_copy_from_image(
         &self,
         rec: &Recording,
-        image: &Image,
+        image: &impl WholeImage,
         region: vk::BufferImageCopy,
-    ) {
-        self.record_copy_from_raw_image(rec, image.raw(), region);
-    }
-
-    /// As [`Readback::record_copy_from_image`], for an image relief does not own (a swapchain's).
-    pub fn record_copy_from_raw_image(
-        &self,
-        rec: &Recording,
-        raw: vk::Image,
-        region: vk::BufferImageCopy,
-    ) {
+    ) -> VkResult<()> {
+        self.check_image_region(image, &region)?;
         let layout = vk::ImageLayout::TRANSFER_SRC_OPTIMAL;
         let dst = self.buffer.raw();
-        // SAFETY: `rec` is recording; the caller's region lies within the image and the buffer.
+        // SAFETY: `rec` is recording; the region lies within the image and the buffer (checked
+        // above); the image is alive (borrowed, then kept by deferred destruction or the
+        // swapchain's idle wait).
         unsafe {
-            rec.device()
-                .cmd_copy_image_to_buffer(rec.raw(), raw, layout, dst, &[region])
+            rec.device().cmd_copy_image_to_buffer(
+                rec.raw(),
+                image.whole_raw(),
+                layout,
+                dst,
+                &[region],
+            )
         };
         self.record_host_barrier(rec);
+        Ok(())
+    }
+
+    fn check_image_region(
+        &self,
+        image: &impl WholeImage,
+        region: &vk::BufferImageCopy,
+    ) -> VkResult<()> {
+        let sub = region.image_subresource;
+        let level = sub.mip_level;
+        let whole = image.whole_extent();
+        let (lw, lh) = (
+            (whole.width >> level).max(1),
+            (whole.height >> level).max(1),
+        );
+        let (o, e) = (region.image_offset, region.image_extent);
+        let inside = |offset: i32, size: u32, limit: u32| {
+            u32::try_from(offset)
+                .ok()
+                .and_then(|o| o.checked_add(size))
+                .is_some_and(|end| end <= limit)
+        };
+        let fits = level < image.whole_levels()
+            && sub.layer_count >= 1
+            && sub.base_array_layer.saturating_add(sub.layer_count) <= image.whole_layers()
+            && inside(o.x, e.width, lw)
+            && inside(o.y, e.height, lh)
+            && o.z == 0
+            && e.depth == 1;
+        let texel = texel_size(image.whole_format())? as u64;
+        let row = u64::from(region.buffer_row_length.max(e.width));
+        let rows = u64::from(region.buffer_image_height.max(e.height));
+        let bytes = row * rows.saturating_sub(1) * texel
+            + u64::from(e.width) * texel
+            + (rows * row * texel) * u64::from(sub.layer_count.saturating_sub(1));
+        let in_buffer = region
+            .buffer_offset
+            .checked_add(bytes)
+            .is_some_and(|end| end <= self.buffer.size());
+        if fits && in_buffer {
+            return Ok(());
+        }
+        Err(VkError::Invalid(format!(
+            "copy of {}x{} at {},{} of mip {level} ({lw}x{lh}) into readback {:?} of {} bytes at {}",
+            e.width,
+            e.height,
+            o.x,
+            o.y,
+            self.buffer.name(),
+            self.buffer.size(),
+            region.buffer_offset
+        )))
     }
 
     fn record_host_barrier(&self, rec: &Recording) {

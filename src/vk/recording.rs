@@ -8,7 +8,8 @@ use std::marker::PhantomData;
 use ash::vk;
 
 use super::buffer::Buffer;
-use super::image::Image;
+use super::error::{VkError, VkResult};
+use super::image::{Image, WholeImage};
 
 /// A command buffer in the recording state, borrowed for one recording.
 ///
@@ -120,16 +121,24 @@ impl<'a> Recording<'a> {
         };
     }
 
-    /// Fills `size` bytes of `buffer` from `offset` with the 32-bit `word`; both multiples of 4
-    /// and inside the buffer.
-    pub fn fill_buffer(&self, buffer: &Buffer, offset: u64, size: u64, word: u32) {
-        debug_assert!(offset % 4 == 0 && size % 4 == 0 && offset + size <= buffer.size());
-        // SAFETY: the buffer is recording; the range is the caller's contract, checked by the
-        // validation layer (and the debug assertion above).
+    /// Fills `size` bytes of `buffer` from `offset` with the 32-bit `word`. Both must be
+    /// multiples of 4 and the range inside the buffer; otherwise nothing is recorded and the
+    /// error says why (an engine recovers from an error, not from a panic).
+    pub fn fill_buffer(&self, buffer: &Buffer, offset: u64, size: u64, word: u32) -> VkResult<()> {
+        if offset % 4 != 0 || size % 4 != 0 {
+            return Err(VkError::Invalid(format!(
+                "fill of {size} bytes at {offset} in buffer {:?}: both must be multiples of 4",
+                buffer.name()
+            )));
+        }
+        buffer.check_range(offset, size, "fill")?;
+        // SAFETY: the buffer is recording; the range is aligned and inside the buffer (checked
+        // above).
         unsafe {
             self.device
                 .cmd_fill_buffer(self.cmd, buffer.raw(), offset, size, word)
         };
+        Ok(())
     }
 
     /// Begins dynamic rendering into `color` (cleared to `clear`) and, if given, `depth`
@@ -137,7 +146,7 @@ impl<'a> Recording<'a> {
     pub fn begin_rendering(&self, color: &Image, depth: Option<&Image>, clear: [f32; 4]) {
         let (width, height) = (color.desc().width, color.desc().height);
         let color_attachment = [vk::RenderingAttachmentInfo::default()
-            .image_view(color.view())
+            .image_view(color.view().raw())
             .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
             .load_op(vk::AttachmentLoadOp::CLEAR)
             .store_op(vk::AttachmentStoreOp::STORE)
@@ -146,7 +155,7 @@ impl<'a> Recording<'a> {
             })];
         let depth_attachment = depth.map(|d| {
             vk::RenderingAttachmentInfo::default()
-                .image_view(d.view())
+                .image_view(d.view().raw())
                 .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
                 .load_op(vk::AttachmentLoadOp::CLEAR)
                 .store_op(vk::AttachmentStoreOp::DONT_CARE)
@@ -192,8 +201,23 @@ impl<'a> Recording<'a> {
 
     /// Blits the whole colour image `src` (in `TRANSFER_SRC_OPTIMAL`) onto the whole of `dst`
     /// (in `TRANSFER_DST_OPTIMAL`), filtering linearly where the sizes differ and converting
-    /// formats (sRGB decoded, then encoded).
-    pub fn blit_whole(&self, src: (vk::Image, vk::Extent2D), dst: (vk::Image, vk::Extent2D)) {
+    /// formats (sRGB decoded, then encoded). Both are images of this layer (an [`Image`] or a
+    /// [`SwapchainImage`](super::SwapchainImage)), never raw handles:
+    ///
+    /// ```compile_fail,E0277
+    /// use relief::vk::{raw, Image, Recording};
+    /// fn forge(rec: &Recording, image: &Image) {
+    ///     rec.blit_whole(image, &raw::Image::null());
+    /// }
+    /// ```
+    ///
+    /// ```no_run
+    /// use relief::vk::{Image, Recording};
+    /// fn blit(rec: &Recording, src: &Image, dst: &Image) {
+    ///     rec.blit_whole(src, dst);
+    /// }
+    /// ```
+    pub fn blit_whole(&self, src: &impl WholeImage, dst: &impl WholeImage) {
         let corner = |e: vk::Extent2D| vk::Offset3D {
             x: e.width as i32,
             y: e.height as i32,
@@ -204,17 +228,18 @@ impl<'a> Recording<'a> {
             .layer_count(1);
         let region = vk::ImageBlit::default()
             .src_subresource(layers)
-            .src_offsets([vk::Offset3D::default(), corner(src.1)])
+            .src_offsets([vk::Offset3D::default(), corner(src.whole_extent())])
             .dst_subresource(layers)
-            .dst_offsets([vk::Offset3D::default(), corner(dst.1)]);
-        // SAFETY: the buffer is recording; the images' layouts are the caller's contract,
-        // checked by the validation layer.
+            .dst_offsets([vk::Offset3D::default(), corner(dst.whole_extent())]);
+        // SAFETY: the buffer is recording; both images are alive (borrowed, and kept to the end
+        // of the submission by deferred destruction or the swapchain's idle wait); their
+        // layouts are the caller's contract, checked by the validation layer.
         unsafe {
             self.device.cmd_blit_image(
                 self.cmd,
-                src.0,
+                src.whole_raw(),
                 vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                dst.0,
+                dst.whole_raw(),
                 vk::ImageLayout::TRANSFER_DST_OPTIMAL,
                 &[region],
                 vk::Filter::LINEAR,

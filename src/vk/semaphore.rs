@@ -1,10 +1,12 @@
 //! A binary semaphore: orders one submission or presentation after another on the device.
+//! Dropping it while a submission uses it is safe: it is destroyed after that submission.
 
 use std::sync::Arc;
 
 use ash::vk;
 
 use super::context::Context;
+use super::deferred::Doomed;
 use super::error::{Named, VkResult};
 
 /// An owned binary semaphore.
@@ -30,15 +32,14 @@ impl Semaphore {
     }
 
     /// The raw handle, for submissions and presentation.
-    pub fn raw(&self) -> vk::Semaphore {
+    pub(crate) fn raw(&self) -> vk::Semaphore {
         self.raw
     }
 }
 
 impl Drop for Semaphore {
     fn drop(&mut self) {
-        // SAFETY: owners drop semaphores only after the work that waits on or signals them has
-        // finished (a fence wait, or the device idle before a swapchain goes).
-        unsafe { self.ctx.device().destroy_semaphore(self.raw, None) };
+        // Submissions that wait on or signal it may still be pending: destroyed after them.
+        self.ctx.defer(Doomed::Semaphore(self.raw));
     }
 }

@@ -3,13 +3,50 @@
 //! targets (a finished frame is blitted in) and transfer sources (a screenshot), so they carry no
 //! views.
 
+use std::marker::PhantomData;
 use std::sync::Arc;
 
 use ash::{khr, vk};
 
 use super::context::Context;
+use super::deferred::Doomed;
 use super::error::{Named, VkError, VkResult};
+use super::image::{sealed, WholeImage};
 use super::semaphore::Semaphore;
+
+/// One image of a [`Swapchain`], borrowed from it: a target for
+/// [`Recording::blit_whole`](super::Recording::blit_whole) and a source for screenshots.
+#[derive(Debug, Clone, Copy)]
+pub struct SwapchainImage<'s> {
+    raw: vk::Image,
+    format: vk::Format,
+    extent: vk::Extent2D,
+    _chain: PhantomData<&'s Swapchain>,
+}
+
+impl sealed::Sealed for SwapchainImage<'_> {}
+
+impl WholeImage for SwapchainImage<'_> {
+    fn whole_raw(&self) -> vk::Image {
+        self.raw
+    }
+
+    fn whole_extent(&self) -> vk::Extent2D {
+        self.extent
+    }
+
+    fn whole_format(&self) -> vk::Format {
+        self.format
+    }
+
+    fn whole_levels(&self) -> u32 {
+        1
+    }
+
+    fn whole_layers(&self) -> u32 {
+        1
+    }
+}
 
 /// How presentation paces frames.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -23,6 +60,7 @@ pub enum PresentMode {
 /// An image acquired for the next frame.
 #[derive(Debug, Clone, Copy)]
 pub struct Acquired {
+    /// Which of the swapchain's images.
     pub index: u32,
     /// The swapchain still works but no longer matches the surface: re-create it after this frame.
     pub suboptimal: bool,
@@ -187,19 +225,27 @@ impl Swapchain {
         &self.filled[index as usize]
     }
 
-    /// Image `index` (owned by the swapchain).
-    pub fn image(&self, index: u32) -> vk::Image {
-        self.images[index as usize]
+    /// Image `index`, owned by the swapchain (and never destroyed through the returned value).
+    pub fn image(&self, index: u32) -> SwapchainImage<'_> {
+        SwapchainImage {
+            raw: self.images[index as usize],
+            format: self.format,
+            extent: self.extent,
+            _chain: PhantomData,
+        }
     }
 
+    /// How many images the swapchain has.
     pub fn image_count(&self) -> usize {
         self.images.len()
     }
 
+    /// The images' format.
     pub fn format(&self) -> vk::Format {
         self.format
     }
 
+    /// The images' size.
     pub fn extent(&self) -> vk::Extent2D {
         self.extent
     }
@@ -215,8 +261,9 @@ impl Drop for Swapchain {
         // Presentation is not fenced: only an idle device proves its semaphore waits are over.
         let _ = self.ctx.wait_idle();
         self.filled.clear();
-        // SAFETY: the device is idle; the images go with the swapchain.
-        unsafe { self.loader.destroy_swapchain(self.raw, None) };
+        // Destroyed at once unless a recording still open blits into one of its images.
+        self.ctx
+            .defer(Doomed::Swapchain(self.loader.clone(), self.raw));
     }
 }
 

@@ -11,7 +11,7 @@ use super::buffer::Buffer;
 use super::commands::{transition_images, ImageTransition};
 use super::context::Context;
 use super::error::{VkError, VkResult};
-use super::image::Image;
+use super::image::{Image, ImageDesc};
 use super::readback::Readback;
 use super::recording::Recording;
 
@@ -23,6 +23,7 @@ pub fn texel_size(format: vk::Format) -> VkResult<usize> {
         vk::Format::R32_SFLOAT
         | vk::Format::R8G8B8A8_UNORM
         | vk::Format::R8G8B8A8_SRGB
+        | vk::Format::B8G8R8A8_UNORM
         | vk::Format::B8G8R8A8_SRGB => 4,
         vk::Format::R16G16B16A16_SFLOAT
         | vk::Format::R16G16B16A16_UNORM
@@ -36,9 +37,9 @@ pub fn texel_size(format: vk::Format) -> VkResult<usize> {
     })
 }
 
-fn all_mips(image: &Image, old: vk::ImageLayout, new: vk::ImageLayout) -> ImageTransition {
+fn all_mips(image: &Image, old: vk::ImageLayout, new: vk::ImageLayout) -> ImageTransition<'_> {
     ImageTransition {
-        image: image.raw(),
+        image,
         aspect: image.desc().aspect,
         base_mip: 0,
         mip_count: image.desc().mip_levels,
@@ -188,7 +189,7 @@ pub fn read_mip(
                 height: h,
                 depth: 1,
             });
-        readback.record_copy_from_image(rec, image, region);
+        readback.record_copy_from_image(rec, image, region)?;
         transition_images(rec, &[all_mips(image, src, layout)]);
         Ok(())
     })?;
@@ -201,6 +202,8 @@ pub fn read_mip(
 pub struct StagedRegions {
     staging: Buffer,
     copies: Vec<vk::BufferImageCopy>,
+    /// What the regions were checked against: an image recorded into must match it.
+    staged_for: ImageDesc,
 }
 
 /// One rectangle of a level: its level, `[x0, y0, width, height]`, and its texels, tightly
@@ -251,16 +254,36 @@ impl StagedRegions {
                     }),
             );
         }
-        Ok(StagedRegions { staging, copies })
+        Ok(StagedRegions {
+            staging,
+            copies,
+            staged_for: *image.desc(),
+        })
     }
 
-    /// Records the copies into `image` (the one staged for), which must be in `layout`
-    /// (`GENERAL` or `TRANSFER_DST_OPTIMAL`) with earlier accesses made available to transfers.
-    pub fn record(&self, rec: &Recording, image: &Image, layout: vk::ImageLayout) {
-        if self.copies.is_empty() {
-            return;
+    /// Records the copies into `image` (the one staged for, or one of the same size, format and
+    /// mip count), which must be in `layout` (`GENERAL` or `TRANSFER_DST_OPTIMAL`) with earlier
+    /// accesses made available to transfers. Another image or layout is an error.
+    pub fn record(&self, rec: &Recording, image: &Image, layout: vk::ImageLayout) -> VkResult<()> {
+        if !same_shape(image.desc(), &self.staged_for) {
+            return Err(VkError::Invalid(format!(
+                "regions staged for a {:?} image recorded into {:?}, a {:?} one",
+                shape(&self.staged_for),
+                image.name(),
+                shape(image.desc())
+            )));
         }
-        // SAFETY: the copies were checked against the image's levels and the staging buffer.
+        if layout != vk::ImageLayout::GENERAL && layout != vk::ImageLayout::TRANSFER_DST_OPTIMAL {
+            return Err(VkError::Invalid(format!(
+                "staged regions copied into {:?} in {layout:?}",
+                image.name()
+            )));
+        }
+        if self.copies.is_empty() {
+            return Ok(());
+        }
+        // SAFETY: the copies were checked against the levels of an image of this shape and lie
+        // in the staging buffer.
         unsafe {
             rec.device().cmd_copy_buffer_to_image(
                 rec.raw(),
@@ -270,19 +293,54 @@ impl StagedRegions {
                 &self.copies,
             )
         };
+        Ok(())
     }
 }
 
+/// Size, format and mip count: what decides whether a region fits an image.
+fn shape(desc: &ImageDesc) -> (u32, u32, vk::Format, u32) {
+    (desc.width, desc.height, desc.format, desc.mip_levels)
+}
+
+fn same_shape(a: &ImageDesc, b: &ImageDesc) -> bool {
+    shape(a) == shape(b)
+}
+
 /// Records copies of the same rectangles (`(level, [x0, y0, width, height])`) from `src` to `dst`,
-/// two images of one format and size, in the layouts named.
+/// in the layouts named. The images must have one format and size and hold every rectangle in
+/// both; otherwise nothing is recorded and the error says why.
 pub fn record_copy_regions(
     rec: &Recording,
     (src, src_layout): (&Image, vk::ImageLayout),
     (dst, dst_layout): (&Image, vk::ImageLayout),
     regions: &[(u32, [u32; 4])],
-) {
+) -> VkResult<()> {
+    let (s, d) = (src.desc(), dst.desc());
+    if (s.width, s.height, s.format) != (d.width, d.height, d.format) {
+        return Err(VkError::Invalid(format!(
+            "region copies from {:?} ({:?}) to {:?} ({:?}): sizes or formats differ",
+            src.name(),
+            shape(s),
+            dst.name(),
+            shape(d)
+        )));
+    }
+    let levels = s.mip_levels.min(d.mip_levels);
+    for &(level, [x, y, w, h]) in regions {
+        let (lw, lh) = src.level_extent(level);
+        let fits = level < levels
+            && x.checked_add(w).is_some_and(|e| e <= lw)
+            && y.checked_add(h).is_some_and(|e| e <= lh);
+        if !fits {
+            return Err(VkError::Invalid(format!(
+                "region {x},{y} {w}x{h} of mip {level} copied from {:?} to {:?} ({lw}x{lh})",
+                src.name(),
+                dst.name()
+            )));
+        }
+    }
     if regions.is_empty() {
-        return;
+        return Ok(());
     }
     let copies: Vec<vk::ImageCopy> = regions
         .iter()
@@ -304,7 +362,8 @@ pub fn record_copy_regions(
                 })
         })
         .collect();
-    // SAFETY: the caller names images of one format and size whose levels hold the rectangles.
+    // SAFETY: the images have one format and size and their levels hold the rectangles
+    // (checked above).
     unsafe {
         rec.device().cmd_copy_image(
             rec.raw(),
@@ -315,4 +374,5 @@ pub fn record_copy_regions(
             &copies,
         )
     };
+    Ok(())
 }

@@ -160,14 +160,7 @@ impl CellsPass {
         let cells_layout = DescriptorLayout::new(ctx, &CELLS_SET_BINDINGS, stages, "cells layout")?;
         let frame_layout = plain_frame_layout(ctx)?;
         let material_layout = material_layout(ctx)?;
-        let pipeline = create_pipeline(
-            ctx,
-            &[
-                frame_layout.raw(),
-                material_layout.raw(),
-                cells_layout.raw(),
-            ],
-        )?;
+        let pipeline = create_pipeline(ctx, &[&frame_layout, &material_layout, &cells_layout])?;
         let count = plan.cells.len() as u32;
         let pool = DescriptorPool::new(ctx, count, 4 * count, "cells sets")?;
         let mut draws = Vec::with_capacity(plan.cells.len());
@@ -211,9 +204,9 @@ impl CellsPass {
             let material = material_set(draw.material).ok_or_else(|| {
                 VkError::Invalid(format!("material {} has no set", draw.material))
             })?;
-            pipeline.bind(rec, Some(frame_set));
-            pipeline.bind_set(rec, 1, material);
-            pipeline.bind_set(rec, 2, draw.set);
+            pipeline.bind(rec, Some(&frame_set));
+            pipeline.bind_set(rec, 1, &material);
+            pipeline.bind_set(rec, 2, &draw.set);
             // The complex is in world space: draw.glsl's push constants (unread) get the identity.
             pipeline.push(rec, bytemuck::bytes_of(&DrawPush::of(Mat4::IDENTITY)))?;
             rec.bind_mesh(&draw.faces, &draw.indices);
@@ -257,8 +250,8 @@ fn build_complex(
         &format!("{name} cell attributes"),
     )?;
     let mut binds = arrays.binds().to_vec();
-    binds.push(Bind::Uniform(3, uniform.raw()));
-    binds.push(Bind::Storage(4, attribute_buffer.raw()));
+    binds.push(Bind::Uniform(3, &uniform));
+    binds.push(Bind::Storage(4, &attribute_buffer));
     let set = pool.allocate(layout, &binds)?;
     let faces = Buffer::with_data(
         ctx,
@@ -405,10 +398,7 @@ fn outer_faces(grid: &CellGrid) -> (Vec<[f32; 3]>, Vec<u32>) {
     (vertices, indices)
 }
 
-fn create_pipeline(
-    ctx: &Arc<Context>,
-    set_layouts: &[vk::DescriptorSetLayout],
-) -> VkResult<Pipeline> {
+fn create_pipeline(ctx: &Arc<Context>, set_layouts: &[&DescriptorLayout]) -> VkResult<Pipeline> {
     let missing = |k: &str| VkError::Invalid(format!("no compiled shader {k}"));
     let vertex = shaders::spirv("cells.vert").ok_or_else(|| missing("cells.vert"))?;
     let fragment = shaders::spirv("cells.frag").ok_or_else(|| missing("cells.frag"))?;

@@ -71,11 +71,11 @@ impl ComplexBuffers {
     }
 
     /// Their bindings, 0 to 2.
-    pub(in crate::render) fn binds(&self) -> [Bind; 3] {
+    pub(in crate::render) fn binds(&self) -> [Bind<'_>; 3] {
         [
-            Bind::Storage(0, self.cells.raw()),
-            Bind::Storage(1, self.grey.raw()),
-            Bind::Storage(2, self.maps.raw()),
+            Bind::Storage(0, &self.cells),
+            Bind::Storage(1, &self.grey),
+            Bind::Storage(2, &self.maps),
         ]
     }
 
@@ -123,9 +123,11 @@ pub fn march_cells_on_gpu(
         "cell hits",
     )?;
     let mut binds = arrays.binds().to_vec();
-    binds.push(Bind::Storage(3, ray_buffer.raw()));
-    binds.push(Bind::Storage(4, hits.raw()));
-    search.set.rewrite(ctx, &binds);
+    binds.push(Bind::Storage(3, &ray_buffer));
+    binds.push(Bind::Storage(4, &hits));
+    // SAFETY: every submission that bound the set was a one-shot (warm-ups and timed
+    // submissions), and one-shots return only once their work has finished.
+    unsafe { search.set.rewrite(&binds) }?;
     let params = Params {
         origin_size: [
             complex.origin[0],
@@ -146,7 +148,7 @@ pub fn march_cells_on_gpu(
     warm_up(
         ctx,
         search.pass.pipeline(),
-        search.set,
+        &search.set,
         bytemuck::bytes_of(&idle),
     )?;
     let mut timed = TimedSubmissions::new(ctx, 1, "cells trace")?;
@@ -154,7 +156,7 @@ pub fn march_cells_on_gpu(
         let groups = [(rays.len() as u32).div_ceil(GROUP).max(1), 1, 1];
         search
             .pass
-            .dispatch(rec, search.set, bytemuck::bytes_of(&params), groups)
+            .dispatch(rec, &search.set, bytemuck::bytes_of(&params), groups)
     })?;
     let back = Readback::new(ctx, hit_bytes, "cell hits readback")?;
     ctx.one_shot(|rec| back.record_copy_from_buffer(rec, &hits, SHADER_WROTE))?;

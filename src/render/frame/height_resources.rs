@@ -214,23 +214,23 @@ impl HeightResources {
     }
 
     /// The resources for bindings 0..=3, with the uniforms of frame slot 0.
-    pub fn binds(&self) -> Vec<Bind> {
+    pub fn binds(&self) -> Vec<Bind<'_>> {
         self.slot_binds(0)
     }
 
     /// The resources for bindings 0..=3, with the uniforms of frame slot `slot`.
-    pub fn slot_binds(&self, slot: usize) -> Vec<Bind> {
+    pub fn slot_binds(&self, slot: usize) -> Vec<Bind<'_>> {
         let view = self.heights.image.view();
         let uniforms = &self.uniforms[slot.min(self.uniforms.len() - 1)];
         let mut list = vec![
-            Bind::Uniform(0, uniforms.raw()),
-            Bind::Texture(1, view, self.heights.point.raw()),
-            Bind::Texture(2, view, self.heights.linear.raw()),
+            Bind::Uniform(0, uniforms),
+            Bind::Texture(1, view, &self.heights.point),
+            Bind::Texture(2, view, &self.heights.linear),
         ];
         if let Some(map) = &self.map {
-            list.push(Bind::Texture(3, map.image.view(), map.sampler.raw()));
+            list.push(Bind::Texture(3, map.image.view(), &map.sampler));
         }
-        let point = self.heights.point.raw();
+        let point = &self.heights.point;
         match &self.mean {
             MeanBinding::None => {}
             MeanBinding::StandIn => list.push(Bind::Texture(4, view, point)),

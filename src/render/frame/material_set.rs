@@ -8,7 +8,10 @@ use ash::vk;
 
 use super::scene_textures::SceneTextures;
 use crate::scene::{AlphaMode, HeightSource, Material, SceneImage, TextureSlot, UvTransform};
-use crate::vk::{Bind, Buffer, Context, DescriptorLayout, DescriptorPool, DescriptorSet, VkResult};
+use crate::vk::{
+    Bind, Buffer, Context, DescriptorLayout, DescriptorPool, DescriptorSet, ImageView, Sampler,
+    VkResult,
+};
 
 /// The material parameter block.
 #[repr(C)]
@@ -114,7 +117,7 @@ impl MaterialSets {
         materials: &[Material],
         images: &[SceneImage],
         drawn: &[bool],
-        relief_ao: &[Option<(vk::ImageView, vk::Sampler)>],
+        relief_ao: &[Option<(ImageView, Sampler)>],
         textures: &mut SceneTextures,
     ) -> VkResult<MaterialSets> {
         let count = drawn.iter().filter(|d| **d).count().max(1) as u32;
@@ -125,7 +128,7 @@ impl MaterialSets {
             if !drawn.get(index).copied().unwrap_or(false) {
                 continue;
             }
-            let ao = relief_ao.get(index).copied().flatten();
+            let ao = relief_ao.get(index).cloned().flatten();
             let mut uniform = MaterialUniform::of(material);
             if ao.is_some() {
                 uniform.textures[0] |= 1 << RELIEF_AO_SLOT;
@@ -136,20 +139,23 @@ impl MaterialSets {
                 vk::BufferUsageFlags::UNIFORM_BUFFER,
                 &format!("material {:?}", material.name),
             )?;
-            let mut binds = Vec::with_capacity(7);
-            for (k, slot) in TextureSlot::ALL.iter().enumerate() {
-                let (view, sampler) = match material.texture(*slot) {
+            let mut bound = Vec::with_capacity(6);
+            for slot in TextureSlot::ALL.iter() {
+                bound.push(match material.texture(*slot) {
                     Some(t) => textures.bind(images, t, slot.is_color())?,
                     None => textures.white()?,
-                };
-                binds.push(Bind::Texture(k as u32, view, sampler));
+                });
             }
-            binds.push(Bind::Uniform(5, buffer.raw()));
-            let (view, sampler) = match ao {
+            let (ao_view, ao_sampler) = match ao {
                 Some(bound) => bound,
                 None => textures.white()?,
             };
-            binds.push(Bind::Texture(RELIEF_AO_SLOT, view, sampler));
+            let mut binds = Vec::with_capacity(7);
+            for (k, (view, sampler)) in bound.iter().enumerate() {
+                binds.push(Bind::Texture(k as u32, view, sampler));
+            }
+            binds.push(Bind::Uniform(5, &buffer));
+            binds.push(Bind::Texture(RELIEF_AO_SLOT, &ao_view, &ao_sampler));
             sets[index] = Some(pool.allocate(layout, &binds)?);
             buffers.push(buffer);
         }
@@ -162,6 +168,6 @@ impl MaterialSets {
 
     /// The set of material `index`, if it is drawn.
     pub fn set(&self, index: usize) -> Option<DescriptorSet> {
-        self.sets.get(index).copied().flatten()
+        self.sets.get(index).cloned().flatten()
     }
 }

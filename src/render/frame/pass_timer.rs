@@ -39,9 +39,13 @@ impl PassTimer {
         })
     }
 
-    /// Forgets the last frame's scopes; no submitted work may still write the pool.
-    pub fn reset(&mut self) {
-        self.pool.reset();
+    /// Forgets the last frame's scopes.
+    ///
+    /// # Safety
+    /// As [`TimestampPool::reset`]: no pending submission or open recording may write the pool.
+    pub unsafe fn reset(&mut self) {
+        // SAFETY: the caller's contract.
+        unsafe { self.pool.reset() };
         self.scopes.clear();
     }
 

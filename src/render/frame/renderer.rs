@@ -278,7 +278,7 @@ impl Renderer {
                 timer.scope(rec, scope(Pass::Surface), |rec| {
                     targets.begin(rec);
                     let culled = surface.record_draws(rec, k, eye, &frustum);
-                    targets.end(rec, readback);
+                    targets.end(rec, readback)?;
                     culled
                 })
             } else {
@@ -292,7 +292,7 @@ impl Renderer {
                 })?;
                 timer.scope(rec, scope(Pass::Surface), |rec| {
                     let culled = surface.record_draws(rec, k, eye, &frustum);
-                    targets.end(rec, readback);
+                    targets.end(rec, readback)?;
                     culled
                 })
             }
@@ -330,7 +330,8 @@ impl Renderer {
         };
         slot.commands.wait()?;
         let scopes = slot.timer.read()?;
-        slot.timer.reset();
+        // SAFETY: the slot's only submission, the one that wrote its timer, was waited for above.
+        unsafe { slot.timer.reset() };
         let rgba = match (&slot.readback, read_back) {
             (Some(buffer), true) => Some(buffer.bytes()?.to_vec()),
             _ => None,

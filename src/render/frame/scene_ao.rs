@@ -7,13 +7,11 @@
 
 use std::sync::Arc;
 
-use ash::vk;
-
 use super::height_resources::HeightResources;
 use super::plan::Plan;
 use crate::render::maps::ao_map_pass::{AoJob, AoMapPass};
 use crate::scene::AoMode;
-use crate::vk::{Context, Recording, VkError, VkResult};
+use crate::vk::{Context, ImageView, Recording, Sampler, VkError, VkResult};
 
 /// The scene's AO passes and maps.
 pub struct SceneAo {
@@ -115,9 +113,12 @@ impl SceneAo {
     }
 
     /// Map `k`'s view and sampler, for a material's descriptor set.
-    pub fn binding(&self, k: usize) -> Option<(vk::ImageView, vk::Sampler)> {
-        self.jobs
-            .get(k)
-            .map(|m| (m.job.map().image.view(), m.job.map().sampler.raw()))
+    pub fn binding(&self, k: usize) -> Option<(ImageView, Sampler)> {
+        self.jobs.get(k).map(|m| {
+            (
+                m.job.map().image.view().clone(),
+                m.job.map().sampler.clone(),
+            )
+        })
     }
 }

@@ -10,7 +10,7 @@ use ash::vk;
 
 use super::texture_mips::mip_chain;
 use crate::scene::{Filter, SamplerDesc, SceneImage, TextureRef, Wrap};
-use crate::vk::{upload_mips, Context, Image, ImageDesc, Sampler, VkError, VkResult};
+use crate::vk::{upload_mips, Context, Image, ImageDesc, ImageView, Sampler, VkError, VkResult};
 
 /// Uploaded images and samplers, created on first use.
 pub struct SceneTextures {
@@ -39,7 +39,7 @@ impl SceneTextures {
         images: &[SceneImage],
         texture: &TextureRef,
         srgb: bool,
-    ) -> VkResult<(vk::ImageView, vk::Sampler)> {
+    ) -> VkResult<(ImageView, Sampler)> {
         let key = (texture.image, srgb);
         if !self.images.contains_key(&key) {
             let source = images.get(texture.image).ok_or_else(|| {
@@ -54,18 +54,21 @@ impl SceneTextures {
             let image = upload_rgba(&self.ctx, rgba.width(), rgba.height(), &rgba, srgb, &name)?;
             self.images.insert(key, image);
         }
-        let view = self.images[&key].view();
+        let view = self.images[&key].view().clone();
         Ok((view, self.sampler(&texture.sampler)?))
     }
 
     /// The white texture with the default sampler, for slots without a texture.
-    pub fn white(&mut self) -> VkResult<(vk::ImageView, vk::Sampler)> {
-        Ok((self.white.view(), self.sampler(&SamplerDesc::default())?))
+    pub fn white(&mut self) -> VkResult<(ImageView, Sampler)> {
+        Ok((
+            self.white.view().clone(),
+            self.sampler(&SamplerDesc::default())?,
+        ))
     }
 
-    fn sampler(&mut self, desc: &SamplerDesc) -> VkResult<vk::Sampler> {
+    fn sampler(&mut self, desc: &SamplerDesc) -> VkResult<Sampler> {
         if let Some(s) = self.samplers.get(desc) {
-            return Ok(s.raw());
+            return Ok(s.clone());
         }
         let filter = |f: Filter| match f {
             Filter::Nearest => vk::Filter::NEAREST,
@@ -91,9 +94,8 @@ impl SceneTextures {
             .max_lod(max_lod);
         let name = format!("material sampler {}", self.samplers.len());
         let sampler = Sampler::from_info(&self.ctx, &info, &name)?;
-        let raw = sampler.raw();
-        self.samplers.insert(*desc, sampler);
-        Ok(raw)
+        self.samplers.insert(*desc, sampler.clone());
+        Ok(sampler)
     }
 }
 

@@ -26,7 +26,7 @@ use crate::scene::{Frustum, Lod, Mesh, Scene, Vertex};
 use crate::shaders;
 use crate::vk::{
     graphics_pipeline, Bind, Buffer, Context, DescriptorLayout, DescriptorPool, DescriptorSet,
-    GraphicsDesc, Pipeline, Recording, SpecConstants, VkError, VkResult,
+    GraphicsDesc, ImageView, Pipeline, Recording, Sampler, SpecConstants, VkError, VkResult,
 };
 
 /// Colour target format: sRGB, so the hardware encodes the shader's linear output.
@@ -167,7 +167,7 @@ fn drawn_materials(
     scene: &Scene,
     plan: &Plan,
     ao: &SceneAo,
-) -> (Vec<bool>, Vec<Option<(vk::ImageView, vk::Sampler)>>) {
+) -> (Vec<bool>, Vec<Option<(ImageView, Sampler)>>) {
     let mut drawn = vec![false; scene.materials.len()];
     let mut relief_ao = vec![None; scene.materials.len()];
     for d in &plan.draws {
@@ -370,7 +370,7 @@ impl SurfacePass {
         };
         let plain_sets = plain_uniforms
             .iter()
-            .map(|b| frame_pool.allocate(&layouts.plain, &[Bind::Uniform(0, b.raw())]))
+            .map(|b| frame_pool.allocate(&layouts.plain, &[Bind::Uniform(0, b)]))
             .collect::<VkResult<Vec<_>>>()?;
         let pipelines = plan
             .pipelines
@@ -383,10 +383,10 @@ impl SurfacePass {
                     Some(_) => &layouts.heights,
                 };
                 if key.layers {
-                    let sets = [set0.raw(), material_layout.raw(), layer_layout.raw()];
+                    let sets = [set0, &material_layout, &layer_layout];
                     create_pipeline(ctx, key, &sets)
                 } else {
-                    create_pipeline(ctx, key, &[set0.raw(), material_layout.raw()])
+                    create_pipeline(ctx, key, &[set0, &material_layout])
                 }
             })
             .collect::<VkResult<Vec<_>>>()?;
@@ -457,7 +457,7 @@ impl SurfacePass {
 
     /// Set 0 without heights for frame slot `slot` (none when nothing reads it).
     pub fn plain_set(&self, slot: usize) -> Option<DescriptorSet> {
-        self.plain_sets.get(slot).copied()
+        self.plain_sets.get(slot).cloned()
     }
 
     /// The set of material `index`, if a draw of the plan reads it.
@@ -497,10 +497,10 @@ impl SurfacePass {
         order.extend(blended);
         for draw in order {
             let pipeline = &self.pipelines[draw.pipeline];
-            let set = draw.frame_sets[slot.min(draw.frame_sets.len() - 1)];
+            let set = &draw.frame_sets[slot.min(draw.frame_sets.len() - 1)];
             pipeline.bind(rec, Some(set));
-            pipeline.bind_set(rec, 1, draw.material_set);
-            if let Some(layers) = draw.layer_set {
+            pipeline.bind_set(rec, 1, &draw.material_set);
+            if let Some(layers) = &draw.layer_set {
                 pipeline.bind_set(rec, 2, layers);
             }
             pipeline.push(rec, bytemuck::bytes_of(&draw.push))?;
@@ -540,7 +540,7 @@ fn mesh_bounds(vertices: &[Vertex]) -> (Vec3, Vec3) {
 fn create_pipeline(
     ctx: &Arc<Context>,
     key: &PipelineKey,
-    set_layouts: &[vk::DescriptorSetLayout],
+    set_layouts: &[&DescriptorLayout],
 ) -> VkResult<Pipeline> {
     let missing = |k: &str| VkError::Invalid(format!("no compiled shader {k}"));
     let vs = shaders::spirv("mesh.vert").ok_or_else(|| missing("mesh.vert"))?;

@@ -80,7 +80,7 @@ impl Targets {
             rec,
             &[
                 ImageTransition {
-                    image: self.color.raw(),
+                    image: &self.color,
                     aspect: vk::ImageAspectFlags::COLOR,
                     base_mip: 0,
                     mip_count: 1,
@@ -93,7 +93,7 @@ impl Targets {
                     ),
                 },
                 ImageTransition {
-                    image: self.depth.raw(),
+                    image: &self.depth,
                     aspect: vk::ImageAspectFlags::DEPTH,
                     base_mip: 0,
                     mip_count: 1,
@@ -112,15 +112,15 @@ impl Targets {
 
     /// Ends rendering and, if `readback` is given, copies the colour image into it and makes the
     /// copy visible to the host.
-    pub fn end(&self, rec: &Recording, readback: Option<&Readback>) {
+    pub fn end(&self, rec: &Recording, readback: Option<&Readback>) -> VkResult<()> {
         rec.end_rendering();
         let Some(buffer) = readback else {
-            return;
+            return Ok(());
         };
         transition_images(
             rec,
             &[ImageTransition {
-                image: self.color.raw(),
+                image: &self.color,
                 aspect: vk::ImageAspectFlags::COLOR,
                 base_mip: 0,
                 mip_count: 1,
@@ -138,6 +138,6 @@ impl Targets {
         );
         let desc = self.color.desc();
         let region = whole_color_region(desc.width, desc.height);
-        buffer.record_copy_from_image(rec, &self.color, region);
+        buffer.record_copy_from_image(rec, &self.color, region)
     }
 }

@@ -211,19 +211,20 @@ impl AoMapPass {
         let map = new_map(ctx, hf, self.mode)?;
         let pool = DescriptorPool::new(ctx, 1, 4, &format!("ao map {} sets", self.mode))?;
         let mut binds = vec![
-            Bind::Texture(0, hf.image.view(), hf.point.raw()),
+            Bind::Texture(0, hf.image.view(), &hf.point),
             Bind::StorageImage(1, map.image.view()),
         ];
         let scratch = if self.mode == AoMode::ExactHorizon {
-            let scratch = sweep_scratch(ctx, hf)?;
-            binds.push(Bind::Storage(2, scratch.hulls.raw()));
-            binds.push(Bind::Storage(3, scratch.accum.raw()));
-            binds.push(Bind::Storage(4, scratch.field.raw()));
-            binds.push(Bind::Storage(5, scratch.crossings.raw()));
-            Some(scratch)
+            Some(sweep_scratch(ctx, hf)?)
         } else {
             None
         };
+        if let Some(scratch) = &scratch {
+            binds.push(Bind::Storage(2, &scratch.hulls));
+            binds.push(Bind::Storage(3, &scratch.accum));
+            binds.push(Bind::Storage(4, &scratch.field));
+            binds.push(Bind::Storage(5, &scratch.crossings));
+        }
         let set = pool.allocate(self.pass.layout(), &binds)?;
         let d = hf.image.desc();
         let reach_uv = match reach_texels {
@@ -250,7 +251,7 @@ impl AoMapPass {
         self.check_job(job)?;
         let image = &job.map.image;
         transition_map(rec, image, MapStep::Write);
-        self.pass.pipeline().bind(rec, Some(job.set));
+        self.pass.pipeline().bind(rec, Some(&job.set));
         match (self.mode, &job.scratch) {
             (
                 AoMode::Horizon {
@@ -294,7 +295,7 @@ impl AoMapPass {
         };
         let image = &job.map.image;
         transition_map(rec, image, MapStep::Rewrite);
-        self.pass.pipeline().bind(rec, Some(job.set));
+        self.pass.pipeline().bind(rec, Some(&job.set));
         self.record_horizon(rec, job, (directions, rotated), region)?;
         transition_map(rec, image, MapStep::Read);
         Ok(())
@@ -360,7 +361,7 @@ impl AoMapPass {
         whole_map.mode = MODE_UNPACK;
         sweep.push(rec, bytemuck::bytes_of(&whole_map))?;
         rec.dispatch(texel_groups);
-        rec.fill_buffer(accum, 0, accum.size(), 0);
+        rec.fill_buffer(accum, 0, accum.size(), 0)?;
         memory_barrier(
             rec,
             (
@@ -636,8 +637,5 @@ fn transition_map(rec: &Recording, image: &Image, step: MapStep) {
             readers,
         ),
     };
-    transition_images(
-        rec,
-        &[ImageTransition::color(image.raw(), (old, new), src, dst)],
-    );
+    transition_images(rec, &[ImageTransition::color(image, (old, new), src, dst)]);
 }

@@ -88,7 +88,7 @@ impl SearchPipeline {
     ) -> VkResult<(MapData, f64)> {
         let search = MapSearch {
             pipeline: self.pass.pipeline(),
-            set: self.set,
+            set: self.set.clone(),
             channels,
             name,
             params,
@@ -199,21 +199,22 @@ impl<P: bytemuck::Pod> MapSearch<'_, P> {
             self.name,
         )?;
         let back = Readback::new(ctx, bytes, &format!("{} readback", self.name))?;
-        self.set.rewrite(
-            ctx,
-            &[
-                Bind::Storage(BINDING_SEARCH_PYRAMID, pyramid.raw()),
-                Bind::Storage(BINDING_SEARCH_MAP, out.raw()),
-            ],
-        );
+        // SAFETY: every submission that bound the set was a one-shot (warm-ups and timed
+        // submissions), and one-shots return only once their work has finished.
+        unsafe {
+            self.set.rewrite(&[
+                Bind::Storage(BINDING_SEARCH_PYRAMID, &pyramid),
+                Bind::Storage(BINDING_SEARCH_MAP, &out),
+            ])
+        }?;
         let past_end = (self.params)(MODE_SEARCH, 0, h);
-        warm_up(ctx, self.pipeline, self.set, bytemuck::bytes_of(&past_end))?;
+        warm_up(ctx, self.pipeline, &self.set, bytemuck::bytes_of(&past_end))?;
         let chunks = row_chunks(w, h);
         let mut timed = TimedSubmissions::new(ctx, 1 + chunks.len() as u32, self.name)?;
         timed.submit(ctx, |rec| {
             rec.copy_buffer(&staging, &pyramid);
             memory_barrier(rec, COPIED, COMPUTE_RW);
-            self.pipeline.bind(rec, Some(self.set));
+            self.pipeline.bind(rec, Some(&self.set));
             record_reductions(rec, self.pipeline, w, h, |level| {
                 (self.params)(MODE_REDUCE, level, 0)
             })
@@ -231,7 +232,7 @@ impl<P: bytemuck::Pod> MapSearch<'_, P> {
     fn record_rows(&self, rec: &Recording, w: u32, row0: u32, count: u32) -> VkResult<()> {
         let params = (self.params)(MODE_SEARCH, 0, row0);
         let push = bytemuck::bytes_of(&params);
-        record_row_dispatch(rec, self.pipeline, self.set, push, w, count)
+        record_row_dispatch(rec, self.pipeline, &self.set, push, w, count)
     }
 }
 
@@ -241,7 +242,7 @@ impl<P: bytemuck::Pod> MapSearch<'_, P> {
 pub(in crate::render) fn record_row_dispatch(
     rec: &Recording,
     pipeline: &Pipeline,
-    set: DescriptorSet,
+    set: &DescriptorSet,
     push: &[u8],
     w: u32,
     count: u32,
@@ -261,7 +262,7 @@ pub(in crate::render) fn record_row_dispatch(
 pub(in crate::render) fn warm_up(
     ctx: &Arc<Context>,
     pipeline: &Pipeline,
-    set: DescriptorSet,
+    set: &DescriptorSet,
     push: &[u8],
 ) -> VkResult<()> {
     ctx.one_shot(|rec| {

@@ -68,8 +68,8 @@ impl MeanPyramid {
             .windows(2)
             .map(|pair| {
                 let binds = [
-                    Bind::StorageImage(0, pair[0].raw()),
-                    Bind::StorageImage(1, pair[1].raw()),
+                    Bind::StorageImage(0, &pair[0]),
+                    Bind::StorageImage(1, &pair[1]),
                 ];
                 pool.allocate(pass.layout(), &binds)
             })
@@ -84,7 +84,7 @@ impl MeanPyramid {
     }
 
     /// The view of every level, for sampling once built.
-    pub fn view(&self) -> vk::ImageView {
+    pub fn view(&self) -> &ImageView {
         self.image.view()
     }
 
@@ -98,7 +98,7 @@ impl MeanPyramid {
             vk::PipelineStageFlags2::COMPUTE_SHADER,
             vk::AccessFlags2::SHADER_STORAGE_READ,
         );
-        for (k, &set) in self.sets.iter().enumerate() {
+        for (k, set) in self.sets.iter().enumerate() {
             let (w, h) = self.image.level_extent(k as u32 + 1);
             self.pass
                 .dispatch(rec, set, &[], [w.div_ceil(GROUP), h.div_ceil(GROUP), 1])?;
@@ -107,7 +107,7 @@ impl MeanPyramid {
         transition_images(
             rec,
             &[ImageTransition {
-                image: self.image.raw(),
+                image: &self.image,
                 aspect: vk::ImageAspectFlags::COLOR,
                 base_mip: 0,
                 mip_count: self.image.desc().mip_levels,

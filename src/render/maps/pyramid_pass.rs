@@ -108,8 +108,8 @@ impl PyramidPass {
                 pool.allocate(
                     self.pass.layout(),
                     &[
-                        Bind::StorageImage(0, pair[0].raw()),
-                        Bind::StorageImage(1, pair[1].raw()),
+                        Bind::StorageImage(0, &pair[0]),
+                        Bind::StorageImage(1, &pair[1]),
                     ],
                 )
             })
@@ -163,7 +163,7 @@ impl PyramidPass {
             vk::PipelineStageFlags2::COMPUTE_SHADER,
             vk::AccessFlags2::SHADER_STORAGE_READ,
         );
-        for (k, (&set, level)) in job.sets.iter().zip(regions).enumerate() {
+        for (k, (set, level)) in job.sets.iter().zip(regions).enumerate() {
             let pipeline = self.pass.pipeline();
             pipeline.bind(rec, Some(set));
             let widen = u32::from(k == 0);
@@ -181,7 +181,7 @@ impl PyramidPass {
         transition_images(
             rec,
             &[ImageTransition {
-                image: image.raw(),
+                image,
                 aspect: vk::ImageAspectFlags::COLOR,
                 base_mip: 0,
                 mip_count: image.desc().mip_levels,

@@ -107,20 +107,21 @@ impl GpuMap for RelaxedConeMap {
             ..base
         };
         let buffers = Buffers::new(ctx, bound.data(), nodes)?;
-        self.search.set.rewrite(
-            ctx,
-            &[
-                Bind::Storage(BINDING_SEARCH_PYRAMID, buffers.nodes.raw()),
-                Bind::Storage(BINDING_SEARCH_MAP, buffers.map.raw()),
-            ],
-        );
-        let set = Some(self.search.set);
+        // SAFETY: every submission that bound the set was a one-shot (warm-ups and timed
+        // submissions), and one-shots return only once their work has finished.
+        unsafe {
+            self.search.set.rewrite(&[
+                Bind::Storage(BINDING_SEARCH_PYRAMID, &buffers.nodes),
+                Bind::Storage(BINDING_SEARCH_MAP, &buffers.map),
+            ])
+        }?;
+        let set = Some(&self.search.set);
         for pipeline in [&self.reach, &self.relaxed] {
             let past_end = params(0, h);
             warm_up(
                 ctx,
                 pipeline.pipeline(),
-                self.search.set,
+                &self.search.set,
                 bytemuck::bytes_of(&past_end),
             )?;
         }
@@ -139,7 +140,7 @@ impl GpuMap for RelaxedConeMap {
             record_row_dispatch(
                 rec,
                 pipeline.pipeline(),
-                self.search.set,
+                &self.search.set,
                 bytemuck::bytes_of(&push),
                 w,
                 count,

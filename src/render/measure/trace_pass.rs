@@ -274,9 +274,9 @@ fn trace_with(
     let pool = DescriptorPool::new(ctx, 1, 3, "trace sets")?;
     let mut binds = res.binds();
     binds.extend([
-        Bind::Storage(4, targets.hits.raw()),
-        Bind::Storage(5, targets.steps.raw()),
-        Bind::Storage(6, targets.visible.raw()),
+        Bind::Storage(4, &targets.hits),
+        Bind::Storage(5, &targets.steps),
+        Bind::Storage(6, &targets.visible),
     ]);
     let set = pool.allocate(pass.layout(), &binds)?;
     let timestamps = TimestampPool::new(ctx, 2 * frames, "trace timestamps")?;
@@ -288,7 +288,7 @@ fn trace_with(
     ctx.one_shot(|rec| {
         res.record_pyramid(rec)?;
         let pipeline = pass.pipeline();
-        pipeline.bind(rec, Some(set));
+        pipeline.bind(rec, Some(&set));
         pipeline.push(rec, bytemuck::bytes_of(&params))?;
         for frame in 0..warmup + frames {
             let timed = frame.checked_sub(warmup);

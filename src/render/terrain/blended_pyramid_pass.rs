@@ -220,10 +220,10 @@ impl BlendedPyramid {
                 pool.allocate(
                     pass.layout(),
                     &[
-                        Bind::Texture(0, heights.view(), texels.raw()),
-                        Bind::Texture(1, weights.view(), texels.raw()),
-                        Bind::StorageImage(2, view.raw()),
-                        Bind::Texture(3, slack.view(), texels.raw()),
+                        Bind::Texture(0, heights.view(), &texels),
+                        Bind::Texture(1, weights.view(), &texels),
+                        Bind::StorageImage(2, view),
+                        Bind::Texture(3, slack.view(), &texels),
                     ],
                 )
             })
@@ -316,8 +316,8 @@ impl BlendedPyramid {
     ) -> VkResult<Vec<Vec<Region>>> {
         let compute = vk::PipelineStageFlags2::COMPUTE_SHADER;
         let rw = vk::AccessFlags2::SHADER_STORAGE_READ | vk::AccessFlags2::SHADER_STORAGE_WRITE;
-        let to_general = |image: &Image| ImageTransition {
-            image: image.raw(),
+        let to_general: &dyn Fn(&Image) -> ImageTransition<'_> = &|image| ImageTransition {
+            image,
             aspect: vk::ImageAspectFlags::COLOR,
             base_mip: 0,
             mip_count: image.desc().mip_levels,
@@ -333,8 +333,8 @@ impl BlendedPyramid {
             ),
         };
         transition_images(rec, &[to_general(&self.weights), to_general(&self.slack)]);
-        staged[0].record(rec, &self.weights, vk::ImageLayout::GENERAL);
-        staged[1].record(rec, &self.slack, vk::ImageLayout::GENERAL);
+        staged[0].record(rec, &self.weights, vk::ImageLayout::GENERAL)?;
+        staged[1].record(rec, &self.slack, vk::ImageLayout::GENERAL)?;
         memory_barrier(
             rec,
             (
@@ -374,7 +374,7 @@ impl BlendedPyramid {
         let compute = vk::PipelineStageFlags2::COMPUTE_SHADER;
         let levels = self.blended.desc().mip_levels;
         let whole = |old, new, src, dst| ImageTransition {
-            image: self.blended.raw(),
+            image: &self.blended,
             aspect: vk::ImageAspectFlags::COLOR,
             base_mip: 0,
             mip_count: levels,
@@ -402,7 +402,7 @@ impl BlendedPyramid {
             )],
         );
         let unorm = self.format == HeightFormat::R16Unorm;
-        for (level, (&set, level_regions)) in self.sets.iter().zip(regions).enumerate() {
+        for (level, (set, level_regions)) in self.sets.iter().zip(regions).enumerate() {
             let pipeline = self.pass.pipeline();
             pipeline.bind(rec, Some(set));
             for &region in level_regions {

@@ -73,7 +73,10 @@ impl ElevationEditor {
         )?;
         let level0 = heights.image.level_view(0)?;
         let pool = DescriptorPool::new(ctx, 1, 1, "brush set")?;
-        let set = pool.allocate(brush.layout(), &[Bind::StorageImage(0, level0.raw())])?;
+        let set = pool.allocate(
+            brush.layout(),
+            &[Bind::StorageImage(BINDING_BRUSH_HEIGHTS, &level0)],
+        )?;
         let editor = ElevationEditor {
             ctx: ctx.clone(),
             heights,
@@ -128,7 +131,7 @@ impl ElevationEditor {
                 ];
                 editor
                     .brush
-                    .dispatch(rec, editor.set, bytemuck::bytes_of(&push), groups)?;
+                    .dispatch(rec, &editor.set, bytemuck::bytes_of(&push), groups)?;
                 // Strokes may overlap: each reads what the one before wrote.
                 let compute = vk::PipelineStageFlags2::COMPUTE_SHADER;
                 memory_barrier(
@@ -198,13 +201,15 @@ impl ElevationEditor {
         let levels = self.heights.levels();
         let editor = &*self;
         // The last call's timestamps were read; the queries must be reset before they are reused.
-        editor.timestamps.reset();
+        // SAFETY: the pool is written only by this function's one-shots, which have returned, so
+        // their work has finished.
+        unsafe { editor.timestamps.reset() };
         editor.ctx.one_shot(|rec| {
             editor.timestamps.write(rec, all, 0)?;
             transition_images(
                 rec,
                 &[ImageTransition {
-                    image: editor.heights.image.raw(),
+                    image: &editor.heights.image,
                     aspect: vk::ImageAspectFlags::COLOR,
                     base_mip: 0,
                     mip_count: levels,

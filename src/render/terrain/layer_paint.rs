@@ -259,7 +259,7 @@ pub fn record_paint_copies(
     regions: &[Vec<Region>],
     target: &Image,
     splat: Option<(&Image, &StagedRegions)>,
-) {
+) -> VkResult<()> {
     let blended = painter.pyramid().blended();
     let copies: Vec<(u32, [u32; 4])> = regions
         .iter()
@@ -274,19 +274,20 @@ pub fn record_paint_copies(
     let mut images = vec![(blended, src), (target, dst)];
     images.extend(splat.map(|(image, _)| (image, dst)));
     transition_images(rec, &paint_transitions(&images, true));
-    record_copy_regions(rec, (blended, src), (target, dst), &copies);
+    record_copy_regions(rec, (blended, src), (target, dst), &copies)?;
     if let Some((image, staged)) = splat {
-        staged.record(rec, image, dst);
+        staged.record(rec, image, dst)?;
     }
     transition_images(rec, &paint_transitions(&images, false));
+    Ok(())
 }
 
 /// Whole-image transitions between `SHADER_READ_ONLY_OPTIMAL` and each image's transfer layout,
 /// into it (`to_transfer`) or back.
-fn paint_transitions(
-    images: &[(&Image, vk::ImageLayout)],
+fn paint_transitions<'a>(
+    images: &[(&'a Image, vk::ImageLayout)],
     to_transfer: bool,
-) -> Vec<ImageTransition> {
+) -> Vec<ImageTransition<'a>> {
     let shaders = (
         vk::PipelineStageFlags2::FRAGMENT_SHADER | vk::PipelineStageFlags2::COMPUTE_SHADER,
         vk::AccessFlags2::SHADER_SAMPLED_READ,
@@ -305,7 +306,7 @@ fn paint_transitions(
                 (layout, read, transfer, shaders)
             };
             ImageTransition {
-                image: image.raw(),
+                image,
                 aspect: vk::ImageAspectFlags::COLOR,
                 base_mip: 0,
                 mip_count: image.desc().mip_levels,

@@ -109,10 +109,10 @@ impl LayerSets {
                 &format!("{name} layer parameters"),
             )?;
             let binds = [
-                Bind::Texture(0, colour.view(), tiled.raw()),
-                Bind::Texture(1, detail.view(), tiled.raw()),
-                Bind::Texture(2, splat.view(), clamped.raw()),
-                Bind::Uniform(3, buffer.raw()),
+                Bind::Texture(0, colour.view(), &tiled),
+                Bind::Texture(1, detail.view(), &tiled),
+                Bind::Texture(2, splat.view(), &clamped),
+                Bind::Uniform(3, &buffer),
             ];
             sets[index] = Some(pool.allocate(layout, &binds)?);
             splats[index] = Some(owned_images.len() + 2);
@@ -141,7 +141,7 @@ impl LayerSets {
 
     /// The set of material `index`, if it is a drawn layered material.
     pub fn set(&self, index: usize) -> Option<DescriptorSet> {
-        self.sets.get(index).copied().flatten()
+        self.sets.get(index).cloned().flatten()
     }
 }
 

@@ -161,7 +161,7 @@ impl Renderer {
                 &regions,
                 target,
                 splat_image.zip(splat_staged.as_ref()),
-            );
+            )?;
             report.blended_texels = regions
                 .iter()
                 .map(|level| {
