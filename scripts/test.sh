@@ -18,6 +18,8 @@ if [[ -n $heavy ]]; then
     exit 1
 fi
 
+# tests/examples.rs runs the examples' own binaries, which `cargo test` builds only as test harnesses.
+cargo build --examples --quiet
 cargo test --all-targets "$@"
 if (($# == 0)); then
     # --all-targets leaves out doctests; they hold the compile_fail checks that safe code cannot

@@ -3,8 +3,9 @@
 //! finite error and GPU time, and the viewer presents its frames under Xvfb (SKIPPED without it,
 //! as the window tests are). Each example checks the validation layer itself and fails on errors.
 //!
-//! The binaries are the ones `cargo test --all-targets` (scripts/test.sh) builds beside this
-//! test's own executable; `cargo test --test examples` alone does not build them.
+//! The binaries are the ones `cargo build --examples` (run by scripts/test.sh before the tests)
+//! puts beside this test's own executable; `cargo test` alone builds examples only as test
+//! harnesses, which do not run `main`.
 
 mod common;
 
@@ -23,8 +24,8 @@ fn example(name: &str) -> PathBuf {
         .join(format!("{name}{}", std::env::consts::EXE_SUFFIX));
     assert!(
         path.is_file(),
-        "example {name} is not built at {}: run `cargo test --all-targets` (or `cargo build \
-         --examples`) first",
+        "example {name} is not built at {}: run `cargo build --examples` first \
+         (scripts/test.sh does)",
         path.display()
     );
     path

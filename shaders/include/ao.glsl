@@ -1,6 +1,6 @@
 // Shared by the AO map passes (ao_horizon.comp, ao_sweep.comp): the height fetch with the map's
 // addressing, the texel normal and the closed-form occlusion of one azimuth slice, exactly as
-// DESIGN.md section 2 ("Normal and AO") and heightfield::ambient_occlusion define them.
+// docs/conventions.md ("Lights, shadows and ambient occlusion") and heightfield::ambient_occlusion define them.
 //
 // Bindings every AO pass shares: the height image (level 0 and, for the horizon pass, its max
 // pyramid in the mips; read with texelFetch, so the sampler's filter and addressing play no part)

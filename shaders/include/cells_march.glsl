@@ -1,4 +1,4 @@
-// Rays through a cubic cell complex (paper 002), in f32, over the arrays of src/cells/packed.rs:
+// Rays through a cubic cell complex (Apaza and Andujar), in f32, over the arrays of src/cells/packed.rs:
 // the march of src/cells/trace.rs, whose module docs say what white and black cells mean, how grey
 // cells are sampled and where a ray stops; this file follows them step for step. Shared by the
 // ray pass (cells_trace.comp) and the render pass (cells.frag).

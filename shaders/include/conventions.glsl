@@ -1,4 +1,4 @@
-// Units and types every method shares (DESIGN.md section 2).
+// Units and types every method shares (docs/conventions.md).
 // Texture space: u, v in [0,1]; depth z grows downward from the top plane (z = 0, height 1) to the
 // bottom plane (z = depth_scale, height 0), in the same units as u.
 #ifndef CONVENTIONS_GLSL

@@ -1,4 +1,4 @@
-// Texel maths and height fetches over the two samplers (DESIGN.md section 2).
+// Texel maths and height fetches over the two samplers (docs/conventions.md).
 #ifndef HEIGHTFIELD_GLSL
 #define HEIGHTFIELD_GLSL
 

@@ -1,13 +1,13 @@
-// Level of detail of relief surfaces (surface.frag's RELIEF_LOD variants; paper 001 section 1.4,
-// paper 003 section 2.5). Per pixel, once before any trace (lod_begin):
+// Level of detail of relief surfaces (surface.frag's RELIEF_LOD variants; Drobot section 1.4,
+// Ki and Oh section 2.5). Per pixel, once before any trace (lod_begin):
 // - the stop level: the height map's mip level under the pixel's footprint times LOD_FACTOR plus
 //   LOD_BIAS; the pyramid traversal (pyramid.glsl, LOD_MEAN_PYRAMID variants) stops at its floor
 //   and takes the node's plane as the hit, the plane's depth blended toward the next coarser
 //   level by the fractional part, so detail fades continuously;
 // - below LOD_AVERAGE_BELOW the stopping planes are the averaged pyramid's (binding 4), the
-//   low-frequency surface, instead of the max pyramid's upper bounds (paper 003);
+//   low-frequency surface, instead of the max pyramid's upper bounds (Ki and Oh);
 // - the iteration budget from the view angle: parallax grows toward grazing views, so rays seen
-//   from above get fewer steps, never fewer than the pyramid's levels (paper 001) or a quarter of
+//   from above get fewer steps, never fewer than the pyramid's levels (Drobot) or a quarter of
 //   a linear search's samples;
 // - a fade to plain normal mapping between LOD_FADE_START and LOD_FADE_END (world distance from
 //   the eye); beyond the end nothing is traced.

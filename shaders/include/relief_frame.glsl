@@ -1,4 +1,4 @@
-// The map between a mesh's surface and a height map's texture space (DESIGN.md section 2): the
+// The map between a mesh's surface and a height map's texture space (docs/conventions.md): the
 // interpolated tangent frame gives directions, screen derivatives give world lengths per uv unit,
 // and the height slot's uv transform (KHR_texture_transform, maybe on texCoord 1) is folded in as
 // one 2x2 linear map from uv0 to height uv.

@@ -1,10 +1,10 @@
-// Self-shadowing of a relief hit by its own height field, toward a disk light (DESIGN.md section 2,
+// Self-shadowing of a relief hit by its own height field, toward a disk light (docs/conventions.md,
 // "Light"): the visible fraction of the light's disk of directions. Every soft mode estimates the
 // horizon of the field in the light's azimuth (the steepest rise of the surface seen from the hit,
 // as a tangent) and takes the share of the disk above that edge; they differ in how they find it:
 //   2 pom-soft  Tatarchuk 2006: SHADOW_STEPS bilinear samples in equal steps along the light ray
 //               out to where the disk's lowest direction clears the top plane;
-//   3 horizon   paper 001 Listing 1.4: SHADOW_STEPS samples at growing distances, each read from the
+//   3 horizon   Drobot Listing 1.4: SHADOW_STEPS samples at growing distances, each read from the
 //               max pyramid at the level whose node spans the gap since the previous sample;
 //   4 cone      the light's cone walked through the max pyramid: nodes that cannot raise the horizon
 //               above what already matters are skipped whole, the rest refined down to the leaf
@@ -24,7 +24,7 @@ layout(constant_id = SPEC_SHADOW_MODE) const uint SHADOW_MODE = 0u;
 // Samples (pom-soft, horizon) or the iteration cap of the pyramid walk (cone).
 layout(constant_id = SPEC_SHADOW_STEPS) const uint SHADOW_STEPS = 16u;
 // Horizon mode: how far out its samples reach, as a multiple of the distance at which the disk's
-// lowest direction clears the top plane (paper 001's light vector scale).
+// lowest direction clears the top plane (Drobot's light vector scale).
 layout(constant_id = SPEC_SHADOW_REACH) const float SHADOW_REACH = 1.0;
 
 const float SHADOW_PI = 3.14159265358979;

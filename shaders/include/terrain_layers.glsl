@@ -1,4 +1,4 @@
-// Height-blended layers (paper 001, 1.7): what a layered material shows at the hit. The method
+// Height-blended layers (Drobot, 1.7): what a layered material shows at the hit. The method
 // has traced the blended surface itself (the height map of set 0 is the blend); here the layers'
 // colours, normals and roughness are mixed by the blend mode's shading weights, the same as
 // `terrain::BlendMode::shading_weights`: the splat weights for `alpha`, height times weight,

@@ -1,4 +1,4 @@
-// Pyramidal displacement mapping (Oh et al. 2006, as written up by Ki & Oh; paper 003): from the
+// Pyramidal displacement mapping (Oh et al. 2006, as written up by Ki & Oh; Ki and Oh): from the
 // top of the max pyramid the ray advances to each node's plane and descends; a move that would
 // leave the node stops at its boundary plus a small offset and stays on that level (node
 // crossing, section 2.3: "level++" undone by the loop's "level--"); at the leaf the ray advances

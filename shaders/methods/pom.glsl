@@ -1,4 +1,4 @@
-// Parallax occlusion mapping (Tatarchuk 2006; paper 001, Listing 1.1): a linear search in equal
+// Parallax occlusion mapping (Tatarchuk 2006; Drobot, Listing 1.1): a linear search in equal
 // depth steps over the bilinear surface, then the hit of the ray with the segment joining the
 // last two samples (one linear interpolation instead of relief mapping's binary search).
 

@@ -1,4 +1,4 @@
-// Quadtree displacement mapping (Drobot 2010; paper 001, Listings 1.2 and 1.3): from the top of
+// Quadtree displacement mapping (Drobot 2010; Drobot, Listings 1.2 and 1.3): from the top of
 // the max pyramid, move the ray down to the node's plane when it is not blocked and descend;
 // when the move would leave the node, stop at its boundary and ascend one level (the paper's
 // convergence speed-up, "Level += 2" before the loop's "Level--"); at the leaf, refine by linear

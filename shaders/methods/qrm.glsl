@@ -1,4 +1,4 @@
-// Quadtree relief mapping (Schroders & van Gulik 2006; paper 000, Algorithm 1 findIntersect):
+// Quadtree relief mapping (Schroders & van Gulik 2006; Schroders and van Gulik, Algorithm 1 findIntersect):
 // descend from the root; in each node the cursor moves to the nearer of the node's plane and
 // the node boundary ahead (the quadrant trick: floor(cursor * n + quadrant)) plus `delta`, half
 // a texel of the full map; it never moves back and never ascends; when the plane lies inside the

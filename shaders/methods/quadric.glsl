@@ -1,4 +1,4 @@
-// Quadratic displacement maps (Kiglics, Valasek, Balint, Ban; paper 004, Algorithm 1 with the
+// Quadratic displacement maps (Kiglics, Valasek, Balint, Ban; Kiglics et al., Algorithm 1 with the
 // stable solver of Algorithm 2): each texel stores an unbounding profile above the surface point
 // under the ray, a cone out to radius a (rim height b) then a revolved parabola peaking at radius
 // c, flat beyond c (heightfield::quadric_map documents where and why this departs from the

@@ -1,4 +1,4 @@
-// Relief mapping (Policarpo, Oliveira, Comba 2005; paper 001 section 1.3.1): a linear search in
+// Relief mapping (Policarpo, Oliveira, Comba 2005; Drobot section 1.3.1): a linear search in
 // equal depth steps brackets the first intersection, then a binary search over `refine_steps`
 // halvings narrows the bracket; the answer is the bracket's lower end (the first point found
 // at or below the surface).

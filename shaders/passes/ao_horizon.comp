@@ -1,5 +1,5 @@
 #version 460
-// The AO map by paper 001's fast horizon approximation (section 1.6.1 over the horizon queries of
+// The AO map by Drobot's fast horizon approximation (section 1.6.1 over the horizon queries of
 // 1.5.2, Listing 1.4): one invocation per texel. For each of `directions` evenly spaced azimuths
 // (the reference's midpoints, or turned by a per-texel hash when `rotated`), the horizon is the
 // steepest elevation toward samples at geometrically growing distances, far samples reading the

@@ -1,6 +1,6 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// One level of a terrain's blended height pyramid (src/terrain, paper 001 section 1.7) from the
+// One level of a terrain's blended height pyramid (src/terrain, Drobot section 1.7) from the
 // same level of its layers' and weights' max pyramids (pyramid.comp's rgba variants, one layer per
 // channel). Level 0 is the blended surface itself, BlendMode::surface in src/terrain/blend.rs;
 // levels 1 up are the conservative bound of src/terrain/blended_pyramid.rs. Both must match the

@@ -1,5 +1,5 @@
 #version 460
-// The cells pass (paper 002): a mesh drawn through its cell complex. Each fragment of a grey
+// The cells pass (Apaza and Andujar): a mesh drawn through its cell complex. Each fragment of a grey
 // cell's outer face marches the view ray through the complex from that face (cells_march.glsl);
 // a ray that leaves without a hit is discarded, a hit writes its depth and is shaded like the
 // mesh: the attribute maps give the normal, tangent, vertex colour and uvs at the hit, and the

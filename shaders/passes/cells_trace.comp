@@ -1,5 +1,5 @@
 #version 460
-// Rays through a cubic cell complex (paper 002) on the GPU: one invocation per ray marches it
+// Rays through a cubic cell complex (Apaza and Andujar) on the GPU: one invocation per ray marches it
 // (cells_march.glsl) and writes the hit's t (-1 for a miss) and the samples it took.
 #extension GL_GOOGLE_include_directive : require
 layout(local_size_x = 64) in;

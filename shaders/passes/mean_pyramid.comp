@@ -1,6 +1,6 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
-// One level of the averaged (mean) height pyramid of paper 003 section 2.5: each coarse texel is
+// One level of the averaged (mean) height pyramid of Ki and Oh section 2.5: each coarse texel is
 // the mean of the finer level's texels it covers in uv, the same covered range as the max
 // pyramid (heightfield::pyramid::covered_range) without its bilinear widening, so odd sizes
 // average every texel once. Read by LOD surface variants below their stop level

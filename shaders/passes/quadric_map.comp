@@ -1,7 +1,7 @@
 #version 460
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require
-// The quadric map on the GPU (heightfield::quadric_map, paper 004): per texel the profile
+// The quadric map on the GPU (heightfield::quadric_map, Kiglics et al.): per texel the profile
 // [a, b, c, h] of a cone continued by a parabola and a flat cap, F(r) = b r / a up to a, then
 // b + (r - a)(2c - r - a) up to c, then b + (c - a)^2, such that the bilinear surface B never
 // rises above B(q) + F(|x - q|) for any q in the texel's footprint.

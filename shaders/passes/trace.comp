@@ -13,7 +13,7 @@
 
 layout(local_size_x = 8, local_size_y = 8) in;
 
-// One record per ray: u0 v0 dx dy dz u_hit v_hit z_hit (DESIGN.md section 3).
+// One record per ray: u0 v0 dx dy dz u_hit v_hit z_hit (docs/conventions.md).
 layout(set = 0, binding = BINDING_TRACE_HITS, std430) writeonly buffer Hits { float hits[]; };
 // Per ray: steps used, and 1 if the method hit its iteration cap.
 layout(set = 0, binding = BINDING_TRACE_STEPS, std430) writeonly buffer Steps { uvec2 steps[]; };

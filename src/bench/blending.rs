@@ -1,4 +1,4 @@
-//! The bench's terrain-blending section (paper 001 section 1.7, Table 1.7): what tracing a
+//! The bench's terrain-blending section (Drobot section 1.7, Table 1.7): what tracing a
 //! height-blended terrain costs against a single field of the same shape, and how far its hits
 //! are from the exact reference of the blended surface.
 //!

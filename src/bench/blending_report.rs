@@ -1,5 +1,5 @@
 //! The blending section's table in `report.md`, with a note on every row whose blended surface
-//! costs more than 10% extra iterations (paper 001's claim for blended quadtrees).
+//! costs more than 10% extra iterations (Drobot's claim for blended quadtrees).
 
 use std::fmt::Write as _;
 

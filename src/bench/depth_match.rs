@@ -1,7 +1,7 @@
 //! Section 3 (depth scale) matches the fixed-step baseline (POM) to the tree baseline (QDM) for
-//! error at every depth scale, as paper 001 compares them at equal quality (Tables 1.3 and 1.4).
+//! error at every depth scale, as Drobot compares them at equal quality (Tables 1.3 and 1.4).
 //! The quality to match is QDM's with the paper's refinement where the sweep runs it (that is
-//! paper 001's QDM; with the exact leaf QDM's error is float rounding, which no fixed-step search
+//! Drobot's QDM; with the exact leaf QDM's error is float rounding, which no fixed-step search
 //! reaches), else QDM's default. The step method's cap doubles from its default up to
 //! `MAX_STEP_BUDGET`, and stops growing at a depth scale once a cap has matched or cost more than
 //! `MAX_COST_RATIO` times QDM's time. The tree baseline's jobs run first so the step jobs can stop.

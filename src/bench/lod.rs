@@ -2,7 +2,7 @@
 //! are minified, so LOD stops their traversal early), rendered by the full renderer per method
 //! with and without LOD. It records the surface pass's GPU time both ways and the image error of
 //! each against a 4x4 supersampled render without LOD, plus QDM's large-map / small-map time
-//! ratio with LOD on and off (paper 000 Table 1's scaling question).
+//! ratio with LOD on and off (Schroders and van Gulik Table 1's scaling question).
 
 use std::fmt::Write as _;
 use std::sync::Arc;

@@ -27,7 +27,7 @@ pub fn render_report(results: &BenchResults) -> (String, Vec<(String, String)>) 
     let _ = writeln!(
         md,
         "Error is the uv distance in texels between each method's hit and the exact first hit of the bilinear \
-         surface (DESIGN.md section 2), over a grid of parallel rays; gross = more than one texel off. GPU time \
+         surface (docs/conventions.md), over a grid of parallel rays; gross = more than one texel off. GPU time \
          is the median of the timed full-screen frames.\n"
     );
     error_vs_time(&mut md, results);
@@ -235,7 +235,7 @@ fn scaling(md: &mut String, results: &BenchResults) {
         return;
     };
     let _ = writeln!(md, "## 2. Scaling with map size\n");
-    let _ = writeln!(md, "GPU ms at 30 deg with default budgets (mean error in brackets); the last column is the largest size's time over the smallest's (paper 000, Table 1: about 1.5x for quadtree methods from 256^2 to 2048^2).\n");
+    let _ = writeln!(md, "GPU ms at 30 deg with default budgets (mean error in brackets); the last column is the largest size's time over the smallest's (Schroders and van Gulik, Table 1: about 1.5x for quadtree methods from 256^2 to 2048^2).\n");
     size_table(
         md,
         &list,
@@ -386,7 +386,7 @@ fn depth_scale(md: &mut String, results: &BenchResults) {
 /// Title, text and table head of section 3, naming the step (`s`) and tree (`t`) baselines.
 fn depth_scale_head(md: &mut String, s: &str, t: &str) {
     let _ = writeln!(md, "## 3. Depth scale: {s} against {t} at matched error\n");
-    let _ = writeln!(md, "The first field at 30 deg over every depth scale, then a stiff view (one-texel spikes at a grazing 5 deg, the first depth scale); the shape of paper 001's Tables 1.3 and 1.4 (equal quality). The quality to match is {t} with the paper's refinement (paper 001's {t}; with the exact leaf {t}'s error is float rounding, which no fixed-step search reaches; its time is the last ratio), unless that misses grossly on more than 1% of rays (it does on one-texel spikes), then {t}'s default. {s}'s cap doubles up to {MAX_STEP_BUDGET} and stops at a depth scale once a cap matched or cost more than {MAX_COST_RATIO}x {t}'s time; the row shows the cheapest cap with no more mean error (or, marked not matched, the most accurate), and the caps run.\n");
+    let _ = writeln!(md, "The first field at 30 deg over every depth scale, then a stiff view (one-texel spikes at a grazing 5 deg, the first depth scale); the shape of Drobot's Tables 1.3 and 1.4 (equal quality). The quality to match is {t} with the paper's refinement (Drobot's {t}; with the exact leaf {t}'s error is float rounding, which no fixed-step search reaches; its time is the last ratio), unless that misses grossly on more than 1% of rays (it does on one-texel spikes), then {t}'s default. {s}'s cap doubles up to {MAX_STEP_BUDGET} and stops at a depth scale once a cap matched or cost more than {MAX_COST_RATIO}x {t}'s time; the row shows the cheapest cap with no more mean error (or, marked not matched, the most accurate), and the caps run.\n");
     let _ = writeln!(
         md,
         "| view | {t} | {t} ms | {t} error | {s} budget | {s} ms | {s} error | {s} / {t} time | {s} / {t} exact leaf | {s} caps run |"
@@ -410,7 +410,7 @@ fn cone_vs_quadric(md: &mut String, results: &BenchResults) {
     let _ = writeln!(md, "## 4. Quadric against cone stepping\n");
     let _ = writeln!(
         md,
-        "Mean steps and GPU ms by view angle on {field} (paper 004, Figure 10 and Table 1).\n"
+        "Mean steps and GPU ms by view angle on {field} (Kiglics et al., Figure 10 and Table 1).\n"
     );
     let _ = writeln!(
         md,

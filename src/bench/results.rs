@@ -1,4 +1,4 @@
-//! What `relief bench` records (DESIGN.md section 3): the device, one object per measured
+//! What `relief bench` records (docs/measuring.md): the device, one object per measured
 //! configuration, the map build times and the stability matrix, written as `results.json`.
 
 use serde::Serialize;

@@ -34,7 +34,7 @@ pub fn shadows(md: &mut String, runs: &[ShadowRun]) {
         md,
         "Each hit of a QDM view at {} deg is shaded toward a directional light of angular radius r at azimuth \
          {} deg; the exact reference is the fraction of the light's disk seen from the bilinear surface at the \
-         hit (DESIGN.md section 2), from many exact rays. Cells: mean absolute error of the visible fraction; \
+         hit (docs/conventions.md), from many exact rays. Cells: mean absolute error of the visible fraction; \
          `leak` is the share of points the reference has below 0.05 and the mode above 0.5. `+ms` is the median \
          GPU time the shadow adds to the view at {}x{} rays.\n",
         first.view_angle_deg, first.light_azimuth_deg, first.resolution[0], first.resolution[1]
@@ -124,7 +124,7 @@ fn summary(md: &mut String, runs: &[ShadowRun]) {
         if p > 0.0 {
             let _ = writeln!(
                 md,
-                "\nhorizon / pom-soft time: {:.2} (paper 001 Table 1.5: 0.5 / 1.6 ms = 0.31).",
+                "\nhorizon / pom-soft time: {:.2} (Drobot Table 1.5: 0.5 / 1.6 ms = 0.31).",
                 h / p
             );
         }
@@ -186,7 +186,7 @@ pub fn ambient_occlusion(md: &mut String, runs: &[AoRun]) {
     let _ = writeln!(
         md,
         "Each mode's texture-space AO map, built on the GPU, against the exact AO at every texel centre \
-         (DESIGN.md section 2: cosine-weighted over the hemisphere about the texel normal, from exact horizons). \
+         (docs/conventions.md: cosine-weighted over the hemisphere about the texel normal, from exact horizons). \
          Build times are GPU time of the one-off build.\n"
     );
     let _ = writeln!(

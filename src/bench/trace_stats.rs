@@ -1,4 +1,4 @@
-//! Error of traced hits against the exact reference (DESIGN.md section 2): the uv distance in
+//! Error of traced hits against the exact reference (docs/conventions.md): the uv distance in
 //! texels between a method's hit and the exact first hit of the bilinear surface, its depth
 //! error, and how often the method was grossly wrong, capped or produced NaN.
 
@@ -63,7 +63,7 @@ pub struct TraceStats {
     pub steps: StepStats,
 }
 
-/// A bench ray direction for elevation `angle_deg` and azimuth `azimuth_deg` (DESIGN.md section 2).
+/// A bench ray direction for elevation `angle_deg` and azimuth `azimuth_deg` (docs/conventions.md).
 /// Exactly 90 degrees gives an exactly vertical ray.
 pub fn ray_direction(angle_deg: f64, azimuth_deg: f64) -> [f64; 3] {
     if angle_deg >= 90.0 {

@@ -1,4 +1,4 @@
-//! The faces of a cubic cell, which of them are external, and the base case (paper 002, Figure 4) that decides how
+//! The faces of a cubic cell, which of them are external, and the base case (Apaza and Andujar, Figure 4) that decides how
 //! the cell is parameterized.
 //!
 //! A grey cell's face is *external* when the 6-connected neighbour across it is white (outside the mesh), else
@@ -147,7 +147,7 @@ impl FaceSet {
     }
 }
 
-/// The ten base cases of paper 002 (Figure 4); see the module docs.
+/// The ten base cases of Apaza and Andujar (Figure 4); see the module docs.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Case {
     /// No internal face: an isolated grey cell.

@@ -1,4 +1,4 @@
-//! Distance maps on the domain faces of grey cells (paper 002, sections 3.3.2 and 3.3.3), sampled on the CPU by
+//! Distance maps on the domain faces of grey cells (Apaza and Andujar, sections 3.3.2 and 3.3.3), sampled on the CPU by
 //! casting each texel's projection line into its cell: the reference for a GPU sampler, and where the overlap ratio
 //! that picks the grid size is counted.
 //!

@@ -1,4 +1,4 @@
-//! The N x N x N grid over a mesh's bounding cube and its cells' colours (paper 002, section 3.3.1): grey cells
+//! The N x N x N grid over a mesh's bounding cube and its cells' colours (Apaza and Andujar, section 3.3.1): grey cells
 //! meet the surface, white cells lie outside it, black cells inside.
 //!
 //! Grey cells come from an exact separating-axis test of each triangle against the closed cells its bounds

@@ -1,4 +1,4 @@
-//! A closed, consistently oriented triangle mesh: what a cell complex is built from (paper 002 needs a closed
+//! A closed, consistently oriented triangle mesh: what a cell complex is built from (Apaza and Andujar needs a closed
 //! boundary so that every cell is inside, outside or on it).
 //!
 //! Vertices with equal positions are welded before the checks, since meshes from glTF split vertices along

@@ -1,4 +1,4 @@
-//! Relief mapping on cubic cell complexes (Apaza and Andújar, paper 002): a closed mesh is replaced by the grey
+//! Relief mapping on cubic cell complexes (Apaza and Andújar): a closed mesh is replaced by the grey
 //! cells of an N^3 grid over its bounding cube, each carrying distance maps on its domain faces. No Vulkan here.
 //!
 //! Built so far: the checked closed mesh ([`mesh`]), the grid and its cells' colours ([`grid`]), the cells' face

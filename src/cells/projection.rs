@@ -1,4 +1,4 @@
-//! How the points of a grey cell map onto its domain faces (paper 002, section 3.2 and Figure 5).
+//! How the points of a grey cell map onto its domain faces (Apaza and Andujar, section 3.2 and Figure 5).
 //!
 //! Everything here is in cell-local coordinates: the cell is the unit cube `[0, 1]^3`. A point `p` is projected
 //! along the projection's direction at `p` until it leaves the cell; the face it leaves through, the point there and

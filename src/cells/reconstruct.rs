@@ -1,4 +1,4 @@
-//! A triangle mesh rebuilt from the distance maps (paper 002, section 5): each texel whose line crosses the surface
+//! A triangle mesh rebuilt from the distance maps (Apaza and Andujar, section 5): each texel whose line crosses the surface
 //! gives the point where it does, and every 2x2 block of such texels two triangles. Coarser levels come from the
 //! maps' mips (each level averages 2x2 texels whose lines all cross), so a level trades triangles for detail the
 //! way a texture's mip chain does. It checks a construction (every point must lie on the mesh) and is what

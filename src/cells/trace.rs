@@ -1,10 +1,10 @@
-//! Rays through a cell complex (paper 002, section 3.4), on the CPU: the reference the renderer's shader is
+//! Rays through a cell complex (Apaza and Andujar, section 3.4), on the CPU: the reference the renderer's shader is
 //! checked against, and what `relief cells` measures against exact ray/triangle intersection with the mesh.
 //!
 //! The paper marches each ray through the grey cells sample by sample, projects every sample onto its cell's
 //! domain faces and compares its distance with the stored one, then refines the first crossing by bisection. It
-//! leaves open what a sample in a white or black cell means and where a ray stops. relief decides (the shared
-//! DESIGN.md is read-only to the project, so the decision lives here and in the README's conventions):
+//! leaves open what a sample in a white or black cell means and where a ray stops. relief decides (the decision lives
+//! here and in docs/conventions.md):
 //! - a sample is *inside* when it lies in a black cell, or in a grey cell past the surface along its projection
 //!   line (the map's distance, bilinear between texel centres, against the sample's own; an interior cell's
 //!   face points may start inside, which the map records per texel); white cells and everything outside the

@@ -1,5 +1,5 @@
 //! `relief cells`: a closed mesh (the meshes of a glTF file, or a procedural shape) replaced by a cubic cell
-//! complex (paper 002): the grid chosen as the paper does, the grey cells' distance maps, statistics like the
+//! complex (Apaza and Andujar): the grid chosen as the paper does, the grey cells' distance maps, statistics like the
 //! paper's Table 1, and the complex's hits measured against exact ray/triangle intersection: the CPU march, and
 //! with `--gpu` the GPU's (its rays per second, as the paper's Table 2 reports them).
 

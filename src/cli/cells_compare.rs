@@ -1,5 +1,5 @@
 //! `relief cells --render WxH`: the mesh drawn through its cell complex against the same mesh
-//! rasterised, from the same camera, with the same material and light (paper 002 compares its
+//! rasterised, from the same camera, with the same material and light (Apaza and Andujar compares its
 //! renders with the rasterised mesh): both images, their difference, the mean channel
 //! difference, and the cells pass's GPU time and pixels per second over a few frames.
 

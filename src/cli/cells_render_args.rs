@@ -1,4 +1,4 @@
-//! The flags that draw meshes through cell complexes (paper 002) in `relief render` and
+//! The flags that draw meshes through cell complexes (Apaza and Andujar) in `relief render` and
 //! `relief view`.
 
 use clap::Args;

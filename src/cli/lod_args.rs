@@ -6,7 +6,7 @@ use relief::scene::{Lod, Scene};
 
 #[derive(Args, Debug, Clone)]
 pub struct LodArgs {
-    /// Level of detail on every relief material (paper 001's mixed LOD, paper 003's averaged
+    /// Level of detail on every relief material (Drobot's mixed LOD, Ki and Oh's averaged
     /// pyramid); the --lod-* flags imply it.
     #[arg(long)]
     pub lod: bool,

@@ -53,7 +53,7 @@ enum Command {
     Ao(ao::AoArgs),
     /// Time every method and measure its error against the exact reference; write a report.
     Bench(bench::BenchArgs),
-    /// Replace a closed mesh by a cubic cell complex with distance maps (paper 002) and measure its hits.
+    /// Replace a closed mesh by a cubic cell complex with distance maps (Apaza and Andujar) and measure its hits.
     Cells(cells::CellsArgs),
     /// List the Vulkan devices relief can use, best first.
     Devices(devices::DevicesArgs),

@@ -15,7 +15,7 @@ pub struct ShadingArgs {
     #[arg(long, value_name = "N")]
     shadow_steps: Option<u32>,
     /// Horizon shadows: how far the samples reach, as a multiple of the distance at which the
-    /// light's lowest direction clears the top plane (paper 001's light vector scale; default 1).
+    /// light's lowest direction clears the top plane (Drobot's light vector scale; default 1).
     #[arg(long, value_name = "SCALE")]
     horizon_reach: Option<f32>,
     /// Ambient occlusion of every relief material: none, horizon-4|8|16 (optionally -rotated)

@@ -60,7 +60,7 @@ pub struct TraceArgs {
     device: Option<String>,
 }
 
-/// A directional light to shadow every hit toward (DESIGN.md section 3).
+/// A directional light to shadow every hit toward (docs/conventions.md).
 #[derive(Args)]
 struct ShadowArgs {
     /// Shade each hit's visibility of the light: none, hard, pom-soft, horizon or cone.

@@ -1,4 +1,4 @@
-//! Exact ambient occlusion at texel centres of the bilinear surface (DESIGN.md section 2, "Normal and AO"):
+//! Exact ambient occlusion at texel centres of the bilinear surface (docs/conventions.md, "Lights, shadows and ambient occlusion"):
 //! `AO = (1/pi) * integral over the hemisphere about the normal of V(w) cos(n, w) dw`, with `V = 1` when the
 //! ray leaves the top plane without passing below the surface, and the normal from central differences.
 //!

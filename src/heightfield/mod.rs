@@ -3,7 +3,7 @@
 //! addressing modes ([`Address`], the one addressing type of the crate) and the exact shading references
 //! (light visibility, ambient occlusion). No Vulkan here.
 //!
-//! Conventions (DESIGN.md section 2): heights are in [0, 1] with 1 the top plane; a W x H map stores texel
+//! Conventions (docs/conventions.md): heights are in [0, 1] with 1 the top plane; a W x H map stores texel
 //! `(i, j)` at row-major index `j * W + i`, `i` along u (x), `j` along v (y); PNG row 0 is `j = 0`.
 //!
 //! Invariant of [`Heightfield`]: `width >= 1`, `height >= 1`, `data.len() == width * height` and every value is

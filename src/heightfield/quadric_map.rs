@@ -1,4 +1,4 @@
-//! Quadratic displacement maps (Kiglics, Valasek, Bálint, Bán, paper 004): for every texel a surface of revolution,
+//! Quadratic displacement maps (Kiglics, Valasek, Bálint, Bán, Kiglics et al.): for every texel a surface of revolution,
 //! a cone continued by a revolved parabola, that the height field never pokes through; the map builder and a CPU
 //! model of the tracer (the paper's Algorithm 1 with its stable solver, Algorithm 2).
 //!

@@ -23,7 +23,7 @@ fn range(rng: &mut SplitMix64, lo: f64, hi: f64) -> f64 {
     lo + (hi - lo) * unit(rng)
 }
 
-/// A ray entering at `(u0, v0)`, elevation and azimuth in degrees (DESIGN.md section 2).
+/// A ray entering at `(u0, v0)`, elevation and azimuth in degrees (docs/conventions.md).
 fn ray_at(u0: f64, v0: f64, elevation: f64, azimuth: f64) -> RefRay {
     let (e, a) = (elevation.to_radians(), azimuth.to_radians());
     RefRay {
@@ -314,7 +314,7 @@ fn traced_path(
 }
 
 /// The error, in texels, of a depth `dz` off along the ray: the larger of the uv distance and the depth error
-/// (DESIGN.md section 2).
+/// (docs/conventions.md).
 fn texels_along(hf: &Heightfield, ray: &RefRay, dz: f64) -> f64 {
     let du = dz * ray.dx / ray.dz * f64::from(hf.width());
     let dv = dz * ray.dy / ray.dz * f64::from(hf.height());

@@ -1,6 +1,6 @@
 //! The exact reference tracer: the ground truth every displacement method is measured against.
 //!
-//! Conventions are DESIGN.md section 2: the ray enters the top plane at `(u0, v0, 0)`, is parameterised by
+//! Conventions are those of docs/conventions.md: the ray enters the top plane at `(u0, v0, 0)`, is parameterised by
 //! depth, `p(z) = (u0 + z*dx/dz, v0 + z*dy/dz, z)`, and hits at the smallest `z >= 0` with
 //! `z >= d(u(z), v(z)) = s * (1 - h(u(z), v(z)))` (the infimum, where a cliff makes the set half-open).
 //!

@@ -1,4 +1,4 @@
-//! The quadratic solver of the quadric tracer: Algorithm 2 of Kiglics et al. (paper 004), beside the textbook
+//! The quadratic solver of the quadric tracer: Algorithm 2 of Kiglics et al. (Kiglics et al.), beside the textbook
 //! formula it replaces so that tests can show the difference.
 //!
 //! The tracer solves `A t^2 + B t + C = 0` with `A >= 0` and `B < 0` and wants the smaller real root. The textbook

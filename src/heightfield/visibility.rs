@@ -1,4 +1,4 @@
-//! The exact visible fraction of a disk light seen from a point on the bilinear surface (DESIGN.md section 2,
+//! The exact visible fraction of a disk light seen from a point on the bilinear surface (docs/conventions.md,
 //! "Light"): the share of the disk's solid angle whose rays leave the top plane `z = 0` without passing below
 //! the surface.
 //!
@@ -78,7 +78,7 @@ pub enum ShadingError {
     },
 }
 
-/// A disk light, in degrees: direction as in DESIGN.md (elevation above the surface plane, azimuth from +u
+/// A disk light, in degrees: direction as in docs/conventions.md (elevation above the surface plane, azimuth from +u
 /// toward +v) and its angular radius.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LightDir {

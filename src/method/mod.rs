@@ -51,7 +51,7 @@ pub struct Method(usize);
 impl Method {
     /// Parallax occlusion mapping, the renderer's default.
     pub const POM: Method = Method(index_of("pom"));
-    /// Quadtree displacement mapping (paper 001), the default scene's.
+    /// Quadtree displacement mapping (Drobot), the default scene's.
     pub const QDM: Method = Method(index_of("qdm"));
 
     /// Every method, in table order.

@@ -11,7 +11,7 @@
 pub enum MapKind {
     /// The max pyramid in the height image's mip chain.
     MaxPyramid,
-    /// Per texel a, b, c and height of an unbounding cone + revolved parabola (paper 004).
+    /// Per texel a, b, c and height of an unbounding cone + revolved parabola (Kiglics et al.).
     Quadric,
     /// Per texel the ratio of the widest cone the bilinear bound's box surface stays outside of,
     /// and that surface's height.
@@ -208,7 +208,7 @@ pub const METHODS: &[MethodInfo] = &[
     MethodInfo {
         id: "parallax",
         name: "parallax mapping with offset limiting",
-        paper: "Welsh 2004 (cited in papers 000, 001)",
+        paper: "Welsh 2004",
         shader: "methods/parallax.glsl",
         needs: &[],
         default_budget: steps(1),
@@ -220,7 +220,7 @@ pub const METHODS: &[MethodInfo] = &[
     MethodInfo {
         id: "steep",
         name: "steep parallax mapping",
-        paper: "McGuire 2005 (papers 000, 003)",
+        paper: "McGuire 2005",
         shader: "methods/steep.glsl",
         needs: &[],
         default_budget: steps(32),
@@ -231,7 +231,7 @@ pub const METHODS: &[MethodInfo] = &[
     MethodInfo {
         id: "relief",
         name: "relief mapping: linear search + binary search",
-        paper: "Policarpo et al. 2005 (paper 001 section 1.3.1)",
+        paper: "Policarpo et al. 2005",
         shader: "methods/relief.glsl",
         needs: &[],
         // Bevy's defaults: 16 linear steps, 5 binary steps.
@@ -248,19 +248,19 @@ pub const METHODS: &[MethodInfo] = &[
     MethodInfo {
         id: "pom",
         name: "parallax occlusion mapping with linear-approximation refinement",
-        paper: "Tatarchuk 2006 (paper 001, Listing 1.1)",
+        paper: "Tatarchuk 2006",
         shader: "methods/pom.glsl",
         needs: &[],
         default_budget: steps(32),
         leaf_choice: false,
         fixed_step: true,
-        // What engines ship: the baseline of paper 001's comparisons.
+        // What engines ship: the baseline of Drobot's comparisons.
         bench_role: Some(BenchRole::StepBaseline),
     },
     MethodInfo {
         id: "csm",
         name: "cone step mapping on a cone map conservative for the bilinear surface, exact leaf",
-        paper: "Dummer 2006 (papers 001, 004)",
+        paper: "Dummer 2006",
         shader: "methods/csm.glsl",
         needs: &[MapKind::ConservativeCone],
         default_budget: exact(256, 0),
@@ -271,7 +271,7 @@ pub const METHODS: &[MethodInfo] = &[
     MethodInfo {
         id: "rcsm",
         name: "relaxed cone stepping + binary refinement on a relaxed cone map, exact leaf",
-        paper: "Policarpo & Oliveira 2007 (papers 001, 004)",
+        paper: "Policarpo & Oliveira 2007",
         shader: "methods/rcsm.glsl",
         needs: &[MapKind::RelaxedCone],
         default_budget: exact(256, 8),
@@ -282,7 +282,7 @@ pub const METHODS: &[MethodInfo] = &[
     MethodInfo {
         id: "qrm",
         name: "quadtree relief mapping (Algorithm 1: quadrant trick, half-texel delta), exact leaf",
-        paper: "Schroders & van Gulik 2006 (paper 000)",
+        paper: "Schroders & van Gulik 2006",
         shader: "methods/qrm.glsl",
         needs: &[MapKind::MaxPyramid],
         // Its traversal never climbs back up, so a ray grazing the surface pays a step per leaf
@@ -296,7 +296,7 @@ pub const METHODS: &[MethodInfo] = &[
     MethodInfo {
         id: "pdm",
         name: "pyramidal displacement mapping: node crossing, exact leaf",
-        paper: "Oh et al. 2006, Ki & Oh (paper 003)",
+        paper: "Oh et al. 2006, Ki & Oh",
         shader: "methods/pdm.glsl",
         needs: &[MapKind::MaxPyramid],
         // Never climbs back up either: the same budget as qrm, for the same reason.
@@ -308,7 +308,7 @@ pub const METHODS: &[MethodInfo] = &[
     MethodInfo {
         id: "qdm",
         name: "quadtree displacement mapping: one-level ascent on crossing, exact leaf",
-        paper: "Drobot 2010 (paper 001, Listing 1.3)",
+        paper: "Drobot 2010",
         shader: "methods/qdm.glsl",
         needs: &[MapKind::MaxPyramid],
         // A 1-degree view of fbm 128^2 takes up to ~215 steps; the cap only bounds stragglers.
@@ -321,7 +321,7 @@ pub const METHODS: &[MethodInfo] = &[
     MethodInfo {
         id: "maxmip",
         name: "maximum-mipmap traversal with exact ray/bilinear-patch intersection at the leaf",
-        paper: "Tevs, Ihrke, Seidel 2008 (beyond the papers)",
+        paper: "Tevs, Ihrke, Seidel 2008",
         shader: "methods/maxmip.glsl",
         needs: &[MapKind::MaxPyramid],
         // A 1-degree view of fbm 128^2 takes up to ~215 steps; the cap only bounds stragglers.
@@ -333,7 +333,7 @@ pub const METHODS: &[MethodInfo] = &[
     MethodInfo {
         id: "quadric",
         name: "quadratic displacement maps: cone + revolved parabola per texel, stable solver, exact leaf",
-        paper: "Kiglics, Valasek, Balint, Ban (paper 004, Algorithms 1 and 2)",
+        paper: "Kiglics, Valasek, Balint, Ban",
         shader: "methods/quadric.glsl",
         needs: &[MapKind::Quadric],
         default_budget: exact(256, 8),

@@ -1,4 +1,4 @@
-//! Layered relief materials (paper 001, 1.7): up to four layers, each with its own height map and,
+//! Layered relief materials (Drobot, 1.7): up to four layers, each with its own height map and,
 //! optionally, albedo, normal and roughness, tiled across the material's height uv, weighed by an
 //! RGBA splat map (channel k weighs layer k) and blended by a [`BlendMode`] into the one surface
 //! the material's method traces. The surface each mode defines is `terrain`'s; the renderer

@@ -1,4 +1,4 @@
-//! Level of detail of a relief material (paper 001 section 1.4's mixed automatic LOD, paper 003
+//! Level of detail of a relief material (Drobot section 1.4's mixed automatic LOD, Ki and Oh
 //! section 2.5's averaged pyramid): plain data parsed from `extras.relief.lod` and set by
 //! `relief render --lod`; the renderer turns it into a pipeline variant and specialization
 //! constants (shaders/include/lod.glsl).
@@ -12,7 +12,7 @@ use serde_json::{Map, Value};
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Lod {
     /// Multiplies the per-pixel mip level of the height map to give the traversal's stop level
-    /// (paper 001's artist factor); 0 keeps full detail everywhere.
+    /// (Drobot's artist factor); 0 keeps full detail everywhere.
     pub factor: f32,
     /// Added to the scaled mip level, in levels.
     pub bias: f32,
@@ -20,7 +20,7 @@ pub struct Lod {
     pub fade_start: f32,
     /// Distance at which the fade is complete and nothing is traced; 0: no fade.
     pub fade_end: f32,
-    /// Stop levels below this one end on paper 003's averaged (mean) pyramid instead of the max
+    /// Stop levels below this one end on Ki and Oh's averaged (mean) pyramid instead of the max
     /// pyramid's planes; 0 never uses it (and the mean pyramid is not built).
     pub average_below: u32,
 }

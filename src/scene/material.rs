@@ -178,7 +178,7 @@ pub enum HeightSource {
 /// How a material is displaced.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Relief {
-    /// Depth of height 0 below the polygon, in uv units of the height map (DESIGN.md section 2).
+    /// Depth of height 0 below the polygon, in uv units of the height map (docs/conventions.md).
     pub depth_scale: f32,
     /// The method that traces the relief.
     pub method: Method,

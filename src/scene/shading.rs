@@ -65,7 +65,7 @@ impl ShadowMode {
         matches!(self, ShadowMode::Horizon | ShadowMode::Cone)
     }
 
-    /// Its default `SHADOW_STEPS`: samples along the light (pom-soft, horizon; paper 001 uses 5
+    /// Its default `SHADOW_STEPS`: samples along the light (pom-soft, horizon; Drobot uses 5
     /// horizon samples) or the cap on the pyramid walk (cone); unused by `none` and `hard`.
     pub fn default_steps(self) -> u32 {
         match self {
@@ -102,11 +102,11 @@ impl FromStr for ShadowMode {
 pub struct ShadowSettings {
     /// How shadow rays are traced.
     pub mode: ShadowMode,
-    /// Samples (pom-soft, horizon; paper 001's iteration count) or the pyramid walk's cap
+    /// Samples (pom-soft, horizon; Drobot's iteration count) or the pyramid walk's cap
     /// (cone); `None` takes [`ShadowMode::default_steps`].
     pub steps: Option<u32>,
     /// Horizon mode: how far its samples reach, as a multiple of the distance at which the
-    /// light's lowest direction clears the top plane (paper 001's light vector scale); finite, > 0.
+    /// light's lowest direction clears the top plane (Drobot's light vector scale); finite, > 0.
     pub horizon_reach: f32,
 }
 

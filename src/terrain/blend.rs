@@ -8,7 +8,7 @@ use crate::heightfield::Heightfield;
 pub enum BlendMode {
     /// Weighted sum of heights; the material blends by the weights.
     Alpha,
-    /// The alpha surface; the material blends by height times weight (paper 001, Listing 1.6).
+    /// The alpha surface; the material blends by height times weight (Drobot, Listing 1.6).
     Height,
     /// The highest weighted layer is the surface (Listing 1.7); the material blends as `Height`.
     HeightIntersect,

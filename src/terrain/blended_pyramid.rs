@@ -1,5 +1,5 @@
 //! The conservative max pyramid of a blended surface, from the layers' and the weights' own max
-//! pyramids (paper 001, 1.7.4), so that pyramid methods (QDM, PDM, QRM, maxmip) trace blended
+//! pyramids (Drobot, 1.7.4), so that pyramid methods (QDM, PDM, QRM, maxmip) trace blended
 //! terrain without the blended field's pyramid being built from the full-size field. Level 0 is
 //! the blended field itself; every node of level 1 up bounds each blended texel under it:
 //!

@@ -1,4 +1,4 @@
-//! Height-blended terrain (paper 001, section 1.7): up to four relief layers, each a height field,
+//! Height-blended terrain (Drobot, section 1.7): up to four relief layers, each a height field,
 //! blended per texel by weights into the one surface the methods trace. No Vulkan here.
 //!
 //! Which surface each blend mode defines, exactly ([`BlendMode`]): per texel of the layers, from the
@@ -24,7 +24,7 @@
 //! map.
 //!
 //! [`blended_pyramid`] bounds the blended surface from the layers' and the weights' max pyramids
-//! without the blended field at full size: `max(x) * max(w) >= max(x * w)` (paper 001, 1.7.4) for
+//! without the blended field at full size: `max(x) * max(w) >= max(x * w)` (Drobot, 1.7.4) for
 //! `height-intersect`, and the highest layer with any weight for the convex `alpha` blend.
 
 mod blend;

@@ -1,4 +1,4 @@
-//! The cells pass (paper 002): meshes drawn through their cell complexes. Built once per scene:
+//! The cells pass (Apaza and Andujar): meshes drawn through their cell complexes. Built once per scene:
 //! for each complex the plan lists, the mesh is gathered in world space and checked closed, the
 //! grid chosen by doubling (`cells::choose_grid_within`), the distance and attribute maps sampled
 //! on the CPU and uploaded as storage buffers with the faces of the grey cells that border the

@@ -1,7 +1,7 @@
 //! Rays through a cell complex on the GPU (`shaders/passes/cells_trace.comp`): the CPU march of
 //! `cells::trace` over the arrays of `cells::PackedComplex`, one invocation per ray, timed with
 //! timestamps. What the renderer's cell pass will run per fragment, and the GPU rays per second
-//! paper 002's Table 2 reports.
+//! Apaza and Andujar's Table 2 reports.
 
 use std::sync::Arc;
 

@@ -75,7 +75,7 @@ impl HeightFormat {
 }
 
 /// The sampler address mode of `address`: the one place the renderer maps the height field's
-/// addressing (DESIGN.md section 2) to Vulkan, for the height samplers and the method map's.
+/// addressing (docs/conventions.md) to Vulkan, for the height samplers and the method map's.
 pub(crate) fn sampler_address_mode(address: Address) -> vk::SamplerAddressMode {
     match address {
         Address::Repeat => vk::SamplerAddressMode::REPEAT,

@@ -1,4 +1,4 @@
-//! What the plan says about level of detail: the averaged height pyramid (paper 003 section 2.5)
+//! What the plan says about level of detail: the averaged height pyramid (Ki and Oh section 2.5)
 //! is built only for LOD materials whose pyramid traversal can stop on it, and otherwise listed
 //! as skipped with the reason (`relief render --explain`).
 

@@ -13,7 +13,7 @@ pub enum Pass {
     /// only, after the pyramids).
     AmbientOcclusion,
     /// Draws the meshes replaced by cell complexes: each grey cell's front faces, a ray marched
-    /// through the complex per fragment (paper 002).
+    /// through the complex per fragment (Apaza and Andujar).
     Cells,
     /// Draws the scene: rasterises the meshes and traces each relief fragment's view ray.
     Surface,

@@ -1,9 +1,9 @@
 //! The texture-space AO map built on the GPU: one value per height texel, the ambient occlusion at
-//! its centre on the bilinear surface, cosine-weighted about the texel normal (DESIGN.md section 2,
+//! its centre on the bilinear surface, cosine-weighted about the texel normal (docs/conventions.md,
 //! "Normal and AO"; `heightfield::ambient_occlusion` is the exact CPU reference).
 //!
 //! Two builders, chosen by [`AoMode`]:
-//! - `horizon-N[-rotated]`: paper 001's fast horizon queries on the max pyramid
+//! - `horizon-N[-rotated]`: Drobot's fast horizon queries on the max pyramid
 //!   (`shaders/passes/ao_horizon.comp`), one dispatch; needs the height image's pyramid built.
 //! - `exact-horizon`: line sweeps with convex hulls (`shaders/passes/ao_sweep.comp`), one dispatch
 //!   per azimuth ([`SWEEP_DIRECTIONS`] of them, see `ao_sweep`) plus a resolve; reads level 0 only.

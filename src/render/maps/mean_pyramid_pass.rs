@@ -1,4 +1,4 @@
-//! The averaged (mean) height pyramid of paper 003 section 2.5, for LOD surface variants: an image
+//! The averaged (mean) height pyramid of Ki and Oh section 2.5, for LOD surface variants: an image
 //! of its own with the heights in level 0 and, per coarser level, the mean of the finer texels each
 //! texel covers (`shaders/passes/mean_pyramid.comp`, one dispatch per level with a barrier
 //! between). Built on the GPU in the first frame, beside the max pyramid, only when a material's

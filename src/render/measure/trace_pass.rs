@@ -31,7 +31,7 @@ const GROUP: u32 = TRACE_GROUP_SIDE;
 #[derive(Debug, Clone, Copy)]
 pub struct TraceRequest<'a> {
     pub method: Method,
-    /// Ray direction, dz > 0 (DESIGN.md section 2).
+    /// Ray direction, dz > 0 (docs/conventions.md).
     pub dir: [f32; 3],
     pub depth_scale: f32,
     /// Columns and rows of the ray grid; ray (c, r) enters at ((c+0.5)/cols, (r+0.5)/rows).
@@ -51,7 +51,7 @@ pub struct ShadowTrace {
     pub mode: ShadowMode,
     /// `SHADOW_STEPS`: samples or the pyramid walk's cap (`ShadowMode::default_steps`).
     pub steps: u32,
-    /// Unit direction toward the light's centre in (u, v, up): DESIGN.md's light direction with
+    /// Unit direction toward the light's centre in (u, v, up): the conventions' light direction with
     /// the depth axis flipped.
     pub toward: [f32; 3],
     /// Angular radius, radians.
@@ -61,7 +61,7 @@ pub struct ShadowTrace {
 }
 
 impl ShadowTrace {
-    /// A directional light at `elevation_deg` and `azimuth_deg` (DESIGN.md section 2) of angular
+    /// A directional light at `elevation_deg` and `azimuth_deg` (docs/conventions.md) of angular
     /// radius `radius_deg`, shadowed by `mode` with its default steps.
     pub fn directional(
         mode: ShadowMode,

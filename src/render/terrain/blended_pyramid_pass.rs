@@ -1,4 +1,4 @@
-//! A terrain's blended height pyramid on the GPU (`blended_pyramid.comp`, paper 001 1.7.4): the
+//! A terrain's blended height pyramid on the GPU (`blended_pyramid.comp`, Drobot 1.7.4): the
 //! layers' heights and weights uploaded as two four-channel images, each given its max pyramid
 //! (`pyramid.comp`'s rgba variants, the rule of `MaxPyramid::build_bilinear_bound`), then every
 //! level of one height image written from the same level of both: level 0 the blended surface,
