@@ -35,6 +35,7 @@ use crate::vk::{
 /// How meshes become cell complexes (`relief render --cells`).
 #[derive(Debug, Clone, PartialEq)]
 pub struct CellsOptions {
+    /// Which meshes: all (one complex per mesh name) or those of one name.
     pub selection: MeshSelection,
     /// Texels a side of each domain face's maps.
     pub resolution: u32,
@@ -62,12 +63,17 @@ impl CellsOptions {
 /// What was built for one complex, for `--explain`.
 #[derive(Debug, Clone, Serialize)]
 pub struct BuiltComplex {
+    /// The name of the meshes it replaces.
     pub name: String,
+    /// Triangles of the mesh the complex was built from.
     pub triangles: usize,
     /// Cells a side.
     pub grid: u32,
+    /// Cells the surface crosses; only these hold maps.
     pub grey_cells: usize,
+    /// Domain faces of the grey cells, one distance map each.
     pub domain_faces: usize,
+    /// Texels a side of each domain face's maps.
     pub resolution: u32,
     /// Why the grid's doubling stopped.
     pub grid_stop: String,

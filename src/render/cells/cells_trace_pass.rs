@@ -36,7 +36,10 @@ struct GpuRay {
 
 /// Where each ray hit (`None`: it missed) with its samples, and the GPU ms of the march.
 pub struct CellsTrace {
+    /// One per ray, in order: the hit's `t` along the ray (`origin + t * dir`, so in the
+    /// mesh's units for a unit `dir`) and the map samples the march took; `None` on a miss.
     pub hits: Vec<Option<(f64, u32)>>,
+    /// GPU time of the march, ms.
     pub gpu_ms: f64,
 }
 

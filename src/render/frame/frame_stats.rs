@@ -10,18 +10,24 @@ use super::pass_timer::PassTiming;
 /// One pass over the steady frames (every frame after the first).
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct PassStats {
+    /// The pass timed.
     pub pass: Pass,
     /// How many steady frames recorded the pass.
     pub frames: usize,
+    /// Fastest steady frame's GPU time for the pass, ms.
     pub min_ms: f64,
+    /// Median over the steady frames, ms.
     pub median_ms: f64,
+    /// 95th percentile (nearest rank) over the steady frames, ms.
     pub p95_ms: f64,
+    /// Mean over the steady frames, ms.
     pub mean_ms: f64,
 }
 
 /// A sequence's timings.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct SequenceStats {
+    /// Frames in the sequence, the first included.
     pub frames: usize,
     /// The first frame's passes.
     pub first: Vec<PassTiming>,

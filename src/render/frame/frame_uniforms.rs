@@ -12,9 +12,14 @@ pub const MAX_LIGHTS: usize = crate::render::shader_interface::MAX_LIGHTS as usi
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Default, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct LightUniform {
+    /// xyz: world position (point, spot); w: kind, 0 directional, 1 point, 2 spot.
     pub position: [f32; 4],
+    /// xyz: unit world direction the light travels (directional, spot); w: range, 0 for none.
     pub direction: [f32; 4],
+    /// rgb: linear colour times intensity; w: 1 if relief traces self-shadow rays toward it.
     pub color: [f32; 4],
+    /// x, y: cosines of the outer and inner cone angles (spot, else 0); z: the light's size
+    /// ([`Light::radius`]: radians for directional, world units otherwise); w: unused.
     pub cone: [f32; 4],
 }
 
@@ -22,12 +27,18 @@ pub struct LightUniform {
 #[repr(C)]
 #[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct FrameUniforms {
+    /// World to clip space, column-major (glam's `to_cols_array_2d`).
     pub view_proj: [[f32; 4]; 4],
+    /// xyz: camera position in world space; w: 1.
     pub eye: [f32; 4],
+    /// rgb: ambient radiance, linear; w: unused.
     pub ambient: [f32; 4],
-    /// Filled in per height map by `HeightResources`.
+    /// x: width and y: height in texels, z: mip levels, w: 1 for repeat addressing, 0 for clamp.
+    /// Filled in per height map by `HeightResources`; zero until then.
     pub height_info: [f32; 4],
+    /// x: lights in use (at most [`MAX_LIGHTS`]); y, z, w: unused.
     pub counts: [i32; 4],
+    /// The first `counts[0]` are the frame's lights; the rest are zero.
     pub lights: [LightUniform; MAX_LIGHTS],
 }
 const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 128 + 64 * MAX_LIGHTS);

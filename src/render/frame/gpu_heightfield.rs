@@ -47,7 +47,6 @@ impl HeightFormat {
         }
     }
 
-    /// Heights back from stored bytes.
     /// Like [`HeightFormat::encode`], but a 16-bit value rounds up to the next step: for bounds,
     /// which must not drop below what they bound.
     pub fn encode_up(self, values: &[f32]) -> Vec<u8> {
@@ -60,6 +59,7 @@ impl HeightFormat {
         }
     }
 
+    /// Heights back from stored bytes (native-endian texels of this format), 0 to 1.
     pub fn decode(self, bytes: &[u8]) -> Vec<f32> {
         match self {
             HeightFormat::R16Unorm => bytes
@@ -85,10 +85,17 @@ pub(crate) fn sampler_address_mode(address: Address) -> vk::SamplerAddressMode {
 
 /// The height image (level 0 uploaded, pyramid levels to be built) and its two samplers.
 pub struct GpuHeightfield {
+    /// The heights at level 0 and the max pyramid in the levels above (one level when no
+    /// pyramid is wanted). Uploaded in `GENERAL` layout when the pyramid pass is to build the
+    /// levels, else in `SHADER_READ_ONLY_OPTIMAL`.
     pub image: Image,
+    /// Nearest-filtered sampler (`height_point` in the shaders): exact texels and pyramid nodes.
     pub point: Sampler,
+    /// Bilinear sampler (`height_linear` in the shaders): the interpolated surface.
     pub linear: Sampler,
+    /// How the heights are stored.
     pub format: HeightFormat,
+    /// What lies outside the map; both samplers use it.
     pub address: Address,
 }
 

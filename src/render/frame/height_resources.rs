@@ -24,6 +24,7 @@ use crate::vk::{Bind, Buffer, Context, Recording, VkError, VkResult};
 /// Uploaded heights, their pyramid pass (when a method reads it), uniforms and the optional
 /// method map.
 pub struct HeightResources {
+    /// The heights and, in their mip chain, the max pyramid (bindings 1 and 2).
     pub heights: GpuHeightfield,
     pyramid: Option<(PyramidPass, PyramidJob)>,
     /// The pyramid came built with the heights (`with_pyramid`).
@@ -65,7 +66,9 @@ impl MeanBinding {
 /// How a height map is stored and what comes with it.
 #[derive(Debug, Clone, Copy)]
 pub struct HeightUpload<'a> {
+    /// How the heights are stored on the GPU.
     pub format: HeightFormat,
+    /// What lies outside the map; the height samplers and the method map's use it.
     pub address: Address,
     /// The method's precomputed map (binding 3), if it reads one.
     pub map: Option<&'a MapData>,

@@ -12,7 +12,9 @@ use crate::vk::{upload_mips, Context, Image, ImageDesc, Sampler, VkError, VkResu
 
 /// A map on the GPU, with the nearest sampler its binding uses.
 pub struct GpuMethodMap {
+    /// The map, one level, 32-bit float channels, shader-read-only.
     pub image: Image,
+    /// Nearest filtering under the height field's addressing.
     pub sampler: Sampler,
 }
 

@@ -13,14 +13,19 @@ use crate::vk::{Context, Recording, TimestampPool, VkError, VkResult};
 /// GPU time of one pass in one frame (the sum of its scopes).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct PassTiming {
+    /// The pass timed.
     pub pass: Pass,
+    /// Milliseconds between its timestamps, summed over its scopes.
     pub gpu_ms: f64,
 }
 
 /// One timed scope: a pass, and for passes recorded per height map, which one.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Scope {
+    /// The pass the scope belongs to; a frame's [`PassTiming`] sums its scopes.
     pub pass: Pass,
+    /// For the pyramid and AO passes, which height map or AO map (in the frame's order);
+    /// `None` for passes recorded once.
     pub part: Option<usize>,
 }
 

@@ -24,13 +24,20 @@ pub enum HeightKey {
     Frame,
     /// A scene image, one channel of it.
     Image {
+        /// Index into the scene's images.
         image: usize,
+        /// The channel that holds the heights.
         channel: Channel,
+        /// White is low rather than high.
         invert: bool,
+        /// Clamp if either wrap mode of the material's sampler clamps, else repeat.
         address: Address,
     },
     /// The blend of material `material`'s layers (clamp-addressed: a splat map covers its uv once).
-    Layers { material: usize },
+    Layers {
+        /// Index into the scene's materials.
+        material: usize,
+    },
 }
 
 /// One surface pipeline.
@@ -40,7 +47,9 @@ pub struct PipelineKey {
     pub method: Option<Method>,
     /// Iteration cap instead of the method's default (a material's `budget`).
     pub max_steps: Option<u32>,
+    /// Back faces are drawn too (no culling).
     pub double_sided: bool,
+    /// Alpha-blended (glTF `alphaMode` `BLEND`) rather than opaque or masked.
     pub blend: bool,
     /// How the height field shadows it (mode `none` without relief or without a shadow-casting
     /// light).
@@ -72,11 +81,15 @@ impl PipelineKey {
 /// One height map to upload: its pyramid when a method reads it, its precomputed map if any.
 #[derive(Debug, Clone, PartialEq)]
 pub struct HeightPlan {
+    /// Where the heights come from; with `map` and `mean_binding` it identifies the upload.
     pub key: HeightKey,
     /// For messages and `--explain`: the file or image it comes from.
     pub source: String,
+    /// Width and height in texels.
     pub size: (u32, u32),
+    /// The max pyramid is built, because its method, shadow mode or horizon AO reads it.
     pub pyramid: bool,
+    /// The precomputed map its method reads besides the heights; `None` if it reads none.
     pub map: Option<MapKind>,
     /// The method whose map it is (maps are built per method row).
     pub map_method: Option<Method>,
@@ -89,9 +102,13 @@ pub struct HeightPlan {
 /// One mesh's draw: which pipeline, which height map (relief only), which material.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct DrawPlan {
+    /// Index into the scene's meshes.
     pub mesh: usize,
+    /// Index into the scene's materials.
     pub material: usize,
+    /// Index into [`Plan::pipelines`].
     pub pipeline: usize,
+    /// Index into [`Plan::heights`]; `None` for a material without relief.
     pub heights: Option<usize>,
     /// The AO map its material reads (`Plan::ao_maps`), if it asks for one.
     pub ao: Option<usize>,
@@ -101,8 +118,11 @@ pub struct DrawPlan {
 /// horizons depend on it).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AoPlan {
+    /// Index into [`Plan::heights`]: the height map it is built from.
     pub heights: usize,
+    /// How the occlusion is computed (horizon queries on the max pyramid, or the exact sweep).
     pub mode: AoMode,
+    /// The material's depth scale: depth of height 0 below the polygon, in uv units.
     pub depth_scale: f32,
     /// How far (texels of the longer side) the horizons look; `None` is the whole map. Bounded
     /// for layered materials, so that painting their weights rebuilds the AO near the strokes
@@ -129,29 +149,39 @@ const LAYERED_AO_MIN_REACH: f32 = 8.0;
 /// Something the scene does not need, and why.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct Skipped {
+    /// What is not built: a material, map, pass or shader variant, named for `--explain`.
     pub what: String,
+    /// Why the scene does not need it, one line.
     pub why: String,
 }
 
 /// A pass the frame records, and why the scene needs it.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct PassPlan {
+    /// The pass (serialized as `name`).
     #[serde(rename = "name")]
     pub pass: Pass,
+    /// Why the scene needs it, one line.
     pub why: String,
 }
 
 /// Everything a frame builds.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Plan {
+    /// The surface pipelines, each once; draws refer to them by index.
     pub pipelines: Vec<PipelineKey>,
+    /// The height maps to upload, each once; draws and AO maps refer to them by index.
     pub heights: Vec<HeightPlan>,
     /// AO maps, built once in the first frame.
     pub ao_maps: Vec<AoPlan>,
+    /// One per mesh drawn by the surface pass, in scene order (empty meshes and cell meshes
+    /// have none).
     pub draws: Vec<DrawPlan>,
     /// Meshes drawn through cell complexes instead of the surface pass (`--cells`).
     pub cells: Vec<CellsPlan>,
+    /// The passes recorded, in order.
     pub passes: Vec<PassPlan>,
+    /// What the scene does not need, for `--explain`.
     pub skipped: Vec<Skipped>,
     /// The lights the frame is lit by (the scene's, or the default one).
     pub lights: Vec<Light>,
@@ -161,30 +191,62 @@ pub struct Plan {
 #[derive(Debug, thiserror::Error)]
 pub enum PlanError {
     #[error("material {material:?} has relief from the frame's height map, but none was given (use --heightmap FILE)")]
-    NoFrameHeights { material: String },
+    /// A material takes its relief from the frame's height map, and none was given.
+    NoFrameHeights {
+        /// The material's name.
+        material: String,
+    },
     #[error("mesh {mesh:?} names material {material}, but the scene has {count}")]
+    /// A mesh names a material index the scene does not have.
     NoMaterial {
+        /// The mesh's name.
         mesh: String,
+        /// The material index it names.
         material: usize,
+        /// How many materials the scene has.
         count: usize,
     },
     #[error("--cells {name:?}: the scene has no mesh of that name (its meshes: {names})")]
-    NoCellsMesh { name: String, names: String },
+    /// `--cells` names no mesh of the scene.
+    NoCellsMesh {
+        /// The name given.
+        name: String,
+        /// The scene's mesh names, comma-separated.
+        names: String,
+    },
     #[error("--cells: the meshes named {name:?} use {count} materials; a cell complex is shaded with one")]
-    CellsMaterials { name: String, count: usize },
+    /// The meshes `--cells` selects use more than one material.
+    CellsMaterials {
+        /// The name given.
+        name: String,
+        /// How many materials they use.
+        count: usize,
+    },
     #[error("material {material:?} has relief from its layers, but no layers")]
-    NoLayers { material: String },
-    #[error("material {material:?}: {source}")]
-    Layers {
+    /// A material takes its relief from its layers, and has none.
+    NoLayers {
+        /// The material's name.
         material: String,
+    },
+    #[error("material {material:?}: {source}")]
+    /// A material's layers are unusable.
+    Layers {
+        /// The material's name.
+        material: String,
+        /// What is wrong with them.
         source: crate::scene::LayersError,
     },
     #[error(
         "material {material:?}: height texture names image {image}, but the scene has {count}"
     )]
+    /// A material's height texture (or one of its layers' textures) names an image index the
+    /// scene does not have.
     NoImage {
+        /// The material's name.
         material: String,
+        /// The image index it names.
         image: usize,
+        /// How many images the scene has.
         count: usize,
     },
 }

@@ -35,6 +35,7 @@ pub const FRAMES_IN_FLIGHT: usize = 2;
 /// What one frame draws.
 #[derive(Debug, Clone)]
 pub struct FrameRequest {
+    /// The view; the image's aspect ratio comes from the renderer's size.
     pub camera: Camera,
     /// Copy the colour image back to the host (for writing it out).
     pub read_back: bool,
@@ -45,10 +46,13 @@ pub struct FrameRequest {
 pub struct FrameOutput {
     /// 0 for the renderer's first frame.
     pub index: u64,
+    /// GPU time of each pass the frame recorded.
     pub timings: Vec<PassTiming>,
     /// sRGB RGBA8, rows top to bottom.
     pub rgba: Option<Vec<u8>>,
+    /// Image width in pixels.
     pub width: u32,
+    /// Image height in pixels.
     pub height: u32,
     /// Surface draws skipped because the view could not see their bounds.
     pub culled_draws: usize,

@@ -18,9 +18,14 @@ use crate::vk::{Context, VkError};
 /// What to render.
 #[derive(Debug, Clone)]
 pub struct RenderOptions {
+    /// Image width in pixels.
     pub width: u32,
+    /// Image height in pixels.
     pub height: u32,
+    /// How every planned height map is stored on the GPU.
     pub height_format: HeightFormat,
+    /// What lies outside the frame's height map (`--heightmap`); scene images take theirs from
+    /// their sampler's wrap modes, layered fields clamp.
     pub address: Address,
     /// Meshes drawn through cell complexes (`--cells`), none when `None`.
     pub cells: Option<CellsOptions>,
@@ -46,9 +51,12 @@ impl Default for RenderOptions {
 /// precomputed maps on the CPU.
 #[derive(Debug, Clone, Serialize)]
 pub struct BuiltMap {
+    /// What was built, as `--explain` names it (a map kind's name, "layer stack", "blended
+    /// pyramid", ...).
     pub kind: &'static str,
     /// The height map it belongs to.
     pub source: String,
+    /// Width and height of the map's finest level, in texels.
     pub size: [u32; 2],
     /// GPU ms for maps built on the GPU, CPU wall ms for those built on the CPU.
     pub ms: f64,
@@ -60,13 +68,19 @@ pub struct BuiltMap {
 /// followed.
 #[derive(Debug, Clone)]
 pub struct Frame {
+    /// Image width in pixels.
     pub width: u32,
+    /// Image height in pixels.
     pub height: u32,
+    /// `width * height * 4` bytes: sRGB RGBA8, rows top to bottom, no padding.
     pub rgba: Vec<u8>,
+    /// GPU time of each pass recorded in this frame.
     pub timings: Vec<PassTiming>,
     /// CPU wall time of uploading height maps and precomputed maps, in ms.
     pub upload_ms: f64,
+    /// The plan the frame followed: what it built and what it skipped.
     pub plan: Plan,
+    /// The pyramids and precomputed maps built for it, with their cost.
     pub maps: Vec<BuiltMap>,
     /// The cell complexes built.
     pub cells: Vec<BuiltComplex>,
@@ -75,27 +89,41 @@ pub struct Frame {
 /// Why a frame could not be rendered.
 #[derive(Debug, thiserror::Error)]
 pub enum RenderError {
+    /// The scene cannot be planned.
     #[error(transparent)]
     Plan(#[from] PlanError),
+    /// A height map cannot be read, or exceeds the device's largest image.
     #[error(transparent)]
     Height(#[from] HeightfieldError),
+    /// A Vulkan call failed, or the device lacks something the frame needs.
     #[error(transparent)]
     Vulkan(#[from] VkError),
+    /// A mesh selected by `--cells` cannot be turned into a cell complex.
     #[error(transparent)]
     Cells(#[from] crate::cells::MeshError),
+    /// A layered material's textures cannot be blended or painted; the message says why.
     #[error("layered material: {0}")]
     Layers(String),
+    /// A paint stroke is invalid.
     #[error("paint: {0}")]
     Stroke(#[from] crate::terrain::StrokeError),
     #[error("--cells {name:?}: its maps take {mib} MiB in one storage buffer, more than this device's {limit_mib} MiB; lower --cells-resolution or --cells-max-grid")]
+    /// A cell complex's maps or attributes exceed the device's storage buffer range
+    /// (`maxStorageBufferRange`).
     CellsBufferTooLarge {
+        /// The `--cells` mesh name.
         name: String,
+        /// Size of its largest buffer, in MiB.
         mib: u64,
+        /// The device's limit, in MiB.
         limit_mib: u64,
     },
     #[error("--cells {name:?}: {source}; lower --cells-grid or --cells-resolution")]
+    /// A cell complex's fixed grid would take more memory than the cells module allows.
     CellsTooLarge {
+        /// The `--cells` mesh name.
         name: String,
+        /// Which limit the grid exceeds.
         source: crate::cells::GridTooLarge,
     },
 }

@@ -77,9 +77,13 @@ const SWEEP_GROUP: u32 = 64;
 /// sampler that filters linearly where the device can (else nearest) under the height field's
 /// addressing. Bind it as a combined image sampler and read it at the surface's uv.
 pub struct AoMap {
+    /// Ambient visibility per height texel: 1 unoccluded, 0 fully occluded.
     pub image: Image,
+    /// Linear where the format allows it, else nearest; addressed as the height field.
     pub sampler: Sampler,
+    /// How it was computed.
     pub mode: AoMode,
+    /// The height field's addressing, which the horizons and the sampler follow.
     pub address: Address,
 }
 

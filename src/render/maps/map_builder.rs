@@ -24,6 +24,7 @@ pub enum MapBuilder<'a> {
 /// A built map and how it was built.
 #[derive(Debug, Clone)]
 pub struct BuiltMethodMap {
+    /// The map's texels, one per height texel.
     pub data: MapData,
     /// GPU ms when built on the GPU (as for the pyramid), CPU wall ms when on the CPU.
     pub ms: f64,

@@ -16,14 +16,18 @@ use crate::vk::{Context, VkError, VkResult};
 /// One timed configuration: the rays (`trace.grid` is the resolution) and how often to run them.
 #[derive(Debug, Clone, Copy)]
 pub struct BenchRequest<'a> {
+    /// The rays and the method tracing them; its `shadow` is traced too when set.
     pub trace: TraceRequest<'a>,
+    /// Untimed frames run first in the same submission (caches, clocks).
     pub warmup: u32,
+    /// Timed frames; at least 1.
     pub frames: u32,
 }
 
 /// GPU milliseconds of each timed frame, in order, and the iterations of the timed rays.
 #[derive(Debug, Clone)]
 pub struct BenchTiming {
+    /// GPU ms of each timed frame, in order (`frames` of them).
     pub frame_ms: Vec<f64>,
     /// `(steps, capped)` per ray of the last frame, row by row over `trace.grid`.
     pub steps: Vec<[u32; 2]>,

@@ -30,14 +30,19 @@ const GROUP: u32 = TRACE_GROUP_SIDE;
 /// One sweep of parallel rays.
 #[derive(Debug, Clone, Copy)]
 pub struct TraceRequest<'a> {
+    /// The method whose compute variant traces the rays.
     pub method: Method,
     /// Ray direction, dz > 0 (docs/conventions.md).
     pub dir: [f32; 3],
+    /// Depth of height 0 below the top plane, in uv units (one unit is the map's width).
     pub depth_scale: f32,
     /// Columns and rows of the ray grid; ray (c, r) enters at ((c+0.5)/cols, (r+0.5)/rows).
     pub grid: (u32, u32),
+    /// Iteration caps and leaf settings, as specialization constants.
     pub budget: Budget,
+    /// What lies outside the height map: repeated or clamped.
     pub address: Address,
+    /// How the heights are stored on the GPU.
     pub format: HeightFormat,
     /// The method's precomputed map, when it reads one (`Method::info().needs`).
     pub map: Option<&'a MapData>,
@@ -48,6 +53,7 @@ pub struct TraceRequest<'a> {
 /// The light `relief trace --shadows` shades each hit with.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ShadowTrace {
+    /// How the visible fraction is computed.
     pub mode: ShadowMode,
     /// `SHADOW_STEPS`: samples or the pyramid walk's cap (`ShadowMode::default_steps`).
     pub steps: u32,
@@ -88,8 +94,12 @@ impl ShadowTrace {
 /// light's visible fraction at the hit (all 1 without a `shadow`).
 #[derive(Debug, Clone)]
 pub struct TraceOutput {
+    /// One per ray, row by row (ray (c, r) at `r * cols + c`): entry point `u0 v0`, direction
+    /// `dx dy dz`, and the hit `u v` and its depth `z` below the top plane, in uv units.
     pub hits: Vec<[f32; 8]>,
+    /// One per ray, same order: iterations taken, and 1 if the method's cap stopped it (else 0).
     pub steps: Vec<[u32; 2]>,
+    /// One per ray, same order: the light's visible fraction at the hit, 0 to 1.
     pub visible: Vec<f32>,
     /// GPU time of each timed dispatch, in order.
     pub frame_ms: Vec<f64>,

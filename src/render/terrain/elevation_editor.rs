@@ -25,8 +25,11 @@ const GROUP: u32 = 8;
 /// Why strokes could not be applied.
 #[derive(Debug, thiserror::Error)]
 pub enum EditError {
+    /// A stroke is invalid (a non-finite value, a bad radius, missing the map, or a `paint`
+    /// stroke, which edits layer weights, not elevation); none of the batch was applied.
     #[error(transparent)]
     Stroke(#[from] StrokeError),
+    /// Recording or submitting the brush and pyramid rebuild failed.
     #[error(transparent)]
     Vulkan(#[from] VkError),
 }

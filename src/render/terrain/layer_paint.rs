@@ -35,6 +35,7 @@ pub struct LayerPainter {
 /// What one list of paint strokes rebuilt, for `--explain` and the bench.
 #[derive(Debug, Clone, Default, PartialEq, Serialize)]
 pub struct PaintReport {
+    /// Strokes applied.
     pub strokes: usize,
     /// Splat-map texels in the strokes' squares (counted once per stroke).
     pub splat_texels: u64,
@@ -83,10 +84,13 @@ impl LayerPainter {
         }
     }
 
+    /// The blended pyramid on the GPU that painting re-blends.
     pub fn pyramid(&self) -> &BlendedPyramid {
         &self.pyramid
     }
 
+    /// The CPU copy of the splat map: the weights as painted so far, quantized as the GPU holds
+    /// them.
     pub fn splat(&self) -> &SplatMap {
         &self.splat
     }
@@ -242,8 +246,12 @@ impl LayerPainter {
 /// Why a paint list was not applied.
 #[derive(Debug, thiserror::Error)]
 pub enum PaintError {
+    /// A stroke fails [`LayerPainter::check`] (a shape stroke, an unknown layer, outside the
+    /// splat map, ...); none of the list was applied.
     #[error(transparent)]
     Stroke(#[from] StrokeError),
+    /// Staging the changed weights for the GPU failed; the CPU splat map already holds the
+    /// strokes.
     #[error(transparent)]
     Vulkan(#[from] crate::vk::VkError),
 }
