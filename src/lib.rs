@@ -1,5 +1,6 @@
 #![doc = include_str!("guide.md")]
 #![deny(unsafe_op_in_unsafe_fn)]
+#![warn(missing_docs)]
 #![deny(clippy::undocumented_unsafe_blocks)]
 
 pub mod bench;
