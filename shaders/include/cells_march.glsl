@@ -9,12 +9,14 @@
 #ifndef CELLS_MARCH_GLSL
 #define CELLS_MARCH_GLSL
 
+#include "interface.glsl"
+
 #ifndef CELLS_SET
 #define CELLS_SET 0
 #endif
 
 // Per grid cell (x fastest): colour in bits 0-1 (0 white, 1 grey, 2 black), grey slot above.
-layout(set = CELLS_SET, binding = 0, std430) readonly buffer Cells {
+layout(set = CELLS_SET, binding = BINDING_CELLS_CELLS, std430) readonly buffer Cells {
     uint cells[];
 };
 
@@ -29,12 +31,12 @@ struct GreyCell {
     int pad2[2];
 };
 
-layout(set = CELLS_SET, binding = 1, std430) readonly buffer Grey {
+layout(set = CELLS_SET, binding = BINDING_CELLS_GREY, std430) readonly buffer Grey {
     GreyCell grey[];
 };
 
 // 16-bit texels, two per word: distance (top 15 bits, over sqrt 3) and inside-at-face (bit 0).
-layout(set = CELLS_SET, binding = 2, std430) readonly buffer Maps {
+layout(set = CELLS_SET, binding = BINDING_CELLS_MAPS, std430) readonly buffer Maps {
     uint maps[];
 };
 

@@ -4,6 +4,8 @@
 #ifndef DRAW_GLSL
 #define DRAW_GLSL
 
+#include "interface.glsl"
+
 // Mirrors `DrawPush` in src/render/surface_pass.rs.
 layout(push_constant, std430) uniform Draw {
     mat4 model;
@@ -19,11 +21,11 @@ const int SLOT_NORMAL = 2;
 const int SLOT_OCCLUSION = 3;
 const int SLOT_EMISSIVE = 4;
 const int SLOT_HEIGHT = 5;
-// Not a texture slot: bit 6 of `textures.x` says the relief's AO map is bound (binding 6).
-const int SLOT_RELIEF_AO = 6;
+// Not a texture slot: bit 6 of `textures.x` says the relief's AO map is bound (its binding's number).
+const int SLOT_RELIEF_AO = BINDING_MATERIAL_RELIEF_AO;
 
-// Mirrors `MaterialUniform` in src/render/material_set.rs.
-layout(set = 1, binding = 5, std140) uniform MaterialParams {
+// Mirrors `MaterialUniform` in src/render/frame/material_set.rs.
+layout(set = 1, binding = BINDING_MATERIAL_PARAMS, std140) uniform MaterialParams {
     vec4 base_color;
     vec4 emissive;     // rgb: emissive factor; w: alpha cutoff (mask mode), -1 otherwise
     vec4 pbr;          // x: roughness, y: metallic, z: normal scale, w: occlusion strength
@@ -33,13 +35,13 @@ layout(set = 1, binding = 5, std140) uniform MaterialParams {
     vec4 uv_rows[12];
 } material;
 
-layout(set = 1, binding = 0) uniform sampler2D tex_base_color;
-layout(set = 1, binding = 1) uniform sampler2D tex_metallic_roughness;
-layout(set = 1, binding = 2) uniform sampler2D tex_normal;
-layout(set = 1, binding = 3) uniform sampler2D tex_occlusion;
-layout(set = 1, binding = 4) uniform sampler2D tex_emissive;
+layout(set = 1, binding = BINDING_MATERIAL_BASE_COLOR) uniform sampler2D tex_base_color;
+layout(set = 1, binding = BINDING_MATERIAL_METALLIC_ROUGHNESS) uniform sampler2D tex_metallic_roughness;
+layout(set = 1, binding = BINDING_MATERIAL_NORMAL) uniform sampler2D tex_normal;
+layout(set = 1, binding = BINDING_MATERIAL_OCCLUSION) uniform sampler2D tex_occlusion;
+layout(set = 1, binding = BINDING_MATERIAL_EMISSIVE) uniform sampler2D tex_emissive;
 // The relief's texture-space AO map (one value per height texel, read at the hit's height uv).
-layout(set = 1, binding = 6) uniform sampler2D tex_relief_ao;
+layout(set = 1, binding = BINDING_MATERIAL_RELIEF_AO) uniform sampler2D tex_relief_ao;
 
 bool has_texture(int slot) {
     return (material.textures.x & (1u << uint(slot))) != 0u;

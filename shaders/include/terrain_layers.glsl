@@ -7,13 +7,15 @@
 #ifndef TERRAIN_LAYERS_GLSL
 #define TERRAIN_LAYERS_GLSL
 
+#include "interface.glsl"
+
 // rgb: sRGB albedo; a: the layer's height times its depth.
-layout(set = 2, binding = 0) uniform sampler2DArray layer_albedo_height;
+layout(set = 2, binding = BINDING_LAYER_ALBEDO_HEIGHT) uniform sampler2DArray layer_albedo_height;
 // rgb: tangent-space normal, OpenGL convention (+y toward image row 0); a: roughness.
-layout(set = 2, binding = 1) uniform sampler2DArray layer_normal_roughness;
+layout(set = 2, binding = BINDING_LAYER_NORMAL_ROUGHNESS) uniform sampler2DArray layer_normal_roughness;
 // The splat map: channel k weighs layer k; bilinear, clamped.
-layout(set = 2, binding = 2) uniform sampler2D layer_weights;
-layout(set = 2, binding = 3, std140) uniform LayerParams {
+layout(set = 2, binding = BINDING_LAYER_WEIGHTS) uniform sampler2D layer_weights;
+layout(set = 2, binding = BINDING_LAYER_PARAMS, std140) uniform LayerParams {
     uvec4 info;    // x: mode (0 alpha, 1 height, 2 height-intersect); y: layers; z: bit k, layer k has a
                    // normal map; w: 1 when vertex colours weigh the layers (they do not tint)
     vec4 tiling;   // repeats of each layer across the height uv

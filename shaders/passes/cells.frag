@@ -20,8 +20,8 @@ vec2 uv_dy[2];
 #include "material_sample.glsl"
 #include "punctual.glsl"
 
-// Mirrors `CellsUniform` in src/render/cells_pass.rs.
-layout(set = 2, binding = 3, std140) uniform CellsParams {
+// Mirrors `CellsUniform` in src/render/cells/cells_pass.rs.
+layout(set = 2, binding = BINDING_CELLS_PARAMS, std140) uniform CellsParams {
     vec4 origin_size;
     uint n;
     uint resolution;
@@ -43,7 +43,7 @@ struct CellAttributes {
     float tangent_sign;
 };
 
-layout(set = 2, binding = 4, std430) readonly buffer Attributes {
+layout(set = 2, binding = BINDING_CELLS_ATTRIBUTES, std430) readonly buffer Attributes {
     CellAttributes attributes[];
 };
 

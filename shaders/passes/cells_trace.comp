@@ -22,12 +22,12 @@ struct Ray {
     vec4 dir;
 };
 
-layout(set = 0, binding = 3, std430) readonly buffer Rays {
+layout(set = 0, binding = BINDING_CELLS_RAYS, std430) readonly buffer Rays {
     Ray rays[];
 };
 
 // Per ray: t (-1: no hit) and samples.
-layout(set = 0, binding = 4, std430) writeonly buffer Hits {
+layout(set = 0, binding = BINDING_CELLS_HITS, std430) writeonly buffer Hits {
     vec2 hits[];
 };
 

@@ -25,25 +25,18 @@ pub struct GpuMs {
 impl GpuMs {
     /// Summarises frame times; empty input gives zeros.
     pub fn of(frames: &[f64]) -> GpuMs {
-        let mut sorted = frames.to_vec();
-        sorted.sort_by(f64::total_cmp);
-        let n = sorted.len();
-        if n == 0 {
+        let sorted = super::median::sorted(frames.iter().copied());
+        let (Some(&min), Some(&max)) = (sorted.first(), sorted.last()) else {
             return GpuMs {
                 median: 0.0,
                 min: 0.0,
                 max: 0.0,
             };
-        }
-        let median = if n % 2 == 1 {
-            sorted[n / 2]
-        } else {
-            0.5 * (sorted[n / 2 - 1] + sorted[n / 2])
         };
         GpuMs {
-            median,
-            min: sorted[0],
-            max: sorted[n - 1],
+            median: super::median::median_of_sorted_frames(&sorted),
+            min,
+            max,
         }
     }
 }

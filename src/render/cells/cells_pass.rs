@@ -25,6 +25,10 @@ use crate::render::frame::single_frame::RenderError;
 use crate::render::frame::surface_pass::{
     plain_frame_layout, DrawPush, COLOR_FORMAT, DEPTH_FORMAT,
 };
+use crate::render::shader_interface::{
+    BINDING_CELLS_ATTRIBUTES, BINDING_CELLS_CELLS, BINDING_CELLS_GREY, BINDING_CELLS_MAPS,
+    BINDING_CELLS_PARAMS,
+};
 use crate::scene::Scene;
 use crate::shaders;
 use crate::vk::{
@@ -118,11 +122,11 @@ impl CellsUniform {
 
 /// Set 2: the complex's arrays (bindings 0-2), its uniform (3), its attribute maps (4).
 const CELLS_SET_BINDINGS: [(u32, vk::DescriptorType); 5] = [
-    (0, vk::DescriptorType::STORAGE_BUFFER),
-    (1, vk::DescriptorType::STORAGE_BUFFER),
-    (2, vk::DescriptorType::STORAGE_BUFFER),
-    (3, vk::DescriptorType::UNIFORM_BUFFER),
-    (4, vk::DescriptorType::STORAGE_BUFFER),
+    (BINDING_CELLS_CELLS, vk::DescriptorType::STORAGE_BUFFER),
+    (BINDING_CELLS_GREY, vk::DescriptorType::STORAGE_BUFFER),
+    (BINDING_CELLS_MAPS, vk::DescriptorType::STORAGE_BUFFER),
+    (BINDING_CELLS_PARAMS, vk::DescriptorType::UNIFORM_BUFFER),
+    (BINDING_CELLS_ATTRIBUTES, vk::DescriptorType::STORAGE_BUFFER),
 ];
 
 struct ComplexDraw {
@@ -256,8 +260,8 @@ fn build_complex(
         &format!("{name} cell attributes"),
     )?;
     let mut binds = arrays.binds().to_vec();
-    binds.push(Bind::Uniform(3, &uniform));
-    binds.push(Bind::Storage(4, &attribute_buffer));
+    binds.push(Bind::Uniform(BINDING_CELLS_PARAMS, &uniform));
+    binds.push(Bind::Storage(BINDING_CELLS_ATTRIBUTES, &attribute_buffer));
     let set = pool.allocate(layout, &binds)?;
     let faces = Buffer::with_data(
         ctx,

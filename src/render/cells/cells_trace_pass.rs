@@ -9,6 +9,10 @@ use ash::vk;
 
 use crate::cells::{MarchSettings, PackedComplex};
 use crate::render::maps::map_search::{warm_up, SearchPipeline, TimedSubmissions, SHADER_WROTE};
+use crate::render::shader_interface::{
+    BINDING_CELLS_CELLS, BINDING_CELLS_GREY, BINDING_CELLS_HITS, BINDING_CELLS_MAPS,
+    BINDING_CELLS_RAYS,
+};
 use crate::vk::{Bind, Buffer, Context, MemoryLocation, Readback, VkResult};
 
 /// The shader's push constants (`Params` in cells_trace.comp).
@@ -76,9 +80,9 @@ impl ComplexBuffers {
     /// Their bindings, 0 to 2.
     pub(in crate::render) fn binds(&self) -> [Bind<'_>; 3] {
         [
-            Bind::Storage(0, &self.cells),
-            Bind::Storage(1, &self.grey),
-            Bind::Storage(2, &self.maps),
+            Bind::Storage(BINDING_CELLS_CELLS, &self.cells),
+            Bind::Storage(BINDING_CELLS_GREY, &self.grey),
+            Bind::Storage(BINDING_CELLS_MAPS, &self.maps),
         ]
     }
 
@@ -126,8 +130,8 @@ pub fn march_cells_on_gpu(
         "cell hits",
     )?;
     let mut binds = arrays.binds().to_vec();
-    binds.push(Bind::Storage(3, &ray_buffer));
-    binds.push(Bind::Storage(4, &hits));
+    binds.push(Bind::Storage(BINDING_CELLS_RAYS, &ray_buffer));
+    binds.push(Bind::Storage(BINDING_CELLS_HITS, &hits));
     // SAFETY: every submission that bound the set was a one-shot (warm-ups and timed
     // submissions), and one-shots return only once their work has finished.
     unsafe { search.set.rewrite(&binds) }?;

@@ -226,18 +226,24 @@ impl HeightResources {
         let view = self.heights.image.view();
         let uniforms = &self.uniforms[slot.min(self.uniforms.len() - 1)];
         let mut list = vec![
-            Bind::Uniform(0, uniforms),
-            Bind::Texture(1, view, &self.heights.point),
-            Bind::Texture(2, view, &self.heights.linear),
+            Bind::Uniform(BINDING_FRAME, uniforms),
+            Bind::Texture(BINDING_HEIGHT_POINT, view, &self.heights.point),
+            Bind::Texture(BINDING_HEIGHT_LINEAR, view, &self.heights.linear),
         ];
         if let Some(map) = &self.map {
-            list.push(Bind::Texture(3, map.image.view(), &map.sampler));
+            list.push(Bind::Texture(
+                BINDING_METHOD_MAP,
+                map.image.view(),
+                &map.sampler,
+            ));
         }
         let point = &self.heights.point;
         match &self.mean {
             MeanBinding::None => {}
-            MeanBinding::StandIn => list.push(Bind::Texture(4, view, point)),
-            MeanBinding::Built(mean) => list.push(Bind::Texture(4, mean.view(), point)),
+            MeanBinding::StandIn => list.push(Bind::Texture(BINDING_HEIGHT_MEAN, view, point)),
+            MeanBinding::Built(mean) => {
+                list.push(Bind::Texture(BINDING_HEIGHT_MEAN, mean.view(), point))
+            }
         }
         list
     }

@@ -16,7 +16,7 @@ use super::scene_ao::SceneAo;
 use super::scene_textures::SceneTextures;
 use crate::method::Method;
 use crate::render::shader_interface::{
-    SPEC_BUDGET_EXTENT_LIMIT, SPEC_BUDGET_LEAF_EXACT, SPEC_BUDGET_MAX_STEPS,
+    BINDING_FRAME, SPEC_BUDGET_EXTENT_LIMIT, SPEC_BUDGET_LEAF_EXACT, SPEC_BUDGET_MAX_STEPS,
     SPEC_BUDGET_REFINE_STEPS, SPEC_HARD_SHADOW_TEXELS, SPEC_LOD_AVERAGE_BELOW, SPEC_LOD_BIAS,
     SPEC_LOD_FACTOR, SPEC_LOD_FADE_END, SPEC_LOD_FADE_START, SPEC_SHADOW_MODE, SPEC_SHADOW_REACH,
     SPEC_SHADOW_STEPS,
@@ -370,7 +370,7 @@ impl SurfacePass {
         };
         let plain_sets = plain_uniforms
             .iter()
-            .map(|b| frame_pool.allocate(&layouts.plain, &[Bind::Uniform(0, b)]))
+            .map(|b| frame_pool.allocate(&layouts.plain, &[Bind::Uniform(BINDING_FRAME, b)]))
             .collect::<VkResult<Vec<_>>>()?;
         let pipelines = plan
             .pipelines

@@ -215,8 +215,8 @@ impl AoMapPass {
         let map = new_map(ctx, hf, self.mode)?;
         let pool = DescriptorPool::new(ctx, 1, 4, &format!("ao map {} sets", self.mode))?;
         let mut binds = vec![
-            Bind::Texture(0, hf.image.view(), &hf.point),
-            Bind::StorageImage(1, map.image.view()),
+            Bind::Texture(BINDING_AO_HEIGHTS, hf.image.view(), &hf.point),
+            Bind::StorageImage(BINDING_AO_MAP, map.image.view()),
         ];
         let scratch = if self.mode == AoMode::ExactHorizon {
             Some(sweep_scratch(ctx, hf)?)
@@ -224,10 +224,10 @@ impl AoMapPass {
             None
         };
         if let Some(scratch) = &scratch {
-            binds.push(Bind::Storage(2, &scratch.hulls));
-            binds.push(Bind::Storage(3, &scratch.accum));
-            binds.push(Bind::Storage(4, &scratch.field));
-            binds.push(Bind::Storage(5, &scratch.crossings));
+            binds.push(Bind::Storage(BINDING_AO_HULLS, &scratch.hulls));
+            binds.push(Bind::Storage(BINDING_AO_ACCUM, &scratch.accum));
+            binds.push(Bind::Storage(BINDING_AO_FIELD, &scratch.field));
+            binds.push(Bind::Storage(BINDING_AO_CROSSINGS, &scratch.crossings));
         }
         let set = pool.allocate(self.pass.layout(), &binds)?;
         let d = hf.image.desc();

@@ -68,8 +68,8 @@ impl MeanPyramid {
             .windows(2)
             .map(|pair| {
                 let binds = [
-                    Bind::StorageImage(0, &pair[0]),
-                    Bind::StorageImage(1, &pair[1]),
+                    Bind::StorageImage(BINDING_PYRAMID_FINE, &pair[0]),
+                    Bind::StorageImage(BINDING_PYRAMID_COARSE, &pair[1]),
                 ];
                 pool.allocate(pass.layout(), &binds)
             })

@@ -108,8 +108,8 @@ impl PyramidPass {
                 pool.allocate(
                     self.pass.layout(),
                     &[
-                        Bind::StorageImage(0, &pair[0]),
-                        Bind::StorageImage(1, &pair[1]),
+                        Bind::StorageImage(BINDING_PYRAMID_FINE, &pair[0]),
+                        Bind::StorageImage(BINDING_PYRAMID_COARSE, &pair[1]),
                     ],
                 )
             })

@@ -284,9 +284,9 @@ fn trace_with(
     let pool = DescriptorPool::new(ctx, 1, 3, "trace sets")?;
     let mut binds = res.binds();
     binds.extend([
-        Bind::Storage(4, &targets.hits),
-        Bind::Storage(5, &targets.steps),
-        Bind::Storage(6, &targets.visible),
+        Bind::Storage(BINDING_TRACE_HITS, &targets.hits),
+        Bind::Storage(BINDING_TRACE_STEPS, &targets.steps),
+        Bind::Storage(BINDING_TRACE_VISIBLE, &targets.visible),
     ]);
     let set = pool.allocate(pass.layout(), &binds)?;
     let timestamps = TimestampPool::new(ctx, 2 * frames, "trace timestamps")?;

@@ -104,6 +104,63 @@ glsl_table! {
 }
 
 glsl_table! {
+    /// Set 1 of the drawing passes (surface and cells): one material's textures and parameters
+    /// (`shaders/include/draw.glsl`), as `#define`s.
+    MATERIAL_BINDINGS {
+        /// Base colour texture (sRGB).
+        BINDING_MATERIAL_BASE_COLOR = 0;
+        /// Metallic (b) and roughness (g) texture.
+        BINDING_MATERIAL_METALLIC_ROUGHNESS = 1;
+        /// Tangent-space normal map.
+        BINDING_MATERIAL_NORMAL = 2;
+        /// Ambient occlusion texture (r).
+        BINDING_MATERIAL_OCCLUSION = 3;
+        /// Emissive texture (sRGB).
+        BINDING_MATERIAL_EMISSIVE = 4;
+        /// The material's uniform block (factors, texture flags, relief settings).
+        BINDING_MATERIAL_PARAMS = 5;
+        /// The relief's texture-space AO map; bit 6 of the texture flags says it is bound.
+        BINDING_MATERIAL_RELIEF_AO = 6;
+    }
+}
+
+glsl_table! {
+    /// Set 2 of a layered material's surface variant (`shaders/include/terrain_layers.glsl`), as
+    /// `#define`s.
+    LAYER_BINDINGS {
+        /// The layers' albedo (rgb) and height (a), one array layer per terrain layer.
+        BINDING_LAYER_ALBEDO_HEIGHT = 0;
+        /// The layers' normals (rgb) and roughness (a).
+        BINDING_LAYER_NORMAL_ROUGHNESS = 1;
+        /// The splat map: one weight per layer and channel.
+        BINDING_LAYER_WEIGHTS = 2;
+        /// The layers' uniform block (tiling, blend mode and its sharpness).
+        BINDING_LAYER_PARAMS = 3;
+    }
+}
+
+glsl_table! {
+    /// A cell complex's set (`shaders/include/cells_march.glsl`; set 2 of `cells.frag`, set 0 of
+    /// `cells_trace.comp`), as `#define`s.
+    CELLS_BINDINGS {
+        /// Per cell of the grid: its colour and, for a grey cell, its index.
+        BINDING_CELLS_CELLS = 0;
+        /// Per grey cell: its case, projection and map offset.
+        BINDING_CELLS_GREY = 1;
+        /// The grey cells' distance maps, back to back.
+        BINDING_CELLS_MAPS = 2;
+        /// `cells.frag`: the complex's uniform block (its grid, transform and march settings).
+        BINDING_CELLS_PARAMS = 3;
+        /// `cells.frag`: the shading attribute maps of the grey cells.
+        BINDING_CELLS_ATTRIBUTES = 4;
+        /// `cells_trace.comp`: the rays to march.
+        BINDING_CELLS_RAYS = 3;
+        /// `cells_trace.comp`: per ray, the hit distance and the samples taken.
+        BINDING_CELLS_HITS = 4;
+    }
+}
+
+glsl_table! {
     /// Mode values the map and AO kernels branch on per dispatch (`params.mode`), as `#define`s.
     MODES {
         /// `cone_map.comp`, `quadric_map.comp`: one level of the max pyramid from the level below.
@@ -194,6 +251,9 @@ pub const GLSL_DEFINES: &[&[(&str, u32)]] = &[
     PYRAMID_BINDINGS,
     AO_BINDINGS,
     TERRAIN_BINDINGS,
+    MATERIAL_BINDINGS,
+    LAYER_BINDINGS,
+    CELLS_BINDINGS,
     TERRAIN_MODES,
     MODES,
     SPEC_IDS,

@@ -220,10 +220,10 @@ impl BlendedPyramid {
                 pool.allocate(
                     pass.layout(),
                     &[
-                        Bind::Texture(0, heights.view(), &texels),
-                        Bind::Texture(1, weights.view(), &texels),
-                        Bind::StorageImage(2, view),
-                        Bind::Texture(3, slack.view(), &texels),
+                        Bind::Texture(BINDING_BLEND_LAYER_HEIGHTS, heights.view(), &texels),
+                        Bind::Texture(BINDING_BLEND_LAYER_WEIGHTS, weights.view(), &texels),
+                        Bind::StorageImage(BINDING_BLEND_OUT, view),
+                        Bind::Texture(BINDING_BLEND_SLACK, slack.view(), &texels),
                     ],
                 )
             })

@@ -17,6 +17,10 @@ use image::{imageops::FilterType, DynamicImage, RgbaImage};
 
 use crate::heightfield::Channel;
 use crate::render::frame::texture_mips::mip_chain;
+use crate::render::shader_interface::{
+    BINDING_LAYER_ALBEDO_HEIGHT, BINDING_LAYER_NORMAL_ROUGHNESS, BINDING_LAYER_PARAMS,
+    BINDING_LAYER_WEIGHTS,
+};
 use crate::scene::{
     LayerWeights, Layers, LayersError, Material, MaterialLayer, SceneImage, TextureRef,
 };
@@ -41,10 +45,10 @@ struct LayerUniform {
 pub fn layer_layout(ctx: &Arc<Context>) -> VkResult<DescriptorLayout> {
     let tex = |b| (b, vk::DescriptorType::COMBINED_IMAGE_SAMPLER);
     let bindings = [
-        tex(0),
-        tex(1),
-        tex(2),
-        (3, vk::DescriptorType::UNIFORM_BUFFER),
+        tex(BINDING_LAYER_ALBEDO_HEIGHT),
+        tex(BINDING_LAYER_NORMAL_ROUGHNESS),
+        tex(BINDING_LAYER_WEIGHTS),
+        (BINDING_LAYER_PARAMS, vk::DescriptorType::UNIFORM_BUFFER),
     ];
     DescriptorLayout::new(
         ctx,
@@ -109,10 +113,10 @@ impl LayerSets {
                 &format!("{name} layer parameters"),
             )?;
             let binds = [
-                Bind::Texture(0, colour.view(), &tiled),
-                Bind::Texture(1, detail.view(), &tiled),
-                Bind::Texture(2, splat.view(), &clamped),
-                Bind::Uniform(3, &buffer),
+                Bind::Texture(BINDING_LAYER_ALBEDO_HEIGHT, colour.view(), &tiled),
+                Bind::Texture(BINDING_LAYER_NORMAL_ROUGHNESS, detail.view(), &tiled),
+                Bind::Texture(BINDING_LAYER_WEIGHTS, splat.view(), &clamped),
+                Bind::Uniform(BINDING_LAYER_PARAMS, &buffer),
             ];
             sets[index] = Some(pool.allocate(layout, &binds)?);
             splats[index] = Some(owned_images.len() + 2);
