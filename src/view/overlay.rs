@@ -47,10 +47,20 @@ impl Overlay {
     /// The readout; recomputed when `REFRESH` has passed since the last time, so `Some` means the
     /// title should change.
     pub fn refresh(&mut self, now: Instant) -> Option<&str> {
-        let elapsed = now.duration_since(self.since);
-        if elapsed < REFRESH || self.frames == 0 {
+        if now.duration_since(self.since) < REFRESH {
             return None;
         }
+        self.flush(now)
+    }
+
+    /// The readout over the frames added since the last refresh, however short the time: what a
+    /// bounded run reports when it ends, which may come before the first `REFRESH` has passed.
+    /// `None` (the readout kept) when no frame was added.
+    pub fn flush(&mut self, now: Instant) -> Option<&str> {
+        if self.frames == 0 {
+            return None;
+        }
+        let elapsed = now.duration_since(self.since).max(Duration::from_micros(1));
         let fps = f64::from(self.frames) / elapsed.as_secs_f64();
         self.sums.sort_by_key(|(p, _, _)| *p);
         let passes: Vec<String> = self
@@ -74,6 +84,19 @@ impl Overlay {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn flush_reports_frames_before_the_first_refresh() {
+        let start = Instant::now();
+        let mut overlay = Overlay::new(start);
+        assert!(overlay.flush(start).is_none(), "no frame, no readout");
+        overlay.add(&[timing(Pass::Surface, 2.0)]);
+        let soon = start + Duration::from_millis(10);
+        assert!(overlay.refresh(soon).is_none(), "before REFRESH");
+        let line = overlay.flush(soon).expect("a frame was added").to_owned();
+        assert!(line.contains("surface 2.00 ms"), "{line}");
+        assert_eq!(overlay.line(), line);
+    }
 
     fn timing(pass: Pass, gpu_ms: f64) -> PassTiming {
         PassTiming { pass, gpu_ms }
