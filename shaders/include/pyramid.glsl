@@ -43,6 +43,19 @@ vec2 ray_slope(Ray ray) {
     return ray.dir.xy / ray.dir.z;
 }
 
+// The cell of a grid of `size` cells that the ray occupies just past depth z. On a line, floor()
+// names the cell above it, which a ray moving toward lower indices is leaving: the traversal
+// would judge the ray by the plane of a node it never crosses, and when that plane lies below the
+// exit, skip the node it does cross and report a hit on the far boundary, below the surface.
+// Rays stand exactly on node boundaries more often than chance suggests: entering at the centres
+// of a ray grid four times coarser than the map, or moved down to a plane whose depth is a whole
+// number of texels of travel.
+vec2 ray_cell(Ray ray, float z, vec2 size) {
+    vec2 p = ray_uv(ray, z) * size;
+    vec2 cell = floor(p);
+    return cell - vec2(equal(cell, p)) * vec2(lessThan(ray_slope(ray), vec2(0.0)));
+}
+
 // Per axis, the depth at which the ray reaches the next line of a grid of `size` cells ahead of
 // depth z_now; the lines sit at (k + offset) / size (offset 0: texel edges, 0.5: texel centres).
 // `cell` is the cell holding the ray at z_now. A ray exactly on a line it is leaving (an xy
@@ -180,7 +193,7 @@ Hit pyramid_trace(Ray ray, Budget budget, int ascent, int leaf_mode) {
                 return Hit(s, i, false);
             }
             vec2 size = level_size(level);
-            vec2 cell = floor(ray_uv(ray, z) * size);
+            vec2 cell = ray_cell(ray, z, size);
             exit_z = cell_exit_depth(ray, cell, size, z);
             float d = node_depth_cell(cell, level, s);
 #ifdef LOD_MEAN_PYRAMID

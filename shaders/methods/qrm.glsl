@@ -1,8 +1,8 @@
 // Quadtree relief mapping (Schroders & van Gulik 2006; Schroders and van Gulik, Algorithm 1 findIntersect):
 // descend from the root; in each node the cursor moves to the nearer of the node's plane and
-// the node boundary ahead (the quadrant trick: floor(cursor * n + quadrant)) plus `delta`, half
-// a texel of the full map; it never moves back and never ascends; when the plane lies inside the
-// node the search descends. The paper's last level bounds the box surface; relief's leaf is the
+// the node boundary ahead (the paper's quadrant trick; here next_line_depths) plus `delta`,
+// half a texel of the full map; it never moves back and never ascends; when the plane lies
+// inside the node the search descends. The paper's last level bounds the box surface; relief's leaf is the
 // bilinear-bounding level 1, stepped through by the same delta against the bilinear surface, and
 // the first point found below it is the hit (no refinement, as in the paper). With the exact leaf
 // (the default, budget.exact_leaf) the half-texel stepping is replaced by the exact
@@ -14,7 +14,6 @@
 
 Hit trace_qrm(Ray ray, Budget budget) {
     float s = ray.depth_scale;
-    vec2 quadrant = step(0.0, ray_slope(ray));
     float delta = depth_per_texels(ray, 0.5);
     int leaf = pyramid_leaf();
     int level = pyramid_top();
@@ -30,17 +29,17 @@ Hit trace_qrm(Ray ray, Budget budget) {
             if (cursor >= s) {
                 return Hit(s, i, false);
             }
-            vec2 uv = ray_uv(ray, cursor);
             vec2 size = level_size(level);
-            t = node_depth(uv, level, s);
-            // The quadrant trick: floor(cursor * n + quadrant) is the cell edge ahead on each axis.
-            vec2 cell = floor(uv * size + quadrant) - quadrant;
+            // The node the ray moves through, not the quadrant trick's floor(): on a boundary
+            // crossed toward lower indices that names the node behind (ray_cell says why).
+            vec2 cell = ray_cell(ray, cursor, size);
+            t = node_depth_cell(cell, level, s);
             vec2 tb = next_line_depths(ray, cell, size, 0.0, cursor);
             tmin = min(tb.x, tb.y);
 #ifdef LOD_MEAN_PYRAMID
             // Level of detail (lod.glsl): at the pixel's stop level the node's (blended) plane is
             // the hit if the ray meets it inside the node.
-            t = lod_node_depth(t, floor(uv * size), level, leaf, s);
+            t = lod_node_depth(t, cell, level, leaf, s);
             if (level > leaf && level == lod_stop && t < tmin + delta) {
                 return Hit(max(cursor, t), i + 1u, false);
             }
