@@ -34,7 +34,12 @@ pub struct LightSample {
 /// radius 0; empty when `p` is inside a point or spot light's sphere (nothing can come between).
 pub fn light_samples(p: Vec3, light: &Light, samples_per_side: u32) -> Vec<LightSample> {
     let (axis, half_angle, sphere) = match light.kind {
-        LightKind::Directional => (-light.direction.normalize(), light.radius, None),
+        // Beyond pi the cone is the whole sphere.
+        LightKind::Directional => (
+            -light.direction.normalize(),
+            light.radius.clamp(0.0, std::f32::consts::PI),
+            None,
+        ),
         LightKind::Point | LightKind::Spot { .. } => {
             let to = light.position - p;
             let distance = to.length();

@@ -404,3 +404,76 @@ fn normals_facing_away_and_point_lights_bound_the_rays() {
         NO_RECEIVER
     );
 }
+
+#[test]
+fn a_height_texture_with_a_uv_transform_casts_as_the_frame_map_does() {
+    use crate::heightfield::Channel;
+    use crate::scene::{HeightSource, SceneImage, TextureRef, UvTransform};
+    // The frame map over a quad whose uvs repeat twice, against the same map as a texture whose transform
+    // repeats it twice over uvs that span the quad once: the same heights at the same places, and the same
+    // depth unit (half a world unit per uv in both).
+    let light = sun(Vec3::new(0.4, 0.5, 0.7), 2.0);
+    let mut frame_scene = relief_slab();
+    frame_scene.meshes[0] = quad_mesh("slab", 1.0, 1.0, 2.0, 0);
+    let codes: Vec<u16> = grooved().to_unorm16();
+    let image = image::ImageBuffer::from_raw(16, 16, codes).unwrap();
+    let mut texture_scene = relief_slab();
+    texture_scene.images.push(SceneImage {
+        name: "grooves".into(),
+        pixels: std::sync::Arc::new(image::DynamicImage::ImageLuma16(image)),
+    });
+    let texture = TextureRef {
+        image: 0,
+        tex_coord: 0,
+        transform: UvTransform {
+            scale: [2.0, 2.0],
+            ..UvTransform::default()
+        },
+        sampler: Default::default(),
+    };
+    let relief = texture_scene.materials[0].relief.as_mut().unwrap();
+    relief.height = HeightSource::Texture {
+        texture,
+        channel: Channel::default(),
+        invert: false,
+    };
+    let by_frame = SceneOccluders::new(&frame_scene, Some(&grooved()), Address::Repeat).unwrap();
+    let by_texture = SceneOccluders::new(&texture_scene, None, Address::Clamp).unwrap();
+    let points: Vec<Option<Vec3>> = (0..400)
+        .map(|k| {
+            let (i, j) = ((k % 20) as f32 / 19.0 - 0.5, (k / 20) as f32 / 19.0 - 0.5);
+            Some(Vec3::new(i * 0.98, -0.06, j * 0.98))
+        })
+        .collect();
+    let a = by_frame.visible_fractions(&points, &light, 3);
+    let b = by_texture.visible_fractions(&points, &light, 3);
+    assert_eq!(a, b);
+    assert!(
+        a.iter().any(|&f| f == 0.0) && a.iter().any(|&f| f == 1.0),
+        "{a:?}"
+    );
+}
+
+#[test]
+fn extreme_lights_give_finite_fractions() {
+    let (displaced, _) = slab_occluders();
+    let lights = [
+        sun(Vec3::new(1.0, 0.0, 0.0), 0.0),
+        sun(Vec3::new(1.0, 0.0, 0.3), 5.0),
+        sun(Vec3::Y, 0.0),
+        sun(Vec3::Y, 0.5),
+        sun(Vec3::new(0.2, 1.0, 0.0), 89.0),
+        sun(Vec3::new(0.2, 1.0, 0.0), 400.0),
+    ];
+    let points = [
+        Vec3::new(0.0, -GROOVE_DEPTH, 0.0),
+        Vec3::new(0.3, 0.0, 0.1),
+        Vec3::new(0.1, -0.2, -0.45),
+    ];
+    for light in &lights {
+        for p in points {
+            let f = displaced.visible_fraction(p, Some(Vec3::Y), light, 4);
+            assert!((0.0..=1.0).contains(&f), "{light:?} at {p}: {f}");
+        }
+    }
+}
