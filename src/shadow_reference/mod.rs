@@ -16,7 +16,7 @@
 //! - With a normal hint, light directions at or below the receiver's tangent plane count as blocked.
 //!
 //! Data flow: [`SceneOccluders`] gathers the primitives (`collect`) and builds a [`bvh::Bvh`] over their
-//! bounds; queries walk it with the plain-triangle or relief-shell test; [`light_samples`] turns a light into
+//! bounds; queries walk it with the plain-triangle or relief-shell test; [`light_samples()`] turns a light into
 //! rays; `visible_fraction` counts the rays that reach the light.
 
 pub mod agreement;
@@ -28,6 +28,8 @@ pub mod triangle;
 
 #[cfg(test)]
 mod tests;
+
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 use glam::Vec3;
 
@@ -215,7 +217,8 @@ impl SceneOccluders {
     /// The visible fraction of `light` from the receiver at `p`: the share of `samples_per_side^2` stratified,
     /// equal-solid-angle rays toward it (one for a light of radius 0) that reach it unblocked. With
     /// `normal_hint`, directions at or below the tangent plane count as blocked. A non-finite `p` gives
-    /// [`NO_RECEIVER`]; a point inside a sphere light sees all of it.
+    /// [`NO_RECEIVER`]; a point inside a sphere light sees all of it. A spot light's cone and a light's range
+    /// are not visibility: the caller weighs them.
     pub fn visible_fraction(
         &self,
         p: Vec3,
@@ -271,21 +274,35 @@ impl SceneOccluders {
         })
     }
 
+    /// `f` of every item, on every thread the machine offers. Items are handed out in small chunks as threads
+    /// come free, since shadowed and relief pixels cost far more than open ground.
     fn in_parallel<T: Sync>(&self, items: &[T], f: impl Fn(&T) -> f32 + Sync) -> Vec<f32> {
+        const CHUNK: usize = 64;
         let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
-        let chunk = items.len().div_ceil(threads).max(1);
-        let mut out = vec![NO_RECEIVER; items.len()];
-        std::thread::scope(|scope| {
-            for (src, dst) in items.chunks(chunk).zip(out.chunks_mut(chunk)) {
-                let f = &f;
-                scope.spawn(move || {
-                    for (item, value) in src.iter().zip(dst) {
-                        *value = f(item);
-                    }
-                });
-            }
+        let next = AtomicUsize::new(0);
+        let mut done: Vec<(usize, Vec<f32>)> = std::thread::scope(|scope| {
+            let workers: Vec<_> = (0..threads)
+                .map(|_| {
+                    scope.spawn(|| {
+                        let mut mine = Vec::new();
+                        loop {
+                            let start = next.fetch_add(CHUNK, Ordering::Relaxed);
+                            if start >= items.len() {
+                                return mine;
+                            }
+                            let end = (start + CHUNK).min(items.len());
+                            mine.push((start, items[start..end].iter().map(&f).collect()));
+                        }
+                    })
+                })
+                .collect();
+            workers
+                .into_iter()
+                .flat_map(|w| w.join().expect("a shadow worker panicked"))
+                .collect()
         });
-        out
+        done.sort_unstable_by_key(|(start, _)| *start);
+        done.into_iter().flat_map(|(_, values)| values).collect()
     }
 }
 
