@@ -11,7 +11,6 @@ pub mod method;
 pub mod render;
 pub mod scene;
 pub mod shaders;
-/// The exact scene-shadow reference on the CPU: light visibility against every triangle and relief height field.
 pub mod shadow_reference;
 pub mod terrain;
 #[cfg(feature = "window")]

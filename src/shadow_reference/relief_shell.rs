@@ -44,7 +44,7 @@ pub const MAX_SLOPE: f64 = 1e4;
 const PARALLEL_SAMPLES_PER_TEXEL: f64 = 8.0;
 
 /// How far (relative to the depth scale) a receiver may lie from the exact field and still count as lying on it.
-const SNAP_RANGE: f64 = 0.25;
+pub const SNAP_RANGE: f64 = 0.25;
 
 /// A relief triangle's occluding solid.
 #[derive(Debug, Clone)]
