@@ -183,12 +183,17 @@ impl ReliefShell {
     /// Where the segment `origin + t dir`, `t` in `[0, max_t]`, meets the solid (see the module docs): for a
     /// segment going down, its first contact; for one climbing, a point of the segment inside the solid.
     pub fn hit(&self, origin: Vec3, dir: Vec3, max_t: f32) -> Option<f32> {
+        // The tracer asserts on non-finite rays; such a ray has no place to be blocked at.
+        if !origin.is_finite() || !dir.is_finite() {
+            return None;
+        }
         let span = self.clip(origin, dir, max_t)?;
         if self.in_solid(span.at(span.ta)) {
             return Some(span.ta as f32);
         }
         let horizontal = DVec2::new(span.dq.x, span.dq.y).length();
-        let t = if horizontal > MAX_SLOPE * span.dq.z.abs() {
+        // `>=`, so a zero direction (a point, not a line) is sampled rather than traced.
+        let t = if horizontal >= MAX_SLOPE * span.dq.z.abs() {
             self.scan(&span, horizontal)
         } else {
             self.traced(&span)

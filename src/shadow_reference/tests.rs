@@ -467,6 +467,13 @@ fn extreme_lights_give_finite_fractions() {
         Vec3::new(0.3, 0.0, 0.1),
         Vec3::new(0.1, -0.2, -0.45),
     ];
+    let inside = Vec3::new(0.3, -0.1, 0.0);
+    assert!(
+        displaced.any_hit(inside, Vec3::ZERO, 1.0),
+        "a point inside a brick"
+    );
+    assert!(!displaced.any_hit(inside, Vec3::NAN, 1.0));
+    assert!(!displaced.any_hit(Vec3::NAN, Vec3::Y, 1.0));
     for light in &lights {
         for p in points {
             let f = displaced.visible_fraction(p, Some(Vec3::Y), light, 4);
