@@ -11,6 +11,7 @@ pub mod method;
 pub mod render;
 pub mod scene;
 pub mod shaders;
+pub mod shadow_reference;
 pub mod terrain;
 #[cfg(feature = "window")]
 pub mod view;
