@@ -33,11 +33,6 @@ float node_depth_cell(vec2 cell, int level, float depth_scale) {
     return depth_scale * (1.0 - texelFetch(height_point, texel, level).r);
 }
 
-// Depth of the top plane of the node containing uv at `level`.
-float node_depth(vec2 uv, int level, float depth_scale) {
-    return node_depth_cell(floor(uv * level_size(level)), level, depth_scale);
-}
-
 // Per unit of depth, how far the ray moves in uv.
 vec2 ray_slope(Ray ray) {
     return ray.dir.xy / ray.dir.z;
