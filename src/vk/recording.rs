@@ -143,7 +143,14 @@ impl<'a> Recording<'a> {
 
     /// Begins dynamic rendering into `color` (cleared to `clear`) and, if given, `depth`
     /// (cleared to 1), both already in attachment layouts, with a full-target viewport.
-    pub fn begin_rendering(&self, color: &Image, depth: Option<&Image>, clear: [f32; 4]) {
+    /// `store_depth` keeps the depth for later reads (a copy); otherwise it is discarded.
+    pub fn begin_rendering(
+        &self,
+        color: &Image,
+        depth: Option<&Image>,
+        clear: [f32; 4],
+        store_depth: bool,
+    ) {
         let (width, height) = (color.desc().width, color.desc().height);
         let color_attachment = [vk::RenderingAttachmentInfo::default()
             .image_view(color.view().raw())
@@ -158,7 +165,11 @@ impl<'a> Recording<'a> {
                 .image_view(d.view().raw())
                 .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
                 .load_op(vk::AttachmentLoadOp::CLEAR)
-                .store_op(vk::AttachmentStoreOp::DONT_CARE)
+                .store_op(if store_depth {
+                    vk::AttachmentStoreOp::STORE
+                } else {
+                    vk::AttachmentStoreOp::DONT_CARE
+                })
                 .clear_value(vk::ClearValue {
                     depth_stencil: vk::ClearDepthStencilValue {
                         depth: 1.0,
@@ -190,6 +201,60 @@ impl<'a> Recording<'a> {
             self.device.cmd_begin_rendering(self.cmd, &info);
             self.device.cmd_set_viewport(self.cmd, 0, &[viewport]);
             self.device.cmd_set_scissor(self.cmd, 0, &[area]);
+        }
+    }
+
+    /// Begins dynamic rendering into `depth` alone (no colour), cleared to 1 and stored: a depth
+    /// map rendered to be sampled later. The viewport covers the whole image until
+    /// [`Recording::set_viewport`] narrows it.
+    pub fn begin_depth_rendering(&self, depth: &Image) {
+        let (width, height) = (depth.desc().width, depth.desc().height);
+        let attachment = vk::RenderingAttachmentInfo::default()
+            .image_view(depth.view().raw())
+            .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
+            .load_op(vk::AttachmentLoadOp::CLEAR)
+            .store_op(vk::AttachmentStoreOp::STORE)
+            .clear_value(vk::ClearValue {
+                depth_stencil: vk::ClearDepthStencilValue {
+                    depth: 1.0,
+                    stencil: 0,
+                },
+            });
+        let area = vk::Rect2D {
+            offset: vk::Offset2D::default(),
+            extent: vk::Extent2D { width, height },
+        };
+        let info = vk::RenderingInfo::default()
+            .render_area(area)
+            .layer_count(1)
+            .depth_attachment(&attachment);
+        // SAFETY: the buffer is recording; the attachment is alive and in the layout named.
+        unsafe { self.device.cmd_begin_rendering(self.cmd, &info) };
+        self.set_viewport(0, 0, width, height);
+    }
+
+    /// Draws into the `width` x `height` rectangle at (`x`, `y`) from now on: viewport and
+    /// scissor alike, depth 0 to 1.
+    pub fn set_viewport(&self, x: u32, y: u32, width: u32, height: u32) {
+        let viewport = vk::Viewport {
+            x: x as f32,
+            y: y as f32,
+            width: width as f32,
+            height: height as f32,
+            min_depth: 0.0,
+            max_depth: 1.0,
+        };
+        let scissor = vk::Rect2D {
+            offset: vk::Offset2D {
+                x: x as i32,
+                y: y as i32,
+            },
+            extent: vk::Extent2D { width, height },
+        };
+        // SAFETY: the buffer is recording; both states are dynamic in every graphics pipeline.
+        unsafe {
+            self.device.cmd_set_viewport(self.cmd, 0, &[viewport]);
+            self.device.cmd_set_scissor(self.cmd, 0, &[scissor]);
         }
     }
 

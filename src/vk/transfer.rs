@@ -21,6 +21,7 @@ pub fn texel_size(format: vk::Format) -> VkResult<usize> {
         vk::Format::R8_UNORM => 1,
         vk::Format::R16_UNORM | vk::Format::R16_SFLOAT => 2,
         vk::Format::R32_SFLOAT
+        | vk::Format::D32_SFLOAT
         | vk::Format::R8G8B8A8_UNORM
         | vk::Format::R8G8B8A8_SRGB
         | vk::Format::B8G8R8A8_UNORM
