@@ -8,16 +8,17 @@
 //! So world space and `(hu, hv, z)` are related by one affine map per triangle, and a straight world ray stays
 //! straight in it.
 //!
-//! The solid. Everything with `(hu, hv)` in the triangle's uv footprint and `d(hu, hv) <= z <= s`, with `d` the
-//! bilinear depth of the unorm16-quantized heights (what the GPU samples). A segment is blocked where it meets
-//! the solid. The test clips the segment to the prism (footprint x `[0, s]`), checks whether either end of the
-//! clipped piece is already inside (entry through a side wall or the bottom, or a segment that starts or ends
-//! inside), and otherwise traces the line from its top-plane crossing, going down, with
-//! [`crate::heightfield::reference::trace`]: the first depth below the field, accepted if it falls inside the
-//! clipped piece. This is exact for every segment except one that reaches the footprint sideways, below the top
-//! plane, after already passing under the field's continuation beyond the triangle and coming back above it; no
-//! ray through the polygon does that, nor one through an edge shared with a coplanar relief neighbour (the
-//! neighbour reports the crossing), and a closed relief object has walls that block such a ray anyway.
+//! The occluder. The relief a renderer draws for a polygon is the height field seen *through the
+//! polygon*: a ray that crosses the triangle's top plane inside its footprint is traced down from there,
+//! and the field blocks it where it first dips below the surface (`d(hu, hv) <= z`, with `d` the bilinear
+//! depth of the unorm16-quantized heights the GPU samples), provided that point still lies over the
+//! footprint; a ray that reaches the shell sideways, below the top plane, meets nothing, as no fragment of
+//! the polygon ever traces it, and a ray that leaves the footprint before meeting the field passes beside
+//! the object (the silhouette cut of clamp-addressed maps). This is the object the surface pass and the
+//! shadow pass draw, so the reference and the renderer agree on what casts; a closed relief object gets
+//! its walls from its other faces. The test clips the segment to the prism (footprint x `[0, s]`) and
+//! traces the line from its top-plane crossing with [`crate::heightfield::reference::trace`]: the first
+//! depth below the field, accepted if it falls inside the clipped piece.
 //!
 //! Direction: the trace needs a ray going down, so a segment climbing toward the light is traced reversed, from
 //! its upper end; both orders answer the same "blocked" question. For the *nearest* hit (`first_hit`) a
@@ -187,19 +188,17 @@ impl ReliefShell {
         if !origin.is_finite() || !dir.is_finite() {
             return None;
         }
-        let span = self.clip(origin, dir, max_t)?;
-        if self.in_solid(span.at(span.ta)) {
-            return Some(span.ta as f32);
-        }
-        let horizontal = DVec2::new(span.dq.x, span.dq.y).length();
+        let q0 = self.local(origin);
+        let dq = self.to_local * dir.as_dvec3();
+        let horizontal = DVec2::new(dq.x, dq.y).length();
         // `>=`, so a zero direction (a point, not a line) is sampled rather than traced.
-        let t = if horizontal >= MAX_SLOPE * span.dq.z.abs() {
+        let t = if horizontal >= MAX_SLOPE * dq.z.abs() {
+            let span = self.clip(origin, dir, max_t)?;
             self.scan(&span, horizontal)
         } else {
-            self.traced(&span)
+            self.traced(q0, dq, f64::from(max_t))
         };
-        t.or_else(|| self.in_solid(span.at(span.tb)).then_some(span.tb))
-            .map(|t| t as f32)
+        t.map(|t| t as f32)
     }
 
     /// The segment in the shell's frame, clipped to `[0, s]` in depth and to the footprint; `None` if empty.
@@ -217,11 +216,16 @@ impl ReliefShell {
         (ta <= tb).then_some(Span { q0, dq, ta, tb })
     }
 
-    /// The first depth below the field along the line, traced down from its top-plane crossing, if it lies in
-    /// the clipped piece.
-    fn traced(&self, span: &Span) -> Option<f64> {
-        let down = span.dq * span.dq.z.signum();
-        let entry = span.at(-span.q0.z / span.dq.z);
+    /// Where the line `q0 + t dq` (shell frame) first dips below the field, traced down from its
+    /// top-plane crossing as a fragment of the triangle there would trace it, if that `t` lies in
+    /// `[0, max_t]`: the crossing must lie over the footprint, and with clamp addressing a ray
+    /// that entered the map and leaves it before meeting the field passes beside the object.
+    fn traced(&self, q0: DVec3, dq: DVec3, max_t: f64) -> Option<f64> {
+        let entry = q0 + dq * (-q0.z / dq.z);
+        if self.bary(entry).iter().any(|&b| b < -FOOTPRINT_TOLERANCE) {
+            return None;
+        }
+        let down = dq * dq.z.signum();
         let ray = RefRay {
             u0: entry.x,
             v0: entry.y,
@@ -236,8 +240,12 @@ impl ReliefShell {
             SurfaceModel::Bilinear,
             self.address,
         );
-        let t = (hit.z - span.q0.z) / span.dq.z;
-        (span.ta..=span.tb).contains(&t).then_some(t)
+        let in_map = |u: f64, v: f64| (0.0..=1.0).contains(&u) && (0.0..=1.0).contains(&v);
+        if self.address == Address::Clamp && in_map(entry.x, entry.y) && !in_map(hit.u, hit.v) {
+            return None;
+        }
+        let t = (hit.z - q0.z) / dq.z;
+        (0.0..=max_t).contains(&t).then_some(t)
     }
 
     /// The first sample inside the solid along a segment parallel to the plane.
