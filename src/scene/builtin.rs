@@ -87,7 +87,7 @@ pub fn default_scene(method: Method) -> Scene {
         lights: vec![Light {
             casts_shadows: true,
             // Low (about 27 degrees), so the bricks cast shadows longer than the mortar is wide.
-            direction: -Vec3::new(-0.62, 0.45, 0.64).normalize(),
+            direction: -Vec3::new(-0.8, 0.45, 0.2).normalize(),
             radius: DEFAULT_LIGHT_RADIUS_DEG.to_radians(),
             ..Light::default_light()
         }],

@@ -18,7 +18,7 @@ use glam::{Mat4, Vec3};
 use super::camera::Projection;
 use super::gltf_mesh::{convert_meshes, place};
 use super::gltf_prepass::{self, Parsed};
-use super::light_extras::parse_light_radius;
+use super::light_extras::parse_light_extras;
 use super::{
     gltf_accessor, gltf_animation_check, gltf_camera_path, gltf_image, gltf_material, gltf_nodes,
     gltf_skin_check,
@@ -288,10 +288,12 @@ fn convert_light(light: &gltf::khr_lights_punctual::Light, world: Mat4) -> Resul
         }
     };
     let extras = light.extras().as_ref().map(|raw| raw.get());
-    let radius = parse_light_radius(extras, kind).map_err(|e| format!("{}: {e}", what()))?;
+    let settings = parse_light_extras(extras, kind).map_err(|e| format!("{}: {e}", what()))?;
     Ok(Light {
         kind,
-        radius,
+        radius: settings.radius,
+        shadow_map_size: settings.shadow_map_size,
+        shadow_cascades: settings.shadow_cascades,
         position: world.transform_point3(Vec3::ZERO),
         direction: world
             .transform_vector3(Vec3::NEG_Z)

@@ -23,6 +23,7 @@ mod material;
 mod primitives;
 mod relief_extras;
 mod shading;
+mod shadow_scenes;
 mod tangents;
 mod terrain_scene;
 
@@ -35,7 +36,7 @@ pub use layered::{
     bake_vertex_color_weights, LayerWeights, Layers, LayersError, MaterialLayer,
     MAX_LAYERED_RESOLUTION,
 };
-pub use light_extras::MAX_ANGULAR_RADIUS_DEG;
+pub use light_extras::{MAX_ANGULAR_RADIUS_DEG, SHADOW_CASCADES, SHADOW_MAP_SIZES};
 pub use lod::Lod;
 pub use material::{
     AlphaMode, Filter, HeightSource, Material, Relief, SamplerDesc, TextureRef, TextureSlot,
@@ -43,6 +44,7 @@ pub use material::{
 };
 pub use primitives::{box_mesh, quad_mesh};
 pub use shading::{AoMode, ShadowMode, ShadowSettings, AO_HORIZON_DIRECTIONS};
+pub use shadow_scenes::{shadow_scene, sun, ShadowScene, SHADOW_SCENE_DEPTH};
 pub use terrain_scene::{
     ground_rules, procedural_layers, rules_splat, terrain_scene, GroundLayer, TerrainOptions,
     TERRAIN_MESH,
@@ -99,6 +101,12 @@ pub struct Light {
     /// The light's size, 0 for a hard light: angular radius in radians for a directional light
     /// (the sun's is 0.27 degrees), the radius of its sphere in world units for point and spot.
     pub radius: f32,
+    /// Texels per side of its shadow map (each cascade, each cube face); `None` takes the
+    /// renderer's (`--shadow-map-size`).
+    pub shadow_map_size: Option<u32>,
+    /// Cascades of a directional light's shadow map; `None` takes the renderer's
+    /// (`--shadow-cascades`).
+    pub shadow_cascades: Option<u32>,
 }
 
 impl Light {
@@ -113,6 +121,8 @@ impl Light {
             range: None,
             casts_shadows: false,
             radius: 0.0,
+            shadow_map_size: None,
+            shadow_cascades: None,
         }
     }
 }
