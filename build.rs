@@ -2,12 +2,13 @@
 //! writes `shaders.rs` into OUT_DIR, which embeds them. A compile error fails the build with the
 //! shader's file:line and glslang's message.
 //!
-//! Variants: each of the method passes (`surface.frag`, `trace.comp`) once per row of the method
+//! Variants: each of the method passes (`surface.frag`, `shadow_caster.frag`, `trace.comp`) once per row of the method
 //! table, `src/method/table.rs`, which this script compiles as a module of its own: the row names
 //! the method's file (reached through the virtual include "method.glsl") and whether the variant
 //! binds the method map (binding 3); `surface.frag` also once per row with level of detail
 //! (`surface.frag:<id>:lod`, RELIEF_LOD), once per row shading height-blended layers
-//! (`surface.frag:<id>:layers`, TERRAIN_LAYERS, and `:lod:layers` with both) and once plain (no relief); `passes/pyramid.comp` and
+//! (`surface.frag:<id>:layers`, TERRAIN_LAYERS, and `:lod:layers` with both) and once plain (no relief), as is
+//! `shadow_caster.frag`; `mesh.vert` also as the shadow pass's (`mesh.vert:shadow`); `passes/pyramid.comp` and
 //! `passes/mean_pyramid.comp` once per storage format (`pyramid.comp` also for four-channel
 //! terrain layers), `passes/blended_pyramid.comp` and `passes/brush.comp` per height format; every other file under
 //! `passes/` once. A file in
@@ -114,10 +115,15 @@ fn variants(root: &Path) -> Vec<Variant> {
                 defines,
                 method_file,
             };
-        if base == "surface.frag" {
+        if base == "surface.frag" || base == "shadow_caster.frag" {
             // Surfaces without relief: no method, no height bindings, early depth testing.
             let defines = vec![("PLAIN_SURFACE".into(), "1".into())];
             out.push(plain(format!("{base}:plain"), defines, None));
+        }
+        if base == "mesh.vert" {
+            // The shadow pass's: placed by the shadow view the draw renders into.
+            let defines = vec![("SHADOW_CASTER".into(), "1".into())];
+            out.push(plain(format!("{base}:shadow"), defines, None));
         }
         if table::METHOD_PASSES.contains(&base.as_str()) {
             for m in table::METHODS {

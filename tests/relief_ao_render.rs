@@ -4,7 +4,7 @@
 
 mod common;
 
-use relief::render::{render, Pass, RenderOptions};
+use relief::render::{render, Pass, RenderOptions, ShadowOptions};
 use relief::scene::{default_heightfield, default_scene, AoMode, DEFAULT_SCENE_METHOD};
 
 const OPTS: RenderOptions = RenderOptions {
@@ -14,6 +14,8 @@ const OPTS: RenderOptions = RenderOptions {
     address: relief::heightfield::Address::Repeat,
     cells: None,
     paintable_layers: false,
+    shadows: ShadowOptions::DEFAULT,
+    shadow_probe: None,
 };
 
 #[test]

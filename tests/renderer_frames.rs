@@ -5,7 +5,7 @@
 mod common;
 
 use relief::method::Method;
-use relief::render::{render, FrameRequest, Pass, RenderOptions, Renderer};
+use relief::render::{render, FrameRequest, Pass, RenderOptions, Renderer, ShadowOptions};
 use relief::scene::{default_heightfield, default_scene};
 
 const OPTS: RenderOptions = RenderOptions {
@@ -15,6 +15,8 @@ const OPTS: RenderOptions = RenderOptions {
     address: relief::heightfield::Address::Repeat,
     cells: None,
     paintable_layers: false,
+    shadows: ShadowOptions::DEFAULT,
+    shadow_probe: None,
 };
 
 #[test]

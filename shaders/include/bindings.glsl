@@ -13,13 +13,23 @@ struct LightData {
     vec4 cone;       // x, y: cos of the outer and inner cone angles (spot); z: radius (see Light)
 };
 
+// One shadow map's view; mirrors `ShadowTileUniform` in src/render/frame/frame_uniforms.rs.
+struct ShadowTile {
+    mat4 view_proj;
+    vec4 rect;    // xy: atlas texel of its corner; z: size in texels; w: 1 perspective, 0 orthographic
+    vec4 depth;   // x: near (perspective); y: far, or the depth range (orthographic); z: texel world size
+    vec4 origin;  // xyz: light position (perspective) or the direction it travels (orthographic)
+};
+
 layout(set = 0, binding = BINDING_FRAME, std140) uniform Frame {
     mat4 view_proj;
     vec4 eye;          // xyz: camera position (world)
     vec4 ambient;      // rgb: ambient radiance
     vec4 height_info;  // x: width, y: height, z: mip levels, w: 1 for repeat addressing, 0 clamp
-    ivec4 counts;      // x: lights in use
+    ivec4 counts;      // x: lights in use; y: 1 + the probed light (visibility written), 0 shades
     LightData lights[MAX_LIGHTS];
+    ivec4 light_shadows[MAX_LIGHTS];  // x: first tile, y: tiles (0: no map), z: filter
+    ShadowTile shadow_tiles[MAX_SHADOW_TILES];
 } frame;
 
 #ifndef PLAIN_SURFACE

@@ -64,4 +64,30 @@ vec3 height_offset_to_world(ReliefFrame f, vec2 d_height) {
     return f.t * (d0.x * f.scale.x) + f.b * (d0.y * f.scale.y);
 }
 
+// Smallest dir.z of a ray per unit of its xy length (about 0.06 degrees): grazing rays stay
+// finite instead of producing inf offsets.
+const float MIN_DIR_Z = 1e-3;
+
+// A world direction looking into the surface (toward -n), as a height-space ray direction
+// (+z down into the field), unit length.
+vec3 height_space_ray_dir(ReliefFrame f, vec3 world_dir) {
+    vec3 d = to_height_space(f, world_dir) * vec3(1.0, 1.0, -1.0);
+    d.z = max(d.z, MIN_DIR_Z * length(d.xy));
+    return normalize(d);
+}
+
+// Whether a ray that entered a clamp-addressed map inside its uv bounds (at uv_entry) has left
+// them at its hit: it passes beside the object, which cuts the silhouette.
+bool leaves_clamped_map(vec2 uv_entry, vec2 uv_hit) {
+    bool inside = all(greaterThanEqual(uv_entry, vec2(0.0))) && all(lessThanEqual(uv_entry, vec2(1.0)));
+    bool left = any(lessThan(uv_hit, vec2(0.0))) || any(greaterThan(uv_hit, vec2(1.0)));
+    return inside && left;
+}
+
+// World position of the hit at (uv_hit, depth z) of a ray that entered the polygon at `entry`
+// (world) and uv_entry.
+vec3 relief_hit_world(ReliefFrame f, vec3 entry, vec2 uv_entry, vec2 uv_hit, float z) {
+    return entry + height_offset_to_world(f, uv_hit - uv_entry) - f.n * (z * f.depth_len);
+}
+
 #endif

@@ -1,5 +1,6 @@
 #version 460
-// Transforms a mesh vertex to clip space and hands the fragment shader its world-space frame.
+// Transforms a mesh vertex to clip space and hands the fragment shader its world-space frame;
+// the shadow pass's variant (SHADOW_CASTER) to the clip space of the shadow view it renders.
 #extension GL_GOOGLE_include_directive : require
 #define PLAIN_SURFACE
 #include "bindings.glsl"
@@ -31,5 +32,9 @@ void main() {
     float mirror = draw.normal[0].w;
     out_tangent = vec4(mat3(draw.model) * in_tangent.xyz, in_tangent.w * mirror);
     out_color = in_color;
+#ifdef SHADOW_CASTER
+    gl_Position = frame.shadow_tiles[draw.extra.x].view_proj * world;
+#else
     gl_Position = frame.view_proj * world;
+#endif
 }

@@ -6,7 +6,9 @@
 // SHADOW_MODE (shadows.glsl) they also shadow each shadow-casting light by the height field;
 // TERRAIN_LAYERS variants shade a layered material (terrain_layers.glsl). The plain variant
 // (PLAIN_SURFACE) does none of that; relief variants declare depth_greater, so early depth
-// testing survives their depth writes.
+// testing survives their depth writes. Every variant reads the scene's shadow maps
+// (scene_shadows.glsl); with the frame's shadow probe on it writes one light's visibility
+// terms instead of a colour.
 #extension GL_GOOGLE_include_directive : require
 #include "conventions.glsl"
 #include "numeric.glsl"
@@ -15,6 +17,7 @@
 #include "lighting.glsl"
 #include "material_sample.glsl"
 #include "punctual.glsl"
+#include "scene_shadows.glsl"
 #ifndef PLAIN_SURFACE
 #include "heightfield.glsl"
 #include "relief_frame.glsl"
@@ -42,18 +45,6 @@ layout(location = 0) out vec4 out_color;
 layout(depth_greater) out float gl_FragDepth;
 #endif
 
-// Smallest dir.z of a ray per unit of its xy length (about 0.06 degrees): grazing views stay
-// finite instead of producing inf offsets.
-const float MIN_DIR_Z = 1e-3;
-
-#ifndef PLAIN_SURFACE
-vec3 height_space_ray_dir(vec3 d) {
-    d.z = max(d.z, MIN_DIR_Z * length(d.xy));
-    return normalize(d);
-}
-
-#endif
-
 void main() {
     vec3 n = normalize(gl_FrontFacing ? in_normal : -in_normal);
     vec2 uv0 = in_uv0;
@@ -67,8 +58,7 @@ void main() {
     float depth_scale = material.relief.x;
     ReliefFrame f = relief_frame(in_world, n, in_tangent, in_uv0, in_uv1);
     vec2 uv_h = slot_uv(SLOT_HEIGHT, in_uv0, in_uv1);
-    Ray ray = Ray(uv_h, height_space_ray_dir(to_height_space(f, view) * vec3(1.0, 1.0, -1.0)),
-                  depth_scale);
+    Ray ray = Ray(uv_h, height_space_ray_dir(f, view), depth_scale);
 #ifdef RELIEF_LOD
     // Level of detail (lod.glsl): past the fade's end nothing is traced (normal mapping at the
     // entry point); inside it the hit slides back along the ray to the entry.
@@ -83,17 +73,14 @@ void main() {
 #endif
     float z = clamp(hit.z, 0.0, depth_scale);
     vec2 uv_hit = ray_uv(ray, z);
-    // A clamp-addressed height map ends at its uv bounds: a ray that leaves them through the
-    // relief passes beside the object, which cuts the silhouette.
-    bool inside = all(greaterThanEqual(uv_h, vec2(0.0))) && all(lessThanEqual(uv_h, vec2(1.0)));
-    bool left = any(lessThan(uv_hit, vec2(0.0))) || any(greaterThan(uv_hit, vec2(1.0)));
-    if (frame.height_info.w < 0.5 && inside && left) {
+    // A clamp-addressed height map ends at its uv bounds.
+    if (frame.height_info.w < 0.5 && leaves_clamped_map(uv_h, uv_hit)) {
         discard;
     }
     vec2 d0 = f.from_height * (uv_hit - uv_h);
     uv0 += d0;
     uv1 += f.uv1_per_uv0 * d0;
-    world += height_offset_to_world(f, uv_hit - uv_h) - n * (z * f.depth_len);
+    world = relief_hit_world(f, in_world, uv_h, uv_hit, z);
     // The surface stands depth_scale * h above the bottom plane; its slope per uv0 unit is the
     // height gradient carried back through the uv map.
     vec2 g0 = transpose(f.to_height) * (depth_scale * height_gradient(uv_hit));
@@ -139,21 +126,46 @@ void main() {
 
     vec3 v = -view;
     vec3 color = frame.ambient.rgb * base.rgb * occlusion + emissive;
+    vec4 probe = vec4(0.0);
     for (int i = 0; i < min(frame.counts.x, MAX_LIGHTS); ++i) {
         float attenuation;
         vec3 l = light_toward(i, world, attenuation);
-        if (dot(normal, l) <= 0.0 || attenuation <= 0.0) {
+        bool facing = dot(normal, l) > 0.0 && attenuation > 0.0;
+        bool probed = frame.counts.y == i + 1;
+        if (!facing && !probed) {
             continue;
         }
-        float lit = 1.0;
+        // The rule that keeps a blocker from darkening twice: the maps answer for the light's
+        // path above the polygon (from where the ray from the hit leaves the relief's top
+        // plane), the height field's own shadows for the path below it; the two multiply.
+        vec3 above = world;
+#ifndef PLAIN_SURFACE
+        float rise = dot(n, l);
+        if (rise > 1e-3) {
+            above = world + l * (z * f.depth_len / rise);
+        }
+#endif
+        float lit_map = scene_shadow(i, above, n, l);
+        float lit_self = 1.0;
 #ifndef PLAIN_SURFACE
         if (SHADOW_MODE != 0u && frame.lights[i].color.w > 0.5) {
             float radius = light_angular_radius(i, world);
-            lit = light_visible(uv_hit, z, to_height_space(f, l), radius, depth_scale);
+            lit_self = facing ? light_visible(uv_hit, z, to_height_space(f, l), radius, depth_scale)
+                              : 0.0;
         }
 #endif
-        vec3 radiance = frame.lights[i].color.rgb * (attenuation * lit);
+        if (probed) {
+            probe = vec4(lit_map, lit_self, facing ? 1.0 : 0.0, 1.0);
+        }
+        if (!facing) {
+            continue;
+        }
+        vec3 radiance = frame.lights[i].color.rgb * (attenuation * lit_map * lit_self);
         color += shade_ggx(base.rgb, roughness, metallic, normal, v, l, radiance);
+    }
+    if (frame.counts.y > 0) {
+        out_color = probe;
+        return;
     }
     out_color = vec4(color, material.relief.y > 0.5 ? base.a : 1.0);
 }

@@ -13,7 +13,9 @@ use serde::Serialize;
 use super::results::GpuMs;
 use crate::heightfield::{Address, Generator, Heightfield};
 use crate::method::Method;
-use crate::render::{FrameRequest, HeightFormat, Pass, RenderError, RenderOptions, Renderer};
+use crate::render::{
+    FrameRequest, HeightFormat, Pass, RenderError, RenderOptions, Renderer, ShadowOptions,
+};
 use crate::scene::{quad_mesh, Camera, Light, Lod, Material, Relief, Scene};
 use crate::vk::Context;
 
@@ -240,6 +242,8 @@ pub fn render_interleaved(
         address: Address::Repeat,
         cells: None,
         paintable_layers: false,
+        shadows: ShadowOptions::DEFAULT,
+        shadow_probe: None,
     };
     let mut renderers = scenes
         .iter()

@@ -18,6 +18,7 @@ use super::cells_render_args::CellsRenderArgs;
 use super::heightmap_args::HeightmapArgs;
 use super::lod_args::LodArgs;
 use super::shading_args::ShadingArgs;
+use super::shadow_map_args::ShadowMapArgs;
 use super::terrain_args::TerrainArgs;
 use super::terrain_edits::TerrainEdits;
 
@@ -41,6 +42,8 @@ pub struct SceneArgs {
     heights: HeightmapArgs,
     #[command(flatten)]
     shading: ShadingArgs,
+    #[command(flatten)]
+    shadow_maps: ShadowMapArgs,
     /// Depth of height 0 below the surface, in uv units (0.05 = a twentieth of the texture).
     #[arg(long, value_name = "S")]
     depth_scale: Option<f32>,
@@ -97,6 +100,7 @@ impl SceneArgs {
         };
         if let Some((mut scene, edits)) = self.terrain.scene(method, self.depth_scale)? {
             self.shading.apply(&mut scene)?;
+            self.shadow_maps.apply(&mut scene)?;
             self.lod.apply(&mut scene)?;
             let source = format!(
                 "terrain over {}",
@@ -115,6 +119,7 @@ impl SceneArgs {
         let loaded = self.heights.load()?;
         let mut scene = self.build_scene(method, loaded.is_some())?;
         self.shading.apply(&mut scene)?;
+        self.shadow_maps.apply(&mut scene)?;
         self.lod.apply(&mut scene)?;
         let (heights, source) = match loaded {
             Some((hf, source)) => (Some(hf), source),
@@ -144,6 +149,8 @@ impl SceneArgs {
             address: self.address,
             cells: self.cells.options(),
             paintable_layers: false,
+            shadows: self.shadow_maps.options(),
+            shadow_probe: None,
         }
     }
 

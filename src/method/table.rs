@@ -178,7 +178,7 @@ impl MethodInfo {
 
 /// The entry points compiled once per method (with the method's file as "method.glsl"); a
 /// variant's key is `<pass>:<id>`.
-pub const METHOD_PASSES: [&str; 2] = ["surface.frag", "trace.comp"];
+pub const METHOD_PASSES: [&str; 3] = ["surface.frag", "shadow_caster.frag", "trace.comp"];
 
 /// The `#define` that gives a method variant binding 3 (`bindings.glsl`).
 pub const METHOD_MAP_DEFINE: &str = "USES_METHOD_MAP";

@@ -7,6 +7,7 @@
 //! - `maps`: map builders run once per height field (max and mean pyramids, cone, relaxed cone
 //!   and quadric maps, the texture-space AO map);
 //! - `terrain`: layered materials' blended pyramid and live edits (elevation brushes, painting);
+//! - `shadows`: the lights' shadow maps, displaced casters included;
 //! - `cells`: meshes drawn through their cubic cell complexes;
 //! - `measure`: traces and timings for the bench and `relief trace`.
 
@@ -16,6 +17,7 @@ mod frame;
 mod maps;
 mod measure;
 mod shader_interface;
+mod shadows;
 mod terrain;
 
 pub use cells::cells_pass::{BuiltComplex, CellsOptions};
@@ -23,7 +25,9 @@ pub use cells::cells_plan::CellsPlan;
 pub use cells::cells_trace_pass::{march_cells_on_gpu, CellsTrace};
 pub use frame::explain::explain;
 pub use frame::frame_stats::{sequence_stats, PassStats, SequenceStats};
-pub use frame::frame_uniforms::{frame_camera, FrameUniforms, LightUniform, MAX_LIGHTS};
+pub use frame::frame_uniforms::{
+    frame_camera, FrameUniforms, LightUniform, ShadowTileUniform, MAX_LIGHTS, MAX_SHADOW_TILES,
+};
 pub use frame::gpu_heightfield::{GpuHeightfield, HeightFormat};
 pub use frame::height_resources::{HeightResources, HeightUpload};
 pub use frame::method_map::GpuMethodMap;
@@ -48,6 +52,12 @@ pub use measure::bench_pass::{time_method, BenchRequest, BenchTiming};
 pub use measure::trace_pass::{
     time_through_pyramid, trace_on_gpu, trace_repeated, trace_through_pyramid, ShadowTrace,
     TraceOutput, TraceRequest, TRACE_GROUP_SIDE,
+};
+pub use shadows::light_views::{cascade_splits, LightView};
+pub use shadows::probe::{probe_shadows, ShadowProbe};
+pub use shadows::shadow_plan::{
+    ShadowFilter, ShadowMapKind, ShadowMapPlan, ShadowOptions, DEFAULT_SHADOW_CASCADES,
+    DEFAULT_SHADOW_MAP_SIZE,
 };
 pub use terrain::blended_pyramid_pass::{
     build_blended_pyramid_on_gpu, time_on_gpu, BlendedPyramid,

@@ -1,6 +1,6 @@
 //! The plan as `relief render --explain` prints it: one JSON object with the pipelines built, the
-//! maps built (kind, size, ms), the cell complexes built, the passes recorded and what was
-//! skipped, and why.
+//! maps built (kind, size, ms), the lights' shadow maps (kind, views, size, filter, casters), the
+//! cell complexes built, the passes recorded and what was skipped, and why.
 
 use serde::Serialize;
 use serde_json::{json, Value};
@@ -74,6 +74,7 @@ pub fn explain(
         "maps": maps,
         "heights": heights,
         "ao_maps": ao_maps,
+        "shadow_maps": plan.shadow_maps,
         "cells": cells,
         "passes": plan.passes,
         "skipped": plan.skipped,

@@ -1,5 +1,5 @@
 //! The frame uniform block every pass that traces binds (set 0, binding 0): camera, ambient,
-//! the height map's size, and the punctual lights. Mirrors `Frame` in `shaders/include/bindings.glsl`.
+//! the height map's size, the punctual lights and the views of their shadow maps. Mirrors `Frame` in `shaders/include/bindings.glsl`.
 
 use glam::{Mat4, Vec3};
 
@@ -23,6 +23,26 @@ pub struct LightUniform {
     pub cone: [f32; 4],
 }
 
+/// Shadow-map views the frame holds.
+pub const MAX_SHADOW_TILES: usize = crate::render::shader_interface::MAX_SHADOW_TILES as usize;
+
+/// One shadow map's view (a cascade, a spot light's map or a cube face); mirrors `ShadowTile`
+/// in `bindings.glsl`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Default, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct ShadowTileUniform {
+    /// World to the view's clip space, column-major.
+    pub view_proj: [[f32; 4]; 4],
+    /// xy: the atlas texel of the tile's corner; z: its size in texels; w: 1 perspective, 0
+    /// orthographic.
+    pub rect: [f32; 4],
+    /// x: near plane (perspective); y: far plane, or the depth range in world units
+    /// (orthographic); z: world size of a texel (at unit distance when perspective); w: unused.
+    pub depth: [f32; 4],
+    /// xyz: the light's position (perspective) or the direction it travels (orthographic).
+    pub origin: [f32; 4],
+}
+
 /// The frame uniform block.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
@@ -36,12 +56,19 @@ pub struct FrameUniforms {
     /// x: width and y: height in texels, z: mip levels, w: 1 for repeat addressing, 0 for clamp.
     /// Filled in per height map by `HeightResources`; zero until then.
     pub height_info: [f32; 4],
-    /// x: lights in use (at most [`MAX_LIGHTS`]); y, z, w: unused.
+    /// x: lights in use (at most [`MAX_LIGHTS`]); y: 1 + the light whose visibility the frame
+    /// writes instead of colours (the shadow probe, `relief shadows`), 0 to shade; z, w: unused.
     pub counts: [i32; 4],
     /// The first `counts[0]` are the frame's lights; the rest are zero.
     pub lights: [LightUniform; MAX_LIGHTS],
+    /// Per light: x the first of its shadow tiles, y how many (0: no shadow map), z its
+    /// `ShadowFilter` value; w: unused.
+    pub light_shadows: [[i32; 4]; MAX_LIGHTS],
+    /// The shadow maps' views.
+    pub shadow_tiles: [ShadowTileUniform; MAX_SHADOW_TILES],
 }
-const _: () = assert!(std::mem::size_of::<FrameUniforms>() == 128 + 64 * MAX_LIGHTS);
+const _: () =
+    assert!(std::mem::size_of::<FrameUniforms>() == 128 + 80 * MAX_LIGHTS + 112 * MAX_SHADOW_TILES);
 
 /// Ambient radiance: a dim sky so unlit sides keep their shape.
 const AMBIENT: [f32; 4] = [0.09, 0.1, 0.12, 0.0];
@@ -93,6 +120,8 @@ impl FrameUniforms {
             height_info: [0.0; 4],
             counts: [lights.len().min(MAX_LIGHTS) as i32, 0, 0, 0],
             lights: [LightUniform::default(); MAX_LIGHTS],
+            light_shadows: [[0; 4]; MAX_LIGHTS],
+            shadow_tiles: [ShadowTileUniform::default(); MAX_SHADOW_TILES],
         };
         for (slot, light) in out.lights.iter_mut().zip(lights) {
             *slot = LightUniform::of(light);

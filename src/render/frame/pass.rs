@@ -12,6 +12,9 @@ pub enum Pass {
     /// Builds the texture-space AO map of every height map a material asks AO of (first frame
     /// only, after the pyramids).
     AmbientOcclusion,
+    /// Renders each shadow-casting light's shadow map (every frame: cascades follow the view),
+    /// relief casters traced from the light; one timestamp scope per map.
+    ShadowMaps,
     /// Draws the meshes replaced by cell complexes: each grey cell's front faces, a ray marched
     /// through the complex per fragment (Apaza and Andujar).
     Cells,
@@ -24,9 +27,10 @@ pub enum Pass {
 
 impl Pass {
     /// Every pass, in recording order.
-    pub const ALL: [Pass; 5] = [
+    pub const ALL: [Pass; 6] = [
         Pass::Pyramid,
         Pass::AmbientOcclusion,
+        Pass::ShadowMaps,
         Pass::Cells,
         Pass::Surface,
         Pass::SelfShadowRays,
@@ -37,6 +41,7 @@ impl Pass {
         match self {
             Pass::Pyramid => "pyramid",
             Pass::AmbientOcclusion => "ao map",
+            Pass::ShadowMaps => "shadow maps",
             Pass::Cells => "cells",
             Pass::Surface => "surface",
             Pass::SelfShadowRays => "self-shadow rays",

@@ -12,6 +12,7 @@ use crate::cells::MeshSelection;
 use crate::heightfield::{Address, Channel, Heightfield};
 use crate::method::{MapKind, Method};
 use crate::render::cells::cells_plan::{plan_cells, CellsPlan};
+use crate::render::shadows::shadow_plan::ShadowMapPlan;
 use crate::scene::{
     AlphaMode, AoMode, HeightSource, Layers, Light, Lod, Material, Scene, ShadowMode,
     ShadowSettings, Wrap,
@@ -185,6 +186,8 @@ pub struct Plan {
     pub skipped: Vec<Skipped>,
     /// The lights the frame is lit by (the scene's, or the default one).
     pub lights: Vec<Light>,
+    /// The lights' shadow maps (added by the renderer from its shadow options).
+    pub shadow_maps: Vec<ShadowMapPlan>,
 }
 
 /// Why a scene cannot be planned.
@@ -378,6 +381,7 @@ impl Plan {
             passes: Vec::new(),
             skipped: Vec::new(),
             lights,
+            shadow_maps: Vec::new(),
         };
         let mut used = vec![false; scene.materials.len()];
         for c in &plan.cells {

@@ -12,7 +12,7 @@
 use std::sync::Arc;
 use std::time::Instant;
 
-use super::frame_uniforms::{frame_camera, FrameUniforms};
+use super::frame_uniforms::{frame_camera, FrameUniforms, MAX_LIGHTS};
 use super::height_resources::HeightResources;
 use super::height_upload::upload_heights;
 use super::pass::Pass;
@@ -25,6 +25,8 @@ use super::targets::Targets;
 use crate::heightfield::Heightfield;
 use crate::method::MapKind;
 use crate::render::cells::cells_pass::{BuiltComplex, CellsPass};
+use crate::render::shadows::shadow_pass::ShadowMaps;
+use crate::render::shadows::shadow_plan::plan_shadow_maps;
 use crate::render::terrain::layer_paint::LayerPainter;
 use crate::scene::{Camera, Frustum, Light, Mesh, Scene};
 use crate::vk::{CommandSlot, Context, Image, Readback, VkError, VkResult};
@@ -56,12 +58,16 @@ pub struct FrameOutput {
     pub height: u32,
     /// Surface draws skipped because the view could not see their bounds.
     pub culled_draws: usize,
+    /// With a shadow probe and a read-back, each pixel's depth (rows top to bottom).
+    pub depth: Option<Vec<f32>>,
 }
 
 struct FrameSlot {
     commands: CommandSlot,
     timer: PassTimer,
     readback: Option<Readback>,
+    /// The depth's copy (shadow probes only).
+    depth_readback: Option<Readback>,
     /// The frame submitted from this slot and not yet retired: (index, read back?, draws culled).
     pending: Option<(u64, bool, usize)>,
 }
@@ -77,6 +83,9 @@ pub struct Renderer {
     pub(in crate::render) painters: Vec<Option<LayerPainter>>,
     pub(in crate::render) ao: SceneAo,
     pub(in crate::render) surface: SurfacePass,
+    shadows: ShadowMaps,
+    /// The light whose visibility frames write instead of colours.
+    shadow_probe: Option<usize>,
     cells: CellsPass,
     targets: Targets,
     slots: Vec<FrameSlot>,
@@ -98,7 +107,18 @@ impl Renderer {
         opts: &RenderOptions,
     ) -> Result<Renderer, RenderError> {
         let selection = opts.cells.as_ref().map(|c| &c.selection);
-        let plan = Plan::derive_with_cells(scene, frame_heights, selection)?;
+        let mut plan = Plan::derive_with_cells(scene, frame_heights, selection)?;
+        plan_shadow_maps(&mut plan, scene, &opts.shadows);
+        if let Some(k) = opts
+            .shadow_probe
+            .filter(|&k| k >= plan.lights.len().min(MAX_LIGHTS))
+        {
+            return Err(VkError::Invalid(format!(
+                "shadow probe of light {k}: the frame has {} light(s)",
+                plan.lights.len().min(MAX_LIGHTS)
+            ))
+            .into());
+        }
         let default_camera = frame_camera(scene);
         let aspect = opts.width as f32 / opts.height as f32;
         let uniforms = FrameUniforms::new(&default_camera, &plan.lights, aspect);
@@ -107,25 +127,28 @@ impl Renderer {
             upload_heights(ctx, scene, &plan, frame_heights, opts, uniforms)?;
         let upload_ms = started.elapsed().as_secs_f64() * 1e3;
         let ao = SceneAo::new(ctx, &plan, &heights)?;
+        let shadows = ShadowMaps::new(ctx, scene, &plan)?;
         let surface = SurfacePass::new(
             ctx,
             scene,
             &plan,
             &heights,
             &ao,
+            shadows.atlas(),
             &uniforms,
             FRAMES_IN_FLIGHT,
         )?;
         let cells = CellsPass::new(ctx, scene, &plan, opts.cells.as_ref())?;
-        let targets = Targets::new(ctx, opts.width, opts.height)?;
-        // One scope per pyramid build and per AO map, plus the cells and surface passes.
-        let scopes = (plan.heights.len() + ao.len()) as u32 + 2;
+        let targets = Targets::new(ctx, opts.width, opts.height, opts.shadow_probe.is_some())?;
+        // One scope per pyramid build, AO map and shadow map, plus the cells and surface passes.
+        let scopes = (plan.heights.len() + ao.len()) as u32 + ShadowMaps::scopes(&plan) + 2;
         let slots = (0..FRAMES_IN_FLIGHT)
             .map(|k| {
                 Ok(FrameSlot {
                     commands: CommandSlot::new(ctx, &format!("frame slot {k}"))?,
                     timer: PassTimer::new(ctx, scopes, &format!("frame slot {k} timestamps"))?,
                     readback: None,
+                    depth_readback: None,
                     pending: None,
                 })
             })
@@ -140,6 +163,8 @@ impl Renderer {
             painters,
             ao,
             surface,
+            shadows,
+            shadow_probe: opts.shadow_probe,
             cells,
             targets,
             slots,
@@ -149,6 +174,19 @@ impl Renderer {
             submitted: 0,
             pyramids_built: false,
         })
+    }
+
+    /// World size of a shadow-map texel of light `light` at each of `points` in a frame seen by
+    /// `camera`: how finely its map places a shadow edge there (0 where no map covers a point).
+    pub fn shadow_texel_world(
+        &self,
+        camera: &Camera,
+        light: usize,
+        points: &[Option<glam::Vec3>],
+    ) -> Vec<f32> {
+        let aspect = self.width as f32 / self.height as f32;
+        self.shadows
+            .texel_world(&self.plan, camera, aspect, light, points)
     }
 
     /// The plan the renderer follows.
@@ -200,9 +238,10 @@ impl Renderer {
             return Err(VkError::Invalid(format!("a {width}x{height} frame")).into());
         }
         let retired = self.finish()?;
-        self.targets = Targets::new(&self.ctx, width, height)?;
+        self.targets = Targets::new(&self.ctx, width, height, self.shadow_probe.is_some())?;
         for slot in &mut self.slots {
             slot.readback = None;
+            slot.depth_readback = None;
         }
         (self.width, self.height) = (width, height);
         Ok(retired)
@@ -231,7 +270,11 @@ impl Renderer {
         let k = (self.submitted % FRAMES_IN_FLIGHT as u64) as usize;
         let retired = self.retire(k)?;
         let aspect = self.width as f32 / self.height as f32;
-        let uniforms = FrameUniforms::new(&request.camera, &self.lights, aspect);
+        let mut uniforms = FrameUniforms::new(&request.camera, &self.lights, aspect);
+        uniforms.counts[1] = self.shadow_probe.map_or(0, |k| k as i32 + 1);
+        let views = self
+            .shadows
+            .write_views(&mut uniforms, &self.plan, &request.camera, aspect);
         for h in &mut self.heights {
             h.write_uniforms(k, uniforms)?;
         }
@@ -241,6 +284,10 @@ impl Renderer {
             for (j, slot) in self.slots.iter_mut().enumerate() {
                 let name = format!("frame slot {j} readback");
                 slot.readback = Some(self.targets.readback_buffer(&self.ctx, &name)?);
+                if self.shadow_probe.is_some() {
+                    let name = format!("frame slot {j} depth readback");
+                    slot.depth_readback = Some(self.targets.readback_buffer(&self.ctx, &name)?);
+                }
             }
         }
         let build_pyramids = !self.pyramids_built;
@@ -248,12 +295,15 @@ impl Renderer {
         let frustum = Frustum::from_view_projection(request.camera.view_projection(aspect));
         let slot = &mut self.slots[k];
         let readback = slot.readback.as_ref().filter(|_| request.read_back);
-        let (heights, ao, surface, cells, targets) = (
+        let depth_readback = slot.depth_readback.as_ref().filter(|_| request.read_back);
+        let (heights, ao, surface, cells, targets, shadows, plan) = (
             &self.heights,
             &self.ao,
             &self.surface,
             &self.cells,
             &self.targets,
+            &self.shadows,
+            &self.plan,
         );
         let timer = &mut slot.timer;
         let culled = slot.commands.submit(|rec| {
@@ -277,12 +327,13 @@ impl Renderer {
                     timer.scope(rec, scope, |rec| ao.record(rec, part))?;
                 }
             }
+            shadows.record(rec, timer, plan, surface, k, &views)?;
             let scope = |pass| Scope { pass, part: None };
             if cells.is_empty() {
                 timer.scope(rec, scope(Pass::Surface), |rec| {
                     targets.begin(rec);
                     let culled = surface.record_draws(rec, k, eye, &frustum);
-                    targets.end(rec, readback)?;
+                    targets.end(rec, readback, depth_readback)?;
                     culled
                 })
             } else {
@@ -296,7 +347,7 @@ impl Renderer {
                 })?;
                 timer.scope(rec, scope(Pass::Surface), |rec| {
                     let culled = surface.record_draws(rec, k, eye, &frustum);
-                    targets.end(rec, readback)?;
+                    targets.end(rec, readback, depth_readback)?;
                     culled
                 })
             }
@@ -340,6 +391,10 @@ impl Renderer {
             (Some(buffer), true) => Some(buffer.bytes()?.to_vec()),
             _ => None,
         };
+        let depth = match (&slot.depth_readback, read_back) {
+            (Some(buffer), true) => Some(bytemuck::pod_collect_to_vec(buffer.bytes()?)),
+            _ => None,
+        };
         if index == 0 {
             self.note_pyramids(&scopes);
             self.note_ao_maps(&scopes);
@@ -351,6 +406,7 @@ impl Renderer {
             width: self.width,
             height: self.height,
             culled_draws,
+            depth,
         }))
     }
 

@@ -12,6 +12,7 @@ use super::plan::{HeightKey, HeightPlan, Plan, PlanError};
 use super::renderer::{FrameRequest, Renderer};
 use crate::heightfield::{Address, Heightfield, HeightfieldError, LoadOptions};
 use crate::render::cells::cells_pass::{BuiltComplex, CellsOptions};
+use crate::render::shadows::shadow_plan::ShadowOptions;
 use crate::scene::Scene;
 use crate::vk::{Context, VkError};
 
@@ -32,6 +33,12 @@ pub struct RenderOptions {
     /// Keep each layered material's blend inputs on the GPU, so that its weights can be painted
     /// (`Renderer::paint_layers`); otherwise they are dropped once the blended field is built.
     pub paintable_layers: bool,
+    /// The lights' shadow maps: on or off, size, cascades, filter.
+    pub shadows: ShadowOptions,
+    /// Write light `k`'s visibility instead of shading it (the shadow probe behind `relief
+    /// shadows`): red the shadow maps' term, green the height field's own, blue 1 where the
+    /// surface faces the light; and read the depth back with the colours.
+    pub shadow_probe: Option<usize>,
 }
 
 impl Default for RenderOptions {
@@ -43,6 +50,8 @@ impl Default for RenderOptions {
             address: Address::Repeat,
             cells: None,
             paintable_layers: false,
+            shadows: ShadowOptions::DEFAULT,
+            shadow_probe: None,
         }
     }
 }
@@ -74,6 +83,9 @@ pub struct Frame {
     pub height: u32,
     /// `width * height * 4` bytes: sRGB RGBA8, rows top to bottom, no padding.
     pub rgba: Vec<u8>,
+    /// With a shadow probe, the depth of every pixel (1 where nothing was drawn), rows top to
+    /// bottom; empty otherwise.
+    pub depth: Vec<f32>,
     /// GPU time of each pass recorded in this frame.
     pub timings: Vec<PassTiming>,
     /// CPU wall time of uploading height maps and precomputed maps, in ms.
@@ -188,6 +200,7 @@ pub fn render(
         width: out.width,
         height: out.height,
         rgba,
+        depth: out.depth.unwrap_or_default(),
         timings: out.timings,
         upload_ms: renderer.upload_ms(),
         plan: renderer.plan().clone(),

@@ -16,11 +16,14 @@ use super::scene_ao::SceneAo;
 use super::scene_textures::SceneTextures;
 use crate::method::Method;
 use crate::render::shader_interface::{
-    BINDING_FRAME, SPEC_BUDGET_EXTENT_LIMIT, SPEC_BUDGET_LEAF_EXACT, SPEC_BUDGET_MAX_STEPS,
-    SPEC_BUDGET_REFINE_STEPS, SPEC_HARD_SHADOW_TEXELS, SPEC_LOD_AVERAGE_BELOW, SPEC_LOD_BIAS,
-    SPEC_LOD_FACTOR, SPEC_LOD_FADE_END, SPEC_LOD_FADE_START, SPEC_SHADOW_MODE, SPEC_SHADOW_REACH,
-    SPEC_SHADOW_STEPS,
+    BINDING_FRAME, BINDING_HEIGHT_LINEAR, BINDING_HEIGHT_MEAN, BINDING_HEIGHT_POINT,
+    BINDING_METHOD_MAP, BINDING_SHADOW_ATLAS, SPEC_BUDGET_EXTENT_LIMIT, SPEC_BUDGET_LEAF_EXACT,
+    SPEC_BUDGET_MAX_STEPS, SPEC_BUDGET_REFINE_STEPS, SPEC_HARD_SHADOW_TEXELS,
+    SPEC_LOD_AVERAGE_BELOW, SPEC_LOD_BIAS, SPEC_LOD_FACTOR, SPEC_LOD_FADE_END, SPEC_LOD_FADE_START,
+    SPEC_SHADOW_MODE, SPEC_SHADOW_REACH, SPEC_SHADOW_STEPS,
 };
+use crate::render::shadows::shadow_atlas::ShadowAtlas;
+use crate::render::shadows::shadow_plan::{mesh_world_bounds, relief_pad};
 use crate::render::terrain::layer_set::{layer_layout, LayerSets};
 use crate::scene::{Frustum, Lod, Mesh, Scene, Vertex};
 use crate::shaders;
@@ -35,15 +38,18 @@ pub const COLOR_FORMAT: vk::Format = vk::Format::R8G8B8A8_SRGB;
 pub const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
 
 /// What a draw pushes; mirrors `Draw` in `shaders/include/draw.glsl`. The normal matrix is
-/// made once per object here rather than per vertex in the shader.
+/// made once per object here rather than per vertex in the shader. 128 bytes, the least every
+/// device allows.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 pub(in crate::render) struct DrawPush {
     model: [[f32; 4]; 4],
     /// Columns of the inverse transpose of the model's 3x3; `normal[0][3]` is the mirror sign.
     normal: [[f32; 4]; 3],
+    /// x: the shadow view a caster draw renders into (shadow pass only); y, z, w: unused.
+    extra: [u32; 4],
 }
-const _: () = assert!(std::mem::size_of::<DrawPush>() == 112);
+const _: () = assert!(std::mem::size_of::<DrawPush>() == 128);
 
 impl DrawPush {
     pub(in crate::render) fn of(model: Mat4) -> DrawPush {
@@ -62,7 +68,14 @@ impl DrawPush {
                 col(normal.y_axis, 0.0),
                 col(normal.z_axis, 0.0),
             ],
+            extra: [0; 4],
         }
+    }
+
+    /// The same draw rendering into shadow view `tile`.
+    pub(in crate::render) fn for_tile(mut self, tile: u32) -> DrawPush {
+        self.extra[0] = tile;
+        self
     }
 }
 
@@ -105,6 +118,10 @@ struct MeshDraw {
     center: Vec3,
     /// World-space bounds, to skip the draw when the view cannot see them.
     bounds: (Vec3, Vec3),
+    /// The bounds grown by how deep its relief reaches, for the shadow views' culling.
+    caster_bounds: (Vec3, Vec3),
+    /// How much they grow, in world units.
+    caster_pad: f32,
 }
 
 /// Everything the surface pass needs for one scene.
@@ -119,6 +136,9 @@ pub struct SurfacePass {
     plain_uniforms: Vec<Buffer>,
     /// Set 0 over them, per frame slot.
     plain_sets: Vec<DescriptorSet>,
+    /// By plan pipeline: the pipeline its draws cast shadows with, when some map has them as
+    /// casters.
+    casters: Vec<Option<Pipeline>>,
     _layouts: Vec<DescriptorLayout>,
 }
 
@@ -143,11 +163,12 @@ impl FrameLayouts {
         }
     }
 
-    /// Set 0 of each height map, one per frame slot.
+    /// Set 0 of each height map, one per frame slot, with the shadow atlas.
     fn height_sets(
         &self,
         pool: &DescriptorPool,
         heights: &[HeightResources],
+        atlas: &ShadowAtlas,
         slots: usize,
     ) -> VkResult<Vec<Vec<DescriptorSet>>> {
         heights
@@ -155,7 +176,11 @@ impl FrameLayouts {
             .map(|h| {
                 let layout = self.for_heights(h);
                 (0..slots)
-                    .map(|slot| pool.allocate(layout, &h.slot_binds(slot)))
+                    .map(|slot| {
+                        let mut binds = h.slot_binds(slot);
+                        binds.push(atlas.bind());
+                        pool.allocate(layout, &binds)
+                    })
                     .collect::<VkResult<Vec<_>>>()
             })
             .collect()
@@ -227,6 +252,7 @@ fn mesh_draws(
             frame_sets,
             material_set,
             layer_set,
+            relief_pad(scene),
         )?);
     }
     Ok(draws)
@@ -260,6 +286,7 @@ impl MeshDraw {
         frame_sets: Vec<DescriptorSet>,
         material_set: DescriptorSet,
         layer_set: Option<DescriptorSet>,
+        caster_pad: f32,
     ) -> VkResult<MeshDraw> {
         let (lo, hi) = mesh_bounds(&mesh.vertices);
         Ok(MeshDraw {
@@ -285,33 +312,41 @@ impl MeshDraw {
             blend: key.blend,
             center: mesh.transform.transform_point3((lo + hi) * 0.5),
             bounds: world_bounds(mesh.transform, lo, hi),
+            caster_bounds: mesh_world_bounds(mesh, caster_pad),
+            caster_pad,
         })
     }
 }
 
-/// Set 0 of draws without relief: the frame uniforms alone.
+/// Set 0 of draws without relief: the frame uniforms and the shadow atlas.
 pub(in crate::render) fn plain_frame_layout(ctx: &Arc<Context>) -> VkResult<DescriptorLayout> {
     let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
-    let ubo = (0, vk::DescriptorType::UNIFORM_BUFFER);
-    DescriptorLayout::new(ctx, &[ubo], stages, "plain frame layout")
+    let ubo = (BINDING_FRAME, vk::DescriptorType::UNIFORM_BUFFER);
+    let atlas = (
+        BINDING_SHADOW_ATLAS,
+        vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+    );
+    DescriptorLayout::new(ctx, &[ubo, atlas], stages, "plain frame layout")
 }
 
 fn frame_layouts(ctx: &Arc<Context>) -> VkResult<FrameLayouts> {
     let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
-    let ubo = (0, vk::DescriptorType::UNIFORM_BUFFER);
+    let ubo = (BINDING_FRAME, vk::DescriptorType::UNIFORM_BUFFER);
     let tex = |b| (b, vk::DescriptorType::COMBINED_IMAGE_SAMPLER);
+    let (point, linear) = (tex(BINDING_HEIGHT_POINT), tex(BINDING_HEIGHT_LINEAR));
+    let atlas = tex(BINDING_SHADOW_ATLAS);
     Ok(FrameLayouts {
         plain: plain_frame_layout(ctx)?,
-        heights: DescriptorLayout::new(ctx, &[ubo, tex(1), tex(2)], stages, "height layout")?,
+        heights: DescriptorLayout::new(ctx, &[ubo, point, linear, atlas], stages, "height layout")?,
         heights_and_map: DescriptorLayout::new(
             ctx,
-            &[ubo, tex(1), tex(2), tex(3)],
+            &[ubo, point, linear, tex(BINDING_METHOD_MAP), atlas],
             stages,
             "height and map layout",
         )?,
         heights_and_mean: DescriptorLayout::new(
             ctx,
-            &[ubo, tex(1), tex(2), tex(4)],
+            &[ubo, point, linear, tex(BINDING_HEIGHT_MEAN), atlas],
             stages,
             "height and averaged pyramid layout",
         )?,
@@ -319,15 +354,18 @@ fn frame_layouts(ctx: &Arc<Context>) -> VkResult<FrameLayouts> {
 }
 
 impl SurfacePass {
-    /// Uploads what `plan` draws of `scene` and builds the pipelines it lists, with set 0 for
-    /// each of `slots` frame slots. `heights[k]` is the uploaded height map of
-    /// `plan.heights[k]`, with uniforms for every slot; `ao` holds the AO maps the materials read.
+    /// Uploads what `plan` draws of `scene` and builds the pipelines it lists (and the caster
+    /// pipelines of its shadow maps), with set 0 for each of `slots` frame slots. `heights[k]`
+    /// is the uploaded height map of `plan.heights[k]`, with uniforms for every slot; `ao` holds
+    /// the AO maps the materials read; `atlas` the shadow maps every draw looks up.
+    #[allow(clippy::too_many_arguments)]
     pub fn new(
         ctx: &Arc<Context>,
         scene: &Scene,
         plan: &Plan,
         heights: &[HeightResources],
         ao: &SceneAo,
+        atlas: &ShadowAtlas,
         uniforms: &FrameUniforms,
         slots: usize,
     ) -> VkResult<SurfacePass> {
@@ -359,8 +397,8 @@ impl SurfacePass {
             &layered_materials(scene, plan),
         )?;
         let sets = (heights.len() as u32 + 1) * slots as u32;
-        let frame_pool = DescriptorPool::new(ctx, sets, 4 * sets, "frame sets")?;
-        let height_sets = layouts.height_sets(&frame_pool, heights, slots)?;
+        let frame_pool = DescriptorPool::new(ctx, sets, 5 * sets, "frame sets")?;
+        let height_sets = layouts.height_sets(&frame_pool, heights, atlas, slots)?;
         // The cells pass reads the plain set too.
         let plain = plan.pipelines.iter().any(|p| p.method.is_none()) || !plan.cells.is_empty();
         let plain_uniforms = if plain {
@@ -370,24 +408,42 @@ impl SurfacePass {
         };
         let plain_sets = plain_uniforms
             .iter()
-            .map(|b| frame_pool.allocate(&layouts.plain, &[Bind::Uniform(BINDING_FRAME, b)]))
+            .map(|b| {
+                let binds = [Bind::Uniform(BINDING_FRAME, b), atlas.bind()];
+                frame_pool.allocate(&layouts.plain, &binds)
+            })
             .collect::<VkResult<Vec<_>>>()?;
+        let set0_of = |key: &PipelineKey| match key.method {
+            None => &layouts.plain,
+            Some(_) if key.binds_mean_pyramid() => &layouts.heights_and_mean,
+            Some(m) if m.info().method_map().is_some() => &layouts.heights_and_map,
+            Some(_) => &layouts.heights,
+        };
         let pipelines = plan
             .pipelines
             .iter()
             .map(|key| {
-                let set0 = match key.method {
-                    None => &layouts.plain,
-                    Some(_) if key.binds_mean_pyramid() => &layouts.heights_and_mean,
-                    Some(m) if m.info().method_map().is_some() => &layouts.heights_and_map,
-                    Some(_) => &layouts.heights,
-                };
+                let set0 = set0_of(key);
+                let stages = MeshStages::surface(key);
                 if key.layers {
                     let sets = [set0, &material_layout, &layer_layout];
-                    create_pipeline(ctx, key, &sets)
+                    create_pipeline(ctx, key, &stages, &sets)
                 } else {
-                    create_pipeline(ctx, key, &[set0, &material_layout])
+                    create_pipeline(ctx, key, &stages, &[set0, &material_layout])
                 }
+            })
+            .collect::<VkResult<Vec<_>>>()?;
+        let casting = caster_pipelines_needed(plan);
+        let casters = plan
+            .pipelines
+            .iter()
+            .zip(&casting)
+            .map(|(key, &cast)| {
+                cast.then(|| {
+                    let stages = MeshStages::caster(key);
+                    create_pipeline(ctx, key, &stages, &[set0_of(key), &material_layout])
+                })
+                .transpose()
             })
             .collect::<VkResult<Vec<_>>>()?;
         let draws = mesh_draws(
@@ -407,6 +463,7 @@ impl SurfacePass {
             _frame_pool: frame_pool,
             plain_uniforms,
             plain_sets,
+            casters,
             _layouts: vec![
                 layouts.plain,
                 layouts.heights,
@@ -452,6 +509,7 @@ impl SurfacePass {
         let (lo, hi) = mesh_bounds(&mesh.vertices);
         draw.center = mesh.transform.transform_point3((lo + hi) * 0.5);
         draw.bounds = world_bounds(mesh.transform, lo, hi);
+        draw.caster_bounds = mesh_world_bounds(mesh, draw.caster_pad);
         Ok(())
     }
 
@@ -511,6 +569,50 @@ impl SurfacePass {
     }
 }
 
+impl SurfacePass {
+    /// Records the caster draws `draws` (indices into the plan's draws) of frame slot `slot`
+    /// into shadow view `tile`, skipping those `frustum` (the view's) cannot see; returns how
+    /// many were skipped. Depth rendering into the view's tile must have begun.
+    pub(in crate::render) fn record_casters(
+        &self,
+        rec: &Recording,
+        slot: usize,
+        tile: u32,
+        draws: &[usize],
+        frustum: &Frustum,
+    ) -> VkResult<usize> {
+        let mut culled = 0;
+        for &k in draws {
+            let draw = &self.draws[k];
+            let Some(pipeline) = self.casters[draw.pipeline].as_ref() else {
+                return Err(VkError::Invalid(format!("draw {k} has no caster pipeline")));
+            };
+            if !frustum.may_see_box(draw.caster_bounds.0, draw.caster_bounds.1) {
+                culled += 1;
+                continue;
+            }
+            let set = &draw.frame_sets[slot.min(draw.frame_sets.len() - 1)];
+            pipeline.bind(rec, Some(set));
+            pipeline.bind_set(rec, 1, &draw.material_set);
+            pipeline.push(rec, bytemuck::bytes_of(&draw.push.for_tile(tile)))?;
+            rec.bind_mesh(&draw.vertices, &draw.indices);
+            rec.draw_indexed(draw.index_count);
+        }
+        Ok(culled)
+    }
+}
+
+/// By plan pipeline: whether some shadow map has a draw of it among its casters.
+fn caster_pipelines_needed(plan: &Plan) -> Vec<bool> {
+    let mut needed = vec![false; plan.pipelines.len()];
+    for map in &plan.shadow_maps {
+        for &k in &map.casters {
+            needed[plan.draws[k].pipeline] = true;
+        }
+    }
+    needed
+}
+
 /// The world-space box around the local box `lo`..`hi` under `transform`.
 fn world_bounds(transform: Mat4, lo: Vec3, hi: Vec3) -> (Vec3, Vec3) {
     (0..8).fold(
@@ -537,15 +639,49 @@ fn mesh_bounds(vertices: &[Vertex]) -> (Vec3, Vec3) {
     )
 }
 
+/// The shaders and target of a mesh pipeline: the surface pass's, or a shadow caster's.
+struct MeshStages {
+    vertex: &'static str,
+    fragment: String,
+    color_format: vk::Format,
+    name: String,
+}
+
+impl MeshStages {
+    fn surface(key: &PipelineKey) -> MeshStages {
+        MeshStages {
+            vertex: "mesh.vert",
+            fragment: key.shader(),
+            color_format: COLOR_FORMAT,
+            name: format!("surface {}", describe(key)),
+        }
+    }
+
+    /// Depth only, from the light: relief traced with the method's own variant (without level
+    /// of detail, so a map shows the full relief however far the camera is).
+    fn caster(key: &PipelineKey) -> MeshStages {
+        let fragment = match key.method {
+            Some(m) => format!("shadow_caster.frag:{}", m.id()),
+            None => "shadow_caster.frag:plain".to_owned(),
+        };
+        MeshStages {
+            vertex: "mesh.vert:shadow",
+            name: format!("shadow caster {fragment}"),
+            fragment,
+            color_format: vk::Format::UNDEFINED,
+        }
+    }
+}
+
 fn create_pipeline(
     ctx: &Arc<Context>,
     key: &PipelineKey,
+    stages: &MeshStages,
     set_layouts: &[&DescriptorLayout],
 ) -> VkResult<Pipeline> {
     let missing = |k: &str| VkError::Invalid(format!("no compiled shader {k}"));
-    let vs = shaders::spirv("mesh.vert").ok_or_else(|| missing("mesh.vert"))?;
-    let shader = key.shader();
-    let fs = shaders::spirv(&shader).ok_or_else(|| missing(&shader))?;
+    let vs = shaders::spirv(stages.vertex).ok_or_else(|| missing(stages.vertex))?;
+    let fs = shaders::spirv(&stages.fragment).ok_or_else(|| missing(&stages.fragment))?;
     let mut spec = SpecConstants::default()
         .u32(SPEC_SHADOW_MODE, key.shadows.mode.shader_value())
         .u32(SPEC_SHADOW_STEPS, key.shadows.resolved_steps())
@@ -591,7 +727,7 @@ fn create_pipeline(
         fragment_spec: &spec,
         vertex_stride: std::mem::size_of::<Vertex>() as u32,
         attributes: &attributes,
-        color_format: COLOR_FORMAT,
+        color_format: stages.color_format,
         depth_format: DEPTH_FORMAT,
         cull: if key.double_sided {
             vk::CullModeFlags::NONE
@@ -600,9 +736,9 @@ fn create_pipeline(
         },
         set_layouts,
         push_bytes: std::mem::size_of::<DrawPush>() as u32,
-        blend: key.blend,
+        blend: key.blend && stages.color_format != vk::Format::UNDEFINED,
     };
-    graphics_pipeline(ctx, &desc, &format!("surface {}", describe(key)))
+    graphics_pipeline(ctx, &desc, &stages.name)
 }
 
 /// A pipeline's name for debug labels and `--explain`.

@@ -19,11 +19,18 @@ const CLEAR: [f32; 4] = [0.015, 0.02, 0.03, 1.0];
 pub struct Targets {
     pub color: Image,
     pub depth: Image,
+    /// The depth is kept and can be read back (the shadow probe).
+    keep_depth: bool,
 }
 
 impl Targets {
-    /// Creates both targets at `width` x `height`.
-    pub fn new(ctx: &Arc<Context>, width: u32, height: u32) -> VkResult<Targets> {
+    /// Creates both targets at `width` x `height`; `keep_depth` lets frames read the depth back.
+    pub fn new(ctx: &Arc<Context>, width: u32, height: u32, keep_depth: bool) -> VkResult<Targets> {
+        let depth_usage = if keep_depth {
+            vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC
+        } else {
+            vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT
+        };
         let desc = |format, usage, aspect| ImageDesc {
             width,
             height,
@@ -44,13 +51,10 @@ impl Targets {
             )?,
             depth: Image::new(
                 ctx,
-                desc(
-                    DEPTH_FORMAT,
-                    vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
-                    vk::ImageAspectFlags::DEPTH,
-                ),
+                desc(DEPTH_FORMAT, depth_usage, vk::ImageAspectFlags::DEPTH),
                 "depth target",
             )?,
+            keep_depth,
         })
     }
 
@@ -99,21 +103,31 @@ impl Targets {
                     mip_count: 1,
                     old: vk::ImageLayout::UNDEFINED,
                     new: vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
+                    // ALL_TRANSFER: the previous frame may have copied the depth out.
                     src: (
-                        depth_stages,
+                        depth_stages | vk::PipelineStageFlags2::ALL_TRANSFER,
                         vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE,
                     ),
                     dst: (depth_stages, depth_access),
                 },
             ],
         );
-        rec.begin_rendering(&self.color, Some(&self.depth), CLEAR);
+        rec.begin_rendering(&self.color, Some(&self.depth), CLEAR, self.keep_depth);
     }
 
     /// Ends rendering and, if `readback` is given, copies the colour image into it and makes the
-    /// copy visible to the host.
-    pub fn end(&self, rec: &Recording, readback: Option<&Readback>) -> VkResult<()> {
+    /// copy visible to the host; likewise the depth into `depth_readback` (targets made to keep
+    /// their depth).
+    pub fn end(
+        &self,
+        rec: &Recording,
+        readback: Option<&Readback>,
+        depth_readback: Option<&Readback>,
+    ) -> VkResult<()> {
         rec.end_rendering();
+        if let Some(buffer) = depth_readback.filter(|_| self.keep_depth) {
+            self.copy_depth(rec, buffer)?;
+        }
         let Some(buffer) = readback else {
             return Ok(());
         };
@@ -139,5 +153,34 @@ impl Targets {
         let desc = self.color.desc();
         let region = whole_color_region(desc.width, desc.height);
         buffer.record_copy_from_image(rec, &self.color, region)
+    }
+
+    /// Copies the depth target into `buffer` (one f32 per pixel).
+    fn copy_depth(&self, rec: &Recording, buffer: &Readback) -> VkResult<()> {
+        let depth_stages = vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS
+            | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS;
+        transition_images(
+            rec,
+            &[ImageTransition {
+                image: &self.depth,
+                aspect: vk::ImageAspectFlags::DEPTH,
+                base_mip: 0,
+                mip_count: 1,
+                old: vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
+                new: vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                src: (
+                    depth_stages,
+                    vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE,
+                ),
+                dst: (
+                    vk::PipelineStageFlags2::COPY,
+                    vk::AccessFlags2::TRANSFER_READ,
+                ),
+            }],
+        );
+        let desc = self.depth.desc();
+        let mut region = whole_color_region(desc.width, desc.height);
+        region.image_subresource.aspect_mask = vk::ImageAspectFlags::DEPTH;
+        buffer.record_copy_from_image(rec, &self.depth, region)
     }
 }

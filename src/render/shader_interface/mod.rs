@@ -32,6 +32,8 @@ glsl_table! {
         BINDING_METHOD_MAP = 3;
         /// The averaged height pyramid of level-of-detail variants.
         BINDING_HEIGHT_MEAN = 4;
+        /// The scene's shadow maps, one depth atlas (`shaders/include/scene_shadows.glsl`).
+        BINDING_SHADOW_ATLAS = 5;
     }
 }
 
@@ -192,6 +194,19 @@ glsl_table! {
 }
 
 glsl_table! {
+    /// How a scene shadow map is filtered (`ShadowFilter`; `shaders/include/scene_shadows.glsl`),
+    /// as `#define`s.
+    SHADOW_FILTERS {
+        /// One tap: the nearest texel, exact to the map's resolution.
+        SHADOW_FILTER_HARD = 1;
+        /// Percentage-closer filtering over a fixed footprint.
+        SHADOW_FILTER_PCF = 2;
+        /// Percentage-closer soft shadows: blocker search, penumbra from the light's size, filter.
+        SHADOW_FILTER_PCSS = 3;
+    }
+}
+
+glsl_table! {
     /// Specialization-constant ids, as `#define`s. The trace and surface passes share the budget
     /// and shadow ids; the level-of-detail ids start at 20 to keep clear of them.
     SPEC_IDS {
@@ -229,6 +244,8 @@ glsl_table! {
     SIZES {
         /// Punctual lights in the frame's uniform block.
         MAX_LIGHTS = 8;
+        /// Shadow-map views in the frame's uniform block (a cascade, a spot's map, a cube face).
+        MAX_SHADOW_TILES = 16;
         /// Pyramid levels the map searches' push constants hold offsets for.
         MAX_LEVELS = 15;
         /// The horizon AO's cap on samples per azimuth.
@@ -255,6 +272,7 @@ pub const GLSL_DEFINES: &[&[(&str, u32)]] = &[
     LAYER_BINDINGS,
     CELLS_BINDINGS,
     TERRAIN_MODES,
+    SHADOW_FILTERS,
     MODES,
     SPEC_IDS,
     SIZES,

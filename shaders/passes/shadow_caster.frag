@@ -1,0 +1,59 @@
+#version 460
+// The shadow pass: a mesh seen from a light, depth only. Relief variants (build.rs maps
+// "method.glsl" to the method's file) trace the light's ray through the height field with the
+// material's own method, exactly as the surface pass traces the view ray, and write the hit's
+// depth in the shadow view: a height field casts the shadow of its relief, not of its polygon.
+// The plain variant (PLAIN_SURFACE) keeps the rasterised depth. Both honour alpha-mask cut-outs.
+#extension GL_GOOGLE_include_directive : require
+#include "conventions.glsl"
+#include "numeric.glsl"
+#include "bindings.glsl"
+#include "draw.glsl"
+#include "material_sample.glsl"
+#ifndef PLAIN_SURFACE
+#include "heightfield.glsl"
+#include "relief_frame.glsl"
+#include "method.glsl"
+#endif
+
+layout(location = 0) in vec3 in_world;
+layout(location = 1) in vec3 in_normal;
+layout(location = 2) in vec2 in_uv0;
+layout(location = 3) in vec2 in_uv1;
+layout(location = 4) in vec4 in_tangent;
+layout(location = 5) in vec4 in_color;
+
+#ifndef PLAIN_SURFACE
+// The hit is never nearer the light than the polygon, as in the surface pass.
+layout(depth_greater) out float gl_FragDepth;
+#endif
+
+void main() {
+    vec2 uv0 = in_uv0;
+    vec2 uv1 = in_uv1;
+#ifndef PLAIN_SURFACE
+    ShadowTile tile = frame.shadow_tiles[draw.extra.x];
+    // The light's ray through this fragment: from the light's position, or along its direction.
+    vec3 along = tile.rect.w > 0.5 ? normalize(in_world - tile.origin.xyz) : tile.origin.xyz;
+    vec3 n = normalize(gl_FrontFacing ? in_normal : -in_normal);
+    float depth_scale = material.relief.x;
+    ReliefFrame f = relief_frame(in_world, n, in_tangent, in_uv0, in_uv1);
+    vec2 uv_h = slot_uv(SLOT_HEIGHT, in_uv0, in_uv1);
+    Ray ray = Ray(uv_h, height_space_ray_dir(f, along), depth_scale);
+    Hit hit = METHOD_TRACE(ray, ray_budget(ray));
+    float z = clamp(hit.z, 0.0, depth_scale);
+    vec2 uv_hit = ray_uv(ray, z);
+    if (frame.height_info.w < 0.5 && leaves_clamped_map(uv_h, uv_hit)) {
+        discard;
+    }
+    vec2 d0 = f.from_height * (uv_hit - uv_h);
+    uv0 += d0;
+    uv1 += f.uv1_per_uv0 * d0;
+    vec3 world = relief_hit_world(f, in_world, uv_h, uv_hit, z);
+    vec4 clip = tile.view_proj * vec4(world, 1.0);
+    gl_FragDepth = max(gl_FragCoord.z, clamp(clip.z / clip.w, 0.0, 1.0));
+#endif
+    if (material.emissive.w >= 0.0 && material_cut(sample_material(uv0, uv1, in_color))) {
+        discard;
+    }
+}

@@ -1,0 +1,203 @@
+//! The one depth image every shadow map of a frame lives in: each view (cascade, spot map, cube
+//! face) a square tile of it, so the surface pass binds a single texture whatever the lights, and
+//! the shadow pass renders every view in one rendering with a viewport per tile. A scene without
+//! shadow maps binds a 1x1 image that reads as "nothing nearer", and records nothing.
+
+use std::sync::Arc;
+
+use ash::vk;
+
+use crate::render::shader_interface::BINDING_SHADOW_ATLAS;
+use crate::vk::{
+    transition_images, upload_mips, Bind, Context, Image, ImageDesc, ImageTransition, Recording,
+    Sampler, VkError, VkResult,
+};
+
+/// Depth format of the shadow maps.
+pub const SHADOW_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
+
+/// Where one view lives in the atlas, in texels.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Tile {
+    /// Column of its left edge.
+    pub x: u32,
+    /// Row of its top edge.
+    pub y: u32,
+    /// Texels per side.
+    pub size: u32,
+}
+
+/// The atlas and the sampler the surface pass reads it with.
+pub struct ShadowAtlas {
+    image: Image,
+    sampler: Sampler,
+    tiles: Vec<Tile>,
+    /// A real atlas (else the 1x1 stand-in, already readable).
+    rendered: bool,
+}
+
+/// Tiles for views of `sizes` texels, in a grid of cells as large as the largest.
+pub fn layout_tiles(sizes: &[u32]) -> (Vec<Tile>, u32, u32) {
+    let cell = sizes.iter().copied().max().unwrap_or(1);
+    let n = sizes.len().max(1) as u32;
+    let cols = (n as f32).sqrt().ceil() as u32;
+    let rows = n.div_ceil(cols);
+    let tiles = sizes
+        .iter()
+        .enumerate()
+        .map(|(k, &size)| Tile {
+            x: (k as u32 % cols) * cell,
+            y: (k as u32 / cols) * cell,
+            size,
+        })
+        .collect();
+    (tiles, cols * cell, rows * cell)
+}
+
+impl ShadowAtlas {
+    /// An atlas holding views of `sizes` texels per side, or the stand-in when `sizes` is empty.
+    pub fn new(ctx: &Arc<Context>, sizes: &[u32]) -> VkResult<ShadowAtlas> {
+        let sampler = Sampler::new(
+            ctx,
+            vk::Filter::NEAREST,
+            vk::SamplerAddressMode::CLAMP_TO_EDGE,
+            "shadow atlas sampler",
+        )?;
+        if sizes.is_empty() {
+            let desc = ImageDesc {
+                width: 1,
+                height: 1,
+                format: vk::Format::R32_SFLOAT,
+                mip_levels: 1,
+                usage: vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_DST,
+                aspect: vk::ImageAspectFlags::COLOR,
+            };
+            let image = Image::new(ctx, desc, "shadow atlas stand-in")?;
+            let far = 1.0f32.to_ne_bytes();
+            upload_mips(
+                ctx,
+                &image,
+                &[&far],
+                vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+            )?;
+            return Ok(ShadowAtlas {
+                image,
+                sampler,
+                tiles: Vec::new(),
+                rendered: false,
+            });
+        }
+        let (tiles, width, height) = layout_tiles(sizes);
+        let limit = ctx.info().max_image_dimension_2d;
+        if width > limit || height > limit {
+            return Err(VkError::Invalid(format!(
+                "the shadow maps' {} view(s) need a {width}x{height} atlas, above this device's {limit} per side; lower --shadow-map-size or --shadow-cascades",
+                sizes.len()
+            )));
+        }
+        let desc = ImageDesc {
+            width,
+            height,
+            format: SHADOW_FORMAT,
+            mip_levels: 1,
+            usage: vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::SAMPLED,
+            aspect: vk::ImageAspectFlags::DEPTH,
+        };
+        Ok(ShadowAtlas {
+            image: Image::new(ctx, desc, "shadow atlas")?,
+            sampler,
+            tiles,
+            rendered: true,
+        })
+    }
+
+    /// The descriptor of the atlas for set 0.
+    pub fn bind(&self) -> Bind<'_> {
+        Bind::Texture(BINDING_SHADOW_ATLAS, self.image.view(), &self.sampler)
+    }
+
+    /// Where each view lives.
+    pub fn tiles(&self) -> &[Tile] {
+        &self.tiles
+    }
+
+    /// Begins rendering depth into the whole atlas, cleared to the far plane. The previous frame
+    /// (same queue) may still sample it, so its fragment shaders finish first.
+    pub fn begin(&self, rec: &Recording) {
+        let depth_stages = vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS
+            | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS;
+        transition_images(
+            rec,
+            &[ImageTransition {
+                image: &self.image,
+                aspect: vk::ImageAspectFlags::DEPTH,
+                base_mip: 0,
+                mip_count: 1,
+                old: vk::ImageLayout::UNDEFINED,
+                new: vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
+                src: (
+                    vk::PipelineStageFlags2::FRAGMENT_SHADER,
+                    vk::AccessFlags2::NONE,
+                ),
+                dst: (
+                    depth_stages,
+                    vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ
+                        | vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE,
+                ),
+            }],
+        );
+        rec.begin_depth_rendering(&self.image);
+    }
+
+    /// Ends the rendering and hands the depths to the surface pass's fragment shaders.
+    pub fn end(&self, rec: &Recording) {
+        rec.end_rendering();
+        transition_images(
+            rec,
+            &[ImageTransition {
+                image: &self.image,
+                aspect: vk::ImageAspectFlags::DEPTH,
+                base_mip: 0,
+                mip_count: 1,
+                old: vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
+                new: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+                src: (
+                    vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS
+                        | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS,
+                    vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE,
+                ),
+                dst: (
+                    vk::PipelineStageFlags2::FRAGMENT_SHADER,
+                    vk::AccessFlags2::SHADER_SAMPLED_READ,
+                ),
+            }],
+        );
+    }
+
+    /// Whether the atlas holds maps to render (else it is the stand-in).
+    pub fn is_rendered(&self) -> bool {
+        self.rendered
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tiles_do_not_overlap_and_fit_the_atlas() {
+        let sizes = [1024, 1024, 512, 256, 256, 256, 256, 256];
+        let (tiles, w, h) = layout_tiles(&sizes);
+        for (k, a) in tiles.iter().enumerate() {
+            assert!(a.x + a.size <= w && a.y + a.size <= h);
+            for b in &tiles[k + 1..] {
+                let apart = a.x + a.size <= b.x
+                    || b.x + b.size <= a.x
+                    || a.y + a.size <= b.y
+                    || b.y + b.size <= a.y;
+                assert!(apart, "{a:?} {b:?}");
+            }
+        }
+        assert_eq!((w, h), (3 * 1024, 3 * 1024));
+    }
+}

@@ -1,0 +1,319 @@
+//! Which lights get a shadow map, of what kind and size, filtered how, and which draws cast into
+//! it; the lights that get none are listed as skipped with the reason (`--explain`).
+
+use std::fmt;
+use std::str::FromStr;
+
+use glam::Vec3;
+use serde::Serialize;
+
+use super::light_views::{point_views, spot_view};
+use crate::render::frame::frame_uniforms::{MAX_LIGHTS, MAX_SHADOW_TILES};
+use crate::render::frame::pass::Pass;
+use crate::render::frame::plan::{PassPlan, Plan};
+use crate::render::shader_interface::{SHADOW_FILTER_HARD, SHADOW_FILTER_PCF, SHADOW_FILTER_PCSS};
+use crate::scene::{AlphaMode, Frustum, LightKind, Mesh, Scene};
+
+/// How a shadow map's depths become a visible fraction.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ShadowFilter {
+    /// One tap, the nearest texel: exact to the map's resolution, hard-edged.
+    Hard,
+    /// Percentage-closer filtering over a fixed footprint of a few texels.
+    Pcf,
+    /// Percentage-closer soft shadows: the blockers' mean depth and the light's size give the
+    /// penumbra's width, which the filter then covers (sharp at contact, soft far away).
+    Pcss,
+}
+
+impl ShadowFilter {
+    /// Every filter, in the order the bench sweeps them.
+    pub const ALL: [ShadowFilter; 3] = [ShadowFilter::Hard, ShadowFilter::Pcf, ShadowFilter::Pcss];
+
+    /// The value the shaders branch on.
+    pub fn shader_value(self) -> u32 {
+        match self {
+            ShadowFilter::Hard => SHADOW_FILTER_HARD,
+            ShadowFilter::Pcf => SHADOW_FILTER_PCF,
+            ShadowFilter::Pcss => SHADOW_FILTER_PCSS,
+        }
+    }
+
+    /// The name the command line takes.
+    pub fn id(self) -> &'static str {
+        match self {
+            ShadowFilter::Hard => "hard",
+            ShadowFilter::Pcf => "pcf",
+            ShadowFilter::Pcss => "pcss",
+        }
+    }
+}
+
+impl ShadowMapKind {
+    /// The name `--explain` prints.
+    pub fn id(self) -> &'static str {
+        match self {
+            ShadowMapKind::Cascades => "cascades",
+            ShadowMapKind::Spot => "spot",
+            ShadowMapKind::Cube => "cube",
+        }
+    }
+}
+
+impl fmt::Display for ShadowFilter {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.id())
+    }
+}
+
+impl FromStr for ShadowFilter {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        ShadowFilter::ALL
+            .into_iter()
+            .find(|f| f.id() == s)
+            .ok_or_else(|| format!("unknown shadow filter `{s}` (expected hard, pcf or pcss)"))
+    }
+}
+
+/// The renderer's shadow-map settings; a light's `extras.relief` overrides size and cascades.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ShadowOptions {
+    /// Build shadow maps at all (`--shadow-maps off` turns them off, for timing the surface alone).
+    pub enabled: bool,
+    /// Texels per side of each map (each cascade, each cube face).
+    pub map_size: u32,
+    /// Cascades of a directional light's map.
+    pub cascades: u32,
+    /// The filter of every map; `None` picks by the light: PCSS for a light with a size, hard
+    /// for a point-like one.
+    pub filter: Option<ShadowFilter>,
+}
+
+/// Default texels per side: on lavapipe a 1024 map of the default scene costs a fraction of its
+/// frame (`relief bench --scene-shadows`), and its texels are finer than the slab's bricks.
+pub const DEFAULT_SHADOW_MAP_SIZE: u32 = 1024;
+
+/// Default cascades of a directional light.
+pub const DEFAULT_SHADOW_CASCADES: u32 = 2;
+
+impl ShadowOptions {
+    /// Maps on, default size and cascades, the filter picked by each light.
+    pub const DEFAULT: ShadowOptions = ShadowOptions {
+        enabled: true,
+        map_size: DEFAULT_SHADOW_MAP_SIZE,
+        cascades: DEFAULT_SHADOW_CASCADES,
+        filter: None,
+    };
+
+    /// No shadow maps.
+    pub const OFF: ShadowOptions = ShadowOptions {
+        enabled: false,
+        ..ShadowOptions::DEFAULT
+    };
+}
+
+impl Default for ShadowOptions {
+    fn default() -> Self {
+        ShadowOptions::DEFAULT
+    }
+}
+
+/// What kind of map a light gets.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ShadowMapKind {
+    /// Orthographic cascades fitted to the view (directional lights).
+    Cascades,
+    /// One perspective map (spot lights).
+    Spot,
+    /// Six perspective faces (point lights).
+    Cube,
+}
+
+/// One light's shadow map.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ShadowMapPlan {
+    /// Index into the plan's lights.
+    pub light: usize,
+    /// Cascades, one spot map or a cube.
+    pub kind: ShadowMapKind,
+    /// Its first view among the frame's shadow tiles.
+    pub first_tile: u32,
+    /// How many views (cascades, 1, or 6 faces).
+    pub tiles: u32,
+    /// Texels per side of each view.
+    pub size: u32,
+    /// How its depths are filtered.
+    pub filter: ShadowFilter,
+    /// The draws (indices into the plan's draws) that cast into it.
+    pub casters: Vec<usize>,
+    /// Their meshes' names, for `--explain`.
+    pub caster_meshes: Vec<String>,
+    /// Of those, how many trace their relief into the map (displaced casters).
+    pub relief_casters: usize,
+}
+
+/// World-space bounds of a mesh, grown by `pad` on every side.
+pub(in crate::render) fn mesh_world_bounds(mesh: &Mesh, pad: f32) -> (Vec3, Vec3) {
+    let init = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
+    let (lo, hi) = mesh.vertices.iter().fold(init, |(lo, hi), v| {
+        let p = mesh.transform.transform_point3(Vec3::from(v.position));
+        (lo.min(p), hi.max(p))
+    });
+    (lo - Vec3::splat(pad), hi + Vec3::splat(pad))
+}
+
+/// How far a caster's relief may reach below its polygons, in world units: its bounds grow by
+/// this so that a displaced caster is never culled from a map it casts into.
+pub(in crate::render) fn relief_pad(scene: &Scene) -> f32 {
+    let diagonal = scene.bounds().map_or(1.0, |(lo, hi)| (hi - lo).length());
+    let deepest = scene
+        .materials
+        .iter()
+        .filter_map(|m| m.relief.map(|r| r.depth_scale))
+        .fold(0.0f32, f32::max);
+    // A depth scale is in uv units; a uv unit spans at most the scene.
+    (deepest * diagonal).min(diagonal * 0.25)
+}
+
+/// Adds the shadow maps of `scene`'s lights to `plan`, with the pass that renders them, or the
+/// reasons there are none.
+pub fn plan_shadow_maps(plan: &mut Plan, scene: &Scene, opts: &ShadowOptions) {
+    let casters: Vec<usize> = plan
+        .draws
+        .iter()
+        .enumerate()
+        .filter(|(_, d)| scene.materials[d.material].alpha_mode != AlphaMode::Blend)
+        .map(|(k, _)| k)
+        .collect();
+    let Some(bounds) = scene.bounds() else {
+        return;
+    };
+    let pad = relief_pad(scene);
+    let bounds = (bounds.0 - Vec3::splat(pad), bounds.1 + Vec3::splat(pad));
+    let mut next_tile = 0u32;
+    for (index, light) in plan.lights.clone().iter().enumerate() {
+        let what = format!("shadow map of light {index}");
+        if index >= MAX_LIGHTS {
+            break;
+        }
+        if !opts.enabled {
+            plan.skip(what, "shadow maps are off (--shadow-maps off)");
+            continue;
+        }
+        if !light.casts_shadows {
+            plan.skip(what, "the light casts no shadows");
+            continue;
+        }
+        let size = light.shadow_map_size.unwrap_or(opts.map_size);
+        let (kind, tiles) = match light.kind {
+            LightKind::Directional => (
+                ShadowMapKind::Cascades,
+                light.shadow_cascades.unwrap_or(opts.cascades).max(1),
+            ),
+            LightKind::Spot { .. } => (ShadowMapKind::Spot, 1),
+            LightKind::Point => (ShadowMapKind::Cube, 6),
+        };
+        // A spot or point light sees a fixed volume: only casters inside it count.
+        let frusta: Vec<Frustum> = match light.kind {
+            LightKind::Directional => Vec::new(),
+            LightKind::Spot { outer_cone, .. } => {
+                let v = spot_view(
+                    light.position,
+                    light.direction,
+                    outer_cone,
+                    light.range,
+                    bounds,
+                    size,
+                );
+                vec![Frustum::from_view_projection(v.view_proj)]
+            }
+            LightKind::Point => point_views(light.position, light.range, bounds, size)
+                .iter()
+                .map(|v| Frustum::from_view_projection(v.view_proj))
+                .collect(),
+        };
+        let seen: Vec<usize> = casters
+            .iter()
+            .copied()
+            .filter(|&k| {
+                let (lo, hi) = mesh_world_bounds(&scene.meshes[plan.draws[k].mesh], pad);
+                frusta.is_empty() || frusta.iter().any(|f| f.may_see_box(lo, hi))
+            })
+            .collect();
+        if seen.is_empty() {
+            plan.skip(
+                what,
+                "no opaque or masked mesh lies in the light's view to cast",
+            );
+            continue;
+        }
+        if next_tile + tiles > MAX_SHADOW_TILES as u32 {
+            plan.skip(
+                what,
+                format!(
+                    "its {tiles} view(s) would pass the frame's {MAX_SHADOW_TILES} shadow views"
+                ),
+            );
+            continue;
+        }
+        let filter = opts.filter.unwrap_or(if light.radius > 0.0 {
+            ShadowFilter::Pcss
+        } else {
+            ShadowFilter::Hard
+        });
+        let relief_casters = seen
+            .iter()
+            .filter(|&&k| plan.draws[k].heights.is_some())
+            .count();
+        let caster_meshes = seen
+            .iter()
+            .map(|&k| scene.meshes[plan.draws[k].mesh].name.clone())
+            .collect();
+        plan.shadow_maps.push(ShadowMapPlan {
+            caster_meshes,
+            light: index,
+            kind,
+            first_tile: next_tile,
+            tiles,
+            size,
+            filter,
+            casters: seen,
+            relief_casters,
+        });
+        next_tile += tiles;
+    }
+    if !plan.shadow_maps.is_empty() {
+        let maps: Vec<String> = plan
+            .shadow_maps
+            .iter()
+            .map(|m| {
+                format!(
+                    "light {} ({}, {} view(s) of {}^2, {}, {} caster(s), {} displaced)",
+                    m.light,
+                    m.kind.id(),
+                    m.tiles,
+                    m.size,
+                    m.filter,
+                    m.casters.len(),
+                    m.relief_casters
+                )
+            })
+            .collect();
+        let at = plan
+            .passes
+            .iter()
+            .position(|p| matches!(p.pass, Pass::Cells | Pass::Surface))
+            .unwrap_or(plan.passes.len());
+        plan.passes.insert(
+            at,
+            PassPlan {
+                pass: Pass::ShadowMaps,
+                why: format!("shadow maps: {}", maps.join("; ")),
+            },
+        );
+    }
+}
