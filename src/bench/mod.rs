@@ -32,6 +32,8 @@ mod paint_edits;
 mod report;
 mod results;
 mod runner;
+mod scene_shadow_section;
+mod scene_shadows;
 mod shading;
 mod shading_report;
 mod shadow_stability;
@@ -59,6 +61,12 @@ pub use paint_edits::{run_paint_section, PaintCost};
 pub use report::render_report;
 pub use results::{BenchDevice, BenchResults, GpuMs, MapBuild, Run, StabilityCell};
 pub use runner::{plan_jobs, Job, Runner, Section};
+pub use scene_shadow_section::{
+    run_scene_shadow_section, DefaultFrameCost, SceneShadowCell, SceneShadowSection,
+};
+pub use scene_shadows::{
+    measure_scene_shadows, SceneShadowConfig, SceneShadowError, SceneShadowRun, TURNED_AWAY,
+};
 pub use shading::{measure_shadows, ShadingConfig, ShadowRun};
 pub use shadow_stability::{shadow_stability, ShadowStabilityCell};
 pub use shadow_stats::{

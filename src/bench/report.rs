@@ -48,6 +48,9 @@ pub fn render_report(results: &BenchResults) -> (String, Vec<(String, String)>) 
     if let Some(blending) = &results.blending {
         super::blending_report::report(&mut md, blending);
     }
+    if let Some(shadows) = &results.scene_shadows {
+        super::scene_shadow_section::report(&mut md, shadows);
+    }
     (md, plots(results))
 }
 

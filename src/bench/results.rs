@@ -150,6 +150,8 @@ pub struct BenchResults {
     pub paint_edits: Vec<super::paint_edits::PaintCost>,
     /// The terrain-blending section (`None` when skipped, e.g. `--no-blending`).
     pub blending: Option<super::blending::BlendingSection>,
+    /// The scene-shadow section (`None` when skipped, e.g. `--no-scene-shadows`).
+    pub scene_shadows: Option<super::scene_shadow_section::SceneShadowSection>,
 }
 
 /// The device every number was measured on.

@@ -11,9 +11,10 @@ use std::io::IsTerminal;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use relief::bench::{
     blending_notes, depth_match_settled, measure_ao, measure_shadows, plan_jobs, render_report,
-    run_blending_section, run_edit_section, run_lod_section, run_paint_section, run_stiff_case,
-    stiff_cases, AoConfig, AoRun, BenchResults, BlendingConfig, FieldSource, Job, LodConfig, Run,
-    Runner, ShadingConfig, ShadowRun, StabilityCell, StiffCase, SweepConfig,
+    run_blending_section, run_edit_section, run_lod_section, run_paint_section,
+    run_scene_shadow_section, run_stiff_case, stiff_cases, AoConfig, AoRun, BenchResults,
+    BlendingConfig, FieldSource, Job, LodConfig, Run, Runner, ShadingConfig, ShadowRun,
+    StabilityCell, StiffCase, SweepConfig,
 };
 
 /// The brush radius of the terrain-edit section, in texels (the stroke).
@@ -92,6 +93,10 @@ pub struct BenchArgs {
     /// Skip the terrain-blending section (blended layers against a single field of their shape).
     #[arg(long)]
     no_blending: bool,
+    /// Skip the scene-shadow section (shadow maps: size x filter against the exact scene
+    /// reference, and their cost in the default scene's frame).
+    #[arg(long)]
+    no_scene_shadows: bool,
     #[arg(long, value_name = "repeat|clamp", default_value_t = Address::Repeat)]
     address: Address,
     #[arg(long, value_enum, default_value = "r16")]
@@ -311,6 +316,7 @@ struct Sections {
     lod_wanted: bool,
     edits_wanted: bool,
     blending_wanted: bool,
+    scene_shadows_wanted: bool,
 }
 
 impl Sections {
@@ -352,6 +358,7 @@ impl Sections {
             lod_wanted: !(args.no_lod || args.shading_only || args.stability_only),
             edits_wanted: !(args.no_edits || only_other),
             blending_wanted: !(args.no_blending || only_other),
+            scene_shadows_wanted: !(args.no_scene_shadows || only_other),
         }
     }
 
@@ -369,6 +376,7 @@ impl Sections {
             + usize::from(self.lod_wanted)
             + 2 * usize::from(self.edits_wanted)
             + usize::from(self.blending_wanted)
+            + usize::from(self.scene_shadows_wanted)
     }
 }
 
@@ -396,6 +404,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         lod_wanted,
         edits_wanted,
         blending_wanted,
+        scene_shadows_wanted,
         ..
     } = sections;
     let shadow_stability = if shadow_stability_wanted {
@@ -437,6 +446,14 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     } else {
         None
     };
+    let scene_shadows = if scene_shadows_wanted {
+        let section = run_scene_shadow_section(&ctx, cfg.quick, |what| note(&bar, what, args.json))
+            .context("the scene-shadow section")?;
+        bar.inc(1);
+        Some(section)
+    } else {
+        None
+    };
     bar.finish_and_clear();
     super::check_validation(&ctx)?;
     let results = BenchResults {
@@ -452,6 +469,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         edits,
         paint_edits,
         blending,
+        scene_shadows,
     };
     write_outputs(&args.out, &results, args.json)
 }

@@ -18,6 +18,8 @@ mod render;
 mod render_frames;
 mod scene_args;
 mod shading_args;
+mod shadow_map_args;
+mod shadows;
 mod terrain_args;
 mod terrain_edits;
 mod trace;
@@ -63,6 +65,8 @@ enum Command {
     Maps(maps::MapsArgs),
     /// List the displacement methods (ids are stable).
     Methods(methods::MethodsArgs),
+    /// Check scene shadows: a frame's visible fraction of the light per pixel against the exact scene reference.
+    Shadows(shadows::ShadowsArgs),
     /// Trace parallel rays on the GPU with one method and measure them against the exact reference.
     Trace(trace::TraceArgs),
     /// Show a scene in a window: orbit or fly, switch methods, shadows, AO and LOD, read GPU times.
@@ -82,6 +86,7 @@ pub fn run() -> ExitCode {
         Command::Render(args) => render::run(&args),
         Command::Maps(args) => maps::run(&args),
         Command::Methods(args) => methods::run(&args),
+        Command::Shadows(args) => shadows::run(&args),
         Command::Trace(args) => trace::run(&args),
         #[cfg(feature = "window")]
         Command::View(args) => view::run(&args),

@@ -1,0 +1,242 @@
+//! The bench's scene-shadow section: map size x filter against the exact scene reference
+//! (error) and GPU time, for a displaced caster (the relief slab) and a plain one (the box), and
+//! what the shadow maps add to the default scene's frame.
+
+use std::fmt::Write as _;
+use std::sync::Arc;
+
+use serde::Serialize;
+
+use super::median::median;
+use super::scene_shadows::{measure_scene_shadows, SceneShadowConfig, SceneShadowError};
+use crate::render::{FrameRequest, Pass, RenderOptions, Renderer, ShadowFilter, ShadowOptions};
+use crate::scene::{
+    default_heightfield, default_scene, shadow_scene, Scene, ShadowScene, DEFAULT_SCENE_METHOD,
+};
+use crate::vk::Context;
+
+/// The sun of the section's scenes: low enough for long shadows, with a 1-degree radius so the
+/// filters' penumbrae have something to match.
+const ELEVATION_DEG: f32 = 20.0;
+const RADIUS_DEG: f32 = 1.0;
+
+/// One cell: a caster, a map size and a filter.
+#[derive(Debug, Clone, Serialize)]
+pub struct SceneShadowCell {
+    /// "displaced" (the relief slab) or "plain" (the box).
+    pub caster: &'static str,
+    /// Texels per side of each cascade.
+    pub map_size: u32,
+    /// The filter.
+    pub filter: ShadowFilter,
+    /// Share of receiver pixels whose lit/shadowed verdict matches the exact one (outside the
+    /// one-texel band).
+    pub hard_agreement: f64,
+    /// Mean absolute error of the visible fraction over every receiver pixel (band included).
+    pub mean_abs_error: f64,
+    /// Share of fully lit receiver pixels reported shadowed.
+    pub acne: f64,
+    /// Share of fully occluded receiver pixels reported lit.
+    pub leaks: f64,
+    /// GPU ms of the shadow maps per frame at the timing size (median).
+    pub shadow_maps_ms: f64,
+    /// GPU ms of the surface pass per frame (median), soft lookups included.
+    pub surface_ms: f64,
+}
+
+/// The default scene's frame with and without shadow maps.
+#[derive(Debug, Clone, Serialize)]
+pub struct DefaultFrameCost {
+    /// GPU ms per frame (every pass a steady frame records), maps off.
+    pub without_ms: f64,
+    /// GPU ms per frame with the default maps (PCSS).
+    pub with_ms: f64,
+    /// Of that, the shadow maps' pass.
+    pub shadow_maps_ms: f64,
+    /// `with_ms / without_ms - 1`.
+    pub added: f64,
+}
+
+/// The whole section.
+#[derive(Debug, Clone, Serialize)]
+pub struct SceneShadowSection {
+    /// Probe image size (error).
+    pub probe: [u32; 2],
+    /// Timing image size.
+    pub timing: [u32; 2],
+    /// Frames timed per cell (after one untimed frame).
+    pub frames: u32,
+    /// Exact reference rays per pixel.
+    pub reference_rays: u32,
+    /// Every cell.
+    pub cells: Vec<SceneShadowCell>,
+    /// The default scene's cost.
+    pub default_frame: DefaultFrameCost,
+}
+
+/// Median GPU ms per pass of `frames` frames of `scene` after a first, untimed one (which builds
+/// the static maps); returns (shadow maps, surface, whole steady frame).
+fn time_frames(
+    ctx: &Arc<Context>,
+    scene: &Scene,
+    opts: &RenderOptions,
+    frames: u32,
+) -> Result<(f64, f64, f64), SceneShadowError> {
+    let heights = default_heightfield();
+    let mut renderer = Renderer::new(ctx, scene, Some(&heights), opts)?;
+    let request = FrameRequest {
+        camera: renderer.default_camera(),
+        read_back: false,
+    };
+    renderer.draw(&request)?;
+    let mut maps = Vec::new();
+    let mut surface = Vec::new();
+    let mut total = Vec::new();
+    for _ in 0..frames {
+        let out = renderer.draw(&request)?;
+        let ms = |pass: Pass| {
+            out.timings
+                .iter()
+                .filter(|t| t.pass == pass)
+                .map(|t| t.gpu_ms)
+                .sum::<f64>()
+        };
+        maps.push(ms(Pass::ShadowMaps));
+        surface.push(ms(Pass::Surface));
+        total.push(out.timings.iter().map(|t| t.gpu_ms).sum::<f64>());
+    }
+    Ok((median(maps), median(surface), median(total)))
+}
+
+/// Runs the section; `quick` measures fewer sizes on smaller images.
+pub fn run_scene_shadow_section(
+    ctx: &Arc<Context>,
+    quick: bool,
+    mut progress: impl FnMut(&str),
+) -> Result<SceneShadowSection, SceneShadowError> {
+    let (probe, timing, frames, sizes, samples): ([u32; 2], [u32; 2], u32, &[u32], u32) = if quick {
+        ([120, 68], [480, 270], 3, &[512, 1024], 4)
+    } else {
+        ([240, 135], [960, 540], 8, &[512, 1024, 2048], 6)
+    };
+    let mut cells = Vec::new();
+    for (caster, kind) in [
+        ("displaced", ShadowScene::SlabOverPlane),
+        ("plain", ShadowScene::BoxOverPlane),
+    ] {
+        for &map_size in sizes {
+            for filter in ShadowFilter::ALL {
+                progress(&format!(
+                    "scene shadows: {caster} caster, {map_size}^2, {filter}"
+                ));
+                let shadows = ShadowOptions {
+                    map_size,
+                    filter: Some(filter),
+                    ..ShadowOptions::DEFAULT
+                };
+                let config = SceneShadowConfig {
+                    scene: Some(kind),
+                    elevation_deg: ELEVATION_DEG,
+                    radius_deg: Some(RADIUS_DEG),
+                    width: probe[0],
+                    height: probe[1],
+                    shadows,
+                    samples_per_side: samples,
+                    flat_reference: false,
+                };
+                let run = measure_scene_shadows(ctx, &config)?;
+                let opts = RenderOptions {
+                    width: timing[0],
+                    height: timing[1],
+                    address: kind.address(),
+                    shadows,
+                    ..RenderOptions::default()
+                };
+                let scene = shadow_scene(kind, ELEVATION_DEG, RADIUS_DEG);
+                let (maps_ms, surface_ms, _) = time_frames(ctx, &scene, &opts, frames)?;
+                let a = &run.agreement;
+                cells.push(SceneShadowCell {
+                    caster,
+                    map_size,
+                    filter,
+                    hard_agreement: a.hard_agreement,
+                    mean_abs_error: run.everywhere.mean_abs_error,
+                    acne: a.acne.share,
+                    leaks: a.leaks.share,
+                    shadow_maps_ms: maps_ms,
+                    surface_ms,
+                });
+            }
+        }
+    }
+    progress("scene shadows: the default scene's frame");
+    let scene = default_scene(DEFAULT_SCENE_METHOD);
+    let opts = |shadows| RenderOptions {
+        width: timing[0],
+        height: timing[1],
+        shadows,
+        ..RenderOptions::default()
+    };
+    let (_, _, without_ms) = time_frames(ctx, &scene, &opts(ShadowOptions::OFF), frames)?;
+    let (shadow_maps_ms, _, with_ms) =
+        time_frames(ctx, &scene, &opts(ShadowOptions::DEFAULT), frames)?;
+    Ok(SceneShadowSection {
+        probe,
+        timing,
+        frames,
+        reference_rays: samples * samples,
+        cells,
+        default_frame: DefaultFrameCost {
+            without_ms,
+            with_ms,
+            shadow_maps_ms,
+            added: with_ms / without_ms.max(1e-9) - 1.0,
+        },
+    })
+}
+
+/// The section's tables in `report.md`.
+pub fn report(md: &mut String, s: &SceneShadowSection) {
+    let _ = writeln!(md, "\n## Scene shadows\n");
+    let d = &s.default_frame;
+    let _ = writeln!(
+        md,
+        "Default scene at {}x{}: {:.3} GPU ms per frame without shadow maps, {:.3} with the \
+         default maps ({:.3} of them the maps' pass): **{:+.1}%**.\n",
+        s.timing[0],
+        s.timing[1],
+        d.without_ms,
+        d.with_ms,
+        d.shadow_maps_ms,
+        100.0 * d.added
+    );
+    let _ = writeln!(
+        md,
+        "A sun at {ELEVATION_DEG} degrees of {RADIUS_DEG} degree angular radius over a plane: the \
+         displaced caster is a floating slab of relief bricks (QDM), the plain one a box. Error: \
+         relief's visible fraction against the exact scene reference ({} rays per pixel) at \
+         {}x{}; agreement, acne and leaks outside a band of one shadow-map texel around the exact \
+         shadow edges. Time: median of {} frames at {}x{}.\n",
+        s.reference_rays, s.probe[0], s.probe[1], s.frames, s.timing[0], s.timing[1]
+    );
+    let _ = writeln!(
+        md,
+        "| caster | map | filter | agreement | mean abs error | acne | leaks | maps ms | surface ms |"
+    );
+    let _ = writeln!(md, "|---|---|---|---|---|---|---|---|---|");
+    for c in &s.cells {
+        let _ = writeln!(
+            md,
+            "| {} | {} | {} | {:.2}% | {:.4} | {:.3}% | {:.3}% | {:.3} | {:.3} |",
+            c.caster,
+            c.map_size,
+            c.filter,
+            100.0 * c.hard_agreement,
+            c.mean_abs_error,
+            100.0 * c.acne,
+            100.0 * c.leaks,
+            c.shadow_maps_ms,
+            c.surface_ms
+        );
+    }
+}
