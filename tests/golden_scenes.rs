@@ -158,6 +158,8 @@ fn materials_scene() -> Scene {
                 range: Some(10.0),
                 casts_shadows: true,
                 radius: 0.0,
+                shadow_map_size: None,
+                shadow_cascades: None,
             },
             Light {
                 kind: LightKind::Spot {
@@ -170,6 +172,8 @@ fn materials_scene() -> Scene {
                 range: None,
                 casts_shadows: true,
                 radius: 0.0,
+                shadow_map_size: None,
+                shadow_cascades: None,
             },
         ],
         camera_path: None,

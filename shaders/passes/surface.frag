@@ -126,7 +126,7 @@ void main() {
 
     vec3 v = -view;
     vec3 color = frame.ambient.rgb * base.rgb * occlusion + emissive;
-    vec4 probe = vec4(0.0);
+    vec4 probe = vec4(0.0, 0.0, 0.0, 1.0);
     for (int i = 0; i < min(frame.counts.x, MAX_LIGHTS); ++i) {
         float attenuation;
         vec3 l = light_toward(i, world, attenuation);
@@ -155,7 +155,9 @@ void main() {
         }
 #endif
         if (probed) {
-            probe = vec4(lit_map, lit_self, facing ? 1.0 : 0.0, 1.0);
+            // Alpha 0 flags a term that is not a number, which 8 bits could not show.
+            bool finite = !(isnan(lit_map) || isinf(lit_map) || isnan(lit_self) || isinf(lit_self));
+            probe = vec4(lit_map, lit_self, facing ? 1.0 : 0.0, finite ? 1.0 : 0.0);
         }
         if (!facing) {
             continue;

@@ -65,7 +65,8 @@ pub use scene_shadow_section::{
     run_scene_shadow_section, DefaultFrameCost, SceneShadowCell, SceneShadowSection,
 };
 pub use scene_shadows::{
-    measure_scene_shadows, SceneShadowConfig, SceneShadowError, SceneShadowRun, TURNED_AWAY,
+    measure_scene_shadows, CasterDifference, SceneShadowConfig, SceneShadowError, SceneShadowRun,
+    TURNED_AWAY,
 };
 pub use shading::{measure_shadows, ShadingConfig, ShadowRun};
 pub use shadow_stability::{shadow_stability, ShadowStabilityCell};

@@ -91,12 +91,15 @@ pub struct SceneShadowRun {
     /// The exact reference with flat casters against the exact reference: how well a perfect
     /// flat caster could agree (only with `flat_reference`).
     pub flat_caster: Option<ShadowAgreement>,
+    /// Where the displaced and the flat casters' exact verdicts differ, and whom relief follows
+    /// there (only with `flat_reference`).
+    pub caster_difference: Option<CasterDifference>,
     /// GPU ms of the shadow maps in the probe frame (debug builds run with validation; bench
     /// timings come from release frames).
     pub shadow_maps_ms: f64,
     /// GPU ms of the probe frame's surface pass.
     pub surface_ms: f64,
-    /// Band width used, in shadow-map texels as they land on the receiver.
+    /// Band width used, in shadow-map texels as they land on the receiver (at least one pixel).
     pub band_texels: f32,
     /// Per pixel: exact visible fraction (-1 background, -2 turned away from the light).
     #[serde(skip)]
@@ -113,6 +116,36 @@ pub struct SceneShadowRun {
     /// Per pixel: relief's own (height-field) term alone.
     #[serde(skip)]
     pub own: Vec<f32>,
+    /// Pixels where a term was not a number (NaN or infinite), flagged by the shader.
+    pub non_finite: usize,
+}
+
+/// The pixels whose exact lit-or-shadowed verdict changes when relief casters are taken flat.
+#[derive(Debug, Clone, Copy, Serialize)]
+pub struct CasterDifference {
+    /// Receiver pixels (band included) where the two references disagree.
+    pub pixels: usize,
+    /// Of those, the share where relief's verdict is the displaced caster's (a flat caster
+    /// scores 0 there by definition).
+    pub relief_follows_displaced: f64,
+}
+
+impl CasterDifference {
+    fn measure(exact: &[f32], flat: &[f32], relief: &[f32]) -> CasterDifference {
+        let lit = |v: f32| v > 0.5;
+        let differing: Vec<usize> = (0..exact.len())
+            .filter(|&k| exact[k] >= 0.0 && flat[k] >= 0.0 && relief[k] >= 0.0)
+            .filter(|&k| lit(exact[k]) != lit(flat[k]))
+            .collect();
+        let follows = differing
+            .iter()
+            .filter(|&&k| lit(relief[k]) == lit(exact[k]))
+            .count();
+        CasterDifference {
+            pixels: differing.len(),
+            relief_follows_displaced: follows as f64 / differing.len().max(1) as f64,
+        }
+    }
 }
 
 /// Why a measurement failed.
@@ -153,7 +186,7 @@ fn scene_of(config: &SceneShadowConfig) -> (Scene, Heightfield, Address, String)
 }
 
 /// Screen-space band radii: one shadow-map texel as it lands on the receiver (stretched by
-/// the light's slant over it), in pixels at the point's distance.
+/// the light's slant over it), in pixels at the point's distance, and at least one pixel.
 fn band_radii(probe: &ShadowProbe, eye: Vec3, yfov: f32, l: Vec3) -> Vec<f32> {
     let (w, h) = (probe.width as usize, probe.height as usize);
     let pixel_angle = 2.0 * (yfov * 0.5).tan() / h as f32;
@@ -174,7 +207,8 @@ fn band_radii(probe: &ShadowProbe, eye: Vec3, yfov: f32, l: Vec3) -> Vec<f32> {
             };
             let slant = normal.dot(l).abs().max(0.1);
             let footprint = probe.texel_world[k] / slant;
-            footprint / (p.distance(eye) * pixel_angle).max(1e-9)
+            // A pixel is a point sample: an edge nearer than one pixel is not placed either way.
+            (footprint / (p.distance(eye) * pixel_angle).max(1e-9)).max(1.0)
         })
         .collect()
 }
@@ -248,6 +282,8 @@ pub fn measure_scene_shadows(
         Vec::new()
     };
     let flat_caster = (!flat.is_empty()).then(|| measure_agreement(&exact, &flat, &band));
+    let caster_difference =
+        (!flat.is_empty()).then(|| CasterDifference::measure(&exact, &flat, &relief));
     let ms = |pass: Pass| {
         probe
             .timings
@@ -271,12 +307,14 @@ pub fn measure_scene_shadows(
         everywhere,
         map_term,
         flat_caster,
+        caster_difference,
         shadow_maps_ms: ms(Pass::ShadowMaps),
         surface_ms: ms(Pass::Surface),
         band_texels: 1.0,
         exact,
         relief,
         flat,
+        non_finite: probe.finite.iter().filter(|&&f| !f).count(),
         maps: probe.maps,
         own: probe.own,
     })

@@ -126,6 +126,19 @@ pub fn run(args: &ShadowsArgs) -> anyhow::Result<()> {
     if let Some(flat) = &run.flat_caster {
         println!("flat casters (exact) vs exact: {flat}");
     }
+    if let Some(d) = &run.caster_difference {
+        println!(
+            "{} pixels change verdict with flat casters; relief follows the displaced caster on {:.1}% of them",
+            d.pixels,
+            100.0 * d.relief_follows_displaced
+        );
+    }
+    if run.non_finite > 0 {
+        println!(
+            "warning: {} pixel(s) had a visibility term that is not a number",
+            run.non_finite
+        );
+    }
     println!(
         "gpu ms: shadow maps {:.3}, surface {:.3}",
         run.shadow_maps_ms, run.surface_ms

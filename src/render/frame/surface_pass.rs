@@ -244,16 +244,8 @@ fn mesh_draws(
             .set(d.material)
             .filter(|_| plan.pipelines[d.pipeline].layers);
         let key = &plan.pipelines[d.pipeline];
-        draws.push(MeshDraw::new(
-            ctx,
-            mesh,
-            d,
-            key,
-            frame_sets,
-            material_set,
-            layer_set,
-            relief_pad(scene),
-        )?);
+        let draw = MeshDraw::new(ctx, mesh, d, key, frame_sets, material_set, layer_set)?;
+        draws.push(draw.with_caster_pad(mesh, relief_pad(scene)));
     }
     Ok(draws)
 }
@@ -286,7 +278,6 @@ impl MeshDraw {
         frame_sets: Vec<DescriptorSet>,
         material_set: DescriptorSet,
         layer_set: Option<DescriptorSet>,
-        caster_pad: f32,
     ) -> VkResult<MeshDraw> {
         let (lo, hi) = mesh_bounds(&mesh.vertices);
         Ok(MeshDraw {
@@ -312,9 +303,16 @@ impl MeshDraw {
             blend: key.blend,
             center: mesh.transform.transform_point3((lo + hi) * 0.5),
             bounds: world_bounds(mesh.transform, lo, hi),
-            caster_bounds: mesh_world_bounds(mesh, caster_pad),
-            caster_pad,
+            caster_bounds: mesh_world_bounds(mesh, 0.0),
+            caster_pad: 0.0,
         })
+    }
+
+    /// The draw with its caster bounds grown by `pad` around `mesh`.
+    fn with_caster_pad(mut self, mesh: &Mesh, pad: f32) -> MeshDraw {
+        self.caster_pad = pad;
+        self.caster_bounds = mesh_world_bounds(mesh, pad);
+        self
     }
 }
 

@@ -28,6 +28,8 @@ pub struct ShadowProbe {
     pub own: Vec<f32>,
     /// Whether the surface faces the light there (else the light does not shade it).
     pub facing: Vec<bool>,
+    /// Whether both terms were numbers there (the shader flags NaN and infinity).
+    pub finite: Vec<bool>,
     /// The frame's GPU time per pass.
     pub timings: Vec<PassTiming>,
     /// World size of a shadow-map texel at each pixel's point (0 where no map covers it): the
@@ -115,6 +117,7 @@ pub fn probe_shadows(
         maps: term(0),
         own: term(1),
         facing: rgba.chunks_exact(4).map(|px| px[2] > 127).collect(),
+        finite: rgba.chunks_exact(4).map(|px| px[3] > 127).collect(),
         world,
         timings: out.timings,
         texel_world,

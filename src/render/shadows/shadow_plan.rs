@@ -317,3 +317,113 @@ pub fn plan_shadow_maps(plan: &mut Plan, scene: &Scene, opts: &ShadowOptions) {
         );
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::{default_scene, Light, DEFAULT_SCENE_METHOD};
+    use glam::Vec3;
+
+    fn planned(scene: &Scene, opts: &ShadowOptions) -> Plan {
+        let heights = crate::scene::default_heightfield();
+        let mut plan = Plan::derive(scene, Some(&heights)).unwrap();
+        plan_shadow_maps(&mut plan, scene, opts);
+        plan
+    }
+
+    fn skipped_why<'a>(plan: &'a Plan, what: &str) -> Option<&'a str> {
+        plan.skipped
+            .iter()
+            .find(|s| s.what == what)
+            .map(|s| s.why.as_str())
+    }
+
+    #[test]
+    fn the_default_scene_gets_cascades_with_every_opaque_caster() {
+        let scene = default_scene(DEFAULT_SCENE_METHOD);
+        let plan = planned(&scene, &ShadowOptions::DEFAULT);
+        assert_eq!(plan.shadow_maps.len(), 1);
+        let m = &plan.shadow_maps[0];
+        assert_eq!(
+            (m.kind, m.tiles, m.size),
+            (ShadowMapKind::Cascades, 2, 1024)
+        );
+        assert_eq!(m.filter, ShadowFilter::Pcss);
+        assert_eq!((m.casters.len(), m.relief_casters), (4, 1));
+        assert!(plan.passes.iter().any(|p| p.pass == Pass::ShadowMaps));
+    }
+
+    #[test]
+    fn lights_without_shadows_and_options_off_build_no_map_and_say_why() {
+        let mut scene = default_scene(DEFAULT_SCENE_METHOD);
+        let plan = planned(&scene, &ShadowOptions::OFF);
+        assert!(plan.shadow_maps.is_empty());
+        assert!(skipped_why(&plan, "shadow map of light 0")
+            .unwrap()
+            .contains("off"));
+        assert!(plan.passes.iter().all(|p| p.pass != Pass::ShadowMaps));
+        scene.lights.clear();
+        let plan = planned(&scene, &ShadowOptions::DEFAULT);
+        assert!(plan.shadow_maps.is_empty());
+        let why = skipped_why(&plan, "shadow map of light 0").unwrap();
+        assert!(why.contains("casts no shadows"), "{why}");
+    }
+
+    #[test]
+    fn spots_see_their_cone_and_points_get_six_faces() {
+        let mut scene = default_scene(DEFAULT_SCENE_METHOD);
+        let spot = |direction| Light {
+            kind: LightKind::Spot {
+                inner_cone: 0.2,
+                outer_cone: 0.3,
+            },
+            position: Vec3::new(0.0, 3.0, 0.0),
+            direction,
+            casts_shadows: true,
+            ..Light::default_light()
+        };
+        scene.lights = vec![
+            spot(Vec3::NEG_Y),
+            spot(Vec3::Y),
+            Light {
+                kind: LightKind::Point,
+                position: Vec3::new(0.0, 2.0, 0.0),
+                casts_shadows: true,
+                shadow_map_size: Some(256),
+                ..Light::default_light()
+            },
+        ];
+        let plan = planned(&scene, &ShadowOptions::DEFAULT);
+        let kinds: Vec<(usize, ShadowMapKind, u32, u32)> = plan
+            .shadow_maps
+            .iter()
+            .map(|m| (m.light, m.kind, m.first_tile, m.tiles))
+            .collect();
+        assert_eq!(
+            kinds,
+            vec![
+                (0, ShadowMapKind::Spot, 0, 1),
+                (2, ShadowMapKind::Cube, 1, 6)
+            ]
+        );
+        assert_eq!(plan.shadow_maps[1].size, 256);
+        let why = skipped_why(&plan, "shadow map of light 1").unwrap();
+        assert!(why.contains("no opaque or masked mesh"), "{why}");
+    }
+
+    #[test]
+    fn views_beyond_the_frame_s_budget_are_refused_by_light() {
+        let mut scene = default_scene(DEFAULT_SCENE_METHOD);
+        let point = Light {
+            kind: LightKind::Point,
+            position: Vec3::new(0.0, 2.0, 0.0),
+            casts_shadows: true,
+            ..Light::default_light()
+        };
+        scene.lights = vec![point; 3];
+        let plan = planned(&scene, &ShadowOptions::DEFAULT);
+        assert_eq!(plan.shadow_maps.len(), 2);
+        let why = skipped_why(&plan, "shadow map of light 2").unwrap();
+        assert!(why.contains("16 shadow views"), "{why}");
+    }
+}
