@@ -52,8 +52,9 @@ fn render_default_scene_reports_passes() {
     let passes = report["passes"].as_array().expect("passes");
     let names: Vec<&str> = passes.iter().filter_map(|p| p["pass"].as_str()).collect();
     // QDM reads the max pyramid, so its build is a pass of its own; the default scene's bricks
-    // ask for horizon AO, built once after it.
-    assert_eq!(names, ["pyramid", "ao map", "surface"]);
+    // ask for horizon AO, built once after it; its sun casts, so its shadow map comes before the
+    // surface.
+    assert_eq!(names, ["pyramid", "ao map", "shadow maps", "surface"]);
     assert!(
         passes
             .iter()
@@ -167,7 +168,12 @@ fn explain_prints_the_plan() {
         plan["created"]["compute_pipelines"], 1,
         "no pyramid for csm, only the cone map build"
     );
-    assert_eq!(plan["created"]["graphics_pipelines"], 2);
+    // The slab and the plain meshes, each drawn and each casting into the sun's map.
+    assert_eq!(plan["created"]["graphics_pipelines"], 4);
+    let maps = plan["shadow_maps"].as_array().expect("shadow maps");
+    assert_eq!(maps.len(), 1, "{maps:?}");
+    assert_eq!(maps[0]["kind"], "cascades");
+    assert_eq!(maps[0]["caster_meshes"].as_array().map(Vec::len), Some(4));
 }
 
 #[test]
@@ -206,16 +212,17 @@ fn a_frame_sequence_reuses_its_resources_and_reports_steady_statistics() {
         .collect();
     assert_eq!(
         first,
-        ["pyramid", "ao map", "surface"],
+        ["pyramid", "ao map", "shadow maps", "surface"],
         "the first frame builds the pyramid and the AO map"
     );
     let steady = report["steady"].as_array().expect("steady statistics");
     assert_eq!(
         steady.len(),
-        1,
-        "only the surface pass after frame 1: {steady:?}"
+        2,
+        "only the shadow maps and the surface pass after frame 1: {steady:?}"
     );
-    let surface = &steady[0];
+    assert_eq!(steady[0]["pass"], "shadow maps");
+    let surface = &steady[1];
     assert_eq!(surface["pass"], "surface");
     assert_eq!(surface["frames"], 3);
     let ms = |key: &str| surface[key].as_f64().expect(key);
@@ -297,8 +304,9 @@ fn the_pipeline_cache_persists_between_runs_and_a_corrupt_one_is_ignored() {
     let path = cache.to_str().expect("utf-8");
     let (first, _) = run(&["--pipeline-cache", path]);
     assert_eq!(first["seeded"], false, "{first}");
-    // The slab (qdm), the plain pedestal, the pyramid build and the horizon AO build.
-    assert_eq!(first["pipelines"], 4, "{first}");
+    // The slab (qdm) and the plain meshes, drawn and casting, the pyramid build and the horizon
+    // AO build.
+    assert_eq!(first["pipelines"], 6, "{first}");
     assert!(cache.exists(), "the cache was written");
     let (second, _) = run(&["--pipeline-cache", path]);
     assert_eq!(second["seeded"], true, "{second}");

@@ -100,15 +100,18 @@ fn maps_and_shadow_work_appear_only_when_needed() {
         Some("cone_map"),
         "csm reads a cone map"
     );
-    assert_eq!(created.graphics_pipelines, 1, "{created:?}");
+    // The surface pipeline, and the same material casting into the light's shadow map.
+    assert_eq!(plan.shadow_maps.len(), 1, "{:?}", plan.shadow_maps);
+    assert!(plan.passes.iter().any(|p| p.pass == Pass::ShadowMaps));
+    assert_eq!(created.graphics_pipelines, 2, "{created:?}");
     // The cone map is built on the GPU (render::cone_map_pass): its compute pipeline, and its
     // three buffers (heights in, pyramid, map out) besides the frame's own.
     assert_eq!(
         created.compute_pipelines, 1,
         "the cone map build: {created:?}"
     );
-    // The cone map is the one image more than POM needs.
-    assert_eq!(created.images, 5, "{created:?}");
+    // The cone map and the shadow atlas are the two images more than POM needs.
+    assert_eq!(created.images, 6, "{created:?}");
 }
 
 #[test]

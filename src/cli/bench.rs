@@ -97,6 +97,9 @@ pub struct BenchArgs {
     /// reference, and their cost in the default scene's frame).
     #[arg(long)]
     no_scene_shadows: bool,
+    /// Run only the scene-shadow section (with --quick: its small version).
+    #[arg(long, conflicts_with = "no_scene_shadows")]
+    scene_shadows_only: bool,
     #[arg(long, value_name = "repeat|clamp", default_value_t = Address::Repeat)]
     address: Address,
     #[arg(long, value_enum, default_value = "r16")]
@@ -321,13 +324,16 @@ struct Sections {
 
 impl Sections {
     fn new(args: &BenchArgs, cfg: &SweepConfig, ctx: &Context) -> Sections {
-        let only_other = args.shading_only || args.lod_only || args.stability_only;
+        let only_other =
+            args.shading_only || args.lod_only || args.stability_only || args.scene_shadows_only;
         let jobs = if only_other {
             Vec::new()
         } else {
             plan_jobs(cfg)
         };
-        let shading = (!args.no_shading && !args.lod_only && !args.stability_only).then(|| {
+        let shading_wanted =
+            !(args.no_shading || args.lod_only || args.stability_only || args.scene_shadows_only);
+        let shading = shading_wanted.then(|| {
             if cfg.quick {
                 ShadingConfig::quick()
             } else {
@@ -339,11 +345,12 @@ impl Sections {
         } else {
             8192.min(ctx.info().max_image_dimension_2d)
         };
-        let cases = if cfg.stability && !(args.shading_only || args.lod_only) {
-            stiff_cases(largest, cfg.quick)
-        } else {
-            Vec::new()
-        };
+        let cases =
+            if cfg.stability && !(args.shading_only || args.lod_only || args.scene_shadows_only) {
+                stiff_cases(largest, cfg.quick)
+            } else {
+                Vec::new()
+            };
         let ao_config = if cfg.quick {
             AoConfig::quick()
         } else {
@@ -355,10 +362,13 @@ impl Sections {
             shading,
             cases,
             ao_config,
-            lod_wanted: !(args.no_lod || args.shading_only || args.stability_only),
+            lod_wanted: !(args.no_lod
+                || args.shading_only
+                || args.stability_only
+                || args.scene_shadows_only),
             edits_wanted: !(args.no_edits || only_other),
             blending_wanted: !(args.no_blending || only_other),
-            scene_shadows_wanted: !(args.no_scene_shadows || only_other),
+            scene_shadows_wanted: args.scene_shadows_only || !(args.no_scene_shadows || only_other),
         }
     }
 

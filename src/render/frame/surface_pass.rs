@@ -168,7 +168,7 @@ impl FrameLayouts {
         &self,
         pool: &DescriptorPool,
         heights: &[HeightResources],
-        atlas: &ShadowAtlas,
+        atlas: (&ShadowAtlas, &(ImageView, Sampler)),
         slots: usize,
     ) -> VkResult<Vec<Vec<DescriptorSet>>> {
         heights
@@ -178,7 +178,7 @@ impl FrameLayouts {
                 (0..slots)
                     .map(|slot| {
                         let mut binds = h.slot_binds(slot);
-                        binds.push(atlas.bind());
+                        binds.push(atlas.0.bind(atlas.1));
                         pool.allocate(layout, &binds)
                     })
                     .collect::<VkResult<Vec<_>>>()
@@ -396,7 +396,10 @@ impl SurfacePass {
         )?;
         let sets = (heights.len() as u32 + 1) * slots as u32;
         let frame_pool = DescriptorPool::new(ctx, sets, 5 * sets, "frame sets")?;
-        let height_sets = layouts.height_sets(&frame_pool, heights, atlas, slots)?;
+        // Draws bind the atlas at binding 5 whether or not a light has a map; without one they
+        // bind the white texture, which no shader then reads.
+        let stand_in = textures.white()?;
+        let height_sets = layouts.height_sets(&frame_pool, heights, (atlas, &stand_in), slots)?;
         // The cells pass reads the plain set too.
         let plain = plan.pipelines.iter().any(|p| p.method.is_none()) || !plan.cells.is_empty();
         let plain_uniforms = if plain {
@@ -407,7 +410,7 @@ impl SurfacePass {
         let plain_sets = plain_uniforms
             .iter()
             .map(|b| {
-                let binds = [Bind::Uniform(BINDING_FRAME, b), atlas.bind()];
+                let binds = [Bind::Uniform(BINDING_FRAME, b), atlas.bind(&stand_in)];
                 frame_pool.allocate(&layouts.plain, &binds)
             })
             .collect::<VkResult<Vec<_>>>()?;

@@ -1,7 +1,8 @@
 //! The one depth image every shadow map of a frame lives in: each view (cascade, spot map, cube
 //! face) a square tile of it, so the surface pass binds a single texture whatever the lights, and
 //! the shadow pass renders every view in one rendering with a viewport per tile. A scene without
-//! shadow maps binds a 1x1 image that reads as "nothing nearer", and records nothing.
+//! shadow maps creates nothing: its draws bind a stand-in the shaders never read (no light has a
+//! map), and the pass records nothing.
 
 use std::sync::Arc;
 
@@ -9,7 +10,7 @@ use ash::vk;
 
 use crate::render::shader_interface::BINDING_SHADOW_ATLAS;
 use crate::vk::{
-    transition_images, upload_mips, Bind, Context, Image, ImageDesc, ImageTransition, Recording,
+    transition_images, Bind, Context, Image, ImageDesc, ImageTransition, ImageView, Recording,
     Sampler, VkError, VkResult,
 };
 
@@ -27,13 +28,10 @@ pub struct Tile {
     pub size: u32,
 }
 
-/// The atlas and the sampler the surface pass reads it with.
+/// The atlas and the sampler the surface pass reads it with (none without shadow maps).
 pub struct ShadowAtlas {
-    image: Image,
-    sampler: Sampler,
+    image: Option<(Image, Sampler)>,
     tiles: Vec<Tile>,
-    /// A real atlas (else the 1x1 stand-in, already readable).
-    rendered: bool,
 }
 
 /// Tiles for views of `sizes` texels, in a grid of cells as large as the largest.
@@ -55,36 +53,12 @@ pub fn layout_tiles(sizes: &[u32]) -> (Vec<Tile>, u32, u32) {
 }
 
 impl ShadowAtlas {
-    /// An atlas holding views of `sizes` texels per side, or the stand-in when `sizes` is empty.
+    /// An atlas holding views of `sizes` texels per side; nothing when `sizes` is empty.
     pub fn new(ctx: &Arc<Context>, sizes: &[u32]) -> VkResult<ShadowAtlas> {
-        let sampler = Sampler::new(
-            ctx,
-            vk::Filter::NEAREST,
-            vk::SamplerAddressMode::CLAMP_TO_EDGE,
-            "shadow atlas sampler",
-        )?;
         if sizes.is_empty() {
-            let desc = ImageDesc {
-                width: 1,
-                height: 1,
-                format: vk::Format::R32_SFLOAT,
-                mip_levels: 1,
-                usage: vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_DST,
-                aspect: vk::ImageAspectFlags::COLOR,
-            };
-            let image = Image::new(ctx, desc, "shadow atlas stand-in")?;
-            let far = 1.0f32.to_ne_bytes();
-            upload_mips(
-                ctx,
-                &image,
-                &[&far],
-                vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-            )?;
             return Ok(ShadowAtlas {
-                image,
-                sampler,
+                image: None,
                 tiles: Vec::new(),
-                rendered: false,
             });
         }
         let (tiles, width, height) = layout_tiles(sizes);
@@ -103,17 +77,25 @@ impl ShadowAtlas {
             usage: vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::SAMPLED,
             aspect: vk::ImageAspectFlags::DEPTH,
         };
+        let sampler = Sampler::new(
+            ctx,
+            vk::Filter::NEAREST,
+            vk::SamplerAddressMode::CLAMP_TO_EDGE,
+            "shadow atlas sampler",
+        )?;
         Ok(ShadowAtlas {
-            image: Image::new(ctx, desc, "shadow atlas")?,
-            sampler,
+            image: Some((Image::new(ctx, desc, "shadow atlas")?, sampler)),
             tiles,
-            rendered: true,
         })
     }
 
-    /// The descriptor of the atlas for set 0.
-    pub fn bind(&self) -> Bind<'_> {
-        Bind::Texture(BINDING_SHADOW_ATLAS, self.image.view(), &self.sampler)
+    /// The descriptor of the atlas for set 0, or of `stand_in` (any sampled 2D image, never read)
+    /// when there are no maps.
+    pub fn bind<'a>(&'a self, stand_in: &'a (ImageView, Sampler)) -> Bind<'a> {
+        match &self.image {
+            Some((image, sampler)) => Bind::Texture(BINDING_SHADOW_ATLAS, image.view(), sampler),
+            None => Bind::Texture(BINDING_SHADOW_ATLAS, &stand_in.0, &stand_in.1),
+        }
     }
 
     /// Where each view lives.
@@ -124,12 +106,15 @@ impl ShadowAtlas {
     /// Begins rendering depth into the whole atlas, cleared to the far plane. The previous frame
     /// (same queue) may still sample it, so its fragment shaders finish first.
     pub fn begin(&self, rec: &Recording) {
+        let Some((image, _)) = &self.image else {
+            return;
+        };
         let depth_stages = vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS
             | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS;
         transition_images(
             rec,
             &[ImageTransition {
-                image: &self.image,
+                image,
                 aspect: vk::ImageAspectFlags::DEPTH,
                 base_mip: 0,
                 mip_count: 1,
@@ -146,16 +131,19 @@ impl ShadowAtlas {
                 ),
             }],
         );
-        rec.begin_depth_rendering(&self.image);
+        rec.begin_depth_rendering(image);
     }
 
     /// Ends the rendering and hands the depths to the surface pass's fragment shaders.
     pub fn end(&self, rec: &Recording) {
+        let Some((image, _)) = &self.image else {
+            return;
+        };
         rec.end_rendering();
         transition_images(
             rec,
             &[ImageTransition {
-                image: &self.image,
+                image,
                 aspect: vk::ImageAspectFlags::DEPTH,
                 base_mip: 0,
                 mip_count: 1,
@@ -174,9 +162,9 @@ impl ShadowAtlas {
         );
     }
 
-    /// Whether the atlas holds maps to render (else it is the stand-in).
+    /// Whether the atlas holds maps to render.
     pub fn is_rendered(&self) -> bool {
-        self.rendered
+        self.image.is_some()
     }
 }
 
