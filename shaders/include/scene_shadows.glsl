@@ -11,6 +11,10 @@
 
 layout(set = 0, binding = BINDING_SHADOW_ATLAS) uniform sampler2D shadow_atlas;
 
+// The most capable filter any light of the frame uses, 0 without maps: a software rasteriser
+// runs every compiled path under a mask, so the filters no light uses are compiled out.
+layout(constant_id = SPEC_SHADOW_FILTER) const uint SHADOW_FILTER_MAX = 0u;
+
 // Widest filter and blocker search, in texels; a cascade is used only where the point keeps
 // this far (and a little more) from its edge, and cube faces are rendered this much wider.
 const float MAX_FILTER_TEXELS = 8.0;
@@ -20,10 +24,10 @@ const float PCF_RADIUS_TEXELS = 1.5;
 // rounding of two depths computed by different passes, well under the peter-panning scale.
 const float DEPTH_BIAS_TEXELS = 0.1;
 
-// Where world point p falls in shadow view k: xy its continuous atlas texel coordinates, z its
-// depth; w <= 0 when the point lies behind a perspective view.
-vec4 shadow_project(int k, vec3 p) {
-    ShadowTile t = frame.shadow_tiles[k];
+// Where world point p falls in shadow view t: xy its continuous atlas texel coordinates, z its
+// depth; w <= 0 when the point lies behind a perspective view. Views are passed by value, read
+// from the uniform block once per lookup: a software rasteriser pays every indexed read.
+vec4 shadow_project(ShadowTile t, vec3 p) {
     vec4 c = t.view_proj * vec4(p, 1.0);
     if (c.w <= 0.0) {
         return vec4(0.0, 0.0, 0.0, -1.0);
@@ -32,9 +36,8 @@ vec4 shadow_project(int k, vec3 p) {
     return vec4(t.rect.xy + (ndc.xy * 0.5 + 0.5) * t.rect.z, ndc.z, 1.0);
 }
 
-// Whether projected point q lies inside view k with `margin` texels to spare.
-bool shadow_view_holds(int k, vec4 q, float margin) {
-    ShadowTile t = frame.shadow_tiles[k];
+// Whether projected point q lies inside view t with `margin` texels to spare.
+bool shadow_view_holds(ShadowTile t, vec4 q, float margin) {
     vec2 local = q.xy - t.rect.xy;
     return q.w > 0.0 && all(greaterThanEqual(local, vec2(margin)))
         && all(lessThanEqual(local, vec2(t.rect.z - margin))) && q.z >= 0.0 && q.z <= 1.0;
@@ -58,11 +61,13 @@ int shadow_view_of(int i, vec3 p) {
         k += face;
     }
     if (kind != 0) {
-        return shadow_view_holds(k, shadow_project(k, p), 0.0) ? k : -1;
+        ShadowTile t = frame.shadow_tiles[k];
+        return shadow_view_holds(t, shadow_project(t, p), 0.0) ? k : -1;
     }
     // Cascades, nearest first: the first that holds the point and its filter.
     for (int c = 0; c < s.y; ++c) {
-        if (shadow_view_holds(s.x + c, shadow_project(s.x + c, p), MAX_FILTER_TEXELS + 1.0)) {
+        ShadowTile t = frame.shadow_tiles[s.x + c];
+        if (shadow_view_holds(t, shadow_project(t, p), MAX_FILTER_TEXELS + 1.0)) {
             return s.x + c;
         }
     }
@@ -81,18 +86,17 @@ struct ShadowReceiver {
     float texel_world;
 };
 
-ShadowReceiver shadow_receiver(int k, vec3 p, vec3 n, vec3 l) {
-    ShadowTile t = frame.shadow_tiles[k];
+ShadowReceiver shadow_receiver(ShadowTile t, vec3 p, vec3 n, vec3 l) {
     ShadowReceiver r;
     r.texel_world = t.rect.w > 0.5 ? t.depth.z * distance(p, t.origin.xyz) : t.depth.z;
-    vec4 q = shadow_project(k, p);
+    vec4 q = shadow_project(t, p);
     r.texel = q.xy;
-    r.depth = shadow_project(k, p + l * (DEPTH_BIAS_TEXELS * r.texel_world)).z;
+    r.depth = shadow_project(t, p + l * (DEPTH_BIAS_TEXELS * r.texel_world)).z;
     // Two directions in the receiver's plane, one texel long, and where they land in the view.
     vec3 a = normalize(cross(n, abs(n.x) < 0.9 ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0)));
     vec3 b = cross(n, a);
-    vec4 qa = shadow_project(k, p + a * r.texel_world);
-    vec4 qb = shadow_project(k, p + b * r.texel_world);
+    vec4 qa = shadow_project(t, p + a * r.texel_world);
+    vec4 qb = shadow_project(t, p + b * r.texel_world);
     mat2 j = mat2(qa.xy - q.xy, qb.xy - q.xy);
     vec2 dz = vec2(qa.z - q.z, qb.z - q.z);
     // slope . j[c] = dz[c]: the plane's depth gradient in texels (zero when seen edge-on).
@@ -117,16 +121,28 @@ float shadow_tap(ShadowReceiver r, vec2 c) {
     return stored_depth(r, c) >= receiver_depth_at(r, c) ? 1.0 : 0.0;
 }
 
+// The four stored depths whose centres surround corner `corner` (a texel corner), in
+// textureGather's order: (-,+), (+,+), (+,-), (-,-) from the corner; one fetch, where four
+// texelFetch calls would each pay a software rasteriser's full texel path. With the receiver's
+// plane depth at those centres.
+vec4 gather_depths(ShadowReceiver r, vec2 corner, out vec4 plane) {
+    corner = clamp(corner, r.lo + 0.5, r.hi - 0.5);
+    vec2 atlas = vec2(textureSize(shadow_atlas, 0));
+    vec2 c00 = corner - 0.5;
+    float base = receiver_depth_at(r, c00);
+    plane = base + vec4(r.slope.y, r.slope.x + r.slope.y, r.slope.x, 0.0);
+    return textureGather(shadow_atlas, corner / atlas, 0);
+}
+
 // Four taps around continuous texel position x, weighted bilinearly.
 float shadow_bilinear(ShadowReceiver r, vec2 x) {
     vec2 g = x - 0.5;
-    vec2 c = floor(g) + 0.5;
     vec2 w = g - floor(g);
-    float s00 = shadow_tap(r, c);
-    float s10 = shadow_tap(r, c + vec2(1.0, 0.0));
-    float s01 = shadow_tap(r, c + vec2(0.0, 1.0));
-    float s11 = shadow_tap(r, c + vec2(1.0, 1.0));
-    return mix(mix(s00, s10, w.x), mix(s01, s11, w.x), w.y);
+    vec4 plane;
+    vec4 stored = gather_depths(r, floor(g) + 1.0, plane);
+    vec4 lit = vec4(greaterThanEqual(stored, plane));
+    // lit.w (-,-), lit.z (+,-), lit.x (-,+), lit.y (+,+).
+    return mix(mix(lit.w, lit.z, w.x), mix(lit.x, lit.y, w.x), w.y);
 }
 
 // The lit share of a square of half-width `radius` texels around the receiver: bilinear taps
@@ -156,8 +172,7 @@ float shadow_distance(ShadowTile t, float d) {
 
 // Percentage-closer soft shadows for light i (size `size`: an angular radius for directional
 // lights, a sphere's radius otherwise).
-float shadow_pcss(int k, ShadowReceiver r, float size) {
-    ShadowTile t = frame.shadow_tiles[k];
+float shadow_pcss(ShadowTile t, ShadowReceiver r, float size) {
     bool perspective = t.rect.w > 0.5;
     float receiver = shadow_distance(t, r.depth);
     // Blockers up to the light shade the point from within this reach (capped at the filter's
@@ -167,13 +182,16 @@ float shadow_pcss(int k, ShadowReceiver r, float size) {
     float search = clamp(reach / r.texel_world, 1.0, MAX_FILTER_TEXELS);
     float blockers = 0.0;
     float found = 0.0;
-    for (int y = 0; y < 4; ++y) {
-        for (int x = 0; x < 4; ++x) {
-            vec2 c = floor(r.texel + ((vec2(x, y) + 0.5) / 4.0 * 2.0 - 1.0) * search) + 0.5;
-            float stored = stored_depth(r, c);
-            if (stored < receiver_depth_at(r, c)) {
-                blockers += shadow_distance(t, stored);
-                found += 1.0;
+    // 2 x 2 gathers: 16 texels spread over the search square.
+    for (int y = 0; y < 2; ++y) {
+        for (int x = 0; x < 2; ++x) {
+            vec2 corner = floor(r.texel + (vec2(x, y) - 0.5) * search) + 0.5;
+            vec4 plane;
+            vec4 stored = gather_depths(r, corner + 0.5, plane);
+            vec4 blocking = vec4(lessThan(stored, plane));
+            found += dot(blocking, vec4(1.0));
+            for (int c = 0; c < 4; ++c) {
+                blockers += blocking[c] * shadow_distance(t, stored[c]);
             }
         }
     }
@@ -189,19 +207,23 @@ float shadow_pcss(int k, ShadowReceiver r, float size) {
 // The visible fraction of light i at world point p, on a receiver plane of normal n, the light
 // toward l, from the light's shadow map; 1 when it has none or p lies outside it.
 float scene_shadow(int i, vec3 p, vec3 n, vec3 l) {
+    if (SHADOW_FILTER_MAX == 0u) {
+        return 1.0;
+    }
     int k = shadow_view_of(i, p);
     if (k < 0) {
         return 1.0;
     }
-    ShadowReceiver r = shadow_receiver(k, p, n, l);
+    ShadowTile t = frame.shadow_tiles[k];
+    ShadowReceiver r = shadow_receiver(t, p, n, l);
     int filter_kind = frame.light_shadows[i].z;
-    if (filter_kind == SHADOW_FILTER_HARD) {
+    if (SHADOW_FILTER_MAX == SHADOW_FILTER_HARD || filter_kind == SHADOW_FILTER_HARD) {
         return shadow_tap(r, floor(r.texel) + 0.5);
     }
-    if (filter_kind == SHADOW_FILTER_PCF) {
+    if (SHADOW_FILTER_MAX == SHADOW_FILTER_PCF || filter_kind == SHADOW_FILTER_PCF) {
         return shadow_filter(r, PCF_RADIUS_TEXELS);
     }
-    return shadow_pcss(k, r, frame.lights[i].cone.z);
+    return shadow_pcss(t, r, frame.lights[i].cone.z);
 }
 
 #endif

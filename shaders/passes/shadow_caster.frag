@@ -1,9 +1,10 @@
 #version 460
-// The shadow pass: a mesh seen from a light, depth only. Relief variants (build.rs maps
-// "method.glsl" to the method's file) trace the light's ray through the height field with the
-// material's own method, exactly as the surface pass traces the view ray, and write the hit's
-// depth in the shadow view: a height field casts the shadow of its relief, not of its polygon.
-// The plain variant (PLAIN_SURFACE) keeps the rasterised depth. Both honour alpha-mask cut-outs.
+// The shadow pass: a mesh seen from a light. Relief variants (build.rs maps "method.glsl" to the
+// method's file) trace the light's ray through the height field with the material's own method,
+// exactly as the surface pass traces the view ray, and write the hit's depth in the shadow view:
+// a height field casts the shadow of its relief, not of its polygon. The plain variant
+// (PLAIN_SURFACE) keeps the rasterised depth. Both honour alpha-mask cut-outs, and both write the
+// depth twice: for the depth test, and as the colour the surface pass samples (shadow_atlas.rs).
 #extension GL_GOOGLE_include_directive : require
 #include "conventions.glsl"
 #include "numeric.glsl"
@@ -23,6 +24,7 @@ layout(location = 3) in vec2 in_uv1;
 layout(location = 4) in vec4 in_tangent;
 layout(location = 5) in vec4 in_color;
 
+layout(location = 0) out float out_depth;
 #ifndef PLAIN_SURFACE
 // The hit is never nearer the light than the polygon, as in the surface pass.
 layout(depth_greater) out float gl_FragDepth;
@@ -52,6 +54,9 @@ void main() {
     vec3 world = relief_hit_world(f, in_world, uv_h, uv_hit, z);
     vec4 clip = tile.view_proj * vec4(world, 1.0);
     gl_FragDepth = max(gl_FragCoord.z, clamp(clip.z / clip.w, 0.0, 1.0));
+    out_depth = gl_FragDepth;
+#else
+    out_depth = gl_FragCoord.z;
 #endif
     if (material.emissive.w >= 0.0 && material_cut(sample_material(uv0, uv1, in_color))) {
         discard;

@@ -204,35 +204,6 @@ impl<'a> Recording<'a> {
         }
     }
 
-    /// Begins dynamic rendering into `depth` alone (no colour), cleared to 1 and stored: a depth
-    /// map rendered to be sampled later. The viewport covers the whole image until
-    /// [`Recording::set_viewport`] narrows it.
-    pub fn begin_depth_rendering(&self, depth: &Image) {
-        let (width, height) = (depth.desc().width, depth.desc().height);
-        let attachment = vk::RenderingAttachmentInfo::default()
-            .image_view(depth.view().raw())
-            .image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)
-            .load_op(vk::AttachmentLoadOp::CLEAR)
-            .store_op(vk::AttachmentStoreOp::STORE)
-            .clear_value(vk::ClearValue {
-                depth_stencil: vk::ClearDepthStencilValue {
-                    depth: 1.0,
-                    stencil: 0,
-                },
-            });
-        let area = vk::Rect2D {
-            offset: vk::Offset2D::default(),
-            extent: vk::Extent2D { width, height },
-        };
-        let info = vk::RenderingInfo::default()
-            .render_area(area)
-            .layer_count(1)
-            .depth_attachment(&attachment);
-        // SAFETY: the buffer is recording; the attachment is alive and in the layout named.
-        unsafe { self.device.cmd_begin_rendering(self.cmd, &info) };
-        self.set_viewport(0, 0, width, height);
-    }
-
     /// Draws into the `width` x `height` rectangle at (`x`, `y`) from now on: viewport and
     /// scissor alike, depth 0 to 1.
     pub fn set_viewport(&self, x: u32, y: u32, width: u32, height: u32) {

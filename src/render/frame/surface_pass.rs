@@ -20,9 +20,9 @@ use crate::render::shader_interface::{
     BINDING_METHOD_MAP, BINDING_SHADOW_ATLAS, SPEC_BUDGET_EXTENT_LIMIT, SPEC_BUDGET_LEAF_EXACT,
     SPEC_BUDGET_MAX_STEPS, SPEC_BUDGET_REFINE_STEPS, SPEC_HARD_SHADOW_TEXELS,
     SPEC_LOD_AVERAGE_BELOW, SPEC_LOD_BIAS, SPEC_LOD_FACTOR, SPEC_LOD_FADE_END, SPEC_LOD_FADE_START,
-    SPEC_SHADOW_MODE, SPEC_SHADOW_REACH, SPEC_SHADOW_STEPS,
+    SPEC_SHADOW_FILTER, SPEC_SHADOW_MODE, SPEC_SHADOW_REACH, SPEC_SHADOW_STEPS,
 };
-use crate::render::shadows::shadow_atlas::ShadowAtlas;
+use crate::render::shadows::shadow_atlas::{ShadowAtlas, SHADOW_FORMAT};
 use crate::render::shadows::shadow_plan::{mesh_world_bounds, relief_pad};
 use crate::render::terrain::layer_set::{layer_layout, LayerSets};
 use crate::scene::{Frustum, Lod, Mesh, Scene, Vertex};
@@ -420,12 +420,18 @@ impl SurfacePass {
             Some(m) if m.info().method_map().is_some() => &layouts.heights_and_map,
             Some(_) => &layouts.heights,
         };
+        let shadow_filter = plan
+            .shadow_maps
+            .iter()
+            .map(|m| m.filter.shader_value())
+            .max()
+            .unwrap_or(0);
         let pipelines = plan
             .pipelines
             .iter()
             .map(|key| {
                 let set0 = set0_of(key);
-                let stages = MeshStages::surface(key);
+                let stages = MeshStages::surface(key, shadow_filter);
                 if key.layers {
                     let sets = [set0, &material_layout, &layer_layout];
                     create_pipeline(ctx, key, &stages, &sets)
@@ -646,20 +652,25 @@ struct MeshStages {
     fragment: String,
     color_format: vk::Format,
     name: String,
+    /// `SPEC_SHADOW_FILTER`: the most capable filter a lookup may need, 0 for none.
+    shadow_filter: u32,
 }
 
 impl MeshStages {
-    fn surface(key: &PipelineKey) -> MeshStages {
+    /// The surface pass's, looking shadow maps up with filters up to `shadow_filter`.
+    fn surface(key: &PipelineKey, shadow_filter: u32) -> MeshStages {
         MeshStages {
             vertex: "mesh.vert",
             fragment: key.shader(),
             color_format: COLOR_FORMAT,
             name: format!("surface {}", describe(key)),
+            shadow_filter,
         }
     }
 
-    /// Depth only, from the light: relief traced with the method's own variant (without level
-    /// of detail, so a map shows the full relief however far the camera is).
+    /// From the light, depth written as the colour the surface pass samples: relief traced with
+    /// the method's own variant (without level of detail, so a map shows the full relief however
+    /// far the camera is).
     fn caster(key: &PipelineKey) -> MeshStages {
         let fragment = match key.method {
             Some(m) => format!("shadow_caster.frag:{}", m.id()),
@@ -669,7 +680,8 @@ impl MeshStages {
             vertex: "mesh.vert:shadow",
             name: format!("shadow caster {fragment}"),
             fragment,
-            color_format: vk::Format::UNDEFINED,
+            color_format: SHADOW_FORMAT,
+            shadow_filter: 0,
         }
     }
 }
@@ -686,7 +698,8 @@ fn create_pipeline(
     let mut spec = SpecConstants::default()
         .u32(SPEC_SHADOW_MODE, key.shadows.mode.shader_value())
         .u32(SPEC_SHADOW_STEPS, key.shadows.resolved_steps())
-        .f32(SPEC_SHADOW_REACH, key.shadows.horizon_reach);
+        .f32(SPEC_SHADOW_REACH, key.shadows.horizon_reach)
+        .u32(SPEC_SHADOW_FILTER, stages.shadow_filter);
     if let Some(method) = key.method {
         let budget = method.info().default_budget;
         spec = spec
@@ -737,7 +750,7 @@ fn create_pipeline(
         },
         set_layouts,
         push_bytes: std::mem::size_of::<DrawPush>() as u32,
-        blend: key.blend && stages.color_format != vk::Format::UNDEFINED,
+        blend: key.blend && stages.color_format == COLOR_FORMAT,
     };
     graphics_pipeline(ctx, &desc, &stages.name)
 }

@@ -226,6 +226,9 @@ glsl_table! {
         SPEC_SHADOW_REACH = 10;
         /// How far a hard shadow's first hit must lie from the shaded point, in texels.
         SPEC_HARD_SHADOW_TEXELS = 11;
+        /// The most capable shadow-map filter any light of the frame uses (`ShadowFilter`), 0
+        /// for none: lookups compile only the filters up to it.
+        SPEC_SHADOW_FILTER = 12;
         /// Level of detail: the stop level's scale with distance.
         SPEC_LOD_FACTOR = 20;
         /// Level of detail: added to the stop level.

@@ -1,8 +1,12 @@
-//! The one depth image every shadow map of a frame lives in: each view (cascade, spot map, cube
-//! face) a square tile of it, so the surface pass binds a single texture whatever the lights, and
-//! the shadow pass renders every view in one rendering with a viewport per tile. A scene without
-//! shadow maps creates nothing: its draws bind a stand-in the shaders never read (no light has a
-//! map), and the pass records nothing.
+//! The one image every shadow map of a frame lives in: each view (cascade, spot map, cube face)
+//! a square tile of it, so the surface pass binds a single texture whatever the lights, and the
+//! shadow pass renders every view in one rendering with a viewport per tile. The casters write
+//! their depth twice: into a depth attachment, for the depth test, and into an R32F colour
+//! image, which is what the surface pass samples. (On lavapipe, binding a depth image to the
+//! surface pass slows every surface fragment by half, lookup or not: measured at 960x540, 138
+//! against 92 GPU ms with the lookups skipped; a colour copy costs nothing of the kind.) A scene
+//! without shadow maps creates nothing: its draws bind a stand-in the shaders never read (no
+//! light has a map), and the pass records nothing.
 
 use std::sync::Arc;
 
@@ -14,8 +18,10 @@ use crate::vk::{
     Sampler, VkError, VkResult,
 };
 
-/// Depth format of the shadow maps.
-pub const SHADOW_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
+/// Format of the sampled depths.
+pub const SHADOW_FORMAT: vk::Format = vk::Format::R32_SFLOAT;
+/// Format of the depth test's attachment.
+const SHADOW_DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
 
 /// Where one view lives in the atlas, in texels.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -28,9 +34,18 @@ pub struct Tile {
     pub size: u32,
 }
 
+/// The atlas's images.
+struct AtlasImages {
+    /// The depths the surface pass samples (cleared to 1, the far plane).
+    depths: Image,
+    /// The depth test's attachment, never sampled.
+    test: Image,
+    sampler: Sampler,
+}
+
 /// The atlas and the sampler the surface pass reads it with (none without shadow maps).
 pub struct ShadowAtlas {
-    image: Option<(Image, Sampler)>,
+    images: Option<AtlasImages>,
     tiles: Vec<Tile>,
 }
 
@@ -57,7 +72,7 @@ impl ShadowAtlas {
     pub fn new(ctx: &Arc<Context>, sizes: &[u32]) -> VkResult<ShadowAtlas> {
         if sizes.is_empty() {
             return Ok(ShadowAtlas {
-                image: None,
+                images: None,
                 tiles: Vec::new(),
             });
         }
@@ -69,14 +84,32 @@ impl ShadowAtlas {
                 sizes.len()
             )));
         }
-        let desc = ImageDesc {
+        let desc = |format, usage, aspect| ImageDesc {
             width,
             height,
-            format: SHADOW_FORMAT,
+            format,
             mip_levels: 1,
-            usage: vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::SAMPLED,
-            aspect: vk::ImageAspectFlags::DEPTH,
+            usage,
+            aspect,
         };
+        let depths = Image::new(
+            ctx,
+            desc(
+                SHADOW_FORMAT,
+                vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED,
+                vk::ImageAspectFlags::COLOR,
+            ),
+            "shadow atlas",
+        )?;
+        let test = Image::new(
+            ctx,
+            desc(
+                SHADOW_DEPTH_FORMAT,
+                vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
+                vk::ImageAspectFlags::DEPTH,
+            ),
+            "shadow atlas depth test",
+        )?;
         let sampler = Sampler::new(
             ctx,
             vk::Filter::NEAREST,
@@ -84,7 +117,11 @@ impl ShadowAtlas {
             "shadow atlas sampler",
         )?;
         Ok(ShadowAtlas {
-            image: Some((Image::new(ctx, desc, "shadow atlas")?, sampler)),
+            images: Some(AtlasImages {
+                depths,
+                test,
+                sampler,
+            }),
             tiles,
         })
     }
@@ -92,8 +129,8 @@ impl ShadowAtlas {
     /// The descriptor of the atlas for set 0, or of `stand_in` (any sampled 2D image, never read)
     /// when there are no maps.
     pub fn bind<'a>(&'a self, stand_in: &'a (ImageView, Sampler)) -> Bind<'a> {
-        match &self.image {
-            Some((image, sampler)) => Bind::Texture(BINDING_SHADOW_ATLAS, image.view(), sampler),
+        match &self.images {
+            Some(a) => Bind::Texture(BINDING_SHADOW_ATLAS, a.depths.view(), &a.sampler),
             None => Bind::Texture(BINDING_SHADOW_ATLAS, &stand_in.0, &stand_in.1),
         }
     }
@@ -103,56 +140,73 @@ impl ShadowAtlas {
         &self.tiles
     }
 
-    /// Begins rendering depth into the whole atlas, cleared to the far plane. The previous frame
-    /// (same queue) may still sample it, so its fragment shaders finish first.
+    /// Begins rendering into the whole atlas, cleared to the far plane. The previous frame (same
+    /// queue) may still sample it, so its fragment shaders finish first.
     pub fn begin(&self, rec: &Recording) {
-        let Some((image, _)) = &self.image else {
+        let Some(a) = &self.images else {
             return;
         };
         let depth_stages = vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS
             | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS;
         transition_images(
             rec,
-            &[ImageTransition {
-                image,
-                aspect: vk::ImageAspectFlags::DEPTH,
-                base_mip: 0,
-                mip_count: 1,
-                old: vk::ImageLayout::UNDEFINED,
-                new: vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
-                src: (
-                    vk::PipelineStageFlags2::FRAGMENT_SHADER,
-                    vk::AccessFlags2::NONE,
-                ),
-                dst: (
-                    depth_stages,
-                    vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ
-                        | vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE,
-                ),
-            }],
+            &[
+                ImageTransition {
+                    image: &a.depths,
+                    aspect: vk::ImageAspectFlags::COLOR,
+                    base_mip: 0,
+                    mip_count: 1,
+                    old: vk::ImageLayout::UNDEFINED,
+                    new: vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+                    src: (
+                        vk::PipelineStageFlags2::FRAGMENT_SHADER,
+                        vk::AccessFlags2::NONE,
+                    ),
+                    dst: (
+                        vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+                        vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
+                    ),
+                },
+                ImageTransition {
+                    image: &a.test,
+                    aspect: vk::ImageAspectFlags::DEPTH,
+                    base_mip: 0,
+                    mip_count: 1,
+                    old: vk::ImageLayout::UNDEFINED,
+                    new: vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
+                    src: (
+                        depth_stages,
+                        vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE,
+                    ),
+                    dst: (
+                        depth_stages,
+                        vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ
+                            | vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE,
+                    ),
+                },
+            ],
         );
-        rec.begin_depth_rendering(image);
+        rec.begin_rendering(&a.depths, Some(&a.test), [1.0; 4], false);
     }
 
     /// Ends the rendering and hands the depths to the surface pass's fragment shaders.
     pub fn end(&self, rec: &Recording) {
-        let Some((image, _)) = &self.image else {
+        let Some(a) = &self.images else {
             return;
         };
         rec.end_rendering();
         transition_images(
             rec,
             &[ImageTransition {
-                image,
-                aspect: vk::ImageAspectFlags::DEPTH,
+                image: &a.depths,
+                aspect: vk::ImageAspectFlags::COLOR,
                 base_mip: 0,
                 mip_count: 1,
-                old: vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
+                old: vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
                 new: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
                 src: (
-                    vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS
-                        | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS,
-                    vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE,
+                    vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+                    vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
                 ),
                 dst: (
                     vk::PipelineStageFlags2::FRAGMENT_SHADER,
@@ -164,7 +218,7 @@ impl ShadowAtlas {
 
     /// Whether the atlas holds maps to render.
     pub fn is_rendered(&self) -> bool {
-        self.image.is_some()
+        self.images.is_some()
     }
 }
 
