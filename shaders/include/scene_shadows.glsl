@@ -149,7 +149,7 @@ float shadow_bilinear(ShadowReceiver r, vec2 x) {
 // on a grid fine enough that their footprints overlap.
 float shadow_filter(ShadowReceiver r, float radius) {
     radius = clamp(radius, 0.5, MAX_FILTER_TEXELS);
-    int n = clamp(int(ceil(radius)) + 1, 2, 6);
+    int n = clamp(int(ceil(radius)) + 1, 2, 4);
     float sum = 0.0;
     for (int y = 0; y < n; ++y) {
         for (int x = 0; x < n; ++x) {

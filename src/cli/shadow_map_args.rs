@@ -29,7 +29,7 @@ pub struct ShadowMapArgs {
     #[arg(long, value_name = "N")]
     shadow_map_size: Option<u32>,
     /// Cascades of a directional light's shadow map, 1..=4 (default: each light's
-    /// extras.relief.shadow_cascades, else 2).
+    /// extras.relief.shadow_cascades, else 1).
     #[arg(long, value_name = "N")]
     shadow_cascades: Option<u32>,
     /// Shadow-map filter: hard (one texel), pcf (fixed 1.5-texel footprint) or pcss (penumbra
