@@ -106,9 +106,12 @@ ShadowReceiver shadow_receiver(ShadowTile t, vec3 p, vec3 n, vec3 l) {
     return r;
 }
 
-// The receiver's plane depth at texel centre c.
+// The depth a stored texel at centre c must be nearer than to block the receiver: nearer than
+// the receiver's plane there (so the plane never shadows itself) and nearer than the receiver
+// itself (a blocker lies between it and the light; without this, the floor at a wall's foot,
+// nearer than the wall's plane continued under it, would darken the wall's lit foot).
 float receiver_depth_at(ShadowReceiver r, vec2 c) {
-    return r.depth + dot(r.slope, c - r.texel);
+    return min(r.depth + dot(r.slope, c - r.texel), r.depth);
 }
 
 // The stored depth at texel centre c, kept inside the receiver's view.
@@ -123,14 +126,14 @@ float shadow_tap(ShadowReceiver r, vec2 c) {
 
 // The four stored depths whose centres surround corner `corner` (a texel corner), in
 // textureGather's order: (-,+), (+,+), (+,-), (-,-) from the corner; one fetch, where four
-// texelFetch calls would each pay a software rasteriser's full texel path. With the receiver's
-// plane depth at those centres.
+// texelFetch calls would each pay a software rasteriser's full texel path. With the depths a
+// blocker must be nearer than at those centres (receiver_depth_at).
 vec4 gather_depths(ShadowReceiver r, vec2 corner, out vec4 plane) {
     corner = clamp(corner, r.lo + 0.5, r.hi - 0.5);
     vec2 atlas = vec2(textureSize(shadow_atlas, 0));
     vec2 c00 = corner - 0.5;
-    float base = receiver_depth_at(r, c00);
-    plane = base + vec4(r.slope.y, r.slope.x + r.slope.y, r.slope.x, 0.0);
+    float base = r.depth + dot(r.slope, c00 - r.texel);
+    plane = min(base + vec4(r.slope.y, r.slope.x + r.slope.y, r.slope.x, 0.0), vec4(r.depth));
     return textureGather(shadow_atlas, corner / atlas, 0);
 }
 
