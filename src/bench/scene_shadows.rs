@@ -99,8 +99,6 @@ pub struct SceneShadowRun {
     pub shadow_maps_ms: f64,
     /// GPU ms of the probe frame's surface pass.
     pub surface_ms: f64,
-    /// Band width used, in shadow-map texels as they land on the receiver (at least one pixel).
-    pub band_texels: f32,
     /// Per pixel: exact visible fraction (-1 background, -2 turned away from the light).
     #[serde(skip)]
     pub exact: Vec<f32>,
@@ -310,7 +308,6 @@ pub fn measure_scene_shadows(
         caster_difference,
         shadow_maps_ms: ms(Pass::ShadowMaps),
         surface_ms: ms(Pass::Surface),
-        band_texels: 1.0,
         exact,
         relief,
         flat,

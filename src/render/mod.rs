@@ -30,6 +30,7 @@ pub use frame::frame_uniforms::{
 };
 pub use frame::gpu_heightfield::{GpuHeightfield, HeightFormat};
 pub use frame::height_resources::{HeightResources, HeightUpload};
+pub use frame::mesh_pipeline::describe as describe_pipeline;
 pub use frame::method_map::GpuMethodMap;
 pub use frame::pass::Pass;
 pub use frame::pass_timer::{PassTiming, Scope};
@@ -38,7 +39,7 @@ pub use frame::plan::{
 };
 pub use frame::renderer::{FrameOutput, FrameRequest, Renderer, FRAMES_IN_FLIGHT};
 pub use frame::single_frame::{render, BuiltMap, Frame, RenderError, RenderOptions};
-pub use frame::surface_pass::{describe as describe_pipeline, COLOR_FORMAT, DEPTH_FORMAT};
+pub use frame::surface_pass::{COLOR_FORMAT, DEPTH_FORMAT};
 pub use maps::ao_map_pass::{AoJob, AoMap, AoMapPass, AO_MAP_FORMAT, SWEEP_DIRECTIONS};
 pub use maps::cone_map_pass::{
     build_cone_map_on_gpu, ConeMapPass, MAX_SIDE as CONE_MAP_GPU_MAX_SIDE, RATIO_TOLERANCE,

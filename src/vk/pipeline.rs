@@ -245,7 +245,7 @@ pub struct GraphicsDesc<'a> {
     pub vertex_stride: u32,
     /// Vertex attributes read from binding 0.
     pub attributes: &'a [vk::VertexInputAttributeDescription],
-    /// The colour attachment's format; `UNDEFINED` for a depth-only pass (a shadow map).
+    /// The colour attachment's format.
     pub color_format: vk::Format,
     /// `UNDEFINED` for a pass without depth.
     pub depth_format: vk::Format,
@@ -259,8 +259,8 @@ pub struct GraphicsDesc<'a> {
     pub blend: bool,
 }
 
-/// Creates a triangle-list graphics pipeline for dynamic rendering with one colour (or none) and
-/// one depth attachment; viewport and scissor are dynamic.
+/// Creates a triangle-list graphics pipeline for dynamic rendering with one colour and one depth
+/// attachment; viewport and scissor are dynamic.
 pub fn graphics_pipeline(
     ctx: &Arc<Context>,
     desc: &GraphicsDesc,
@@ -324,15 +324,12 @@ pub fn graphics_pipeline(
         .dst_alpha_blend_factor(vk::BlendFactor::ONE_MINUS_SRC_ALPHA)
         .alpha_blend_op(vk::BlendOp::ADD)
         .color_write_mask(vk::ColorComponentFlags::RGBA)];
-    let has_color = desc.color_format != vk::Format::UNDEFINED;
-    let blend_attachments: &[_] = if has_color { &blend_attachments } else { &[] };
-    let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(blend_attachments);
+    let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachments);
     let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
     let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
     let color_formats = [desc.color_format];
-    let color_formats: &[_] = if has_color { &color_formats } else { &[] };
     let mut rendering = vk::PipelineRenderingCreateInfo::default()
-        .color_attachment_formats(color_formats)
+        .color_attachment_formats(&color_formats)
         .depth_attachment_format(desc.depth_format);
     let info = vk::GraphicsPipelineCreateInfo::default()
         .stages(&stages)

@@ -5,9 +5,9 @@
 use serde::Serialize;
 use serde_json::{json, Value};
 
+use super::mesh_pipeline::describe;
 use super::plan::Plan;
 use super::single_frame::BuiltMap;
-use super::surface_pass::describe;
 use crate::render::cells::cells_pass::BuiltComplex;
 use crate::vk::ObjectCounts;
 

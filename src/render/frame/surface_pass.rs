@@ -11,25 +11,21 @@ use glam::{Mat3, Mat4, Vec3};
 use super::frame_uniforms::FrameUniforms;
 use super::height_resources::HeightResources;
 use super::material_set::{material_layout, MaterialSets};
+use super::mesh_pipeline::{create_pipeline, MeshStages};
 use super::plan::{DrawPlan, PipelineKey, Plan};
 use super::scene_ao::SceneAo;
 use super::scene_textures::SceneTextures;
-use crate::method::Method;
 use crate::render::shader_interface::{
     BINDING_FRAME, BINDING_HEIGHT_LINEAR, BINDING_HEIGHT_MEAN, BINDING_HEIGHT_POINT,
-    BINDING_METHOD_MAP, BINDING_SHADOW_ATLAS, SPEC_BUDGET_EXTENT_LIMIT, SPEC_BUDGET_LEAF_EXACT,
-    SPEC_BUDGET_MAX_STEPS, SPEC_BUDGET_REFINE_STEPS, SPEC_HARD_SHADOW_TEXELS,
-    SPEC_LOD_AVERAGE_BELOW, SPEC_LOD_BIAS, SPEC_LOD_FACTOR, SPEC_LOD_FADE_END, SPEC_LOD_FADE_START,
-    SPEC_SHADOW_FILTER, SPEC_SHADOW_MODE, SPEC_SHADOW_REACH, SPEC_SHADOW_STEPS,
+    BINDING_METHOD_MAP, BINDING_SHADOW_ATLAS,
 };
-use crate::render::shadows::shadow_atlas::{ShadowAtlas, SHADOW_FORMAT};
-use crate::render::shadows::shadow_plan::{mesh_world_bounds, relief_pad};
+use crate::render::shadows::shadow_atlas::ShadowAtlas;
+use crate::render::shadows::shadow_plan::relief_pad;
 use crate::render::terrain::layer_set::{layer_layout, LayerSets};
-use crate::scene::{Frustum, Lod, Mesh, Scene, Vertex};
-use crate::shaders;
+use crate::scene::{Frustum, Mesh, Scene, Vertex};
 use crate::vk::{
-    graphics_pipeline, Bind, Buffer, Context, DescriptorLayout, DescriptorPool, DescriptorSet,
-    GraphicsDesc, ImageView, Pipeline, Recording, Sampler, SpecConstants, VkError, VkResult,
+    Bind, Buffer, Context, DescriptorLayout, DescriptorPool, DescriptorSet, ImageView, Pipeline,
+    Recording, Sampler, VkError, VkResult,
 };
 
 /// Colour target format: sRGB, so the hardware encodes the shader's linear output.
@@ -79,28 +75,6 @@ impl DrawPush {
     }
 }
 
-/// How far from the shaded point a hard shadow ray's hit must be to count as a blocker, in
-/// texels. Methods that meet the surface to float rounding get a twentieth of a texel (measured:
-/// a quarter let 0.13% of bricks' points at 5 degrees see past a blocker); fixed-step searches a
-/// quarter, which trades their shadow acne against leaks (POM on fbm at 15 degrees: 74% of
-/// points agree with the exact verdict at a twentieth, 90% at a quarter).
-pub fn hard_shadow_texels(method: Method) -> f32 {
-    if method.info().fixed_step {
-        0.25
-    } else {
-        0.05
-    }
-}
-
-/// The LOD variants' constants (`shaders/include/lod.glsl`).
-fn lod_spec_constants(spec: SpecConstants, lod: &Lod) -> SpecConstants {
-    spec.f32(SPEC_LOD_FACTOR, lod.factor)
-        .f32(SPEC_LOD_BIAS, lod.bias)
-        .f32(SPEC_LOD_FADE_START, lod.fade_start)
-        .f32(SPEC_LOD_FADE_END, lod.fade_end)
-        .u32(SPEC_LOD_AVERAGE_BELOW, lod.average_below)
-}
-
 struct MeshDraw {
     /// The scene mesh it draws.
     mesh: usize,
@@ -118,9 +92,8 @@ struct MeshDraw {
     center: Vec3,
     /// World-space bounds, to skip the draw when the view cannot see them.
     bounds: (Vec3, Vec3),
-    /// The bounds grown by how deep its relief reaches, for the shadow views' culling.
-    caster_bounds: (Vec3, Vec3),
-    /// How much they grow, in world units.
+    /// How far its relief may reach past `bounds`, in world units: a caster's shadow views test
+    /// the bounds grown by it.
     caster_pad: f32,
 }
 
@@ -230,6 +203,8 @@ fn mesh_draws(
     layers: &LayerSets,
 ) -> VkResult<Vec<MeshDraw>> {
     let mut draws = Vec::with_capacity(plan.draws.len());
+    // Once for the scene: it reads every vertex.
+    let caster_pad = relief_pad(scene);
     for d in &plan.draws {
         let mesh = &scene.meshes[d.mesh];
         let frame_sets = match d.heights {
@@ -245,7 +220,7 @@ fn mesh_draws(
             .filter(|_| plan.pipelines[d.pipeline].layers);
         let key = &plan.pipelines[d.pipeline];
         let draw = MeshDraw::new(ctx, mesh, d, key, frame_sets, material_set, layer_set)?;
-        draws.push(draw.with_caster_pad(mesh, relief_pad(scene)));
+        draws.push(draw.with_caster_pad(caster_pad));
     }
     Ok(draws)
 }
@@ -303,15 +278,13 @@ impl MeshDraw {
             blend: key.blend,
             center: mesh.transform.transform_point3((lo + hi) * 0.5),
             bounds: world_bounds(mesh.transform, lo, hi),
-            caster_bounds: mesh_world_bounds(mesh, 0.0),
             caster_pad: 0.0,
         })
     }
 
-    /// The draw with its caster bounds grown by `pad` around `mesh`.
-    fn with_caster_pad(mut self, mesh: &Mesh, pad: f32) -> MeshDraw {
+    /// The draw as a caster whose relief reaches `pad` past its bounds.
+    fn with_caster_pad(mut self, pad: f32) -> MeshDraw {
         self.caster_pad = pad;
-        self.caster_bounds = mesh_world_bounds(mesh, pad);
         self
     }
 }
@@ -516,7 +489,6 @@ impl SurfacePass {
         let (lo, hi) = mesh_bounds(&mesh.vertices);
         draw.center = mesh.transform.transform_point3((lo + hi) * 0.5);
         draw.bounds = world_bounds(mesh.transform, lo, hi);
-        draw.caster_bounds = mesh_world_bounds(mesh, draw.caster_pad);
         Ok(())
     }
 
@@ -594,7 +566,8 @@ impl SurfacePass {
             let Some(pipeline) = self.casters[draw.pipeline].as_ref() else {
                 return Err(VkError::Invalid(format!("draw {k} has no caster pipeline")));
             };
-            if !frustum.may_see_box(draw.caster_bounds.0, draw.caster_bounds.1) {
+            let pad = Vec3::splat(draw.caster_pad);
+            if !frustum.may_see_box(draw.bounds.0 - pad, draw.bounds.1 + pad) {
                 culled += 1;
                 continue;
             }
@@ -644,131 +617,4 @@ fn mesh_bounds(vertices: &[Vertex]) -> (Vec3, Vec3) {
             (lo.min(p), hi.max(p))
         },
     )
-}
-
-/// The shaders and target of a mesh pipeline: the surface pass's, or a shadow caster's.
-struct MeshStages {
-    vertex: &'static str,
-    fragment: String,
-    color_format: vk::Format,
-    name: String,
-    /// `SPEC_SHADOW_FILTER`: the most capable filter a lookup may need, 0 for none.
-    shadow_filter: u32,
-}
-
-impl MeshStages {
-    /// The surface pass's, looking shadow maps up with filters up to `shadow_filter`.
-    fn surface(key: &PipelineKey, shadow_filter: u32) -> MeshStages {
-        MeshStages {
-            vertex: "mesh.vert",
-            fragment: key.shader(),
-            color_format: COLOR_FORMAT,
-            name: format!("surface {}", describe(key)),
-            shadow_filter,
-        }
-    }
-
-    /// From the light, depth written as the colour the surface pass samples: relief traced with
-    /// the method's own variant (without level of detail, so a map shows the full relief however
-    /// far the camera is).
-    fn caster(key: &PipelineKey) -> MeshStages {
-        let fragment = match key.method {
-            Some(m) => format!("shadow_caster.frag:{}", m.id()),
-            None => "shadow_caster.frag:plain".to_owned(),
-        };
-        MeshStages {
-            vertex: "mesh.vert:shadow",
-            name: format!("shadow caster {fragment}"),
-            fragment,
-            color_format: SHADOW_FORMAT,
-            shadow_filter: 0,
-        }
-    }
-}
-
-fn create_pipeline(
-    ctx: &Arc<Context>,
-    key: &PipelineKey,
-    stages: &MeshStages,
-    set_layouts: &[&DescriptorLayout],
-) -> VkResult<Pipeline> {
-    let missing = |k: &str| VkError::Invalid(format!("no compiled shader {k}"));
-    let vs = shaders::spirv(stages.vertex).ok_or_else(|| missing(stages.vertex))?;
-    let fs = shaders::spirv(&stages.fragment).ok_or_else(|| missing(&stages.fragment))?;
-    let mut spec = SpecConstants::default()
-        .u32(SPEC_SHADOW_MODE, key.shadows.mode.shader_value())
-        .u32(SPEC_SHADOW_STEPS, key.shadows.resolved_steps())
-        .f32(SPEC_SHADOW_REACH, key.shadows.horizon_reach)
-        .u32(SPEC_SHADOW_FILTER, stages.shadow_filter);
-    if let Some(method) = key.method {
-        let budget = method.info().default_budget;
-        spec = spec
-            .f32(SPEC_HARD_SHADOW_TEXELS, hard_shadow_texels(method))
-            .u32(
-                SPEC_BUDGET_MAX_STEPS,
-                key.max_steps.unwrap_or(budget.max_steps),
-            )
-            .u32(SPEC_BUDGET_REFINE_STEPS, budget.refine_steps)
-            .u32(SPEC_BUDGET_LEAF_EXACT, budget.leaf.spec_value())
-            // A material's own budget is a fixed cap.
-            .u32(
-                SPEC_BUDGET_EXTENT_LIMIT,
-                key.max_steps.map_or(budget.extent_limit, |_| 0),
-            );
-    }
-    if let Some(lod) = key.lod {
-        spec = lod_spec_constants(spec, &lod);
-    }
-    let attributes = [
-        (0, vk::Format::R32G32B32_SFLOAT, 0),
-        (1, vk::Format::R32G32B32_SFLOAT, 12),
-        (2, vk::Format::R32G32_SFLOAT, 24),
-        (3, vk::Format::R32G32_SFLOAT, 32),
-        (4, vk::Format::R32G32B32A32_SFLOAT, 40),
-        (5, vk::Format::R32G32B32A32_SFLOAT, 56),
-    ]
-    .map(
-        |(location, format, offset)| vk::VertexInputAttributeDescription {
-            location,
-            binding: 0,
-            format,
-            offset,
-        },
-    );
-    let desc = GraphicsDesc {
-        vertex: vs,
-        fragment: fs,
-        fragment_spec: &spec,
-        vertex_stride: std::mem::size_of::<Vertex>() as u32,
-        attributes: &attributes,
-        color_format: stages.color_format,
-        depth_format: DEPTH_FORMAT,
-        cull: if key.double_sided {
-            vk::CullModeFlags::NONE
-        } else {
-            vk::CullModeFlags::BACK
-        },
-        set_layouts,
-        push_bytes: std::mem::size_of::<DrawPush>() as u32,
-        blend: key.blend && stages.color_format == COLOR_FORMAT,
-    };
-    graphics_pipeline(ctx, &desc, &stages.name)
-}
-
-/// A pipeline's name for debug labels and `--explain`.
-pub fn describe(key: &PipelineKey) -> String {
-    let mut name = key.shader();
-    if let Some(steps) = key.max_steps {
-        name.push_str(&format!(" budget {steps}"));
-    }
-    for (on, what) in [(key.double_sided, "double-sided"), (key.blend, "blend")] {
-        if on {
-            name.push(' ');
-            name.push_str(what);
-        }
-    }
-    if key.shadows.mode.is_some() {
-        name.push_str(&format!(" shadows {}", key.shadows.mode));
-    }
-    name
 }

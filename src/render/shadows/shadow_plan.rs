@@ -160,7 +160,7 @@ pub struct ShadowMapPlan {
 }
 
 /// World-space bounds of a mesh, grown by `pad` on every side.
-pub(in crate::render) fn mesh_world_bounds(mesh: &Mesh, pad: f32) -> (Vec3, Vec3) {
+fn mesh_world_bounds(mesh: &Mesh, pad: f32) -> (Vec3, Vec3) {
     let init = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
     let (lo, hi) = mesh.vertices.iter().fold(init, |(lo, hi), v| {
         let p = mesh.transform.transform_point3(Vec3::from(v.position));
