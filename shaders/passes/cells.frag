@@ -2,8 +2,8 @@
 // The cells pass (Apaza and Andujar): a mesh drawn through its cell complex. Each fragment of a grey
 // cell's outer face marches the view ray through the complex from that face (cells_march.glsl);
 // a ray that leaves without a hit is discarded, a hit writes its depth and is shaded like the
-// mesh: the attribute maps give the normal, tangent, vertex colour and uvs at the hit, and the
-// mesh's material (set 1) is read there and lit as the surface pass lights it.
+// mesh: the triangle the hit lies on gives the normal, tangent, vertex colour and uvs there, and
+// the mesh's material (set 1) is read there and lit as the surface pass lights it.
 #extension GL_GOOGLE_include_directive : require
 #define PLAIN_SURFACE
 #include "bindings.glsl"
@@ -33,19 +33,29 @@ layout(set = 2, binding = BINDING_CELLS_PARAMS, std140) uniform CellsParams {
 #define CELLS_GRID cells_params
 #include "cells_march.glsl"
 
-// AttributeTexel in src/cells/attributes.rs.
-struct CellAttributes {
+// CornerAttributes in src/cells/attributes.rs: three per mesh triangle, in world space.
+struct CellCorner {
+    vec3 position;
+    uint normal;
     vec2 uv0;
     vec2 uv1;
-    uint normal;
     uint tangent;
     uint colour;
     float tangent_sign;
+    uint opposite;  // the triangle across the edge opposite this corner
 };
 
-layout(set = 2, binding = BINDING_CELLS_ATTRIBUTES, std430) readonly buffer Attributes {
-    CellAttributes attributes[];
+// Per map texel, the mesh triangle its line meets (surface_triangles.rs).
+layout(set = 2, binding = BINDING_CELLS_SURFACE_TRIANGLES, std430) readonly buffer SurfaceTriangles {
+    uint surface_triangle[];
 };
+
+layout(set = 2, binding = BINDING_CELLS_CORNERS, std430) readonly buffer Corners {
+    CellCorner corners[];
+};
+
+// A texel of a face whose lines all miss the surface.
+const uint NO_TRIANGLE = 0xffffffffu;
 
 layout(location = 0) in vec3 in_world;
 
@@ -63,34 +73,96 @@ vec3 decode_octahedral(uint word) {
     return normalize(v);
 }
 
-// A texel's uvs differ from its quad's nearest by more than this across a texture seam, where
-// blending them would read the texture between the charts.
+// A texel's uvs differ from the next pixel's by more than this across a texture seam, where
+// the two belong to different charts of the texture.
 const float UV_SEAM = 0.25;
 
 // uv with whole turns taken off so that it lies within half a turn of `near`: across a seam
-// where the texture wraps (a sphere's, u from 1 back to 0) the texels' uvs blend continuously.
+// where the texture wraps (a sphere's, u from 1 back to 0) the pixels' uvs differ continuously.
 vec2 unwrapped(vec2 uv, vec2 near) {
     return uv - round(uv - near);
 }
 
-// The four texels whose attributes blend at face point fp, as cells_quad, but within half a texel
-// of the face's edge the weights extrapolate from the edge texels instead of clamping to them: the
-// neighbouring face's map continues the surface there, and a clamped band would make the uvs jump
-// at every cell and face boundary (the jump picks a coarser mip along those lines).
-uvec4 attribute_quad(CellFacePoint fp, out vec2 f) {
+// The four texels around face point fp (the nearest first), whose triangles are the candidates
+// for the surface at fp.
+uvec4 candidate_texels(CellFacePoint fp) {
     uint r = CELLS_GRID.resolution;
+    uint base = uint(fp.layer) * r * r;
     if (r < 2u) {
-        f = vec2(0.0);
-        uint only = uint(fp.layer);
-        return uvec4(only);
+        return uvec4(base);
     }
     vec2 at = fp.uv * float(r) - 0.5;
     vec2 a0 = clamp(floor(at), vec2(0.0), vec2(float(r) - 2.0));
-    f = at - a0;
+    vec2 f = at - a0;
     uvec2 a = uvec2(a0);
-    uint base = uint(fp.layer) * r * r;
-    return uvec4(base + a.y * r + a.x, base + a.y * r + a.x + 1u, base + (a.y + 1u) * r + a.x,
-                 base + (a.y + 1u) * r + a.x + 1u);
+    uvec4 quad = uvec4(base + a.y * r + a.x, base + a.y * r + a.x + 1u, base + (a.y + 1u) * r + a.x,
+                       base + (a.y + 1u) * r + a.x + 1u);
+    uint nearest = (f.x < 0.5 ? 0u : 1u) + (f.y < 0.5 ? 0u : 2u);
+    uint first = quad[nearest];
+    quad[nearest] = quad.x;
+    quad.x = first;
+    return quad;
+}
+
+// Barycentric weights of p's projection onto triangle t's plane (negative outside the triangle);
+// false for a degenerate triangle.
+bool triangle_barycentric(uint t, vec3 p, out vec3 weights) {
+    vec3 a = corners[3u * t].position;
+    vec3 e0 = corners[3u * t + 1u].position - a;
+    vec3 e1 = corners[3u * t + 2u].position - a;
+    vec3 d = p - a;
+    float d00 = dot(e0, e0);
+    float d01 = dot(e0, e1);
+    float d11 = dot(e1, e1);
+    float area = d00 * d11 - d01 * d01;
+    if (!(area > 1e-12 * d00 * d11)) {
+        weights = vec3(1.0, 0.0, 0.0);
+        return false;
+    }
+    float v = (d11 * dot(d, e0) - d01 * dot(d, e1)) / area;
+    float w = (d00 * dot(d, e1) - d01 * dot(d, e0)) / area;
+    weights = vec3(1.0 - v - w, v, w);
+    return true;
+}
+
+// Weights clamped onto triangle t, and how far p lies from the point they give (infinite for a
+// degenerate triangle).
+vec3 triangle_weights(uint t, vec3 p, out float miss) {
+    vec3 weights;
+    if (!triangle_barycentric(t, p, weights)) {
+        miss = 1e30;
+        return weights;
+    }
+    weights = max(weights, vec3(0.0));
+    weights /= weights.x + weights.y + weights.z;
+    miss = distance(p, weights.x * corners[3u * t].position + weights.y * corners[3u * t + 1u].position
+                           + weights.z * corners[3u * t + 2u].position);
+    return weights;
+}
+
+// From triangle t toward the one p lies on, across the edge p lies beyond, a few triangles at
+// most: a texel's triangle is the one its line meets at the texel's centre, and where triangles
+// are smaller than texels (a fan at a pole) the hit lies on a neighbour of it.
+const int WALK_STEPS = 8;
+
+uint walk_to(uint t, vec3 p) {
+    for (int step = 0; step < WALK_STEPS; ++step) {
+        vec3 w;
+        if (!triangle_barycentric(t, p, w)) {
+            break;
+        }
+        float lowest = min(w.x, min(w.y, w.z));
+        if (lowest >= -1e-4) {
+            break;
+        }
+        uint k = w.x == lowest ? 0u : (w.y == lowest ? 1u : 2u);
+        uint next = corners[3u * t + k].opposite;
+        if (next == NO_TRIANGLE) {
+            break;
+        }
+        t = next;
+    }
+    return t;
 }
 
 struct SurfaceAt {
@@ -101,8 +173,11 @@ struct SurfaceAt {
     vec4 colour;
 };
 
-// The attributes at world point p of the surface: bilinear over the four texels around the
-// point's projection onto its grey cell's domain face.
+// The attributes at world point p of the surface: of the triangles the four texels around p's
+// projection onto its grey cell's domain face meet, the nearest to p, walked to the one p lies
+// on, its corners interpolated at p as the rasteriser interpolates them. Not a blend of the texels: a texel
+// quad can straddle a crease or two sheets of the surface, and a blend there shades the hit
+// with normals from parts of the mesh it is not on.
 bool surface_at(vec3 p, vec3 dir, out SurfaceAt s) {
     float size = cells_params.origin_size.w;
     vec3 g = (p - cells_params.origin_size.xyz) / size;
@@ -121,35 +196,45 @@ bool surface_at(vec3 p, vec3 dir, out SurfaceAt s) {
         if (fp.layer < 0) {
             continue;
         }
-        vec2 f;
-        uvec4 q = attribute_quad(fp, f);
-        vec4 w = vec4((1.0 - f.x) * (1.0 - f.y), f.x * (1.0 - f.y), (1.0 - f.x) * f.y, f.x * f.y);
-        CellAttributes a[4] = CellAttributes[4](attributes[q.x], attributes[q.y],
-                                                attributes[q.z], attributes[q.w]);
-        int nearest = (f.x < 0.5 ? 0 : 1) + (f.y < 0.5 ? 0 : 2);
-        s.uv0 = vec2(0.0);
-        s.uv1 = vec2(0.0);
-        s.normal = vec3(0.0);
-        vec3 tangent = vec3(0.0);
-        s.colour = vec4(0.0);
-        bool seam = false;
+        uvec4 texels = candidate_texels(fp);
+        uint best = NO_TRIANGLE;
+        float best_miss = 1e30;
+        vec3 w = vec3(1.0, 0.0, 0.0);
         for (int i = 0; i < 4; ++i) {
-            vec2 uv0 = unwrapped(a[i].uv0, a[nearest].uv0);
-            vec2 uv1 = unwrapped(a[i].uv1, a[nearest].uv1);
-            seam = seam || any(greaterThan(abs(uv0 - a[nearest].uv0), vec2(UV_SEAM)))
-                        || any(greaterThan(abs(uv1 - a[nearest].uv1), vec2(UV_SEAM)));
-            s.uv0 += w[i] * uv0;
-            s.uv1 += w[i] * uv1;
-            s.normal += w[i] * decode_octahedral(a[i].normal);
-            tangent += w[i] * decode_octahedral(a[i].tangent);
-            s.colour += w[i] * unpackUnorm4x8(a[i].colour);
+            uint t = surface_triangle[texels[i]];
+            if (t == NO_TRIANGLE || t == best) {
+                continue;
+            }
+            float miss;
+            vec3 weights = triangle_weights(t, p, miss);
+            if (miss < best_miss) {
+                best = t;
+                best_miss = miss;
+                w = weights;
+            }
         }
-        if (seam) {
-            s.uv0 = a[nearest].uv0;
-            s.uv1 = a[nearest].uv1;
+        if (best == NO_TRIANGLE) {
+            continue;
         }
-        s.normal = normalize(s.normal);
-        s.tangent = vec4(normalize(tangent), a[nearest].tangent_sign);
+        uint walked = walk_to(best, p);
+        float walked_miss;
+        vec3 walked_w = triangle_weights(walked, p, walked_miss);
+        if (walked_miss < best_miss) {
+            best = walked;
+            w = walked_w;
+        }
+        CellCorner c[3] = CellCorner[3](corners[3u * best], corners[3u * best + 1u],
+                                        corners[3u * best + 2u]);
+        s.uv0 = w.x * c[0].uv0 + w.y * c[1].uv0 + w.z * c[2].uv0;
+        s.uv1 = w.x * c[0].uv1 + w.y * c[1].uv1 + w.z * c[2].uv1;
+        s.normal = normalize(w.x * decode_octahedral(c[0].normal)
+                             + w.y * decode_octahedral(c[1].normal)
+                             + w.z * decode_octahedral(c[2].normal));
+        vec3 tangent = w.x * decode_octahedral(c[0].tangent) + w.y * decode_octahedral(c[1].tangent)
+                     + w.z * decode_octahedral(c[2].tangent);
+        s.tangent = vec4(normalize(tangent), c[0].tangent_sign);
+        s.colour = w.x * unpackUnorm4x8(c[0].colour) + w.y * unpackUnorm4x8(c[1].colour)
+                 + w.z * unpackUnorm4x8(c[2].colour);
         return true;
     }
     return false;
@@ -157,7 +242,7 @@ bool surface_at(vec3 p, vec3 dir, out SurfaceAt s) {
 
 // The pixel's uv footprint from ray differentials: the rays through the next pixels across and
 // down (derivatives of the interpolated view direction) met with the surface's tangent plane at
-// the hit, and the attribute maps read there. Not dFdx of the uvs themselves: those need the
+// the hit, and the surface's attributes found there as at the hit. Not dFdx of the uvs themselves: those need the
 // quad's helper invocations to march and find the same surface (llvmpipe's helpers read zeros
 // from storage buffers), and a quad straddling a face's edge would pick the coarsest mip.
 void uv_footprint(vec3 eye, vec3 ray_dx, vec3 ray_dy, vec3 world, SurfaceAt s) {

@@ -34,8 +34,8 @@ pub struct FaceMap {
     /// (case 6) has domain faces shared with grey cells, whose points may lie on either side; an external face
     /// borders a white cell, whose closed box misses the surface, so its points are all outside.
     pub inside_at_face: Vec<bool>,
-    /// Per texel, the surface point its distance stops at: which of the mesh's triangles, where in it. What the
-    /// attribute maps ([`super::attributes`]) interpolate the mesh's normals, uvs and colours at.
+    /// Per texel, the surface point its distance stops at: which of the mesh's triangles, where in it. Where the
+    /// cells pass starts looking for the triangle a hit lies on ([`super::surface_triangles`]).
     pub surface: Vec<SurfacePoint>,
 }
 

@@ -3,10 +3,11 @@
 //! the surface points of the maps ([`super::attributes`]). Meshes are chosen by name, as `--cells NODE` and
 //! `relief cells --node` name them: every primitive of a glTF node carries the node's name.
 
+use std::collections::HashMap;
+
 use glam::{Mat3, Mat4, Vec3, Vec4};
 
-use super::attributes::SurfaceAttributes;
-use super::distance_map::SurfacePoint;
+use super::attributes::CornerAttributes;
 use super::mesh::{ClosedMesh, MeshError};
 use crate::scene::{Scene, Vertex};
 
@@ -53,7 +54,7 @@ impl MeshSelection {
 }
 
 /// One group of a scene's meshes welded and checked closed, with the world-space vertices of each of its
-/// triangles.
+/// triangles, which the cells pass shades from.
 pub struct SceneMesh {
     /// The group's welded, checked mesh, in world space.
     pub mesh: ClosedMesh,
@@ -82,31 +83,52 @@ impl SceneMesh {
         Ok(SceneMesh { mesh, corners })
     }
 
-    /// The shading attributes at a surface point of the mesh: its triangle's vertex attributes, interpolated.
-    pub fn attributes(&self, point: SurfacePoint) -> SurfaceAttributes {
-        let [a, b, c] = &self.corners[self.mesh.source_triangle(point.triangle as usize)];
-        let [u, v] = point.barycentric;
-        let w = [1.0 - u - v, u, v];
-        let mix2 = |f: fn(&Vertex) -> [f32; 2]| -> [f32; 2] {
-            std::array::from_fn(|k| w[0] * f(a)[k] + w[1] * f(b)[k] + w[2] * f(c)[k])
-        };
-        let mix4 = |f: fn(&Vertex) -> [f32; 4]| -> [f32; 4] {
-            std::array::from_fn(|k| w[0] * f(a)[k] + w[1] * f(b)[k] + w[2] * f(c)[k])
-        };
-        let normal =
-            Vec3::from(a.normal) * w[0] + Vec3::from(b.normal) * w[1] + Vec3::from(c.normal) * w[2];
-        let tangent = mix4(|v| v.tangent);
-        SurfaceAttributes {
-            uv0: mix2(|v| v.uv),
-            uv1: mix2(|v| v.uv1),
-            normal: normal.normalize_or(Vec3::Z).to_array(),
-            tangent: {
-                let t = Vec3::new(tangent[0], tangent[1], tangent[2]).normalize_or(Vec3::X);
-                [t.x, t.y, t.z, a.tangent[3]]
-            },
-            colour: mix4(|v| v.color),
+    /// Every triangle's three corners as the cells pass shades from them, in the order [`SceneMesh::source`]
+    /// numbers the triangles, each with the triangle across the edge opposite it.
+    pub fn corners(&self) -> Vec<CornerAttributes> {
+        let mut records: Vec<CornerAttributes> = self
+            .corners
+            .iter()
+            .flatten()
+            .map(|v| {
+                CornerAttributes::pack(
+                    v.position,
+                    Vec3::from(v.normal).normalize_or(Vec3::Z).to_array(),
+                    v.tangent,
+                    v.uv,
+                    v.uv1,
+                    v.color,
+                )
+            })
+            .collect();
+        let triangles = self.mesh.triangles();
+        let mut sharing: HashMap<[u32; 2], Vec<usize>> = HashMap::new();
+        for (t, &[a, b, c]) in triangles.iter().enumerate() {
+            for edge in [[b, c], [c, a], [a, b]] {
+                sharing.entry(edge_key(edge)).or_default().push(t);
+            }
         }
+        for (t, &[a, b, c]) in triangles.iter().enumerate() {
+            for (k, edge) in [[b, c], [c, a], [a, b]].into_iter().enumerate() {
+                let across = sharing[&edge_key(edge)].iter().find(|&&u| u != t);
+                if let Some(&u) = across {
+                    records[3 * self.mesh.source_triangle(t) + k].opposite = self.source(u as u32);
+                }
+            }
+        }
+        records
     }
+
+    /// The index in [`SceneMesh::corners`]' order (a third of the corner's) of the closed mesh's triangle
+    /// `triangle`, which a [`super::SurfacePoint`] names.
+    pub fn source(&self, triangle: u32) -> u32 {
+        self.mesh.source_triangle(triangle as usize) as u32
+    }
+}
+
+/// An edge's two welded vertices in either direction.
+fn edge_key([a, b]: [u32; 2]) -> [u32; 2] {
+    [a.min(b), a.max(b)]
 }
 
 /// How a mesh's vertices go to world space, as `mesh.vert` carries them: positions by the transform,
@@ -152,8 +174,13 @@ impl ToWorld {
 
 #[cfg(test)]
 mod tests {
+    use super::super::attributes::decode_octahedral;
     use super::*;
     use crate::scene::{box_mesh, Material, Mesh};
+
+    fn corners_of(gathered: &SceneMesh, source: usize) -> Vec<CornerAttributes> {
+        gathered.corners()[3 * source..3 * source + 3].to_vec()
+    }
 
     fn scene_of(meshes: Vec<Mesh>) -> Scene {
         Scene {
@@ -189,7 +216,7 @@ mod tests {
     }
 
     #[test]
-    fn attributes_come_from_the_triangle_in_world_space() {
+    fn corners_are_the_triangles_in_world_space() {
         let turn = Mat4::from_translation(Vec3::new(3.0, 0.0, 0.0))
             * Mat4::from_rotation_z(std::f32::consts::FRAC_PI_2);
         let scene = scene_of(vec![cube("box", turn)]);
@@ -209,17 +236,31 @@ mod tests {
                 (corners[2][k] - corners[0][k]) as f32
             }));
             let face_normal = e1.cross(e2).normalize();
-            let at = gathered.attributes(SurfacePoint {
-                triangle: t as u32,
-                barycentric: [0.25, 0.25],
-            });
-            let n = Vec3::from(at.normal);
-            assert!(
-                n.dot(face_normal) > 0.999,
-                "triangle {t}: {n} against {face_normal}"
-            );
-            let tangent = Vec3::new(at.tangent[0], at.tangent[1], at.tangent[2]);
-            assert!(tangent.dot(n).abs() < 1e-4, "the tangent lies in the face");
+            let source = gathered.source(t as u32) as usize;
+            for (k, corner) in corners_of(&gathered, source).iter().enumerate() {
+                let at: [f64; 3] = corner.position.map(f64::from);
+                assert!(
+                    (0..3).all(|c| (at[c] - corners[k][c]).abs() < 1e-6),
+                    "triangle {t} corner {k}: {at:?} against {:?}",
+                    corners[k]
+                );
+                let n = Vec3::from(corner.decoded_normal());
+                assert!(
+                    n.dot(face_normal) > 0.999,
+                    "triangle {t}: {n} against {face_normal}"
+                );
+                let tangent = Vec3::from(decode_octahedral(corner.tangent));
+                assert!(tangent.dot(n).abs() < 1e-3, "the tangent lies in the face");
+                // The triangle across holds both corners of the edge opposite this one.
+                let across = corners_of(&gathered, corner.opposite as usize);
+                let edge = [(k + 1) % 3, (k + 2) % 3].map(|e| corners[e].map(|c| c as f32));
+                for end in edge {
+                    assert!(
+                        across.iter().any(|c| c.position == end),
+                        "triangle {t}: {end:?} is not on the triangle across corner {k}"
+                    );
+                }
+            }
         }
     }
 }

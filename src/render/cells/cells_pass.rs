@@ -1,8 +1,8 @@
 //! The cells pass (Apaza and Andujar): meshes drawn through their cell complexes. Built once per scene:
 //! for each complex the plan lists, the mesh is gathered in world space and checked closed, the
-//! grid chosen by doubling (`cells::choose_grid_within`), the distance and attribute maps sampled
-//! on the CPU and uploaded as storage buffers with the faces of the grey cells that border the
-//! outside; one pipeline (`cells.vert`, `cells.frag`) draws them all. Its set 0 and set 1 are the
+//! grid chosen by doubling (`cells::choose_grid_within`), the distance maps and each texel's
+//! triangle sampled on the CPU and uploaded as storage buffers with the mesh's triangle corners and
+//! the faces of the grey cells that border the outside; one pipeline (`cells.vert`, `cells.frag`) draws them all. Its set 0 and set 1 are the
 //! surface pass's plain frame set and the mesh's material set.
 
 use std::sync::Arc;
@@ -15,9 +15,8 @@ use serde::Serialize;
 use super::cells_plan::CellsPlan;
 use super::cells_trace_pass::ComplexBuffers;
 use crate::cells::{
-    attribute_maps, choose_grid_within, fixed_grid, AttributeTexel, CellGrid, CellMaps, ClosedMesh,
-    Colour, Face, GridStop, MarchSettings, MeshSelection, PackedComplex, SceneMesh,
-    MAP_MEMORY_LIMIT,
+    choose_grid_within, fixed_grid, surface_triangle_maps, CellGrid, CellMaps, ClosedMesh, Colour,
+    Face, GridStop, MarchSettings, MeshSelection, PackedComplex, SceneMesh, MAP_MEMORY_LIMIT,
 };
 use crate::render::frame::material_set::material_layout;
 use crate::render::frame::plan::Plan;
@@ -26,8 +25,8 @@ use crate::render::frame::surface_pass::{
     plain_frame_layout, DrawPush, COLOR_FORMAT, DEPTH_FORMAT,
 };
 use crate::render::shader_interface::{
-    BINDING_CELLS_ATTRIBUTES, BINDING_CELLS_CELLS, BINDING_CELLS_GREY, BINDING_CELLS_MAPS,
-    BINDING_CELLS_PARAMS,
+    BINDING_CELLS_CELLS, BINDING_CELLS_CORNERS, BINDING_CELLS_GREY, BINDING_CELLS_MAPS,
+    BINDING_CELLS_PARAMS, BINDING_CELLS_SURFACE_TRIANGLES,
 };
 use crate::scene::Scene;
 use crate::shaders;
@@ -85,7 +84,8 @@ pub struct BuiltComplex {
     pub faces_drawn: usize,
     /// Distance maps as the GPU reads them (16-bit texels).
     pub distance_bytes: u64,
-    /// Attribute maps (32 bytes a texel).
+    /// What the pass shades from: each texel's triangle (4 bytes a texel) and the mesh's triangle corners
+    /// (48 bytes a corner).
     pub attribute_bytes: u64,
     /// CPU wall time of classifying, sampling and packing.
     pub build_ms: f64,
@@ -120,13 +120,18 @@ impl CellsUniform {
     }
 }
 
-/// Set 2: the complex's arrays (bindings 0-2), its uniform (3), its attribute maps (4).
-const CELLS_SET_BINDINGS: [(u32, vk::DescriptorType); 5] = [
+/// Set 2: the complex's arrays (bindings 0-2), its uniform (3), its texels' triangles (4) and the triangles'
+/// corners (5).
+const CELLS_SET_BINDINGS: [(u32, vk::DescriptorType); 6] = [
     (BINDING_CELLS_CELLS, vk::DescriptorType::STORAGE_BUFFER),
     (BINDING_CELLS_GREY, vk::DescriptorType::STORAGE_BUFFER),
     (BINDING_CELLS_MAPS, vk::DescriptorType::STORAGE_BUFFER),
     (BINDING_CELLS_PARAMS, vk::DescriptorType::UNIFORM_BUFFER),
-    (BINDING_CELLS_ATTRIBUTES, vk::DescriptorType::STORAGE_BUFFER),
+    (
+        BINDING_CELLS_SURFACE_TRIANGLES,
+        vk::DescriptorType::STORAGE_BUFFER,
+    ),
+    (BINDING_CELLS_CORNERS, vk::DescriptorType::STORAGE_BUFFER),
 ];
 
 struct ComplexDraw {
@@ -137,7 +142,8 @@ struct ComplexDraw {
     set: DescriptorSet,
     _arrays: ComplexBuffers,
     _uniform: Buffer,
-    _attributes: Buffer,
+    _surface_triangles: Buffer,
+    _corners: Buffer,
 }
 
 /// The complexes of a scene and the pipeline that draws them; empty when the plan has none.
@@ -239,11 +245,14 @@ fn build_complex(
     let gathered = SceneMesh::gather(scene, &plan.meshes, &format!("--cells {}", plan.name))?;
     let (grid, maps, stop) = complex_grid(&gathered.mesh, plan, options)?;
     let packed = PackedComplex::new(&grid, &maps);
-    let attributes = attribute_maps(&maps, |point| gathered.attributes(point));
+    let surface_triangles = surface_triangle_maps(&maps, |t| gathered.source(t));
+    let corners = gathered.corners();
     let (vertices, indices) = outer_faces(&grid);
     let build_ms = started.elapsed().as_secs_f64() * 1e3;
     let name = &plan.name;
-    check_buffer_sizes(ctx, name, &attributes, &packed)?;
+    let surface_bytes: &[u8] = bytemuck::cast_slice(&surface_triangles);
+    let corner_bytes: &[u8] = bytemuck::cast_slice(&corners);
+    check_buffer_sizes(ctx, name, &[surface_bytes, corner_bytes], &packed)?;
     let arrays = ComplexBuffers::upload(ctx, &packed, name)?;
     let uniform = CellsUniform::of(&packed);
     let uniform = Buffer::with_data(
@@ -252,16 +261,23 @@ fn build_complex(
         vk::BufferUsageFlags::UNIFORM_BUFFER,
         &format!("{name} cells uniform"),
     )?;
-    let attribute_bytes: &[u8] = bytemuck::cast_slice(&attributes);
-    let attribute_buffer = Buffer::with_data(
-        ctx,
-        &ComplexBuffers::nonempty(attribute_bytes),
-        vk::BufferUsageFlags::STORAGE_BUFFER,
-        &format!("{name} cell attributes"),
-    )?;
+    let storage = |bytes: &[u8], what: &str| {
+        Buffer::with_data(
+            ctx,
+            &ComplexBuffers::nonempty(bytes),
+            vk::BufferUsageFlags::STORAGE_BUFFER,
+            &format!("{name} {what}"),
+        )
+    };
+    let surface_buffer = storage(surface_bytes, "cell texel triangles")?;
+    let corner_buffer = storage(corner_bytes, "cell triangle corners")?;
     let mut binds = arrays.binds().to_vec();
     binds.push(Bind::Uniform(BINDING_CELLS_PARAMS, &uniform));
-    binds.push(Bind::Storage(BINDING_CELLS_ATTRIBUTES, &attribute_buffer));
+    binds.push(Bind::Storage(
+        BINDING_CELLS_SURFACE_TRIANGLES,
+        &surface_buffer,
+    ));
+    binds.push(Bind::Storage(BINDING_CELLS_CORNERS, &corner_buffer));
     let set = pool.allocate(layout, &binds)?;
     let faces = Buffer::with_data(
         ctx,
@@ -285,7 +301,7 @@ fn build_complex(
         grid_stop: grid_stop(stop, &maps, options),
         faces_drawn: indices.len() / 6,
         distance_bytes: (packed.maps.len() * 4) as u64,
-        attribute_bytes: attribute_bytes.len() as u64,
+        attribute_bytes: (surface_bytes.len() + corner_bytes.len()) as u64,
         build_ms,
     };
     let draw = ComplexDraw {
@@ -296,7 +312,8 @@ fn build_complex(
         set,
         _arrays: arrays,
         _uniform: uniform,
-        _attributes: attribute_buffer,
+        _surface_triangles: surface_buffer,
+        _corners: corner_buffer,
     };
     Ok((draw, stats))
 }
@@ -335,12 +352,14 @@ fn complex_grid(
 fn check_buffer_sizes(
     ctx: &Context,
     name: &str,
-    attributes: &[AttributeTexel],
+    shading: &[&[u8]],
     packed: &PackedComplex,
 ) -> Result<(), RenderError> {
     let limit = u64::from(ctx.info().max_storage_buffer_range);
-    let largest = (std::mem::size_of_val(attributes) as u64)
-        .max(std::mem::size_of_val(packed.maps.as_slice()) as u64);
+    let largest = shading.iter().map(|bytes| bytes.len() as u64).fold(
+        std::mem::size_of_val(packed.maps.as_slice()) as u64,
+        u64::max,
+    );
     if largest > limit {
         return Err(RenderError::CellsBufferTooLarge {
             name: name.to_owned(),

@@ -153,8 +153,10 @@ glsl_table! {
         BINDING_CELLS_MAPS = 2;
         /// `cells.frag`: the complex's uniform block (its grid, transform and march settings).
         BINDING_CELLS_PARAMS = 3;
-        /// `cells.frag`: the shading attribute maps of the grey cells.
-        BINDING_CELLS_ATTRIBUTES = 4;
+        /// `cells.frag`: per map texel, the mesh triangle its line meets.
+        BINDING_CELLS_SURFACE_TRIANGLES = 4;
+        /// `cells.frag`: the mesh triangles' corners, with the attributes shaded from.
+        BINDING_CELLS_CORNERS = 5;
         /// `cells_trace.comp`: the rays to march.
         BINDING_CELLS_RAYS = 3;
         /// `cells_trace.comp`: per ray, the hit distance and the samples taken.
