@@ -214,8 +214,8 @@ pub const MAP_MEMORY_LIMIT: u64 = 1 << 30;
 /// Why the grid's doubling stopped.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum GridStop {
-    /// The maps' overlap ratio fell to the threshold.
-    Overlap,
+    /// The maps' overlap ratio fell to the threshold and their texels to the size asked for.
+    Settled,
     /// The next grid would exceed the largest size allowed.
     MaxGrid,
     /// The next grid's maps would take `bytes`, more than the memory limit.
@@ -242,19 +242,21 @@ const SAMPLED_TEXEL_BYTES: u64 =
     (std::mem::size_of::<f32>() + std::mem::size_of::<SurfacePoint>()) as u64;
 
 /// The grid and maps the paper's size choice ends at: N doubles from 1 while the maps' overlap ratio is above
-/// `threshold`, up to `max_n` and while the next grid's maps stay within `max_bytes`; and why it stopped.
+/// `threshold` or their texels are wider than `max_texel` (in the mesh's units; infinite for the paper's rule
+/// alone), up to `max_n` and while the next grid's maps stay within `max_bytes`; and why it stopped.
 pub fn choose_grid_within(
     mesh: &ClosedMesh,
     resolution: u32,
     threshold: f64,
+    max_texel: f64,
     max_n: u32,
     max_bytes: u64,
 ) -> (CellGrid, CellMaps, GridStop) {
     let mut grid = CellGrid::classify(mesh, 1);
     loop {
         let maps = CellMaps::sample(mesh, &grid, resolution);
-        if maps.overlap_ratio <= threshold {
-            return (grid, maps, GridStop::Overlap);
+        if maps.overlap_ratio <= threshold && texel_size(&grid, resolution) <= max_texel {
+            return (grid, maps, GridStop::Settled);
         }
         let next_n = grid.n() * 2;
         if next_n > max_n {
@@ -301,15 +303,28 @@ pub fn fixed_grid(
     Ok((grid, maps))
 }
 
-/// [`choose_grid_within`] with [`MAP_MEMORY_LIMIT`], without the reason.
+/// The paper's choice: [`choose_grid_within`] by the overlap ratio alone, with [`MAP_MEMORY_LIMIT`], without
+/// the reason.
 pub fn choose_grid(
     mesh: &ClosedMesh,
     resolution: u32,
     threshold: f64,
     max_n: u32,
 ) -> (CellGrid, CellMaps) {
-    let (grid, maps, _) = choose_grid_within(mesh, resolution, threshold, max_n, MAP_MEMORY_LIMIT);
+    let (grid, maps, _) = choose_grid_within(
+        mesh,
+        resolution,
+        threshold,
+        f64::INFINITY,
+        max_n,
+        MAP_MEMORY_LIMIT,
+    );
     (grid, maps)
+}
+
+/// The side of one map texel of `grid` at `resolution`, in the mesh's units.
+pub fn texel_size(grid: &CellGrid, resolution: u32) -> f64 {
+    grid.cell_size() / f64::from(resolution)
 }
 
 /// One texel's projection line in cell-local coordinates: from `start` on the face along the unit `dir` into the
@@ -479,12 +494,12 @@ mod tests {
     #[test]
     fn the_doubling_stops_before_maps_outgrow_the_memory_limit() {
         let ring = mesh(torus([0.0; 3], 1.0, 0.4, 32, 16), "torus");
-        let (free, _, why) = choose_grid_within(&ring, 8, 0.05, 16, u64::MAX);
-        assert_eq!(why, GridStop::Overlap);
+        let (free, _, why) = choose_grid_within(&ring, 8, 0.05, f64::INFINITY, 16, u64::MAX);
+        assert_eq!(why, GridStop::Settled);
         assert!(free.n() > 1);
         // Room for the first grid's maps only: it stops there and says what the next would take.
         let one = sampled_bytes(&CellGrid::classify(&ring, 1), 8);
-        let (grid, maps, why) = choose_grid_within(&ring, 8, 0.05, 16, one);
+        let (grid, maps, why) = choose_grid_within(&ring, 8, 0.05, f64::INFINITY, 16, one);
         assert_eq!(grid.n(), 1);
         assert_eq!(maps.faces.len() as u64 * 64 * 16, one);
         let GridStop::Memory { next_n, bytes } = why else {
@@ -493,8 +508,20 @@ mod tests {
         assert_eq!(next_n, 2);
         assert_eq!(bytes, sampled_bytes(&CellGrid::classify(&ring, 2), 8));
         assert!(bytes > one);
-        let (_, _, why) = choose_grid_within(&ring, 8, 0.05, 1, u64::MAX);
+        let (_, _, why) = choose_grid_within(&ring, 8, 0.05, f64::INFINITY, 1, u64::MAX);
         assert_eq!(why, GridStop::MaxGrid);
+    }
+
+    #[test]
+    fn the_grid_also_doubles_until_its_texels_are_as_fine_as_asked() {
+        let ball = mesh(icosphere([0.0; 3], 1.0, 2), "sphere");
+        // A sphere overlaps nothing from its one cell: the paper's rule stops there.
+        let (grid, _, why) = choose_grid_within(&ball, 8, 0.05, f64::INFINITY, 16, u64::MAX);
+        assert_eq!((grid.n(), why), (1, GridStop::Settled));
+        let coarse = texel_size(&grid, 8);
+        let (grid, _, why) = choose_grid_within(&ball, 8, 0.05, coarse / 3.0, 16, u64::MAX);
+        assert_eq!((grid.n(), why), (4, GridStop::Settled));
+        assert!(texel_size(&grid, 8) <= coarse / 3.0);
     }
 
     #[test]

@@ -176,6 +176,19 @@ impl ClosedMesh {
         )
     }
 
+    /// The median length of the triangles' edges: the scale of the mesh's own detail (its shading normals
+    /// are known at the vertices only).
+    pub fn median_edge(&self) -> f64 {
+        let mut lengths: Vec<f64> = (0..self.triangles.len())
+            .flat_map(|t| {
+                let [a, b, c] = self.triangle(t);
+                [norm(sub(b, a)), norm(sub(c, b)), norm(sub(a, c))]
+            })
+            .collect();
+        lengths.sort_by(f64::total_cmp);
+        lengths[lengths.len() / 2]
+    }
+
     /// The generalized winding number of the mesh around `p` (the solid angle of all triangles over 4 pi): +-1
     /// inside, 0 outside, its sign the orientation's; well conditioned away from the surface.
     pub fn winding_number(&self, p: [f64; 3]) -> f64 {

@@ -46,8 +46,8 @@ pub mod trace;
 pub use attributes::CornerAttributes;
 pub use case::{Axis, Case, Face, FaceSet};
 pub use distance_map::{
-    choose_grid, choose_grid_within, fixed_grid, sampled_bytes, CellMaps, FaceMap, GridStop,
-    GridTooLarge, SurfacePoint, MAP_MEMORY_LIMIT,
+    choose_grid, choose_grid_within, fixed_grid, sampled_bytes, texel_size, CellMaps, FaceMap,
+    GridStop, GridTooLarge, SurfacePoint, MAP_MEMORY_LIMIT,
 };
 pub use grid::{CellGrid, CellIndex, Colour};
 pub use measure::{compare_hits, measure_hits, parallel_rays, HitAgreement, RayOutcome};

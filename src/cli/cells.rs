@@ -280,11 +280,12 @@ fn build_complex(
                 mesh,
                 args.resolution,
                 args.overlap,
+                f64::INFINITY,
                 args.max_grid.max(1),
                 MAP_MEMORY_LIMIT,
             );
             match why {
-                GridStop::Overlap => {}
+                GridStop::Settled => {}
                 GridStop::MaxGrid => eprintln!(
                     "note: the grid stopped at --max-grid {} with overlap {:.3} above --overlap {}",
                     grid.n(),

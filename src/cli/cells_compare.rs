@@ -169,12 +169,14 @@ fn draw(
     Ok((rgba, median(times)))
 }
 
-/// The cells options of `relief cells`'s arguments for every mesh of the scene.
+/// The cells options of `relief cells`'s arguments for every mesh of the scene: the grid it built and
+/// measured, chosen by the overlap ratio alone (the paper's rule).
 pub fn options(resolution: u32, overlap: f64, max_grid: u32, grid: Option<u32>) -> CellsOptions {
     CellsOptions {
         selection: MeshSelection::All,
         resolution,
         overlap,
+        texels_per_edge: 0.0,
         max_grid,
         grid,
     }

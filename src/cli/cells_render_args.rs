@@ -18,6 +18,10 @@ pub struct CellsRenderArgs {
     /// --cells).
     #[arg(long, value_name = "RATIO", default_value_t = 0.05)]
     cells_overlap: f64,
+    /// The grid also doubles until the mesh's median edge spans this many map texels, so that the
+    /// maps follow the mesh's detail (with --cells; 0: the overlap ratio alone, the paper's rule).
+    #[arg(long, value_name = "TEXELS", default_value_t = 2.0)]
+    cells_texels_per_edge: f64,
     /// The largest grid the doubling may reach, in cells a side (with --cells).
     #[arg(long, value_name = "N", default_value_t = 32)]
     cells_max_grid: u32,
@@ -40,6 +44,12 @@ impl CellsRenderArgs {
                 self.cells_overlap
             );
         }
+        if !(0.0..=64.0).contains(&self.cells_texels_per_edge) {
+            anyhow::bail!(
+                "--cells-texels-per-edge {}: from 0 (the overlap ratio alone) to 64",
+                self.cells_texels_per_edge
+            );
+        }
         if self.cells_max_grid == 0 || self.cells_max_grid > 256 {
             anyhow::bail!(
                 "--cells-max-grid {}: from 1 to 256 cells a side",
@@ -60,6 +70,7 @@ impl CellsRenderArgs {
             selection,
             resolution: self.cells_resolution,
             overlap: self.cells_overlap,
+            texels_per_edge: self.cells_texels_per_edge,
             max_grid: self.cells_max_grid,
             grid: self.cells_grid,
         })

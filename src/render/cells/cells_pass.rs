@@ -15,8 +15,9 @@ use serde::Serialize;
 use super::cells_plan::CellsPlan;
 use super::cells_trace_pass::ComplexBuffers;
 use crate::cells::{
-    choose_grid_within, fixed_grid, surface_triangle_maps, CellGrid, CellMaps, ClosedMesh, Colour,
-    Face, GridStop, MarchSettings, MeshSelection, PackedComplex, SceneMesh, MAP_MEMORY_LIMIT,
+    choose_grid_within, fixed_grid, surface_triangle_maps, texel_size, CellGrid, CellMaps,
+    ClosedMesh, Colour, Face, GridStop, MarchSettings, MeshSelection, PackedComplex, SceneMesh,
+    MAP_MEMORY_LIMIT,
 };
 use crate::render::frame::material_set::material_layout;
 use crate::render::frame::plan::Plan;
@@ -44,6 +45,9 @@ pub struct CellsOptions {
     pub resolution: u32,
     /// The grid doubles while the maps' overlap ratio is above this.
     pub overlap: f64,
+    /// The grid also doubles until the mesh's median edge spans at least this many map texels, so that the
+    /// maps follow the mesh's own detail (0: the overlap ratio alone, as the paper chooses).
+    pub texels_per_edge: f64,
     /// The largest grid (cells a side) the doubling may reach.
     pub max_grid: u32,
     /// A fixed grid (cells a side) instead of the doubling.
@@ -57,6 +61,7 @@ impl CellsOptions {
             selection,
             resolution: 32,
             overlap: 0.05,
+            texels_per_edge: 2.0,
             max_grid: 32,
             grid: None,
         }
@@ -298,7 +303,12 @@ fn build_complex(
         grey_cells: maps.grey_cells,
         domain_faces: maps.faces.len(),
         resolution: maps.resolution,
-        grid_stop: grid_stop(stop, &maps, options),
+        grid_stop: grid_stop(
+            stop,
+            &maps,
+            options,
+            gathered.mesh.median_edge() / texel_size(&grid, maps.resolution),
+        ),
         faces_drawn: indices.len() / 6,
         distance_bytes: (packed.maps.len() * 4) as u64,
         attribute_bytes: (surface_bytes.len() + corner_bytes.len()) as u64,
@@ -336,10 +346,16 @@ fn complex_grid(
             (grid, maps, None)
         }
         None => {
+            let max_texel = if options.texels_per_edge > 0.0 {
+                mesh.median_edge() / options.texels_per_edge
+            } else {
+                f64::INFINITY
+            };
             let (grid, maps, stop) = choose_grid_within(
                 mesh,
                 options.resolution,
                 options.overlap,
+                max_texel,
                 options.max_grid,
                 MAP_MEMORY_LIMIT,
             );
@@ -371,12 +387,17 @@ fn check_buffer_sizes(
 }
 
 /// Why the grid is the size it is, for the run's notes.
-fn grid_stop(stop: Option<GridStop>, maps: &CellMaps, options: &CellsOptions) -> String {
+fn grid_stop(
+    stop: Option<GridStop>,
+    maps: &CellMaps,
+    options: &CellsOptions,
+    median_edge_texels: f64,
+) -> String {
     match stop {
         None => "a fixed grid".to_owned(),
-        Some(GridStop::Overlap) => format!(
-            "overlap ratio {:.3} at most {}",
-            maps.overlap_ratio, options.overlap
+        Some(GridStop::Settled) => format!(
+            "overlap ratio {:.3} at most {}, the median edge {:.1} texels (at least {})",
+            maps.overlap_ratio, options.overlap, median_edge_texels, options.texels_per_edge
         ),
         Some(GridStop::MaxGrid) => format!(
             "largest grid {} reached (overlap ratio {:.3})",
