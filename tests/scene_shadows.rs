@@ -68,6 +68,24 @@ fn hard_shadows_agree_with_the_exact_reference_and_maps_add_no_acne() {
 }
 
 #[test]
+fn a_smooth_shaded_curved_receiver_takes_no_acne() {
+    let Some(ctx) = common::device("a_smooth_shaded_curved_receiver_takes_no_acne") else {
+        return;
+    };
+    // A coarse sphere with smooth normals: the plane its shading normal spans parts from its
+    // triangle's plane by up to half a facet's angle, and the maps hold the triangles' depths.
+    for elevation in [5.0, 15.0, 45.0] {
+        let r = run(&ctx, hard(ShadowScene::SphereOverPlane, elevation));
+        let a = &r.agreement;
+        assert!(a.pixels > 5000, "{elevation}: {a}");
+        assert_eq!(a.acne.count, 0, "{elevation}: {a}");
+        assert!(a.hard_agreement >= 0.99, "{elevation}: {a}");
+        assert!(a.leaks.share <= 0.001, "{elevation}: leaks {a}");
+    }
+    common::assert_no_validation_errors(&ctx);
+}
+
+#[test]
 fn a_displaced_receiver_takes_the_box_shadow_at_its_hits() {
     let Some(ctx) = common::device("a_displaced_receiver_takes_the_box_shadow_at_its_hits") else {
         return;

@@ -47,6 +47,12 @@ layout(depth_greater) out float gl_FragDepth;
 
 void main() {
     vec3 n = normalize(gl_FrontFacing ? in_normal : -in_normal);
+    // The triangle's own plane, on n's side: the shadow maps hold the triangles' depths, so a
+    // receiver's plane must be the triangle's, not the one the smooth shading normal spans
+    // (on a curved mesh the two part by the mesh's curvature across a triangle).
+    vec3 face = cross(dFdx(in_world), dFdy(in_world));
+    face = dot(face, face) > 0.0 ? normalize(face) : n;
+    face = dot(face, n) < 0.0 ? -face : face;
     vec2 uv0 = in_uv0;
     vec2 uv1 = in_uv1;
     vec3 world = in_world;
@@ -145,7 +151,7 @@ void main() {
             above = world + l * (z * f.depth_len / rise);
         }
 #endif
-        float lit_map = scene_shadow(i, above, n, l);
+        float lit_map = scene_shadow(i, above, face, l);
         float lit_self = 1.0;
 #ifndef PLAIN_SURFACE
         if (SHADOW_MODE != 0u && frame.lights[i].color.w > 0.5) {

@@ -13,7 +13,7 @@ use super::{check_validation, open_device, parse_size};
 
 #[derive(Args)]
 pub struct ShadowsArgs {
-    /// The scene: box-over-plane, slab-over-plane, box-over-relief (generated), or default (the
+    /// The scene: box-over-plane, slab-over-plane, box-over-relief, sphere-over-plane (generated), or default (the
     /// built-in default scene).
     #[arg(long, default_value = "default")]
     scene: String,

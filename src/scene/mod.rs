@@ -42,7 +42,7 @@ pub use material::{
     AlphaMode, Filter, HeightSource, Material, Relief, SamplerDesc, TextureRef, TextureSlot,
     UvTransform, Wrap,
 };
-pub use primitives::{box_mesh, quad_mesh};
+pub use primitives::{box_mesh, quad_mesh, sphere_mesh};
 pub use shading::{AoMode, ShadowMode, ShadowSettings, AO_HORIZON_DIRECTIONS};
 pub use shadow_scenes::{shadow_scene, sun, ShadowScene, SHADOW_SCENE_DEPTH};
 pub use terrain_scene::{

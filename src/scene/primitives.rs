@@ -1,4 +1,5 @@
-//! Procedural meshes with correct uvs and tangents: quads and boxes built from planar faces.
+//! Procedural meshes with correct uvs and tangents: quads and boxes built from planar faces, and a
+//! smooth sphere.
 
 use glam::{Mat4, Vec3};
 
@@ -99,6 +100,45 @@ pub fn box_mesh(name: &str, half: Vec3, material: usize) -> Mesh {
     }
 }
 
+/// A sphere of `radius` about the origin with smooth (per-vertex) normals: `rings` bands from
+/// pole to pole and `segments` around y; u runs once around, v from the south pole up. The seam
+/// and the poles repeat their vertices, as exporters write them.
+pub fn sphere_mesh(name: &str, radius: f32, rings: u32, segments: u32, material: usize) -> Mesh {
+    let mut vertices = Vec::new();
+    for i in 0..=rings {
+        let v = i as f32 / rings as f32;
+        let (sin_lat, cos_lat) = (std::f32::consts::PI * (v - 0.5)).sin_cos();
+        for j in 0..=segments {
+            let u = j as f32 / segments as f32;
+            let (sin_lon, cos_lon) = (std::f32::consts::TAU * u).sin_cos();
+            let n = Vec3::new(cos_lat * cos_lon, sin_lat, -cos_lat * sin_lon);
+            let tangent = Vec3::new(-sin_lon, 0.0, -cos_lon);
+            vertices.push(Vertex::new(
+                (n * radius).into(),
+                n.into(),
+                [u, v],
+                [tangent.x, tangent.y, tangent.z, 1.0],
+            ));
+        }
+    }
+    let row = segments + 1;
+    let mut indices = Vec::new();
+    for i in 0..rings {
+        for j in 0..segments {
+            let (a, b) = (i * row + j, i * row + j + 1);
+            let (c, d) = (a + row, b + row);
+            indices.extend([a, b, d, a, d, c]);
+        }
+    }
+    Mesh {
+        name: name.into(),
+        vertices,
+        indices,
+        material,
+        transform: Mat4::IDENTITY,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -146,5 +186,36 @@ mod tests {
         assert_eq!(b.vertices.len(), 24);
         assert_eq!(b.indices.len(), 36);
         check_winding_and_tangents(&b);
+    }
+
+    #[test]
+    fn the_sphere_winds_outward_with_its_tangents_along_u() {
+        let sphere = sphere_mesh("sphere", 2.0, 8, 16, 0);
+        assert_eq!(sphere.vertices.len(), 9 * 17);
+        let mut checked = 0;
+        for tri in sphere.indices.chunks(3) {
+            let [a, b, c] = [0, 1, 2].map(|k| sphere.vertices[tri[k] as usize]);
+            let [pa, pb, pc] = [a, b, c].map(|v| Vec3::from(v.position));
+            for v in [a, b, c] {
+                assert!((Vec3::from(v.position).length() - 2.0).abs() < 1e-5);
+                let t = Vec3::new(v.tangent[0], v.tangent[1], v.tangent[2]);
+                assert!(t.dot(Vec3::from(v.normal)).abs() < 1e-5);
+            }
+            let geometric = (pb - pa).cross(pc - pa);
+            // The poles' fans hold one zero-area triangle per quad.
+            if geometric.length() < 1e-6 {
+                continue;
+            }
+            assert!(
+                geometric.dot(Vec3::from(a.normal)) > 0.0,
+                "{tri:?} winds inward"
+            );
+            if (b.uv[1] - a.uv[1]).abs() < 1e-6 {
+                let t = Vec3::new(a.tangent[0], a.tangent[1], a.tangent[2]);
+                assert!((pb - pa).normalize().dot(t) > 0.9, "+u follows the tangent");
+            }
+            checked += 1;
+        }
+        assert_eq!(checked, 8 * 16 * 2 - 2 * 16);
     }
 }

@@ -1,5 +1,5 @@
 //! Scenes made to check scene shadows against the exact reference (`relief shadows --scene`):
-//! plain and displaced casters over plain and displaced receivers, under one directional light
+//! plain and displaced casters over plain and displaced receivers, and a curved one, under one directional light
 //! whose elevation and size are parameters. Relief materials read the frame's height map
 //! (bricks; see [`ShadowScene::address`]).
 
@@ -10,7 +10,7 @@ use glam::{Mat4, Vec3};
 
 use crate::heightfield::Address;
 
-use super::{box_mesh, quad_mesh, Camera, Light, Material, Relief, Scene, ShadowMode};
+use super::{box_mesh, quad_mesh, sphere_mesh, Camera, Light, Material, Relief, Scene, ShadowMode};
 use super::{ShadowSettings, DEFAULT_SCENE_METHOD};
 
 /// The shadow test scenes.
@@ -23,14 +23,19 @@ pub enum ShadowScene {
     SlabOverPlane,
     /// A plain box floating over a plane of relief bricks: a displaced receiver.
     BoxOverRelief,
+    /// A coarse sphere with smooth normals floating over a plain plane: a curved receiver whose
+    /// shading normals part widely from its triangles' planes, lit down to grazing at its
+    /// terminator.
+    SphereOverPlane,
 }
 
 impl ShadowScene {
     /// Every scene.
-    pub const ALL: [ShadowScene; 3] = [
+    pub const ALL: [ShadowScene; 4] = [
         ShadowScene::BoxOverPlane,
         ShadowScene::SlabOverPlane,
         ShadowScene::BoxOverRelief,
+        ShadowScene::SphereOverPlane,
     ];
 
     /// How the frame's height map is addressed: the slab clamps, so its relief ends at its edges;
@@ -48,6 +53,7 @@ impl ShadowScene {
             ShadowScene::BoxOverPlane => "box-over-plane",
             ShadowScene::SlabOverPlane => "slab-over-plane",
             ShadowScene::BoxOverRelief => "box-over-relief",
+            ShadowScene::SphereOverPlane => "sphere-over-plane",
         }
     }
 }
@@ -114,7 +120,7 @@ pub fn shadow_scene(kind: ShadowScene, elevation_deg: f32, radius_deg: f32) -> S
     let plain = material("plain", [0.6, 0.6, 0.6], None);
     let bricks = material("bricks", [0.62, 0.26, 0.17], Some(relief));
     let (materials, ground_material, caster_material) = match kind {
-        ShadowScene::BoxOverPlane => (vec![plain], 0, 0),
+        ShadowScene::BoxOverPlane | ShadowScene::SphereOverPlane => (vec![plain], 0, 0),
         ShadowScene::SlabOverPlane => (vec![plain, bricks], 0, 1),
         ShadowScene::BoxOverRelief => (vec![plain, bricks], 1, 0),
     };
@@ -125,6 +131,11 @@ pub fn shadow_scene(kind: ShadowScene, elevation_deg: f32, radius_deg: f32) -> S
             let mut slab = quad_mesh("slab", 1.5, 1.5, 1.0, caster_material);
             slab.transform = Mat4::from_translation(Vec3::new(0.0, 0.5, 0.0));
             slab
+        }
+        ShadowScene::SphereOverPlane => {
+            let mut ball = sphere_mesh("sphere", 0.4, 10, 20, caster_material);
+            ball.transform = Mat4::from_translation(Vec3::new(0.0, 0.55, 0.0));
+            ball
         }
         _ => {
             let mut cube = box_mesh("box", Vec3::splat(0.35), caster_material);
