@@ -8,6 +8,7 @@ mod cells_compare;
 mod cells_lookup;
 mod cells_render_args;
 mod devices;
+mod frame_range;
 mod heightmap_args;
 mod lod_args;
 mod logger;
