@@ -1,7 +1,7 @@
 //! `relief render --frame-range A..B`: a slice of a frame sequence, so that a render farm can hand
-//! each worker its own frames. Frames are numbered from 1 like the files (`STEM_0001.png` is frame
-//! 1) and both ends are inclusive, as farm managers count them: `1..30` and `31..60` split a
-//! 60-frame sequence in two.
+//! each worker its own frames. Frames are numbered from 1 like the files (`STEM_0001.png` is
+//! frame 1) and both ends are inclusive, as farm managers count them: `1..30` and `31..60` split
+//! a sequence of 60 frames in two.
 
 use std::ops::Range;
 use std::str::FromStr;
