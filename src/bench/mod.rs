@@ -38,11 +38,13 @@ mod shading;
 mod shading_report;
 mod shadow_stability;
 mod shadow_stats;
+mod shard;
 mod stability;
 mod subgroup_steps;
 mod svg;
 mod sweep;
 mod trace_stats;
+mod work_units;
 
 pub use ao::{measure_ao, AoConfig, AoRun};
 pub use blending::{
@@ -73,7 +75,9 @@ pub use shadow_stability::{shadow_stability, ShadowStabilityCell};
 pub use shadow_stats::{
     compare_fractions, reference_fractions, shadow_stats, ShadowStats, LEAK_DARK, LEAK_LIT,
 };
+pub use shard::{partition, Shard, UnitCost};
 pub use stability::{run_stiff_case, stiff_cases, StiffCase};
 pub use subgroup_steps::{subgroup_steps, TimedSteps};
 pub use sweep::{FieldSource, SweepConfig};
 pub use trace_stats::{ray_direction, trace_stats, Spread, StepStats, TraceStats};
+pub use work_units::{work_units, StepLayout, SweepSections, WholeSection, WorkUnit};
