@@ -12,7 +12,8 @@
 //! - [`Runner`]: measures jobs on one device, caching fields and method maps; each gives a [`Run`].
 //! - [`TraceStats`], [`Spread`], [`StepStats`] and [`GpuMs`]: the statistics every section records.
 //! - [`BenchResults`]: the whole `results.json`, with the extra sections (shading, AO, LOD, edits,
-//!   blending) as their own result types.
+//!   blending) as their own result types; [`load_results`] reads one back, checking its
+//!   [`SCHEMA_VERSION`].
 //!
 //! # How they fit together
 //! A bench builds a [`SweepConfig`], turns it into jobs with [`plan_jobs`], hands each to a [`Runner`]
@@ -27,10 +28,15 @@ mod depth_match;
 mod edits;
 mod lod;
 mod median;
+mod nan_null;
 mod npy;
 mod paint_edits;
+mod provenance;
 mod report;
 mod results;
+mod results_file;
+#[cfg(test)]
+mod results_fixture;
 mod runner;
 mod scene_shadow_section;
 mod scene_shadows;
@@ -60,8 +66,10 @@ pub use lod::{
 pub use median::median;
 pub use npy::write_npy_f32;
 pub use paint_edits::{run_paint_section, PaintCost};
+pub use provenance::{utc_now_rfc3339, BenchDevice, ReliefBuild, SweepOptions};
 pub use report::render_report;
-pub use results::{BenchDevice, BenchResults, GpuMs, MapBuild, Run, StabilityCell};
+pub use results::{BenchResults, GpuMs, MapBuild, Run, StabilityCell, SCHEMA_VERSION};
+pub use results_file::{load_results, parse_results, results_path, ResultsFileError};
 pub use runner::{plan_jobs, Job, Runner, Section};
 pub use scene_shadow_section::{
     run_scene_shadow_section, DefaultFrameCost, SceneShadowCell, SceneShadowSection,

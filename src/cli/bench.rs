@@ -12,9 +12,9 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use relief::bench::{
     blending_notes, depth_match_settled, measure_ao, measure_shadows, plan_jobs, render_report,
     run_blending_section, run_edit_section, run_lod_section, run_paint_section,
-    run_scene_shadow_section, run_stiff_case, stiff_cases, AoConfig, AoRun, BenchResults,
-    BlendingConfig, FieldSource, Job, LodConfig, Run, Runner, ShadingConfig, ShadowRun,
-    StabilityCell, StiffCase, SweepConfig,
+    run_scene_shadow_section, run_stiff_case, stiff_cases, utc_now_rfc3339, AoConfig, AoRun,
+    BenchResults, BlendingConfig, FieldSource, Job, LodConfig, ReliefBuild, Run, Runner,
+    ShadingConfig, ShadowRun, StabilityCell, StiffCase, SweepConfig, SCHEMA_VERSION,
 };
 
 /// The brush radius of the terrain-edit section, in texels (the stroke).
@@ -466,9 +466,15 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     };
     bar.finish_and_clear();
     super::check_validation(&ctx)?;
+    let argv: Vec<String> = std::env::args().collect();
     let results = BenchResults {
+        schema_version: SCHEMA_VERSION,
+        relief: ReliefBuild::current(),
+        date: utc_now_rfc3339(),
         device: ctx.info().into(),
-        command: std::env::args().collect::<Vec<_>>().join(" "),
+        command: argv.join(" "),
+        argv,
+        options: (&cfg).into(),
         runs,
         maps: runner.map_builds,
         stability,
