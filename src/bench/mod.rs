@@ -28,6 +28,7 @@ mod depth_match;
 mod edits;
 mod lod;
 mod median;
+mod merge;
 mod nan_null;
 mod npy;
 mod paint_edits;
@@ -45,6 +46,7 @@ mod shading_report;
 mod shadow_stability;
 mod shadow_stats;
 mod shard;
+mod shard_info;
 mod stability;
 mod subgroup_steps;
 mod svg;
@@ -64,6 +66,7 @@ pub use lod::{
     ImageError, LodConfig, LodRun, LodScaling, LodSection,
 };
 pub use median::median;
+pub use merge::{merge_shards, MergeError, ShardFile};
 pub use npy::write_npy_f32;
 pub use paint_edits::{run_paint_section, PaintCost};
 pub use provenance::{utc_now_rfc3339, BenchDevice, ReliefBuild, SweepOptions};
@@ -84,6 +87,7 @@ pub use shadow_stats::{
     compare_fractions, reference_fractions, shadow_stats, ShadowStats, LEAK_DARK, LEAK_LIT,
 };
 pub use shard::{partition, Shard, UnitCost};
+pub use shard_info::{ShardInfo, StepOrigins};
 pub use stability::{run_stiff_case, stiff_cases, StiffCase};
 pub use subgroup_steps::{subgroup_steps, TimedSteps};
 pub use sweep::{FieldSource, SweepConfig};

@@ -75,5 +75,6 @@ pub(crate) fn results(device: BenchDevice, runs: Vec<Run>) -> BenchResults {
         paint_edits: Vec::new(),
         blending: None,
         scene_shadows: None,
+        shard: None,
     }
 }

@@ -3,6 +3,8 @@
 
 mod ao;
 mod bench;
+mod bench_merge;
+mod bench_shard;
 mod cells;
 mod cells_compare;
 mod cells_lookup;

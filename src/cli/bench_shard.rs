@@ -1,0 +1,108 @@
+//! `relief bench --shard K/N`: which steps of the sweep this run measures, the fingerprint that
+//! tells shards of one sweep from shards of another, and the record of where each result came
+//! from (see `relief bench merge`).
+
+use std::collections::HashSet;
+
+use relief::bench::{
+    partition, work_units, BlendingConfig, LodConfig, ReliefBuild, Shard, ShardInfo, StepLayout,
+    StepOrigins, SweepConfig, SweepOptions, SweepSections, UnitCost,
+};
+
+/// The steps a run measures: every one, or its shard's.
+pub struct StepPlan {
+    pub layout: StepLayout,
+    /// `None`: every step.
+    picked: Option<HashSet<u32>>,
+    shard: Option<(Shard, Vec<u32>)>,
+    steps_total: u32,
+}
+
+impl StepPlan {
+    /// The plan of `sections`, split when `shard` is given.
+    pub fn new(shard: Option<Shard>, cfg: &SweepConfig, sections: &SweepSections) -> StepPlan {
+        let layout = StepLayout::new(cfg, sections);
+        let units = work_units(cfg, sections);
+        let steps_total = units.iter().map(|u| u.steps.len() as u32).sum();
+        let Some(shard) = shard else {
+            return StepPlan {
+                layout,
+                picked: None,
+                shard: None,
+                steps_total,
+            };
+        };
+        let costs: Vec<UnitCost> = units.iter().map(|u| u.cost.clone()).collect();
+        let (shard_of, _) = partition(&costs, shard.count);
+        let mut steps: Vec<u32> = units
+            .iter()
+            .zip(&shard_of)
+            .filter(|(_, &s)| s + 1 == shard.index)
+            .flat_map(|(u, _)| u.steps.iter().copied())
+            .collect();
+        steps.sort_unstable();
+        StepPlan {
+            layout,
+            picked: Some(steps.iter().copied().collect()),
+            shard: Some((shard, steps)),
+            steps_total,
+        }
+    }
+
+    /// Whether this run measures `step`.
+    pub fn wants(&self, step: u32) -> bool {
+        self.picked.as_ref().is_none_or(|p| p.contains(&step))
+    }
+
+    /// The `shard` object of the results, for a shard.
+    pub fn info(&self, fingerprint: String, origins: StepOrigins) -> Option<ShardInfo> {
+        let (shard, steps) = self.shard.clone()?;
+        Some(ShardInfo {
+            shard,
+            fingerprint,
+            steps_total: self.steps_total,
+            steps,
+            origins,
+        })
+    }
+}
+
+/// A hash of everything that decides what a sweep measures and how: the effective options, the
+/// sections that run with their settings, and the relief build. The shard, the output folder and
+/// `--json` are left out, so every shard of one sweep gets the same one.
+pub fn fingerprint(
+    cfg: &SweepConfig,
+    sections: &SweepSections,
+    lod: &LodConfig,
+    blending: &BlendingConfig,
+) -> String {
+    let build = ReliefBuild::current();
+    let text = serde_json::json!({
+        "options": SweepOptions::from(cfg),
+        "sections": format!("{sections:?}"),
+        "lod": format!("{lod:?}"),
+        "blending": format!("{blending:?}"),
+        "relief": [build.version, build.commit],
+    })
+    .to_string();
+    format!("{:016x}", fnv1a(text.as_bytes()))
+}
+
+/// FNV-1a, 64 bits: stable across Rust releases and platforms, unlike std's `DefaultHasher`; a
+/// fingerprint needs no cryptographic strength.
+fn fnv1a(bytes: &[u8]) -> u64 {
+    bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, &b| {
+        (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3)
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fnv1a_matches_its_published_values() {
+        assert_eq!(fnv1a(b""), 0xcbf2_9ce4_8422_2325);
+        assert_eq!(fnv1a(b"a"), 0xaf63_dc4c_8601_ec8c);
+    }
+}
