@@ -352,3 +352,125 @@ fn without_shard(argv: &[String]) -> Vec<String> {
     }
     out
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::bench::results_fixture::{device, results, run};
+    use crate::bench::{Shard, StepOrigins};
+
+    /// Shard `index` of `count` holding runs at these angles, each its own step.
+    fn shard(index: u32, count: u32, steps: &[u32], maps: &[(u32, &str)]) -> ShardFile {
+        let mut r = results(
+            device("llvmpipe"),
+            steps
+                .iter()
+                .map(|&s| run("pom", f64::from(s), &[1.0], 0.1))
+                .collect(),
+        );
+        r.maps = maps
+            .iter()
+            .map(|(_, kind)| MapBuild {
+                kind: (*kind).into(),
+                heightfield: "fbm".into(),
+                size: [64, 64],
+                ms: f64::from(index),
+                on: "gpu".into(),
+            })
+            .collect();
+        r.shard = Some(ShardInfo {
+            shard: Shard { index, count },
+            fingerprint: "f00d".into(),
+            steps_total: 4,
+            steps: steps.to_vec(),
+            origins: StepOrigins {
+                runs: steps.to_vec(),
+                maps: maps.iter().map(|m| m.0).collect(),
+                ..StepOrigins::default()
+            },
+        });
+        let text = serde_json::to_string(&r).unwrap();
+        ShardFile {
+            path: format!("shard{index}/results.json").into(),
+            text,
+            results: r,
+        }
+    }
+
+    #[test]
+    fn runs_come_back_in_step_order_and_each_map_once_from_its_first_step() {
+        let a = shard(1, 2, &[0, 3], &[(0, "max_pyramid"), (3, "cone")]);
+        let b = shard(2, 2, &[1, 2], &[(1, "cone"), (1, "max_pyramid")]);
+        let (merged, notes) = merge_shards(vec![b, a]).expect("one sweep");
+        assert!(notes.is_empty());
+        let angles: Vec<f64> = merged.runs.iter().map(|r| r.angle_deg).collect();
+        assert_eq!(angles, [0.0, 1.0, 2.0, 3.0]);
+        let maps: Vec<(&str, f64)> = merged
+            .maps
+            .iter()
+            .map(|m| (m.kind.as_str(), m.ms))
+            .collect();
+        assert_eq!(maps, [("max_pyramid", 1.0), ("cone", 2.0)]);
+        assert!(merged.shard.is_none());
+    }
+
+    #[test]
+    fn shards_of_other_devices_builds_or_sweeps_are_refused() {
+        let mut other_device = shard(2, 2, &[1, 2], &[]);
+        other_device.results.device = device("NVIDIA GeForce RTX 4090");
+        let mut other_sweep = shard(2, 2, &[1, 2], &[]);
+        other_sweep.results.shard.as_mut().unwrap().fingerprint = "beef".into();
+        other_sweep.results.options.frames += 1;
+        let mut other_build = shard(2, 2, &[1, 2], &[]);
+        other_build.results.relief.commit = "0123".into();
+        let mut other_count = shard(2, 3, &[1, 2], &[]);
+        other_count.results.shard.as_mut().unwrap().steps_total = 4;
+        let mut other_version = shard(2, 2, &[1, 2], &[]);
+        other_version.results.schema_version += 1;
+        for (file, needle) in [
+            (other_device, "different devices"),
+            (other_sweep, "options differ: frames"),
+            (other_build, "different relief builds"),
+            (other_count, "split into 2 and 3 shards"),
+            (other_version, "schema versions"),
+        ] {
+            let err = merge_shards(vec![shard(1, 2, &[0, 3], &[]), file]).expect_err(needle);
+            let text = err.to_string();
+            assert!(text.contains(needle) && text.contains("shard2"), "{text}");
+        }
+    }
+
+    #[test]
+    fn a_whole_run_missing_or_repeated_shards_and_overlapping_steps_are_named() {
+        let mut whole = shard(1, 2, &[0, 3], &[]);
+        whole.results.shard = None;
+        let err = merge_shards(vec![whole]).unwrap_err().to_string();
+        assert!(err.contains("shard1/results.json is not a shard"), "{err}");
+
+        let err = merge_shards(vec![shard(2, 2, &[1, 2], &[])])
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("shard(s) 1 of 2 missing (given: 2)"), "{err}");
+
+        let (_, notes) = merge_shards(vec![
+            shard(1, 2, &[0, 3], &[]),
+            shard(2, 2, &[1, 2], &[]),
+            shard(2, 2, &[1, 2], &[]),
+        ])
+        .expect("a repeat with the same contents is harmless");
+        assert_eq!(notes.len(), 1, "{notes:?}");
+        let err = merge_shards(vec![
+            shard(1, 2, &[0, 3], &[]),
+            shard(2, 2, &[1, 2], &[]),
+            shard(2, 2, &[1, 3], &[]),
+        ])
+        .unwrap_err()
+        .to_string();
+        assert!(err.contains("shard 2/2 is given twice"), "{err}");
+
+        let err = merge_shards(vec![shard(1, 2, &[0, 3], &[]), shard(2, 2, &[1, 3], &[])])
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("step 3 is measured by shard1"), "{err}");
+    }
+}
