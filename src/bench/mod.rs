@@ -24,6 +24,7 @@
 mod ao;
 mod blending;
 mod blending_report;
+pub mod compare;
 mod depth_match;
 mod edits;
 mod lod;
@@ -44,6 +45,7 @@ mod shading;
 mod shading_report;
 mod shadow_stability;
 mod shadow_stats;
+mod slow_down;
 mod stability;
 mod subgroup_steps;
 mod svg;
@@ -81,6 +83,7 @@ pub use shadow_stability::{shadow_stability, ShadowStabilityCell};
 pub use shadow_stats::{
     compare_fractions, reference_fractions, shadow_stats, ShadowStats, LEAK_DARK, LEAK_LIT,
 };
+pub use slow_down::{SlowDown, MAX_SLOW_DOWN};
 pub use stability::{run_stiff_case, stiff_cases, StiffCase};
 pub use subgroup_steps::{subgroup_steps, TimedSteps};
 pub use sweep::{FieldSource, SweepConfig};

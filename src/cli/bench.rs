@@ -5,7 +5,7 @@ use std::path::PathBuf;
 use std::sync::Arc;
 
 use anyhow::Context as _;
-use clap::Args;
+use clap::{Args, Subcommand};
 use std::io::IsTerminal;
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -14,7 +14,7 @@ use relief::bench::{
     run_blending_section, run_edit_section, run_lod_section, run_paint_section,
     run_scene_shadow_section, run_stiff_case, stiff_cases, utc_now_rfc3339, AoConfig, AoRun,
     BenchResults, BlendingConfig, FieldSource, Job, LodConfig, ReliefBuild, Run, Runner,
-    ShadingConfig, ShadowRun, StabilityCell, StiffCase, SweepConfig, SCHEMA_VERSION,
+    ShadingConfig, ShadowRun, SlowDown, StabilityCell, StiffCase, SweepConfig, SCHEMA_VERSION,
 };
 
 /// The brush radius of the terrain-edit section, in texels (the stroke).
@@ -28,10 +28,13 @@ use relief::vk::Context;
 use super::scene_args::FormatArg;
 
 #[derive(Args)]
+#[command(args_conflicts_with_subcommands = true, subcommand_negates_reqs = true)]
 pub struct BenchArgs {
+    #[command(subcommand)]
+    command: Option<BenchCommand>,
     /// Folder for results.json, report.md and the SVG plots.
-    #[arg(long)]
-    out: PathBuf,
+    #[arg(long, required = true)]
+    out: Option<PathBuf>,
     /// Small sweep for CI (a few minutes on lavapipe).
     #[arg(long)]
     quick: bool,
@@ -109,6 +112,17 @@ pub struct BenchArgs {
     json: bool,
     #[arg(long, value_name = "SUBSTRING")]
     device: Option<String>,
+    /// Testing only: dispatch METHOD's timed trace FACTOR times per frame, slowing it on purpose
+    /// (recorded in the results' options); see docs/measuring.md.
+    #[arg(long, value_name = "METHOD=FACTOR", hide = true)]
+    slow_down: Vec<SlowDown>,
+}
+
+/// What `relief bench` does besides measuring.
+#[derive(Subcommand)]
+enum BenchCommand {
+    /// Compare two results files cell by cell: time ratios with intervals, error changes, verdicts.
+    Compare(super::bench_compare::CompareArgs),
 }
 
 fn parse_resolution(text: &str) -> anyhow::Result<(u32, u32)> {
@@ -156,6 +170,7 @@ fn config(args: &BenchArgs) -> anyhow::Result<SweepConfig> {
     }
     cfg.frames = args.frames.unwrap_or(cfg.frames).max(1);
     cfg.stability &= !args.no_stability;
+    cfg.slow_down = args.slow_down.clone();
     cfg.address = args.address;
     cfg.format = match args.height_format {
         FormatArg::R16 => HeightFormat::R16Unorm,
@@ -391,6 +406,12 @@ impl Sections {
 }
 
 pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
+    let Some(out) = &args.out else {
+        return match &args.command {
+            Some(BenchCommand::Compare(a)) => super::bench_compare::run(a),
+            None => anyhow::bail!("relief bench needs --out DIR"),
+        };
+    };
     let cfg = config(args)?;
     let ctx = super::open_device(args.device.as_deref(), args.json)?;
     let sections = Sections::new(args, &cfg, &ctx);
@@ -487,7 +508,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         blending,
         scene_shadows,
     };
-    write_outputs(&args.out, &results, args.json)
+    write_outputs(out, &results, args.json)
 }
 
 /// The terrain-edit section's field sides: --edit-sizes, else 1024 and 4096 (quick: 256 and 1024).
