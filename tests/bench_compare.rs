@@ -1,6 +1,6 @@
 //! `relief bench compare` on real runs: two runs of one build agree cell by cell, a method slowed
-//! on purpose (`--slow-down`) is flagged slower by about its factor and fails `--fail-above`, and
-//! files it cannot compare are refused by name.
+//! on purpose (`--slow-down`) is flagged slower by about its factor and fails `--fail-above` with
+//! exit code 3, and files it cannot compare are refused by name.
 
 mod common;
 
@@ -79,37 +79,78 @@ fn cell_rows(stdout: &str) -> Vec<(String, f64, String, String)> {
         .collect()
 }
 
+/// A comparison that trips on the machine's noise is measured again, up to this many times: on a
+/// machine shared with other work a build can take a core for a second, and a whole method's
+/// cells, which run back to back, then read slower. A broken comparison (one that always alarms
+/// or never flags) fails every attempt.
+const ATTEMPTS: usize = 3;
+
+/// The factor `--slow-down` slows qdm by: well beyond a factor of 2 of contention.
+const FACTOR: f64 = 6.0;
+
 #[test]
 fn two_runs_agree_and_a_slowed_method_is_flagged_slower() {
     if common::device("bench-compare").is_none() {
         return;
     }
     let dir = common::scratch_dir("bench-compare");
+    let mut tripped = Vec::new();
+    for attempt in 0..ATTEMPTS {
+        match compare_three_runs(&dir.join(format!("attempt{attempt}"))) {
+            Ok(()) => {
+                let _ = std::fs::remove_dir_all(&dir);
+                return;
+            }
+            Err(why) => {
+                let first = why.lines().next().unwrap_or_default();
+                eprintln!("attempt {attempt} tripped on the machine's noise: {first}");
+                tripped.push(why);
+            }
+        }
+    }
+    panic!(
+        "every attempt tripped:\n\n{}",
+        tripped.join("\n\n--- next attempt ---\n\n")
+    );
+}
+
+/// `Err` with the evidence when a check that timing noise can trip fails; panics on any other.
+fn compare_three_runs(dir: &Path) -> Result<(), String> {
+    macro_rules! check {
+        ($cond:expr, $($why:tt)+) => {
+            if !$cond {
+                return Err(format!($($why)+));
+            }
+        };
+    }
     let (a, b, slow) = (dir.join("a"), dir.join("b"), dir.join("slow"));
     bench(&a, &[]);
     bench(&b, &[]);
-    bench(&slow, &["--slow-down", "qdm=3"]);
+    bench(&slow, &["--slow-down", &format!("qdm={FACTOR}")]);
 
     // One build twice: every cell within noise, the errors identical, and the gate passes.
     let same = compare(&a, &b, &["--fail-above", "1.2"]);
     let text = String::from_utf8_lossy(&same.stdout);
-    assert!(
-        same.status.success(),
-        "{text}\n{}",
-        String::from_utf8_lossy(&same.stderr)
-    );
+    let err = String::from_utf8_lossy(&same.stderr);
+    assert!(matches!(same.status.code(), Some(0 | 3)), "{text}\n{err}");
     let rows = cell_rows(&text);
     assert!(rows.len() >= 12, "{text}");
-    for (cell, _, error, verdict) in &rows {
-        assert_eq!(error, "same", "{cell}");
-        assert!(
+    for (cell, _, error, _) in &rows {
+        assert_eq!(error, "same", "errors are deterministic: {cell}");
+    }
+    check!(
+        same.status.success(),
+        "one build twice failed the gate: {err}\n{text}"
+    );
+    for (cell, _, _, verdict) in &rows {
+        check!(
             verdict.starts_with("within noise"),
             "{cell}: {verdict}\n{text}"
         );
     }
-    assert!(text.contains(" 0 slower, 0 faster"), "{text}");
+    check!(text.contains(" 0 slower, 0 faster"), "{text}");
 
-    // qdm dispatched three times per frame: its cells slower by about 3, the others not.
+    // qdm dispatched FACTOR times per frame: its cells slower by about FACTOR, the others not.
     let (md, svg) = (dir.join("compare.md"), dir.join("compare.svg"));
     let flagged = compare(
         &a,
@@ -125,14 +166,9 @@ fn two_runs_agree_and_a_slowed_method_is_flagged_slower() {
     );
     let text = String::from_utf8_lossy(&flagged.stdout);
     let err = String::from_utf8_lossy(&flagged.stderr);
-    assert_eq!(flagged.status.code(), Some(3), "{text}\n{err}");
-    assert!(
-        err.contains("relief: error:") && err.contains("slower than 1.5x"),
-        "{err}"
-    );
     assert!(!err.contains("panicked"), "{err}");
     assert!(
-        text.contains(r#"option slow_down: [] -> ["qdm=3"]"#),
+        text.contains(&format!(r#"option slow_down: [] -> ["qdm={FACTOR}"]"#)),
         "{text}"
     );
     let rows = cell_rows(&text);
@@ -144,31 +180,44 @@ fn two_runs_agree_and_a_slowed_method_is_flagged_slower() {
             "slowing a method must not move its hits: {cell}"
         );
     }
-    // A cell whose frames fall in a moment of contention on this shared machine can read
-    // anywhere from about 2 to 6 times slower; nearly all must be flagged, and the method's
-    // median over its cells must be near the factor.
-    let slower = qdm.iter().filter(|r| r.3 == "slower" && r.1 > 1.5).count();
-    assert!(
-        5 * slower >= 4 * qdm.len(),
-        "{slower} of {} qdm cells slower\n{text}",
-        qdm.len()
+    check!(
+        flagged.status.code() == Some(3),
+        "exit {:?}: {err}\n{text}",
+        flagged.status
     );
+    let lines: Vec<&str> = err
+        .lines()
+        .filter(|l| l.starts_with("relief: error:"))
+        .collect();
+    assert_eq!(lines.len(), 1, "{err}");
+    assert!(
+        lines[0].contains("slower than 1.5x") && lines[0].contains(" qdm "),
+        "{err}"
+    );
+    for (cell, ratio, _, verdict) in &qdm {
+        check!(
+            verdict == "slower" && *ratio > 2.0,
+            "{cell}: {ratio}x, {verdict}\n{text}"
+        );
+    }
     let method = text
         .lines()
         .find(|l| l.starts_with("qdm "))
         .expect("qdm's row in the methods table");
     let cols: Vec<&str> = method.split_whitespace().collect();
     let ratio: f64 = cols[2].trim_end_matches('x').parse().expect("a ratio");
-    assert!((2.4..=3.6).contains(&ratio), "{method}");
-    assert_eq!(cols.last(), Some(&"slower"), "{method}");
+    check!(
+        (0.7 * FACTOR..=1.3 * FACTOR).contains(&ratio) && cols.last() == Some(&"slower"),
+        "qdm's median ratio for a factor of {FACTOR}: {method}\n{text}"
+    );
     for (cell, _, _, verdict) in rows.iter().filter(|r| !r.0.contains(" qdm ")) {
-        assert_ne!(verdict, "slower", "{cell}\n{text}");
+        check!(verdict != "slower", "{cell} was not slowed\n{text}");
     }
     let markdown = std::fs::read_to_string(&md).expect("the Markdown report");
     assert!(markdown.contains("| cell | BASE ms |") && markdown.contains("slower"));
     let plot = std::fs::read_to_string(&svg).expect("the SVG plot");
     assert!(plot.starts_with("<svg") && plot.contains("error_vs_time qdm"));
-    let _ = std::fs::remove_dir_all(&dir);
+    Ok(())
 }
 
 /// A results file as relief wrote it before schema versions: summaries only.
