@@ -217,6 +217,29 @@ fn compare_three_runs(dir: &Path) -> Result<(), String> {
     assert!(markdown.contains("| cell | BASE ms |") && markdown.contains("slower"));
     let plot = std::fs::read_to_string(&svg).expect("the SVG plot");
     assert!(plot.starts_with("<svg") && plot.contains("error_vs_time qdm"));
+
+    // The same run as if measured on another device: the devices ranked per method, no
+    // verdicts, and no gate.
+    let mut moved: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(b.join("results.json")).expect("b's results"))
+            .expect("JSON");
+    moved["device"]["name"] = "another GPU".into();
+    let elsewhere = dir.join("elsewhere.json");
+    std::fs::write(&elsewhere, moved.to_string()).expect("scratch is writable");
+    let ranked = compare(&a, &elsewhere, &[]);
+    let text = String::from_utf8_lossy(&ranked.stdout);
+    assert!(ranked.status.success(), "{text}");
+    assert!(text.contains("Different devices"), "{text}");
+    for method in ["pom", "steep", "qdm"] {
+        assert!(
+            text.lines()
+                .any(|l| l.starts_with(method) && l.contains("1. ")),
+            "{method} ranked\n{text}"
+        );
+    }
+    assert!(!text.contains("within noise"), "{text}");
+    let gated = compare(&a, &elsewhere, &["--fail-above", "1.5"]);
+    assert_clean_failure(&gated, &["--fail-above", "another GPU"]);
     Ok(())
 }
 

@@ -128,7 +128,7 @@ fn blocks(c: &Comparison) -> Vec<Block> {
             100.0 * CONFIDENCE
         )));
     }
-    if c.alone() > 0 {
+    if c.same_device && c.alone() > 0 {
         blocks.push(Block::Line(
             "alone: the cell's own interval is beyond the band but its method did not move; on a \
              shared machine one cell's frames can all fall in a moment of contention, so such a \
