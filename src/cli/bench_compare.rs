@@ -45,6 +45,18 @@ pub struct SlowerThanAllowed {
     worst: String,
 }
 
+#[cfg(test)]
+impl SlowerThanAllowed {
+    /// One, for the exit-code test.
+    pub fn example() -> SlowerThanAllowed {
+        SlowerThanAllowed {
+            count: 1,
+            limit: 1.1,
+            worst: "a cell".into(),
+        }
+    }
+}
+
 pub fn run(args: &CompareArgs) -> anyhow::Result<()> {
     if !(args.min_effect.is_finite() && args.min_effect >= 0.0) {
         anyhow::bail!(

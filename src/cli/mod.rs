@@ -189,4 +189,11 @@ mod tests {
         let err = anyhow::Error::from(VkError::NoDevice).context("opening the device");
         assert_eq!(exit_code(&err), EXIT_NO_DEVICE);
     }
+
+    #[test]
+    fn a_comparison_over_its_limit_exits_with_3() {
+        let err = anyhow::Error::from(bench_compare::SlowerThanAllowed::example());
+        assert_eq!(exit_code(&err), bench_compare::EXIT_SLOWER);
+        assert_eq!(exit_code(&anyhow::anyhow!("reading BASE")), 1);
+    }
 }
