@@ -24,6 +24,7 @@
 mod ao;
 mod blending;
 mod blending_report;
+pub mod compare;
 mod depth_match;
 mod edits;
 mod lod;
@@ -47,6 +48,7 @@ mod shadow_stability;
 mod shadow_stats;
 mod shard;
 mod shard_info;
+mod slow_down;
 mod stability;
 mod subgroup_steps;
 mod svg;
@@ -88,6 +90,7 @@ pub use shadow_stats::{
 };
 pub use shard::{partition, Shard, UnitCost};
 pub use shard_info::{ShardInfo, StepOrigins};
+pub use slow_down::{SlowDown, MAX_SLOW_DOWN};
 pub use stability::{run_stiff_case, stiff_cases, StiffCase};
 pub use subgroup_steps::{subgroup_steps, TimedSteps};
 pub use sweep::{FieldSource, SweepConfig};

@@ -110,6 +110,10 @@ pub struct SweepOptions {
     pub paper_leaf: bool,
     /// Whether this was the `--quick` sweep.
     pub quick: bool,
+    /// Methods slowed on purpose, `METHOD=FACTOR` (`--slow-down`): their times are not
+    /// measurements. Absent in files written before the option existed.
+    #[serde(default)]
+    pub slow_down: Vec<String>,
 }
 
 impl From<&SweepConfig> for SweepOptions {
@@ -139,6 +143,7 @@ impl From<&SweepConfig> for SweepOptions {
             stability: c.stability,
             paper_leaf: c.paper_leaf,
             quick: c.quick,
+            slow_down: c.slow_down.iter().map(ToString::to_string).collect(),
         }
     }
 }

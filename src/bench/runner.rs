@@ -365,6 +365,7 @@ impl Runner {
             },
             warmup: self.cfg.warmup,
             frames: self.cfg.frames,
+            dispatches: self.cfg.dispatches_per_frame(job.method),
         };
         let timing = time_method(&self.ctx, &hf, &timed)?;
         let cpu_ms = started.elapsed().as_secs_f64() * 1e3;

@@ -134,6 +134,7 @@ pub fn measure_shadows(
             },
             warmup: sweep.warmup,
             frames: sweep.frames,
+            dispatches: 1,
         };
         time_method(&ctx, &hf, &req).map(|t| GpuMs::of(&t.frame_ms))
     };

@@ -15,8 +15,8 @@ use relief::bench::{
     run_scene_shadow_section, run_stiff_case, stiff_cases, utc_now_rfc3339, AoConfig, AoRun,
     BenchResults, BlendingConfig, BlendingSection, EditCost, FieldSource, Job, LodConfig,
     LodSection, PaintCost, ReliefBuild, Run, Runner, SceneShadowSection, ShadingConfig, ShadowRun,
-    ShadowStabilityCell, Shard, StabilityCell, StepOrigins, StiffCase, SweepConfig, SweepSections,
-    WholeSection, SCHEMA_VERSION,
+    ShadowStabilityCell, Shard, SlowDown, StabilityCell, StepOrigins, StiffCase, SweepConfig,
+    SweepSections, WholeSection, SCHEMA_VERSION,
 };
 
 /// The brush radius of the terrain-edit section, in texels (the stroke).
@@ -35,7 +35,7 @@ use super::scene_args::FormatArg;
 #[command(args_conflicts_with_subcommands = true, subcommand_negates_reqs = true)]
 pub struct BenchArgs {
     #[command(subcommand)]
-    action: Option<BenchAction>,
+    command: Option<BenchCommand>,
     /// Folder for results.json, report.md and the SVG plots.
     #[arg(long, required = true)]
     out: Option<PathBuf>,
@@ -120,11 +120,17 @@ pub struct BenchArgs {
     /// merge` joins the shards' folders.
     #[arg(long, value_name = "K/N")]
     shard: Option<Shard>,
+    /// Testing only: dispatch METHOD's timed trace FACTOR times per frame, slowing it on purpose
+    /// (recorded in the results' options); see docs/measuring.md.
+    #[arg(long, value_name = "METHOD=FACTOR", hide = true)]
+    slow_down: Vec<SlowDown>,
 }
 
 /// What `relief bench` does besides measuring.
 #[derive(Subcommand)]
-enum BenchAction {
+enum BenchCommand {
+    /// Compare two results files cell by cell: time ratios with intervals, error changes, verdicts.
+    Compare(super::bench_compare::CompareArgs),
     /// Join the folders of `relief bench --shard K/N` runs into one results.json and report.
     Merge(MergeArgs),
 }
@@ -174,6 +180,7 @@ fn config(args: &BenchArgs) -> anyhow::Result<SweepConfig> {
     }
     cfg.frames = args.frames.unwrap_or(cfg.frames).max(1);
     cfg.stability &= !args.no_stability;
+    cfg.slow_down = args.slow_down.clone();
     cfg.address = args.address;
     cfg.format = match args.height_format {
         FormatArg::R16 => HeightFormat::R16Unorm,
@@ -444,11 +451,12 @@ fn progress_steps(s: &SweepSections, cfg: &SweepConfig, plan: &StepPlan) -> usiz
 }
 
 pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
-    let out = match (&args.action, &args.out) {
-        (Some(BenchAction::Merge(merge)), _) => return bench_merge::run(merge),
-        (None, Some(out)) => out,
-        // clap requires --out without a subcommand.
-        (None, None) => anyhow::bail!("relief bench needs --out DIR"),
+    let Some(out) = &args.out else {
+        return match &args.command {
+            Some(BenchCommand::Compare(a)) => super::bench_compare::run(a),
+            Some(BenchCommand::Merge(a)) => bench_merge::run(a),
+            None => anyhow::bail!("relief bench needs --out DIR"),
+        };
     };
     let cfg = config(args)?;
     let ctx = super::open_device(args.device.as_deref(), args.json)?;
