@@ -462,6 +462,13 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     let ctx = super::open_device(args.device.as_deref(), args.json)?;
     let sections = sections(args, &cfg, &ctx);
     let plan = StepPlan::new(args.shard, &cfg, &sections);
+    if let (Some(shard), Some((mine, all, load, most)), false) =
+        (args.shard, plan.estimate, args.json)
+    {
+        eprintln!(
+            "shard {shard}: {mine} of {all} units, an estimated {load:.0} s on lavapipe (the largest shard {most:.0} s)"
+        );
+    }
     let bar = progress(progress_steps(&sections, &cfg, &plan), args.json);
     let mut origins = StepOrigins::default();
     let mut runner = Runner::new(ctx.clone(), cfg.clone());

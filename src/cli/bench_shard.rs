@@ -16,6 +16,9 @@ pub struct StepPlan {
     picked: Option<HashSet<u32>>,
     shard: Option<(Shard, Vec<u32>)>,
     steps_total: u32,
+    /// For a shard: its units, all units, its estimated load and the largest shard's (seconds on
+    /// lavapipe, roughly).
+    pub estimate: Option<(usize, usize, f64, f64)>,
 }
 
 impl StepPlan {
@@ -30,10 +33,14 @@ impl StepPlan {
                 picked: None,
                 shard: None,
                 steps_total,
+                estimate: None,
             };
         };
         let costs: Vec<UnitCost> = units.iter().map(|u| u.cost.clone()).collect();
-        let (shard_of, _) = partition(&costs, shard.count);
+        let (shard_of, loads) = partition(&costs, shard.count);
+        let mine = shard_of.iter().filter(|&&s| s + 1 == shard.index).count();
+        let most = loads.iter().copied().fold(0.0, f64::max);
+        let estimate = Some((mine, units.len(), loads[shard.index as usize - 1], most));
         let mut steps: Vec<u32> = units
             .iter()
             .zip(&shard_of)
@@ -46,6 +53,7 @@ impl StepPlan {
             picked: Some(steps.iter().copied().collect()),
             shard: Some((shard, steps)),
             steps_total,
+            estimate,
         }
     }
 
