@@ -5,8 +5,8 @@
 use std::collections::HashSet;
 
 use relief::bench::{
-    partition, work_units, BlendingConfig, LodConfig, ReliefBuild, Shard, ShardInfo, StepLayout,
-    StepOrigins, SweepConfig, SweepOptions, SweepSections, UnitCost,
+    partition, work_units, BlendingConfig, FieldSource, LodConfig, ReliefBuild, Shard, ShardInfo,
+    StepLayout, StepOrigins, SweepConfig, SweepOptions, SweepSections, UnitCost,
 };
 
 /// The steps a run measures: every one, or its shard's.
@@ -76,7 +76,7 @@ impl StepPlan {
 }
 
 /// A hash of everything that decides what a sweep measures and how: the effective options, the
-/// sections that run with their settings, and the relief build. The shard, the output folder and
+/// contents of its height maps, the sections that run with their settings, and the relief build. The shard, the output folder and
 /// `--json` are left out, so every shard of one sweep gets the same one.
 pub fn fingerprint(
     cfg: &SweepConfig,
@@ -85,7 +85,20 @@ pub fn fingerprint(
     blending: &BlendingConfig,
 ) -> String {
     let build = ReliefBuild::current();
+    // A height map is named by its path, which says nothing of what a node finds there.
+    let maps: Vec<String> = cfg
+        .fields
+        .iter()
+        .filter_map(|f| match f {
+            FieldSource::File(path) => Some(std::fs::read(path).map_or_else(
+                |e| format!("{}: {e}", path.display()),
+                |bytes| format!("{:016x}", fnv1a(&bytes)),
+            )),
+            FieldSource::Synthetic(_) => None,
+        })
+        .collect();
     let text = serde_json::json!({
+        "height_maps": maps,
         "options": SweepOptions::from(cfg),
         "sections": format!("{sections:?}"),
         "lod": format!("{lod:?}"),
