@@ -14,6 +14,8 @@
 //! - [`BenchResults`]: the whole `results.json`, with the extra sections (shading, AO, LOD, edits,
 //!   blending) as their own result types; [`load_results`] reads one back, checking its
 //!   [`SCHEMA_VERSION`].
+//! - [`work_units`], [`partition`] and [`Shard`]: a sweep cut into units with expected costs and
+//!   split between shards; [`ShardInfo`] in a shard's results, and [`merge_shards`] joining them.
 //!
 //! # How they fit together
 //! A bench builds a [`SweepConfig`], turns it into jobs with [`plan_jobs`], hands each to a [`Runner`]
