@@ -24,6 +24,9 @@ use std::path::{Path, PathBuf};
 
 use glslang::include::{IncludeHandler, IncludeResult, IncludeType};
 
+/// The git commit and dirty flag that `results.json` records.
+#[path = "build/git_commit.rs"]
+mod git_commit;
 /// The facts shaders and library share, the same files the library compiles.
 #[allow(dead_code)]
 #[path = "src/render/shader_interface/mod.rs"]
@@ -382,6 +385,7 @@ fn main() {
     println!("cargo:rerun-if-changed=shaders");
     println!("cargo:rerun-if-changed=src/method/table.rs");
     println!("cargo:rerun-if-changed=src/render/shader_interface");
+    git_commit::emit(&manifest);
     if let Err(message) = check_table(&root) {
         eprintln!("{message}");
         std::process::exit(1);

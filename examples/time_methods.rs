@@ -46,6 +46,7 @@ fn main() -> anyhow::Result<()> {
                 trace,
                 warmup: 2,
                 frames: 5,
+                dispatches: 1,
             },
         )?;
         // Error: one more trace whose hits come back, each compared with the exact hit that

@@ -3,7 +3,7 @@
 //! field (the reference is computed once per field and shared by the modes), plus the build time
 //! alone at the bench's main map size, where the reference would take too long.
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use super::runner::Runner;
 use super::sweep::FieldSource;
@@ -46,7 +46,7 @@ impl AoConfig {
 }
 
 /// One AO mode on one field.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct AoRun {
     /// The AO mode's name.
     pub mode: String,

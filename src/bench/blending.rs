@@ -17,7 +17,7 @@
 
 use std::sync::Arc;
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use super::results::GpuMs;
 use super::trace_stats::{ray_direction, trace_stats, Spread, StepStats};
@@ -97,7 +97,7 @@ impl BlendingConfig {
 }
 
 /// One trace's outcome against the exact reference of the blended surface.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct BlendTrace {
     /// GPU time of the trace dispatch over the timed frames.
     pub gpu_ms: GpuMs,
@@ -114,7 +114,7 @@ pub struct BlendTrace {
 }
 
 /// One (method, blend, angle) cell.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct BlendCost {
     /// The method's name.
     pub method: String,
@@ -147,7 +147,7 @@ impl BlendCost {
 pub const ONE_HOT: &str = "one-hot";
 
 /// The section's settings as run, and its cells.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct BlendingSection {
     /// The layers' generator names, in stack order.
     pub layers: Vec<String>,

@@ -7,7 +7,7 @@
 use std::fmt::Write as _;
 use std::sync::Arc;
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use super::median::median;
 use crate::heightfield::{Address, Generator};
@@ -21,7 +21,7 @@ const STROKES: usize = 8;
 const FULL_REBUILDS: usize = 3;
 
 /// One size's edit costs.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct EditCost {
     /// Side of the edited height field, in texels.
     pub size: u32,

@@ -8,7 +8,7 @@ use std::fmt::Write as _;
 use std::sync::Arc;
 
 use glam::Vec3;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use super::results::GpuMs;
 use crate::heightfield::{Address, Generator, Heightfield};
@@ -84,7 +84,7 @@ impl LodConfig {
 
 /// Mean and 99th percentile of the per-channel absolute difference of two RGB images, in 8-bit
 /// sRGB steps.
-#[derive(Debug, Clone, Copy, Serialize, PartialEq)]
+#[derive(Debug, Clone, Copy, Serialize, Deserialize, PartialEq)]
 pub struct ImageError {
     /// Mean over all pixels and channels, in 8-bit sRGB steps.
     pub mean: f64,
@@ -93,7 +93,7 @@ pub struct ImageError {
 }
 
 /// One method with and without LOD.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct LodRun {
     /// The method's name.
     pub method: String,
@@ -116,7 +116,7 @@ pub struct LodRun {
 }
 
 /// QDM's surface time on the large map over the small one.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct LodScaling {
     /// The method's name (QDM).
     pub method: String,
@@ -133,7 +133,7 @@ pub struct LodScaling {
 }
 
 /// The section as results.json holds it.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct LodSection {
     /// The height field's name.
     pub heightfield: String,
@@ -164,7 +164,7 @@ pub struct LodSection {
 /// A render's frame times: the surface pass between its timestamps, and the wall time from
 /// submission to the fence. llvmpipe (lavapipe) rasterizes after the closing timestamp, so there
 /// only the wall time holds the fragment work; on other GPUs the timestamps are the measure.
-#[derive(Debug, Clone, Copy, Serialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
 pub struct FrameMs {
     pub gpu: GpuMs,
     pub wall: GpuMs,

@@ -12,7 +12,10 @@
 //! - [`Runner`]: measures jobs on one device, caching fields and method maps; each gives a [`Run`].
 //! - [`TraceStats`], [`Spread`], [`StepStats`] and [`GpuMs`]: the statistics every section records.
 //! - [`BenchResults`]: the whole `results.json`, with the extra sections (shading, AO, LOD, edits,
-//!   blending) as their own result types.
+//!   blending) as their own result types; [`load_results`] reads one back, checking its
+//!   [`SCHEMA_VERSION`].
+//! - [`work_units`], [`partition`] and [`Shard`]: a sweep cut into units with expected costs and
+//!   split between shards; [`ShardInfo`] in a shard's results, and [`merge_shards`] joining them.
 //!
 //! # How they fit together
 //! A bench builds a [`SweepConfig`], turns it into jobs with [`plan_jobs`], hands each to a [`Runner`]
@@ -23,14 +26,21 @@
 mod ao;
 mod blending;
 mod blending_report;
+pub mod compare;
 mod depth_match;
 mod edits;
 mod lod;
 mod median;
+mod merge;
+mod nan_null;
 mod npy;
 mod paint_edits;
+mod provenance;
 mod report;
 mod results;
+mod results_file;
+#[cfg(test)]
+mod results_fixture;
 mod runner;
 mod scene_shadow_section;
 mod scene_shadows;
@@ -38,11 +48,15 @@ mod shading;
 mod shading_report;
 mod shadow_stability;
 mod shadow_stats;
+mod shard;
+mod shard_info;
+mod slow_down;
 mod stability;
 mod subgroup_steps;
 mod svg;
 mod sweep;
 mod trace_stats;
+mod work_units;
 
 pub use ao::{measure_ao, AoConfig, AoRun};
 pub use blending::{
@@ -56,10 +70,13 @@ pub use lod::{
     ImageError, LodConfig, LodRun, LodScaling, LodSection,
 };
 pub use median::median;
+pub use merge::{merge_shards, MergeError, ShardFile};
 pub use npy::write_npy_f32;
 pub use paint_edits::{run_paint_section, PaintCost};
+pub use provenance::{utc_now_rfc3339, BenchDevice, ReliefBuild, SweepOptions};
 pub use report::render_report;
-pub use results::{BenchDevice, BenchResults, GpuMs, MapBuild, Run, StabilityCell};
+pub use results::{BenchResults, GpuMs, MapBuild, Run, StabilityCell, SCHEMA_VERSION};
+pub use results_file::{load_results, parse_results, results_path, ResultsFileError};
 pub use runner::{plan_jobs, Job, Runner, Section};
 pub use scene_shadow_section::{
     run_scene_shadow_section, DefaultFrameCost, SceneShadowCell, SceneShadowSection,
@@ -73,7 +90,11 @@ pub use shadow_stability::{shadow_stability, ShadowStabilityCell};
 pub use shadow_stats::{
     compare_fractions, reference_fractions, shadow_stats, ShadowStats, LEAK_DARK, LEAK_LIT,
 };
+pub use shard::{partition, Shard, UnitCost};
+pub use shard_info::{ShardInfo, StepOrigins};
+pub use slow_down::{SlowDown, MAX_SLOW_DOWN};
 pub use stability::{run_stiff_case, stiff_cases, StiffCase};
 pub use subgroup_steps::{subgroup_steps, TimedSteps};
 pub use sweep::{FieldSource, SweepConfig};
 pub use trace_stats::{ray_direction, trace_stats, Spread, StepStats, TraceStats};
+pub use work_units::{work_units, StepLayout, SweepSections, WholeSection, WorkUnit};

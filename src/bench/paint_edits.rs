@@ -10,7 +10,7 @@ use std::fmt::Write as _;
 use std::sync::Arc;
 use std::time::Instant;
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use super::median::median;
 use crate::heightfield::{mip_level_count, Address, Generator};
@@ -28,7 +28,7 @@ const SPLAT_DIVISOR: u32 = 8;
 const MODE: BlendMode = BlendMode::Height;
 
 /// One size's painting costs.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct PaintCost {
     /// The stack's (blended field's) side.
     pub size: u32,
@@ -37,7 +37,7 @@ pub struct PaintCost {
     /// Layers in the stack.
     pub layers: usize,
     /// The blend mode's id.
-    pub mode: &'static str,
+    pub mode: String,
     /// Texel format of the blended height image.
     pub format: HeightFormat,
     /// The stroke's radius in stack texels, and in splat texels (what the stroke is given).
@@ -158,7 +158,7 @@ fn measure(
         size,
         splat_size,
         layers,
-        mode: MODE.id(),
+        mode: MODE.id().to_owned(),
         format,
         radius,
         splat_radius,

@@ -1,18 +1,26 @@
-//! What `relief bench` records (docs/measuring.md): the device, one object per measured
-//! configuration, the map build times and the stability matrix, written as `results.json`.
+//! What `relief bench` records (docs/results-schema.md): where and how it was measured, one
+//! object per measured configuration with its frame samples, the map build times, the stability
+//! matrix and the other sections, written as `results.json` and read back by
+//! [`crate::bench::load_results`].
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use super::ao::AoRun;
+use super::provenance::{BenchDevice, ReliefBuild, SweepOptions};
 use super::shading::ShadowRun;
 use super::shadow_stability::ShadowStabilityCell;
 use super::subgroup_steps::TimedSteps;
 use super::trace_stats::{Spread, StepStats};
 use crate::method::Budget;
-use crate::vk::DeviceInfo;
 
-/// Median, minimum and maximum GPU time of the timed frames.
-#[derive(Debug, Clone, Copy, Serialize, PartialEq)]
+/// The version of the `results.json` layout this relief writes and reads. Version 1 (no
+/// `schema_version` field) had only the summaries, no frame samples; version 2 adds the samples
+/// and the provenance (build, date, argv, options, device ids). Any change that renames, removes
+/// or reinterprets a field raises it (docs/results-schema.md).
+pub const SCHEMA_VERSION: u32 = 2;
+
+/// Median, minimum and maximum of the timed frames, and every frame's time.
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
 pub struct GpuMs {
     /// Median frame time in ms (mean of the middle two for an even count).
     pub median: f64,
@@ -20,10 +28,13 @@ pub struct GpuMs {
     pub min: f64,
     /// Slowest frame, in ms.
     pub max: f64,
+    /// Every timed frame's time in ms, in the order they ran: what `relief bench compare` draws
+    /// its intervals from.
+    pub samples: Vec<f64>,
 }
 
 impl GpuMs {
-    /// Summarises frame times; empty input gives zeros.
+    /// Summarises frame times and keeps them; empty input gives zeros.
     pub fn of(frames: &[f64]) -> GpuMs {
         let sorted = super::median::sorted(frames.iter().copied());
         let (Some(&min), Some(&max)) = (sorted.first(), sorted.last()) else {
@@ -31,18 +42,20 @@ impl GpuMs {
                 median: 0.0,
                 min: 0.0,
                 max: 0.0,
+                samples: Vec::new(),
             };
         };
         GpuMs {
             median: super::median::median_of_sorted_frames(&sorted),
             min,
             max,
+            samples: frames.to_vec(),
         }
     }
 }
 
 /// One measured configuration: a method on a height field at one view, scale and budget.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct Run {
     /// The report section the run belongs to.
     pub section: super::runner::Section,
@@ -62,7 +75,8 @@ pub struct Run {
     pub address: String,
     /// The method's iteration budget for this run.
     pub budget: Budget,
-    /// GPU time of the trace dispatch over the timed frames (timestamp queries).
+    /// GPU time of the trace dispatch over the timed frames (timestamp queries), with every
+    /// frame's sample.
     pub gpu_ms: GpuMs,
     /// Timed frames (after warm-up).
     pub frames: u32,
@@ -88,7 +102,7 @@ pub struct Run {
 }
 
 /// Time to build one precomputed map.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct MapBuild {
     /// Which map: the [`crate::method::MapKind`]'s name.
     pub kind: String,
@@ -99,11 +113,11 @@ pub struct MapBuild {
     /// GPU ms for maps built on the GPU, CPU wall ms for those built on the CPU.
     pub ms: f64,
     /// Which builder built it: "gpu" or "cpu".
-    pub on: &'static str,
+    pub on: String,
 }
 
 /// One cell of the stability matrix: a method on a named stiff case.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct StabilityCell {
     /// The method's name.
     pub method: String,
@@ -116,6 +130,7 @@ pub struct StabilityCell {
     /// Fraction of rays more than one texel from the exact hit.
     pub gross_rate: f64,
     /// Largest hit error, in texels (see [`Run::error_texels`]).
+    #[serde(deserialize_with = "super::nan_null::f64_or_nan")]
     pub max_error_texels: f64,
     /// The trace's GPU time (the fastest timed dispatch), in ms.
     pub gpu_ms: Option<f64>,
@@ -124,12 +139,22 @@ pub struct StabilityCell {
 }
 
 /// The whole of `results.json`.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct BenchResults {
+    /// [`SCHEMA_VERSION`] when written by this relief.
+    pub schema_version: u32,
+    /// The relief that measured: its version and commit.
+    pub relief: ReliefBuild,
+    /// When the run finished, UTC, RFC 3339 (`2026-12-04T17:42:41Z`).
+    pub date: String,
     /// The GPU everything was measured on.
     pub device: BenchDevice,
-    /// The command line that produced the file.
+    /// The command line that produced the file, its words joined by spaces (for reading).
     pub command: String,
+    /// The same command line word by word, exactly as the process received it.
+    pub argv: Vec<String>,
+    /// The sweep's effective options, after defaults and flags.
+    pub options: SweepOptions,
     /// Every measured configuration of the sweep.
     pub runs: Vec<Run>,
     /// Build time of every precomputed map the runs used.
@@ -152,30 +177,10 @@ pub struct BenchResults {
     pub blending: Option<super::blending::BlendingSection>,
     /// The scene-shadow section (`None` when skipped, e.g. `--no-scene-shadows`).
     pub scene_shadows: Option<super::scene_shadow_section::SceneShadowSection>,
-}
-
-/// The device every number was measured on.
-#[derive(Debug, Clone, Serialize)]
-pub struct BenchDevice {
-    /// The device name the driver reports.
-    pub name: String,
-    /// Driver name and version, trimmed.
-    pub driver: String,
-    /// The Vulkan API version the device reports.
-    pub api: String,
-    /// Nanoseconds per timestamp tick (`timestampPeriod`).
-    pub timestamp_period: f32,
-}
-
-impl From<&DeviceInfo> for BenchDevice {
-    fn from(i: &DeviceInfo) -> Self {
-        BenchDevice {
-            name: i.name.clone(),
-            driver: i.driver.trim().to_owned(),
-            api: i.api.clone(),
-            timestamp_period: i.timestamp_period_ns,
-        }
-    }
+    /// Which shard of a split sweep this file holds (`relief bench --shard K/N`); absent for a
+    /// whole sweep and for `relief bench merge`'s output.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shard: Option<super::shard_info::ShardInfo>,
 }
 
 #[cfg(test)]
@@ -189,7 +194,8 @@ mod tests {
             GpuMs {
                 median: 2.0,
                 min: 1.0,
-                max: 3.0
+                max: 3.0,
+                samples: vec![3.0, 1.0, 2.0],
             }
         );
         assert_eq!(GpuMs::of(&[4.0, 1.0, 2.0, 3.0]).median, 2.5);

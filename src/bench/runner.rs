@@ -23,7 +23,7 @@ use crate::render::{
 use crate::vk::Context;
 
 /// Which part of the report a run belongs to.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Section {
     /// Every method at every view: hit error against GPU time.
@@ -263,7 +263,7 @@ impl Runner {
             heightfield: key.0.clone(),
             size: [stored.width(), stored.height()],
             ms: gpu_ms,
-            on: "gpu",
+            on: "gpu".into(),
         });
         let hf = Arc::new(stored);
         self.fields.insert(key, hf.clone());
@@ -336,7 +336,7 @@ impl Runner {
             heightfield: field.name(),
             size: [hf.width(), hf.height()],
             ms,
-            on,
+            on: on.to_owned(),
         });
     }
 
@@ -365,6 +365,7 @@ impl Runner {
             },
             warmup: self.cfg.warmup,
             frames: self.cfg.frames,
+            dispatches: self.cfg.dispatches_per_frame(job.method),
         };
         let timing = time_method(&self.ctx, &hf, &timed)?;
         let cpu_ms = started.elapsed().as_secs_f64() * 1e3;

@@ -5,7 +5,7 @@
 use std::fmt::Write as _;
 use std::sync::Arc;
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use super::median::median;
 use super::scene_shadows::{measure_scene_shadows, SceneShadowConfig, SceneShadowError};
@@ -21,10 +21,10 @@ const ELEVATION_DEG: f32 = 20.0;
 const RADIUS_DEG: f32 = 1.0;
 
 /// One cell: a caster, a map size and a filter.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct SceneShadowCell {
     /// "displaced" (the relief slab) or "plain" (the box).
-    pub caster: &'static str,
+    pub caster: String,
     /// Texels per side of each cascade.
     pub map_size: u32,
     /// The filter.
@@ -45,7 +45,7 @@ pub struct SceneShadowCell {
 }
 
 /// The default scene's frame with and without shadow maps.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct DefaultFrameCost {
     /// GPU ms per frame (every pass a steady frame records), maps off.
     pub without_ms: f64,
@@ -58,7 +58,7 @@ pub struct DefaultFrameCost {
 }
 
 /// The whole section.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct SceneShadowSection {
     /// Probe image size (error).
     pub probe: [u32; 2],
@@ -156,7 +156,7 @@ pub fn run_scene_shadow_section(
                 let (maps_ms, surface_ms, _) = time_frames(ctx, &scene, &opts, frames)?;
                 let a = &run.agreement;
                 cells.push(SceneShadowCell {
-                    caster,
+                    caster: caster.to_owned(),
                     map_size,
                     filter,
                     hard_agreement: a.hard_agreement,

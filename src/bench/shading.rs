@@ -5,7 +5,7 @@
 
 use std::time::Instant;
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use super::results::GpuMs;
 use super::runner::Runner;
@@ -66,7 +66,7 @@ impl ShadingConfig {
 }
 
 /// One shadow mode under one light on one field.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct ShadowRun {
     /// The shadow mode's name.
     pub mode: String,
@@ -134,6 +134,7 @@ pub fn measure_shadows(
             },
             warmup: sweep.warmup,
             frames: sweep.frames,
+            dispatches: 1,
         };
         time_method(&ctx, &hf, &req).map(|t| GpuMs::of(&t.frame_ms))
     };
@@ -183,9 +184,9 @@ pub fn measure_shadows(
                     light_azimuth_deg: cfg.light_azimuth,
                     light_radius_deg: radius_deg,
                     steps: shadow.steps,
+                    shadow_ms: gpu_ms.median - base_ms,
                     gpu_ms,
                     base_ms,
-                    shadow_ms: gpu_ms.median - base_ms,
                     resolution: [sweep.resolution.0, sweep.resolution.1],
                     error: compare_fractions(&traced.visible, &reference),
                 });

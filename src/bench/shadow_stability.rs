@@ -5,7 +5,7 @@
 
 use std::sync::Arc;
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use super::shadow_stats::shadow_stats;
 use super::trace_stats::ray_direction;
@@ -17,7 +17,7 @@ use crate::scene::ShadowMode;
 use crate::vk::Context;
 
 /// One mode under one extreme light on one degenerate field.
-#[derive(Debug, Clone, Serialize)]
+#[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct ShadowStabilityCell {
     /// The shadow mode's name.
     pub mode: String,
@@ -26,8 +26,10 @@ pub struct ShadowStabilityCell {
     /// Fractions that are NaN or outside [0, 1].
     pub bad_values: usize,
     /// Largest `|fraction - exact|` of the visible fraction, in [0, 1]; NaN when the case failed.
+    #[serde(deserialize_with = "super::nan_null::f64_or_nan")]
     pub max_error: f64,
     /// Mean `|fraction - exact|`; NaN when the case failed.
+    #[serde(deserialize_with = "super::nan_null::f64_or_nan")]
     pub mean_error: f64,
     /// Why the case could not run, if it could not.
     pub failed: Option<String>,

@@ -3,7 +3,7 @@
 //! of the light's disk seen from the bilinear surface at the hit's uv. The reference is many exact
 //! rays per point, so the points are split between two threads.
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use super::trace_stats::Spread;
 use crate::heightfield::visibility::{light_visibility, LightDir, ShadingError};
@@ -15,7 +15,7 @@ pub const LEAK_DARK: f64 = 0.05;
 pub const LEAK_LIT: f64 = 0.5;
 
 /// How a shadow mode's fractions compare with the exact ones.
-#[derive(Debug, Clone, Serialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
 pub struct ShadowStats {
     /// Points compared (hits with a finite uv and fraction).
     pub points: usize,

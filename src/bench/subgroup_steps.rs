@@ -3,12 +3,12 @@
 //! over the timed rays, tracks GPU time where the mean steps do not: a few long rays cost their
 //! whole subgroup.
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::render::TRACE_GROUP_SIDE;
 
 /// Iteration counts of the timed rays.
-#[derive(Debug, Clone, Copy, Default, Serialize, PartialEq)]
+#[derive(Debug, Clone, Copy, Default, Serialize, Deserialize, PartialEq)]
 pub struct TimedSteps {
     /// Mean iterations per ray.
     pub mean: f64,

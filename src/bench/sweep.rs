@@ -4,6 +4,7 @@
 
 use std::path::PathBuf;
 
+use super::slow_down::SlowDown;
 use crate::heightfield::{Address, Generator};
 use crate::method::{Budget, Leaf, Method};
 use crate::render::HeightFormat;
@@ -67,6 +68,8 @@ pub struct SweepConfig {
     pub paper_leaf: bool,
     /// The small CI variant: fewer and smaller cases.
     pub quick: bool,
+    /// Methods slowed on purpose (`--slow-down`, for testing `bench compare`); empty to measure.
+    pub slow_down: Vec<SlowDown>,
 }
 
 impl SweepConfig {
@@ -94,6 +97,7 @@ impl SweepConfig {
             stability: true,
             paper_leaf: true,
             quick: false,
+            slow_down: Vec::new(),
         }
     }
 
@@ -138,6 +142,14 @@ impl SweepConfig {
             }
         }
         list
+    }
+
+    /// Trace dispatches per timed frame of `method`: 1, or its `--slow-down` factor.
+    pub fn dispatches_per_frame(&self, method: Method) -> u32 {
+        self.slow_down
+            .iter()
+            .find(|s| s.method == method)
+            .map_or(1, |s| s.factor)
     }
 
     /// The map side of every section but scaling.

@@ -2,13 +2,13 @@
 //! texels between a method's hit and the exact first hit of the bilinear surface, its depth
 //! error, and how often the method was grossly wrong, capped or produced NaN.
 
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::heightfield::reference::{trace, Address, RefRay, SurfaceModel};
 use crate::heightfield::Heightfield;
 
 /// Mean, 99th percentile and maximum of a quantity.
-#[derive(Debug, Clone, Copy, Default, Serialize, PartialEq)]
+#[derive(Debug, Clone, Copy, Default, Serialize, Deserialize, PartialEq)]
 pub struct Spread {
     /// Arithmetic mean (0 for no values).
     pub mean: f64,
@@ -35,7 +35,7 @@ impl Spread {
 }
 
 /// Mean and maximum iterations per ray.
-#[derive(Debug, Clone, Copy, Default, Serialize, PartialEq)]
+#[derive(Debug, Clone, Copy, Default, Serialize, Deserialize, PartialEq)]
 pub struct StepStats {
     /// Mean iterations per ray.
     pub mean: f64,
@@ -44,7 +44,7 @@ pub struct StepStats {
 }
 
 /// The statistics `relief trace` prints and `relief bench` records.
-#[derive(Debug, Clone, Serialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
 pub struct TraceStats {
     /// Rays traced, NaN ones included.
     pub rays: usize,

@@ -5,16 +5,18 @@ use std::path::PathBuf;
 use std::sync::Arc;
 
 use anyhow::Context as _;
-use clap::Args;
+use clap::{Args, Subcommand};
 use std::io::IsTerminal;
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use relief::bench::{
     blending_notes, depth_match_settled, measure_ao, measure_shadows, plan_jobs, render_report,
     run_blending_section, run_edit_section, run_lod_section, run_paint_section,
-    run_scene_shadow_section, run_stiff_case, stiff_cases, AoConfig, AoRun, BenchResults,
-    BlendingConfig, FieldSource, Job, LodConfig, Run, Runner, ShadingConfig, ShadowRun,
-    StabilityCell, StiffCase, SweepConfig,
+    run_scene_shadow_section, run_stiff_case, stiff_cases, utc_now_rfc3339, AoConfig, AoRun,
+    BenchResults, BlendingConfig, BlendingSection, EditCost, FieldSource, Job, LodConfig,
+    LodSection, PaintCost, ReliefBuild, Run, Runner, SceneShadowSection, ShadingConfig, ShadowRun,
+    ShadowStabilityCell, Shard, SlowDown, StabilityCell, StepOrigins, StiffCase, SweepConfig,
+    SweepSections, WholeSection, SCHEMA_VERSION,
 };
 
 /// The brush radius of the terrain-edit section, in texels (the stroke).
@@ -25,13 +27,18 @@ use relief::render::HeightFormat;
 use relief::scene::AoMode;
 use relief::vk::Context;
 
+use super::bench_merge::{self, MergeArgs};
+use super::bench_shard::{self, StepPlan};
 use super::scene_args::FormatArg;
 
 #[derive(Args)]
+#[command(args_conflicts_with_subcommands = true, subcommand_negates_reqs = true)]
 pub struct BenchArgs {
+    #[command(subcommand)]
+    command: Option<BenchCommand>,
     /// Folder for results.json, report.md and the SVG plots.
-    #[arg(long)]
-    out: PathBuf,
+    #[arg(long, required = true)]
+    out: Option<PathBuf>,
     /// Small sweep for CI (a few minutes on lavapipe).
     #[arg(long)]
     quick: bool,
@@ -109,6 +116,23 @@ pub struct BenchArgs {
     json: bool,
     #[arg(long, value_name = "SUBSTRING")]
     device: Option<String>,
+    /// Measure only shard K of N (1 <= K <= N) of the sweep, split by expected cost; `relief bench
+    /// merge` joins the shards' folders.
+    #[arg(long, value_name = "K/N")]
+    shard: Option<Shard>,
+    /// Testing only: dispatch METHOD's timed trace FACTOR times per frame, slowing it on purpose
+    /// (recorded in the results' options); see docs/measuring.md.
+    #[arg(long, value_name = "METHOD=FACTOR", hide = true)]
+    slow_down: Vec<SlowDown>,
+}
+
+/// What `relief bench` does besides measuring.
+#[derive(Subcommand)]
+enum BenchCommand {
+    /// Compare two results files cell by cell: time ratios with intervals, error changes, verdicts.
+    Compare(super::bench_compare::CompareArgs),
+    /// Join the folders of `relief bench --shard K/N` runs into one results.json and report.
+    Merge(MergeArgs),
 }
 
 fn parse_resolution(text: &str) -> anyhow::Result<(u32, u32)> {
@@ -156,6 +180,7 @@ fn config(args: &BenchArgs) -> anyhow::Result<SweepConfig> {
     }
     cfg.frames = args.frames.unwrap_or(cfg.frames).max(1);
     cfg.stability &= !args.no_stability;
+    cfg.slow_down = args.slow_down.clone();
     cfg.address = args.address;
     cfg.format = match args.height_format {
         FormatArg::R16 => HeightFormat::R16Unorm,
@@ -215,15 +240,21 @@ fn progress(total: usize, quiet: bool) -> ProgressBar {
     bar
 }
 
-/// The sweep: every job, but those [`depth_match_settled`] skips.
+/// The sweep: every job the plan wants, but those [`depth_match_settled`] skips.
 fn measure_runs(
     runner: &mut Runner,
     jobs: &[Job],
+    plan: &StepPlan,
+    origins: &mut StepOrigins,
     bar: &ProgressBar,
     quiet: bool,
 ) -> anyhow::Result<Vec<Run>> {
     let mut runs = Vec::with_capacity(jobs.len());
-    for job in jobs {
+    for (j, job) in jobs.iter().enumerate() {
+        let step = plan.layout.job(j);
+        if !plan.wants(step) {
+            continue;
+        }
         if depth_match_settled(job, &runs) {
             bar.inc(1);
             continue;
@@ -245,54 +276,77 @@ fn measure_runs(
             )
         })?;
         runs.push(run);
+        origins.runs.push(step);
+        origins.note_maps(step, runner.map_builds.len());
         bar.inc(1);
     }
     Ok(runs)
 }
 
-/// The stability matrix: every method on every stiff case.
+/// The stability matrix: every method on every stiff case the plan wants.
 fn measure_stability(
     ctx: &Arc<Context>,
     cases: &[StiffCase],
     methods: &[Method],
+    plan: &StepPlan,
+    origins: &mut StepOrigins,
     bar: &ProgressBar,
     quiet: bool,
 ) -> Vec<StabilityCell> {
     let mut stability = Vec::new();
-    for case in cases {
-        for &method in methods {
+    for (c, case) in cases.iter().enumerate() {
+        for (m, &method) in methods.iter().enumerate() {
+            let step = plan.layout.cell(c, m);
+            if !plan.wants(step) {
+                continue;
+            }
             note(bar, &format!("stability: {method} on {}", case.name), quiet);
             stability.push(run_stiff_case(ctx, case, method));
+            origins.stability.push(step);
             bar.inc(1);
         }
     }
     stability
 }
 
-/// Shadows and AO on every field.
+/// Shadows and AO on every field the plan wants them on, when the shading section runs.
 fn measure_shading(
     runner: &mut Runner,
-    shading: &ShadingConfig,
-    ao_config: &AoConfig,
+    sections: &SweepSections,
     fields: &[FieldSource],
+    plan: &StepPlan,
+    origins: &mut StepOrigins,
     bar: &ProgressBar,
     quiet: bool,
 ) -> anyhow::Result<(Vec<ShadowRun>, Vec<AoRun>)> {
     let mut shadows = Vec::new();
     let mut ao = Vec::new();
-    for field in fields {
+    let Some(shading) = &sections.shading else {
+        return Ok((shadows, ao));
+    };
+    for (f, field) in fields.iter().enumerate() {
         let mut note_step = |what: &str| {
             note(bar, what, quiet);
             bar.inc(1);
         };
-        shadows.extend(
-            measure_shadows(runner, shading, field, &mut note_step)
-                .with_context(|| format!("measuring shadows on {}", field.name()))?,
-        );
-        ao.extend(
-            measure_ao(runner, ao_config, field, &mut note_step)
-                .with_context(|| format!("measuring AO on {}", field.name()))?,
-        );
+        let step = plan.layout.shadows(f);
+        if plan.wants(step) {
+            let rows = measure_shadows(runner, shading, field, &mut note_step)
+                .with_context(|| format!("measuring shadows on {}", field.name()))?;
+            origins
+                .shadows
+                .extend(std::iter::repeat_n(step, rows.len()));
+            origins.note_maps(step, runner.map_builds.len());
+            shadows.extend(rows);
+        }
+        let step = plan.layout.ao(f);
+        if plan.wants(step) {
+            let rows = measure_ao(runner, &sections.ao, field, &mut note_step)
+                .with_context(|| format!("measuring AO on {}", field.name()))?;
+            origins.ao.extend(std::iter::repeat_n(step, rows.len()));
+            origins.note_maps(step, runner.map_builds.len());
+            ao.extend(rows);
+        }
     }
     Ok((shadows, ao))
 }
@@ -310,178 +364,229 @@ fn note(bar: &ProgressBar, what: &str, quiet: bool) {
 
 /// What one `relief bench` measures, from its flags: the sweep's jobs and which other sections
 /// run, with their settings.
-struct Sections {
-    jobs: Vec<Job>,
-    shading: Option<ShadingConfig>,
-    cases: Vec<StiffCase>,
-    ao_config: AoConfig,
-    shadow_stability_wanted: bool,
-    lod_wanted: bool,
-    edits_wanted: bool,
-    blending_wanted: bool,
-    scene_shadows_wanted: bool,
+fn sections(args: &BenchArgs, cfg: &SweepConfig, ctx: &Context) -> SweepSections {
+    let only_other =
+        args.shading_only || args.lod_only || args.stability_only || args.scene_shadows_only;
+    let jobs = if only_other {
+        Vec::new()
+    } else {
+        plan_jobs(cfg)
+    };
+    let shading_wanted =
+        !(args.no_shading || args.lod_only || args.stability_only || args.scene_shadows_only);
+    let shading = shading_wanted.then(|| {
+        if cfg.quick {
+            ShadingConfig::quick()
+        } else {
+            ShadingConfig::full()
+        }
+    });
+    let largest = if cfg.quick {
+        1024
+    } else {
+        8192.min(ctx.info().max_image_dimension_2d)
+    };
+    let cases = if cfg.stability && !(args.shading_only || args.lod_only || args.scene_shadows_only)
+    {
+        stiff_cases(largest, cfg.quick)
+    } else {
+        Vec::new()
+    };
+    let ao = if cfg.quick {
+        AoConfig::quick()
+    } else {
+        AoConfig::full()
+    };
+    let edits_wanted = !(args.no_edits || only_other);
+    SweepSections {
+        jobs,
+        shadow_stability: shading.is_some() && cfg.stability,
+        shading,
+        cases,
+        ao,
+        lod: !(args.no_lod || args.shading_only || args.stability_only || args.scene_shadows_only),
+        edit_sizes: if edits_wanted {
+            edit_sizes(args, cfg)
+        } else {
+            Vec::new()
+        },
+        blending: !(args.no_blending || only_other),
+        scene_shadows: args.scene_shadows_only || !(args.no_scene_shadows || only_other),
+    }
 }
 
-impl Sections {
-    fn new(args: &BenchArgs, cfg: &SweepConfig, ctx: &Context) -> Sections {
-        let only_other =
-            args.shading_only || args.lod_only || args.stability_only || args.scene_shadows_only;
-        let jobs = if only_other {
-            Vec::new()
-        } else {
-            plan_jobs(cfg)
-        };
-        let shading_wanted =
-            !(args.no_shading || args.lod_only || args.stability_only || args.scene_shadows_only);
-        let shading = shading_wanted.then(|| {
-            if cfg.quick {
-                ShadingConfig::quick()
-            } else {
-                ShadingConfig::full()
-            }
-        });
-        let largest = if cfg.quick {
-            1024
-        } else {
-            8192.min(ctx.info().max_image_dimension_2d)
-        };
-        let cases =
-            if cfg.stability && !(args.shading_only || args.lod_only || args.scene_shadows_only) {
-                stiff_cases(largest, cfg.quick)
-            } else {
-                Vec::new()
-            };
-        let ao_config = if cfg.quick {
-            AoConfig::quick()
-        } else {
-            AoConfig::full()
-        };
-        Sections {
-            jobs,
-            shadow_stability_wanted: shading.is_some() && cfg.stability,
-            shading,
-            cases,
-            ao_config,
-            lod_wanted: !(args.no_lod
-                || args.shading_only
-                || args.stability_only
-                || args.scene_shadows_only),
-            edits_wanted: !(args.no_edits || only_other),
-            blending_wanted: !(args.no_blending || only_other),
-            scene_shadows_wanted: args.scene_shadows_only || !(args.no_scene_shadows || only_other),
-        }
-    }
+/// Whether a section that runs whole runs here: asked for, and in this run's shard.
+fn whole_wanted(asked: bool, plan: &StepPlan, section: WholeSection) -> bool {
+    asked && plan.wants(plan.layout.whole(section))
+}
 
-    /// The progress bar's length: one step per job, stability case and method, shading
-    /// measurement, and one or two per other section.
-    fn steps(&self, cfg: &SweepConfig) -> usize {
-        let ao_modes = AoMode::all().len();
-        let shading_steps = self.shading.as_ref().map_or(0, |s| {
-            cfg.fields.len() * (s.elevations.len() * s.radii.len() * (s.modes.len() + 1) + ao_modes)
-        });
-        self.jobs.len()
-            + self.cases.len() * cfg.methods.len()
-            + shading_steps
-            + usize::from(self.shadow_stability_wanted)
-            + usize::from(self.lod_wanted)
-            + 2 * usize::from(self.edits_wanted)
-            + usize::from(self.blending_wanted)
-            + usize::from(self.scene_shadows_wanted)
-    }
+/// The progress bar's length: one step per job, stability case and method, shading
+/// measurement, and one or two per other section, of those the plan wants.
+fn progress_steps(s: &SweepSections, cfg: &SweepConfig, plan: &StepPlan) -> usize {
+    let l = &plan.layout;
+    let count = |steps: &mut dyn Iterator<Item = u32>| steps.filter(|&t| plan.wants(t)).count();
+    let jobs = count(&mut (0..s.jobs.len()).map(|j| l.job(j)));
+    let cells = count(
+        &mut (0..s.cases.len()).flat_map(|c| (0..cfg.methods.len()).map(move |m| l.cell(c, m))),
+    );
+    let (shadows, ao) = s.shading.as_ref().map_or((0, 0), |sh| {
+        let fields = 0..cfg.fields.len();
+        (
+            count(&mut fields.clone().map(|f| l.shadows(f)))
+                * sh.elevations.len()
+                * sh.radii.len()
+                * (sh.modes.len() + 1),
+            count(&mut fields.map(|f| l.ao(f))) * AoMode::all().len(),
+        )
+    });
+    let whole = |asked: bool, section| usize::from(whole_wanted(asked, plan, section));
+    jobs + cells
+        + shadows
+        + ao
+        + whole(s.shadow_stability, WholeSection::ShadowStability)
+        + whole(s.lod, WholeSection::Lod)
+        + 2 * whole(!s.edit_sizes.is_empty(), WholeSection::Edits)
+        + whole(s.blending, WholeSection::Blending)
+        + whole(s.scene_shadows, WholeSection::SceneShadows)
 }
 
 pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
+    let Some(out) = &args.out else {
+        return match &args.command {
+            Some(BenchCommand::Compare(a)) => super::bench_compare::run(a),
+            Some(BenchCommand::Merge(a)) => bench_merge::run(a),
+            None => anyhow::bail!("relief bench needs --out DIR"),
+        };
+    };
     let cfg = config(args)?;
     let ctx = super::open_device(args.device.as_deref(), args.json)?;
-    let sections = Sections::new(args, &cfg, &ctx);
-    let bar = progress(sections.steps(&cfg), args.json);
+    let sections = sections(args, &cfg, &ctx);
+    let plan = StepPlan::new(args.shard, &cfg, &sections);
+    if let (Some(shard), Some((mine, all, load, most)), false) =
+        (args.shard, plan.estimate, args.json)
+    {
+        eprintln!(
+            "shard {shard}: {mine} of {all} units, an estimated {load:.0} s on lavapipe (the largest shard {most:.0} s)"
+        );
+    }
+    let bar = progress(progress_steps(&sections, &cfg, &plan), args.json);
+    let mut origins = StepOrigins::default();
     let mut runner = Runner::new(ctx.clone(), cfg.clone());
-    let runs = measure_runs(&mut runner, &sections.jobs, &bar, args.json)?;
-    let stability = measure_stability(&ctx, &sections.cases, &cfg.methods, &bar, args.json);
-    let (shadows, ao) = match &sections.shading {
-        Some(shading) => measure_shading(
-            &mut runner,
-            shading,
-            &sections.ao_config,
-            &cfg.fields,
-            &bar,
-            args.json,
-        )?,
-        None => (Vec::new(), Vec::new()),
+    let (quiet, o) = (args.json, &mut origins);
+    let runs = measure_runs(&mut runner, &sections.jobs, &plan, o, &bar, quiet)?;
+    let stability = measure_stability(&ctx, &sections.cases, &cfg.methods, &plan, o, &bar, quiet);
+    let (shadows, ao) =
+        measure_shading(&mut runner, &sections, &cfg.fields, &plan, o, &bar, quiet)?;
+    let whole = measure_whole(args, &cfg, &ctx, &sections, &plan, &bar)?;
+    bar.finish_and_clear();
+    super::check_validation(&ctx)?;
+    let lod = lod_config(args, &cfg);
+    let blending = blending_config(args, &cfg);
+    let fingerprint = bench_shard::fingerprint(&cfg, &sections, &lod, &blending);
+    let argv: Vec<String> = std::env::args().collect();
+    let results = BenchResults {
+        schema_version: SCHEMA_VERSION,
+        relief: ReliefBuild::current(),
+        date: utc_now_rfc3339(),
+        device: ctx.info().into(),
+        command: argv.join(" "),
+        argv,
+        options: (&cfg).into(),
+        runs,
+        maps: runner.map_builds,
+        stability,
+        shadows,
+        shadow_stability: whole.shadow_stability,
+        ao,
+        lod: whole.lod,
+        edits: whole.edits,
+        paint_edits: whole.paint_edits,
+        blending: whole.blending,
+        scene_shadows: whole.scene_shadows,
+        shard: plan.info(fingerprint, origins),
     };
-    let Sections {
-        shadow_stability_wanted,
-        lod_wanted,
-        edits_wanted,
-        blending_wanted,
-        scene_shadows_wanted,
-        ..
-    } = sections;
-    let shadow_stability = if shadow_stability_wanted {
-        note(&bar, "stability: shadows under extreme lights", args.json);
-        let rows = relief::bench::shadow_stability(&ctx);
+    write_outputs(out, &results, args.json)
+}
+
+/// What the sections that run as one piece measured.
+struct Whole {
+    shadow_stability: Vec<ShadowStabilityCell>,
+    lod: Option<LodSection>,
+    edits: Vec<EditCost>,
+    paint_edits: Vec<PaintCost>,
+    blending: Option<BlendingSection>,
+    scene_shadows: Option<SceneShadowSection>,
+}
+
+/// Runs the sections that run as one piece, those asked for and in this run's shard.
+fn measure_whole(
+    args: &BenchArgs,
+    cfg: &SweepConfig,
+    ctx: &Arc<Context>,
+    sections: &SweepSections,
+    plan: &StepPlan,
+    bar: &ProgressBar,
+) -> anyhow::Result<Whole> {
+    let quiet = args.json;
+    let shadow_stability = if whole_wanted(
+        sections.shadow_stability,
+        plan,
+        WholeSection::ShadowStability,
+    ) {
+        note(bar, "stability: shadows under extreme lights", quiet);
+        let rows = relief::bench::shadow_stability(ctx);
         bar.inc(1);
         rows
     } else {
         Vec::new()
     };
-    let lod = if lod_wanted {
-        note(&bar, "level of detail", args.json);
-        let section = run_lod_section(&ctx, &lod_config(args, &cfg)).context("the LOD section")?;
+    let lod = if whole_wanted(sections.lod, plan, WholeSection::Lod) {
+        note(bar, "level of detail", quiet);
+        let section = run_lod_section(ctx, &lod_config(args, cfg)).context("the LOD section")?;
         bar.inc(1);
         Some(section)
     } else {
         None
     };
-    let (edits, paint_edits) = if edits_wanted {
-        note(&bar, "terrain edits", args.json);
-        let sizes = edit_sizes(args, &cfg);
-        let costs = run_edit_section(&ctx, &sizes, EDIT_RADIUS, cfg.format)
+    let sizes = &sections.edit_sizes;
+    let (edits, paint_edits) = if whole_wanted(!sizes.is_empty(), plan, WholeSection::Edits) {
+        note(bar, "terrain edits", quiet);
+        let costs = run_edit_section(ctx, sizes, EDIT_RADIUS, cfg.format)
             .context("the terrain-edit section")?;
         bar.inc(1);
-        note(&bar, "terrain edits: painting weights", args.json);
-        let paint = run_paint_section(&ctx, &sizes, EDIT_RADIUS, cfg.format)
+        note(bar, "terrain edits: painting weights", quiet);
+        let paint = run_paint_section(ctx, sizes, EDIT_RADIUS, cfg.format)
             .context("the weight-painting section")?;
         bar.inc(1);
         (costs, paint)
     } else {
         (Vec::new(), Vec::new())
     };
-    let blending = if blending_wanted {
-        note(&bar, "terrain blending", args.json);
-        let section = run_blending_section(&ctx, &blending_config(args, &cfg))
+    let blending = if whole_wanted(sections.blending, plan, WholeSection::Blending) {
+        note(bar, "terrain blending", quiet);
+        let section = run_blending_section(ctx, &blending_config(args, cfg))
             .context("the terrain-blending section")?;
         bar.inc(1);
         Some(section)
     } else {
         None
     };
-    let scene_shadows = if scene_shadows_wanted {
-        let section = run_scene_shadow_section(&ctx, cfg.quick, |what| note(&bar, what, args.json))
+    let scene_shadows = if whole_wanted(sections.scene_shadows, plan, WholeSection::SceneShadows) {
+        let section = run_scene_shadow_section(ctx, cfg.quick, |what| note(bar, what, quiet))
             .context("the scene-shadow section")?;
         bar.inc(1);
         Some(section)
     } else {
         None
     };
-    bar.finish_and_clear();
-    super::check_validation(&ctx)?;
-    let results = BenchResults {
-        device: ctx.info().into(),
-        command: std::env::args().collect::<Vec<_>>().join(" "),
-        runs,
-        maps: runner.map_builds,
-        stability,
-        shadows,
+    Ok(Whole {
         shadow_stability,
-        ao,
         lod,
         edits,
         paint_edits,
         blending,
         scene_shadows,
-    };
-    write_outputs(&args.out, &results, args.json)
+    })
 }
 
 /// The terrain-edit section's field sides: --edit-sizes, else 1024 and 4096 (quick: 256 and 1024).
@@ -527,7 +632,11 @@ fn blending_config(args: &BenchArgs, cfg: &SweepConfig) -> BlendingConfig {
     blending
 }
 
-fn write_outputs(out: &std::path::Path, results: &BenchResults, json: bool) -> anyhow::Result<()> {
+pub(super) fn write_outputs(
+    out: &std::path::Path,
+    results: &BenchResults,
+    json: bool,
+) -> anyhow::Result<()> {
     std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
     let text = serde_json::to_string_pretty(results)?;
     let write = |name: &str, body: &str| {

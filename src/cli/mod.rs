@@ -1,13 +1,18 @@
 //! Argument parsing (clap), logging, and the mapping of failures to exit codes: 0 success,
-//! 1 failure, 2 bad usage (clap), 77 no Vulkan device (with the install line).
+//! 1 failure, 2 bad usage (clap), 3 `bench compare --fail-above` found a slower cell, 77 no
+//! Vulkan device (with the install line).
 
 mod ao;
 mod bench;
+mod bench_compare;
+mod bench_merge;
+mod bench_shard;
 mod cells;
 mod cells_compare;
 mod cells_lookup;
 mod cells_render_args;
 mod devices;
+mod frame_range;
 mod heightmap_args;
 mod lod_args;
 mod logger;
@@ -100,9 +105,13 @@ pub fn run() -> ExitCode {
     }
 }
 
-/// The exit code for a failure: 77 when there is no Vulkan device at all, else 1 (a lost or hung
-/// device and exhausted memory included: the device exists, the run failed).
+/// The exit code for a failure: 77 when there is no Vulkan device at all, 3 when `bench compare
+/// --fail-above` found a cell slower than allowed, else 1 (a lost or hung device and exhausted
+/// memory included: the device exists, the run failed).
 fn exit_code(err: &anyhow::Error) -> u8 {
+    if err.is::<bench_compare::SlowerThanAllowed>() {
+        return bench_compare::EXIT_SLOWER;
+    }
     let no_device = err.chain().any(|e| {
         matches!(
             e.downcast_ref::<VkError>(),
@@ -182,5 +191,12 @@ mod tests {
         }
         let err = anyhow::Error::from(VkError::NoDevice).context("opening the device");
         assert_eq!(exit_code(&err), EXIT_NO_DEVICE);
+    }
+
+    #[test]
+    fn a_comparison_over_its_limit_exits_with_3() {
+        let err = anyhow::Error::from(bench_compare::SlowerThanAllowed::example());
+        assert_eq!(exit_code(&err), bench_compare::EXIT_SLOWER);
+        assert_eq!(exit_code(&anyhow::anyhow!("reading BASE")), 1);
     }
 }

@@ -16,6 +16,7 @@ use relief::scene::{Camera, Scene};
 use relief::vk::{Context, ObjectCounts};
 use serde_json::json;
 
+use super::frame_range::FrameRange;
 use super::render::RenderArgs;
 use super::scene_args::LoadedScene;
 use super::terrain_edits::{EditRecord, TerrainEdits};
@@ -34,6 +35,11 @@ pub struct FrameArgs {
     /// Draw and time the frames without reading them back or writing files.
     #[arg(long)]
     pub no_write: bool,
+    /// Draw only frames A to B of the sequence (numbered from 1 like the files, both ends
+    /// included), with the camera, file names and pixels the whole sequence gives them; with
+    /// --edits the earlier frames' strokes are applied first.
+    #[arg(long, value_name = "A..B")]
+    pub frame_range: Option<FrameRange>,
 }
 
 /// Where the camera is in each frame.
@@ -157,15 +163,19 @@ impl CacheReport {
 
 /// What a sequence left behind.
 struct Drawn {
-    /// Frames drawn (more than --frames when --edits has more lists).
+    /// Frames in the sequence (more than --frames when --edits has more lists).
     frames: u32,
+    /// The 0-based frames drawn and kept: the whole sequence, or --frame-range's part of it.
+    kept: std::ops::Range<u32>,
     timings: Vec<Vec<PassTiming>>,
     edits: Vec<EditRecord>,
     /// Objects created from the end of the first frame's submission to the end of the last.
     created_after_first: ObjectCounts,
 }
 
-/// Draws every frame, writing each as it retires.
+/// Draws every frame of the range, writing each as it retires. Frames before the range are
+/// skipped, except that with edits those followed by a stroke list the range needs are drawn
+/// unread, so the strokes land between frames exactly as in the whole sequence.
 fn draw_all(
     args: &RenderArgs,
     ctx: &Context,
@@ -173,45 +183,58 @@ fn draw_all(
     path: &CameraPath,
     mut edits: Option<&mut TerrainEdits>,
 ) -> anyhow::Result<Drawn> {
-    let frames = args
-        .frames
-        .frames
-        .max(edits.as_ref().map_or(1, |e| e.frames_needed()));
+    let lists = edits.as_ref().map_or(0, |e| e.frames_needed() - 1);
+    let frames = args.frames.frames.max(lists + 1);
+    let kept = match args.frames.frame_range {
+        Some(range) => range.within(frames)?,
+        None => 0..frames,
+    };
+    let replayed = lists.min(kept.start);
     let mut records = Vec::new();
     let read_back = !args.frames.no_write;
-    let mut timings = Vec::with_capacity(frames as usize);
-    let mut keep = |frame: FrameOutput| -> anyhow::Result<()> {
-        write_png(&frame, &frame_path(&args.out, frame.index, frames))?;
-        timings.push(frame.timings);
+    let mut timings = Vec::with_capacity(kept.len());
+    // The sequence frame of each submission, by the renderer's frame index.
+    let mut submitted: Vec<u32> = Vec::with_capacity(kept.len());
+    let mut keep = |frame: FrameOutput, submitted: &[u32]| -> anyhow::Result<()> {
+        let k = submitted[frame.index as usize];
+        if kept.contains(&k) {
+            write_png(&frame, &frame_path(&args.out, u64::from(k), frames))?;
+            timings.push(frame.timings);
+        }
         Ok(())
     };
     let mut after_first = None;
-    for k in 0..frames {
+    for k in 0..kept.end {
         if let Some(edits) = edits.as_deref_mut() {
             let (retired, record) = edits.before_frame(k, renderer)?;
             for frame in retired {
-                keep(frame)?;
+                keep(frame, &submitted)?;
             }
             records.extend(record);
         }
+        if (replayed..kept.start).contains(&k) {
+            continue;
+        }
         let request = FrameRequest {
             camera: path.at(k, frames),
-            read_back,
+            read_back: read_back && kept.contains(&k),
         };
+        submitted.push(k);
         let retired = renderer
             .submit(&request)
             .with_context(|| format!("drawing frame {}", k + 1))?;
         after_first.get_or_insert_with(|| ctx.created());
         if let Some(frame) = retired {
-            keep(frame)?;
+            keep(frame, &submitted)?;
         }
     }
     for frame in renderer.finish().context("finishing the frames")? {
-        keep(frame)?;
+        keep(frame, &submitted)?;
     }
     let after_first = after_first.unwrap_or_else(|| ctx.created());
     Ok(Drawn {
         frames,
+        kept,
         timings,
         edits: records,
         created_after_first: ctx.created() - after_first,
@@ -255,6 +278,7 @@ pub fn run_frames(
             "maps": renderer.maps(),
             "cells": renderer.cells(),
             "frames": stats.frames,
+            "frame_range": args.frames.frame_range.map(|_| [drawn.kept.start + 1, drawn.kept.end]),
             "steady": stats.steady,
             "created_after_first_frame": drawn.created_after_first,
             "edits": edited.then(|| edits_json(renderer, &drawn.edits)),
@@ -317,15 +341,16 @@ fn print_table(stats: &SequenceStats) {
 fn report_files(args: &RenderArgs, renderer: &Renderer, methods: &str, source: &str, d: &Drawn) {
     let (w, h) = renderer.size();
     let frames = d.frames;
+    let (first, last) = (u64::from(d.kept.start), u64::from(d.kept.end) - 1);
     let what = if args.frames.no_write {
-        format!("drew {frames} frame(s), wrote none (--no-write)")
+        format!("drew {} frame(s), wrote none (--no-write)", d.kept.len())
     } else if frames == 1 {
         format!("wrote {}", args.out.display())
     } else {
         format!(
             "wrote {} .. {}",
-            frame_path(&args.out, 0, frames).display(),
-            frame_path(&args.out, u64::from(frames) - 1, frames).display()
+            frame_path(&args.out, first, frames).display(),
+            frame_path(&args.out, last, frames).display()
         )
     };
     eprintln!("{what} ({w}x{h}, relief: {methods}, heights: {source})");

@@ -13,7 +13,7 @@ use std::fmt;
 use std::str::FromStr;
 
 use serde::ser::SerializeStruct;
-use serde::{Serialize, Serializer};
+use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
 use table::METHODS;
 
@@ -105,6 +105,38 @@ impl Serialize for Budget {
         b.serialize_field("leaf", &self.leaf)?;
         b.serialize_field("extent_limit", &self.extent_limit)?;
         b.end()
+    }
+}
+
+/// Reads what [`Leaf`]'s `Serialize` writes: its name.
+impl<'de> Deserialize<'de> for Leaf {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Leaf, D::Error> {
+        String::deserialize(d)?
+            .parse()
+            .map_err(serde::de::Error::custom)
+    }
+}
+
+/// [`Budget`]'s fields as `Serialize` writes them; `table.rs` stays free of serde (build.rs
+/// compiles it too, without serde).
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct BudgetFields {
+    max_steps: u32,
+    refine_steps: u32,
+    leaf: Leaf,
+    extent_limit: u32,
+}
+
+impl<'de> Deserialize<'de> for Budget {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Budget, D::Error> {
+        let f = BudgetFields::deserialize(d)?;
+        Ok(Budget {
+            max_steps: f.max_steps,
+            refine_steps: f.refine_steps,
+            leaf: f.leaf,
+            extent_limit: f.extent_limit,
+        })
     }
 }
 

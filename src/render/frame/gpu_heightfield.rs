@@ -10,7 +10,7 @@ use crate::heightfield::{mip_level_count, Address, Heightfield, MaxPyramid};
 use crate::vk::{upload_mips, Context, Image, ImageDesc, Sampler, VkError, VkResult};
 
 /// How heights are stored on the GPU.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum HeightFormat {
     /// 16-bit unsigned normalised: 1/65535 steps, half the memory of R32F.

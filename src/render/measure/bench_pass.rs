@@ -9,7 +9,7 @@
 
 use std::sync::Arc;
 
-use super::trace_pass::{trace_repeated, TraceRequest};
+use super::trace_pass::{trace_timed, TraceRequest};
 use crate::heightfield::Heightfield;
 use crate::vk::{Context, VkError, VkResult};
 
@@ -22,6 +22,10 @@ pub struct BenchRequest<'a> {
     pub warmup: u32,
     /// Timed frames; at least 1.
     pub frames: u32,
+    /// Dispatches of the trace per frame, timed together; 1 to measure the method. More slow
+    /// the method down on the GPU by that factor on purpose, so that `relief bench compare` can
+    /// be shown to catch it (`relief bench --slow-down`).
+    pub dispatches: u32,
 }
 
 /// GPU milliseconds of each timed frame, in order, and the iterations of the timed rays.
@@ -46,7 +50,7 @@ pub fn time_method(
             req.frames
         )));
     }
-    let out = trace_repeated(ctx, hf, &req.trace, req.warmup, req.frames)?;
+    let out = trace_timed(ctx, hf, &req.trace, req.warmup, req.frames, req.dispatches)?;
     Ok(BenchTiming {
         frame_ms: out.frame_ms,
         steps: out.steps,

@@ -168,7 +168,27 @@ pub fn trace_repeated(
     warmup: u32,
     frames: u32,
 ) -> VkResult<TraceOutput> {
-    trace_with(ctx, Heights::Field(hf), req, warmup, frames)
+    trace_with(ctx, Heights::Field(hf), req, warmup, frames, 1)
+}
+
+/// [`trace_repeated`] with `dispatches` dispatches per frame (at least 1), each frame's timed
+/// together: the bench's timed pass.
+pub(crate) fn trace_timed(
+    ctx: &Arc<Context>,
+    hf: &Heightfield,
+    req: &TraceRequest,
+    warmup: u32,
+    frames: u32,
+    dispatches: u32,
+) -> VkResult<TraceOutput> {
+    trace_with(
+        ctx,
+        Heights::Field(hf),
+        req,
+        warmup,
+        frames,
+        dispatches.max(1),
+    )
 }
 
 /// Traces `req` once through `pyramid` (level 0 the heights) as it is, instead of the pyramid the
@@ -192,7 +212,7 @@ pub fn time_through_pyramid(
     warmup: u32,
     frames: u32,
 ) -> VkResult<TraceOutput> {
-    trace_with(ctx, Heights::Pyramid(pyramid), req, warmup, frames)
+    trace_with(ctx, Heights::Pyramid(pyramid), req, warmup, frames, 1)
 }
 
 /// What a trace reads: a height field (its pyramid built on the GPU) or a pyramid built elsewhere.
@@ -252,6 +272,7 @@ fn trace_with(
     req: &TraceRequest,
     warmup: u32,
     frames: u32,
+    dispatches: u32,
 ) -> VkResult<TraceOutput> {
     if frames == 0 {
         return Err(VkError::Invalid("a trace of zero frames".into()));
@@ -305,7 +326,13 @@ fn trace_with(
             if let Some(k) = timed {
                 timestamps.write(rec, all, 2 * k)?;
             }
-            rec.dispatch([cols.div_ceil(GROUP), rows.div_ceil(GROUP), 1]);
+            for d in 0..dispatches {
+                if d > 0 {
+                    // The repeats write the same buffers: order them as the frames are.
+                    memory_barrier(rec, full, full);
+                }
+                rec.dispatch([cols.div_ceil(GROUP), rows.div_ceil(GROUP), 1]);
+            }
             if let Some(k) = timed {
                 timestamps.write(rec, all, 2 * k + 1)?;
             }

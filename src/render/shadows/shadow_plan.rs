@@ -5,7 +5,7 @@ use std::fmt;
 use std::str::FromStr;
 
 use glam::Vec3;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use super::light_views::{point_views, spot_view};
 use crate::render::frame::frame_uniforms::{MAX_LIGHTS, MAX_SHADOW_TILES};
@@ -15,7 +15,7 @@ use crate::render::shader_interface::{SHADOW_FILTER_HARD, SHADOW_FILTER_PCF, SHA
 use crate::scene::{AlphaMode, Frustum, LightKind, Mesh, Scene};
 
 /// How a shadow map's depths become a visible fraction.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum ShadowFilter {
     /// One tap, the nearest texel: exact to the map's resolution, hard-edged.
