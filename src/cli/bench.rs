@@ -406,11 +406,11 @@ impl Sections {
 }
 
 pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
+    if let Some(BenchCommand::Compare(a)) = &args.command {
+        return super::bench_compare::run(a);
+    }
     let Some(out) = &args.out else {
-        return match &args.command {
-            Some(BenchCommand::Compare(a)) => super::bench_compare::run(a),
-            None => anyhow::bail!("relief bench needs --out DIR"),
-        };
+        anyhow::bail!("relief bench needs --out DIR");
     };
     let cfg = config(args)?;
     let ctx = super::open_device(args.device.as_deref(), args.json)?;
@@ -487,7 +487,10 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     };
     bar.finish_and_clear();
     super::check_validation(&ctx)?;
-    let argv: Vec<String> = std::env::args().collect();
+    // A path need not be UTF-8; the record shows such a word lossily rather than failing.
+    let argv: Vec<String> = std::env::args_os()
+        .map(|a| a.to_string_lossy().into_owned())
+        .collect();
     let results = BenchResults {
         schema_version: SCHEMA_VERSION,
         relief: ReliefBuild::current(),
