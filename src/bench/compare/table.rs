@@ -36,7 +36,7 @@ pub fn terminal_report(c: &Comparison) -> String {
 
 /// The comparison as a Markdown page.
 pub fn markdown_report(c: &Comparison) -> String {
-    let mut out = String::from("# relief bench compare\n");
+    let mut out = String::from("# relief bench compare\n\n");
     for block in blocks(c) {
         match block {
             Block::Heading(text) => {
