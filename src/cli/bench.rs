@@ -451,12 +451,13 @@ fn progress_steps(s: &SweepSections, cfg: &SweepConfig, plan: &StepPlan) -> usiz
 }
 
 pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
+    match &args.command {
+        Some(BenchCommand::Compare(a)) => return super::bench_compare::run(a),
+        Some(BenchCommand::Merge(a)) => return bench_merge::run(a),
+        None => {}
+    }
     let Some(out) = &args.out else {
-        return match &args.command {
-            Some(BenchCommand::Compare(a)) => super::bench_compare::run(a),
-            Some(BenchCommand::Merge(a)) => bench_merge::run(a),
-            None => anyhow::bail!("relief bench needs --out DIR"),
-        };
+        anyhow::bail!("relief bench needs --out DIR");
     };
     let cfg = config(args)?;
     let ctx = super::open_device(args.device.as_deref(), args.json)?;
@@ -483,7 +484,10 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     let lod = lod_config(args, &cfg);
     let blending = blending_config(args, &cfg);
     let fingerprint = bench_shard::fingerprint(&cfg, &sections, &lod, &blending);
-    let argv: Vec<String> = std::env::args().collect();
+    // A path need not be UTF-8; the record shows such a word lossily rather than failing.
+    let argv: Vec<String> = std::env::args_os()
+        .map(|a| a.to_string_lossy().into_owned())
+        .collect();
     let results = BenchResults {
         schema_version: SCHEMA_VERSION,
         relief: ReliefBuild::current(),

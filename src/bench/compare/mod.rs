@@ -1,9 +1,9 @@
 //! `relief bench compare`: two results files cell by cell. Each cell the two share gets the time
-//! ratio NEW/BASE with a confidence interval from the frame samples ([`ratio_interval`]), the change of its
-//! error, and a verdict ([`Verdict`]) that counts only when the cell's method moved the same way
-//! as a whole ([`method_shifts`]); cells only one file has are listed, not dropped. Files from
-//! different devices get a ranking of the devices per method instead of verdicts ([`rank_devices`]),
-//! since a ratio across devices is a comparison, not a regression.
+//! ratio NEW/BASE with a confidence interval from the frame samples ([`ratio_interval`]), the
+//! change of its error, and a verdict ([`Verdict`]) that counts only when the cell's method moved
+//! the same way as a whole ([`method_shifts`]); cells only one file has are listed, not dropped.
+//! Files from different devices get a ranking of the devices per method instead of verdicts
+//! ([`rank_devices`]), since a ratio across devices is a comparison, not a regression.
 //!
 //! Only the sweep's runs (`results.json`'s `runs`) are compared; the other sections are reported
 //! by `relief bench` itself.

@@ -160,6 +160,7 @@ pub fn seed_of(label: &str) -> u64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::bench::compare::Verdict;
 
     /// Frame times around `ms` with a deterministic spread of about +-10%.
     fn frames(ms: f64, count: usize, seed: u64) -> Vec<f64> {
@@ -176,6 +177,7 @@ mod tests {
         assert_eq!(r.ratio, 1.0);
         assert!(r.low < 1.0 && r.high > 1.0, "{r:?}");
         assert!(r.full_coverage);
+        assert_eq!(Verdict::of(Some(&r), 0.05), Verdict::WithinNoise);
     }
 
     #[test]
@@ -185,6 +187,7 @@ mod tests {
         let r = ratio_interval(&a, &b, 7).unwrap();
         assert!((r.ratio - 1.5).abs() < 1e-12, "{r:?}");
         assert!(r.low < 1.5 && r.high > 1.5 && r.low > 1.2, "{r:?}");
+        assert_eq!(Verdict::of(Some(&r), 0.05), Verdict::Slower);
     }
 
     #[test]

@@ -36,7 +36,7 @@ pub fn terminal_report(c: &Comparison) -> String {
 
 /// The comparison as a Markdown page.
 pub fn markdown_report(c: &Comparison) -> String {
-    let mut out = String::from("# relief bench compare\n");
+    let mut out = String::from("# relief bench compare\n\n");
     for block in blocks(c) {
         match block {
             Block::Heading(text) => {
@@ -105,8 +105,7 @@ fn blocks(c: &Comparison) -> Vec<Block> {
             "Different devices: each method's devices ranked (no verdicts)".into(),
         ));
         blocks.push(Block::Table(device_table(c)));
-    }
-    if c.same_device {
+    } else {
         blocks.push(Block::Heading(format!(
             "Methods: median NEW/BASE over their cells, {:.0}% interval",
             100.0 * CONFIDENCE
@@ -118,10 +117,9 @@ fn blocks(c: &Comparison) -> Vec<Block> {
         100.0 * CONFIDENCE
     )));
     blocks.push(Block::Table(cell_table(c)));
-    if c.cells
-        .iter()
-        .any(|x| x.interval.is_some_and(|i| !i.full_coverage))
-    {
+    let few = |i: &RatioInterval| !i.full_coverage;
+    let methods_few = c.same_device && c.methods.iter().any(|m| few(&m.interval));
+    if methods_few || c.cells.iter().any(|x| x.interval.as_ref().is_some_and(few)) {
         blocks.push(Block::Line(format!(
             "* fewer than 6 frames on a side (or cells, for a method): the interval is their whole \
              range and covers less than {:.0}%; time more frames (--frames) for a firmer verdict",
