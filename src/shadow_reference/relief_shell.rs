@@ -2,8 +2,8 @@
 //! over the triangle's footprint, tested exactly with the reference tracer in the triangle's texture space.
 //!
 //! The frame. A point of the triangle's plane is an affine function of its height-map uv `(hu, hv)` (the
-//! interpolation the rasteriser does); a point `z` below it (depth in height-uv units, DESIGN.md section 2) lies
-//! `z * depth_len` world units behind the front face, with `depth_len` computed as `relief_frame.glsl` does
+//! interpolation the rasteriser does); a point `z` below it (depth in height-uv units, as docs/conventions.md
+//! defines it) lies `z * depth_len` world units behind the front face, with `depth_len` computed as `relief_frame.glsl` does
 //! (the geometric mean of the world lengths of one uv0 unit, over the area factor of the height uv transform).
 //! So world space and `(hu, hv, z)` are related by one affine map per triangle, and a straight world ray stays
 //! straight in it.
