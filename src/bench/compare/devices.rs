@@ -31,13 +31,7 @@ impl DeviceRow {
 /// A row per method, in the order the methods first appear; cells without a positive time on
 /// both sides are left out (a geometric mean needs them).
 pub fn rank_devices(cells: &[CellComparison]) -> Vec<DeviceRow> {
-    let mut methods: Vec<&str> = Vec::new();
-    for c in cells {
-        if !methods.contains(&c.key.method.as_str()) {
-            methods.push(&c.key.method);
-        }
-    }
-    methods
+    super::methods_in_order(cells)
         .into_iter()
         .filter_map(|method| {
             let mine: Vec<&CellComparison> = cells

@@ -24,13 +24,7 @@ pub struct MethodShift {
 
 /// A shift per method, in the order the methods first appear among `cells`.
 pub fn method_shifts(cells: &[CellComparison], min_effect: f64) -> Vec<MethodShift> {
-    let mut methods: Vec<&str> = Vec::new();
-    for c in cells {
-        if !methods.contains(&c.key.method.as_str()) {
-            methods.push(&c.key.method);
-        }
-    }
-    methods
+    super::methods_in_order(cells)
         .into_iter()
         .filter_map(|method| {
             let logs: Vec<f64> = cells

@@ -105,6 +105,17 @@ impl CellComparison {
     }
 }
 
+/// The methods of `cells`, in the order they first appear.
+fn methods_in_order(cells: &[CellComparison]) -> Vec<&str> {
+    let mut methods: Vec<&str> = Vec::new();
+    for c in cells {
+        if !methods.contains(&c.key.method.as_str()) {
+            methods.push(&c.key.method);
+        }
+    }
+    methods
+}
+
 /// An option that differs between the two runs, as JSON text on each side.
 #[derive(Debug, Clone, PartialEq)]
 pub struct OptionChange {
