@@ -94,8 +94,12 @@ pub struct SweepOptions {
     pub resolution: [u32; 2],
     /// Timed frames per configuration.
     pub frames: u32,
-    /// Untimed frames before them.
+    /// Untimed frames before them, in every pass.
     pub warmup: u32,
+    /// Passes over the sweep's runs that share each configuration's frames. Read as 1 in files
+    /// written before interleaved passes existed.
+    #[serde(default = "one_pass")]
+    pub passes: u32,
     /// Rays per configuration for the error measurement, `[width, height]`.
     pub error_grid: [u32; 2],
     /// "repeat" or "clamp".
@@ -136,6 +140,7 @@ impl From<&SweepConfig> for SweepOptions {
             resolution: [c.resolution.0, c.resolution.1],
             frames: c.frames,
             warmup: c.warmup,
+            passes: c.effective_passes(),
             error_grid: [c.error_grid.0, c.error_grid.1],
             address: c.address.to_string(),
             format: c.format,
@@ -146,6 +151,10 @@ impl From<&SweepConfig> for SweepOptions {
             slow_down: c.slow_down.iter().map(ToString::to_string).collect(),
         }
     }
+}
+
+fn one_pass() -> u32 {
+    1
 }
 
 /// Now, UTC, RFC 3339 to the second.

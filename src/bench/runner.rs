@@ -340,34 +340,18 @@ impl Runner {
         });
     }
 
-    /// Times and measures one job.
+    /// Times and measures one job: its first pass's frames ([`SweepConfig::frames_in_pass`])
+    /// and its error; [`Runner::time_again`] adds the later passes' frames.
     pub fn measure(&mut self, job: &Job) -> anyhow::Result<Run> {
         let hf = self.field(&job.field, job.size)?;
         let map = self.map(&job.field, job.size, job.method, &hf)?;
-        let dir = ray_direction(job.angle, job.azimuth).map(|x| x as f32);
-        let depth_scale = job.depth_scale as f32;
-        let trace = TraceRequest {
-            method: job.method,
-            dir,
-            depth_scale,
-            grid: self.cfg.error_grid,
-            budget: job.budget,
-            address: self.cfg.address,
-            format: self.cfg.format,
-            map: map.as_deref(),
-            shadow: None,
-        };
+        let trace = self.trace_request(job, map.as_deref());
         let started = Instant::now();
-        let timed = BenchRequest {
-            trace: TraceRequest {
-                grid: self.cfg.resolution,
-                ..trace
-            },
-            warmup: self.cfg.warmup,
-            frames: self.cfg.frames,
-            dispatches: self.cfg.dispatches_per_frame(job.method),
-        };
-        let timing = time_method(&self.ctx, &hf, &timed)?;
+        let timing = time_method(
+            &self.ctx,
+            &hf,
+            &self.timed(trace, self.cfg.frames_in_pass(0)),
+        )?;
         let cpu_ms = started.elapsed().as_secs_f64() * 1e3;
         let timed_steps = subgroup_steps(
             &timing.steps,
@@ -379,7 +363,8 @@ impl Runner {
             &hf,
             &traced.hits,
             &traced.steps,
-            f64::from(depth_scale),
+            // The depth the GPU traced with, rounded to f32 as it was.
+            f64::from(trace.depth_scale),
             self.cfg.address,
         );
         Ok(Run {
@@ -404,6 +389,52 @@ impl Runner {
             steps: stats.steps,
             timed_steps,
         })
+    }
+
+    /// Pass `pass`'s frames of a job [`Runner::measure`] ran, added to its run: the samples in
+    /// the order they ran, the summary over all of them, the wall time summed.
+    pub fn time_again(&mut self, job: &Job, pass: u32, run: &mut Run) -> anyhow::Result<()> {
+        let frames = self.cfg.frames_in_pass(pass);
+        if frames == 0 {
+            return Ok(());
+        }
+        let hf = self.field(&job.field, job.size)?;
+        let map = self.map(&job.field, job.size, job.method, &hf)?;
+        let trace = self.trace_request(job, map.as_deref());
+        let started = Instant::now();
+        let timing = time_method(&self.ctx, &hf, &self.timed(trace, frames))?;
+        run.cpu_ms += started.elapsed().as_secs_f64() * 1e3;
+        let mut samples = std::mem::take(&mut run.gpu_ms.samples);
+        samples.extend(timing.frame_ms);
+        run.gpu_ms = GpuMs::of(&samples);
+        Ok(())
+    }
+
+    /// The error measurement's trace of `job`; the timed one is the same at the timing grid.
+    fn trace_request<'m>(&self, job: &Job, map: Option<&'m MapData>) -> TraceRequest<'m> {
+        TraceRequest {
+            method: job.method,
+            dir: ray_direction(job.angle, job.azimuth).map(|x| x as f32),
+            depth_scale: job.depth_scale as f32,
+            grid: self.cfg.error_grid,
+            budget: job.budget,
+            address: self.cfg.address,
+            format: self.cfg.format,
+            map,
+            shadow: None,
+        }
+    }
+
+    fn timed<'m>(&self, trace: TraceRequest<'m>, frames: u32) -> BenchRequest<'m> {
+        BenchRequest {
+            trace: TraceRequest {
+                grid: self.cfg.resolution,
+                ..trace
+            },
+            warmup: self.cfg.warmup,
+            frames,
+            dispatches: self.cfg.dispatches_per_frame(trace.method),
+        }
     }
 
     /// The device context.

@@ -52,8 +52,12 @@ pub struct SweepConfig {
     pub resolution: (u32, u32),
     /// Timed frames per configuration.
     pub frames: u32,
-    /// Untimed frames run before them.
+    /// Untimed frames run before them, in every pass.
     pub warmup: u32,
+    /// Timed passes over the sweep's runs: each configuration's frames are split over this many
+    /// passes (see [`SweepConfig::frames_in_pass`]), so that a slow spell of the machine falls on
+    /// part of every method's frames rather than on all of one method's.
+    pub passes: u32,
     /// Rays per configuration for the error measurement.
     pub error_grid: (u32, u32),
     /// Addressing mode of every map.
@@ -90,6 +94,7 @@ impl SweepConfig {
             resolution: (1024, 1024),
             frames: 10,
             warmup: 2,
+            passes: 3,
             error_grid: (128, 128),
             address: Address::Repeat,
             format: HeightFormat::R16Unorm,
@@ -112,6 +117,7 @@ impl SweepConfig {
             resolution: (128, 128),
             frames: 3,
             warmup: 1,
+            passes: 3,
             error_grid: (32, 32),
             paper_leaf: false,
             quick: true,
@@ -152,6 +158,22 @@ impl SweepConfig {
             .map_or(1, |s| s.factor)
     }
 
+    /// Timed frames of each configuration in pass `pass` (from 0): `frames` split as evenly as
+    /// they go over the passes, the earlier passes taking the remainder; 0 past the last pass or
+    /// beyond the frames.
+    pub fn frames_in_pass(&self, pass: u32) -> u32 {
+        let passes = self.effective_passes();
+        if pass >= passes {
+            return 0;
+        }
+        self.frames / passes + u32::from(pass < self.frames % passes)
+    }
+
+    /// Passes actually run: `passes`, but never more than the frames to split (at least 1).
+    pub fn effective_passes(&self) -> u32 {
+        self.passes.clamp(1, self.frames.max(1))
+    }
+
     /// The map side of every section but scaling.
     pub fn main_size(&self) -> u32 {
         self.sizes.first().copied().unwrap_or(256)
@@ -160,5 +182,34 @@ impl SweepConfig {
     /// The depth scale of every section but the depth-scale one.
     pub fn main_depth_scale(&self) -> f64 {
         self.depth_scales.first().copied().unwrap_or(0.1)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn split(frames: u32, passes: u32) -> Vec<u32> {
+        let cfg = SweepConfig {
+            frames,
+            passes,
+            ..SweepConfig::quick()
+        };
+        (0..cfg.effective_passes())
+            .map(|p| cfg.frames_in_pass(p))
+            .collect()
+    }
+
+    #[test]
+    fn passes_share_the_frames_evenly_and_never_lose_one() {
+        assert_eq!(split(10, 3), [4, 3, 3]);
+        assert_eq!(split(9, 3), [3, 3, 3]);
+        assert_eq!(split(2, 3), [1, 1], "no pass without a frame");
+        assert_eq!(split(5, 0), [5], "zero passes is one");
+        for frames in 1..40 {
+            for passes in 0..8 {
+                assert_eq!(split(frames, passes).iter().sum::<u32>(), frames);
+            }
+        }
     }
 }

@@ -269,7 +269,8 @@ fn job_cost(cfg: &SweepConfig, job: &Job) -> (f64, Vec<(String, f64)>) {
     let crossed = texels_crossed(job.size, job.depth_scale, job.angle);
     let steps = expected_steps(job.method, job.budget.max_steps, job.size, crossed);
     let (w, h) = cfg.resolution;
-    let timed = f64::from(w * h) * f64::from(cfg.frames + cfg.warmup) * steps * STEP_S;
+    let passes = cfg.effective_passes();
+    let timed = f64::from(w * h) * f64::from(cfg.frames + passes * cfg.warmup) * steps * STEP_S;
     let (ew, eh) = cfg.error_grid;
     let error = f64::from(ew * eh) * (steps * STEP_S + crossed * REFERENCE_CELL_S);
     let field = job.field.name();
@@ -287,7 +288,7 @@ fn job_cost(cfg: &SweepConfig, job: &Job) -> (f64, Vec<(String, f64)>) {
             gpu + rounds * (gpu + cpu),
         ));
     }
-    (JOB_OVERHEAD_S + timed + error, setups)
+    (f64::from(passes) * JOB_OVERHEAD_S + timed + error, setups)
 }
 
 /// A stability cell: its field generated, its map built, 32x32 rays traced and checked.

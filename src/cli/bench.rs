@@ -72,6 +72,10 @@ pub struct BenchArgs {
     /// Timed frames per configuration.
     #[arg(long)]
     frames: Option<u32>,
+    /// Passes over the sweep that share each configuration's frames, so that a slow spell of
+    /// the machine touches every method alike (default 3, never more than the frames).
+    #[arg(long)]
+    passes: Option<u32>,
     /// Skip the stability matrix.
     #[arg(long)]
     no_stability: bool,
@@ -179,6 +183,7 @@ fn config(args: &BenchArgs) -> anyhow::Result<SweepConfig> {
         cfg.resolution = parse_resolution(r)?;
     }
     cfg.frames = args.frames.unwrap_or(cfg.frames).max(1);
+    cfg.passes = args.passes.unwrap_or(cfg.passes).max(1);
     cfg.stability &= !args.no_stability;
     cfg.slow_down = args.slow_down.clone();
     cfg.address = args.address;
@@ -240,7 +245,9 @@ fn progress(total: usize, quiet: bool) -> ProgressBar {
     bar
 }
 
-/// The sweep: every job the plan wants, but those [`depth_match_settled`] skips.
+/// The sweep: every job the plan wants, but those [`depth_match_settled`] skips. The first pass
+/// times and measures each job; each later pass times them all again in the same order, adding
+/// frames to their samples.
 fn measure_runs(
     runner: &mut Runner,
     jobs: &[Job],
@@ -249,38 +256,60 @@ fn measure_runs(
     bar: &ProgressBar,
     quiet: bool,
 ) -> anyhow::Result<Vec<Run>> {
+    let passes = runner.config().effective_passes();
     let mut runs = Vec::with_capacity(jobs.len());
+    let mut measured = Vec::with_capacity(jobs.len());
     for (j, job) in jobs.iter().enumerate() {
         let step = plan.layout.job(j);
         if !plan.wants(step) {
             continue;
         }
         if depth_match_settled(job, &runs) {
-            bar.inc(1);
+            bar.inc(u64::from(passes));
             continue;
         }
-        let what = format!(
-            "{} {} {}^2 {} deg",
-            job.method,
-            job.field.name(),
-            job.size,
-            job.angle
-        );
-        note(bar, &what, quiet);
-        let run = runner.measure(job).with_context(|| {
-            format!(
-                "measuring {} on {} at {} deg",
-                job.method,
-                job.field.name(),
-                job.angle
-            )
-        })?;
+        note(bar, &job_label(job, 0, passes), quiet);
+        let run = runner.measure(job).with_context(|| measuring(job))?;
         runs.push(run);
+        measured.push(job);
         origins.runs.push(step);
         origins.note_maps(step, runner.map_builds.len());
         bar.inc(1);
     }
+    for pass in 1..passes {
+        for (run, job) in runs.iter_mut().zip(&measured) {
+            note(bar, &job_label(job, pass, passes), quiet);
+            runner
+                .time_again(job, pass, run)
+                .with_context(|| measuring(job))?;
+            bar.inc(1);
+        }
+    }
     Ok(runs)
+}
+
+fn job_label(job: &Job, pass: u32, passes: u32) -> String {
+    let what = format!(
+        "{} {} {}^2 {} deg",
+        job.method,
+        job.field.name(),
+        job.size,
+        job.angle
+    );
+    if passes > 1 {
+        format!("{what} (pass {} of {passes})", pass + 1)
+    } else {
+        what
+    }
+}
+
+fn measuring(job: &Job) -> String {
+    format!(
+        "measuring {} on {} at {} deg",
+        job.method,
+        job.field.name(),
+        job.angle
+    )
 }
 
 /// The stability matrix: every method on every stiff case the plan wants.
@@ -420,12 +449,12 @@ fn whole_wanted(asked: bool, plan: &StepPlan, section: WholeSection) -> bool {
     asked && plan.wants(plan.layout.whole(section))
 }
 
-/// The progress bar's length: one step per job, stability case and method, shading
+/// The progress bar's length: one step per job and pass, stability case and method, shading
 /// measurement, and one or two per other section, of those the plan wants.
 fn progress_steps(s: &SweepSections, cfg: &SweepConfig, plan: &StepPlan) -> usize {
     let l = &plan.layout;
     let count = |steps: &mut dyn Iterator<Item = u32>| steps.filter(|&t| plan.wants(t)).count();
-    let jobs = count(&mut (0..s.jobs.len()).map(|j| l.job(j)));
+    let jobs = count(&mut (0..s.jobs.len()).map(|j| l.job(j))) * cfg.effective_passes() as usize;
     let cells = count(
         &mut (0..s.cases.len()).flat_map(|c| (0..cfg.methods.len()).map(move |m| l.cell(c, m))),
     );
