@@ -4,5 +4,7 @@
 //! Plain data, no Vulkan.
 
 mod mesh;
+mod uv_frame;
 
 pub use mesh::{Mesh, Vertex};
+pub use uv_frame::{depth_length, uv_per_uv, world_per_uv};

@@ -20,6 +20,7 @@ mod layered;
 mod light_extras;
 mod lod;
 mod material;
+mod material_heights;
 mod primitives;
 mod relief_extras;
 mod shading;
@@ -42,6 +43,7 @@ pub use material::{
     AlphaMode, Filter, HeightSource, Material, Relief, SamplerDesc, TextureRef, TextureSlot,
     UvTransform, Wrap,
 };
+pub use material_heights::{HeightLookup, HeightUv, MaterialHeights, MaterialHeightsError};
 pub use primitives::{box_mesh, quad_mesh, sphere_mesh};
 pub use shading::{AoMode, ShadowMode, ShadowSettings, AO_HORIZON_DIRECTIONS};
 pub use shadow_scenes::{shadow_scene, sun, ShadowScene, SHADOW_SCENE_DEPTH};

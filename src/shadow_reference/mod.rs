@@ -72,28 +72,9 @@ pub enum ShadowReferenceError {
         /// How many materials there are.
         count: usize,
     },
-    /// A relief material reads the frame's height map and none was given.
-    #[error("relief material {material:?} reads the frame height map, and none was given")]
-    NoFrameHeights {
-        /// The material's name.
-        material: String,
-    },
-    /// A relief material's height texture names an image the scene does not have.
-    #[error("relief material {material:?} reads image {image}, but the scene has {count}")]
-    NoImage {
-        /// The material's name.
-        material: String,
-        /// The image index.
-        image: usize,
-        /// How many images there are.
-        count: usize,
-    },
-    /// A relief material blends layers, whose heights only the GPU builds.
-    #[error("relief material {material:?} blends layers; the shadow reference cannot rebuild its heights")]
-    LayeredHeights {
-        /// The material's name.
-        material: String,
-    },
+    /// A relief material's heights could not be read.
+    #[error(transparent)]
+    MaterialHeights(#[from] crate::scene::MaterialHeightsError),
     /// A height map could not be decoded.
     #[error(transparent)]
     Heights(#[from] HeightfieldError),

@@ -31,6 +31,7 @@ use std::sync::Arc;
 use glam::{DMat2, DMat3, DVec2, DVec3, Vec2, Vec3};
 
 use super::bvh::Aabb;
+use crate::geometry::{depth_length, world_per_uv};
 use crate::heightfield::reference::{surface_depth, trace, Address, RefRay, SurfaceModel};
 use crate::heightfield::Heightfield;
 
@@ -94,10 +95,7 @@ impl ReliefShell {
         let (e1, e2) = (p[1] - p[0], p[2] - p[0]);
         let normal = e1.cross(e2).try_normalize()?;
         let per_height = world_per_uv(e1, e2, height_uv)?;
-        let per_uv0 = world_per_uv(e1, e2, uv0)?;
-        let height_per_uv0 = uv_per_uv(height_uv, uv0)?;
-        let area = height_per_uv0.determinant().abs();
-        let depth_len = (per_uv0[0].length() * per_uv0[1].length() / area).sqrt();
+        let depth_len = depth_length(e1, e2, height_uv, uv0)?;
         let to_world = DMat3::from_cols(per_height[0], per_height[1], -normal * depth_len);
         let to_local = to_world.inverse();
         let uv = height_uv.map(|h| h.as_dvec2());
@@ -273,25 +271,4 @@ fn keep_above(ta: &mut f64, tb: &mut f64, a: f64, b: f64, floor: f64) {
     } else {
         *tb = tb.min(t);
     }
-}
-
-/// World vectors per unit of `uv` along u and v, from the triangle's edges, or `None` if the uvs are degenerate.
-fn world_per_uv(e1: DVec3, e2: DVec3, uv: [Vec2; 3]) -> Option<[DVec3; 2]> {
-    let (d1, d2) = ((uv[1] - uv[0]).as_dvec2(), (uv[2] - uv[0]).as_dvec2());
-    let det = d1.x * d2.y - d2.x * d1.y;
-    if det == 0.0 || !det.is_finite() {
-        return None;
-    }
-    Some([(e1 * d2.y - e2 * d1.y) / det, (e2 * d1.x - e1 * d2.x) / det])
-}
-
-/// The linear map from `from` uvs to `to` uvs over the triangle.
-fn uv_per_uv(to: [Vec2; 3], from: [Vec2; 3]) -> Option<DMat2> {
-    let t = DMat2::from_cols((to[1] - to[0]).as_dvec2(), (to[2] - to[0]).as_dvec2());
-    let f = DMat2::from_cols(
-        (from[1] - from[0]).as_dvec2(),
-        (from[2] - from[0]).as_dvec2(),
-    );
-    let m = t * f.inverse();
-    m.is_finite().then_some(m)
 }
