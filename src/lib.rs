@@ -5,6 +5,7 @@
 
 pub mod bench;
 pub mod cells;
+pub mod displaced_reference;
 pub mod geometry;
 pub mod heightfield;
 pub mod method;

@@ -19,6 +19,7 @@ mod logger;
 mod maps;
 mod methods;
 mod pipeline_cache;
+mod reference_args;
 mod render;
 mod render_frames;
 mod scene_args;

@@ -17,6 +17,7 @@ use relief::vk::Context;
 use super::cells_render_args::CellsRenderArgs;
 use super::heightmap_args::HeightmapArgs;
 use super::lod_args::LodArgs;
+use super::reference_args::DisplacedReferenceArgs;
 use super::shading_args::ShadingArgs;
 use super::shadow_map_args::ShadowMapArgs;
 use super::terrain_args::TerrainArgs;
@@ -75,6 +76,8 @@ pub struct SceneArgs {
     cells: CellsRenderArgs,
     #[command(flatten)]
     terrain: TerrainArgs,
+    #[command(flatten)]
+    displaced: DisplacedReferenceArgs,
 }
 
 /// A scene ready for a renderer: the scene with every flag applied, the height map relief
@@ -129,6 +132,9 @@ impl SceneArgs {
             ),
             None => (None, "the scene's own".to_owned()),
         };
+        let scene = self
+            .displaced
+            .apply(scene, heights.as_ref(), self.address)?;
         Ok(LoadedScene {
             scene,
             heights,

@@ -1,0 +1,220 @@
+//! The displaced-geometry reference (`relief::displaced_reference`): a relief mesh tessellated
+//! and displaced on the CPU, drawn by the plain raster pass. It must converge (two refinement
+//! levels give nearly the same image) and mean what relief means by a depth scale (on a flat
+//! quad, where relief's exact method has no silhouette to miss, the two images agree).
+//! On failure the images are left under `target/test-output/displaced-reference/`.
+
+mod common;
+
+use std::sync::Arc;
+
+use glam::Vec3;
+use relief::displaced_reference::displaced_scene;
+use relief::heightfield::{Address, Generator, Heightfield};
+use relief::method::Method;
+use relief::render::{render, RenderOptions};
+use relief::scene::{quad_mesh, sphere_mesh, Camera, Light, Material, Mesh, Relief, Scene};
+
+const WIDTH: u32 = 200;
+const HEIGHT: u32 = 150;
+
+fn scene(mesh: Mesh, depth_scale: f32, eye: Vec3) -> Scene {
+    let material = Material {
+        name: "relief".into(),
+        roughness: 0.6,
+        relief: Some(Relief::new(depth_scale, Method::QDM)),
+        ..Material::default()
+    };
+    let light = Light {
+        direction: Vec3::new(-0.5, -0.7, -0.5).normalize(),
+        color: Vec3::splat(3.0),
+        ..Light::default_light()
+    };
+    Scene {
+        meshes: vec![mesh],
+        materials: vec![material],
+        lights: vec![light],
+        camera: Some(Camera::look_at(eye, Vec3::ZERO, 0.8, 0.1, 20.0)),
+        ..Scene::default()
+    }
+}
+
+fn draw(ctx: &Arc<relief::vk::Context>, scene: &Scene, heights: Option<&Heightfield>) -> Vec<u8> {
+    let opts = RenderOptions {
+        width: WIDTH,
+        height: HEIGHT,
+        ..RenderOptions::default()
+    };
+    let frame = render(ctx, scene, heights, &opts).expect("renders");
+    common::assert_no_validation_errors(ctx);
+    frame.rgba
+}
+
+fn displaced(scene: &Scene, heights: &Heightfield, texels: f64) -> Scene {
+    let out = displaced_scene(scene, Some(heights), Address::Repeat, texels).expect("displaces");
+    assert_eq!(out.meshes.len(), 1);
+    assert!(out.scene.materials.iter().all(|m| m.relief.is_none()));
+    out.scene
+}
+
+/// Mean absolute channel difference (RGB) over the pixels `keep` selects.
+fn mean_difference(a: &[u8], b: &[u8], keep: impl Fn(usize) -> bool) -> f64 {
+    let (mut sum, mut n) = (0u64, 0u64);
+    for (p, (x, y)) in a.chunks_exact(4).zip(b.chunks_exact(4)).enumerate() {
+        if !keep(p) {
+            continue;
+        }
+        sum += (0..3).map(|c| u64::from(x[c].abs_diff(y[c]))).sum::<u64>();
+        n += 3;
+    }
+    sum as f64 / n.max(1) as f64
+}
+
+fn save(name: &str, rgba: &[u8]) {
+    let path = common::evidence_dir("displaced-reference").join(format!("{name}.png"));
+    image::save_buffer(&path, rgba, WIDTH, HEIGHT, image::ColorType::Rgba8).expect("writes");
+}
+
+#[test]
+fn the_reference_converges_as_its_edges_shrink() {
+    let Some(ctx) = common::device("the_reference_converges_as_its_edges_shrink") else {
+        return;
+    };
+    let heights = Generator::Fbm.generate(64, 64, 3);
+    // Depth 0.05 of the radius: one depth unit on this sphere is pi * sqrt(2) long.
+    let depth = 0.05 / (std::f32::consts::PI * 2f32.sqrt());
+    let sphere = scene(
+        sphere_mesh("sphere", 1.0, 16, 32, 0),
+        depth,
+        Vec3::new(0.0, 1.2, 2.8),
+    );
+    let images: Vec<Vec<u8>> = [4.0, 2.0, 1.0]
+        .iter()
+        .map(|&t| draw(&ctx, &displaced(&sphere, &heights, t), None))
+        .collect();
+    let coarse = mean_difference(&images[0], &images[1], |_| true);
+    let fine = mean_difference(&images[1], &images[2], |_| true);
+    eprintln!("mean channel difference: 4 -> 2 texels {coarse:.3}, 2 -> 1 texel {fine:.3}");
+    if !(fine < 0.5 && fine < coarse) {
+        for (img, t) in images.iter().zip(["4", "2", "1"]) {
+            save(&format!("sphere_{t}_texels"), img);
+        }
+        panic!("the reference does not settle: 4 -> 2 texels {coarse:.3}, 2 -> 1 texel {fine:.3} (at most 0.5)");
+    }
+}
+
+#[test]
+fn on_a_flat_quad_the_reference_is_what_relief_traces() {
+    let Some(ctx) = common::device("on_a_flat_quad_the_reference_is_what_relief_traces") else {
+        return;
+    };
+    let heights = Generator::Bricks.generate(64, 64, 1);
+    // A quad 4 x 4 world units, the map repeated twice: 2 world units per height uv.
+    let quad = quad_mesh("floor", 4.0, 4.0, 2.0, 0);
+    for (eye, what) in [
+        (Vec3::new(0.0, 2.2, 0.01), "face-on"),
+        (Vec3::new(0.0, 1.3, 1.3), "45 degrees"),
+    ] {
+        let flat = scene(quad.clone(), 0.04, eye);
+        let traced = draw(&ctx, &flat, Some(&heights));
+        let reference = draw(&ctx, &displaced(&flat, &heights, 1.0), None);
+        let background = &traced[..4];
+        // The quad's own outline is not the question here: its interior is.
+        let inside = |p: usize| {
+            let px = |img: &[u8]| &img[4 * p..4 * p + 4] != background;
+            px(&traced) && px(&reference)
+        };
+        let diff = mean_difference(&traced, &reference, inside);
+        eprintln!("{what}: mean channel difference {diff:.3} between QDM and the displaced quad");
+        if diff > 1.5 {
+            save(&format!("quad_{what}_qdm"), &traced);
+            save(&format!("quad_{what}_reference"), &reference);
+            panic!("{what}: QDM and the displaced reference differ by {diff:.3} (at most 1.5)");
+        }
+    }
+}
+
+/// Covered pixels: those that differ from the corner's background.
+fn coverage(rgba: &[u8]) -> Vec<bool> {
+    let background = &rgba[..4];
+    rgba.chunks_exact(4).map(|p| p != background).collect()
+}
+
+#[test]
+fn flat_relief_keeps_the_outline_the_displaced_sphere_gives_up() {
+    let Some(ctx) = common::device("flat_relief_keeps_the_outline_the_displaced_sphere_gives_up")
+    else {
+        return;
+    };
+    let heights = Generator::Fbm.generate(64, 64, 3);
+    let depth = 0.05 / (std::f32::consts::PI * 2f32.sqrt());
+    for (eye, what) in [
+        (Vec3::new(0.0, 1.5, 2.6), "30 degrees"),
+        (Vec3::new(0.0, 2.9, 0.78), "75 degrees"),
+    ] {
+        let sphere = scene(sphere_mesh("sphere", 1.0, 16, 32, 0), depth, eye);
+        let flat = coverage(&draw(&ctx, &sphere, Some(&heights)));
+        let reference = coverage(&draw(&ctx, &displaced(&sphere, &heights, 1.0), None));
+        let both = flat
+            .iter()
+            .zip(&reference)
+            .filter(|(a, b)| **a && **b)
+            .count();
+        let either = flat
+            .iter()
+            .zip(&reference)
+            .filter(|(a, b)| **a || **b)
+            .count();
+        let reference_only = flat
+            .iter()
+            .zip(&reference)
+            .filter(|(a, b)| !**a && **b)
+            .count();
+        let iou = both as f64 / either.max(1) as f64;
+        eprintln!(
+            "{what}: flat relief's silhouette IoU against the displaced sphere {iou:.4} ({} pixels outside it, {reference_only} only the reference covers)",
+            either - both - reference_only
+        );
+        // The displaced surface lies inside the polygons, so it covers nothing the mesh does not
+        // (a few pixels of rasterisation at the rim aside); the flat method keeps the mesh's outline.
+        assert!(
+            reference_only <= either / 500,
+            "{what}: {reference_only} pixels covered only by the displaced sphere"
+        );
+        assert!(
+            iou < 0.99,
+            "{what}: flat relief matches the displaced outline ({iou:.4}): the test no longer tells them apart"
+        );
+    }
+}
+
+#[test]
+fn the_command_line_draws_the_reference_and_refuses_a_bad_edge() {
+    if common::device("the_command_line_draws_the_reference_and_refuses_a_bad_edge").is_none() {
+        return;
+    }
+    let out = common::evidence_dir("displaced-reference").join("default_scene.png");
+    let run = common::cli::relief(&[
+        "render",
+        "--width",
+        "160",
+        "--height",
+        "90",
+        "--displaced-reference",
+        "2",
+        "--out",
+        out.to_str().expect("utf-8"),
+    ]);
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(run.status.success(), "{stderr}");
+    assert!(stderr.contains("displaced reference:"), "{stderr}");
+    assert!(out.exists());
+    let bad = common::cli::relief(&[
+        "render",
+        "--displaced-reference",
+        "0",
+        "--out",
+        "unused.png",
+    ]);
+    common::cli::assert_clean_failure(&bad, &["texels per edge must be a positive number"]);
+}
