@@ -3,7 +3,8 @@
 // cell's outer face marches the view ray through the complex from that face (cells_march.glsl);
 // a ray that leaves without a hit is discarded, a hit writes its depth and is shaded like the
 // mesh: the triangle the hit lies on gives the normal, tangent, vertex colour and uvs there, and
-// the mesh's material (set 1) is read there and lit as the surface pass lights it.
+// the mesh's material (set 1) is read there and lit as the surface pass lights it, scene shadow
+// maps included (the mesh casts into them with its own triangles).
 #extension GL_GOOGLE_include_directive : require
 #define PLAIN_SURFACE
 #include "bindings.glsl"
@@ -19,6 +20,7 @@ vec2 uv_dy[2];
                 slot_linear(slot) * uv_dy[slot_set(slot)])
 #include "material_sample.glsl"
 #include "punctual.glsl"
+#include "scene_shadows.glsl"
 
 // Mirrors `CellsUniform` in src/render/cells/cells_pass.rs.
 layout(set = 2, binding = BINDING_CELLS_PARAMS, std140) uniform CellsParams {
@@ -169,6 +171,11 @@ struct SurfaceAt {
     vec2 uv0;
     vec2 uv1;
     vec3 normal;
+    // The hit triangle's own plane, facing like `normal`: the shadow maps' receiver plane.
+    vec3 face;
+    // The hit moved onto that triangle: the march finds the surface to within its bisection,
+    // a hair off the triangles the shadow maps hold, enough to shadow a lit surface by itself.
+    vec3 on_face;
     vec4 tangent;
     vec4 colour;
 };
@@ -230,6 +237,10 @@ bool surface_at(vec3 p, vec3 dir, out SurfaceAt s) {
         s.normal = normalize(w.x * decode_octahedral(c[0].normal)
                              + w.y * decode_octahedral(c[1].normal)
                              + w.z * decode_octahedral(c[2].normal));
+        vec3 face = cross(c[1].position - c[0].position, c[2].position - c[0].position);
+        face = dot(face, face) > 0.0 ? normalize(face) : s.normal;
+        s.face = dot(face, s.normal) < 0.0 ? -face : face;
+        s.on_face = p - s.face * dot(p - c[0].position, s.face);
         vec3 tangent = w.x * decode_octahedral(c[0].tangent) + w.y * decode_octahedral(c[1].tangent)
                      + w.z * decode_octahedral(c[2].tangent);
         s.tangent = vec4(normalize(tangent), c[0].tangent_sign);
@@ -287,7 +298,7 @@ void main() {
     vec3 world = eye + hit.x * dir;
     SurfaceAt s;
     if (!surface_at(world, dir, s)) {
-        s = SurfaceAt(vec2(0.0), vec2(0.0), -dir, vec4(1.0, 0.0, 0.0, 1.0), vec4(1.0));
+        s = SurfaceAt(vec2(0.0), vec2(0.0), -dir, -dir, world, vec4(1.0, 0.0, 0.0, 1.0), vec4(1.0));
     }
     uv_footprint(eye, ray_dx, ray_dy, world, s);
     vec4 clip = frame.view_proj * vec4(world, 1.0);
@@ -309,7 +320,8 @@ void main() {
         if (dot(normal, l) <= 0.0 || attenuation <= 0.0) {
             continue;
         }
-        vec3 radiance = frame.lights[i].color.rgb * attenuation;
+        float lit = scene_shadow(i, s.on_face, s.face, l);
+        vec3 radiance = frame.lights[i].color.rgb * (attenuation * lit);
         color += shade_ggx(m.base.rgb, m.roughness, m.metallic, normal, v, l, radiance);
     }
     out_color = vec4(color, 1.0);

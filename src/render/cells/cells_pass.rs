@@ -27,8 +27,9 @@ use crate::render::frame::surface_pass::{
 };
 use crate::render::shader_interface::{
     BINDING_CELLS_CELLS, BINDING_CELLS_CORNERS, BINDING_CELLS_GREY, BINDING_CELLS_MAPS,
-    BINDING_CELLS_PARAMS, BINDING_CELLS_SURFACE_TRIANGLES,
+    BINDING_CELLS_PARAMS, BINDING_CELLS_SURFACE_TRIANGLES, SPEC_SHADOW_FILTER,
 };
+use crate::render::shadows::shadow_plan::shadow_filter_max;
 use crate::scene::Scene;
 use crate::shaders;
 use crate::vk::{
@@ -181,7 +182,8 @@ impl CellsPass {
         let cells_layout = DescriptorLayout::new(ctx, &CELLS_SET_BINDINGS, stages, "cells layout")?;
         let frame_layout = plain_frame_layout(ctx)?;
         let material_layout = material_layout(ctx)?;
-        let pipeline = create_pipeline(ctx, &[&frame_layout, &material_layout, &cells_layout])?;
+        let sets = [&frame_layout, &material_layout, &cells_layout];
+        let pipeline = create_pipeline(ctx, &sets, shadow_filter_max(plan))?;
         let count = plan.cells.len() as u32;
         let pool = DescriptorPool::new(ctx, count, 4 * count, "cells sets")?;
         let mut draws = Vec::with_capacity(plan.cells.len());
@@ -448,7 +450,11 @@ fn outer_faces(grid: &CellGrid) -> (Vec<[f32; 3]>, Vec<u32>) {
     (vertices, indices)
 }
 
-fn create_pipeline(ctx: &Arc<Context>, set_layouts: &[&DescriptorLayout]) -> VkResult<Pipeline> {
+fn create_pipeline(
+    ctx: &Arc<Context>,
+    set_layouts: &[&DescriptorLayout],
+    shadow_filter: u32,
+) -> VkResult<Pipeline> {
     let missing = |k: &str| VkError::Invalid(format!("no compiled shader {k}"));
     let vertex = shaders::spirv("cells.vert").ok_or_else(|| missing("cells.vert"))?;
     let fragment = shaders::spirv("cells.frag").ok_or_else(|| missing("cells.frag"))?;
@@ -461,7 +467,7 @@ fn create_pipeline(ctx: &Arc<Context>, set_layouts: &[&DescriptorLayout]) -> VkR
     let desc = GraphicsDesc {
         vertex,
         fragment,
-        fragment_spec: &SpecConstants::default(),
+        fragment_spec: &SpecConstants::default().u32(SPEC_SHADOW_FILTER, shadow_filter),
         vertex_stride: 12,
         attributes: &attributes,
         color_format: COLOR_FORMAT,

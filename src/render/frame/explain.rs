@@ -78,7 +78,8 @@ pub fn explain(
         "cells": cells,
         "passes": plan.passes,
         "skipped": plan.skipped,
-        "draws": plan.draws.len(),
+        "draws": plan.surface_draws().count(),
+        "caster_only_draws": plan.draws.len() - plan.surface_draws().count(),
         "lights": plan.lights.len(),
         "created": created,
     })

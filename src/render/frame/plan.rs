@@ -113,6 +113,18 @@ pub struct DrawPlan {
     pub heights: Option<usize>,
     /// The AO map its material reads (`Plan::ao_maps`), if it asks for one.
     pub ao: Option<usize>,
+    /// Whether the surface pass shades it or it only casts.
+    pub role: DrawRole,
+}
+
+/// What a planned draw renders.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum DrawRole {
+    /// Shaded by the surface pass, and cast into shadow maps unless blended.
+    Surface,
+    /// Only cast into shadow maps: a mesh the cells pass draws, whose triangles are the surface
+    /// its complex traces.
+    CasterOnly,
 }
 
 /// One AO map to build: of which height map, how, at which depth scale (the normals and
@@ -439,12 +451,52 @@ impl Plan {
                 pipeline,
                 heights,
                 ao,
+                role: DrawRole::Surface,
             });
         }
         plan.note_unused(scene, &used);
         plan.note_passes(casts_shadows);
         plan.note_cells(scene);
         Ok(plan)
+    }
+
+    /// Adds a caster-only draw for each mesh the cells pass draws: its triangles, plain (the
+    /// complex traces the mesh's own surface, not a relief), cast by the shadow pass only, so
+    /// that a mesh drawn through cells shadows others and itself. Called when shadow maps are
+    /// planned, so a scene without them uploads nothing for it.
+    pub(in crate::render) fn cast_cells_meshes(&mut self, scene: &Scene) {
+        let meshes: Vec<usize> = self.cells.iter().flat_map(|c| c.meshes.clone()).collect();
+        for index in meshes {
+            self.cast_cells_mesh(scene, index);
+        }
+    }
+
+    fn cast_cells_mesh(&mut self, scene: &Scene, index: usize) {
+        let mesh = &scene.meshes[index];
+        let Some(material) = scene.materials.get(mesh.material) else {
+            return;
+        };
+        if mesh.indices.is_empty() {
+            return;
+        }
+        let plain = Material {
+            relief: None,
+            ..material.clone()
+        };
+        let pipeline = self.pipeline_for(&plain, false);
+        self.draws.push(DrawPlan {
+            mesh: index,
+            material: mesh.material,
+            pipeline,
+            heights: None,
+            ao: None,
+            role: DrawRole::CasterOnly,
+        });
+    }
+
+    /// The draws the surface pass shades.
+    pub fn surface_draws(&self) -> impl Iterator<Item = &DrawPlan> {
+        self.draws.iter().filter(|d| d.role == DrawRole::Surface)
     }
 
     /// The index of the pipeline `material` draws with, added if no draw used it before.
@@ -633,7 +685,7 @@ impl Plan {
         }
         self.passes.push(PassPlan {
             pass: Pass::Surface,
-            why: format!("{} draw(s)", self.draws.len()),
+            why: format!("{} draw(s)", self.surface_draws().count()),
         });
         let mut modes: Vec<&str> = Vec::new();
         for p in &self.pipelines {

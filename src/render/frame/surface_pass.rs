@@ -12,7 +12,7 @@ use super::frame_uniforms::FrameUniforms;
 use super::height_resources::HeightResources;
 use super::material_set::{material_layout, MaterialSets};
 use super::mesh_pipeline::{create_pipeline, MeshStages};
-use super::plan::{DrawPlan, PipelineKey, Plan};
+use super::plan::{DrawPlan, DrawRole, PipelineKey, Plan};
 use super::scene_ao::SceneAo;
 use super::scene_textures::SceneTextures;
 use crate::render::shader_interface::{
@@ -21,6 +21,7 @@ use crate::render::shader_interface::{
 };
 use crate::render::shadows::shadow_atlas::ShadowAtlas;
 use crate::render::shadows::shadow_plan::relief_pad;
+use crate::render::shadows::shadow_plan::shadow_filter_max;
 use crate::render::terrain::layer_set::{layer_layout, LayerSets};
 use crate::scene::{Frustum, Mesh, Scene, Vertex};
 use crate::vk::{
@@ -95,11 +96,14 @@ struct MeshDraw {
     /// How far its relief may reach past `bounds`, in world units: a caster's shadow views test
     /// the bounds grown by it.
     caster_pad: f32,
+    /// Whether the surface pass shades it (else it only casts).
+    shaded: bool,
 }
 
 /// Everything the surface pass needs for one scene.
 pub struct SurfacePass {
-    pipelines: Vec<Pipeline>,
+    /// By plan pipeline; `None` for a key only caster-only draws use.
+    pipelines: Vec<Option<Pipeline>>,
     draws: Vec<MeshDraw>,
     materials: MaterialSets,
     layers: LayerSets,
@@ -279,6 +283,7 @@ impl MeshDraw {
             center: mesh.transform.transform_point3((lo + hi) * 0.5),
             bounds: world_bounds(mesh.transform, lo, hi),
             caster_pad: 0.0,
+            shaded: d.role == DrawRole::Surface,
         })
     }
 
@@ -393,24 +398,27 @@ impl SurfacePass {
             Some(m) if m.info().method_map().is_some() => &layouts.heights_and_map,
             Some(_) => &layouts.heights,
         };
-        let shadow_filter = plan
-            .shadow_maps
-            .iter()
-            .map(|m| m.filter.shader_value())
-            .max()
-            .unwrap_or(0);
+        let shadow_filter = shadow_filter_max(plan);
+        let mut shading = vec![false; plan.pipelines.len()];
+        plan.surface_draws()
+            .for_each(|d| shading[d.pipeline] = true);
         let pipelines = plan
             .pipelines
             .iter()
-            .map(|key| {
-                let set0 = set0_of(key);
-                let stages = MeshStages::surface(key, shadow_filter);
-                if key.layers {
-                    let sets = [set0, &material_layout, &layer_layout];
-                    create_pipeline(ctx, key, &stages, &sets)
-                } else {
-                    create_pipeline(ctx, key, &stages, &[set0, &material_layout])
-                }
+            .zip(&shading)
+            .map(|(key, &shaded)| {
+                shaded
+                    .then(|| {
+                        let set0 = set0_of(key);
+                        let stages = MeshStages::surface(key, shadow_filter);
+                        if key.layers {
+                            let sets = [set0, &material_layout, &layer_layout];
+                            create_pipeline(ctx, key, &stages, &sets)
+                        } else {
+                            create_pipeline(ctx, key, &stages, &[set0, &material_layout])
+                        }
+                    })
+                    .transpose()
             })
             .collect::<VkResult<Vec<_>>>()?;
         let casting = caster_pipelines_needed(plan);
@@ -521,9 +529,10 @@ impl SurfacePass {
         eye: Vec3,
         frustum: &Frustum,
     ) -> VkResult<usize> {
+        let shaded: Vec<&MeshDraw> = self.draws.iter().filter(|d| d.shaded).collect();
         let visible = |d: &&MeshDraw| frustum.may_see_box(d.bounds.0, d.bounds.1);
-        let in_view: Vec<&MeshDraw> = self.draws.iter().filter(visible).collect();
-        let culled = self.draws.len() - in_view.len();
+        let in_view: Vec<&MeshDraw> = shaded.iter().copied().filter(visible).collect();
+        let culled = shaded.len() - in_view.len();
         let mut order: Vec<&MeshDraw> = in_view.iter().copied().filter(|d| !d.blend).collect();
         let mut blended: Vec<&MeshDraw> = in_view.iter().copied().filter(|d| d.blend).collect();
         blended.sort_by(|a, b| {
@@ -533,7 +542,12 @@ impl SurfacePass {
         });
         order.extend(blended);
         for draw in order {
-            let pipeline = &self.pipelines[draw.pipeline];
+            let Some(pipeline) = self.pipelines[draw.pipeline].as_ref() else {
+                return Err(VkError::Invalid(format!(
+                    "mesh {} has no surface pipeline",
+                    draw.mesh
+                )));
+            };
             let set = &draw.frame_sets[slot.min(draw.frame_sets.len() - 1)];
             pipeline.bind(rec, Some(set));
             pipeline.bind_set(rec, 1, &draw.material_set);

@@ -182,9 +182,22 @@ pub(in crate::render) fn relief_pad(scene: &Scene) -> f32 {
     (deepest * diagonal).min(diagonal * 0.25)
 }
 
+/// The most capable filter any of `plan`'s shadow maps uses, as the shaders' `SPEC_SHADOW_FILTER`
+/// (0 without maps: the lookups are compiled out).
+pub(in crate::render) fn shadow_filter_max(plan: &Plan) -> u32 {
+    plan.shadow_maps
+        .iter()
+        .map(|m| m.filter.shader_value())
+        .max()
+        .unwrap_or(0)
+}
+
 /// Adds the shadow maps of `scene`'s lights to `plan`, with the pass that renders them, or the
 /// reasons there are none.
 pub fn plan_shadow_maps(plan: &mut Plan, scene: &Scene, opts: &ShadowOptions) {
+    if opts.enabled && plan.lights.iter().any(|l| l.casts_shadows) {
+        plan.cast_cells_meshes(scene);
+    }
     let casters: Vec<usize> = plan
         .draws
         .iter()
