@@ -16,6 +16,7 @@ const OPTS: RenderOptions = RenderOptions {
     paintable_layers: false,
     shadows: ShadowOptions::DEFAULT,
     shadow_probe: None,
+    msaa: 1,
 };
 
 #[test]

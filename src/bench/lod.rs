@@ -244,6 +244,7 @@ pub fn render_interleaved(
         paintable_layers: false,
         shadows: ShadowOptions::DEFAULT,
         shadow_probe: None,
+        msaa: 1,
     };
     let mut renderers = scenes
         .iter()

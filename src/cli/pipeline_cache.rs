@@ -160,6 +160,7 @@ mod tests {
             vendor_id: 0x10005,
             device_id: 0,
             pipeline_cache_uuid: [0; 16],
+            max_samples: 1,
         }
     }
 

@@ -46,6 +46,13 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let before = ctx.created();
     let mut renderer = Renderer::new(&ctx, &loaded.scene, loaded.heights.as_ref(), &opts)
         .context("preparing the scene for rendering")?;
+    let msaa = &renderer.plan().msaa;
+    if let Some(why) = &msaa.reduced {
+        eprintln!(
+            "relief: --msaa {}: {why}; drawing {} sample(s) per pixel",
+            msaa.asked, msaa.samples
+        );
+    }
     if let Some(edits) = &mut loaded.edits {
         edits.check_renderer(&renderer)?;
     }

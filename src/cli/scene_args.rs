@@ -67,6 +67,10 @@ pub struct SceneArgs {
     /// Height map addressing.
     #[arg(long, value_name = "repeat|clamp", default_value_t = Address::Repeat)]
     address: Address,
+    /// Samples per pixel of the raster passes: 1, 2, 4 or 8 (clamped to what the device takes;
+    /// relief is traced once per pixel). Smooths geometry edges.
+    #[arg(long, value_name = "N", default_value_t = 4)]
+    msaa: u32,
     /// Pick the Vulkan device whose name contains this text.
     #[arg(long, value_name = "SUBSTRING")]
     pub(super) device: Option<String>,
@@ -157,6 +161,7 @@ impl SceneArgs {
             paintable_layers: false,
             shadows: self.shadow_maps.options(),
             shadow_probe: None,
+            msaa: self.msaa,
         }
     }
 

@@ -32,10 +32,11 @@ pub use frame::gpu_heightfield::{GpuHeightfield, HeightFormat};
 pub use frame::height_resources::{HeightResources, HeightUpload};
 pub use frame::mesh_pipeline::describe as describe_pipeline;
 pub use frame::method_map::GpuMethodMap;
+pub use frame::msaa::{MsaaPlan, SAMPLE_COUNTS};
 pub use frame::pass::Pass;
 pub use frame::pass_timer::{PassTiming, Scope};
 pub use frame::plan::{
-    DrawPlan, HeightKey, HeightPlan, PassPlan, PipelineKey, Plan, PlanError, Skipped,
+    DrawPlan, DrawRole, HeightKey, HeightPlan, PassPlan, PipelineKey, Plan, PlanError, Skipped,
 };
 pub use frame::renderer::{FrameOutput, FrameRequest, Renderer, FRAMES_IN_FLIGHT};
 pub use frame::single_frame::{render, BuiltMap, Frame, RenderError, RenderOptions};

@@ -52,7 +52,25 @@ struct ImageInner {
 impl Image {
     /// Creates the image in GPU memory, named `name`, with a view of every mip level.
     pub fn new(ctx: &Arc<Context>, desc: ImageDesc, name: &str) -> VkResult<Image> {
-        Self::create(ctx, desc, None, name)
+        Self::create(ctx, desc, None, 1, name)
+    }
+
+    /// An attachment with `samples` samples per pixel (1, 2, 4 or 8, at most the device's
+    /// `max_samples`): a multisampled render target, resolved into a single-sample image.
+    pub fn new_multisampled(
+        ctx: &Arc<Context>,
+        desc: ImageDesc,
+        samples: u32,
+        name: &str,
+    ) -> VkResult<Image> {
+        let most = ctx.info().max_samples;
+        if !samples.is_power_of_two() || samples > most || desc.mip_levels != 1 {
+            return Err(VkError::Invalid(format!(
+                "image {name:?} of {samples} samples and {} mips (the device takes 1 to {most} samples, one mip)",
+                desc.mip_levels
+            )));
+        }
+        Self::create(ctx, desc, None, samples, name)
     }
 
     /// An array image of `layers` layers (read as `sampler2DArray`), its view over every layer
@@ -70,13 +88,14 @@ impl Image {
                 "image {name:?} of {layers} layers (the device allows 1..={limit})"
             )));
         }
-        Self::create(ctx, desc, Some(layers), name)
+        Self::create(ctx, desc, Some(layers), 1, name)
     }
 
     fn create(
         ctx: &Arc<Context>,
         desc: ImageDesc,
         array: Option<u32>,
+        samples: u32,
         name: &str,
     ) -> VkResult<Image> {
         let limit = ctx.info().max_image_dimension_2d;
@@ -97,7 +116,7 @@ impl Image {
             })
             .mip_levels(desc.mip_levels)
             .array_layers(array.unwrap_or(1))
-            .samples(vk::SampleCountFlags::TYPE_1)
+            .samples(vk::SampleCountFlags::from_raw(samples))
             .tiling(vk::ImageTiling::OPTIMAL)
             .usage(desc.usage)
             .sharing_mode(vk::SharingMode::EXCLUSIVE)

@@ -44,6 +44,17 @@ pub struct DeviceInfo {
     /// `pipelineCacheUUID`: changes with the driver build, so an old cache is not reused.
     #[serde(skip)]
     pub pipeline_cache_uuid: [u8; 16],
+    /// The most samples per pixel (1, 2, 4 or 8) a colour and a depth attachment both take.
+    #[serde(skip)]
+    pub max_samples: u32,
+}
+
+/// The most samples of 1, 2, 4 and 8 that `counts` holds.
+fn most_samples(counts: vk::SampleCountFlags) -> u32 {
+    [8u32, 4, 2]
+        .into_iter()
+        .find(|&n| counts.contains(vk::SampleCountFlags::from_raw(n)))
+        .unwrap_or(1)
 }
 
 fn kind_rank(kind: vk::PhysicalDeviceType) -> (u32, &'static str) {
@@ -122,6 +133,10 @@ fn describe(instance: &ash::Instance, pd: vk::PhysicalDevice) -> Option<(u32, De
         vendor_id: props.vendor_id,
         device_id: props.device_id,
         pipeline_cache_uuid: props.pipeline_cache_uuid,
+        max_samples: most_samples(
+            props.limits.framebuffer_color_sample_counts
+                & props.limits.framebuffer_depth_sample_counts,
+        ),
     };
     Some((rank, info))
 }

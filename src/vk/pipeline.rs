@@ -257,6 +257,8 @@ pub struct GraphicsDesc<'a> {
     pub push_bytes: u32,
     /// Blend over the target with the fragment's alpha (and leave depth unwritten).
     pub blend: bool,
+    /// Samples per pixel of the attachments it draws into (1 for none).
+    pub samples: u32,
 }
 
 /// Creates a triangle-list graphics pipeline for dynamic rendering with one colour and one depth
@@ -309,7 +311,7 @@ pub fn graphics_pipeline(
         .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
         .line_width(1.0);
     let multisample = vk::PipelineMultisampleStateCreateInfo::default()
-        .rasterization_samples(vk::SampleCountFlags::TYPE_1);
+        .rasterization_samples(vk::SampleCountFlags::from_raw(desc.samples.max(1)));
     let has_depth = desc.depth_format != vk::Format::UNDEFINED;
     let depth = vk::PipelineDepthStencilStateCreateInfo::default()
         .depth_test_enable(has_depth)

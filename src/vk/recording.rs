@@ -151,15 +151,37 @@ impl<'a> Recording<'a> {
         clear: [f32; 4],
         store_depth: bool,
     ) {
+        self.begin_rendering_resolved(color, None, depth, clear, store_depth);
+    }
+
+    /// [`Recording::begin_rendering`] into a multisampled `color`, averaged into the
+    /// single-sample `resolve` (also in the colour attachment layout) when rendering ends; the
+    /// samples themselves are not kept.
+    pub fn begin_rendering_resolved(
+        &self,
+        color: &Image,
+        resolve: Option<&Image>,
+        depth: Option<&Image>,
+        clear: [f32; 4],
+        store_depth: bool,
+    ) {
         let (width, height) = (color.desc().width, color.desc().height);
-        let color_attachment = [vk::RenderingAttachmentInfo::default()
+        let mut attachment = vk::RenderingAttachmentInfo::default()
             .image_view(color.view().raw())
             .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
             .load_op(vk::AttachmentLoadOp::CLEAR)
             .store_op(vk::AttachmentStoreOp::STORE)
             .clear_value(vk::ClearValue {
                 color: vk::ClearColorValue { float32: clear },
-            })];
+            });
+        if let Some(target) = resolve {
+            attachment = attachment
+                .store_op(vk::AttachmentStoreOp::DONT_CARE)
+                .resolve_mode(vk::ResolveModeFlags::AVERAGE)
+                .resolve_image_view(target.view().raw())
+                .resolve_image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL);
+        }
+        let color_attachment = [attachment];
         let depth_attachment = depth.map(|d| {
             vk::RenderingAttachmentInfo::default()
                 .image_view(d.view().raw())

@@ -183,7 +183,8 @@ impl CellsPass {
         let frame_layout = plain_frame_layout(ctx)?;
         let material_layout = material_layout(ctx)?;
         let sets = [&frame_layout, &material_layout, &cells_layout];
-        let pipeline = create_pipeline(ctx, &sets, shadow_filter_max(plan))?;
+        let samples = plan.msaa.samples;
+        let pipeline = create_pipeline(ctx, &sets, shadow_filter_max(plan), samples)?;
         let count = plan.cells.len() as u32;
         let pool = DescriptorPool::new(ctx, count, 4 * count, "cells sets")?;
         let mut draws = Vec::with_capacity(plan.cells.len());
@@ -454,6 +455,7 @@ fn create_pipeline(
     ctx: &Arc<Context>,
     set_layouts: &[&DescriptorLayout],
     shadow_filter: u32,
+    samples: u32,
 ) -> VkResult<Pipeline> {
     let missing = |k: &str| VkError::Invalid(format!("no compiled shader {k}"));
     let vertex = shaders::spirv("cells.vert").ok_or_else(|| missing("cells.vert"))?;
@@ -476,6 +478,7 @@ fn create_pipeline(
         set_layouts,
         push_bytes: std::mem::size_of::<DrawPush>() as u32,
         blend: false,
+        samples,
     };
     graphics_pipeline(ctx, &desc, "cells")
 }

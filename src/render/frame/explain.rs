@@ -75,6 +75,7 @@ pub fn explain(
         "heights": heights,
         "ao_maps": ao_maps,
         "shadow_maps": plan.shadow_maps,
+        "msaa": plan.msaa,
         "cells": cells,
         "passes": plan.passes,
         "skipped": plan.skipped,

@@ -53,17 +53,21 @@ pub(super) struct MeshStages {
     name: String,
     /// `SPEC_SHADOW_FILTER`: the most capable filter a lookup may need, 0 for none.
     shadow_filter: u32,
+    /// Samples per pixel of its targets.
+    samples: u32,
 }
 
 impl MeshStages {
-    /// The surface pass's, looking shadow maps up with filters up to `shadow_filter`.
-    pub(super) fn surface(key: &PipelineKey, shadow_filter: u32) -> MeshStages {
+    /// The surface pass's, looking shadow maps up with filters up to `shadow_filter`, into
+    /// targets of `samples` samples per pixel.
+    pub(super) fn surface(key: &PipelineKey, shadow_filter: u32, samples: u32) -> MeshStages {
         MeshStages {
             vertex: "mesh.vert",
             fragment: key.shader(),
             color_format: COLOR_FORMAT,
             name: format!("surface {}", describe(key)),
             shadow_filter,
+            samples,
         }
     }
 
@@ -81,6 +85,7 @@ impl MeshStages {
             fragment,
             color_format: SHADOW_FORMAT,
             shadow_filter: 0,
+            samples: 1,
         }
     }
 }
@@ -150,6 +155,7 @@ pub(super) fn create_pipeline(
         set_layouts,
         push_bytes: std::mem::size_of::<DrawPush>() as u32,
         blend: key.blend && stages.color_format == COLOR_FORMAT,
+        samples: stages.samples,
     };
     graphics_pipeline(ctx, &desc, &stages.name)
 }

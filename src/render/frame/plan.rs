@@ -3,6 +3,7 @@
 //! precomputed map their methods read, and the passes; everything else is listed as skipped, with
 //! the reason. The frame builds exactly what the plan lists (`relief render --explain`).
 
+use super::msaa::MsaaPlan;
 use serde::Serialize;
 
 use super::frame_uniforms::MAX_LIGHTS;
@@ -200,6 +201,9 @@ pub struct Plan {
     pub lights: Vec<Light>,
     /// The lights' shadow maps (added by the renderer from its shadow options).
     pub shadow_maps: Vec<ShadowMapPlan>,
+    /// Samples per pixel of the raster passes (set by the renderer from its options and the
+    /// device).
+    pub msaa: MsaaPlan,
 }
 
 /// Why a scene cannot be planned.
@@ -394,6 +398,7 @@ impl Plan {
             skipped: Vec::new(),
             lights,
             shadow_maps: Vec::new(),
+            msaa: MsaaPlan::SINGLE,
         };
         let mut used = vec![false; scene.materials.len()];
         for c in &plan.cells {

@@ -15,6 +15,7 @@ use std::time::Instant;
 use super::frame_uniforms::{frame_camera, FrameUniforms, MAX_LIGHTS};
 use super::height_resources::HeightResources;
 use super::height_upload::upload_heights;
+use super::msaa::MsaaPlan;
 use super::pass::Pass;
 use super::pass_timer::{per_pass, PassTimer, PassTiming, Scope};
 use super::plan::{HeightKey, Plan};
@@ -109,6 +110,8 @@ impl Renderer {
         let selection = opts.cells.as_ref().map(|c| &c.selection);
         let mut plan = Plan::derive_with_cells(scene, frame_heights, selection)?;
         plan_shadow_maps(&mut plan, scene, &opts.shadows);
+        let probe = opts.shadow_probe.is_some();
+        plan.msaa = MsaaPlan::choose(opts.msaa, ctx.info().max_samples, probe)?;
         if let Some(k) = opts
             .shadow_probe
             .filter(|&k| k >= plan.lights.len().min(MAX_LIGHTS))
@@ -139,7 +142,7 @@ impl Renderer {
             FRAMES_IN_FLIGHT,
         )?;
         let cells = CellsPass::new(ctx, scene, &plan, opts.cells.as_ref())?;
-        let targets = Targets::new(ctx, opts.width, opts.height, opts.shadow_probe.is_some())?;
+        let targets = Targets::new(ctx, opts.width, opts.height, probe, plan.msaa.samples)?;
         // One scope per pyramid build, AO map and shadow map, plus the cells and surface passes.
         let scopes = (plan.heights.len() + ao.len()) as u32 + ShadowMaps::scopes(&plan) + 2;
         let slots = (0..FRAMES_IN_FLIGHT)
@@ -238,7 +241,8 @@ impl Renderer {
             return Err(VkError::Invalid(format!("a {width}x{height} frame")).into());
         }
         let retired = self.finish()?;
-        self.targets = Targets::new(&self.ctx, width, height, self.shadow_probe.is_some())?;
+        let (probe, samples) = (self.shadow_probe.is_some(), self.plan.msaa.samples);
+        self.targets = Targets::new(&self.ctx, width, height, probe, samples)?;
         for slot in &mut self.slots {
             slot.readback = None;
             slot.depth_readback = None;

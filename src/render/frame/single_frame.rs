@@ -39,6 +39,9 @@ pub struct RenderOptions {
     /// shadows`): red the shadow maps' term, green the height field's own, blue 1 where the
     /// surface faces the light; and read the depth back with the colours.
     pub shadow_probe: Option<usize>,
+    /// Samples per pixel of the raster passes: 1 (none), 2, 4 or 8. More than the device takes
+    /// is clamped, and the plan's `msaa` says so; relief is still traced once per pixel.
+    pub msaa: u32,
 }
 
 impl Default for RenderOptions {
@@ -52,6 +55,7 @@ impl Default for RenderOptions {
             paintable_layers: false,
             shadows: ShadowOptions::DEFAULT,
             shadow_probe: None,
+            msaa: 1,
         }
     }
 }

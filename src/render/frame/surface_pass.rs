@@ -410,7 +410,7 @@ impl SurfacePass {
                 shaded
                     .then(|| {
                         let set0 = set0_of(key);
-                        let stages = MeshStages::surface(key, shadow_filter);
+                        let stages = MeshStages::surface(key, shadow_filter, plan.msaa.samples);
                         if key.layers {
                             let sets = [set0, &material_layout, &layer_layout];
                             create_pipeline(ctx, key, &stages, &sets)

@@ -1,6 +1,7 @@
-//! The offscreen targets a frame draws into (colour and depth, made once per renderer), the
-//! barriers that hand them from one frame to the next, and the copy of the colour image into a
-//! host-visible buffer when the frame is to be read back.
+//! The offscreen targets a frame draws into (colour and depth, made once per renderer; with MSAA
+//! a multisampled colour and depth, resolved into the single-sample colour as rendering ends),
+//! the barriers that hand them from one frame to the next, and the copy of the colour image into
+//! a host-visible buffer when the frame is to be read back.
 
 use std::sync::Arc;
 
@@ -17,15 +18,31 @@ const CLEAR: [f32; 4] = [0.015, 0.02, 0.03, 1.0];
 
 /// Colour and depth targets of one size.
 pub struct Targets {
+    /// The frame's colour, one sample per pixel: what is read back and presented.
     pub color: Image,
+    /// Depth, with as many samples as the colour drawn into.
     pub depth: Image,
+    /// With MSAA, the multisampled colour the passes draw into, resolved into `color`.
+    msaa_color: Option<Image>,
     /// The depth is kept and can be read back (the shadow probe).
     keep_depth: bool,
 }
 
 impl Targets {
-    /// Creates both targets at `width` x `height`; `keep_depth` lets frames read the depth back.
-    pub fn new(ctx: &Arc<Context>, width: u32, height: u32, keep_depth: bool) -> VkResult<Targets> {
+    /// Creates the targets at `width` x `height` with `samples` samples per pixel; `keep_depth`
+    /// lets frames read the depth back (one sample only).
+    pub fn new(
+        ctx: &Arc<Context>,
+        width: u32,
+        height: u32,
+        keep_depth: bool,
+        samples: u32,
+    ) -> VkResult<Targets> {
+        if keep_depth && samples > 1 {
+            return Err(crate::vk::VkError::Invalid(
+                "a depth read back needs single-sample targets".into(),
+            ));
+        }
         let depth_usage = if keep_depth {
             vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC
         } else {
@@ -49,11 +66,21 @@ impl Targets {
                 ),
                 "colour target",
             )?,
-            depth: Image::new(
+            depth: Image::new_multisampled(
                 ctx,
                 desc(DEPTH_FORMAT, depth_usage, vk::ImageAspectFlags::DEPTH),
+                samples,
                 "depth target",
             )?,
+            msaa_color: (samples > 1)
+                .then(|| {
+                    // Transient: the samples live only until the resolve.
+                    let usage = vk::ImageUsageFlags::COLOR_ATTACHMENT
+                        | vk::ImageUsageFlags::TRANSIENT_ATTACHMENT;
+                    let d = desc(COLOR_FORMAT, usage, vk::ImageAspectFlags::COLOR);
+                    Image::new_multisampled(ctx, d, samples, "multisampled colour target")
+                })
+                .transpose()?,
             keep_depth,
         })
     }
@@ -80,39 +107,50 @@ impl Targets {
             | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS;
         let depth_access = vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE
             | vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ;
-        transition_images(
-            rec,
-            &[
-                ImageTransition {
-                    image: &self.color,
-                    aspect: vk::ImageAspectFlags::COLOR,
-                    base_mip: 0,
-                    mip_count: 1,
-                    old: vk::ImageLayout::UNDEFINED,
-                    new: vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-                    src: (color_stages, vk::AccessFlags2::COLOR_ATTACHMENT_WRITE),
-                    dst: (
-                        vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
-                        vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
-                    ),
-                },
-                ImageTransition {
-                    image: &self.depth,
-                    aspect: vk::ImageAspectFlags::DEPTH,
-                    base_mip: 0,
-                    mip_count: 1,
-                    old: vk::ImageLayout::UNDEFINED,
-                    new: vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
-                    // ALL_TRANSFER: the previous frame may have copied the depth out.
-                    src: (
-                        depth_stages | vk::PipelineStageFlags2::ALL_TRANSFER,
-                        vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE,
-                    ),
-                    dst: (depth_stages, depth_access),
-                },
-            ],
-        );
-        rec.begin_rendering(&self.color, Some(&self.depth), CLEAR, self.keep_depth);
+        let color = |image| ImageTransition {
+            image,
+            aspect: vk::ImageAspectFlags::COLOR,
+            base_mip: 0,
+            mip_count: 1,
+            old: vk::ImageLayout::UNDEFINED,
+            new: vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+            src: (color_stages, vk::AccessFlags2::COLOR_ATTACHMENT_WRITE),
+            dst: (
+                vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+                vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
+            ),
+        };
+        let mut transitions = vec![
+            color(&self.color),
+            ImageTransition {
+                image: &self.depth,
+                aspect: vk::ImageAspectFlags::DEPTH,
+                base_mip: 0,
+                mip_count: 1,
+                old: vk::ImageLayout::UNDEFINED,
+                new: vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
+                // ALL_TRANSFER: the previous frame may have copied the depth out.
+                src: (
+                    depth_stages | vk::PipelineStageFlags2::ALL_TRANSFER,
+                    vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE,
+                ),
+                dst: (depth_stages, depth_access),
+            },
+        ];
+        if let Some(msaa) = &self.msaa_color {
+            transitions.push(color(msaa));
+        }
+        transition_images(rec, &transitions);
+        match &self.msaa_color {
+            Some(msaa) => rec.begin_rendering_resolved(
+                msaa,
+                Some(&self.color),
+                Some(&self.depth),
+                CLEAR,
+                self.keep_depth,
+            ),
+            None => rec.begin_rendering(&self.color, Some(&self.depth), CLEAR, self.keep_depth),
+        }
     }
 
     /// Ends rendering and, if `readback` is given, copies the colour image into it and makes the
