@@ -168,8 +168,9 @@ fn explain_prints_the_plan() {
         plan["created"]["compute_pipelines"], 1,
         "no pyramid for csm, only the cone map build"
     );
-    // The slab and the plain meshes, each drawn and each casting into the sun's map.
-    assert_eq!(plan["created"]["graphics_pipelines"], 4);
+    // The slab and the plain meshes, each drawn and each casting into the sun's map, and the
+    // tone-mapping pass.
+    assert_eq!(plan["created"]["graphics_pipelines"], 5);
     let maps = plan["shadow_maps"].as_array().expect("shadow maps");
     assert_eq!(maps.len(), 1, "{maps:?}");
     assert_eq!(maps[0]["kind"], "cascades");
@@ -304,9 +305,9 @@ fn the_pipeline_cache_persists_between_runs_and_a_corrupt_one_is_ignored() {
     let path = cache.to_str().expect("utf-8");
     let (first, _) = run(&["--pipeline-cache", path]);
     assert_eq!(first["seeded"], false, "{first}");
-    // The slab (qdm) and the plain meshes, drawn and casting, the pyramid build and the horizon
-    // AO build.
-    assert_eq!(first["pipelines"], 6, "{first}");
+    // The slab (qdm) and the plain meshes, drawn and casting, the tone-mapping pass, the pyramid
+    // build and the horizon AO build.
+    assert_eq!(first["pipelines"], 7, "{first}");
     assert!(cache.exists(), "the cache was written");
     let (second, _) = run(&["--pipeline-cache", path]);
     assert_eq!(second["seeded"], true, "{second}");

@@ -4,7 +4,7 @@
 
 mod common;
 
-use relief::render::{render, Pass, RenderOptions, ShadowOptions};
+use relief::render::{render, Pass, RenderOptions, ShadowOptions, ToneMapping};
 use relief::scene::{default_heightfield, default_scene, AoMode, DEFAULT_SCENE_METHOD};
 
 const OPTS: RenderOptions = RenderOptions {
@@ -17,6 +17,8 @@ const OPTS: RenderOptions = RenderOptions {
     shadows: ShadowOptions::DEFAULT,
     shadow_probe: None,
     msaa: 1,
+    tone_mapping: ToneMapping::NONE,
+    keep_radiance: false,
 };
 
 #[test]

@@ -5,7 +5,9 @@
 mod common;
 
 use relief::method::Method;
-use relief::render::{render, FrameRequest, Pass, RenderOptions, Renderer, ShadowOptions};
+use relief::render::{
+    render, FrameRequest, Pass, RenderOptions, Renderer, ShadowOptions, ToneMapping,
+};
 use relief::scene::{default_heightfield, default_scene};
 
 const OPTS: RenderOptions = RenderOptions {
@@ -18,6 +20,8 @@ const OPTS: RenderOptions = RenderOptions {
     shadows: ShadowOptions::DEFAULT,
     shadow_probe: None,
     msaa: 1,
+    tone_mapping: ToneMapping::NONE,
+    keep_radiance: false,
 };
 
 #[test]

@@ -69,11 +69,12 @@ fn one_pom_material_without_light_builds_one_pipeline_and_nothing_else() {
             "{what} not listed as skipped: {skipped:?}"
         );
     }
-    // What the device saw: one graphics pipeline, no compute (no pyramid build); images for the
-    // heights, the white texture and the two targets, and no map image.
-    assert_eq!(created.graphics_pipelines, 1, "{created:?}");
+    // What the device saw: the surface pipeline and the tone-mapping pass's, no compute (no
+    // pyramid build); images for the heights, the white texture and the three targets (radiance,
+    // depth, frame), and no map image.
+    assert_eq!(created.graphics_pipelines, 2, "{created:?}");
     assert_eq!(created.compute_pipelines, 0, "{created:?}");
-    assert_eq!(created.images, 4, "{created:?}");
+    assert_eq!(created.images, 5, "{created:?}");
     assert_eq!(created.allocations, created.images + created.buffers);
 }
 
@@ -100,10 +101,11 @@ fn maps_and_shadow_work_appear_only_when_needed() {
         Some("cone_map"),
         "csm reads a cone map"
     );
-    // The surface pipeline, and the same material casting into the light's shadow map.
+    // The surface pipeline, the same material casting into the light's shadow map, and the
+    // tone-mapping pass.
     assert_eq!(plan.shadow_maps.len(), 1, "{:?}", plan.shadow_maps);
     assert!(plan.passes.iter().any(|p| p.pass == Pass::ShadowMaps));
-    assert_eq!(created.graphics_pipelines, 2, "{created:?}");
+    assert_eq!(created.graphics_pipelines, 3, "{created:?}");
     // The cone map is built on the GPU (render::cone_map_pass): its compute pipeline, and its
     // three buffers (heights in, pyramid, map out) besides the frame's own.
     assert_eq!(
@@ -112,7 +114,7 @@ fn maps_and_shadow_work_appear_only_when_needed() {
     );
     // The cone map and the shadow atlas (its sampled depths and its depth test) are the three
     // images more than POM needs.
-    assert_eq!(created.images, 7, "{created:?}");
+    assert_eq!(created.images, 8, "{created:?}");
 }
 
 #[test]
@@ -127,7 +129,8 @@ fn pyramid_methods_build_the_pyramid_on_the_gpu() {
         created.compute_pipelines, 1,
         "the pyramid pass: {created:?}"
     );
-    assert_eq!(created.graphics_pipelines, 1, "{created:?}");
+    // The surface pipeline and the tone-mapping pass's.
+    assert_eq!(created.graphics_pipelines, 2, "{created:?}");
 }
 
 #[test]

@@ -11,7 +11,7 @@ use std::process::{Command, Output};
 
 use common::xvfb::Xvfb;
 
-use relief::render::{render, RenderOptions};
+use relief::render::{render, RenderOptions, ToneMap, ToneMapping};
 use relief::scene::{default_heightfield, default_scene, DEFAULT_SCENE_METHOD};
 
 fn view(display: Option<&str>, args: &[&str]) -> Output {
@@ -27,12 +27,18 @@ fn view(display: Option<&str>, args: &[&str]) -> Output {
     cmd.output().expect("runs relief")
 }
 
-/// The default scene rendered offscreen at `width` x `height`, as `relief render` draws it.
+/// The default scene rendered offscreen at `width` x `height`, as `relief render` draws it
+/// (the command line's 4x MSAA and PBR Neutral tone mapping).
 fn offscreen(width: u32, height: u32) -> Option<Vec<u8>> {
     let ctx = common::device("view offscreen reference")?;
     let opts = RenderOptions {
         width,
         height,
+        msaa: 4,
+        tone_mapping: ToneMapping {
+            curve: ToneMap::PbrNeutral,
+            exposure_ev: 0.0,
+        },
         ..RenderOptions::default()
     };
     let frame = render(

@@ -15,6 +15,7 @@ use crate::heightfield::{Address, Generator, Heightfield};
 use crate::method::Method;
 use crate::render::{
     FrameRequest, HeightFormat, Pass, RenderError, RenderOptions, Renderer, ShadowOptions,
+    ToneMapping,
 };
 use crate::scene::{quad_mesh, Camera, Light, Lod, Material, Relief, Scene};
 use crate::vk::Context;
@@ -245,6 +246,8 @@ pub fn render_interleaved(
         shadows: ShadowOptions::DEFAULT,
         shadow_probe: None,
         msaa: 1,
+        tone_mapping: ToneMapping::NONE,
+        keep_radiance: false,
     };
     let mut renderers = scenes
         .iter()

@@ -18,6 +18,10 @@ pub struct RenderArgs {
     /// Output PNG; with --frames N > 1, frame k is written as STEM_000k.png beside it.
     #[arg(long, default_value = "frame.png")]
     pub(super) out: PathBuf,
+    /// Also write each frame's linear radiance (before exposure and tone mapping) as a
+    /// Radiance .hdr file, named like the PNGs.
+    #[arg(long, value_name = "FILE.hdr")]
+    pub(super) hdr_out: Option<PathBuf>,
     /// Print one JSON object instead of the table.
     #[arg(long)]
     pub(super) json: bool,
@@ -31,12 +35,14 @@ pub struct RenderArgs {
 }
 
 pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
+    check_hdr_out(args)?;
     let mut loaded = args.scene.load()?;
     let ctx = super::open_device(args.scene.device.as_deref(), args.json)?;
     loaded.check_device(&ctx)?;
     let mut opts = args
         .scene
         .render_options(args.scene.width, args.scene.height);
+    opts.keep_radiance = args.hdr_out.is_some();
     opts.paintable_layers = loaded
         .edits
         .as_ref()
@@ -72,6 +78,25 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     super::check_validation(&ctx)?;
     if let Some(path) = &cache {
         pipeline_cache::persist(&ctx, path);
+    }
+    Ok(())
+}
+
+fn check_hdr_out(args: &RenderArgs) -> anyhow::Result<()> {
+    let Some(path) = &args.hdr_out else {
+        return Ok(());
+    };
+    let hdr = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("hdr"));
+    if !hdr {
+        anyhow::bail!(
+            "--hdr-out writes Radiance .hdr files; {} does not end in .hdr",
+            path.display()
+        );
+    }
+    if args.frames.no_write {
+        anyhow::bail!("--hdr-out writes the frames' radiance; leave out --no-write");
     }
     Ok(())
 }

@@ -126,6 +126,28 @@ fn write_png(frame: &FrameOutput, out: &Path) -> anyhow::Result<()> {
     .with_context(|| format!("writing {}", out.display()))
 }
 
+/// The frame's radiance as a Radiance .hdr file (RGB; alpha dropped).
+fn write_hdr(frame: &FrameOutput, out: &Path) -> anyhow::Result<()> {
+    let Some(radiance) = &frame.radiance else {
+        return Ok(());
+    };
+    if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+    }
+    let rgb: Vec<f32> = radiance
+        .iter()
+        .flat_map(|p| [p[0], p[1], p[2]].map(|c| if c.is_finite() { c.max(0.0) } else { 0.0 }))
+        .collect();
+    image::save_buffer(
+        out,
+        bytemuck::cast_slice(&rgb),
+        frame.width,
+        frame.height,
+        image::ExtendedColorType::Rgb32F,
+    )
+    .with_context(|| format!("writing {}", out.display()))
+}
+
 /// Where pipelines came from: the cache file (if any), whether it seeded this run, and what the
 /// renderer created while it was made (pipelines and the CPU time they took).
 pub struct CacheReport {
@@ -199,6 +221,9 @@ fn draw_all(
         let k = submitted[frame.index as usize];
         if kept.contains(&k) {
             write_png(&frame, &frame_path(&args.out, u64::from(k), frames))?;
+            if let Some(hdr) = &args.hdr_out {
+                write_hdr(&frame, &frame_path(hdr, u64::from(k), frames))?;
+            }
             timings.push(frame.timings);
         }
         Ok(())

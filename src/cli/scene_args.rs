@@ -8,7 +8,7 @@ use std::sync::Arc;
 use clap::{Args, ValueEnum};
 use relief::heightfield::{Address, Heightfield, MAX_SIDE};
 use relief::method::Method;
-use relief::render::{HeightFormat, RenderOptions};
+use relief::render::{HeightFormat, RenderOptions, ToneMap, ToneMapping};
 use relief::scene::{
     default_heightfield, default_scene, load_gltf, Scene, SceneOptions, DEFAULT_SCENE_METHOD,
 };
@@ -71,6 +71,18 @@ pub struct SceneArgs {
     /// relief is traced once per pixel). Smooths geometry edges.
     #[arg(long, value_name = "N", default_value_t = 4)]
     msaa: u32,
+    /// Tone mapping from linear radiance to the frame's colours: pbr-neutral (Khronos PBR
+    /// Neutral), aces, or none (clamped).
+    #[arg(long, value_name = "CURVE", default_value = "pbr-neutral")]
+    tonemap: ToneMap,
+    /// Exposure in stops: radiance is scaled by 2^EV before tone mapping.
+    #[arg(
+        long,
+        value_name = "EV",
+        default_value_t = 0.0,
+        allow_negative_numbers = true
+    )]
+    exposure: f32,
     /// Pick the Vulkan device whose name contains this text.
     #[arg(long, value_name = "SUBSTRING")]
     pub(super) device: Option<String>,
@@ -162,6 +174,11 @@ impl SceneArgs {
             shadows: self.shadow_maps.options(),
             shadow_probe: None,
             msaa: self.msaa,
+            tone_mapping: ToneMapping {
+                curve: self.tonemap,
+                exposure_ev: self.exposure,
+            },
+            keep_radiance: false,
         }
     }
 

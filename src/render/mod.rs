@@ -41,6 +41,7 @@ pub use frame::plan::{
 pub use frame::renderer::{FrameOutput, FrameRequest, Renderer, FRAMES_IN_FLIGHT};
 pub use frame::single_frame::{render, BuiltMap, Frame, RenderError, RenderOptions};
 pub use frame::surface_pass::{COLOR_FORMAT, DEPTH_FORMAT};
+pub use frame::tonemap::{ToneMap, ToneMapping, HDR_FORMAT};
 pub use maps::ao_map_pass::{AoJob, AoMap, AoMapPass, AO_MAP_FORMAT, SWEEP_DIRECTIONS};
 pub use maps::cone_map_pass::{
     build_cone_map_on_gpu, ConeMapPass, MAX_SIDE as CONE_MAP_GPU_MAX_SIDE, RATIO_TOLERANCE,

@@ -96,6 +96,14 @@ impl<'a> Recording<'a> {
         }
     }
 
+    /// Draws `vertex_count` vertices without vertex buffers (the vertex shader makes them from
+    /// their index), one instance.
+    pub fn draw(&self, vertex_count: u32) {
+        // SAFETY: the buffer is recording inside dynamic rendering (the caller's
+        // `begin_rendering`); the validation layer checks the bound state.
+        unsafe { self.device.cmd_draw(self.cmd, vertex_count, 1, 0, 0) };
+    }
+
     /// Draws `index_count` indices of the bound mesh, one instance.
     pub fn draw_indexed(&self, index_count: u32) {
         // SAFETY: the buffer is recording inside dynamic rendering (the caller's

@@ -22,9 +22,8 @@ use crate::cells::{
 use crate::render::frame::material_set::material_layout;
 use crate::render::frame::plan::Plan;
 use crate::render::frame::single_frame::RenderError;
-use crate::render::frame::surface_pass::{
-    plain_frame_layout, DrawPush, COLOR_FORMAT, DEPTH_FORMAT,
-};
+use crate::render::frame::surface_pass::{plain_frame_layout, DrawPush, DEPTH_FORMAT};
+use crate::render::frame::tonemap::HDR_FORMAT;
 use crate::render::shader_interface::{
     BINDING_CELLS_CELLS, BINDING_CELLS_CORNERS, BINDING_CELLS_GREY, BINDING_CELLS_MAPS,
     BINDING_CELLS_PARAMS, BINDING_CELLS_SURFACE_TRIANGLES, SPEC_SHADOW_FILTER,
@@ -472,7 +471,7 @@ fn create_pipeline(
         fragment_spec: &SpecConstants::default().u32(SPEC_SHADOW_FILTER, shadow_filter),
         vertex_stride: 12,
         attributes: &attributes,
-        color_format: COLOR_FORMAT,
+        color_format: HDR_FORMAT,
         depth_format: DEPTH_FORMAT,
         cull: vk::CullModeFlags::BACK,
         set_layouts,

@@ -76,6 +76,7 @@ pub fn explain(
         "ao_maps": ao_maps,
         "shadow_maps": plan.shadow_maps,
         "msaa": plan.msaa,
+        "tone_mapping": plan.tone_mapping,
         "cells": cells,
         "passes": plan.passes,
         "skipped": plan.skipped,

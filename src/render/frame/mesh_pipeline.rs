@@ -7,7 +7,8 @@ use std::sync::Arc;
 use ash::vk;
 
 use super::plan::PipelineKey;
-use super::surface_pass::{DrawPush, COLOR_FORMAT, DEPTH_FORMAT};
+use super::surface_pass::{DrawPush, DEPTH_FORMAT};
+use super::tonemap::HDR_FORMAT;
 use crate::method::Method;
 use crate::render::shader_interface::{
     SPEC_BUDGET_EXTENT_LIMIT, SPEC_BUDGET_LEAF_EXACT, SPEC_BUDGET_MAX_STEPS,
@@ -64,7 +65,7 @@ impl MeshStages {
         MeshStages {
             vertex: "mesh.vert",
             fragment: key.shader(),
-            color_format: COLOR_FORMAT,
+            color_format: HDR_FORMAT,
             name: format!("surface {}", describe(key)),
             shadow_filter,
             samples,
@@ -154,7 +155,7 @@ pub(super) fn create_pipeline(
         },
         set_layouts,
         push_bytes: std::mem::size_of::<DrawPush>() as u32,
-        blend: key.blend && stages.color_format == COLOR_FORMAT,
+        blend: key.blend && stages.color_format == HDR_FORMAT,
         samples: stages.samples,
     };
     graphics_pipeline(ctx, &desc, &stages.name)

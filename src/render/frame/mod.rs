@@ -21,3 +21,4 @@ pub(in crate::render) mod single_frame;
 pub(in crate::render) mod surface_pass;
 pub(in crate::render) mod targets;
 pub(in crate::render) mod texture_mips;
+pub(in crate::render) mod tonemap;

@@ -4,6 +4,7 @@
 //! the reason. The frame builds exactly what the plan lists (`relief render --explain`).
 
 use super::msaa::MsaaPlan;
+use super::tonemap::ToneMapping;
 use serde::Serialize;
 
 use super::frame_uniforms::MAX_LIGHTS;
@@ -204,6 +205,8 @@ pub struct Plan {
     /// Samples per pixel of the raster passes (set by the renderer from its options and the
     /// device).
     pub msaa: MsaaPlan,
+    /// How the frame's radiance is tone mapped (set by the renderer from its options).
+    pub tone_mapping: ToneMapping,
 }
 
 /// Why a scene cannot be planned.
@@ -399,6 +402,7 @@ impl Plan {
             lights,
             shadow_maps: Vec::new(),
             msaa: MsaaPlan::SINGLE,
+            tone_mapping: ToneMapping::NONE,
         };
         let mut used = vec![false; scene.materials.len()];
         for c in &plan.cells {

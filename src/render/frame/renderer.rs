@@ -22,7 +22,9 @@ use super::plan::{HeightKey, Plan};
 use super::scene_ao::SceneAo;
 use super::single_frame::{BuiltMap, RenderError, RenderOptions};
 use super::surface_pass::SurfacePass;
-use super::targets::Targets;
+use super::surface_pass::COLOR_FORMAT;
+use super::targets::{FrameReadbacks, Targets};
+use super::tonemap::{ToneMapPass, ToneMapping};
 use crate::heightfield::Heightfield;
 use crate::method::MapKind;
 use crate::render::cells::cells_pass::{BuiltComplex, CellsPass};
@@ -61,6 +63,9 @@ pub struct FrameOutput {
     pub culled_draws: usize,
     /// With a shadow probe and a read-back, each pixel's depth (rows top to bottom).
     pub depth: Option<Vec<f32>>,
+    /// With `RenderOptions::keep_radiance` and a read-back, each pixel's linear radiance before
+    /// exposure and tone mapping, RGBA (rows top to bottom).
+    pub radiance: Option<Vec<[f32; 4]>>,
 }
 
 struct FrameSlot {
@@ -69,6 +74,8 @@ struct FrameSlot {
     readback: Option<Readback>,
     /// The depth's copy (shadow probes only).
     depth_readback: Option<Readback>,
+    /// The radiance's copy (`RenderOptions::keep_radiance` only).
+    radiance_readback: Option<Readback>,
     /// The frame submitted from this slot and not yet retired: (index, read back?, draws culled).
     pending: Option<(u64, bool, usize)>,
 }
@@ -87,7 +94,10 @@ pub struct Renderer {
     shadows: ShadowMaps,
     /// The light whose visibility frames write instead of colours.
     shadow_probe: Option<usize>,
+    /// Read-back frames also return their radiance.
+    keep_radiance: bool,
     cells: CellsPass,
+    tone_map: ToneMapPass,
     targets: Targets,
     slots: Vec<FrameSlot>,
     lights: Vec<Light>,
@@ -112,6 +122,19 @@ impl Renderer {
         plan_shadow_maps(&mut plan, scene, &opts.shadows);
         let probe = opts.shadow_probe.is_some();
         plan.msaa = MsaaPlan::choose(opts.msaa, ctx.info().max_samples, probe)?;
+        // The probe's colours are visibilities, not radiance.
+        plan.tone_mapping = if probe {
+            ToneMapping::NONE
+        } else {
+            opts.tone_mapping
+        };
+        if !plan.tone_mapping.exposure_ev.is_finite() {
+            return Err(VkError::Invalid(format!(
+                "--exposure must be a finite number of stops, got {}",
+                plan.tone_mapping.exposure_ev
+            ))
+            .into());
+        }
         if let Some(k) = opts
             .shadow_probe
             .filter(|&k| k >= plan.lights.len().min(MAX_LIGHTS))
@@ -142,7 +165,9 @@ impl Renderer {
             FRAMES_IN_FLIGHT,
         )?;
         let cells = CellsPass::new(ctx, scene, &plan, opts.cells.as_ref())?;
-        let targets = Targets::new(ctx, opts.width, opts.height, probe, plan.msaa.samples)?;
+        let tone_map = ToneMapPass::new(ctx, COLOR_FORMAT)?;
+        let (w, h, samples) = (opts.width, opts.height, plan.msaa.samples);
+        let targets = Targets::new(ctx, w, h, probe, samples, &tone_map)?;
         // One scope per pyramid build, AO map and shadow map, plus the cells and surface passes.
         let scopes = (plan.heights.len() + ao.len()) as u32 + ShadowMaps::scopes(&plan) + 2;
         let slots = (0..FRAMES_IN_FLIGHT)
@@ -152,6 +177,7 @@ impl Renderer {
                     timer: PassTimer::new(ctx, scopes, &format!("frame slot {k} timestamps"))?,
                     readback: None,
                     depth_readback: None,
+                    radiance_readback: None,
                     pending: None,
                 })
             })
@@ -168,7 +194,9 @@ impl Renderer {
             surface,
             shadows,
             shadow_probe: opts.shadow_probe,
+            keep_radiance: opts.keep_radiance,
             cells,
+            tone_map,
             targets,
             slots,
             default_camera,
@@ -242,10 +270,11 @@ impl Renderer {
         }
         let retired = self.finish()?;
         let (probe, samples) = (self.shadow_probe.is_some(), self.plan.msaa.samples);
-        self.targets = Targets::new(&self.ctx, width, height, probe, samples)?;
+        self.targets = Targets::new(&self.ctx, width, height, probe, samples, &self.tone_map)?;
         for slot in &mut self.slots {
             slot.readback = None;
             slot.depth_readback = None;
+            slot.radiance_readback = None;
         }
         (self.width, self.height) = (width, height);
         Ok(retired)
@@ -292,6 +321,10 @@ impl Renderer {
                     let name = format!("frame slot {j} depth readback");
                     slot.depth_readback = Some(self.targets.readback_buffer(&self.ctx, &name)?);
                 }
+                if self.keep_radiance {
+                    let name = format!("frame slot {j} radiance readback");
+                    slot.radiance_readback = Some(self.targets.radiance_buffer(&self.ctx, &name)?);
+                }
             }
         }
         let build_pyramids = !self.pyramids_built;
@@ -299,7 +332,14 @@ impl Renderer {
         let frustum = Frustum::from_view_projection(request.camera.view_projection(aspect));
         let slot = &mut self.slots[k];
         let readback = slot.readback.as_ref().filter(|_| request.read_back);
-        let depth_readback = slot.depth_readback.as_ref().filter(|_| request.read_back);
+        let into = FrameReadbacks {
+            color: readback,
+            depth: slot.depth_readback.as_ref().filter(|_| request.read_back),
+            radiance: slot
+                .radiance_readback
+                .as_ref()
+                .filter(|_| request.read_back),
+        };
         let (heights, ao, surface, cells, targets, shadows, plan) = (
             &self.heights,
             &self.ao,
@@ -309,6 +349,7 @@ impl Renderer {
             &self.shadows,
             &self.plan,
         );
+        let tone_map = (&self.tone_map, self.plan.tone_mapping);
         let timer = &mut slot.timer;
         let culled = slot.commands.submit(|rec| {
             if build_pyramids {
@@ -337,7 +378,7 @@ impl Renderer {
                 timer.scope(rec, scope(Pass::Surface), |rec| {
                     targets.begin(rec);
                     let culled = surface.record_draws(rec, k, eye, &frustum);
-                    targets.end(rec, readback, depth_readback)?;
+                    targets.end(rec, tone_map, into)?;
                     culled
                 })
             } else {
@@ -351,7 +392,7 @@ impl Renderer {
                 })?;
                 timer.scope(rec, scope(Pass::Surface), |rec| {
                     let culled = surface.record_draws(rec, k, eye, &frustum);
-                    targets.end(rec, readback, depth_readback)?;
+                    targets.end(rec, tone_map, into)?;
                     culled
                 })
             }
@@ -399,6 +440,10 @@ impl Renderer {
             (Some(buffer), true) => Some(bytemuck::pod_collect_to_vec(buffer.bytes()?)),
             _ => None,
         };
+        let radiance = match (&slot.radiance_readback, read_back) {
+            (Some(buffer), true) => Some(half_floats_to_rgba(buffer.bytes()?)),
+            _ => None,
+        };
         if index == 0 {
             self.note_pyramids(&scopes);
             self.note_ao_maps(&scopes);
@@ -411,6 +456,7 @@ impl Renderer {
             height: self.height,
             culled_draws,
             depth,
+            radiance,
         }))
     }
 
@@ -456,5 +502,43 @@ impl Renderer {
                 on: "gpu",
             });
         }
+    }
+}
+
+/// RGBA half floats (the radiance target's texels, little-endian as the host reads them) as f32.
+fn half_floats_to_rgba(bytes: &[u8]) -> Vec<[f32; 4]> {
+    let halves: Vec<u16> = bytemuck::pod_collect_to_vec(bytes);
+    halves
+        .chunks_exact(4)
+        .map(|p| [p[0], p[1], p[2], p[3]].map(half_to_f32))
+        .collect()
+}
+
+/// An IEEE half float's value.
+fn half_to_f32(h: u16) -> f32 {
+    let sign = if h & 0x8000 != 0 { -1.0 } else { 1.0 };
+    let exponent = i32::from((h >> 10) & 0x1f);
+    let mantissa = f32::from(h & 0x3ff);
+    sign * match exponent {
+        0 => mantissa * 2f32.powi(-24),
+        31 if mantissa == 0.0 => f32::INFINITY,
+        31 => f32::NAN,
+        e => (1.0 + mantissa / 1024.0) * 2f32.powi(e - 15),
+    }
+}
+
+#[cfg(test)]
+mod half_tests {
+    use super::half_to_f32;
+
+    #[test]
+    fn half_floats_decode() {
+        assert_eq!(half_to_f32(0x3c00), 1.0);
+        assert_eq!(half_to_f32(0xc000), -2.0);
+        assert_eq!(half_to_f32(0x7bff), 65504.0);
+        assert_eq!(half_to_f32(0x0001), 2f32.powi(-24));
+        assert_eq!(half_to_f32(0x7c00), f32::INFINITY);
+        assert!(half_to_f32(0x7e00).is_nan());
+        assert_eq!(half_to_f32(0x3555), 0.333_251_95);
     }
 }

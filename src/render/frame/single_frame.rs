@@ -10,6 +10,7 @@ use super::gpu_heightfield::HeightFormat;
 use super::pass_timer::PassTiming;
 use super::plan::{HeightKey, HeightPlan, Plan, PlanError};
 use super::renderer::{FrameRequest, Renderer};
+use super::tonemap::ToneMapping;
 use crate::heightfield::{Address, Heightfield, HeightfieldError, LoadOptions};
 use crate::render::cells::cells_pass::{BuiltComplex, CellsOptions};
 use crate::render::shadows::shadow_plan::ShadowOptions;
@@ -42,6 +43,12 @@ pub struct RenderOptions {
     /// Samples per pixel of the raster passes: 1 (none), 2, 4 or 8. More than the device takes
     /// is clamped, and the plan's `msaa` says so; relief is still traced once per pixel.
     pub msaa: u32,
+    /// Exposure and curve from the frame's linear radiance to its colours
+    /// ([`ToneMapping::NONE`]: clamped, as timing runs want).
+    pub tone_mapping: ToneMapping,
+    /// Read-back frames also return their linear radiance before tone mapping
+    /// (`FrameOutput::radiance`, `--hdr-out`).
+    pub keep_radiance: bool,
 }
 
 impl Default for RenderOptions {
@@ -56,6 +63,8 @@ impl Default for RenderOptions {
             shadows: ShadowOptions::DEFAULT,
             shadow_probe: None,
             msaa: 1,
+            tone_mapping: ToneMapping::NONE,
+            keep_radiance: false,
         }
     }
 }
@@ -90,6 +99,9 @@ pub struct Frame {
     /// With a shadow probe, the depth of every pixel (1 where nothing was drawn), rows top to
     /// bottom; empty otherwise.
     pub depth: Vec<f32>,
+    /// With `RenderOptions::keep_radiance`, every pixel's linear radiance before exposure and
+    /// tone mapping, RGBA, rows top to bottom; empty otherwise.
+    pub radiance: Vec<[f32; 4]>,
     /// GPU time of each pass recorded in this frame.
     pub timings: Vec<PassTiming>,
     /// CPU wall time of uploading height maps and precomputed maps, in ms.
@@ -205,6 +217,7 @@ pub fn render(
         height: out.height,
         rgba,
         depth: out.depth.unwrap_or_default(),
+        radiance: out.radiance.unwrap_or_default(),
         timings: out.timings,
         upload_ms: renderer.upload_ms(),
         plan: renderer.plan().clone(),

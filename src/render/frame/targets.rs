@@ -1,45 +1,64 @@
-//! The offscreen targets a frame draws into (colour and depth, made once per renderer; with MSAA
-//! a multisampled colour and depth, resolved into the single-sample colour as rendering ends),
-//! the barriers that hand them from one frame to the next, and the copy of the colour image into
-//! a host-visible buffer when the frame is to be read back.
+//! The offscreen targets a frame draws into (made once per renderer): the scene passes' linear
+//! radiance and depth (with MSAA multisampled, the radiance resolved as rendering ends), and the
+//! sRGB frame the tone-mapping pass writes from the radiance; the barriers that hand them from one
+//! frame to the next, and the copy of the frame into a host-visible buffer when it is read back.
 
 use std::sync::Arc;
 
 use ash::vk;
 
 use super::surface_pass::{COLOR_FORMAT, DEPTH_FORMAT};
+use super::tonemap::{ToneMapPass, ToneMapping, HDR_FORMAT};
 use crate::vk::{
-    transition_images, whole_color_region, Context, Image, ImageDesc, ImageTransition, Readback,
-    Recording, VkResult,
+    transition_images, whole_color_region, Context, DescriptorPool, DescriptorSet, Image,
+    ImageDesc, ImageTransition, Readback, Recording, VkError, VkResult,
 };
 
 /// Background colour (linear).
 const CLEAR: [f32; 4] = [0.015, 0.02, 0.03, 1.0];
 
+/// The host-visible buffers a frame is copied into, each when given.
+#[derive(Clone, Copy, Default)]
+pub struct FrameReadbacks<'a> {
+    /// The frame (RGBA8 sRGB).
+    pub color: Option<&'a Readback>,
+    /// The depth (f32), with a shadow probe.
+    pub depth: Option<&'a Readback>,
+    /// The radiance before tone mapping (RGBA half floats).
+    pub radiance: Option<&'a Readback>,
+}
+
 /// Colour and depth targets of one size.
 pub struct Targets {
-    /// The frame's colour, one sample per pixel: what is read back and presented.
+    /// The frame's colour, one sample per pixel, tone mapped and sRGB-encoded: what is read back
+    /// and presented.
     pub color: Image,
-    /// Depth, with as many samples as the colour drawn into.
+    /// Depth, with as many samples as the radiance drawn into.
     pub depth: Image,
-    /// With MSAA, the multisampled colour the passes draw into, resolved into `color`.
-    msaa_color: Option<Image>,
+    /// The scene passes' linear radiance, one sample per pixel (the MSAA resolve's target).
+    hdr: Image,
+    /// With MSAA, the multisampled radiance the passes draw into, resolved into `hdr`.
+    msaa_hdr: Option<Image>,
+    /// The tone-mapping pass's set reading `hdr`, and its pool.
+    tone_map_set: DescriptorSet,
+    _pool: DescriptorPool,
     /// The depth is kept and can be read back (the shadow probe).
     keep_depth: bool,
 }
 
 impl Targets {
-    /// Creates the targets at `width` x `height` with `samples` samples per pixel; `keep_depth`
-    /// lets frames read the depth back (one sample only).
+    /// Creates the targets at `width` x `height` with `samples` samples per pixel, tone mapped
+    /// by `tone_map`; `keep_depth` lets frames read the depth back (one sample only).
     pub fn new(
         ctx: &Arc<Context>,
         width: u32,
         height: u32,
         keep_depth: bool,
         samples: u32,
+        tone_map: &ToneMapPass,
     ) -> VkResult<Targets> {
         if keep_depth && samples > 1 {
-            return Err(crate::vk::VkError::Invalid(
+            return Err(VkError::Invalid(
                 "a depth read back needs single-sample targets".into(),
             ));
         }
@@ -56,13 +75,27 @@ impl Targets {
             usage,
             aspect,
         };
+        let color_aspect = vk::ImageAspectFlags::COLOR;
+        let hdr = Image::new(
+            ctx,
+            desc(
+                HDR_FORMAT,
+                vk::ImageUsageFlags::COLOR_ATTACHMENT
+                    | vk::ImageUsageFlags::SAMPLED
+                    | vk::ImageUsageFlags::TRANSFER_SRC,
+                color_aspect,
+            ),
+            "radiance target",
+        )?;
+        let pool = DescriptorPool::new(ctx, 1, 1, "tone map set")?;
+        let tone_map_set = tone_map.set_for(&pool, hdr.view())?;
         Ok(Targets {
             color: Image::new(
                 ctx,
                 desc(
                     COLOR_FORMAT,
                     vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC,
-                    vk::ImageAspectFlags::COLOR,
+                    color_aspect,
                 ),
                 "colour target",
             )?,
@@ -72,15 +105,18 @@ impl Targets {
                 samples,
                 "depth target",
             )?,
-            msaa_color: (samples > 1)
+            hdr,
+            msaa_hdr: (samples > 1)
                 .then(|| {
                     // Transient: the samples live only until the resolve.
                     let usage = vk::ImageUsageFlags::COLOR_ATTACHMENT
                         | vk::ImageUsageFlags::TRANSIENT_ATTACHMENT;
-                    let d = desc(COLOR_FORMAT, usage, vk::ImageAspectFlags::COLOR);
-                    Image::new_multisampled(ctx, d, samples, "multisampled colour target")
+                    let d = desc(HDR_FORMAT, usage, color_aspect);
+                    Image::new_multisampled(ctx, d, samples, "multisampled radiance target")
                 })
                 .transpose()?,
+            tone_map_set,
+            _pool: pool,
             keep_depth,
         })
     }
@@ -96,32 +132,39 @@ impl Targets {
         Readback::new(ctx, self.readback_bytes(), name)
     }
 
-    /// Begins rendering into both targets, cleared. The previous frame may still be drawing or
-    /// copying them (same queue), so the transitions wait for those stages; the old contents are
-    /// discarded.
+    /// A host-visible buffer a frame's linear radiance (RGBA half floats) is copied into.
+    pub fn radiance_buffer(&self, ctx: &Arc<Context>, name: &str) -> VkResult<Readback> {
+        Readback::new(ctx, self.readback_bytes() * 2, name)
+    }
+
+    /// Begins rendering the scene into the radiance and depth targets, cleared. The previous
+    /// frame may still be drawing into them or tone mapping from the radiance (same queue), so
+    /// the transitions wait for those stages; the old contents are discarded.
     pub fn begin(&self, rec: &Recording) {
-        // ALL_TRANSFER: a presenter may have blitted the previous frame out of the colour target.
-        let color_stages = vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT
-            | vk::PipelineStageFlags2::ALL_TRANSFER;
         let depth_stages = vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS
             | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS;
         let depth_access = vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE
             | vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ;
-        let color = |image| ImageTransition {
+        let radiance = |image| ImageTransition {
             image,
             aspect: vk::ImageAspectFlags::COLOR,
             base_mip: 0,
             mip_count: 1,
             old: vk::ImageLayout::UNDEFINED,
             new: vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-            src: (color_stages, vk::AccessFlags2::COLOR_ATTACHMENT_WRITE),
+            // The previous frame's tone mapping read it in the fragment stage.
+            src: (
+                vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT
+                    | vk::PipelineStageFlags2::FRAGMENT_SHADER,
+                vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
+            ),
             dst: (
                 vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
                 vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
             ),
         };
         let mut transitions = vec![
-            color(&self.color),
+            radiance(&self.hdr),
             ImageTransition {
                 image: &self.depth,
                 aspect: vk::ImageAspectFlags::DEPTH,
@@ -137,36 +180,44 @@ impl Targets {
                 dst: (depth_stages, depth_access),
             },
         ];
-        if let Some(msaa) = &self.msaa_color {
-            transitions.push(color(msaa));
+        if let Some(msaa) = &self.msaa_hdr {
+            transitions.push(radiance(msaa));
         }
         transition_images(rec, &transitions);
-        match &self.msaa_color {
+        match &self.msaa_hdr {
             Some(msaa) => rec.begin_rendering_resolved(
                 msaa,
-                Some(&self.color),
+                Some(&self.hdr),
                 Some(&self.depth),
                 CLEAR,
                 self.keep_depth,
             ),
-            None => rec.begin_rendering(&self.color, Some(&self.depth), CLEAR, self.keep_depth),
+            None => rec.begin_rendering(&self.hdr, Some(&self.depth), CLEAR, self.keep_depth),
         }
     }
 
-    /// Ends rendering and, if `readback` is given, copies the colour image into it and makes the
-    /// copy visible to the host; likewise the depth into `depth_readback` (targets made to keep
-    /// their depth).
+    /// Ends the scene's rendering, tone maps the radiance into the frame with `tone_map` and
+    /// `mapping`, and copies what `into` names into its buffers, visible to the host: the frame,
+    /// the depth (targets made to keep their depth), the radiance before tone mapping.
     pub fn end(
         &self,
         rec: &Recording,
-        readback: Option<&Readback>,
-        depth_readback: Option<&Readback>,
+        tone_map: (&ToneMapPass, ToneMapping),
+        into: FrameReadbacks,
     ) -> VkResult<()> {
         rec.end_rendering();
-        if let Some(buffer) = depth_readback.filter(|_| self.keep_depth) {
+        if let Some(buffer) = into.depth.filter(|_| self.keep_depth) {
             self.copy_depth(rec, buffer)?;
         }
-        let Some(buffer) = readback else {
+        let radiance_layout = match into.radiance {
+            Some(buffer) => {
+                self.copy_radiance(rec, buffer)?;
+                vk::ImageLayout::TRANSFER_SRC_OPTIMAL
+            }
+            None => vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+        };
+        self.tone_map(rec, tone_map.0, tone_map.1, radiance_layout)?;
+        let Some(buffer) = into.color else {
             return Ok(());
         };
         transition_images(
@@ -191,6 +242,94 @@ impl Targets {
         let desc = self.color.desc();
         let region = whole_color_region(desc.width, desc.height);
         buffer.record_copy_from_image(rec, &self.color, region)
+    }
+
+    /// Copies the radiance (resolved, before tone mapping) into `buffer`, leaving it in the
+    /// transfer source layout.
+    fn copy_radiance(&self, rec: &Recording, buffer: &Readback) -> VkResult<()> {
+        transition_images(
+            rec,
+            &[ImageTransition {
+                image: &self.hdr,
+                aspect: vk::ImageAspectFlags::COLOR,
+                base_mip: 0,
+                mip_count: 1,
+                old: vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+                new: vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+                src: (
+                    vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+                    vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
+                ),
+                dst: (
+                    vk::PipelineStageFlags2::COPY,
+                    vk::AccessFlags2::TRANSFER_READ,
+                ),
+            }],
+        );
+        let desc = self.hdr.desc();
+        let region = whole_color_region(desc.width, desc.height);
+        buffer.record_copy_from_image(rec, &self.hdr, region)
+    }
+
+    /// The full-frame pass from the radiance (in layout `radiance_layout`) into the frame, which
+    /// is left in the colour attachment layout.
+    fn tone_map(
+        &self,
+        rec: &Recording,
+        pass: &ToneMapPass,
+        mapping: ToneMapping,
+        radiance_layout: vk::ImageLayout,
+    ) -> VkResult<()> {
+        // Written by the scene's rendering, or last read by the radiance's copy.
+        let after = if radiance_layout == vk::ImageLayout::TRANSFER_SRC_OPTIMAL {
+            (vk::PipelineStageFlags2::COPY, vk::AccessFlags2::NONE)
+        } else {
+            (
+                vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+                vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
+            )
+        };
+        transition_images(
+            rec,
+            &[
+                ImageTransition {
+                    image: &self.hdr,
+                    aspect: vk::ImageAspectFlags::COLOR,
+                    base_mip: 0,
+                    mip_count: 1,
+                    old: radiance_layout,
+                    new: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+                    src: after,
+                    dst: (
+                        vk::PipelineStageFlags2::FRAGMENT_SHADER,
+                        vk::AccessFlags2::SHADER_SAMPLED_READ,
+                    ),
+                },
+                ImageTransition {
+                    image: &self.color,
+                    aspect: vk::ImageAspectFlags::COLOR,
+                    base_mip: 0,
+                    mip_count: 1,
+                    old: vk::ImageLayout::UNDEFINED,
+                    new: vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+                    // ALL_TRANSFER: a presenter or a read-back may have copied the previous
+                    // frame out of it.
+                    src: (
+                        vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT
+                            | vk::PipelineStageFlags2::ALL_TRANSFER,
+                        vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
+                    ),
+                    dst: (
+                        vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+                        vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
+                    ),
+                },
+            ],
+        );
+        rec.begin_rendering(&self.color, None, CLEAR, false);
+        pass.record(rec, &self.tone_map_set, mapping)?;
+        rec.end_rendering();
+        Ok(())
     }
 
     /// Copies the depth target into `buffer` (one f32 per pixel).

@@ -1,0 +1,8 @@
+#version 460
+// The tone-mapping pass's geometry: one triangle that covers the frame, made from the vertex
+// index (no vertex buffer).
+
+void main() {
+    vec2 corner = vec2((gl_VertexIndex << 1) & 2, gl_VertexIndex & 2);
+    gl_Position = vec4(corner * 2.0 - 1.0, 0.0, 1.0);
+}
