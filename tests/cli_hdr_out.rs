@@ -4,15 +4,7 @@
 mod common;
 
 use common::cli::{assert_clean_failure, relief};
-
-fn encode(l: f32) -> f32 {
-    let c = if l <= 0.0031308 {
-        l * 12.92
-    } else {
-        1.055 * l.powf(1.0 / 2.4) - 0.055
-    };
-    c * 255.0
-}
+use common::srgb;
 
 #[test]
 fn the_radiance_is_the_frame_before_tone_mapping() {
@@ -51,7 +43,9 @@ fn the_radiance_is_the_frame_before_tone_mapping() {
         }
         checked += 1;
         // Radiance files keep 8 bits of mantissa per pixel: a few levels after encoding.
-        off += usize::from((0..3).any(|c| (encode(r.0[c]) - f32::from(p.0[c])).abs() > 3.0));
+        off += usize::from(
+            (0..3).any(|c| (srgb::encode(f64::from(r.0[c])) - f64::from(p.0[c])).abs() > 3.0),
+        );
     }
     eprintln!("{off} of {checked} pixels more than 3 levels from the PNG");
     assert!(

@@ -6,6 +6,8 @@ mod common;
 
 use std::sync::Arc;
 
+use common::srgb;
+
 use glam::{Mat4, Vec3};
 use relief::method::Method;
 use relief::render::{render, RenderOptions};
@@ -70,24 +72,6 @@ fn draw(
     frame.rgba
 }
 
-fn to_linear(c: u8) -> f64 {
-    let c = f64::from(c) / 255.0;
-    if c <= 0.04045 {
-        c / 12.92
-    } else {
-        ((c + 0.055) / 1.055).powf(2.4)
-    }
-}
-
-fn to_srgb(l: f64) -> f64 {
-    let c = if l <= 0.0031308 {
-        l * 12.92
-    } else {
-        1.055 * l.powf(1.0 / 2.4) - 0.055
-    };
-    c * 255.0
-}
-
 /// The supersampled render averaged back to one value per pixel and channel (in linear light,
 /// as a resolve averages), and whether an edge crosses the pixel (its samples differ).
 fn reference(big: &[u8]) -> (Vec<[f64; 3]>, Vec<bool>) {
@@ -102,14 +86,14 @@ fn reference(big: &[u8]) -> (Vec<[f64; 3]>, Vec<bool>) {
                 for sx in 0..SUPER as usize {
                     let i = 4 * ((y * SUPER as usize + sy) * bw + x * SUPER as usize + sx);
                     for c in 0..3 {
-                        sum[c] += to_linear(big[i + c]);
+                        sum[c] += srgb::decode(big[i + c]);
                         lo[c] = lo[c].min(big[i + c]);
                         hi[c] = hi[c].max(big[i + c]);
                     }
                 }
             }
             let n = f64::from(SUPER * SUPER);
-            pixels.push(sum.map(|s| to_srgb(s / n)));
+            pixels.push(sum.map(|s| srgb::encode(s / n)));
             edges.push((0..3).any(|c| hi[c] - lo[c] > 24));
         }
     }

@@ -7,6 +7,8 @@ mod common;
 
 use std::sync::Arc;
 
+use common::srgb;
+
 use glam::{Mat4, Vec3};
 use relief::render::{render, RenderOptions, ToneMap, ToneMapping};
 use relief::scene::{box_mesh, quad_mesh, Camera, Light, Material, Scene};
@@ -58,24 +60,6 @@ fn draw(ctx: &Arc<relief::vk::Context>, scene: &Scene, tone_mapping: ToneMapping
     frame.rgba
 }
 
-fn decode(c: u8) -> f32 {
-    let c = f32::from(c) / 255.0;
-    if c <= 0.04045 {
-        c / 12.92
-    } else {
-        ((c + 0.055) / 1.055).powf(2.4)
-    }
-}
-
-fn encode(l: f32) -> f32 {
-    let c = if l <= 0.0031308 {
-        l * 12.92
-    } else {
-        1.055 * l.powf(1.0 / 2.4) - 0.055
-    };
-    c * 255.0
-}
-
 #[test]
 fn the_pass_applies_the_curves_as_defined() {
     let Some(ctx) = common::device("the_pass_applies_the_curves_as_defined") else {
@@ -101,9 +85,11 @@ fn the_pass_applies_the_curves_as_defined() {
             if r[..3].iter().any(|&c| c >= 250) {
                 continue;
             }
-            let linear = [0, 1, 2].map(|c| 2.0 * decode(r[c]));
+            let linear = [0, 1, 2].map(|c| 2.0 * srgb::decode(r[c]) as f32);
             above_one += usize::from(linear.iter().any(|&l| l > 1.0));
-            let expected = curve.apply(linear).map(encode);
+            let expected = curve
+                .apply(linear)
+                .map(|l| srgb::encode(f64::from(l)) as f32);
             let error = (0..3)
                 .map(|c| (f32::from(m[c]) - expected[c]).abs())
                 .fold(0.0, f32::max);

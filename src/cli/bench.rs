@@ -10,13 +10,13 @@ use std::io::IsTerminal;
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use relief::bench::{
-    blending_notes, depth_match_settled, measure_ao, measure_shadows, plan_jobs, render_report,
-    run_blending_section, run_edit_section, run_lod_section, run_paint_section,
-    run_scene_shadow_section, run_stiff_case, stiff_cases, utc_now_rfc3339, AoConfig, AoRun,
-    BenchResults, BlendingConfig, BlendingSection, EditCost, FieldSource, Job, LodConfig,
-    LodSection, PaintCost, ReliefBuild, Run, Runner, SceneShadowSection, ShadingConfig, ShadowRun,
-    ShadowStabilityCell, Shard, SlowDown, StabilityCell, StepOrigins, StiffCase, SweepConfig,
-    SweepSections, WholeSection, SCHEMA_VERSION,
+    blending_notes, measure_ao, measure_shadows, plan_jobs, render_report, run_blending_section,
+    run_edit_section, run_lod_section, run_paint_section, run_scene_shadow_section, run_stiff_case,
+    stiff_cases, utc_now_rfc3339, AoConfig, AoRun, BenchResults, BlendingConfig, BlendingSection,
+    EditCost, FieldSource, LodConfig, LodSection, PaintCost, ReliefBuild, Runner,
+    SceneShadowSection, ShadingConfig, ShadowRun, ShadowStabilityCell, Shard, SlowDown,
+    StabilityCell, StepOrigins, StiffCase, SweepConfig, SweepSections, WholeSection,
+    SCHEMA_VERSION,
 };
 
 /// The brush radius of the terrain-edit section, in texels (the stroke).
@@ -28,6 +28,7 @@ use relief::scene::AoMode;
 use relief::vk::Context;
 
 use super::bench_merge::{self, MergeArgs};
+use super::bench_runs::measure_runs;
 use super::bench_shard::{self, StepPlan};
 use super::scene_args::FormatArg;
 
@@ -245,73 +246,6 @@ fn progress(total: usize, quiet: bool) -> ProgressBar {
     bar
 }
 
-/// The sweep: every job the plan wants, but those [`depth_match_settled`] skips. The first pass
-/// times and measures each job; each later pass times them all again in the same order, adding
-/// frames to their samples.
-fn measure_runs(
-    runner: &mut Runner,
-    jobs: &[Job],
-    plan: &StepPlan,
-    origins: &mut StepOrigins,
-    bar: &ProgressBar,
-    quiet: bool,
-) -> anyhow::Result<Vec<Run>> {
-    let passes = runner.config().effective_passes();
-    let mut runs = Vec::with_capacity(jobs.len());
-    let mut measured = Vec::with_capacity(jobs.len());
-    for (j, job) in jobs.iter().enumerate() {
-        let step = plan.layout.job(j);
-        if !plan.wants(step) {
-            continue;
-        }
-        if depth_match_settled(job, &runs) {
-            bar.inc(u64::from(passes));
-            continue;
-        }
-        note(bar, &job_label(job, 0, passes), quiet);
-        let run = runner.measure(job).with_context(|| measuring(job))?;
-        runs.push(run);
-        measured.push(job);
-        origins.runs.push(step);
-        origins.note_maps(step, runner.map_builds.len());
-        bar.inc(1);
-    }
-    for pass in 1..passes {
-        for (run, job) in runs.iter_mut().zip(&measured) {
-            note(bar, &job_label(job, pass, passes), quiet);
-            runner
-                .time_again(job, pass, run)
-                .with_context(|| measuring(job))?;
-            bar.inc(1);
-        }
-    }
-    Ok(runs)
-}
-
-fn job_label(job: &Job, pass: u32, passes: u32) -> String {
-    let what = format!(
-        "{} {} {}^2 {} deg",
-        job.method,
-        job.field.name(),
-        job.size,
-        job.angle
-    );
-    if passes > 1 {
-        format!("{what} (pass {} of {passes})", pass + 1)
-    } else {
-        what
-    }
-}
-
-fn measuring(job: &Job) -> String {
-    format!(
-        "measuring {} on {} at {} deg",
-        job.method,
-        job.field.name(),
-        job.angle
-    )
-}
-
 /// The stability matrix: every method on every stiff case the plan wants.
 fn measure_stability(
     ctx: &Arc<Context>,
@@ -380,7 +314,7 @@ fn measure_shading(
     Ok((shadows, ao))
 }
 
-fn note(bar: &ProgressBar, what: &str, quiet: bool) {
+pub(super) fn note(bar: &ProgressBar, what: &str, quiet: bool) {
     if !quiet && !std::io::stderr().is_terminal() {
         eprintln!(
             "[{}/{}] {what}",

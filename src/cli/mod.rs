@@ -6,6 +6,7 @@ mod ao;
 mod bench;
 mod bench_compare;
 mod bench_merge;
+mod bench_runs;
 mod bench_shard;
 mod cells;
 mod cells_compare;

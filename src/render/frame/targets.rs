@@ -145,24 +145,21 @@ impl Targets {
             | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS;
         let depth_access = vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE
             | vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ;
-        let radiance = |image| ImageTransition {
-            image,
-            aspect: vk::ImageAspectFlags::COLOR,
-            base_mip: 0,
-            mip_count: 1,
-            old: vk::ImageLayout::UNDEFINED,
-            new: vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-            // The previous frame's tone mapping read it in the fragment stage.
-            src: (
-                vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT
-                    | vk::PipelineStageFlags2::FRAGMENT_SHADER,
-                vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
-            ),
-            dst: (
-                vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
-                vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
-            ),
-        };
+        let attachment = (
+            vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+            vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
+        );
+        // The previous frame's tone mapping read it in the fragment stage.
+        let drawn_or_read = (
+            attachment.0 | vk::PipelineStageFlags2::FRAGMENT_SHADER,
+            attachment.1,
+        );
+        let to_attachment = (
+            vk::ImageLayout::UNDEFINED,
+            vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+        );
+        let radiance =
+            |image| ImageTransition::color(image, to_attachment, drawn_or_read, attachment);
         let mut transitions = vec![
             radiance(&self.hdr),
             ImageTransition {
@@ -217,58 +214,16 @@ impl Targets {
             None => vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
         };
         self.tone_map(rec, tone_map.0, tone_map.1, radiance_layout)?;
-        let Some(buffer) = into.color else {
-            return Ok(());
-        };
-        transition_images(
-            rec,
-            &[ImageTransition {
-                image: &self.color,
-                aspect: vk::ImageAspectFlags::COLOR,
-                base_mip: 0,
-                mip_count: 1,
-                old: vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-                new: vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                src: (
-                    vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
-                    vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
-                ),
-                dst: (
-                    vk::PipelineStageFlags2::COPY,
-                    vk::AccessFlags2::TRANSFER_READ,
-                ),
-            }],
-        );
-        let desc = self.color.desc();
-        let region = whole_color_region(desc.width, desc.height);
-        buffer.record_copy_from_image(rec, &self.color, region)
+        match into.color {
+            Some(buffer) => copy_out(rec, &self.color, buffer),
+            None => Ok(()),
+        }
     }
 
     /// Copies the radiance (resolved, before tone mapping) into `buffer`, leaving it in the
     /// transfer source layout.
     fn copy_radiance(&self, rec: &Recording, buffer: &Readback) -> VkResult<()> {
-        transition_images(
-            rec,
-            &[ImageTransition {
-                image: &self.hdr,
-                aspect: vk::ImageAspectFlags::COLOR,
-                base_mip: 0,
-                mip_count: 1,
-                old: vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-                new: vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
-                src: (
-                    vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
-                    vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
-                ),
-                dst: (
-                    vk::PipelineStageFlags2::COPY,
-                    vk::AccessFlags2::TRANSFER_READ,
-                ),
-            }],
-        );
-        let desc = self.hdr.desc();
-        let region = whole_color_region(desc.width, desc.height);
-        buffer.record_copy_from_image(rec, &self.hdr, region)
+        copy_out(rec, &self.hdr, buffer)
     }
 
     /// The full-frame pass from the radiance (in layout `radiance_layout`) into the frame, which
@@ -280,50 +235,35 @@ impl Targets {
         mapping: ToneMapping,
         radiance_layout: vk::ImageLayout,
     ) -> VkResult<()> {
+        let attachment = (
+            vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+            vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
+        );
         // Written by the scene's rendering, or last read by the radiance's copy.
         let after = if radiance_layout == vk::ImageLayout::TRANSFER_SRC_OPTIMAL {
             (vk::PipelineStageFlags2::COPY, vk::AccessFlags2::NONE)
         } else {
-            (
-                vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
-                vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
-            )
+            attachment
         };
+        let sampled = (
+            vk::PipelineStageFlags2::FRAGMENT_SHADER,
+            vk::AccessFlags2::SHADER_SAMPLED_READ,
+        );
+        // ALL_TRANSFER: a presenter or a read-back may have copied the previous frame out of it.
+        let drawn_or_copied = (
+            attachment.0 | vk::PipelineStageFlags2::ALL_TRANSFER,
+            attachment.1,
+        );
+        let read = (radiance_layout, vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL);
+        let draw = (
+            vk::ImageLayout::UNDEFINED,
+            vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+        );
         transition_images(
             rec,
             &[
-                ImageTransition {
-                    image: &self.hdr,
-                    aspect: vk::ImageAspectFlags::COLOR,
-                    base_mip: 0,
-                    mip_count: 1,
-                    old: radiance_layout,
-                    new: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-                    src: after,
-                    dst: (
-                        vk::PipelineStageFlags2::FRAGMENT_SHADER,
-                        vk::AccessFlags2::SHADER_SAMPLED_READ,
-                    ),
-                },
-                ImageTransition {
-                    image: &self.color,
-                    aspect: vk::ImageAspectFlags::COLOR,
-                    base_mip: 0,
-                    mip_count: 1,
-                    old: vk::ImageLayout::UNDEFINED,
-                    new: vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-                    // ALL_TRANSFER: a presenter or a read-back may have copied the previous
-                    // frame out of it.
-                    src: (
-                        vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT
-                            | vk::PipelineStageFlags2::ALL_TRANSFER,
-                        vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
-                    ),
-                    dst: (
-                        vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
-                        vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
-                    ),
-                },
+                ImageTransition::color(&self.hdr, read, after, sampled),
+                ImageTransition::color(&self.color, draw, drawn_or_copied, attachment),
             ],
         );
         rec.begin_rendering(&self.color, None, CLEAR, false);
@@ -360,4 +300,28 @@ impl Targets {
         region.image_subresource.aspect_mask = vk::ImageAspectFlags::DEPTH;
         buffer.record_copy_from_image(rec, &self.depth, region)
     }
+}
+
+/// Copies `image`, just drawn into as a colour attachment, into `buffer`, leaving it in the
+/// transfer source layout.
+fn copy_out(rec: &Recording, image: &Image, buffer: &Readback) -> VkResult<()> {
+    let layouts = (
+        vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
+        vk::ImageLayout::TRANSFER_SRC_OPTIMAL,
+    );
+    let written = (
+        vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
+        vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
+    );
+    let read = (
+        vk::PipelineStageFlags2::COPY,
+        vk::AccessFlags2::TRANSFER_READ,
+    );
+    transition_images(
+        rec,
+        &[ImageTransition::color(image, layouts, written, read)],
+    );
+    let desc = image.desc();
+    let region = whole_color_region(desc.width, desc.height);
+    buffer.record_copy_from_image(rec, image, region)
 }
