@@ -6,6 +6,7 @@
 pub mod bench;
 pub mod cells;
 pub mod displaced_reference;
+pub mod environment;
 pub mod geometry;
 pub mod heightfield;
 pub mod method;

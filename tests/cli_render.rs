@@ -145,7 +145,21 @@ fn explain_prints_the_plan() {
         .filter_map(|p| p["shader"].as_str())
         .collect();
     assert_eq!(shaders, ["surface.frag:csm", "surface.frag:plain"]);
-    let maps = plan["maps"].as_array().expect("maps");
+    let all_maps = plan["maps"].as_array().expect("maps");
+    // The built-in sky's maps (the command line's default ambient light), then the height maps'.
+    let sky = all_maps.iter().find(|m| m["kind"] == "environment maps");
+    assert!(
+        sky.is_some_and(|m| m["source"] == "built-in sky"),
+        "{all_maps:?}"
+    );
+    assert_eq!(
+        plan["environment"]["irradiance_size"],
+        serde_json::json!([32, 16])
+    );
+    let maps: Vec<_> = all_maps
+        .iter()
+        .filter(|m| m["kind"] != "environment maps")
+        .collect();
     assert_eq!(maps.len(), 1, "the cone map only: {maps:?}");
     assert_eq!(maps[0]["kind"], "cone_map");
     assert_eq!(maps[0]["size"], serde_json::json!([256, 256]));
@@ -165,12 +179,12 @@ fn explain_prints_the_plan() {
         .any(|p| p["name"] == "surface"));
     assert_eq!(maps[0]["on"], "gpu", "csm's cone map is built on the GPU");
     assert_eq!(
-        plan["created"]["compute_pipelines"], 1,
-        "no pyramid for csm, only the cone map build"
+        plan["created"]["compute_pipelines"], 4,
+        "no pyramid for csm, only the cone map build and the sky's three kernels"
     );
-    // The slab and the plain meshes, each drawn and each casting into the sun's map, and the
-    // tone-mapping pass.
-    assert_eq!(plan["created"]["graphics_pipelines"], 5);
+    // The slab and the plain meshes, each drawn and each casting into the sun's map, the
+    // tone-mapping pass and the sky behind the scene.
+    assert_eq!(plan["created"]["graphics_pipelines"], 6);
     let maps = plan["shadow_maps"].as_array().expect("shadow maps");
     assert_eq!(maps.len(), 1, "{maps:?}");
     assert_eq!(maps[0]["kind"], "cascades");
@@ -306,8 +320,8 @@ fn the_pipeline_cache_persists_between_runs_and_a_corrupt_one_is_ignored() {
     let (first, _) = run(&["--pipeline-cache", path]);
     assert_eq!(first["seeded"], false, "{first}");
     // The slab (qdm) and the plain meshes, drawn and casting, the tone-mapping pass, the pyramid
-    // build and the horizon AO build.
-    assert_eq!(first["pipelines"], 7, "{first}");
+    // build, the horizon AO build, the sky's three map kernels and its background.
+    assert_eq!(first["pipelines"], 11, "{first}");
     assert!(cache.exists(), "the cache was written");
     let (second, _) = run(&["--pipeline-cache", path]);
     assert_eq!(second["seeded"], true, "{second}");

@@ -140,7 +140,8 @@ fn lod_fade_ends_in_normal_mapping_without_nan() {
 /// `relief render --explain` of the default scene with `extra` flags: the plan as JSON.
 fn explain(name: &str, extra: &[&str]) -> serde_json::Value {
     let out = common::scratch_dir(name).join("frame.png");
-    // Without the default scene's AO, whose build is a compute pipeline of its own.
+    // Without the default scene's AO and the sky's environment maps, whose builds are compute
+    // pipelines of their own.
     let mut args = vec![
         "render",
         "--explain",
@@ -148,6 +149,8 @@ fn explain(name: &str, extra: &[&str]) -> serde_json::Value {
         "--method",
         "qdm",
         "--ao",
+        "none",
+        "--environment",
         "none",
     ];
     args.extend(["--width", "48", "--height", "32", "--out"]);

@@ -22,6 +22,8 @@ const OPTS: RenderOptions = RenderOptions {
     msaa: 1,
     tone_mapping: ToneMapping::NONE,
     keep_radiance: false,
+    environment: relief::environment::EnvironmentSource::Flat,
+    background: relief::environment::Background::Colour,
 };
 
 #[test]

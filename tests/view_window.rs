@@ -11,6 +11,7 @@ use std::process::{Command, Output};
 
 use common::xvfb::Xvfb;
 
+use relief::environment::{Background, EnvironmentSource};
 use relief::render::{render, RenderOptions, ToneMap, ToneMapping};
 use relief::scene::{default_heightfield, default_scene, DEFAULT_SCENE_METHOD};
 
@@ -28,7 +29,8 @@ fn view(display: Option<&str>, args: &[&str]) -> Output {
 }
 
 /// The default scene rendered offscreen at `width` x `height`, as `relief render` draws it
-/// (the command line's 4x MSAA and PBR Neutral tone mapping).
+/// (the command line's 4x MSAA, PBR Neutral tone mapping and built-in sky, lighting and
+/// behind the scene).
 fn offscreen(width: u32, height: u32) -> Option<Vec<u8>> {
     let ctx = common::device("view offscreen reference")?;
     let opts = RenderOptions {
@@ -39,6 +41,8 @@ fn offscreen(width: u32, height: u32) -> Option<Vec<u8>> {
             curve: ToneMap::PbrNeutral,
             exposure_ev: 0.0,
         },
+        environment: EnvironmentSource::Sky,
+        background: Background::Environment,
         ..RenderOptions::default()
     };
     let frame = render(

@@ -24,9 +24,10 @@ struct ShadowTile {
 layout(set = 0, binding = BINDING_FRAME, std140) uniform Frame {
     mat4 view_proj;
     vec4 eye;          // xyz: camera position (world)
-    vec4 ambient;      // rgb: ambient radiance
+    vec4 ambient;      // rgb: flat ambient radiance; w: the prefiltered map's last level
     vec4 height_info;  // x: width, y: height, z: mip levels, w: 1 for repeat addressing, 0 clamp
-    ivec4 counts;      // x: lights in use; y: 1 + the probed light (visibility written), 0 shades
+    ivec4 counts;      // x: lights in use; y: 1 + the probed light (visibility written), 0 shades;
+                       // z: 1 when lit by the environment maps
     LightData lights[MAX_LIGHTS];
     ivec4 light_shadows[MAX_LIGHTS];  // x: first tile, y: tiles (0: no map), z: filter
     ShadowTile shadow_tiles[MAX_SHADOW_TILES];

@@ -21,6 +21,7 @@ vec2 uv_dy[2];
 #include "material_sample.glsl"
 #include "punctual.glsl"
 #include "scene_shadows.glsl"
+#include "environment_light.glsl"
 
 // Mirrors `CellsUniform` in src/render/cells/cells_pass.rs.
 layout(set = 2, binding = BINDING_CELLS_PARAMS, std140) uniform CellsParams {
@@ -313,7 +314,7 @@ void main() {
         normal = tangent_frame_normal(normal, s.tangent, s.uv0, s.uv1);
     }
     vec3 v = -dir;
-    vec3 color = frame.ambient.rgb * m.base.rgb * m.occlusion + m.emissive;
+    vec3 color = ambient_light(m.base.rgb, m.roughness, m.metallic, normal, v, m.occlusion) + m.emissive;
     for (int i = 0; i < min(frame.counts.x, MAX_LIGHTS); ++i) {
         float attenuation;
         vec3 l = light_toward(i, world, attenuation);

@@ -18,6 +18,7 @@
 #include "material_sample.glsl"
 #include "punctual.glsl"
 #include "scene_shadows.glsl"
+#include "environment_light.glsl"
 #ifndef PLAIN_SURFACE
 #include "heightfield.glsl"
 #include "relief_frame.glsl"
@@ -131,7 +132,7 @@ void main() {
     float metallic = m.metallic;
 
     vec3 v = -view;
-    vec3 color = frame.ambient.rgb * base.rgb * occlusion + emissive;
+    vec3 color = ambient_light(base.rgb, roughness, metallic, normal, v, occlusion) + emissive;
     vec4 probe = vec4(0.0, 0.0, 0.0, 1.0);
     for (int i = 0; i < min(frame.counts.x, MAX_LIGHTS); ++i) {
         float attenuation;

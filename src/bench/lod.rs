@@ -11,6 +11,7 @@ use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
 use super::results::GpuMs;
+use crate::environment::EnvironmentSource;
 use crate::heightfield::{Address, Generator, Heightfield};
 use crate::method::Method;
 use crate::render::{
@@ -248,6 +249,9 @@ pub fn render_interleaved(
         msaa: 1,
         tone_mapping: ToneMapping::NONE,
         keep_radiance: false,
+        // Timing runs measure the methods, not the ambient light.
+        environment: EnvironmentSource::Flat,
+        background: crate::environment::Background::Colour,
     };
     let mut renderers = scenes
         .iter()

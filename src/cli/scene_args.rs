@@ -6,6 +6,7 @@ use std::path::PathBuf;
 use std::sync::Arc;
 
 use clap::{Args, ValueEnum};
+use relief::environment::{Background, EnvironmentSource};
 use relief::heightfield::{Address, Heightfield, MAX_SIDE};
 use relief::method::Method;
 use relief::render::{HeightFormat, RenderOptions, ToneMap, ToneMapping};
@@ -83,6 +84,14 @@ pub struct SceneArgs {
         allow_negative_numbers = true
     )]
     exposure: f32,
+    /// Ambient light: sky (the built-in sky and ground), a Radiance .hdr file
+    /// (equirectangular), or none (one flat colour, no environment maps built).
+    #[arg(long, value_name = "sky|none|FILE.hdr", default_value = "sky", value_parser = environment_source)]
+    environment: EnvironmentSource,
+    /// What shows behind the scene: environment (the one lighting it) or colour (one dark
+    /// colour, as with --environment none).
+    #[arg(long, value_name = "environment|colour", default_value = "environment")]
+    background: Background,
     /// Pick the Vulkan device whose name contains this text.
     #[arg(long, value_name = "SUBSTRING")]
     pub(super) device: Option<String>,
@@ -179,6 +188,8 @@ impl SceneArgs {
                 exposure_ev: self.exposure,
             },
             keep_radiance: false,
+            environment: self.environment.clone(),
+            background: self.background,
         }
     }
 
@@ -255,4 +266,14 @@ impl LoadedScene {
         }
         Ok(())
     }
+}
+
+/// `--environment`'s value: `sky`, `none`, or a file.
+fn environment_source(value: &str) -> Result<EnvironmentSource, String> {
+    Ok(match value {
+        "sky" => EnvironmentSource::Sky,
+        "none" => EnvironmentSource::Flat,
+        "" => return Err("give sky, none or a .hdr file".into()),
+        path => EnvironmentSource::File(path.into()),
+    })
 }

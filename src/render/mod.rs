@@ -9,10 +9,12 @@
 //! - `terrain`: layered materials' blended pyramid and live edits (elevation brushes, painting);
 //! - `shadows`: the lights' shadow maps, displaced casters included;
 //! - `cells`: meshes drawn through their cubic cell complexes;
+//! - `environment`: image-based ambient light (irradiance, prefiltered specular, BRDF table);
 //! - `measure`: traces and timings for the bench and `relief trace`.
 
 mod cells;
 mod compute_pass;
+mod environment;
 mod frame;
 mod maps;
 mod measure;
@@ -23,6 +25,7 @@ mod terrain;
 pub use cells::cells_pass::{BuiltComplex, CellsOptions};
 pub use cells::cells_plan::CellsPlan;
 pub use cells::cells_trace_pass::{march_cells_on_gpu, CellsTrace};
+pub use environment::{BakedEnvironment, EnvironmentLight, EnvironmentPlan};
 pub use frame::explain::explain;
 pub use frame::frame_stats::{sequence_stats, PassStats, SequenceStats};
 pub use frame::frame_uniforms::{

@@ -72,8 +72,8 @@ pub use semaphore::Semaphore;
 pub use surface::WindowHandles;
 pub use swapchain::{Acquired, PresentMode, Swapchain, SwapchainImage, SwapchainLost};
 pub use transfer::{
-    read_mip, record_copy_regions, texel_size, upload_layers, upload_mips, RegionTexels,
-    StagedRegions,
+    half_floats_to_rgba, read_mip, record_copy_regions, texel_size, upload_layers, upload_mips,
+    RegionTexels, StagedRegions,
 };
 
 pub use ash::vk as raw;

@@ -377,3 +377,41 @@ pub fn record_copy_regions(
     };
     Ok(())
 }
+
+/// RGBA half-float texels (little-endian, as the host reads them) as f32.
+pub fn half_floats_to_rgba(bytes: &[u8]) -> Vec<[f32; 4]> {
+    let halves: Vec<u16> = bytemuck::pod_collect_to_vec(bytes);
+    halves
+        .chunks_exact(4)
+        .map(|p| [p[0], p[1], p[2], p[3]].map(half_to_f32))
+        .collect()
+}
+
+/// An IEEE half float's value.
+fn half_to_f32(h: u16) -> f32 {
+    let sign = if h & 0x8000 != 0 { -1.0 } else { 1.0 };
+    let exponent = i32::from((h >> 10) & 0x1f);
+    let mantissa = f32::from(h & 0x3ff);
+    sign * match exponent {
+        0 => mantissa * 2f32.powi(-24),
+        31 if mantissa == 0.0 => f32::INFINITY,
+        31 => f32::NAN,
+        e => (1.0 + mantissa / 1024.0) * 2f32.powi(e - 15),
+    }
+}
+
+#[cfg(test)]
+mod half_tests {
+    use super::half_to_f32;
+
+    #[test]
+    fn half_floats_decode() {
+        assert_eq!(half_to_f32(0x3c00), 1.0);
+        assert_eq!(half_to_f32(0xc000), -2.0);
+        assert_eq!(half_to_f32(0x7bff), 65504.0);
+        assert_eq!(half_to_f32(0x0001), 2f32.powi(-24));
+        assert_eq!(half_to_f32(0x7c00), f32::INFINITY);
+        assert!(half_to_f32(0x7e00).is_nan());
+        assert_eq!(half_to_f32(0x3555), 0.333_251_95);
+    }
+}

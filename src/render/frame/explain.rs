@@ -77,6 +77,7 @@ pub fn explain(
         "shadow_maps": plan.shadow_maps,
         "msaa": plan.msaa,
         "tone_mapping": plan.tone_mapping,
+        "environment": plan.environment,
         "cells": cells,
         "passes": plan.passes,
         "skipped": plan.skipped,

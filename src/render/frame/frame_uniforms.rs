@@ -51,13 +51,15 @@ pub struct FrameUniforms {
     pub view_proj: [[f32; 4]; 4],
     /// xyz: camera position in world space; w: 1.
     pub eye: [f32; 4],
-    /// rgb: ambient radiance, linear; w: unused.
+    /// rgb: flat ambient radiance, linear; w: with an environment, the prefiltered specular
+    /// map's last level.
     pub ambient: [f32; 4],
     /// x: width and y: height in texels, z: mip levels, w: 1 for repeat addressing, 0 for clamp.
     /// Filled in per height map by `HeightResources`; zero until then.
     pub height_info: [f32; 4],
     /// x: lights in use (at most [`MAX_LIGHTS`]); y: 1 + the light whose visibility the frame
-    /// writes instead of colours (the shadow probe, `relief shadows`), 0 to shade; z, w: unused.
+    /// writes instead of colours (the shadow probe, `relief shadows`), 0 to shade; z: 1 when the
+    /// ambient light comes from the environment maps, 0 for the flat colour; w: unused.
     pub counts: [i32; 4],
     /// The first `counts[0]` are the frame's lights; the rest are zero.
     pub lights: [LightUniform; MAX_LIGHTS],

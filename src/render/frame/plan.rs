@@ -5,6 +5,7 @@
 
 use super::msaa::MsaaPlan;
 use super::tonemap::ToneMapping;
+use crate::render::environment::EnvironmentPlan;
 use serde::Serialize;
 
 use super::frame_uniforms::MAX_LIGHTS;
@@ -207,6 +208,9 @@ pub struct Plan {
     pub msaa: MsaaPlan,
     /// How the frame's radiance is tone mapped (set by the renderer from its options).
     pub tone_mapping: ToneMapping,
+    /// The environment maps built for the ambient light, `None` for flat ambient light (set by
+    /// the renderer from its options).
+    pub environment: Option<EnvironmentPlan>,
 }
 
 /// Why a scene cannot be planned.
@@ -403,6 +407,7 @@ impl Plan {
             shadow_maps: Vec::new(),
             msaa: MsaaPlan::SINGLE,
             tone_mapping: ToneMapping::NONE,
+            environment: None,
         };
         let mut used = vec![false; scene.materials.len()];
         for c in &plan.cells {

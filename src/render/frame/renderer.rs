@@ -25,14 +25,16 @@ use super::surface_pass::SurfacePass;
 use super::surface_pass::COLOR_FORMAT;
 use super::targets::{FrameReadbacks, Targets};
 use super::tonemap::{ToneMapPass, ToneMapping};
+use crate::environment::Background;
 use crate::heightfield::Heightfield;
 use crate::method::MapKind;
 use crate::render::cells::cells_pass::{BuiltComplex, CellsPass};
+use crate::render::environment::{BackgroundPass, EnvironmentLight};
 use crate::render::shadows::shadow_pass::ShadowMaps;
 use crate::render::shadows::shadow_plan::plan_shadow_maps;
 use crate::render::terrain::layer_paint::LayerPainter;
 use crate::scene::{Camera, Frustum, Light, Mesh, Scene};
-use crate::vk::{CommandSlot, Context, Image, Readback, VkError, VkResult};
+use crate::vk::{half_floats_to_rgba, CommandSlot, Context, Image, Readback, VkError, VkResult};
 
 /// How many frames may be recorded or running at once.
 pub const FRAMES_IN_FLIGHT: usize = 2;
@@ -97,6 +99,10 @@ pub struct Renderer {
     /// Read-back frames also return their radiance.
     keep_radiance: bool,
     cells: CellsPass,
+    /// The environment's maps, when the ambient light comes from one.
+    environment: Option<EnvironmentLight>,
+    /// The environment drawn behind the scene (`RenderOptions::background`).
+    background: Option<BackgroundPass>,
     tone_map: ToneMapPass,
     targets: Targets,
     slots: Vec<FrameSlot>,
@@ -154,6 +160,39 @@ impl Renderer {
         let upload_ms = started.elapsed().as_secs_f64() * 1e3;
         let ao = SceneAo::new(ctx, &plan, &heights)?;
         let shadows = ShadowMaps::new(ctx, scene, &plan)?;
+        // The probe's colours are visibilities: no ambient light to build.
+        let behind = opts.background == Background::Environment;
+        let environment = match opts.environment.load()? {
+            Some(env) if !probe => Some(EnvironmentLight::build(ctx, &env, behind)?),
+            _ => None,
+        };
+        let background = match &environment {
+            Some(e) if behind => Some(BackgroundPass::new(ctx, e, plan.msaa.samples)?),
+            _ => None,
+        };
+        if environment.is_none() && !probe {
+            plan.skip(
+                "environment maps",
+                "flat ambient light (--environment none, the library's default)",
+            );
+        }
+        if behind && background.is_none() {
+            plan.skip(
+                "background: environment",
+                "the frame has no environment (--environment none, or a shadow probe)",
+            );
+        }
+        let mut maps = maps;
+        if let Some(e) = &environment {
+            plan.environment = Some(e.plan().clone());
+            maps.push(BuiltMap {
+                kind: "environment maps",
+                source: e.plan().name.clone(),
+                size: e.plan().specular_size,
+                ms: e.build_ms(),
+                on: "gpu",
+            });
+        }
         let surface = SurfacePass::new(
             ctx,
             scene,
@@ -161,6 +200,7 @@ impl Renderer {
             &heights,
             &ao,
             shadows.atlas(),
+            environment.as_ref(),
             &uniforms,
             FRAMES_IN_FLIGHT,
         )?;
@@ -196,6 +236,8 @@ impl Renderer {
             shadow_probe: opts.shadow_probe,
             keep_radiance: opts.keep_radiance,
             cells,
+            environment,
+            background,
             tone_map,
             targets,
             slots,
@@ -305,6 +347,10 @@ impl Renderer {
         let aspect = self.width as f32 / self.height as f32;
         let mut uniforms = FrameUniforms::new(&request.camera, &self.lights, aspect);
         uniforms.counts[1] = self.shadow_probe.map_or(0, |k| k as i32 + 1);
+        if let Some(e) = &self.environment {
+            uniforms.counts[2] = 1;
+            uniforms.ambient[3] = e.last_specular_level();
+        }
         let views = self
             .shadows
             .write_views(&mut uniforms, &self.plan, &request.camera, aspect);
@@ -350,6 +396,14 @@ impl Renderer {
             &self.plan,
         );
         let tone_map = (&self.tone_map, self.plan.tone_mapping);
+        let view_proj = request.camera.view_projection(aspect);
+        let begin = |rec: &crate::vk::Recording| -> VkResult<()> {
+            targets.begin(rec);
+            match &self.background {
+                Some(b) => b.record(rec, view_proj),
+                None => Ok(()),
+            }
+        };
         let timer = &mut slot.timer;
         let culled = slot.commands.submit(|rec| {
             if build_pyramids {
@@ -376,7 +430,7 @@ impl Renderer {
             let scope = |pass| Scope { pass, part: None };
             if cells.is_empty() {
                 timer.scope(rec, scope(Pass::Surface), |rec| {
-                    targets.begin(rec);
+                    begin(rec)?;
                     let culled = surface.record_draws(rec, k, eye, &frustum);
                     targets.end(rec, tone_map, into)?;
                     culled
@@ -384,7 +438,7 @@ impl Renderer {
             } else {
                 // The complexes first (opaque), then the surface pass's draws, blended ones last.
                 timer.scope(rec, scope(Pass::Cells), |rec| {
-                    targets.begin(rec);
+                    begin(rec)?;
                     let frame_set = surface
                         .plain_set(k)
                         .ok_or_else(|| VkError::Invalid("no plain frame set".into()))?;
@@ -502,43 +556,5 @@ impl Renderer {
                 on: "gpu",
             });
         }
-    }
-}
-
-/// RGBA half floats (the radiance target's texels, little-endian as the host reads them) as f32.
-fn half_floats_to_rgba(bytes: &[u8]) -> Vec<[f32; 4]> {
-    let halves: Vec<u16> = bytemuck::pod_collect_to_vec(bytes);
-    halves
-        .chunks_exact(4)
-        .map(|p| [p[0], p[1], p[2], p[3]].map(half_to_f32))
-        .collect()
-}
-
-/// An IEEE half float's value.
-fn half_to_f32(h: u16) -> f32 {
-    let sign = if h & 0x8000 != 0 { -1.0 } else { 1.0 };
-    let exponent = i32::from((h >> 10) & 0x1f);
-    let mantissa = f32::from(h & 0x3ff);
-    sign * match exponent {
-        0 => mantissa * 2f32.powi(-24),
-        31 if mantissa == 0.0 => f32::INFINITY,
-        31 => f32::NAN,
-        e => (1.0 + mantissa / 1024.0) * 2f32.powi(e - 15),
-    }
-}
-
-#[cfg(test)]
-mod half_tests {
-    use super::half_to_f32;
-
-    #[test]
-    fn half_floats_decode() {
-        assert_eq!(half_to_f32(0x3c00), 1.0);
-        assert_eq!(half_to_f32(0xc000), -2.0);
-        assert_eq!(half_to_f32(0x7bff), 65504.0);
-        assert_eq!(half_to_f32(0x0001), 2f32.powi(-24));
-        assert_eq!(half_to_f32(0x7c00), f32::INFINITY);
-        assert!(half_to_f32(0x7e00).is_nan());
-        assert_eq!(half_to_f32(0x3555), 0.333_251_95);
     }
 }

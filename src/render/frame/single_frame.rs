@@ -11,6 +11,7 @@ use super::pass_timer::PassTiming;
 use super::plan::{HeightKey, HeightPlan, Plan, PlanError};
 use super::renderer::{FrameRequest, Renderer};
 use super::tonemap::ToneMapping;
+use crate::environment::{Background, EnvironmentError, EnvironmentSource};
 use crate::heightfield::{Address, Heightfield, HeightfieldError, LoadOptions};
 use crate::render::cells::cells_pass::{BuiltComplex, CellsOptions};
 use crate::render::shadows::shadow_plan::ShadowOptions;
@@ -49,6 +50,11 @@ pub struct RenderOptions {
     /// Read-back frames also return their linear radiance before tone mapping
     /// (`FrameOutput::radiance`, `--hdr-out`).
     pub keep_radiance: bool,
+    /// The ambient light: flat (no maps built, as timing runs want), the built-in sky, or an
+    /// environment image (`--environment`).
+    pub environment: EnvironmentSource,
+    /// What shows where no surface is drawn: a colour, or the environment (`--background`).
+    pub background: Background,
 }
 
 impl Default for RenderOptions {
@@ -65,6 +71,8 @@ impl Default for RenderOptions {
             msaa: 1,
             tone_mapping: ToneMapping::NONE,
             keep_radiance: false,
+            environment: EnvironmentSource::Flat,
+            background: Background::Colour,
         }
     }
 }
@@ -123,6 +131,9 @@ pub enum RenderError {
     /// A height map cannot be read, or exceeds the device's largest image.
     #[error(transparent)]
     Height(#[from] HeightfieldError),
+    /// The environment image cannot be read or used.
+    #[error(transparent)]
+    Environment(#[from] EnvironmentError),
     /// A Vulkan call failed, or the device lacks something the frame needs.
     #[error(transparent)]
     Vulkan(#[from] VkError),

@@ -15,9 +15,11 @@ use super::mesh_pipeline::{create_pipeline, MeshStages};
 use super::plan::{DrawPlan, DrawRole, PipelineKey, Plan};
 use super::scene_ao::SceneAo;
 use super::scene_textures::SceneTextures;
+use crate::render::environment::{stand_in_binds, EnvironmentLight};
 use crate::render::shader_interface::{
-    BINDING_FRAME, BINDING_HEIGHT_LINEAR, BINDING_HEIGHT_MEAN, BINDING_HEIGHT_POINT,
-    BINDING_METHOD_MAP, BINDING_SHADOW_ATLAS,
+    BINDING_ENV_BRDF, BINDING_ENV_IRRADIANCE, BINDING_ENV_SPECULAR, BINDING_FRAME,
+    BINDING_HEIGHT_LINEAR, BINDING_HEIGHT_MEAN, BINDING_HEIGHT_POINT, BINDING_METHOD_MAP,
+    BINDING_SHADOW_ATLAS,
 };
 use crate::render::shadows::shadow_atlas::ShadowAtlas;
 use crate::render::shadows::shadow_plan::relief_pad;
@@ -140,12 +142,13 @@ impl FrameLayouts {
         }
     }
 
-    /// Set 0 of each height map, one per frame slot, with the shadow atlas.
+    /// Set 0 of each height map, one per frame slot, with the scene's binds (`scene_binds`:
+    /// the shadow atlas and the environment maps).
     fn height_sets(
         &self,
         pool: &DescriptorPool,
         heights: &[HeightResources],
-        atlas: (&ShadowAtlas, &(ImageView, Sampler)),
+        scene_binds: &[Bind],
         slots: usize,
     ) -> VkResult<Vec<Vec<DescriptorSet>>> {
         heights
@@ -155,7 +158,7 @@ impl FrameLayouts {
                 (0..slots)
                     .map(|slot| {
                         let mut binds = h.slot_binds(slot);
-                        binds.push(atlas.0.bind(atlas.1));
+                        binds.extend_from_slice(scene_binds);
                         pool.allocate(layout, &binds)
                     })
                     .collect::<VkResult<Vec<_>>>()
@@ -294,36 +297,52 @@ impl MeshDraw {
     }
 }
 
-/// Set 0 of draws without relief: the frame uniforms and the shadow atlas.
-pub(in crate::render) fn plain_frame_layout(ctx: &Arc<Context>) -> VkResult<DescriptorLayout> {
+/// The bindings every drawing pass's set 0 ends with: the shadow atlas and the environment's
+/// three maps.
+const SCENE_BINDINGS: [u32; 4] = [
+    BINDING_SHADOW_ATLAS,
+    BINDING_ENV_IRRADIANCE,
+    BINDING_ENV_SPECULAR,
+    BINDING_ENV_BRDF,
+];
+
+/// The set 0 layout of `bindings` (each a sampled texture but the frame uniforms), followed by
+/// the scene's.
+fn set0_layout(ctx: &Arc<Context>, bindings: &[u32], name: &str) -> VkResult<DescriptorLayout> {
     let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
-    let ubo = (BINDING_FRAME, vk::DescriptorType::UNIFORM_BUFFER);
-    let atlas = (
-        BINDING_SHADOW_ATLAS,
-        vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
-    );
-    DescriptorLayout::new(ctx, &[ubo, atlas], stages, "plain frame layout")
+    let all: Vec<_> = bindings
+        .iter()
+        .chain(&SCENE_BINDINGS)
+        .map(|&b| match b {
+            BINDING_FRAME => (b, vk::DescriptorType::UNIFORM_BUFFER),
+            _ => (b, vk::DescriptorType::COMBINED_IMAGE_SAMPLER),
+        })
+        .collect();
+    DescriptorLayout::new(ctx, &all, stages, name)
+}
+
+/// Set 0 of draws without relief: the frame uniforms and the scene's bindings.
+pub(in crate::render) fn plain_frame_layout(ctx: &Arc<Context>) -> VkResult<DescriptorLayout> {
+    set0_layout(ctx, &[BINDING_FRAME], "plain frame layout")
 }
 
 fn frame_layouts(ctx: &Arc<Context>) -> VkResult<FrameLayouts> {
-    let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
-    let ubo = (BINDING_FRAME, vk::DescriptorType::UNIFORM_BUFFER);
-    let tex = |b| (b, vk::DescriptorType::COMBINED_IMAGE_SAMPLER);
-    let (point, linear) = (tex(BINDING_HEIGHT_POINT), tex(BINDING_HEIGHT_LINEAR));
-    let atlas = tex(BINDING_SHADOW_ATLAS);
+    let heights = [BINDING_FRAME, BINDING_HEIGHT_POINT, BINDING_HEIGHT_LINEAR];
+    let with = |extra| {
+        [
+            BINDING_FRAME,
+            BINDING_HEIGHT_POINT,
+            BINDING_HEIGHT_LINEAR,
+            extra,
+        ]
+    };
     Ok(FrameLayouts {
         plain: plain_frame_layout(ctx)?,
-        heights: DescriptorLayout::new(ctx, &[ubo, point, linear, atlas], stages, "height layout")?,
-        heights_and_map: DescriptorLayout::new(
+        heights: set0_layout(ctx, &heights, "height layout")?,
+        heights_and_map: set0_layout(ctx, &with(BINDING_METHOD_MAP), "height and map layout")?,
+        heights_and_mean: set0_layout(
             ctx,
-            &[ubo, point, linear, tex(BINDING_METHOD_MAP), atlas],
-            stages,
-            "height and map layout",
-        )?,
-        heights_and_mean: DescriptorLayout::new(
-            ctx,
-            &[ubo, point, linear, tex(BINDING_HEIGHT_MEAN), atlas],
-            stages,
+            &with(BINDING_HEIGHT_MEAN),
             "height and averaged pyramid layout",
         )?,
     })
@@ -342,6 +361,7 @@ impl SurfacePass {
         heights: &[HeightResources],
         ao: &SceneAo,
         atlas: &ShadowAtlas,
+        environment: Option<&EnvironmentLight>,
         uniforms: &FrameUniforms,
         slots: usize,
     ) -> VkResult<SurfacePass> {
@@ -373,11 +393,16 @@ impl SurfacePass {
             &layered_materials(scene, plan),
         )?;
         let sets = (heights.len() as u32 + 1) * slots as u32;
-        let frame_pool = DescriptorPool::new(ctx, sets, 5 * sets, "frame sets")?;
-        // Draws bind the atlas at binding 5 whether or not a light has a map; without one they
-        // bind the white texture, which no shader then reads.
+        let frame_pool = DescriptorPool::new(ctx, sets, 8 * sets, "frame sets")?;
+        // Draws bind the atlas and the environment maps whether or not the frame has them;
+        // without them they bind the white texture, which no shader then reads.
         let stand_in = textures.white()?;
-        let height_sets = layouts.height_sets(&frame_pool, heights, (atlas, &stand_in), slots)?;
+        let mut scene_binds = vec![atlas.bind(&stand_in)];
+        match environment {
+            Some(e) => scene_binds.extend(e.binds()),
+            None => scene_binds.extend(stand_in_binds(&stand_in)),
+        }
+        let height_sets = layouts.height_sets(&frame_pool, heights, &scene_binds, slots)?;
         // The cells pass reads the plain set too.
         let plain = plan.pipelines.iter().any(|p| p.method.is_none()) || !plan.cells.is_empty();
         let plain_uniforms = if plain {
@@ -388,7 +413,8 @@ impl SurfacePass {
         let plain_sets = plain_uniforms
             .iter()
             .map(|b| {
-                let binds = [Bind::Uniform(BINDING_FRAME, b), atlas.bind(&stand_in)];
+                let mut binds = vec![Bind::Uniform(BINDING_FRAME, b)];
+                binds.extend_from_slice(&scene_binds);
                 frame_pool.allocate(&layouts.plain, &binds)
             })
             .collect::<VkResult<Vec<_>>>()?;

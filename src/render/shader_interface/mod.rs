@@ -34,6 +34,25 @@ glsl_table! {
         BINDING_HEIGHT_MEAN = 4;
         /// The scene's shadow maps, one depth atlas (`shaders/include/scene_shadows.glsl`).
         BINDING_SHADOW_ATLAS = 5;
+        /// Drawing passes: the environment's cosine-weighted radiance, equirectangular
+        /// (`shaders/include/environment_light.glsl`).
+        BINDING_ENV_IRRADIANCE = 6;
+        /// Drawing passes: the environment prefiltered for GGX lobes, one roughness per mip.
+        BINDING_ENV_SPECULAR = 7;
+        /// Drawing passes: the GGX lobe's albedo as (scale, bias) on F0, by view cosine and
+        /// roughness.
+        BINDING_ENV_BRDF = 8;
+    }
+}
+
+glsl_table! {
+    /// Set 0 of the environment kernels (`environment_irradiance.comp`,
+    /// `environment_prefilter.comp`, `brdf_table.comp`), as `#define`s.
+    ENVIRONMENT_BINDINGS {
+        /// The environment's radiance, equirectangular, with its mip chain.
+        BINDING_ENV_SOURCE = 0;
+        /// The level written.
+        BINDING_ENV_OUT = 1;
     }
 }
 
@@ -276,6 +295,7 @@ pub const GLSL_DEFINES: &[&[(&str, u32)]] = &[
     MATERIAL_BINDINGS,
     LAYER_BINDINGS,
     CELLS_BINDINGS,
+    ENVIRONMENT_BINDINGS,
     TERRAIN_MODES,
     SHADOW_FILTERS,
     MODES,

@@ -245,9 +245,29 @@ push_constants! {
     }
 }
 
+push_constants! {
+    /// The environment kernels: one image level written from the source environment.
+    EnvironmentParams {
+        /// The level written, in texels.
+        out_width: u32 => "uint",
+        out_height: u32 => "uint",
+        /// The source level read (the irradiance kernel sums all its texels) and its size.
+        source_level: u32 => "uint",
+        source_width: u32 => "uint",
+        source_height: u32 => "uint",
+        /// Samples per texel (prefiltering, the BRDF table).
+        samples: u32 => "uint",
+        /// The GGX roughness of the level written (prefiltering).
+        roughness: f32 => "float",
+        /// The source's level 0 width over the width written, as a level of detail (roughness 0).
+        base_lod: f32 => "float",
+    }
+}
+
 /// Every push-constant layout above, for build.rs's header.
 #[allow(dead_code)] // Read by build.rs.
 pub const PUSH_LAYOUTS: &[PushLayout] = &[
+    EnvironmentParams::LAYOUT,
     ConeMapParams::LAYOUT,
     QuadricMapParams::LAYOUT,
     RelaxedConeParams::LAYOUT,
