@@ -24,6 +24,7 @@ const OPTS: RenderOptions = RenderOptions {
     keep_radiance: false,
     environment: relief::environment::EnvironmentSource::Flat,
     background: relief::environment::Background::Colour,
+    supersample: 1,
 };
 
 #[test]

@@ -11,6 +11,8 @@ layout(push_constant) uniform ToneMapPush {
     float exposure;
     // 0: none (clamped), 1: Khronos PBR Neutral, 2: ACES (Narkowicz's fit of the RRT and ODT).
     uint curve;
+    // Supersampling: the radiance is `scale` times the frame's size along each axis.
+    uint scale;
 } tm;
 
 layout(location = 0) out vec4 out_color;
@@ -40,10 +42,9 @@ vec3 aces(vec3 c) {
     return clamp((c * (2.51 * c + 0.03)) / (c * (2.43 * c + 0.59) + 0.14), 0.0, 1.0);
 }
 
-void main() {
-    vec4 radiance = texelFetch(hdr, ivec2(gl_FragCoord.xy), 0);
+vec3 tone_map(vec3 radiance) {
     // Infinite radiance saturates; NaN (a degenerate shading input) is drawn black, never spread.
-    vec3 c = radiance.rgb * tm.exposure;
+    vec3 c = radiance * tm.exposure;
     c = mix(c, vec3(65504.0), vec3(isinf(c)));
     c = mix(c, vec3(0.0), vec3(isnan(c)));
     c = max(c, vec3(0.0));
@@ -52,5 +53,23 @@ void main() {
     } else if (tm.curve == 2u) {
         c = aces(c);
     }
-    out_color = vec4(clamp(c, 0.0, 1.0), radiance.a);
+    return clamp(c, 0.0, 1.0);
+}
+
+void main() {
+    // Supersampled: the mean of the pixel's scale x scale radiance texels (a box over exactly its
+    // footprint), each tone mapped first, so that a highlight far beyond white weighs as white
+    // and does not swallow the edge it sits on.
+    ivec2 corner = ivec2(gl_FragCoord.xy) * int(tm.scale);
+    vec3 sum = vec3(0.0);
+    float alpha = 0.0;
+    for (int y = 0; y < int(tm.scale); ++y) {
+        for (int x = 0; x < int(tm.scale); ++x) {
+            vec4 radiance = texelFetch(hdr, corner + ivec2(x, y), 0);
+            sum += tone_map(radiance.rgb);
+            alpha += radiance.a;
+        }
+    }
+    float n = float(tm.scale * tm.scale);
+    out_color = vec4(sum / n, alpha / n);
 }

@@ -252,6 +252,7 @@ pub fn render_interleaved(
         // Timing runs measure the methods, not the ambient light.
         environment: EnvironmentSource::Flat,
         background: crate::environment::Background::Colour,
+        supersample: 1,
     };
     let mut renderers = scenes
         .iter()

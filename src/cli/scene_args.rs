@@ -72,6 +72,10 @@ pub struct SceneArgs {
     /// relief is traced once per pixel). Smooths geometry edges.
     #[arg(long, value_name = "N", default_value_t = 4)]
     msaa: u32,
+    /// Supersampling: draw the scene K times larger along each axis and average each pixel's
+    /// K x K block (1 to 4). Smooths what MSAA cannot: the relief's own silhouettes and steps.
+    #[arg(long, value_name = "K", default_value_t = 1)]
+    supersample: u32,
     /// Tone mapping from linear radiance to the frame's colours: pbr-neutral (Khronos PBR
     /// Neutral), aces, or none (clamped).
     #[arg(long, value_name = "CURVE", default_value = "pbr-neutral")]
@@ -190,6 +194,7 @@ impl SceneArgs {
             keep_radiance: false,
             environment: self.environment.clone(),
             background: self.background,
+            supersample: self.supersample,
         }
     }
 

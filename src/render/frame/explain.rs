@@ -76,6 +76,7 @@ pub fn explain(
         "ao_maps": ao_maps,
         "shadow_maps": plan.shadow_maps,
         "msaa": plan.msaa,
+        "supersample": plan.supersample,
         "tone_mapping": plan.tone_mapping,
         "environment": plan.environment,
         "cells": cells,

@@ -4,6 +4,7 @@
 //! the reason. The frame builds exactly what the plan lists (`relief render --explain`).
 
 use super::msaa::MsaaPlan;
+use super::targets::TargetOptions;
 use super::tonemap::ToneMapping;
 use crate::render::environment::EnvironmentPlan;
 use serde::Serialize;
@@ -208,6 +209,9 @@ pub struct Plan {
     pub msaa: MsaaPlan,
     /// How the frame's radiance is tone mapped (set by the renderer from its options).
     pub tone_mapping: ToneMapping,
+    /// The scene is drawn this many times the frame's size per axis and averaged down
+    /// (supersampling; 1: not at all; set by the renderer from its options).
+    pub supersample: u32,
     /// The environment maps built for the ambient light, `None` for flat ambient light (set by
     /// the renderer from its options).
     pub environment: Option<EnvironmentPlan>,
@@ -408,6 +412,7 @@ impl Plan {
             msaa: MsaaPlan::SINGLE,
             tone_mapping: ToneMapping::NONE,
             environment: None,
+            supersample: 1,
         };
         let mut used = vec![false; scene.materials.len()];
         for c in &plan.cells {
@@ -597,6 +602,15 @@ impl Plan {
                 self.ao_maps.push(wanted);
                 self.ao_maps.len() - 1
             }
+        }
+    }
+
+    /// How the frame's targets are made (`keep_depth`: the shadow probe reads the depth back).
+    pub(in crate::render) fn target_options(&self, keep_depth: bool) -> TargetOptions {
+        TargetOptions {
+            samples: self.msaa.samples,
+            scale: self.supersample,
+            keep_depth,
         }
     }
 

@@ -23,7 +23,7 @@ use super::scene_ao::SceneAo;
 use super::single_frame::{BuiltMap, RenderError, RenderOptions};
 use super::surface_pass::SurfacePass;
 use super::surface_pass::COLOR_FORMAT;
-use super::targets::{FrameReadbacks, Targets};
+use super::targets::{average_blocks, FrameReadbacks, Targets};
 use super::tonemap::{ToneMapPass, ToneMapping};
 use crate::environment::Background;
 use crate::heightfield::Heightfield;
@@ -128,6 +128,7 @@ impl Renderer {
         plan_shadow_maps(&mut plan, scene, &opts.shadows);
         let probe = opts.shadow_probe.is_some();
         plan.msaa = MsaaPlan::choose(opts.msaa, ctx.info().max_samples, probe)?;
+        plan.supersample = choose_supersample(opts, ctx.info().max_image_dimension_2d, probe)?;
         // The probe's colours are visibilities, not radiance.
         plan.tone_mapping = if probe {
             ToneMapping::NONE
@@ -206,8 +207,13 @@ impl Renderer {
         )?;
         let cells = CellsPass::new(ctx, scene, &plan, opts.cells.as_ref())?;
         let tone_map = ToneMapPass::new(ctx, COLOR_FORMAT)?;
-        let (w, h, samples) = (opts.width, opts.height, plan.msaa.samples);
-        let targets = Targets::new(ctx, w, h, probe, samples, &tone_map)?;
+        let targets = Targets::new(
+            ctx,
+            opts.width,
+            opts.height,
+            plan.target_options(probe),
+            &tone_map,
+        )?;
         // One scope per pyramid build, AO map and shadow map, plus the cells and surface passes.
         let scopes = (plan.heights.len() + ao.len()) as u32 + ShadowMaps::scopes(&plan) + 2;
         let slots = (0..FRAMES_IN_FLIGHT)
@@ -311,8 +317,8 @@ impl Renderer {
             return Err(VkError::Invalid(format!("a {width}x{height} frame")).into());
         }
         let retired = self.finish()?;
-        let (probe, samples) = (self.shadow_probe.is_some(), self.plan.msaa.samples);
-        self.targets = Targets::new(&self.ctx, width, height, probe, samples, &self.tone_map)?;
+        let options = self.plan.target_options(self.shadow_probe.is_some());
+        self.targets = Targets::new(&self.ctx, width, height, options, &self.tone_map)?;
         for slot in &mut self.slots {
             slot.readback = None;
             slot.depth_readback = None;
@@ -495,7 +501,11 @@ impl Renderer {
             _ => None,
         };
         let radiance = match (&slot.radiance_readback, read_back) {
-            (Some(buffer), true) => Some(half_floats_to_rgba(buffer.bytes()?)),
+            (Some(buffer), true) => {
+                let scale = self.targets.scale();
+                let texels = half_floats_to_rgba(buffer.bytes()?);
+                Some(average_blocks(&texels, self.width * scale, scale))
+            }
             _ => None,
         };
         if index == 0 {
@@ -558,3 +568,26 @@ impl Renderer {
         }
     }
 }
+
+/// The supersampling factor a frame draws with: `opts.supersample`, checked; 1 for the shadow
+/// probe (which reads one depth per pixel).
+fn choose_supersample(opts: &RenderOptions, max_side: u32, probe: bool) -> Result<u32, VkError> {
+    let k = opts.supersample;
+    if !(1..=MAX_SUPERSAMPLE).contains(&k) {
+        return Err(VkError::Invalid(format!(
+            "--supersample must be 1 to {MAX_SUPERSAMPLE} (samples per pixel along each axis), got {k}"
+        )));
+    }
+    let side = opts.width.max(opts.height).saturating_mul(k);
+    if side > max_side {
+        return Err(VkError::Invalid(format!(
+            "--supersample {k} draws a {}x{} image, larger than this device's {max_side}",
+            opts.width.saturating_mul(k),
+            opts.height.saturating_mul(k)
+        )));
+    }
+    Ok(if probe { 1 } else { k })
+}
+
+/// The largest supersampling factor: 4 x 4 samples per pixel.
+pub const MAX_SUPERSAMPLE: u32 = 4;

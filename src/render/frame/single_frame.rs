@@ -53,6 +53,10 @@ pub struct RenderOptions {
     /// The ambient light: flat (no maps built, as timing runs want), the built-in sky, or an
     /// environment image (`--environment`).
     pub environment: EnvironmentSource,
+    /// Supersampling (`--supersample`): the scene is drawn this many times larger along each
+    /// axis and each pixel averages its block, which smooths what MSAA cannot (the relief's own
+    /// silhouettes and steps, shading); 1 to 4, 1 for none.
+    pub supersample: u32,
     /// What shows where no surface is drawn: a colour, or the environment (`--background`).
     pub background: Background,
 }
@@ -73,6 +77,7 @@ impl Default for RenderOptions {
             keep_radiance: false,
             environment: EnvironmentSource::Flat,
             background: Background::Colour,
+            supersample: 1,
         }
     }
 }

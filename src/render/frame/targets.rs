@@ -44,20 +44,37 @@ pub struct Targets {
     _pool: DescriptorPool,
     /// The depth is kept and can be read back (the shadow probe).
     keep_depth: bool,
+    /// Supersampling: the radiance and depth are this many times the frame's size per axis.
+    scale: u32,
+}
+
+/// How targets are made: samples per pixel, supersampling, and whether the depth is kept.
+#[derive(Debug, Clone, Copy)]
+pub struct TargetOptions {
+    /// Samples per pixel of the scene's rendering (MSAA).
+    pub samples: u32,
+    /// The scene is drawn this many times larger per axis and averaged down (1: not at all).
+    pub scale: u32,
+    /// Frames may read the depth back (one sample, no supersampling).
+    pub keep_depth: bool,
 }
 
 impl Targets {
-    /// Creates the targets at `width` x `height` with `samples` samples per pixel, tone mapped
-    /// by `tone_map`; `keep_depth` lets frames read the depth back (one sample only).
+    /// Creates the targets of a `width` x `height` frame as `options` say, tone mapped by
+    /// `tone_map`.
     pub fn new(
         ctx: &Arc<Context>,
         width: u32,
         height: u32,
-        keep_depth: bool,
-        samples: u32,
+        options: TargetOptions,
         tone_map: &ToneMapPass,
     ) -> VkResult<Targets> {
-        if keep_depth && samples > 1 {
+        let TargetOptions {
+            samples,
+            scale,
+            keep_depth,
+        } = options;
+        if keep_depth && (samples > 1 || scale > 1) {
             return Err(VkError::Invalid(
                 "a depth read back needs single-sample targets".into(),
             ));
@@ -67,18 +84,23 @@ impl Targets {
         } else {
             vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT
         };
-        let desc = |format, usage, aspect| ImageDesc {
-            width,
-            height,
+        let scene_desc = |format, usage, aspect| ImageDesc {
+            width: width * scale,
+            height: height * scale,
             format,
             mip_levels: 1,
             usage,
             aspect,
         };
+        let desc = |format, usage, aspect| ImageDesc {
+            width,
+            height,
+            ..scene_desc(format, usage, aspect)
+        };
         let color_aspect = vk::ImageAspectFlags::COLOR;
         let hdr = Image::new(
             ctx,
-            desc(
+            scene_desc(
                 HDR_FORMAT,
                 vk::ImageUsageFlags::COLOR_ATTACHMENT
                     | vk::ImageUsageFlags::SAMPLED
@@ -101,7 +123,7 @@ impl Targets {
             )?,
             depth: Image::new_multisampled(
                 ctx,
-                desc(DEPTH_FORMAT, depth_usage, vk::ImageAspectFlags::DEPTH),
+                scene_desc(DEPTH_FORMAT, depth_usage, vk::ImageAspectFlags::DEPTH),
                 samples,
                 "depth target",
             )?,
@@ -111,13 +133,14 @@ impl Targets {
                     // Transient: the samples live only until the resolve.
                     let usage = vk::ImageUsageFlags::COLOR_ATTACHMENT
                         | vk::ImageUsageFlags::TRANSIENT_ATTACHMENT;
-                    let d = desc(HDR_FORMAT, usage, color_aspect);
+                    let d = scene_desc(HDR_FORMAT, usage, color_aspect);
                     Image::new_multisampled(ctx, d, samples, "multisampled radiance target")
                 })
                 .transpose()?,
             tone_map_set,
             _pool: pool,
             keep_depth,
+            scale,
         })
     }
 
@@ -132,9 +155,16 @@ impl Targets {
         Readback::new(ctx, self.readback_bytes(), name)
     }
 
-    /// A host-visible buffer a frame's linear radiance (RGBA half floats) is copied into.
+    /// A host-visible buffer a frame's linear radiance (RGBA half floats, at the radiance
+    /// target's size: [`Targets::scale`] times the frame's per axis) is copied into.
     pub fn radiance_buffer(&self, ctx: &Arc<Context>, name: &str) -> VkResult<Readback> {
-        Readback::new(ctx, self.readback_bytes() * 2, name)
+        let scale = u64::from(self.scale * self.scale);
+        Readback::new(ctx, self.readback_bytes() * 2 * scale, name)
+    }
+
+    /// How many times the frame's size per axis the scene is drawn at.
+    pub fn scale(&self) -> u32 {
+        self.scale
     }
 
     /// Begins rendering the scene into the radiance and depth targets, cleared. The previous
@@ -267,7 +297,7 @@ impl Targets {
             ],
         );
         rec.begin_rendering(&self.color, None, CLEAR, false);
-        pass.record(rec, &self.tone_map_set, mapping)?;
+        pass.record(rec, &self.tone_map_set, mapping, self.scale)?;
         rec.end_rendering();
         Ok(())
     }
@@ -324,4 +354,48 @@ fn copy_out(rec: &Recording, image: &Image, buffer: &Readback) -> VkResult<()> {
     let desc = image.desc();
     let region = whole_color_region(desc.width, desc.height);
     buffer.record_copy_from_image(rec, image, region)
+}
+
+/// `texels` (rows of `width` texels) averaged over `scale` x `scale` blocks: a supersampled
+/// radiance at the frame's size.
+pub fn average_blocks(texels: &[[f32; 4]], width: u32, scale: u32) -> Vec<[f32; 4]> {
+    if scale <= 1 {
+        return texels.to_vec();
+    }
+    let (w, s) = (width as usize, scale as usize);
+    let rows = texels.len() / w;
+    let (out_w, out_h) = (w / s, rows / s);
+    let n = (s * s) as f32;
+    let mut out = Vec::with_capacity(out_w * out_h);
+    for y in 0..out_h {
+        for x in 0..out_w {
+            let mut sum = [0.0f32; 4];
+            for dy in 0..s {
+                for dx in 0..s {
+                    let t = texels[(y * s + dy) * w + x * s + dx];
+                    for c in 0..4 {
+                        sum[c] += t[c];
+                    }
+                }
+            }
+            out.push(sum.map(|c| c / n));
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::average_blocks;
+
+    #[test]
+    fn blocks_average_to_one_texel_each() {
+        let texels: Vec<[f32; 4]> = (0..16).map(|i| [i as f32; 4]).collect();
+        let out = average_blocks(&texels, 4, 2);
+        assert_eq!(
+            out.iter().map(|t| t[0]).collect::<Vec<_>>(),
+            [2.5, 4.5, 10.5, 12.5]
+        );
+        assert_eq!(average_blocks(&texels, 4, 1), texels);
+    }
 }

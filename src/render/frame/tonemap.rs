@@ -134,6 +134,7 @@ impl ToneMapping {
 struct ToneMapPush {
     exposure: f32,
     curve: u32,
+    scale: u32,
 }
 
 /// The full-frame pass: its pipeline, set layout and sampler; each target set owns its set.
@@ -188,16 +189,19 @@ impl ToneMapPass {
         pool.allocate(&self.layout, &[Bind::Texture(0, hdr, &self.sampler)])
     }
 
-    /// Draws the full-frame triangle with `set`; rendering into the frame must have begun.
+    /// Draws the full-frame triangle with `set`, whose radiance is `scale` times the frame's
+    /// size along each axis (supersampling); rendering into the frame must have begun.
     pub fn record(
         &self,
         rec: &Recording,
         set: &DescriptorSet,
         mapping: ToneMapping,
+        scale: u32,
     ) -> VkResult<()> {
         let push = ToneMapPush {
             exposure: mapping.exposure_ev.exp2(),
             curve: mapping.curve.shader_value(),
+            scale,
         };
         self.pipeline.bind(rec, Some(set));
         self.pipeline.push(rec, bytemuck::bytes_of(&push))?;
