@@ -311,6 +311,7 @@ fn join(shards: Vec<ShardFile>) -> BenchResults {
     merged.lod = shards.iter().find_map(|f| f.results.lod.clone());
     merged.blending = shards.iter().find_map(|f| f.results.blending.clone());
     merged.scene_shadows = shards.iter().find_map(|f| f.results.scene_shadows.clone());
+    merged.frame_features = shards.iter().find_map(|f| f.results.frame_features.clone());
     merged.shard = None;
     merged
 }

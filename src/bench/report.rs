@@ -51,6 +51,9 @@ pub fn render_report(results: &BenchResults) -> (String, Vec<(String, String)>) 
     if let Some(shadows) = &results.scene_shadows {
         super::scene_shadow_section::report(&mut md, shadows);
     }
+    if let Some(features) = &results.frame_features {
+        super::frame_features::report(&mut md, features);
+    }
     (md, plots(results))
 }
 

@@ -177,6 +177,10 @@ pub struct BenchResults {
     pub blending: Option<super::blending::BlendingSection>,
     /// The scene-shadow section (`None` when skipped, e.g. `--no-scene-shadows`).
     pub scene_shadows: Option<super::scene_shadow_section::SceneShadowSection>,
+    /// The frame-feature section (`None` when skipped, e.g. `--no-frame-features`; files
+    /// written before it have none).
+    #[serde(default)]
+    pub frame_features: Option<super::frame_features::FrameFeatureSection>,
     /// Which shard of a split sweep this file holds (`relief bench --shard K/N`); absent for a
     /// whole sweep and for `relief bench merge`'s output.
     #[serde(default, skip_serializing_if = "Option::is_none")]

@@ -75,6 +75,7 @@ pub(crate) fn results(device: BenchDevice, runs: Vec<Run>) -> BenchResults {
         paint_edits: Vec::new(),
         blending: None,
         scene_shadows: None,
+        frame_features: None,
         shard: None,
     }
 }

@@ -7,9 +7,9 @@ use std::sync::Arc;
 
 use serde::{Deserialize, Serialize};
 
-use super::median::median;
+use super::frame_timing::time_steady_frames;
 use super::scene_shadows::{measure_scene_shadows, SceneShadowConfig, SceneShadowError};
-use crate::render::{FrameRequest, Pass, RenderOptions, Renderer, ShadowFilter, ShadowOptions};
+use crate::render::{RenderOptions, ShadowFilter, ShadowOptions};
 use crate::scene::{
     default_heightfield, default_scene, shadow_scene, Scene, ShadowScene, DEFAULT_SCENE_METHOD,
 };
@@ -74,38 +74,16 @@ pub struct SceneShadowSection {
     pub default_frame: DefaultFrameCost,
 }
 
-/// Median GPU ms per pass of `frames` frames of `scene` after a first, untimed one (which builds
-/// the static maps); returns (shadow maps, surface, whole steady frame).
+/// Median GPU ms of the default scene's steady frames (its frame heights); returns (shadow
+/// maps, surface, whole steady frame).
 fn time_frames(
     ctx: &Arc<Context>,
     scene: &Scene,
     opts: &RenderOptions,
     frames: u32,
 ) -> Result<(f64, f64, f64), SceneShadowError> {
-    let heights = default_heightfield();
-    let mut renderer = Renderer::new(ctx, scene, Some(&heights), opts)?;
-    let request = FrameRequest {
-        camera: renderer.default_camera(),
-        read_back: false,
-    };
-    renderer.draw(&request)?;
-    let mut maps = Vec::new();
-    let mut surface = Vec::new();
-    let mut total = Vec::new();
-    for _ in 0..frames {
-        let out = renderer.draw(&request)?;
-        let ms = |pass: Pass| {
-            out.timings
-                .iter()
-                .filter(|t| t.pass == pass)
-                .map(|t| t.gpu_ms)
-                .sum::<f64>()
-        };
-        maps.push(ms(Pass::ShadowMaps));
-        surface.push(ms(Pass::Surface));
-        total.push(out.timings.iter().map(|t| t.gpu_ms).sum::<f64>());
-    }
-    Ok((median(maps), median(surface), median(total)))
+    let t = time_steady_frames(ctx, scene, Some(&default_heightfield()), opts, frames)?;
+    Ok((t.shadow_maps_ms, t.surface_ms, t.total_ms))
 }
 
 /// Runs the section; `quick` measures fewer sizes on smaller images.

@@ -41,6 +41,8 @@ pub struct SweepSections {
     pub blending: bool,
     /// Whether the scene-shadow section runs.
     pub scene_shadows: bool,
+    /// Whether the frame-feature section runs.
+    pub frame_features: bool,
 }
 
 /// A section that runs as one piece.
@@ -56,6 +58,8 @@ pub enum WholeSection {
     Blending,
     /// Scene shadows.
     SceneShadows,
+    /// Frame features (anti-aliasing, tone mapping, image-based light).
+    FrameFeatures,
 }
 
 /// The steps of a sweep, numbered in the order an unsharded run measures them: the jobs, then the
@@ -201,6 +205,11 @@ pub fn work_units(cfg: &SweepConfig, sections: &SweepSections) -> Vec<WorkUnit> 
             sections.scene_shadows,
             whole(5.0, 180.0),
         ),
+        (
+            WholeSection::FrameFeatures,
+            sections.frame_features,
+            whole(3.0, 30.0),
+        ),
     ];
     for (section, runs, cost) in sections_whole {
         if runs {
@@ -331,6 +340,7 @@ mod tests {
             edit_sizes: vec![1024, 4096],
             blending: true,
             scene_shadows: true,
+            frame_features: true,
         };
         (cfg, sections)
     }
@@ -345,7 +355,7 @@ mod tests {
             .all(|u| u.steps.windows(2).all(|p| p[0] < p[1])));
         steps.sort_unstable();
         let layout = StepLayout::new(&cfg, &sections);
-        let total = layout.whole(WholeSection::SceneShadows) + 1;
+        let total = layout.whole(WholeSection::FrameFeatures) + 1;
         assert_eq!(steps, (0..total).collect::<Vec<_>>());
         assert!(units
             .iter()

@@ -11,12 +11,12 @@ use std::io::IsTerminal;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use relief::bench::{
     blending_notes, measure_ao, measure_shadows, plan_jobs, render_report, run_blending_section,
-    run_edit_section, run_lod_section, run_paint_section, run_scene_shadow_section, run_stiff_case,
-    stiff_cases, utc_now_rfc3339, AoConfig, AoRun, BenchResults, BlendingConfig, BlendingSection,
-    EditCost, FieldSource, LodConfig, LodSection, PaintCost, ReliefBuild, Runner,
-    SceneShadowSection, ShadingConfig, ShadowRun, ShadowStabilityCell, Shard, SlowDown,
-    StabilityCell, StepOrigins, StiffCase, SweepConfig, SweepSections, WholeSection,
-    SCHEMA_VERSION,
+    run_edit_section, run_frame_feature_section, run_lod_section, run_paint_section,
+    run_scene_shadow_section, run_stiff_case, stiff_cases, utc_now_rfc3339, AoConfig, AoRun,
+    BenchResults, BlendingConfig, BlendingSection, EditCost, FieldSource, FrameFeatureSection,
+    LodConfig, LodSection, PaintCost, ReliefBuild, Runner, SceneShadowSection, ShadingConfig,
+    ShadowRun, ShadowStabilityCell, Shard, SlowDown, StabilityCell, StepOrigins, StiffCase,
+    SweepConfig, SweepSections, WholeSection, SCHEMA_VERSION,
 };
 
 /// The brush radius of the terrain-edit section, in texels (the stroke).
@@ -112,6 +112,13 @@ pub struct BenchArgs {
     /// Run only the scene-shadow section (with --quick: its small version).
     #[arg(long, conflicts_with = "no_scene_shadows")]
     scene_shadows_only: bool,
+    /// Skip the frame-feature section (what tone mapping, MSAA, supersampling and the sky's
+    /// light add to the default scene's frame).
+    #[arg(long)]
+    no_frame_features: bool,
+    /// Run only the frame-feature section (with --quick: its small version).
+    #[arg(long, conflicts_with = "no_frame_features")]
+    frame_features_only: bool,
     #[arg(long, value_name = "repeat|clamp", default_value_t = Address::Repeat)]
     address: Address,
     #[arg(long, value_enum, default_value = "r16")]
@@ -328,15 +335,21 @@ pub(super) fn note(bar: &ProgressBar, what: &str, quiet: bool) {
 /// What one `relief bench` measures, from its flags: the sweep's jobs and which other sections
 /// run, with their settings.
 fn sections(args: &BenchArgs, cfg: &SweepConfig, ctx: &Context) -> SweepSections {
-    let only_other =
-        args.shading_only || args.lod_only || args.stability_only || args.scene_shadows_only;
+    let only_other = args.shading_only
+        || args.lod_only
+        || args.stability_only
+        || args.scene_shadows_only
+        || args.frame_features_only;
     let jobs = if only_other {
         Vec::new()
     } else {
         plan_jobs(cfg)
     };
-    let shading_wanted =
-        !(args.no_shading || args.lod_only || args.stability_only || args.scene_shadows_only);
+    let shading_wanted = !(args.no_shading
+        || args.lod_only
+        || args.stability_only
+        || args.scene_shadows_only
+        || args.frame_features_only);
     let shading = shading_wanted.then(|| {
         if cfg.quick {
             ShadingConfig::quick()
@@ -349,7 +362,11 @@ fn sections(args: &BenchArgs, cfg: &SweepConfig, ctx: &Context) -> SweepSections
     } else {
         8192.min(ctx.info().max_image_dimension_2d)
     };
-    let cases = if cfg.stability && !(args.shading_only || args.lod_only || args.scene_shadows_only)
+    let cases = if cfg.stability
+        && !(args.shading_only
+            || args.lod_only
+            || args.scene_shadows_only
+            || args.frame_features_only)
     {
         stiff_cases(largest, cfg.quick)
     } else {
@@ -367,7 +384,11 @@ fn sections(args: &BenchArgs, cfg: &SweepConfig, ctx: &Context) -> SweepSections
         shading,
         cases,
         ao,
-        lod: !(args.no_lod || args.shading_only || args.stability_only || args.scene_shadows_only),
+        lod: !(args.no_lod
+            || args.shading_only
+            || args.stability_only
+            || args.scene_shadows_only
+            || args.frame_features_only),
         edit_sizes: if edits_wanted {
             edit_sizes(args, cfg)
         } else {
@@ -375,6 +396,7 @@ fn sections(args: &BenchArgs, cfg: &SweepConfig, ctx: &Context) -> SweepSections
         },
         blending: !(args.no_blending || only_other),
         scene_shadows: args.scene_shadows_only || !(args.no_scene_shadows || only_other),
+        frame_features: args.frame_features_only || !(args.no_frame_features || only_other),
     }
 }
 
@@ -411,6 +433,7 @@ fn progress_steps(s: &SweepSections, cfg: &SweepConfig, plan: &StepPlan) -> usiz
         + 2 * whole(!s.edit_sizes.is_empty(), WholeSection::Edits)
         + whole(s.blending, WholeSection::Blending)
         + whole(s.scene_shadows, WholeSection::SceneShadows)
+        + whole(s.frame_features, WholeSection::FrameFeatures)
 }
 
 pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
@@ -470,6 +493,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         paint_edits: whole.paint_edits,
         blending: whole.blending,
         scene_shadows: whole.scene_shadows,
+        frame_features: whole.frame_features,
         shard: plan.info(fingerprint, origins),
     };
     write_outputs(out, &results, args.json)
@@ -483,6 +507,7 @@ struct Whole {
     paint_edits: Vec<PaintCost>,
     blending: Option<BlendingSection>,
     scene_shadows: Option<SceneShadowSection>,
+    frame_features: Option<FrameFeatureSection>,
 }
 
 /// Runs the sections that run as one piece, those asked for and in this run's shard.
@@ -546,6 +571,15 @@ fn measure_whole(
     } else {
         None
     };
+    let frame_features = if whole_wanted(sections.frame_features, plan, WholeSection::FrameFeatures)
+    {
+        let section = run_frame_feature_section(ctx, cfg.quick, |what| note(bar, what, quiet))
+            .context("the frame-feature section")?;
+        bar.inc(1);
+        Some(section)
+    } else {
+        None
+    };
     Ok(Whole {
         shadow_stability,
         lod,
@@ -553,6 +587,7 @@ fn measure_whole(
         paint_edits,
         blending,
         scene_shadows,
+        frame_features,
     })
 }
 

@@ -18,7 +18,7 @@ use crate::render::shader_interface::{
 };
 use crate::vk::{
     half_floats_to_rgba, read_mip, transition_images, upload_mips, Bind, Context, DescriptorPool,
-    Image, ImageDesc, ImageTransition, ImageView, Recording, Sampler, VkResult,
+    Image, ImageDesc, ImageTransition, ImageView, Recording, Sampler, TimestampPool, VkResult,
 };
 
 const GROUP: u32 = 8;
@@ -35,6 +35,8 @@ pub struct EnvironmentLight {
     table_sampler: Sampler,
     plan: EnvironmentPlan,
     build_ms: f64,
+    /// GPU time of the kernels, when the queue has timestamps.
+    build_gpu_ms: Option<f64>,
     /// The uploaded image, kept when the background shows it.
     source: Option<Image>,
 }
@@ -124,7 +126,12 @@ impl EnvironmentLight {
             .collect::<VkResult<Vec<_>>>()?;
         let brdf_set = pool.allocate(kernels.brdf.layout(), &[write(&outputs.brdf)])?;
         let images = [&irradiance, &specular, &brdf];
+        // Without timestamps on the queue the build is simply not timed on the GPU.
+        let timer = TimestampPool::new(ctx, 2, "environment build timestamps").ok();
         ctx.one_shot(|rec| {
+            if let Some(t) = &timer {
+                t.write(rec, vk::PipelineStageFlags2::ALL_COMMANDS, 0)?;
+            }
             transition(
                 rec,
                 &images,
@@ -166,6 +173,9 @@ impl EnvironmentLight {
                 ..base
             };
             dispatch(rec, &kernels.brdf, &brdf_set, params)?;
+            if let Some(t) = &timer {
+                t.write(rec, vk::PipelineStageFlags2::COMPUTE_SHADER, 1)?;
+            }
             transition(
                 rec,
                 &images,
@@ -174,6 +184,13 @@ impl EnvironmentLight {
             );
             Ok(())
         })?;
+        let build_gpu_ms = match &timer {
+            Some(t) => {
+                let ticks = t.read_ticks(2)?;
+                Some(t.ticks_to_ms(ticks[0], ticks[1]))
+            }
+            None => None,
+        };
         Ok(EnvironmentLight {
             irradiance,
             specular,
@@ -182,6 +199,7 @@ impl EnvironmentLight {
             table_sampler,
             plan,
             build_ms: started.elapsed().as_secs_f64() * 1e3,
+            build_gpu_ms,
             source: keep_source.then_some(source),
         })
     }
@@ -204,6 +222,11 @@ impl EnvironmentLight {
     /// CPU wall time of the upload and the build, in ms (one submission, waited for).
     pub fn build_ms(&self) -> f64 {
         self.build_ms
+    }
+
+    /// GPU time of the three kernels, in ms, when the queue has timestamps.
+    pub fn build_gpu_ms(&self) -> Option<f64> {
+        self.build_gpu_ms
     }
 
     /// The prefiltered map's last level (roughness 1), as the shaders' level of detail.

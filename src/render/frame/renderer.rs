@@ -186,12 +186,16 @@ impl Renderer {
         let mut maps = maps;
         if let Some(e) = &environment {
             plan.environment = Some(e.plan().clone());
+            let (ms, on) = match e.build_gpu_ms() {
+                Some(ms) => (ms, "gpu"),
+                None => (e.build_ms(), "cpu"),
+            };
             maps.push(BuiltMap {
                 kind: "environment maps",
                 source: e.plan().name.clone(),
                 size: e.plan().specular_size,
-                ms: e.build_ms(),
-                on: "gpu",
+                ms,
+                on,
             });
         }
         let surface = SurfacePass::new(
