@@ -1,13 +1,15 @@
 //! Real glTF scenes from the shared corpus, rendered: every scene renders without error or
 //! validation message; .gltf and .glb agree; texture transforms read "Correct"; mirrored tangents
 //! light both halves alike; planes take relief from the command line; empty scenes render the
-//! background.
+//! background; FlightHelmet as `relief render` draws it, under the built-in sky and under a studio
+//! environment the test makes, matches golden images.
 
 mod common;
 
 use std::path::Path;
 
 use glam::{Mat4, Vec3};
+use relief::environment::{Environment, EnvironmentSource};
 use relief::heightfield::Generator;
 use relief::method::Method;
 use relief::render::{render, Frame, RenderOptions};
@@ -119,6 +121,49 @@ fn flight_helmet_draws_six_textured_materials() {
     let background = centre.iter().filter(|p| p[..3] == frame.rgba[..3]).count();
     assert!(background * 2 < centre.len(), "the helmet is missing");
     common::assert_no_validation_errors(&ctx);
+}
+
+/// A studio made by the test: a warm key light up front, a cool fill from the side, a grey
+/// floor, in a dim room.
+fn studio() -> Environment {
+    let key = glam::Vec3::new(0.5, 0.6, 0.62).normalize();
+    let fill = glam::Vec3::new(-0.9, 0.2, -0.1).normalize();
+    Environment::from_fn("studio", 128, 64, |d| {
+        let mut l = glam::Vec3::splat(if d.y < 0.0 { 0.12 } else { 0.05 });
+        if d.dot(key) > 0.97 {
+            l += glam::Vec3::new(40.0, 34.0, 26.0);
+        }
+        if d.dot(fill) > 0.9 {
+            l += glam::Vec3::new(1.5, 2.0, 3.0);
+        }
+        l
+    })
+}
+
+#[test]
+fn flight_helmet_under_the_sky_and_a_studio_matches_golden_images() {
+    let Some(corpus) = common::corpus::corpus("flight_helmet_golden") else {
+        return;
+    };
+    let Some(ctx) = common::device("flight_helmet_golden") else {
+        return;
+    };
+    let scene = load(&corpus.join("gltf/FlightHelmet/FlightHelmet.gltf"));
+    for (name, environment) in [
+        ("flight_helmet_sky_128", EnvironmentSource::Sky),
+        (
+            "flight_helmet_studio_128",
+            EnvironmentSource::Image(studio()),
+        ),
+    ] {
+        let opts = RenderOptions {
+            environment,
+            ..RenderOptions::finished(128, 128)
+        };
+        let frame = render(&ctx, &scene, None, &opts).expect("renders");
+        common::assert_no_validation_errors(&ctx);
+        common::golden::check_golden(name, 128, 128, &frame.rgba);
+    }
 }
 
 #[test]

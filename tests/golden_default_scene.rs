@@ -1,4 +1,5 @@
-//! The built-in default scene matches a small golden image within stated tolerances.
+//! The built-in default scene matches small golden images within stated tolerances: as the
+//! library draws it by default, and as `relief render` does (`RenderOptions::finished`).
 //! Regenerate after an intended change with `RELIEF_UPDATE_GOLDEN=1 cargo test --test golden_default_scene`.
 
 mod common;
@@ -29,6 +30,24 @@ fn default_scene_matches_golden() {
     .expect("renders");
     common::assert_no_validation_errors(&ctx);
     common::golden::check_golden("default_scene_192x108", WIDTH, HEIGHT, &frame.rgba);
+}
+
+#[test]
+fn default_scene_as_relief_render_draws_it_matches_golden() {
+    let Some(ctx) = common::device("default_scene_as_relief_render_draws_it_matches_golden") else {
+        return;
+    };
+    // 4x MSAA, PBR Neutral, the built-in sky's light and background.
+    let frame = render(
+        &ctx,
+        &default_scene(DEFAULT_SCENE_METHOD),
+        Some(&default_heightfield()),
+        &RenderOptions::finished(WIDTH, HEIGHT),
+    )
+    .expect("renders");
+    common::assert_no_validation_errors(&ctx);
+    assert!(frame.plan.environment.is_some());
+    common::golden::check_golden("default_scene_finished_192x108", WIDTH, HEIGHT, &frame.rgba);
 }
 
 #[test]

@@ -11,8 +11,7 @@ use std::process::{Command, Output};
 
 use common::xvfb::Xvfb;
 
-use relief::environment::{Background, EnvironmentSource};
-use relief::render::{render, RenderOptions, ToneMap, ToneMapping};
+use relief::render::{render, RenderOptions};
 use relief::scene::{default_heightfield, default_scene, DEFAULT_SCENE_METHOD};
 
 fn view(display: Option<&str>, args: &[&str]) -> Output {
@@ -33,18 +32,7 @@ fn view(display: Option<&str>, args: &[&str]) -> Output {
 /// behind the scene).
 fn offscreen(width: u32, height: u32) -> Option<Vec<u8>> {
     let ctx = common::device("view offscreen reference")?;
-    let opts = RenderOptions {
-        width,
-        height,
-        msaa: 4,
-        tone_mapping: ToneMapping {
-            curve: ToneMap::PbrNeutral,
-            exposure_ev: 0.0,
-        },
-        environment: EnvironmentSource::Sky,
-        background: Background::Environment,
-        ..RenderOptions::default()
-    };
+    let opts = RenderOptions::finished(width, height);
     let frame = render(
         &ctx,
         &default_scene(DEFAULT_SCENE_METHOD),

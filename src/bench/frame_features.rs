@@ -8,7 +8,7 @@ use std::sync::Arc;
 
 use serde::{Deserialize, Serialize};
 
-use super::frame_timing::time_steady_frames;
+use super::frame_timing::time_interleaved;
 use crate::environment::{Background, EnvironmentSource};
 use crate::render::{RenderError, RenderOptions, ToneMap, ToneMapping};
 use crate::scene::{default_heightfield, default_scene, DEFAULT_SCENE_METHOD};
@@ -85,6 +85,7 @@ fn looks(size: [u32; 2]) -> Vec<(&'static str, RenderOptions)> {
             "sky light (image-based, per frame)",
             RenderOptions {
                 environment: EnvironmentSource::Sky,
+                background: Background::Colour,
                 ..base.clone()
             },
         ),
@@ -118,17 +119,22 @@ pub fn run_frame_feature_section(
     let (size, frames) = if quick {
         ([480, 270], 3)
     } else {
-        ([960, 540], 8)
+        ([960, 540], 10)
     };
     let scene = default_scene(DEFAULT_SCENE_METHOD);
     let heights = default_heightfield();
-    let mut rows: Vec<FrameFeatureRow> = Vec::new();
+    let looks = looks(size);
+    progress("frame features: every look, frames in turn");
+    let options: Vec<RenderOptions> = looks.iter().map(|(_, o)| o.clone()).collect();
+    let timed = time_interleaved(ctx, &scene, Some(&heights), &options, frames)?;
+    let baseline = timed.first().map_or(1.0, |t| t.total_ms).max(1e-9);
     let mut environment_build_ms = None;
     let mut sky_surface_ms = None;
-    for (feature, opts) in looks(size) {
-        progress(&format!("frame features: {feature}"));
-        let t = time_steady_frames(ctx, &scene, Some(&heights), &opts, frames)?;
-        if opts.environment == EnvironmentSource::Sky && environment_build_ms.is_none() {
+    let mut rows = Vec::new();
+    for ((feature, opts), t) in looks.iter().zip(&timed) {
+        let sky_alone =
+            opts.environment == EnvironmentSource::Sky && opts.background == Background::Colour;
+        if sky_alone {
             environment_build_ms = t
                 .maps
                 .iter()
@@ -136,12 +142,11 @@ pub fn run_frame_feature_section(
                 .map(|m| m.ms);
             sky_surface_ms = Some(t.surface_ms);
         }
-        let baseline = rows.first().map_or(t.total_ms, |r| r.gpu_ms);
         rows.push(FrameFeatureRow {
-            feature: feature.to_owned(),
+            feature: (*feature).to_owned(),
             gpu_ms: t.total_ms,
             surface_ms: t.surface_ms,
-            ratio: t.total_ms / baseline.max(1e-9),
+            ratio: t.total_ms / baseline,
         });
     }
     let base_surface = rows.first().map_or(0.0, |r| r.surface_ms);

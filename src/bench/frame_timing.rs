@@ -31,30 +31,56 @@ pub fn time_steady_frames(
     opts: &RenderOptions,
     frames: u32,
 ) -> Result<SteadyFrames, RenderError> {
-    let mut renderer = Renderer::new(ctx, scene, heights, opts)?;
-    let request = FrameRequest {
-        camera: renderer.default_camera(),
-        read_back: false,
-    };
-    renderer.draw(&request)?;
-    let (mut maps, mut surface, mut total) = (Vec::new(), Vec::new(), Vec::new());
-    for _ in 0..frames {
-        let out = renderer.draw(&request)?;
-        let ms = |pass: Pass| {
-            out.timings
-                .iter()
-                .filter(|t| t.pass == pass)
-                .map(|t| t.gpu_ms)
-                .sum::<f64>()
-        };
-        maps.push(ms(Pass::ShadowMaps));
-        surface.push(ms(Pass::Surface));
-        total.push(out.timings.iter().map(|t| t.gpu_ms).sum::<f64>());
+    let mut all = time_interleaved(ctx, scene, heights, std::slice::from_ref(opts), frames)?;
+    all.pop()
+        .ok_or_else(|| RenderError::Vulkan(crate::vk::VkError::Invalid("no renderer".into())))
+}
+
+/// [`time_steady_frames`] for each of `options` at once, their frames taken in turn (one of
+/// each, then the next round), so a machine whose load changes during the run slows them alike.
+pub fn time_interleaved(
+    ctx: &Arc<Context>,
+    scene: &Scene,
+    heights: Option<&Heightfield>,
+    options: &[RenderOptions],
+    frames: u32,
+) -> Result<Vec<SteadyFrames>, RenderError> {
+    let mut renderers = options
+        .iter()
+        .map(|opts| Renderer::new(ctx, scene, heights, opts))
+        .collect::<Result<Vec<_>, _>>()?;
+    let mut samples = vec![(Vec::new(), Vec::new(), Vec::new()); renderers.len()];
+    for round in 0..=frames {
+        for (renderer, (maps, surface, total)) in renderers.iter_mut().zip(&mut samples) {
+            let request = FrameRequest {
+                camera: renderer.default_camera(),
+                read_back: false,
+            };
+            let out = renderer.draw(&request)?;
+            // The first round builds the static maps.
+            if round == 0 {
+                continue;
+            }
+            let ms = |pass: Pass| {
+                out.timings
+                    .iter()
+                    .filter(|t| t.pass == pass)
+                    .map(|t| t.gpu_ms)
+                    .sum::<f64>()
+            };
+            maps.push(ms(Pass::ShadowMaps));
+            surface.push(ms(Pass::Surface));
+            total.push(out.timings.iter().map(|t| t.gpu_ms).sum::<f64>());
+        }
     }
-    Ok(SteadyFrames {
-        shadow_maps_ms: median(maps),
-        surface_ms: median(surface),
-        total_ms: median(total),
-        maps: renderer.maps().to_vec(),
-    })
+    Ok(renderers
+        .iter()
+        .zip(samples)
+        .map(|(renderer, (maps, surface, total))| SteadyFrames {
+            shadow_maps_ms: median(maps),
+            surface_ms: median(surface),
+            total_ms: median(total),
+            maps: renderer.maps().to_vec(),
+        })
+        .collect())
 }

@@ -82,6 +82,27 @@ impl Default for RenderOptions {
     }
 }
 
+impl RenderOptions {
+    /// The look `relief render` draws by default at `width` x `height`: 4x MSAA, PBR Neutral
+    /// tone mapping, the built-in sky lighting the scene and shown behind it. The plain
+    /// [`RenderOptions::default`] is the frame the bench times (one sample, flat ambient light,
+    /// no tone curve).
+    pub fn finished(width: u32, height: u32) -> RenderOptions {
+        RenderOptions {
+            width,
+            height,
+            msaa: 4,
+            tone_mapping: ToneMapping {
+                curve: super::tonemap::ToneMap::PbrNeutral,
+                exposure_ev: 0.0,
+            },
+            environment: EnvironmentSource::Sky,
+            background: Background::Environment,
+            ..RenderOptions::default()
+        }
+    }
+}
+
 /// A map the frame built: the pyramid and the conservative cone map on the GPU, the other
 /// precomputed maps on the CPU.
 #[derive(Debug, Clone, Serialize)]
