@@ -163,8 +163,8 @@ impl<'a> Recording<'a> {
     }
 
     /// [`Recording::begin_rendering`] into a multisampled `color`, averaged into the
-    /// single-sample `resolve` (also in the colour attachment layout) when rendering ends; the
-    /// samples themselves are not kept.
+    /// single-sample `resolve` (also in the colour attachment layout) when rendering ends. The
+    /// samples themselves are stored too (for a pass that reads them).
     pub fn begin_rendering_resolved(
         &self,
         color: &Image,
@@ -184,7 +184,6 @@ impl<'a> Recording<'a> {
             });
         if let Some(target) = resolve {
             attachment = attachment
-                .store_op(vk::AttachmentStoreOp::DONT_CARE)
                 .resolve_mode(vk::ResolveModeFlags::AVERAGE)
                 .resolve_image_view(target.view().raw())
                 .resolve_image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL);

@@ -605,12 +605,18 @@ impl Plan {
         }
     }
 
-    /// How the frame's targets are made (`keep_depth`: the shadow probe reads the depth back).
-    pub(in crate::render) fn target_options(&self, keep_depth: bool) -> TargetOptions {
+    /// How the frame's targets are made (`keep_depth`: the shadow probe reads the depth back;
+    /// `keep_radiance`: frames read the radiance back).
+    pub(in crate::render) fn target_options(
+        &self,
+        keep_depth: bool,
+        keep_radiance: bool,
+    ) -> TargetOptions {
         TargetOptions {
             samples: self.msaa.samples,
             scale: self.supersample,
             keep_depth,
+            keep_radiance,
         }
     }
 

@@ -210,12 +210,12 @@ impl Renderer {
             FRAMES_IN_FLIGHT,
         )?;
         let cells = CellsPass::new(ctx, scene, &plan, opts.cells.as_ref())?;
-        let tone_map = ToneMapPass::new(ctx, COLOR_FORMAT)?;
+        let tone_map = ToneMapPass::new(ctx, COLOR_FORMAT, plan.msaa.samples)?;
         let targets = Targets::new(
             ctx,
             opts.width,
             opts.height,
-            plan.target_options(probe),
+            plan.target_options(probe, opts.keep_radiance),
             &tone_map,
         )?;
         // One scope per pyramid build, AO map and shadow map, plus the cells and surface passes.
@@ -321,7 +321,9 @@ impl Renderer {
             return Err(VkError::Invalid(format!("a {width}x{height} frame")).into());
         }
         let retired = self.finish()?;
-        let options = self.plan.target_options(self.shadow_probe.is_some());
+        let options = self
+            .plan
+            .target_options(self.shadow_probe.is_some(), self.keep_radiance);
         self.targets = Targets::new(&self.ctx, width, height, options, &self.tone_map)?;
         for slot in &mut self.slots {
             slot.readback = None;

@@ -35,11 +35,15 @@ pub struct Targets {
     pub color: Image,
     /// Depth, with as many samples as the radiance drawn into.
     pub depth: Image,
-    /// The scene passes' linear radiance, one sample per pixel (the MSAA resolve's target).
+    /// The scene passes' linear radiance, one sample per pixel (with MSAA, the resolve's target,
+    /// written only when the radiance is kept).
     hdr: Image,
-    /// With MSAA, the multisampled radiance the passes draw into, resolved into `hdr`.
+    /// With MSAA, the multisampled radiance the passes draw into, which the tone-mapping pass
+    /// reads sample by sample.
     msaa_hdr: Option<Image>,
-    /// The tone-mapping pass's set reading `hdr`, and its pool.
+    /// With MSAA, resolve the radiance into `hdr` as rendering ends (for its read-back).
+    resolve_radiance: bool,
+    /// The tone-mapping pass's set reading the radiance, and its pool.
     tone_map_set: DescriptorSet,
     _pool: DescriptorPool,
     /// The depth is kept and can be read back (the shadow probe).
@@ -57,6 +61,8 @@ pub struct TargetOptions {
     pub scale: u32,
     /// Frames may read the depth back (one sample, no supersampling).
     pub keep_depth: bool,
+    /// Frames may read the radiance back (with MSAA, it is resolved for them).
+    pub keep_radiance: bool,
 }
 
 impl Targets {
@@ -73,7 +79,14 @@ impl Targets {
             samples,
             scale,
             keep_depth,
+            keep_radiance,
         } = options;
+        if tone_map.samples() != samples {
+            return Err(VkError::Invalid(format!(
+                "a tone-mapping pass for {} samples on {samples}-sample targets",
+                tone_map.samples()
+            )));
+        }
         if keep_depth && (samples > 1 || scale > 1) {
             return Err(VkError::Invalid(
                 "a depth read back needs single-sample targets".into(),
@@ -109,8 +122,16 @@ impl Targets {
             ),
             "radiance target",
         )?;
+        let msaa_hdr = (samples > 1)
+            .then(|| {
+                let usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED;
+                let d = scene_desc(HDR_FORMAT, usage, color_aspect);
+                Image::new_multisampled(ctx, d, samples, "multisampled radiance target")
+            })
+            .transpose()?;
         let pool = DescriptorPool::new(ctx, 1, 1, "tone map set")?;
-        let tone_map_set = tone_map.set_for(&pool, hdr.view())?;
+        let radiance = msaa_hdr.as_ref().unwrap_or(&hdr);
+        let tone_map_set = tone_map.set_for(&pool, radiance.view())?;
         Ok(Targets {
             color: Image::new(
                 ctx,
@@ -128,15 +149,8 @@ impl Targets {
                 "depth target",
             )?,
             hdr,
-            msaa_hdr: (samples > 1)
-                .then(|| {
-                    // Transient: the samples live only until the resolve.
-                    let usage = vk::ImageUsageFlags::COLOR_ATTACHMENT
-                        | vk::ImageUsageFlags::TRANSIENT_ATTACHMENT;
-                    let d = scene_desc(HDR_FORMAT, usage, color_aspect);
-                    Image::new_multisampled(ctx, d, samples, "multisampled radiance target")
-                })
-                .transpose()?,
+            msaa_hdr,
+            resolve_radiance: keep_radiance,
             tone_map_set,
             _pool: pool,
             keep_depth,
@@ -214,7 +228,7 @@ impl Targets {
         match &self.msaa_hdr {
             Some(msaa) => rec.begin_rendering_resolved(
                 msaa,
-                Some(&self.hdr),
+                self.resolve_radiance.then_some(&self.hdr),
                 Some(&self.depth),
                 CLEAR,
                 self.keep_depth,
@@ -256,8 +270,9 @@ impl Targets {
         copy_out(rec, &self.hdr, buffer)
     }
 
-    /// The full-frame pass from the radiance (in layout `radiance_layout`) into the frame, which
-    /// is left in the colour attachment layout.
+    /// The full-frame pass from the radiance into the frame, which is left in the colour
+    /// attachment layout. The single-sample radiance is in `radiance_layout`; a multisampled one,
+    /// which the pass reads instead, is still the attachment.
     fn tone_map(
         &self,
         rec: &Recording,
@@ -269,6 +284,10 @@ impl Targets {
             vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
             vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
         );
+        let (source, radiance_layout) = match &self.msaa_hdr {
+            Some(msaa) => (msaa, vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL),
+            None => (&self.hdr, radiance_layout),
+        };
         // Written by the scene's rendering, or last read by the radiance's copy.
         let after = if radiance_layout == vk::ImageLayout::TRANSFER_SRC_OPTIMAL {
             (vk::PipelineStageFlags2::COPY, vk::AccessFlags2::NONE)
@@ -292,7 +311,7 @@ impl Targets {
         transition_images(
             rec,
             &[
-                ImageTransition::color(&self.hdr, read, after, sampled),
+                ImageTransition::color(source, read, after, sampled),
                 ImageTransition::color(&self.color, draw, drawn_or_copied, attachment),
             ],
         );

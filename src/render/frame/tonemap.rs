@@ -135,6 +135,7 @@ struct ToneMapPush {
     exposure: f32,
     curve: u32,
     scale: u32,
+    samples: u32,
 }
 
 /// The full-frame pass: its pipeline, set layout and sampler; each target set owns its set.
@@ -142,14 +143,27 @@ pub struct ToneMapPass {
     pipeline: Pipeline,
     layout: DescriptorLayout,
     sampler: Sampler,
+    /// Samples per texel of the radiance it reads.
+    samples: u32,
 }
 
 impl ToneMapPass {
-    /// The pass writing into `color_format` targets.
-    pub fn new(ctx: &Arc<Context>, color_format: vk::Format) -> VkResult<ToneMapPass> {
+    /// The pass writing into `color_format` targets from a radiance of `samples` samples per
+    /// texel: with more than one, the pass is also the resolve, tone mapping every sample before
+    /// averaging them (`tonemap_resolve.frag`).
+    pub fn new(
+        ctx: &Arc<Context>,
+        color_format: vk::Format,
+        samples: u32,
+    ) -> VkResult<ToneMapPass> {
         let missing = |k: &str| VkError::Invalid(format!("no compiled shader {k}"));
         let vertex = shaders::spirv("tonemap.vert").ok_or_else(|| missing("tonemap.vert"))?;
-        let fragment = shaders::spirv("tonemap.frag").ok_or_else(|| missing("tonemap.frag"))?;
+        let key = if samples > 1 {
+            "tonemap_resolve.frag"
+        } else {
+            "tonemap.frag"
+        };
+        let fragment = shaders::spirv(key).ok_or_else(|| missing(key))?;
         let layout = DescriptorLayout::new(
             ctx,
             &[(0, vk::DescriptorType::COMBINED_IMAGE_SAMPLER)],
@@ -181,7 +195,13 @@ impl ToneMapPass {
             pipeline,
             layout,
             sampler,
+            samples,
         })
+    }
+
+    /// Samples per texel of the radiance the pass reads.
+    pub fn samples(&self) -> u32 {
+        self.samples
     }
 
     /// A set reading `hdr` (in `SHADER_READ_ONLY_OPTIMAL` when the pass runs), from `pool`.
@@ -202,6 +222,7 @@ impl ToneMapPass {
             exposure: mapping.exposure_ev.exp2(),
             curve: mapping.curve.shader_value(),
             scale,
+            samples: self.samples,
         };
         self.pipeline.bind(rec, Some(set));
         self.pipeline.push(rec, bytemuck::bytes_of(&push))?;
