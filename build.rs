@@ -99,6 +99,9 @@ fn sorted_files(dir: &Path) -> Vec<PathBuf> {
     files
 }
 
+/// The method whose search curved relief bends (`surface.frag:relief:curved`).
+const CURVED_METHOD: &str = "relief";
+
 fn variants(root: &Path) -> Vec<Variant> {
     let mut out = Vec::new();
     for file in sorted_files(&root.join("passes")) {
@@ -148,6 +151,13 @@ fn variants(root: &Path) -> Vec<Variant> {
                     ));
                     let key = format!("{base}:{}:lod:layers", m.id);
                     out.push(plain(key, defines_with(lod), Some(method_file.clone())));
+                }
+                if base == "surface.frag" && m.id == CURVED_METHOD {
+                    // Curved relief: the method's linear and binary search on a bent ray.
+                    let mut curved = defines.clone();
+                    curved.push(("CURVED".into(), "1".into()));
+                    let key = format!("{base}:{}:curved", m.id);
+                    out.push(plain(key, curved, Some(method_file.clone())));
                 }
                 out.push(plain(
                     format!("{base}:{}", m.id),

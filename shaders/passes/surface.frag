@@ -30,6 +30,9 @@
 #ifdef TERRAIN_LAYERS
 #include "terrain_layers.glsl"
 #endif
+#ifdef CURVED
+#include "curved.glsl"
+#endif
 #endif
 
 layout(location = 0) in vec3 in_world;
@@ -75,10 +78,22 @@ void main() {
         hit = METHOD_TRACE(ray, lod_budget(ray_budget(ray), ray));
     }
     hit.z *= 1.0 - lod_fade;
+#elif defined(CURVED)
+    vec2 curvature = surface_curvature(in_world, n, f);
+    Hit hit = trace_curved(ray, ray_budget(ray), f, curvature);
+    if (hit.z < 0.0) {
+        // The ray left the curved shell without meeting the surface: outside the silhouette.
+        discard;
+    }
 #else
     Hit hit = METHOD_TRACE(ray, ray_budget(ray));
 #endif
+#ifdef CURVED
+    // Below the tangent plane the curved shell reaches deeper than depth_scale.
+    float z = max(hit.z, 0.0);
+#else
     float z = clamp(hit.z, 0.0, depth_scale);
+#endif
     vec2 uv_hit = ray_uv(ray, z);
     // A clamp-addressed height map ends at its uv bounds.
     if (frame.height_info.w < 0.5 && leaves_clamped_map(uv_h, uv_hit)) {
@@ -91,8 +106,15 @@ void main() {
     // The surface stands depth_scale * h above the bottom plane; its slope per uv0 unit is the
     // height gradient carried back through the uv map.
     vec2 g0 = transpose(f.to_height) * (depth_scale * height_gradient(uv_hit));
-    normal = normalize(n - f.t * (f.depth_len * g0.x / f.scale.x)
-                         - f.b * (f.depth_len * g0.y / f.scale.y));
+    vec3 base_normal = n;
+#ifdef CURVED
+    // The curved top's normal at the hit: turned by the curvature over the distance travelled.
+    vec3 along = height_offset_to_world(f, uv_hit - uv_h);
+    base_normal = normalize(n + f.t * (curvature.x * dot(along, f.t))
+                              + f.b * (curvature.y * dot(along, f.b)));
+#endif
+    normal = normalize(base_normal - f.t * (f.depth_len * g0.x / f.scale.x)
+                                   - f.b * (f.depth_len * g0.y / f.scale.y));
     relief_normal = true;
     vec4 clip = frame.view_proj * vec4(world, 1.0);
     // The hit lies along the view ray beyond the polygon, so its depth is never nearer; the max

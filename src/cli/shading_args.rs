@@ -2,7 +2,7 @@
 //! mode, ambient occlusion mode and the lights' size. They override what the scene's extras say.
 
 use clap::Args;
-use relief::scene::{AoMode, LightKind, Scene, ShadowMode, MAX_ANGULAR_RADIUS_DEG};
+use relief::scene::{AoMode, LightKind, Scene, ShadowMode, Silhouettes, MAX_ANGULAR_RADIUS_DEG};
 
 #[derive(Args)]
 pub struct ShadingArgs {
@@ -26,6 +26,11 @@ pub struct ShadingArgs {
     /// the radius in world units for point and spot lights (default: each light's extras).
     #[arg(long, value_name = "R")]
     light_radius: Option<f32>,
+    /// Outline of every relief material: flat (the mesh's polygons) or curved (the relief
+    /// follows the mesh's curvature and its outline is the displaced surface's; method relief
+    /// only). Default: each material's extras.relief.silhouettes, else flat.
+    #[arg(long, value_name = "flat|curved")]
+    silhouettes: Option<Silhouettes>,
 }
 
 impl ShadingArgs {
@@ -52,6 +57,9 @@ impl ShadingArgs {
             }
             if let Some(mode) = self.ao {
                 relief.ao = mode;
+            }
+            if let Some(silhouettes) = self.silhouettes {
+                relief.silhouettes = silhouettes;
             }
         }
         let Some(r) = self.light_radius else {

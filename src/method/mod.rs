@@ -53,6 +53,9 @@ impl Method {
     pub const POM: Method = Method(index_of("pom"));
     /// Quadtree displacement mapping (Drobot), the default scene's.
     pub const QDM: Method = Method(index_of("qdm"));
+    /// Relief mapping (Policarpo, Oliveira, Comba): linear then binary search; the method
+    /// curved silhouettes bend.
+    pub const RELIEF: Method = Method(index_of("relief"));
 
     /// Every method, in table order.
     pub fn all() -> impl Iterator<Item = Method> {

@@ -192,6 +192,43 @@ pub struct Relief {
     pub ao: AoMode,
     /// Level of detail; `None` traces every pixel at full detail.
     pub lod: Option<Lod>,
+    /// Whether the relief's outline follows the mesh's polygons or its curvature.
+    pub silhouettes: Silhouettes,
+}
+
+/// How a relief material's outline is cut.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Silhouettes {
+    /// The height field hangs under each polygon's plane: every ray that meets the polygon
+    /// meets the relief, and the outline is the mesh's.
+    #[default]
+    Flat,
+    /// Curved relief (Oliveira and Policarpo 2005): the height field hangs under a quadric that
+    /// follows the mesh's curvature, and a ray that leaves that shell misses, so the outline
+    /// is the displaced surface's. Traced with relief mapping's linear and binary search (the
+    /// other methods' acceleration structures bound straight rays only).
+    Curved,
+}
+
+impl std::fmt::Display for Silhouettes {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Silhouettes::Flat => "flat",
+            Silhouettes::Curved => "curved",
+        })
+    }
+}
+
+impl std::str::FromStr for Silhouettes {
+    type Err = String;
+
+    fn from_str(s: &str) -> Result<Silhouettes, String> {
+        match s {
+            "flat" => Ok(Silhouettes::Flat),
+            "curved" => Ok(Silhouettes::Curved),
+            _ => Err(format!("unknown silhouettes {s:?}: use flat or curved")),
+        }
+    }
 }
 
 impl Relief {
@@ -205,6 +242,7 @@ impl Relief {
             shadows: ShadowSettings::default(),
             ao: AoMode::default(),
             lod: None,
+            silhouettes: Silhouettes::Flat,
         }
     }
 }

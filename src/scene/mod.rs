@@ -40,11 +40,11 @@ pub use layered::{
 pub use light_extras::{MAX_ANGULAR_RADIUS_DEG, SHADOW_CASCADES, SHADOW_MAP_SIZES};
 pub use lod::Lod;
 pub use material::{
-    AlphaMode, Filter, HeightSource, Material, Relief, SamplerDesc, TextureRef, TextureSlot,
-    UvTransform, Wrap,
+    AlphaMode, Filter, HeightSource, Material, Relief, SamplerDesc, Silhouettes, TextureRef,
+    TextureSlot, UvTransform, Wrap,
 };
 pub use material_heights::{HeightLookup, HeightUv, MaterialHeights, MaterialHeightsError};
-pub use primitives::{box_mesh, quad_mesh, sphere_mesh};
+pub use primitives::{box_mesh, quad_mesh, sphere_mesh, torus_mesh};
 pub use shading::{AoMode, ShadowMode, ShadowSettings, AO_HORIZON_DIRECTIONS};
 pub use shadow_scenes::{shadow_scene, sun, ShadowScene, SHADOW_SCENE_DEPTH};
 pub use terrain_scene::{

@@ -139,6 +139,59 @@ pub fn sphere_mesh(name: &str, radius: f32, rings: u32, segments: u32, material:
     }
 }
 
+/// A torus about the y axis with smooth normals: the tube's centre circle has radius `major`,
+/// the tube radius `minor`; `rings` steps around the axis (u once around, as the sphere's) and
+/// `segments` around the tube (v once around, starting at the outer equator and rising).
+pub fn torus_mesh(
+    name: &str,
+    major: f32,
+    minor: f32,
+    rings: u32,
+    segments: u32,
+    material: usize,
+) -> Mesh {
+    let mut vertices = Vec::new();
+    for i in 0..=segments {
+        let v = i as f32 / segments as f32;
+        let (sin_tube, cos_tube) = (std::f32::consts::TAU * v).sin_cos();
+        for j in 0..=rings {
+            let u = j as f32 / rings as f32;
+            let (sin_around, cos_around) = (std::f32::consts::TAU * u).sin_cos();
+            let n = Vec3::new(cos_tube * cos_around, sin_tube, -cos_tube * sin_around);
+            let centre = Vec3::new(cos_around, 0.0, -sin_around) * major;
+            let tangent = Vec3::new(-sin_around, 0.0, -cos_around);
+            let rise = Vec3::new(-sin_tube * cos_around, cos_tube, sin_tube * sin_around);
+            let sign = if n.cross(tangent).dot(rise) < 0.0 {
+                -1.0
+            } else {
+                1.0
+            };
+            vertices.push(Vertex::new(
+                (centre + n * minor).into(),
+                n.into(),
+                [u, v],
+                [tangent.x, tangent.y, tangent.z, sign],
+            ));
+        }
+    }
+    let row = rings + 1;
+    let mut indices = Vec::new();
+    for i in 0..segments {
+        for j in 0..rings {
+            let (a, b) = (i * row + j, i * row + j + 1);
+            let (c, d) = (a + row, b + row);
+            indices.extend([a, b, d, a, d, c]);
+        }
+    }
+    Mesh {
+        name: name.into(),
+        vertices,
+        indices,
+        material,
+        transform: Mat4::IDENTITY,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -177,6 +230,14 @@ mod tests {
                 mesh.name
             );
         }
+    }
+
+    #[test]
+    fn the_torus_winds_outward_with_its_tangents_along_u() {
+        // Fine enough that a triangle's edges follow its corners' tangent frame within 0.99.
+        let torus = torus_mesh("torus", 1.0, 0.35, 96, 64, 0);
+        assert_eq!(torus.vertices.len(), 65 * 97);
+        check_winding_and_tangents(&torus);
     }
 
     #[test]

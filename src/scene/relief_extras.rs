@@ -5,7 +5,8 @@
 //!     "height": { "index": 3, "texCoord": 0, "channel": "a", "invert": false },
 //!     "depth_scale": 0.05, "method": "qdm", "budget": 64,
 //!     "shadows": "horizon", "shadow_steps": 5, "horizon_reach": 1.0, "ao": "horizon-8",
-//!     "lod": { "factor": 1, "bias": 0, "fade_start": 0, "fade_end": 0, "average_below": 16 } } }
+//!     "lod": { "factor": 1, "bias": 0, "fade_start": 0, "fade_end": 0, "average_below": 16 },
+//!     "silhouettes": "flat" } }
 //! ```
 //!
 //! `depth_scale` is required (finite, > 0). Defaults: `method` "pom", `budget` none (the
@@ -17,7 +18,9 @@
 //! `false` is off; an object sets any of those fields: `factor` >= 0 scales the pixel's mip level
 //! into the traversal's stop level, `bias` is added to it, past `fade_start` world units from the
 //! eye the relief fades to normal mapping until `fade_end` (0: no fade), and stop levels below
-//! `average_below` end on the averaged pyramid, 0 never). Without
+//! `average_below` end on the averaged pyramid, 0 never), `silhouettes` "flat" (or "curved":
+//! the relief follows the mesh's curvature and its outline is cut where rays leave the shell;
+//! method "relief" only). Without
 //! `height` the material takes the frame's height map, unless it has `layers` (height-blended
 //! layers, documented in `layer_extras`). Extras without `relief` are ignored;
 //! unknown keys inside `relief` are errors, so a misspelt setting is not silently dropped.
@@ -28,7 +31,9 @@ use std::str::FromStr;
 use serde_json::{Map, Value};
 
 use super::layer_extras::parse_layers;
-use super::{AoMode, HeightSource, Layers, Lod, Relief, ShadowMode, ShadowSettings, TextureRef};
+use super::{
+    AoMode, HeightSource, Layers, Lod, Relief, ShadowMode, ShadowSettings, Silhouettes, TextureRef,
+};
 use crate::heightfield::Channel;
 use crate::method::Method;
 
@@ -61,6 +66,7 @@ pub(super) fn parse_relief(
             "ao",
             "lod",
             "layers",
+            "silhouettes",
         ],
     )?;
     let depth_scale = depth_scale(relief)?;
@@ -90,6 +96,10 @@ pub(super) fn parse_relief(
         None => None,
         Some(v) => Lod::from_json(v, "extras.relief.lod")?,
     };
+    let silhouettes = match relief.get("silhouettes") {
+        None => Silhouettes::Flat,
+        Some(v) => parsed(v, "extras.relief.silhouettes")?,
+    };
     let relief = Relief {
         depth_scale,
         method,
@@ -98,6 +108,7 @@ pub(super) fn parse_relief(
         shadows,
         ao,
         lod,
+        silhouettes,
     };
     Ok(Some((relief, layers)))
 }
@@ -291,6 +302,7 @@ mod tests {
         assert_eq!(r.height, HeightSource::Frame);
         assert_eq!((r.shadows, r.ao), (ShadowSettings::default(), AoMode::None));
         assert_eq!(r.lod, None);
+        assert_eq!(r.silhouettes, Silhouettes::Flat);
         let r = parse(r#"{"relief": {"depth_scale": 1, "height": {"index": 0}}}"#)
             .unwrap()
             .unwrap();
@@ -305,6 +317,17 @@ mod tests {
         assert_eq!(
             (texture.image, texture.tex_coord, channel, invert),
             (10, 0, Channel::R, false)
+        );
+    }
+
+    #[test]
+    fn silhouettes_are_flat_or_curved() {
+        let curved = parse(r#"{"relief": {"depth_scale": 1, "silhouettes": "curved"}}"#);
+        assert_eq!(curved.unwrap().unwrap().silhouettes, Silhouettes::Curved);
+        let err = parse(r#"{"relief": {"depth_scale": 1, "silhouettes": "shells"}}"#).unwrap_err();
+        assert!(
+            err.contains("extras.relief.silhouettes") && err.contains("flat or curved"),
+            "{err}"
         );
     }
 

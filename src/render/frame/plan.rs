@@ -18,8 +18,8 @@ use crate::method::{MapKind, Method};
 use crate::render::cells::cells_plan::{plan_cells, CellsPlan};
 use crate::render::shadows::shadow_plan::ShadowMapPlan;
 use crate::scene::{
-    AlphaMode, AoMode, HeightSource, Layers, Light, Lod, Material, Scene, ShadowMode,
-    ShadowSettings, Wrap,
+    AlphaMode, AoMode, HeightSource, Layers, Light, Lod, Material, Relief, Scene, ShadowMode,
+    ShadowSettings, Silhouettes, Wrap,
 };
 
 /// Where a planned height map comes from.
@@ -63,12 +63,15 @@ pub struct PipelineKey {
     pub lod: Option<Lod>,
     /// Shaded from height-blended layers (set 2): the `:layers` variant.
     pub layers: bool,
+    /// Curved relief (`Silhouettes::Curved`): the `:curved` variant.
+    pub curved: bool,
 }
 
 impl PipelineKey {
     /// The SPIR-V variant it is built from.
     pub fn shader(&self) -> String {
         match (self.method, self.lod) {
+            (Some(m), None) if self.curved => format!("{}:curved", m.surface_shader_key()),
             (Some(m), None) if self.layers => format!("{}:layers", m.surface_shader_key()),
             (Some(m), Some(_)) if self.layers => format!("{}:lod:layers", m.surface_shader_key()),
             (Some(m), None) => m.surface_shader_key(),
@@ -252,6 +255,14 @@ pub enum PlanError {
         /// How many materials they use.
         count: usize,
     },
+    #[error("material {material:?}: curved silhouettes {why}")]
+    /// A material asks for curved silhouettes where they cannot be drawn.
+    Curved {
+        /// The material's name.
+        material: String,
+        /// What stands in the way.
+        why: String,
+    },
     #[error("material {material:?} has relief from its layers, but no layers")]
     /// A material takes its relief from its layers, and has none.
     NoLayers {
@@ -380,6 +391,31 @@ fn height_source(
     })
 }
 
+/// Curved relief bends relief mapping's linear search; the other methods' structures bound
+/// straight rays, and level of detail and blended layers have no curved variant.
+fn check_silhouettes(material: &Material, relief: &Relief) -> Result<(), PlanError> {
+    if relief.silhouettes != Silhouettes::Curved {
+        return Ok(());
+    }
+    let why = if relief.method != Method::RELIEF {
+        format!(
+            "trace with relief mapping's linear and binary search (method relief), not {}: the \
+             other methods' acceleration structures bound straight rays only",
+            relief.method
+        )
+    } else if relief.lod.is_some() {
+        "have no level-of-detail variant".to_owned()
+    } else if relief.height == HeightSource::Layers {
+        "have no blended-layers variant".to_owned()
+    } else {
+        return Ok(());
+    };
+    Err(PlanError::Curved {
+        material: material.name.clone(),
+        why,
+    })
+}
+
 impl Plan {
     /// Plans `scene`; `frame_heights` is the height map of materials whose relief has no
     /// texture of its own.
@@ -439,6 +475,7 @@ impl Plan {
             let heights = match &material.relief {
                 None => None,
                 Some(relief) => {
+                    check_silhouettes(material, relief)?;
                     let (key, source, size) = height_source(
                         scene,
                         frame_heights,
@@ -533,6 +570,9 @@ impl Plan {
             layers: material
                 .relief
                 .is_some_and(|r| r.height == HeightSource::Layers),
+            curved: material
+                .relief
+                .is_some_and(|r| r.silhouettes == Silhouettes::Curved),
         };
         match self.pipelines.iter().position(|p| *p == pipeline) {
             Some(k) => k,
