@@ -312,6 +312,7 @@ fn join(shards: Vec<ShardFile>) -> BenchResults {
     merged.blending = shards.iter().find_map(|f| f.results.blending.clone());
     merged.scene_shadows = shards.iter().find_map(|f| f.results.scene_shadows.clone());
     merged.frame_features = shards.iter().find_map(|f| f.results.frame_features.clone());
+    merged.silhouettes = shards.iter().find_map(|f| f.results.silhouettes.clone());
     merged.shard = None;
     merged
 }

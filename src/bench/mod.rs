@@ -52,6 +52,7 @@ mod shadow_stability;
 mod shadow_stats;
 mod shard;
 mod shard_info;
+mod silhouettes;
 mod slow_down;
 mod stability;
 mod subgroup_steps;
@@ -96,6 +97,9 @@ pub use shadow_stats::{
 };
 pub use shard::{partition, Shard, UnitCost};
 pub use shard_info::{ShardInfo, StepOrigins};
+pub use silhouettes::{
+    run_silhouette_section, SilhouetteCell, SilhouetteError, SilhouetteSection, SILHOUETTE_OPTIONS,
+};
 pub use slow_down::{SlowDown, MAX_SLOW_DOWN};
 pub use stability::{run_stiff_case, stiff_cases, StiffCase};
 pub use subgroup_steps::{subgroup_steps, TimedSteps};

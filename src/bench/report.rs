@@ -54,6 +54,9 @@ pub fn render_report(results: &BenchResults) -> (String, Vec<(String, String)>) 
     if let Some(features) = &results.frame_features {
         super::frame_features::report(&mut md, features);
     }
+    if let Some(silhouettes) = &results.silhouettes {
+        super::silhouettes::report(&mut md, silhouettes);
+    }
     (md, plots(results))
 }
 

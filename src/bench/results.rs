@@ -181,6 +181,10 @@ pub struct BenchResults {
     /// written before it have none).
     #[serde(default)]
     pub frame_features: Option<super::frame_features::FrameFeatureSection>,
+    /// The silhouette section (`None` when skipped, e.g. `--no-silhouettes`; files written
+    /// before it have none).
+    #[serde(default)]
+    pub silhouettes: Option<super::silhouettes::SilhouetteSection>,
     /// Which shard of a split sweep this file holds (`relief bench --shard K/N`); absent for a
     /// whole sweep and for `relief bench merge`'s output.
     #[serde(default, skip_serializing_if = "Option::is_none")]

@@ -76,6 +76,7 @@ pub(crate) fn results(device: BenchDevice, runs: Vec<Run>) -> BenchResults {
         blending: None,
         scene_shadows: None,
         frame_features: None,
+        silhouettes: None,
         shard: None,
     }
 }

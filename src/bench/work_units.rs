@@ -43,6 +43,8 @@ pub struct SweepSections {
     pub scene_shadows: bool,
     /// Whether the frame-feature section runs.
     pub frame_features: bool,
+    /// Whether the silhouette section runs.
+    pub silhouettes: bool,
 }
 
 /// A section that runs as one piece.
@@ -60,6 +62,8 @@ pub enum WholeSection {
     SceneShadows,
     /// Frame features (anti-aliasing, tone mapping, image-based light).
     FrameFeatures,
+    /// Silhouettes on curved meshes.
+    Silhouettes,
 }
 
 /// The steps of a sweep, numbered in the order an unsharded run measures them: the jobs, then the
@@ -210,6 +214,11 @@ pub fn work_units(cfg: &SweepConfig, sections: &SweepSections) -> Vec<WorkUnit> 
             sections.frame_features,
             whole(3.0, 30.0),
         ),
+        (
+            WholeSection::Silhouettes,
+            sections.silhouettes,
+            whole(5.0, 150.0),
+        ),
     ];
     for (section, runs, cost) in sections_whole {
         if runs {
@@ -341,6 +350,7 @@ mod tests {
             blending: true,
             scene_shadows: true,
             frame_features: true,
+            silhouettes: true,
         };
         (cfg, sections)
     }
@@ -355,7 +365,7 @@ mod tests {
             .all(|u| u.steps.windows(2).all(|p| p[0] < p[1])));
         steps.sort_unstable();
         let layout = StepLayout::new(&cfg, &sections);
-        let total = layout.whole(WholeSection::FrameFeatures) + 1;
+        let total = layout.whole(WholeSection::Silhouettes) + 1;
         assert_eq!(steps, (0..total).collect::<Vec<_>>());
         assert!(units
             .iter()

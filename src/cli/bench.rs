@@ -12,11 +12,12 @@ use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use relief::bench::{
     blending_notes, measure_ao, measure_shadows, plan_jobs, render_report, run_blending_section,
     run_edit_section, run_frame_feature_section, run_lod_section, run_paint_section,
-    run_scene_shadow_section, run_stiff_case, stiff_cases, utc_now_rfc3339, AoConfig, AoRun,
-    BenchResults, BlendingConfig, BlendingSection, EditCost, FieldSource, FrameFeatureSection,
-    LodConfig, LodSection, PaintCost, ReliefBuild, Runner, SceneShadowSection, ShadingConfig,
-    ShadowRun, ShadowStabilityCell, Shard, SlowDown, StabilityCell, StepOrigins, StiffCase,
-    SweepConfig, SweepSections, WholeSection, SCHEMA_VERSION,
+    run_scene_shadow_section, run_silhouette_section, run_stiff_case, stiff_cases, utc_now_rfc3339,
+    AoConfig, AoRun, BenchResults, BlendingConfig, BlendingSection, EditCost, FieldSource,
+    FrameFeatureSection, LodConfig, LodSection, PaintCost, ReliefBuild, Runner, SceneShadowSection,
+    ShadingConfig, ShadowRun, ShadowStabilityCell, Shard, SilhouetteSection, SlowDown,
+    StabilityCell, StepOrigins, StiffCase, SweepConfig, SweepSections, WholeSection,
+    SCHEMA_VERSION,
 };
 
 /// The brush radius of the terrain-edit section, in texels (the stroke).
@@ -119,6 +120,13 @@ pub struct BenchArgs {
     /// Run only the frame-feature section (with --quick: its small version).
     #[arg(long, conflicts_with = "no_frame_features")]
     frame_features_only: bool,
+    /// Skip the silhouette section (flat and curved relief on curved meshes against the
+    /// displaced-geometry reference).
+    #[arg(long)]
+    no_silhouettes: bool,
+    /// Run only the silhouette section (with --quick: its small version).
+    #[arg(long, conflicts_with = "no_silhouettes")]
+    silhouettes_only: bool,
     #[arg(long, value_name = "repeat|clamp", default_value_t = Address::Repeat)]
     address: Address,
     #[arg(long, value_enum, default_value = "r16")]
@@ -339,7 +347,8 @@ fn sections(args: &BenchArgs, cfg: &SweepConfig, ctx: &Context) -> SweepSections
         || args.lod_only
         || args.stability_only
         || args.scene_shadows_only
-        || args.frame_features_only;
+        || args.frame_features_only
+        || args.silhouettes_only;
     let jobs = if only_other {
         Vec::new()
     } else {
@@ -349,7 +358,8 @@ fn sections(args: &BenchArgs, cfg: &SweepConfig, ctx: &Context) -> SweepSections
         || args.lod_only
         || args.stability_only
         || args.scene_shadows_only
-        || args.frame_features_only);
+        || args.frame_features_only
+        || args.silhouettes_only);
     let shading = shading_wanted.then(|| {
         if cfg.quick {
             ShadingConfig::quick()
@@ -366,7 +376,8 @@ fn sections(args: &BenchArgs, cfg: &SweepConfig, ctx: &Context) -> SweepSections
         && !(args.shading_only
             || args.lod_only
             || args.scene_shadows_only
-            || args.frame_features_only)
+            || args.frame_features_only
+            || args.silhouettes_only)
     {
         stiff_cases(largest, cfg.quick)
     } else {
@@ -388,7 +399,8 @@ fn sections(args: &BenchArgs, cfg: &SweepConfig, ctx: &Context) -> SweepSections
             || args.shading_only
             || args.stability_only
             || args.scene_shadows_only
-            || args.frame_features_only),
+            || args.frame_features_only
+            || args.silhouettes_only),
         edit_sizes: if edits_wanted {
             edit_sizes(args, cfg)
         } else {
@@ -397,6 +409,7 @@ fn sections(args: &BenchArgs, cfg: &SweepConfig, ctx: &Context) -> SweepSections
         blending: !(args.no_blending || only_other),
         scene_shadows: args.scene_shadows_only || !(args.no_scene_shadows || only_other),
         frame_features: args.frame_features_only || !(args.no_frame_features || only_other),
+        silhouettes: args.silhouettes_only || !(args.no_silhouettes || only_other),
     }
 }
 
@@ -434,6 +447,7 @@ fn progress_steps(s: &SweepSections, cfg: &SweepConfig, plan: &StepPlan) -> usiz
         + whole(s.blending, WholeSection::Blending)
         + whole(s.scene_shadows, WholeSection::SceneShadows)
         + whole(s.frame_features, WholeSection::FrameFeatures)
+        + whole(s.silhouettes, WholeSection::Silhouettes)
 }
 
 pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
@@ -494,6 +508,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         blending: whole.blending,
         scene_shadows: whole.scene_shadows,
         frame_features: whole.frame_features,
+        silhouettes: whole.silhouettes,
         shard: plan.info(fingerprint, origins),
     };
     write_outputs(out, &results, args.json)
@@ -508,6 +523,7 @@ struct Whole {
     blending: Option<BlendingSection>,
     scene_shadows: Option<SceneShadowSection>,
     frame_features: Option<FrameFeatureSection>,
+    silhouettes: Option<SilhouetteSection>,
 }
 
 /// Runs the sections that run as one piece, those asked for and in this run's shard.
@@ -580,6 +596,14 @@ fn measure_whole(
     } else {
         None
     };
+    let silhouettes = if whole_wanted(sections.silhouettes, plan, WholeSection::Silhouettes) {
+        let section = run_silhouette_section(ctx, cfg.quick, |what| note(bar, what, quiet))
+            .context("the silhouette section")?;
+        bar.inc(1);
+        Some(section)
+    } else {
+        None
+    };
     Ok(Whole {
         shadow_stability,
         lod,
@@ -588,6 +612,7 @@ fn measure_whole(
         blending,
         scene_shadows,
         frame_features,
+        silhouettes,
     })
 }
 

@@ -11,9 +11,11 @@
 //! How fine is fine enough is measured, not assumed: the reference at `texels_per_edge` and at
 //! half of it are compared (see docs/silhouettes.md).
 
+mod compare;
 mod displace;
 mod subdivide;
 
+pub use compare::{compare_with_reference, coverage, OutlineAgreement};
 pub use displace::displace;
 pub use subdivide::{levels_for, subdivide};
 

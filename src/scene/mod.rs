@@ -44,7 +44,7 @@ pub use material::{
     TextureSlot, UvTransform, Wrap,
 };
 pub use material_heights::{HeightLookup, HeightUv, MaterialHeights, MaterialHeightsError};
-pub use primitives::{box_mesh, quad_mesh, sphere_mesh, torus_mesh};
+pub use primitives::{box_mesh, cylinder_mesh, quad_mesh, sphere_mesh, torus_mesh};
 pub use shading::{AoMode, ShadowMode, ShadowSettings, AO_HORIZON_DIRECTIONS};
 pub use shadow_scenes::{shadow_scene, sun, ShadowScene, SHADOW_SCENE_DEPTH};
 pub use terrain_scene::{

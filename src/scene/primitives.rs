@@ -139,6 +139,52 @@ pub fn sphere_mesh(name: &str, radius: f32, rings: u32, segments: u32, material:
     }
 }
 
+/// An open cylinder (no caps) about the y axis, or a curved wall when `arc` is less than a turn:
+/// `radius`, `height` centred on the origin, `segments` steps over `arc` radians (u from 0 to
+/// 1 along them) and `rows` up (v from 0 at the bottom to 1), smooth normals pointing out.
+pub fn cylinder_mesh(
+    name: &str,
+    radius: f32,
+    height: f32,
+    arc: f32,
+    segments: u32,
+    rows: u32,
+    material: usize,
+) -> Mesh {
+    let mut vertices = Vec::new();
+    for i in 0..=rows {
+        let v = i as f32 / rows as f32;
+        for j in 0..=segments {
+            let u = j as f32 / segments as f32;
+            let (sin_a, cos_a) = (arc * u).sin_cos();
+            let n = Vec3::new(cos_a, 0.0, -sin_a);
+            let tangent = Vec3::new(-sin_a, 0.0, -cos_a);
+            vertices.push(Vertex::new(
+                (n * radius + Vec3::Y * (height * (v - 0.5))).into(),
+                n.into(),
+                [u, v],
+                [tangent.x, tangent.y, tangent.z, 1.0],
+            ));
+        }
+    }
+    let row = segments + 1;
+    let mut indices = Vec::new();
+    for i in 0..rows {
+        for j in 0..segments {
+            let (a, b) = (i * row + j, i * row + j + 1);
+            let (c, d) = (a + row, b + row);
+            indices.extend([a, b, d, a, d, c]);
+        }
+    }
+    Mesh {
+        name: name.into(),
+        vertices,
+        indices,
+        material,
+        transform: Mat4::IDENTITY,
+    }
+}
+
 /// A torus about the y axis with smooth normals: the tube's centre circle has radius `major`,
 /// the tube radius `minor`; `rings` steps around the axis (u once around, as the sphere's) and
 /// `segments` around the tube (v once around, starting at the outer equator and rising).
@@ -195,6 +241,7 @@ pub fn torus_mesh(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::f32::consts::TAU;
 
     fn check_winding_and_tangents(mesh: &Mesh) {
         for tri in mesh.indices.chunks(3) {
@@ -230,6 +277,12 @@ mod tests {
                 mesh.name
             );
         }
+    }
+
+    #[test]
+    fn the_cylinder_and_its_wall_wind_outward_with_their_tangents_along_u() {
+        check_winding_and_tangents(&cylinder_mesh("tube", 1.0, 2.0, TAU, 96, 4, 0));
+        check_winding_and_tangents(&cylinder_mesh("wall", 2.0, 1.0, 1.5, 48, 2, 0));
     }
 
     #[test]

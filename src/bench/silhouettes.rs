@@ -1,0 +1,258 @@
+//! The bench's silhouette section: relief on curved meshes (a sphere, a torus, an open cylinder
+//! and a curved wall, both lying so that no view looks into them) against the displaced-geometry reference, for each way of drawing it (flat
+//! relief mapping and flat QDM under the polygons, curved relief mapping), depth scales from
+//! shallow to deep and views from 30 to 75 degrees: silhouette agreement and colour difference
+//! against GPU time, the numbers a material's choice follows.
+
+use std::f32::consts::{FRAC_PI_2, PI, TAU};
+use std::fmt::Write as _;
+use std::sync::Arc;
+
+use glam::{Mat4, Vec3};
+use serde::{Deserialize, Serialize};
+
+use super::frame_timing::time_steady_frames;
+use crate::displaced_reference::{
+    compare_with_reference, displaced_scene, DisplacedReferenceError,
+};
+use crate::heightfield::{Address, Generator, Heightfield};
+use crate::method::Method;
+use crate::render::{render, RenderError, RenderOptions};
+use crate::scene::{
+    cylinder_mesh, sphere_mesh, torus_mesh, Camera, Light, Material, Mesh, Relief, Scene,
+    Silhouettes,
+};
+use crate::vk::Context;
+
+/// Why the section could not run.
+#[derive(Debug, thiserror::Error)]
+pub enum SilhouetteError {
+    /// A frame could not be rendered.
+    #[error(transparent)]
+    Render(#[from] RenderError),
+    /// The reference could not be built.
+    #[error(transparent)]
+    Reference(#[from] DisplacedReferenceError),
+}
+
+/// One mesh, depth, view and way of drawing it.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct SilhouetteCell {
+    /// "sphere", "torus", "open cylinder" or "curved wall".
+    pub mesh: String,
+    /// The relief's world depth as a fraction of the mesh's radius.
+    pub depth: f32,
+    /// The view's elevation above the mesh's equator, in degrees.
+    pub view_deg: f32,
+    /// "flat relief", "flat qdm" or "curved relief".
+    pub option: String,
+    /// Silhouette agreement with the reference (intersection over union of covered pixels).
+    pub iou: f64,
+    /// Mean channel difference over the image, 8-bit levels.
+    pub mean_difference: f64,
+    /// The same within two pixels of the reference's outline.
+    pub band_difference: f64,
+    /// Median GPU ms of the surface pass.
+    pub surface_ms: f64,
+}
+
+/// The whole section.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct SilhouetteSection {
+    /// Image size.
+    pub size: [u32; 2],
+    /// Frames timed per cell (after one untimed frame).
+    pub frames: u32,
+    /// Every cell.
+    pub cells: Vec<SilhouetteCell>,
+}
+
+/// A test mesh, how long one depth unit is on it (at its widest), its radius, and where the
+/// camera looks from (horizontal direction) and at.
+struct Subject {
+    name: &'static str,
+    mesh: Mesh,
+    depth_unit: f32,
+    radius: f32,
+    facing: Vec3,
+    target: Vec3,
+    distance: f32,
+}
+
+/// The open meshes lie with their axis along x, so that no view of the section looks into their
+/// open ends: there a one-sided mesh shows its inside, which no method under its polygons can.
+fn lying(mut mesh: Mesh, turn_about_y: f32) -> Mesh {
+    mesh.transform = Mat4::from_rotation_z(FRAC_PI_2) * Mat4::from_rotation_y(turn_about_y);
+    mesh
+}
+
+fn subjects(quick: bool) -> Vec<Subject> {
+    // The wall spans 1.5 radians; turned so that its middle faces +x, then laid down (+y).
+    let wall_arc = 1.5f32;
+    let mut all = vec![
+        Subject {
+            name: "sphere",
+            mesh: sphere_mesh("sphere", 1.0, 16, 32, 0),
+            depth_unit: PI * 2f32.sqrt(),
+            radius: 1.0,
+            facing: Vec3::Z,
+            target: Vec3::ZERO,
+            distance: 3.0,
+        },
+        Subject {
+            name: "torus",
+            mesh: torus_mesh("torus", 1.0, 0.35, 48, 24, 0),
+            depth_unit: TAU * (1.35f32 * 0.35).sqrt(),
+            radius: 1.0,
+            facing: Vec3::Z,
+            target: Vec3::ZERO,
+            distance: 3.2,
+        },
+    ];
+    if !quick {
+        all.push(Subject {
+            name: "open cylinder",
+            mesh: lying(cylinder_mesh("cylinder", 1.0, 2.0, TAU, 48, 4, 0), 0.0),
+            depth_unit: (TAU * 2.0f32).sqrt(),
+            radius: 1.0,
+            facing: Vec3::Z,
+            target: Vec3::ZERO,
+            distance: 4.2,
+        });
+        all.push(Subject {
+            name: "curved wall",
+            mesh: lying(
+                cylinder_mesh("wall", 2.0, 1.5, wall_arc, 24, 2, 0),
+                -0.5 * wall_arc,
+            ),
+            depth_unit: (wall_arc * 2.0 * 1.5).sqrt(),
+            radius: 2.0,
+            facing: Vec3::Z,
+            target: Vec3::Y * 2.0,
+            distance: 3.0,
+        });
+    }
+    all
+}
+
+fn scene_of(subject: &Subject, depth: f32, view_deg: f32, option: &str) -> Scene {
+    let (method, silhouettes) = match option {
+        "flat qdm" => (Method::QDM, Silhouettes::Flat),
+        "curved relief" => (Method::RELIEF, Silhouettes::Curved),
+        _ => (Method::RELIEF, Silhouettes::Flat),
+    };
+    let relief = Relief {
+        silhouettes,
+        ..Relief::new(depth * subject.radius / subject.depth_unit, method)
+    };
+    let material = Material {
+        name: "relief".into(),
+        roughness: 0.6,
+        relief: Some(relief),
+        ..Material::default()
+    };
+    let light = Light {
+        direction: Vec3::new(-0.5, -0.7, -0.5).normalize(),
+        color: Vec3::splat(3.0),
+        ..Light::default_light()
+    };
+    let e = view_deg.to_radians();
+    let eye = subject.target + (subject.facing * e.cos() + Vec3::Y * e.sin()) * subject.distance;
+    Scene {
+        meshes: vec![subject.mesh.clone()],
+        materials: vec![material],
+        lights: vec![light],
+        camera: Some(Camera::look_at(eye, subject.target, 0.8, 0.1, 20.0)),
+        ..Scene::default()
+    }
+}
+
+/// The ways of drawing relief the section compares.
+pub const SILHOUETTE_OPTIONS: [&str; 3] = ["flat relief", "flat qdm", "curved relief"];
+
+/// Runs the section; `quick` measures two meshes at one depth and view on a smaller image.
+pub fn run_silhouette_section(
+    ctx: &Arc<Context>,
+    quick: bool,
+    mut progress: impl FnMut(&str),
+) -> Result<SilhouetteSection, SilhouetteError> {
+    let (size, frames, depths, views): ([u32; 2], u32, &[f32], &[f32]) = if quick {
+        ([160, 120], 2, &[0.05], &[30.0])
+    } else {
+        ([320, 240], 5, &[0.02, 0.05, 0.1], &[30.0, 75.0])
+    };
+    let heights: Heightfield = Generator::Fbm.generate(64, 64, 3);
+    let opts = RenderOptions {
+        width: size[0],
+        height: size[1],
+        ..RenderOptions::default()
+    };
+    let mut cells = Vec::new();
+    for subject in subjects(quick) {
+        for &depth in depths {
+            for &view_deg in views {
+                progress(&format!(
+                    "silhouettes: {}, depth {depth}, {view_deg} degrees",
+                    subject.name
+                ));
+                let base = scene_of(&subject, depth, view_deg, "flat relief");
+                let reference = displaced_scene(&base, Some(&heights), Address::Repeat, 1.0)?;
+                let truth = render(ctx, &reference.scene, None, &opts)?.rgba;
+                for option in SILHOUETTE_OPTIONS {
+                    let scene = scene_of(&subject, depth, view_deg, option);
+                    let image = render(ctx, &scene, Some(&heights), &opts)?.rgba;
+                    let agreement = compare_with_reference(&image, &truth, size[0], size[1]);
+                    let timed = time_steady_frames(ctx, &scene, Some(&heights), &opts, frames)?;
+                    cells.push(SilhouetteCell {
+                        mesh: subject.name.to_owned(),
+                        depth,
+                        view_deg,
+                        option: option.to_owned(),
+                        iou: agreement.iou,
+                        mean_difference: agreement.mean_difference,
+                        band_difference: agreement.band_difference,
+                        surface_ms: timed.surface_ms,
+                    });
+                }
+            }
+        }
+    }
+    Ok(SilhouetteSection {
+        size,
+        frames,
+        cells,
+    })
+}
+
+/// The section's table in `report.md`.
+pub fn report(md: &mut String, s: &SilhouetteSection) {
+    let _ = writeln!(md, "\n## Silhouettes on curved meshes\n");
+    let _ = writeln!(
+        md,
+        "Each way of drawing relief against the mesh really tessellated and displaced (edges of one \
+         height texel), {}x{}, a 64x64 fBm map; depth is the relief's world depth over the \
+         mesh's radius, view the elevation above its equator. IoU: silhouette agreement; \
+         difference: mean channel difference over the image and within two pixels of the true \
+         outline; time: median GPU ms of the surface pass over {} frames.\n",
+        s.size[0], s.size[1], s.frames
+    );
+    let _ = writeln!(
+        md,
+        "| mesh | depth | view | option | IoU | difference | at the outline | surface ms |"
+    );
+    let _ = writeln!(md, "|---|---|---|---|---|---|---|---|");
+    for c in &s.cells {
+        let _ = writeln!(
+            md,
+            "| {} | {} | {} | {} | {:.4} | {:.2} | {:.2} | {:.3} |",
+            c.mesh,
+            c.depth,
+            c.view_deg,
+            c.option,
+            c.iou,
+            c.mean_difference,
+            c.band_difference,
+            c.surface_ms
+        );
+    }
+}
