@@ -99,7 +99,8 @@ fn sorted_files(dir: &Path) -> Vec<PathBuf> {
     files
 }
 
-/// The method whose search curved relief bends (`surface.frag:relief:curved`).
+/// The method whose search curved relief bends (`surface.frag:relief:curved`, and the shadow
+/// pass's `shadow_caster.frag:relief:curved`).
 const CURVED_METHOD: &str = "relief";
 
 fn variants(root: &Path) -> Vec<Variant> {
@@ -152,7 +153,7 @@ fn variants(root: &Path) -> Vec<Variant> {
                     let key = format!("{base}:{}:lod:layers", m.id);
                     out.push(plain(key, defines_with(lod), Some(method_file.clone())));
                 }
-                if base == "surface.frag" && m.id == CURVED_METHOD {
+                if m.id == CURVED_METHOD && base != "trace.comp" {
                     // Curved relief: the method's linear and binary search on a bent ray.
                     let mut curved = defines.clone();
                     curved.push(("CURVED".into(), "1".into()));

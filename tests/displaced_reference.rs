@@ -4,7 +4,8 @@
 //! quad, where relief's exact method has no silhouette to miss, the two images agree).
 //! Curved relief (`Silhouettes::Curved`) follows the displaced outline of a sphere and a torus
 //! (silhouette IoU >= 0.98, mean channel difference <= 3 levels) where flat relief keeps the
-//! mesh's. On failure the images are left under `target/test-output/displaced-reference/`.
+//! mesh's, and casts the displaced surface's shadow into the shadow maps. On failure the images
+//! are left under `target/test-output/displaced-reference/`.
 
 mod common;
 
@@ -303,4 +304,79 @@ fn curved_relief_follows_the_displaced_outline() {
             );
         }
     }
+}
+
+#[test]
+fn a_curved_caster_throws_the_displaced_surfaces_shadow() {
+    let Some(ctx) = common::device("a_curved_caster_throws_the_displaced_surfaces_shadow") else {
+        return;
+    };
+    let heights = Generator::Fbm.generate(64, 64, 3);
+    // A deep relief (0.1 of the radius) on a sphere over the ground, a low hard sun; the camera
+    // looks down at the shadow, beside the sphere.
+    let depth = 0.1 / (std::f32::consts::PI * 2f32.sqrt());
+    let mut sphere = sphere_mesh("sphere", 1.0, 16, 32, 0);
+    sphere.transform = glam::Mat4::from_translation(Vec3::new(0.0, 1.3, 0.0));
+    let ground = quad_mesh("ground", 12.0, 12.0, 1.0, 1);
+    let sun = Vec3::new(0.0, -0.6, -1.0).normalize();
+    let scene = |silhouettes: Silhouettes| {
+        let mut s = scene(sphere.clone(), depth, Vec3::ZERO);
+        s.meshes.push(ground.clone());
+        s.materials.push(Material {
+            name: "ground".into(),
+            roughness: 0.9,
+            ..Material::default()
+        });
+        if let Some(relief) = s.materials[0].relief.as_mut() {
+            relief.method = Method::RELIEF;
+            relief.silhouettes = silhouettes;
+        }
+        s.lights = vec![Light {
+            direction: sun,
+            color: Vec3::splat(3.0),
+            radius: 0.0,
+            casts_shadows: true,
+            ..Light::default_light()
+        }];
+        s.camera = Some(Camera::look_at(
+            Vec3::new(0.0, 5.0, -3.0),
+            Vec3::new(0.0, 0.0, -2.6),
+            0.8,
+            0.1,
+            20.0,
+        ));
+        s
+    };
+    let flat = scene(Silhouettes::Flat);
+    let reference = draw(&ctx, &displaced(&flat, &heights, 1.0), None);
+    let flat_image = draw(&ctx, &flat, Some(&heights));
+    let curved_image = draw(&ctx, &scene(Silhouettes::Curved), Some(&heights));
+    // The ground in shadow: dark pixels (the lit ground is far brighter).
+    let shadow = |rgba: &[u8]| -> Vec<bool> {
+        rgba.chunks_exact(4)
+            .map(|p| u32::from(p[0]) + u32::from(p[1]) + u32::from(p[2]) < 3 * 150)
+            .collect()
+    };
+    let truth = shadow(&reference);
+    let shadowed = truth.iter().filter(|s| **s).count();
+    assert!(
+        shadowed > 1000,
+        "only {shadowed} shadowed pixels: the view misses the shadow"
+    );
+    let (flat_iou, curved_iou) = (
+        iou(&shadow(&flat_image), &truth),
+        iou(&shadow(&curved_image), &truth),
+    );
+    eprintln!(
+        "shadow on the ground against the displaced sphere's ({shadowed} pixels): IoU flat {flat_iou:.4}, curved {curved_iou:.4}"
+    );
+    if curved_iou <= flat_iou {
+        save("shadow_flat", &flat_image);
+        save("shadow_curved", &curved_image);
+        save("shadow_reference", &reference);
+    }
+    assert!(
+        curved_iou > flat_iou,
+        "the curved caster's shadow ({curved_iou:.4}) is no closer to the truth than the flat one's ({flat_iou:.4})"
+    );
 }

@@ -15,6 +15,9 @@
 #include "heightfield.glsl"
 #include "relief_frame.glsl"
 #include "method.glsl"
+#ifdef CURVED
+#include "curved.glsl"
+#endif
 #endif
 
 layout(location = 0) in vec3 in_world;
@@ -42,8 +45,18 @@ void main() {
     ReliefFrame f = relief_frame(in_world, n, in_tangent, in_uv0, in_uv1);
     vec2 uv_h = slot_uv(SLOT_HEIGHT, in_uv0, in_uv1);
     Ray ray = Ray(uv_h, height_space_ray_dir(f, along), depth_scale);
+#ifdef CURVED
+    // The light's ray through the curved shell: one that leaves it without meeting the surface
+    // casts nothing, so the shadow's outline is the displaced surface's, as the frame's is.
+    Hit hit = trace_curved(ray, ray_budget(ray), f, surface_curvature(in_world, n, f));
+    if (hit.z < 0.0) {
+        discard;
+    }
+    float z = max(hit.z, 0.0);
+#else
     Hit hit = METHOD_TRACE(ray, ray_budget(ray));
     float z = clamp(hit.z, 0.0, depth_scale);
+#endif
     vec2 uv_hit = ray_uv(ray, z);
     if (frame.height_info.w < 0.5 && leaves_clamped_map(uv_h, uv_hit)) {
         discard;

@@ -77,6 +77,7 @@ impl MeshStages {
     /// far the camera is).
     pub(super) fn caster(key: &PipelineKey) -> MeshStages {
         let fragment = match key.method {
+            Some(m) if key.curved => format!("shadow_caster.frag:{}:curved", m.id()),
             Some(m) => format!("shadow_caster.frag:{}", m.id()),
             None => "shadow_caster.frag:plain".to_owned(),
         };
