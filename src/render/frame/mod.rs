@@ -14,6 +14,7 @@ pub(in crate::render) mod msaa;
 pub(in crate::render) mod pass;
 pub(in crate::render) mod pass_timer;
 pub(in crate::render) mod plan;
+mod plan_sources;
 pub(in crate::render) mod renderer;
 pub(in crate::render) mod scene_ao;
 pub(in crate::render) mod scene_textures;
