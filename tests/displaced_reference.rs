@@ -226,6 +226,38 @@ fn the_command_line_draws_the_reference_and_refuses_a_bad_edge() {
     let straight_only =
         common::cli::relief(&["render", "--silhouettes", "curved", "--out", "unused.png"]);
     common::cli::assert_clean_failure(&straight_only, &["bricks", "curved silhouettes", "qdm"]);
+    // With relief mapping the curved variant is planned, and --explain says so.
+    let explained = common::cli::relief(&[
+        "render",
+        "--silhouettes",
+        "curved",
+        "--method",
+        "relief",
+        "--explain",
+        "--width",
+        "32",
+        "--height",
+        "32",
+        "--out",
+        common::evidence_dir("displaced-reference")
+            .join("curved_explain.png")
+            .to_str()
+            .expect("utf-8"),
+    ]);
+    assert!(
+        explained.status.success(),
+        "{}",
+        String::from_utf8_lossy(&explained.stderr)
+    );
+    let plan: serde_json::Value = serde_json::from_slice(&explained.stdout).expect("JSON");
+    let curved: Vec<&serde_json::Value> = plan["pipelines"]
+        .as_array()
+        .expect("pipelines")
+        .iter()
+        .filter(|p| p["curved"] == true)
+        .collect();
+    assert_eq!(curved.len(), 1, "{plan}");
+    assert_eq!(curved[0]["shader"], "surface.frag:relief:curved");
 }
 
 /// Silhouette agreement (intersection over union of the covered pixels) of `a` with `b`.

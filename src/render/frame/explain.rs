@@ -21,6 +21,7 @@ struct PipelineEntry {
     blend: bool,
     shadows: &'static str,
     lod: bool,
+    curved: bool,
 }
 
 /// The explanation of what `plan` built; `maps` are the maps built for it, `cells` its cell
@@ -43,6 +44,7 @@ pub fn explain(
             blend: p.blend,
             shadows: p.shadows.mode.id(),
             lod: p.lod.is_some(),
+            curved: p.curved,
         })
         .collect();
     let heights: Vec<Value> = plan
