@@ -121,22 +121,7 @@ pub fn sphere_mesh(name: &str, radius: f32, rings: u32, segments: u32, material:
             ));
         }
     }
-    let row = segments + 1;
-    let mut indices = Vec::new();
-    for i in 0..rings {
-        for j in 0..segments {
-            let (a, b) = (i * row + j, i * row + j + 1);
-            let (c, d) = (a + row, b + row);
-            indices.extend([a, b, d, a, d, c]);
-        }
-    }
-    Mesh {
-        name: name.into(),
-        vertices,
-        indices,
-        material,
-        transform: Mat4::IDENTITY,
-    }
+    grid_mesh(name, vertices, rings, segments, material)
 }
 
 /// An open cylinder (no caps) about the y axis, or a curved wall when `arc` is less than a turn:
@@ -167,22 +152,7 @@ pub fn cylinder_mesh(
             ));
         }
     }
-    let row = segments + 1;
-    let mut indices = Vec::new();
-    for i in 0..rows {
-        for j in 0..segments {
-            let (a, b) = (i * row + j, i * row + j + 1);
-            let (c, d) = (a + row, b + row);
-            indices.extend([a, b, d, a, d, c]);
-        }
-    }
-    Mesh {
-        name: name.into(),
-        vertices,
-        indices,
-        material,
-        transform: Mat4::IDENTITY,
-    }
+    grid_mesh(name, vertices, rows, segments, material)
 }
 
 /// A torus about the y axis with smooth normals: the tube's centre circle has radius `major`,
@@ -220,10 +190,16 @@ pub fn torus_mesh(
             ));
         }
     }
-    let row = rings + 1;
+    grid_mesh(name, vertices, segments, rings, material)
+}
+
+/// A mesh over a grid of vertices, `rows + 1` rows of `cols + 1`, each cell two triangles
+/// wound counter-clockwise when +u runs along a row and +v up the rows around the normal.
+fn grid_mesh(name: &str, vertices: Vec<Vertex>, rows: u32, cols: u32, material: usize) -> Mesh {
+    let row = cols + 1;
     let mut indices = Vec::new();
-    for i in 0..segments {
-        for j in 0..rings {
+    for i in 0..rows {
+        for j in 0..cols {
             let (a, b) = (i * row + j, i * row + j + 1);
             let (c, d) = (a + row, b + row);
             indices.extend([a, b, d, a, d, c]);
