@@ -86,21 +86,33 @@ struct ShadowReceiver {
     float texel_world;
 };
 
+// Where p + v falls, given q = shadow_project(t, p). An orthographic view maps offsets linearly,
+// so its offset needs a 3x3 product and no division; a perspective one projects the point anew.
+vec4 shadow_project_offset(ShadowTile t, vec3 p, vec4 q, vec3 v) {
+    if (t.rect.w > 0.5) {
+        return shadow_project(t, p + v);
+    }
+    vec3 d = mat3(t.view_proj) * v;
+    return vec4(q.xy + d.xy * (0.5 * t.rect.z), q.z + d.z, q.w);
+}
+
 ShadowReceiver shadow_receiver(ShadowTile t, vec3 p, vec3 n, vec3 l) {
     ShadowReceiver r;
     r.texel_world = t.rect.w > 0.5 ? t.depth.z * distance(p, t.origin.xyz) : t.depth.z;
     vec4 q = shadow_project(t, p);
     r.texel = q.xy;
-    r.depth = shadow_project(t, p + l * (DEPTH_BIAS_TEXELS * r.texel_world)).z;
+    r.depth = shadow_project_offset(t, p, q, l * (DEPTH_BIAS_TEXELS * r.texel_world)).z;
     // Two directions in the receiver's plane, one texel long, and where they land in the view.
     vec3 a = normalize(cross(n, abs(n.x) < 0.9 ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0)));
     vec3 b = cross(n, a);
-    vec4 qa = shadow_project(t, p + a * r.texel_world);
-    vec4 qb = shadow_project(t, p + b * r.texel_world);
+    vec4 qa = shadow_project_offset(t, p, q, a * r.texel_world);
+    vec4 qb = shadow_project_offset(t, p, q, b * r.texel_world);
     mat2 j = mat2(qa.xy - q.xy, qb.xy - q.xy);
     vec2 dz = vec2(qa.z - q.z, qb.z - q.z);
     // slope . j[c] = dz[c]: the plane's depth gradient in texels (zero when seen edge-on).
-    r.slope = abs(determinant(j)) > 1e-6 ? dz * inverse(j) : vec2(0.0);
+    float det = determinant(j);
+    r.slope = abs(det) > 1e-6 ? vec2(dz.x * j[1].y - dz.y * j[0].y, dz.y * j[0].x - dz.x * j[1].x) / det
+                              : vec2(0.0);
     r.lo = t.rect.xy + 0.5;
     r.hi = t.rect.xy + t.rect.z - 0.5;
     return r;
@@ -193,15 +205,20 @@ float shadow_pcss(ShadowTile t, ShadowReceiver r, float size) {
             vec4 stored = gather_depths(r, corner + 0.5, plane);
             vec4 blocking = vec4(lessThan(stored, plane));
             found += dot(blocking, vec4(1.0));
-            for (int c = 0; c < 4; ++c) {
-                blockers += blocking[c] * shadow_distance(t, stored[c]);
+            if (perspective) {
+                for (int c = 0; c < 4; ++c) {
+                    blockers += blocking[c] * shadow_distance(t, stored[c]);
+                }
+            } else {
+                // Distance is linear in an orthographic view's depth: convert the mean once.
+                blockers += dot(blocking, stored);
             }
         }
     }
     if (found == 0.0) {
         return 1.0;
     }
-    float blocker = blockers / found;
+    float blocker = perspective ? blockers / found : shadow_distance(t, blockers / found);
     float gap = max(receiver - blocker, 0.0);
     float penumbra = perspective ? size * gap / max(blocker, 1e-6) : tan(size) * gap;
     return shadow_filter(r, penumbra / r.texel_world);
