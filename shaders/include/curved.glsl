@@ -41,6 +41,22 @@ float curved_drop(ReliefFrame f, vec2 curvature, vec2 d) {
     return 0.5 * (curvature.x * xt * xt + curvature.y * xb * xb) / f.depth_len;
 }
 
+// How the curved top falls along the light's uv direction `toward` from the hit at offset `e`
+// from the entry, relative to the plane through the hit parallel to the entry's tangent plane:
+// the drop at e + x d less the drop at e is x (slope) + x^2 (curve), d the unit direction; the
+// self-shadow searches (shadows.glsl) hang the field from that.
+vec2 curved_bend(ReliefFrame f, vec2 curvature, vec2 e, vec2 toward) {
+    float len = length(toward);
+    vec2 d = len > 1e-7 ? toward / len : vec2(1.0, 0.0);
+    vec3 we = height_offset_to_world(f, e);
+    vec3 wd = height_offset_to_world(f, d);
+    float et = dot(we, f.t), eb = dot(we, f.b);
+    float dt = dot(wd, f.t), db = dot(wd, f.b);
+    float slope = (curvature.x * et * dt + curvature.y * eb * db) / f.depth_len;
+    float curve = 0.5 * (curvature.x * dt * dt + curvature.y * db * db) / f.depth_len;
+    return vec2(slope, curve);
+}
+
 // Relief mapping's linear then binary search along the straight ray (depth z below the tangent
 // plane), each sample compared with the surface hung from the curved top: below it when
 // z - drop >= the field's depth there. A sample above the curved top (z < drop) after the entry

@@ -62,10 +62,17 @@ struct ShadowQuery {
     float radius;     // angular radius, radians
     float s;          // depth scale
     float reach;      // how far along d a blocker can matter, uv units
+    // Curved relief (curved.glsl): the curved top falls below the plane through the hit parallel
+    // to the entry's tangent plane by bend_slope x + bend_curve x^2 at x uv units along d, and
+    // the field hangs from it; both 0 under a flat polygon.
+    float bend_slope;
+    float bend_curve;
 };
 
-ShadowQuery shadow_query(vec2 uv_hit, float z_hit, vec3 l, float radius, float s) {
+ShadowQuery shadow_query(vec2 uv_hit, float z_hit, vec3 l, float radius, float s, vec2 bend) {
     ShadowQuery q;
+    q.bend_slope = bend.x;
+    q.bend_curve = bend.y;
     q.uv = uv_hit;
     // The surface's own height at the hit, not the method's z: the searches below compare
     // heights with it, and a method's small depth error would otherwise read as a blocker.
@@ -84,10 +91,20 @@ ShadowQuery shadow_query(vec2 uv_hit, float z_hit, vec3 l, float radius, float s
     return q;
 }
 
-// Visible share of the disk over a horizon of tangent `tau` (directions below the horizontal
-// never leave the top plane, so the horizon is at least flat).
+// The lowest horizon there is: a flat top plane's, 0 (directions below the horizontal never
+// leave it); a curved top's falls away with it, down to its tangent at the search's far end.
+float horizon_floor(ShadowQuery q) {
+    return -q.bend_slope - q.bend_curve * min(q.reach, SHADOW_MAX_REACH);
+}
+
+// A rise tangent `tau` seen at x along d, taken relative to the curved top (unchanged when flat).
+float bent_tangent(ShadowQuery q, float x, float tau) {
+    return tau - q.bend_slope - q.bend_curve * x;
+}
+
+// Visible share of the disk over a horizon of tangent `tau`, never below the top's own.
 float visible_over(ShadowQuery q, float tau) {
-    return clamp(disk_above_edge(q.elevation - atan(max(tau, 0.0)), q.radius), 0.0, 1.0);
+    return clamp(disk_above_edge(q.elevation - atan(max(tau, horizon_floor(q))), q.radius), 0.0, 1.0);
 }
 
 // Gradient (dh/du, dh/dv) of the bilinear surface itself at uv, inside the cell holding it: the
@@ -104,13 +121,13 @@ vec2 bilinear_gradient(vec2 uv) {
 // The horizon right at the hit: the surface's own rise toward the light (its tangent plane), so
 // a point on a slope facing away from the light is dark before any blocker is searched for.
 float tangent_horizon(ShadowQuery q) {
-    return q.s * dot(bilinear_gradient(q.uv), q.d);
+    return bent_tangent(q, 0.0, q.s * dot(bilinear_gradient(q.uv), q.d));
 }
 
 // Tangent of the elevation of the bilinear surface at distance x along the query's direction.
 float rise_tangent(ShadowQuery q, float x) {
     float h = q.s * height_bilinear_exact(q.uv + x * q.d);
-    return (h - q.zp) / x;
+    return bent_tangent(q, x, (h - q.zp) / x);
 }
 
 float shadow_pom_soft(ShadowQuery q) {
@@ -138,7 +155,7 @@ float shadow_horizon(ShadowQuery q) {
         float level = clamp(floor(log2(max(gap_texels, 1.0))), 0.0, top);
         float h = level < 0.5 ? height_bilinear_exact(q.uv + x * q.d)
                               : height_max(q.uv + x * q.d, level);
-        tau = max(tau, (q.s * h - q.zp) / x);
+        tau = max(tau, bent_tangent(q, x, (q.s * h - q.zp) / x));
         prev = x;
     }
     return visible_over(q, tau);
@@ -176,12 +193,15 @@ float cell_max_tangent(ShadowQuery q, vec2 cell, vec2 f0, vec2 df, float xa, flo
     float B = a * df.x + b * df.y + c * (f0.x * df.y + f0.y * df.x);
     float C = c * df.x * df.y;
     float K = at_hit ? 0.0 : q.s * A - q.zp;
-    float t = max(K / xa + q.s * (B + C * xa), K / xe + q.s * (B + C * xe));
-    float r = K / (q.s * C);
+    // A curved top's fall adds to the linear and quadratic terms.
+    float b1 = q.s * B - q.bend_slope;
+    float c1 = q.s * C - q.bend_curve;
+    float t = max(K / xa + b1 + c1 * xa, K / xe + b1 + c1 * xe);
+    float r = abs(c1) > 1e-30 ? K / c1 : -1.0;
     if (r > 0.0) {
         float xs = sqrt(r);
         if (xs > xa && xs < xe) {
-            t = max(t, K / xs + q.s * (B + C * xs));
+            t = max(t, K / xs + b1 + c1 * xs);
         }
     }
     return t;
@@ -217,12 +237,26 @@ float segment_max_tangent(ShadowQuery q, float x0, float x1) {
     return best;
 }
 
+// The least fall of a curved top over [a, b] along d (0 when flat).
+float least_fall(ShadowQuery q, float a, float b) {
+    float fall = min(a * (q.bend_slope + q.bend_curve * a), b * (q.bend_slope + q.bend_curve * b));
+    if (q.bend_curve > 0.0) {
+        float v = -q.bend_slope / (2.0 * q.bend_curve);
+        if (v > a && v < b) {
+            fall = min(fall, v * (q.bend_slope + q.bend_curve * v));
+        }
+    }
+    return fall;
+}
+
 float shadow_cone(ShadowQuery q) {
     vec2 texels = height_size();
     float texels_per_uv = max(abs(q.d.x) * texels.x, abs(q.d.y) * texels.y);
     float nudge = CROSSING_TEXELS / max(texels_per_uv, 1e-30);
-    float floor_tau = tan(clamp(q.elevation - q.radius, 0.0, MAX_SHADOW_ELEVATION));
-    float tau = max(tangent_horizon(q), 0.0);
+    float floor_tau = max(tan(clamp(q.elevation - q.radius, -MAX_SHADOW_ELEVATION, MAX_SHADOW_ELEVATION)),
+                          horizon_floor(q));
+    float tau = max(tangent_horizon(q), horizon_floor(q));
+    bool bent = q.bend_slope != 0.0 || q.bend_curve != 0.0;
     int leaf = pyramid_leaf();
     int top = pyramid_top();
     int level = leaf;
@@ -232,11 +266,13 @@ float shadow_cone(ShadowQuery q) {
     float highest = q.s * node_height(q.uv, top) - q.zp;
     for (uint i = 0u; i < SHADOW_STEPS; ++i) {
         float matters = max(tau, floor_tau);
-        if (x >= q.reach || (matters > 0.0 && highest <= matters * x)) {
+        if (x >= q.reach || (!bent && matters > 0.0 && highest <= matters * x)) {
             break;
         }
         float x_out = shadow_cell_exit(q, x, level);
-        float rise = q.s * node_height(q.uv + x * q.d, level) - q.zp;
+        // Under a curved top a node stands lower by the top's fall, at least its least fall
+        // over the node's span.
+        float rise = q.s * node_height(q.uv + x * q.d, level) - q.zp - least_fall(q, x, x_out);
         bool can_matter = rise > 0.0 && (x <= 0.0 || rise > matters * x);
         if (!can_matter) {
             x = x_out + nudge;
@@ -265,19 +301,48 @@ float shadow_hard(ShadowQuery q, vec2 uv_hit, float z_hit, vec3 l, float s) {
     return hit.z < z_hit && length(gap) > HARD_SHADOW_TEXELS ? 0.0 : 1.0;
 }
 
+// Hard self-shadowing under a curved top: the light ray from the hit, walked one texel at a time
+// until it rises out of the curved shell (lit) or passes under the field (shadowed). The
+// method's trace cannot take it: it runs straight rays under a plane.
+float shadow_hard_bent(ShadowQuery q) {
+    float rise = tan(clamp(q.elevation, -MAX_SHADOW_ELEVATION, MAX_SHADOW_ELEVATION));
+    if (tangent_horizon(q) >= rise) {
+        return 0.0;
+    }
+    vec2 texels = height_size();
+    float texel = 1.0 / max(abs(q.d.x) * texels.x, abs(q.d.y) * texels.y);
+    const uint samples = 256u;
+    float step_x = max(texel, min(q.reach, SHADOW_MAX_REACH) / float(samples));
+    for (uint k = 1u; k <= samples; ++k) {
+        float x = float(k) * step_x;
+        // Above the curved top: out of the shell.
+        if (x * rise >= q.s - q.zp - x * (q.bend_slope + q.bend_curve * x)) {
+            return 1.0;
+        }
+        if (rise_tangent(q, x) >= rise) {
+            return 0.0;
+        }
+    }
+    return 1.0;
+}
+
 // Visible fraction in [0, 1] of a light of angular radius `radius` (radians) in direction `l`
 // (height space: uv per unit, up per unit of depth; need not be normalised) from the hit at
 // (uv_hit, z_hit), by SHADOW_MODE.
-float light_visible(vec2 uv_hit, float z_hit, vec3 l, float radius, float depth_scale) {
+float light_visible_bent(vec2 uv_hit, float z_hit, vec3 l, float radius, float depth_scale, vec2 bend) {
     if (SHADOW_MODE == 0u || depth_scale <= 0.0) {
         return 1.0;
     }
-    ShadowQuery q = shadow_query(uv_hit, z_hit, l, radius, depth_scale);
-    if (q.elevation + q.radius <= 0.0) {
+    ShadowQuery q = shadow_query(uv_hit, z_hit, l, radius, depth_scale, bend);
+    if (q.elevation + q.radius <= atan(horizon_floor(q))) {
         return 0.0;
     }
     if (SHADOW_MODE == 1u) {
+#ifdef CURVED
+        return shadow_hard_bent(q);
+#else
         return shadow_hard(q, uv_hit, z_hit, l, depth_scale);
+#endif
     }
     if (SHADOW_MODE == 2u) {
         return shadow_pom_soft(q);
@@ -286,6 +351,11 @@ float light_visible(vec2 uv_hit, float z_hit, vec3 l, float radius, float depth_
         return shadow_horizon(q);
     }
     return shadow_cone(q);
+}
+
+// The same under a flat polygon.
+float light_visible(vec2 uv_hit, float z_hit, vec3 l, float radius, float depth_scale) {
+    return light_visible_bent(uv_hit, z_hit, l, radius, depth_scale, vec2(0.0));
 }
 
 #endif

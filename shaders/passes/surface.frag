@@ -179,8 +179,17 @@ void main() {
 #ifndef PLAIN_SURFACE
         if (SHADOW_MODE != 0u && frame.lights[i].color.w > 0.5) {
             float radius = light_angular_radius(i, world);
+#ifdef CURVED
+            // The light's path hangs from the curved top too, so a shadow ray leaves the shell
+            // where the silhouette does.
+            vec3 l_height = to_height_space(f, l);
+            vec2 bend = curved_bend(f, curvature, uv_hit - uv_h, l_height.xy);
+            lit_self = facing ? light_visible_bent(uv_hit, z, l_height, radius, depth_scale, bend)
+                              : 0.0;
+#else
             lit_self = facing ? light_visible(uv_hit, z, to_height_space(f, l), radius, depth_scale)
                               : 0.0;
+#endif
         }
 #endif
         if (probed) {
