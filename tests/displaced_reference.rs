@@ -501,3 +501,44 @@ fn curved_self_shadows_trace_through_the_curved_shell() {
         );
     }
 }
+
+#[test]
+fn the_bench_refuses_a_silhouette_mesh_it_cannot_hang_relief_from() {
+    let dir = common::scratch_dir("silhouette_mesh");
+    let missing = dir.join("missing.gltf");
+    let out_dir = dir.join("bench");
+    let out = common::cli::relief(&[
+        "bench",
+        "--silhouettes-only",
+        "--quick",
+        "--out",
+        out_dir.to_str().expect("utf-8 path"),
+        "--silhouette-mesh",
+        missing.to_str().expect("utf-8 path"),
+    ]);
+    common::cli::assert_clean_failure(&out, &["--silhouette-mesh", "missing.gltf"]);
+    // One triangle with positions only: no uvs for a height map.
+    let positions: Vec<u8> = [0f32, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0]
+        .iter()
+        .flat_map(|v| v.to_le_bytes())
+        .collect();
+    std::fs::write(dir.join("triangle.bin"), &positions).expect("writes");
+    let gltf = r#"{"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],
+        "nodes":[{"mesh":0}],"meshes":[{"name":"bare","primitives":[{"attributes":{"POSITION":0}}]}],
+        "buffers":[{"uri":"triangle.bin","byteLength":36}],
+        "bufferViews":[{"buffer":0,"byteLength":36}],
+        "accessors":[{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3",
+                      "min":[0,0,0],"max":[1,1,0]}]}"#;
+    let path = dir.join("bare.gltf");
+    std::fs::write(&path, gltf).expect("writes");
+    let out = common::cli::relief(&[
+        "bench",
+        "--silhouettes-only",
+        "--quick",
+        "--out",
+        out_dir.to_str().expect("utf-8 path"),
+        "--silhouette-mesh",
+        path.to_str().expect("utf-8 path"),
+    ]);
+    common::cli::assert_clean_failure(&out, &["bare.gltf", "texture coordinates"]);
+}

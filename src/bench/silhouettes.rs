@@ -1,5 +1,7 @@
 //! The bench's silhouette section: relief on curved meshes (a sphere, a torus, an open cylinder
-//! and a curved wall, both lying so that no view looks into them) against the displaced-geometry reference, for each way of drawing it (flat
+//! and a curved wall, both lying so that no view looks into them, and any mesh the caller
+//! brings, such as one from a glTF file) against the displaced-geometry reference, for each way
+//! of drawing it (flat
 //! relief mapping and flat QDM under the polygons, curved relief mapping), depth scales from
 //! shallow to deep and views from 30 to 75 degrees: silhouette agreement and colour difference
 //! against GPU time, the numbers a material's choice follows.
@@ -27,6 +29,11 @@ use crate::vk::Context;
 /// Why the section could not run.
 #[derive(Debug, thiserror::Error)]
 pub enum SilhouetteError {
+    /// The caller's mesh cannot carry relief.
+    #[error(
+        "mesh {0:?} has no triangle with usable texture coordinates to hang a height map from"
+    )]
+    NoUvs(String),
     /// A frame could not be rendered.
     #[error(transparent)]
     Render(#[from] RenderError),
@@ -38,7 +45,7 @@ pub enum SilhouetteError {
 /// One mesh, depth, view and way of drawing it.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct SilhouetteCell {
-    /// "sphere", "torus", "open cylinder" or "curved wall".
+    /// "sphere", "torus", "open cylinder", "curved wall" or the caller's mesh's name.
     pub mesh: String,
     /// The relief's world depth as a fraction of the mesh's radius.
     pub depth: f32,
@@ -70,13 +77,15 @@ pub struct SilhouetteSection {
 /// A test mesh, how long one depth unit is on it (at its widest), its radius, and where the
 /// camera looks from (horizontal direction) and at.
 struct Subject {
-    name: &'static str,
+    name: String,
     mesh: Mesh,
     depth_unit: f32,
     radius: f32,
     facing: Vec3,
     target: Vec3,
     distance: f32,
+    /// The camera's near and far planes.
+    clip: [f32; 2],
 }
 
 /// The open meshes lie with their axis along x, so that no view of the section looks into their
@@ -91,36 +100,39 @@ fn subjects(quick: bool) -> Vec<Subject> {
     let wall_arc = 1.5f32;
     let mut all = vec![
         Subject {
-            name: "sphere",
+            name: "sphere".into(),
             mesh: sphere_mesh("sphere", 1.0, 16, 32, 0),
             depth_unit: PI * 2f32.sqrt(),
             radius: 1.0,
             facing: Vec3::Z,
             target: Vec3::ZERO,
             distance: 3.0,
+            clip: [0.1, 20.0],
         },
         Subject {
-            name: "torus",
+            name: "torus".into(),
             mesh: torus_mesh("torus", 1.0, 0.35, 48, 24, 0),
             depth_unit: TAU * (1.35f32 * 0.35).sqrt(),
             radius: 1.0,
             facing: Vec3::Z,
             target: Vec3::ZERO,
             distance: 3.2,
+            clip: [0.1, 20.0],
         },
     ];
     if !quick {
         all.push(Subject {
-            name: "open cylinder",
+            name: "open cylinder".into(),
             mesh: lying(cylinder_mesh("cylinder", 1.0, 2.0, TAU, 48, 4, 0), 0.0),
             depth_unit: (TAU * 2.0f32).sqrt(),
             radius: 1.0,
             facing: Vec3::Z,
             target: Vec3::ZERO,
             distance: 4.2,
+            clip: [0.1, 20.0],
         });
         all.push(Subject {
-            name: "curved wall",
+            name: "curved wall".into(),
             mesh: lying(
                 cylinder_mesh("wall", 2.0, 1.5, wall_arc, 24, 2, 0),
                 -0.5 * wall_arc,
@@ -130,9 +142,41 @@ fn subjects(quick: bool) -> Vec<Subject> {
             facing: Vec3::Z,
             target: Vec3::Y * 2.0,
             distance: 3.0,
+            clip: [0.1, 20.0],
         });
     }
     all
+}
+
+/// A mesh from outside (a glTF file's): seen from +z of its bounds' centre, at three times its
+/// radius (the largest distance of a vertex from that centre), its depth unit the mesh's mean.
+fn subject_of(mesh: &Mesh) -> Result<Subject, SilhouetteError> {
+    let depth_unit = mesh
+        .mean_depth_length()
+        .ok_or_else(|| SilhouetteError::NoUvs(mesh.name.clone()))?;
+    let world: Vec<Vec3> = mesh
+        .vertices
+        .iter()
+        .map(|v| mesh.transform.transform_point3(v.position.into()))
+        .collect();
+    let (lo, hi) = world.iter().fold(
+        (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
+        |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+    );
+    let centre = (lo + hi) * 0.5;
+    let radius = world.iter().map(|p| p.distance(centre)).fold(0.0, f32::max);
+    let mut mesh = mesh.clone();
+    mesh.material = 0;
+    Ok(Subject {
+        name: mesh.name.clone(),
+        mesh,
+        depth_unit: depth_unit as f32,
+        radius,
+        facing: Vec3::Z,
+        target: centre,
+        distance: 3.0 * radius,
+        clip: [0.03 * radius, 20.0 * radius],
+    })
 }
 
 fn scene_of(subject: &Subject, depth: f32, view_deg: f32, option: &str) -> Scene {
@@ -162,7 +206,13 @@ fn scene_of(subject: &Subject, depth: f32, view_deg: f32, option: &str) -> Scene
         meshes: vec![subject.mesh.clone()],
         materials: vec![material],
         lights: vec![light],
-        camera: Some(Camera::look_at(eye, subject.target, 0.8, 0.1, 20.0)),
+        camera: Some(Camera::look_at(
+            eye,
+            subject.target,
+            0.8,
+            subject.clip[0],
+            subject.clip[1],
+        )),
         ..Scene::default()
     }
 }
@@ -170,10 +220,13 @@ fn scene_of(subject: &Subject, depth: f32, view_deg: f32, option: &str) -> Scene
 /// The ways of drawing relief the section compares.
 pub const SILHOUETTE_OPTIONS: [&str; 3] = ["flat relief", "flat qdm", "curved relief"];
 
-/// Runs the section; `quick` measures two meshes at one depth and view on a smaller image.
+/// Runs the section; `quick` measures two meshes at one depth and view on a smaller image;
+/// `extra`, a mesh of the caller's (with uvs for the height map), is measured after the built-in
+/// ones.
 pub fn run_silhouette_section(
     ctx: &Arc<Context>,
     quick: bool,
+    extra: Option<&Mesh>,
     mut progress: impl FnMut(&str),
 ) -> Result<SilhouetteSection, SilhouetteError> {
     let (size, frames, depths, views): ([u32; 2], u32, &[f32], &[f32]) = if quick {
@@ -188,7 +241,11 @@ pub fn run_silhouette_section(
         ..RenderOptions::default()
     };
     let mut cells = Vec::new();
-    for subject in subjects(quick) {
+    let mut all = subjects(quick);
+    if let Some(mesh) = extra {
+        all.push(subject_of(mesh)?);
+    }
+    for subject in all {
         for &depth in depths {
             for &view_deg in views {
                 progress(&format!(
@@ -204,7 +261,7 @@ pub fn run_silhouette_section(
                     let agreement = compare_with_reference(&image, &truth, size[0], size[1]);
                     let timed = time_steady_frames(ctx, &scene, Some(&heights), &opts, frames)?;
                     cells.push(SilhouetteCell {
-                        mesh: subject.name.to_owned(),
+                        mesh: subject.name.clone(),
                         depth,
                         view_deg,
                         option: option.to_owned(),

@@ -127,6 +127,10 @@ pub struct BenchArgs {
     /// Run only the silhouette section (with --quick: its small version).
     #[arg(long, conflicts_with = "no_silhouettes")]
     silhouettes_only: bool,
+    /// Also measure the silhouette section on the first mesh of this glTF file (its uv set 0
+    /// carries the height map; seen from +z of its bounds).
+    #[arg(long, value_name = "FILE.gltf", conflicts_with = "no_silhouettes")]
+    silhouette_mesh: Option<PathBuf>,
     #[arg(long, value_name = "repeat|clamp", default_value_t = Address::Repeat)]
     address: Address,
     #[arg(long, value_enum, default_value = "r16")]
@@ -460,6 +464,8 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         anyhow::bail!("relief bench needs --out DIR");
     };
     let cfg = config(args)?;
+    // Read before any measuring, so that a bad file fails the run at once.
+    let extra_mesh = silhouette_mesh(args.silhouette_mesh.as_deref())?;
     let ctx = super::open_device(args.device.as_deref(), args.json)?;
     let sections = sections(args, &cfg, &ctx);
     let plan = StepPlan::new(args.shard, &cfg, &sections);
@@ -478,7 +484,15 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     let stability = measure_stability(&ctx, &sections.cases, &cfg.methods, &plan, o, &bar, quiet);
     let (shadows, ao) =
         measure_shading(&mut runner, &sections, &cfg.fields, &plan, o, &bar, quiet)?;
-    let whole = measure_whole(args, &cfg, &ctx, &sections, &plan, &bar)?;
+    let whole = measure_whole(
+        args,
+        &cfg,
+        &ctx,
+        &sections,
+        &plan,
+        &bar,
+        extra_mesh.as_ref(),
+    )?;
     bar.finish_and_clear();
     super::check_validation(&ctx)?;
     let lod = lod_config(args, &cfg);
@@ -527,6 +541,33 @@ struct Whole {
 }
 
 /// Runs the sections that run as one piece, those asked for and in this run's shard.
+/// The first mesh with triangles of `--silhouette-mesh`'s file, or none without the flag.
+fn silhouette_mesh(path: Option<&std::path::Path>) -> anyhow::Result<Option<relief::scene::Mesh>> {
+    let Some(path) = path else {
+        return Ok(None);
+    };
+    let scene = relief::scene::load_gltf(path, &relief::scene::SceneOptions::default())
+        .with_context(|| format!("--silhouette-mesh {}", path.display()))?;
+    let mesh = scene
+        .meshes
+        .into_iter()
+        .find(|m| !m.indices.is_empty())
+        .with_context(|| {
+            format!(
+                "--silhouette-mesh {}: the file has no triangles",
+                path.display()
+            )
+        })?;
+    if mesh.mean_depth_length().is_none() {
+        anyhow::bail!(
+            "--silhouette-mesh {}: mesh {:?} has no texture coordinates to hang a height map from",
+            path.display(),
+            mesh.name
+        );
+    }
+    Ok(Some(mesh))
+}
+
 fn measure_whole(
     args: &BenchArgs,
     cfg: &SweepConfig,
@@ -534,6 +575,7 @@ fn measure_whole(
     sections: &SweepSections,
     plan: &StepPlan,
     bar: &ProgressBar,
+    extra_mesh: Option<&relief::scene::Mesh>,
 ) -> anyhow::Result<Whole> {
     let quiet = args.json;
     let shadow_stability = if whole_wanted(
@@ -597,8 +639,9 @@ fn measure_whole(
         None
     };
     let silhouettes = if whole_wanted(sections.silhouettes, plan, WholeSection::Silhouettes) {
-        let section = run_silhouette_section(ctx, cfg.quick, |what| note(bar, what, quiet))
-            .context("the silhouette section")?;
+        let section =
+            run_silhouette_section(ctx, cfg.quick, extra_mesh, |what| note(bar, what, quiet))
+                .context("the silhouette section")?;
         bar.inc(1);
         Some(section)
     } else {
