@@ -14,6 +14,7 @@ pub mod render;
 pub mod scene;
 pub mod shaders;
 pub mod shadow_reference;
+pub mod shells;
 pub mod terrain;
 #[cfg(feature = "window")]
 pub mod view;

@@ -107,6 +107,29 @@ pub fn displace(mesh: &Mesh, heights: &HeightLookup, depth_scale: f32) -> Mesh {
     }
 }
 
+/// Per vertex: the index of the first vertex it repeats (the same for every repeat the displaced
+/// mesh moves as one), and the world length of one depth unit there, `None` where only degenerate
+/// triangles meet. What a shell around the mesh needs to extrude its triangles exactly as
+/// [`displace`] moves the vertices.
+pub(crate) fn welded_depth_lengths(mesh: &Mesh, heights: &HeightLookup) -> Vec<(u32, Option<f64>)> {
+    let world: Vec<Vec3> = mesh
+        .vertices
+        .iter()
+        .map(|v| mesh.transform.transform_point3(Vec3::from(v.position)))
+        .collect();
+    let welds: Vec<Weld> = mesh.vertices.iter().map(weld).collect();
+    let frames = frames(mesh, heights, &world, &welds);
+    let mut first: HashMap<Weld, u32> = HashMap::new();
+    welds
+        .iter()
+        .enumerate()
+        .map(|(k, w)| {
+            let id = *first.entry(*w).or_insert(k as u32);
+            (id, frames.get(w).map(|f| f.depth_len))
+        })
+        .collect()
+}
+
 /// The surface pass's shading normal at height uv `huv` on a surface of normal `n` and tangent
 /// `tangent` (bitangent sign `sign`), and the tangent turned into its plane.
 fn relief_normal(

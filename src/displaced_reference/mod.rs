@@ -17,6 +17,7 @@ mod subdivide;
 
 pub use compare::{compare_with_reference, coverage, OutlineAgreement};
 pub use displace::displace;
+pub(crate) use displace::welded_depth_lengths;
 pub use subdivide::{levels_for, subdivide};
 
 use crate::heightfield::{Address, Heightfield};
