@@ -5,7 +5,8 @@
 //! Curved relief (`Silhouettes::Curved`) follows the displaced outline of a sphere and a torus
 //! (silhouette IoU >= 0.98, mean channel difference <= 3 levels) where flat relief keeps the
 //! mesh's, casts the displaced surface's shadow into the shadow maps, and shadows itself along
-//! light rays that leave through the same curved shell. On failure the images
+//! light rays that leave through the same curved shell. Prism shells, traced by their CPU
+//! march, cover what the displaced meshes cover, open ends included. On failure the images
 //! are left under `target/test-output/displaced-reference/`.
 
 mod common;
@@ -18,9 +19,10 @@ use relief::heightfield::{Address, Generator, Heightfield};
 use relief::method::Method;
 use relief::render::{render, RenderOptions, ShadowFilter, ShadowOptions};
 use relief::scene::{
-    quad_mesh, sphere_mesh, torus_mesh, Camera, Light, Material, Mesh, Relief, Scene, ShadowMode,
-    ShadowSettings, Silhouettes,
+    cylinder_mesh, quad_mesh, sphere_mesh, torus_mesh, Camera, Light, Material, Mesh, Relief,
+    Scene, ShadowMode, ShadowSettings, Silhouettes,
 };
+use relief::shells::scene_shells;
 
 const WIDTH: u32 = 200;
 const HEIGHT: u32 = 150;
@@ -335,6 +337,54 @@ fn curved_relief_follows_the_displaced_outline() {
             assert!(
                 curved_iou > flat_iou && curved_diff < flat_diff,
                 "{name}, {view}: curved ({curved_iou:.4}, {curved_diff:.2}) is no closer than flat ({flat_iou:.4}, {flat_diff:.2})"
+            );
+        }
+    }
+}
+
+#[test]
+fn prism_shells_cover_what_the_displaced_mesh_covers() {
+    let Some(ctx) = common::device("prism_shells_cover_what_the_displaced_mesh_covers") else {
+        return;
+    };
+    let heights = Generator::Fbm.generate(64, 64, 3);
+    let sphere_depth = 0.05 / (std::f32::consts::PI * 2f32.sqrt());
+    let torus_depth = 0.05 / (std::f32::consts::TAU * (1.35f32 * 0.35).sqrt());
+    // Open, lying along x so that no view looks into it: its ends are an open boundary the
+    // displaced surface leaves inward.
+    let mut cylinder = cylinder_mesh("open cylinder", 1.0, 2.0, std::f32::consts::TAU, 48, 4, 0);
+    cylinder.transform = glam::Mat4::from_rotation_z(std::f32::consts::FRAC_PI_2);
+    let cylinder_depth = 0.05 / (std::f32::consts::TAU * 2.0).sqrt();
+    let meshes = [
+        (
+            "sphere",
+            sphere_mesh("sphere", 1.0, 16, 32, 0),
+            sphere_depth,
+        ),
+        (
+            "torus",
+            torus_mesh("torus", 1.0, 0.35, 48, 24, 0),
+            torus_depth,
+        ),
+        ("open cylinder", cylinder, cylinder_depth),
+    ];
+    for (name, mesh, depth) in meshes {
+        for (eye, view) in [
+            (Vec3::new(0.0, 1.5, 2.6) * 1.2, "30 degrees"),
+            (Vec3::new(0.0, 2.9, 0.78) * 1.2, "75 degrees"),
+        ] {
+            let flat = scene(mesh.clone(), depth, eye);
+            let reference = draw(&ctx, &displaced(&flat, &heights, 1.0), None);
+            let truth = coverage(&reference);
+            let shells = scene_shells(&flat, Some(&heights), Address::Repeat).expect("shells");
+            let camera = flat.camera.expect("a camera");
+            let shelled = relief::shells::coverage(&shells, &camera, [WIDTH, HEIGHT]);
+            let polygons = coverage(&draw(&ctx, &flat, Some(&heights)));
+            let (shell_iou, flat_iou) = (iou(&shelled, &truth), iou(&polygons, &truth));
+            eprintln!("{name}, {view}: silhouette IoU shells {shell_iou:.4}, flat {flat_iou:.4}");
+            assert!(
+                shell_iou >= 0.99 && shell_iou > flat_iou,
+                "{name}, {view}: the shells' outline agrees {shell_iou:.4} (flat {flat_iou:.4})"
             );
         }
     }

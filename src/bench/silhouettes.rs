@@ -15,7 +15,7 @@ use serde::{Deserialize, Serialize};
 
 use super::frame_timing::time_steady_frames;
 use crate::displaced_reference::{
-    compare_with_reference, displaced_scene, DisplacedReferenceError,
+    compare_with_reference, coverage, displaced_scene, DisplacedReferenceError,
 };
 use crate::heightfield::{Address, Generator, Heightfield};
 use crate::method::Method;
@@ -24,6 +24,7 @@ use crate::scene::{
     cylinder_mesh, sphere_mesh, torus_mesh, Camera, Light, Material, Mesh, Relief, Scene,
     Silhouettes,
 };
+use crate::shells::{self, scene_shells, SceneShellsError};
 use crate::vk::Context;
 
 /// Why the section could not run.
@@ -40,6 +41,9 @@ pub enum SilhouetteError {
     /// The reference could not be built.
     #[error(transparent)]
     Reference(#[from] DisplacedReferenceError),
+    /// The prism shells could not be built.
+    #[error(transparent)]
+    Shells(#[from] SceneShellsError),
 }
 
 /// One mesh, depth, view and way of drawing it.
@@ -63,6 +67,24 @@ pub struct SilhouetteCell {
     pub surface_ms: f64,
 }
 
+/// Prism shells' outline for one mesh, depth and view, from the CPU march (no GPU pass draws
+/// shells yet): which pixels the shells cover against the reference's.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct ShellCoverage {
+    /// As [`SilhouetteCell::mesh`].
+    pub mesh: String,
+    /// As [`SilhouetteCell::depth`].
+    pub depth: f32,
+    /// As [`SilhouetteCell::view_deg`].
+    pub view_deg: f32,
+    /// Silhouette agreement with the reference (intersection over union of covered pixels).
+    pub iou: f64,
+    /// Prisms in the shell.
+    pub prisms: usize,
+    /// Wall-clock seconds of the march over the image, on every core.
+    pub cpu_seconds: f64,
+}
+
 /// The whole section.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct SilhouetteSection {
@@ -72,6 +94,9 @@ pub struct SilhouetteSection {
     pub frames: u32,
     /// Every cell.
     pub cells: Vec<SilhouetteCell>,
+    /// Prism shells' coverage per mesh, depth and view (absent from files written before it).
+    #[serde(default)]
+    pub shells: Vec<ShellCoverage>,
 }
 
 /// A test mesh, how long one depth unit is on it (at its widest), its radius, and where the
@@ -241,6 +266,7 @@ pub fn run_silhouette_section(
         ..RenderOptions::default()
     };
     let mut cells = Vec::new();
+    let mut shell_cells = Vec::new();
     let mut all = subjects(quick);
     if let Some(mesh) = extra {
         all.push(subject_of(mesh)?);
@@ -255,6 +281,13 @@ pub fn run_silhouette_section(
                 let base = scene_of(&subject, depth, view_deg, "flat relief");
                 let reference = displaced_scene(&base, Some(&heights), Address::Repeat, 1.0)?;
                 let truth = render(ctx, &reference.scene, None, &opts)?.rgba;
+                let shelled = shell_coverage(&base, &heights, &truth, size)?;
+                shell_cells.push(ShellCoverage {
+                    mesh: subject.name.clone(),
+                    depth,
+                    view_deg,
+                    ..shelled
+                });
                 for option in SILHOUETTE_OPTIONS {
                     let scene = scene_of(&subject, depth, view_deg, option);
                     let image = render(ctx, &scene, Some(&heights), &opts)?.rgba;
@@ -278,6 +311,41 @@ pub fn run_silhouette_section(
         size,
         frames,
         cells,
+        shells: shell_cells,
+    })
+}
+
+/// The outline prism shells give `scene`'s relief meshes against the reference's frame `truth`
+/// (the caller names the cell).
+fn shell_coverage(
+    scene: &Scene,
+    heights: &Heightfield,
+    truth: &[u8],
+    size: [u32; 2],
+) -> Result<ShellCoverage, SilhouetteError> {
+    let built = scene_shells(scene, Some(heights), Address::Repeat)?;
+    let camera = scene.camera.expect("the section's scenes have a camera");
+    let started = std::time::Instant::now();
+    let covered = shells::coverage(&built, &camera, size);
+    let cpu_seconds = started.elapsed().as_secs_f64();
+    let truth = coverage(truth);
+    let both = covered
+        .iter()
+        .zip(&truth)
+        .filter(|(a, b)| **a && **b)
+        .count();
+    let either = covered
+        .iter()
+        .zip(&truth)
+        .filter(|(a, b)| **a || **b)
+        .count();
+    Ok(ShellCoverage {
+        mesh: String::new(),
+        depth: 0.0,
+        view_deg: 0.0,
+        iou: both as f64 / either.max(1) as f64,
+        prisms: built.iter().map(|s| s.prisms.len()).sum(),
+        cpu_seconds,
     })
 }
 
@@ -310,6 +378,23 @@ pub fn report(md: &mut String, s: &SilhouetteSection) {
             c.mean_difference,
             c.band_difference,
             c.surface_ms
+        );
+    }
+    if s.shells.is_empty() {
+        return;
+    }
+    let _ = writeln!(
+        md,
+        "\nPrism shells, traced by the CPU march (no GPU pass draws them yet): one ray per pixel \
+         centre, the covered pixels against the reference's; no colour, no GPU time.\n"
+    );
+    let _ = writeln!(md, "| mesh | depth | view | prisms | IoU | CPU s |");
+    let _ = writeln!(md, "|---|---|---|---|---|---|");
+    for c in &s.shells {
+        let _ = writeln!(
+            md,
+            "| {} | {} | {} | {} | {:.4} | {:.2} |",
+            c.mesh, c.depth, c.view_deg, c.prisms, c.iou, c.cpu_seconds
         );
     }
 }

@@ -53,8 +53,12 @@ impl Shell {
     /// `None` where it passes the relief by: through the shell and out, or beside it.
     pub fn trace(&self, origin: DVec3, dir: DVec3) -> Option<ShellHit> {
         let mut best: Option<ShellHit> = None;
-        for (index, prism) in self.prisms.iter().enumerate() {
+        let inverse = dir.recip();
+        for (index, (prism, bounds)) in self.prisms.iter().zip(&self.bounds).enumerate() {
             let limit = best.map_or(f64::INFINITY, |h| h.t);
+            if !box_reached(bounds, origin, inverse, limit) {
+                continue;
+            }
             if let Some(hit) = self.prism_hit(index, prism, origin, dir, limit) {
                 best = Some(hit);
             }
@@ -197,6 +201,16 @@ impl Shell {
         }
         below
     }
+}
+
+/// Whether the ray (direction `1 / inverse`) meets the box `[lo, hi]` before `limit`.
+fn box_reached([lo, hi]: &[DVec3; 2], origin: DVec3, inverse: DVec3, limit: f64) -> bool {
+    let (a, b) = ((*lo - origin) * inverse, (*hi - origin) * inverse);
+    // A zero direction component gives infinities, or NaN for an origin on the slab's plane,
+    // which max and min pass over.
+    let enter = a.min(b).max_element().max(0.0);
+    let leave = a.max(b).min_element().min(limit);
+    enter <= leave
 }
 
 /// Where the ray crosses the prism's faces, nearest first, with the face; crossings of two faces

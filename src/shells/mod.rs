@@ -17,11 +17,15 @@
 //! mesh repeats a point with different normals (a hard edge) the prisms part, as the reference's
 //! displaced faces do.
 
+mod coverage;
 mod march;
 mod prism;
+mod scene_shells;
 
+pub use coverage::coverage;
 pub use march::ShellHit;
 pub use prism::{Prism, PrismFace, Shell, ShellError};
+pub use scene_shells::{scene_shells, SceneShellsError};
 
 #[cfg(test)]
 mod march_tests;

@@ -131,16 +131,21 @@ impl Prism {
 /// A mesh's relief shell: its prisms and the height field traced inside them.
 #[derive(Debug, Clone)]
 pub struct Shell {
-    /// One prism per triangle with usable uvs, in the mesh's order.
+    /// One prism per triangle whose corners have depth lengths, in the mesh's order.
     pub prisms: Vec<Prism>,
     /// The heights the rays are traced against.
     pub heights: HeightLookup,
+    /// Each prism's bounding box, widened by its depth (its bottom bulges past the flat
+    /// triangle of its corners where the normals part), so a ray can pass most prisms by.
+    pub(super) bounds: Vec<[DVec3; 2]>,
 }
 
 impl Shell {
     /// The shell of `mesh` (in world space: its transform applied) for relief `heights` at
     /// `depth_scale`, extruded as [`crate::displaced_reference::displace`] moves the vertices.
-    /// Triangles with degenerate uvs get no prism (the reference leaves them on their polygon).
+    /// A triangle gets a prism where each of its corners has a depth length, from any triangle
+    /// of that vertex with usable uvs: a pole's fan, whose uvs collapse, is extruded like its
+    /// neighbours, as the reference moves its vertices.
     pub fn new(mesh: &Mesh, heights: &HeightLookup, depth_scale: f32) -> Result<Shell, ShellError> {
         if !(depth_scale.is_finite() && depth_scale > 0.0) {
             return Err(ShellError::DepthScale {
@@ -162,40 +167,53 @@ impl Shell {
                 .normalize_or_zero()
                 .as_dvec3();
             let (weld, length) = welded[k];
-            (
-                top,
-                n,
-                length.map(|l| s * l),
-                heights.uv.of(v).as_dvec2(),
-                weld,
-            )
+            // A vertex with only degenerate-uv triangles about it (a pole's fan on some
+            // exporters' spheres) stays on its polygon, as the reference leaves it.
+            let depth = s * length.unwrap_or(0.0);
+            (top, n, depth, heights.uv.of(v).as_dvec2(), weld)
         };
+        if welded.iter().all(|(_, length)| length.is_none()) {
+            return Err(ShellError::NoUvs {
+                mesh: mesh.name.clone(),
+            });
+        }
         let prisms: Vec<Prism> = mesh
             .indices
             .chunks_exact(3)
-            .filter_map(|t| {
+            .map(|t| {
                 let c = [t[0], t[1], t[2]].map(|k| corner(k as usize));
-                Some(Prism {
+                Prism {
                     top: c.map(|c| c.0),
                     normal: c.map(|c| c.1),
-                    depth: [c[0].2?, c[1].2?, c[2].2?],
+                    depth: c.map(|c| c.2),
                     uv: c.map(|c| c.3),
                     welds: c.map(|c| c.4),
-                })
+                }
             })
-            .filter(|p| {
-                let (e1, e2) = (p.uv[1] - p.uv[0], p.uv[2] - p.uv[0]);
-                e1.perp_dot(e2) != 0.0 && p.normal.iter().all(|n| *n != DVec3::ZERO)
-            })
+            .filter(|p| p.normal.iter().all(|n| *n != DVec3::ZERO))
             .collect();
         if prisms.is_empty() {
             return Err(ShellError::NoUvs {
                 mesh: mesh.name.clone(),
             });
         }
+        let bounds = prisms
+            .iter()
+            .map(|p| {
+                let bottom = p.bottom();
+                let corners = p.top.iter().chain(bottom.iter()).copied();
+                let (lo, hi) = corners.fold(
+                    (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+                    |(lo, hi), q| (lo.min(q), hi.max(q)),
+                );
+                let pad = DVec3::splat(p.depth.iter().copied().fold(0.0, f64::max));
+                [lo - pad, hi + pad]
+            })
+            .collect();
         Ok(Shell {
             prisms,
             heights: heights.clone(),
+            bounds,
         })
     }
 }
