@@ -14,7 +14,7 @@ mod common;
 use std::sync::Arc;
 
 use glam::Vec3;
-use relief::displaced_reference::displaced_scene;
+use relief::displaced_reference::{coverage, displaced_scene, iou};
 use relief::heightfield::{Address, Generator, Heightfield};
 use relief::method::Method;
 use relief::render::{render, RenderOptions, ShadowFilter, ShadowOptions};
@@ -143,12 +143,6 @@ fn on_a_flat_quad_the_reference_is_what_relief_traces() {
     }
 }
 
-/// Covered pixels: those that differ from the corner's background.
-fn coverage(rgba: &[u8]) -> Vec<bool> {
-    let background = &rgba[..4];
-    rgba.chunks_exact(4).map(|p| p != background).collect()
-}
-
 #[test]
 fn flat_relief_keeps_the_outline_the_displaced_sphere_gives_up() {
     let Some(ctx) = common::device("flat_relief_keeps_the_outline_the_displaced_sphere_gives_up")
@@ -262,13 +256,6 @@ fn the_command_line_draws_the_reference_and_refuses_a_bad_edge() {
         .collect();
     assert_eq!(curved.len(), 1, "{plan}");
     assert_eq!(curved[0]["shader"], "surface.frag:relief:curved");
-}
-
-/// Silhouette agreement (intersection over union of the covered pixels) of `a` with `b`.
-fn iou(a: &[bool], b: &[bool]) -> f64 {
-    let both = a.iter().zip(b).filter(|(x, y)| **x && **y).count();
-    let either = a.iter().zip(b).filter(|(x, y)| **x || **y).count();
-    both as f64 / either.max(1) as f64
 }
 
 #[test]

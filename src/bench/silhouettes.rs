@@ -15,7 +15,7 @@ use serde::{Deserialize, Serialize};
 
 use super::frame_timing::time_steady_frames;
 use crate::displaced_reference::{
-    compare_with_reference, coverage, displaced_scene, DisplacedReferenceError,
+    compare_with_reference, coverage, displaced_scene, iou, DisplacedReferenceError,
 };
 use crate::heightfield::{Address, Generator, Heightfield};
 use crate::method::Method;
@@ -281,13 +281,8 @@ pub fn run_silhouette_section(
                 let base = scene_of(&subject, depth, view_deg, "flat relief");
                 let reference = displaced_scene(&base, Some(&heights), Address::Repeat, 1.0)?;
                 let truth = render(ctx, &reference.scene, None, &opts)?.rgba;
-                let shelled = shell_coverage(&base, &heights, &truth, size)?;
-                shell_cells.push(ShellCoverage {
-                    mesh: subject.name.clone(),
-                    depth,
-                    view_deg,
-                    ..shelled
-                });
+                let cell = (subject.name.clone(), depth, view_deg);
+                shell_cells.push(shell_coverage(cell, &base, &heights, &truth, size)?);
                 for option in SILHOUETTE_OPTIONS {
                     let scene = scene_of(&subject, depth, view_deg, option);
                     let image = render(ctx, &scene, Some(&heights), &opts)?.rgba;
@@ -315,9 +310,10 @@ pub fn run_silhouette_section(
     })
 }
 
-/// The outline prism shells give `scene`'s relief meshes against the reference's frame `truth`
-/// (the caller names the cell).
+/// The outline prism shells give `scene`'s relief meshes against the reference's frame `truth`,
+/// for the cell `(mesh, depth, view_deg)`.
 fn shell_coverage(
+    (mesh, depth, view_deg): (String, f32, f32),
     scene: &Scene,
     heights: &Heightfield,
     truth: &[u8],
@@ -328,22 +324,11 @@ fn shell_coverage(
     let started = std::time::Instant::now();
     let covered = shells::coverage(&built, &camera, size);
     let cpu_seconds = started.elapsed().as_secs_f64();
-    let truth = coverage(truth);
-    let both = covered
-        .iter()
-        .zip(&truth)
-        .filter(|(a, b)| **a && **b)
-        .count();
-    let either = covered
-        .iter()
-        .zip(&truth)
-        .filter(|(a, b)| **a || **b)
-        .count();
     Ok(ShellCoverage {
-        mesh: String::new(),
-        depth: 0.0,
-        view_deg: 0.0,
-        iou: both as f64 / either.max(1) as f64,
+        mesh,
+        depth,
+        view_deg,
+        iou: iou(&covered, &coverage(truth)),
         prisms: built.iter().map(|s| s.prisms.len()).sum(),
         cpu_seconds,
     })

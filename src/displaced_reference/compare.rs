@@ -22,6 +22,13 @@ pub fn coverage(rgba: &[u8]) -> Vec<bool> {
     rgba.chunks_exact(4).map(|p| p != background).collect()
 }
 
+/// Intersection over union of two coverage masks of one image.
+pub fn iou(a: &[bool], b: &[bool]) -> f64 {
+    let both = a.iter().zip(b).filter(|(x, y)| **x && **y).count();
+    let either = a.iter().zip(b).filter(|(x, y)| **x || **y).count();
+    both as f64 / either.max(1) as f64
+}
+
 /// Compares `image` with `reference`, both RGBA8 of `width` x `height`, the same view.
 pub fn compare_with_reference(
     image: &[u8],
@@ -30,8 +37,6 @@ pub fn compare_with_reference(
     height: u32,
 ) -> OutlineAgreement {
     let (a, b) = (coverage(image), coverage(reference));
-    let both = a.iter().zip(&b).filter(|(x, y)| **x && **y).count();
-    let either = a.iter().zip(&b).filter(|(x, y)| **x || **y).count();
     let band = outline_band(&b, width as usize, height as usize, 2);
     let difference = |keep: &dyn Fn(usize) -> bool| {
         let (mut sum, mut n) = (0u64, 0u64);
@@ -48,7 +53,7 @@ pub fn compare_with_reference(
         sum as f64 / n.max(1) as f64
     };
     OutlineAgreement {
-        iou: both as f64 / either.max(1) as f64,
+        iou: iou(&a, &b),
         mean_difference: difference(&|_| true),
         band_difference: difference(&|k| band[k]),
         band_pixels: band.iter().filter(|x| **x).count(),

@@ -15,13 +15,13 @@ mod compare;
 mod displace;
 mod subdivide;
 
-pub use compare::{compare_with_reference, coverage, OutlineAgreement};
+pub use compare::{compare_with_reference, coverage, iou, OutlineAgreement};
 pub use displace::displace;
 pub(crate) use displace::welded_depth_lengths;
 pub use subdivide::{levels_for, subdivide};
 
 use crate::heightfield::{Address, Heightfield};
-use crate::scene::{MaterialHeights, MaterialHeightsError, Scene};
+use crate::scene::{HeightLookup, MaterialHeights, MaterialHeightsError, Relief, Scene};
 
 /// Edge length the reference subdivides to by default, in height texels.
 pub const DEFAULT_TEXELS_PER_EDGE: f64 = 1.0;
@@ -92,6 +92,30 @@ pub enum DisplacedReferenceError {
     Heights(#[from] MaterialHeightsError),
 }
 
+/// Each relief mesh of `scene` (its index) with its material's relief and heights; materials
+/// reading the frame's height map read `frame_heights` with `frame_address`.
+pub fn relief_lookups(
+    scene: &Scene,
+    frame_heights: Option<&Heightfield>,
+    frame_address: Address,
+) -> Result<Vec<(usize, Relief, HeightLookup)>, DisplacedReferenceError> {
+    let mut heights = MaterialHeights::new(scene, frame_heights, frame_address);
+    let mut out = Vec::new();
+    for (index, mesh) in scene.meshes.iter().enumerate() {
+        let material = scene.materials.get(mesh.material).ok_or_else(|| {
+            DisplacedReferenceError::NoMaterial {
+                mesh: mesh.name.clone(),
+                material: mesh.material,
+                count: scene.materials.len(),
+            }
+        })?;
+        if let Some(relief) = material.relief {
+            out.push((index, relief, heights.of(material, relief.height)?));
+        }
+    }
+    Ok(out)
+}
+
 /// `scene` with every relief mesh displaced (edges of at most `texels_per_edge` height texels)
 /// and every material's relief taken off. Materials reading the frame's height map read
 /// `frame_heights` with `frame_address`.
@@ -104,21 +128,10 @@ pub fn displaced_scene(
     if !(texels_per_edge.is_finite() && texels_per_edge > 0.0) {
         return Err(DisplacedReferenceError::BadTexelsPerEdge(texels_per_edge));
     }
-    let mut heights = MaterialHeights::new(scene, frame_heights, frame_address);
     let mut out = scene.clone();
     let mut report = Vec::new();
-    for (mesh, slot) in scene.meshes.iter().zip(&mut out.meshes) {
-        let material = scene.materials.get(mesh.material).ok_or_else(|| {
-            DisplacedReferenceError::NoMaterial {
-                mesh: mesh.name.clone(),
-                material: mesh.material,
-                count: scene.materials.len(),
-            }
-        })?;
-        let Some(relief) = material.relief else {
-            continue;
-        };
-        let lookup = heights.of(material, relief.height)?;
+    for (index, relief, lookup) in relief_lookups(scene, frame_heights, frame_address)? {
+        let mesh = &scene.meshes[index];
         let size = [lookup.heights.width(), lookup.heights.height()];
         let (levels, longest) = levels_for(mesh, &lookup.uv, size, texels_per_edge);
         let triangles = (mesh.indices.len() / 3) as u128 * 4u128.saturating_pow(levels);
@@ -132,7 +145,7 @@ pub fn displaced_scene(
                 texels_per_edge,
             });
         }
-        *slot = displace(&subdivide(mesh, levels), &lookup, relief.depth_scale);
+        out.meshes[index] = displace(&subdivide(mesh, levels), &lookup, relief.depth_scale);
         report.push(DisplacedMesh {
             name: mesh.name.clone(),
             levels,
