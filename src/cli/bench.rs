@@ -1,11 +1,9 @@
 //! `relief bench`: every method's error against its GPU time on one device, how cost grows with
 //! map size and depth scale, and the stability matrix; writes results.json, report.md and plots.
 
-use std::path::PathBuf;
 use std::sync::Arc;
 
 use anyhow::Context as _;
-use clap::{Args, Subcommand};
 use std::io::IsTerminal;
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -15,153 +13,23 @@ use relief::bench::{
     run_scene_shadow_section, run_silhouette_section, run_stiff_case, stiff_cases, utc_now_rfc3339,
     AoConfig, AoRun, BenchResults, BlendingConfig, BlendingSection, EditCost, FieldSource,
     FrameFeatureSection, LodConfig, LodSection, PaintCost, ReliefBuild, Runner, SceneShadowSection,
-    ShadingConfig, ShadowRun, ShadowStabilityCell, Shard, SilhouetteSection, SlowDown,
-    StabilityCell, StepOrigins, StiffCase, SweepConfig, SweepSections, WholeSection,
-    SCHEMA_VERSION,
+    ShadingConfig, ShadowRun, ShadowStabilityCell, SilhouetteSection, StabilityCell, StepOrigins,
+    StiffCase, SweepConfig, SweepSections, WholeSection, SCHEMA_VERSION,
 };
 
 /// The brush radius of the terrain-edit section, in texels (the stroke).
 const EDIT_RADIUS: f32 = 32.0;
-use relief::heightfield::{Address, Generator, MAX_SIDE};
+use relief::heightfield::MAX_SIDE;
 use relief::method::Method;
 use relief::render::HeightFormat;
 use relief::scene::AoMode;
 use relief::vk::Context;
 
-use super::bench_merge::{self, MergeArgs};
+use super::bench_args::{parse_resolution, BenchArgs, BenchCommand};
+use super::bench_merge;
 use super::bench_runs::measure_runs;
 use super::bench_shard::{self, StepPlan};
 use super::scene_args::FormatArg;
-
-#[derive(Args)]
-#[command(args_conflicts_with_subcommands = true, subcommand_negates_reqs = true)]
-pub struct BenchArgs {
-    #[command(subcommand)]
-    command: Option<BenchCommand>,
-    /// Folder for results.json, report.md and the SVG plots.
-    #[arg(long, required = true)]
-    out: Option<PathBuf>,
-    /// Small sweep for CI (a few minutes on lavapipe).
-    #[arg(long)]
-    quick: bool,
-    /// Method ids, comma-separated (default: all).
-    #[arg(long, value_delimiter = ',')]
-    methods: Vec<String>,
-    /// Synthetic fields, comma-separated (default fbm,bricks; quick: fbm).
-    #[arg(long, value_delimiter = ',')]
-    fields: Vec<Generator>,
-    /// A real height map to add (repeatable).
-    #[arg(long)]
-    heightmap: Vec<PathBuf>,
-    /// Map sides; the first is used by every section, all of them by the scaling section.
-    #[arg(long, value_delimiter = ',')]
-    sizes: Vec<u32>,
-    /// View elevations in degrees.
-    #[arg(long, value_delimiter = ',')]
-    angles: Vec<f64>,
-    /// Azimuths in degrees.
-    #[arg(long, value_delimiter = ',')]
-    azimuths: Vec<f64>,
-    /// Depth scales; the first is used by every section, all of them by the depth-scale one.
-    #[arg(long, value_delimiter = ',')]
-    depth_scales: Vec<f64>,
-    /// Iteration caps tried on fixed-step methods besides their defaults.
-    #[arg(long, value_delimiter = ',')]
-    budgets: Vec<u32>,
-    /// Size of the timed full-screen pass, WxH.
-    #[arg(long)]
-    resolution: Option<String>,
-    /// Timed frames per configuration.
-    #[arg(long)]
-    frames: Option<u32>,
-    /// Passes over the sweep that share each configuration's frames, so that a slow spell of
-    /// the machine touches every method alike (default 3, never more than the frames).
-    #[arg(long)]
-    passes: Option<u32>,
-    /// Skip the stability matrix.
-    #[arg(long)]
-    no_stability: bool,
-    /// Run only the stability matrix (stiff and extreme cases, sparse spikes included).
-    #[arg(long, conflicts_with_all = ["no_stability", "shading_only", "lod_only"])]
-    stability_only: bool,
-    /// Skip the shading section (shadow modes against the exact visible fraction).
-    #[arg(long)]
-    no_shading: bool,
-    /// Run only the shading section.
-    #[arg(long, conflicts_with = "no_shading")]
-    shading_only: bool,
-    /// Run only the level-of-detail section (with --quick: its small version, seconds).
-    #[arg(long, conflicts_with = "no_lod")]
-    lod_only: bool,
-    /// Skip the level-of-detail section.
-    #[arg(long)]
-    no_lod: bool,
-    /// Skip the terrain-edit section (a brush stroke's partial rebuild against a full one, and a
-    /// paint stroke's on a layered material's weights).
-    #[arg(long)]
-    no_edits: bool,
-    /// Field sides of the terrain-edit section (default 1024,4096; quick: 256,1024).
-    #[arg(long, value_delimiter = ',', conflicts_with = "no_edits")]
-    edit_sizes: Vec<u32>,
-    /// Skip the terrain-blending section (blended layers against a single field of their shape).
-    #[arg(long)]
-    no_blending: bool,
-    /// Skip the scene-shadow section (shadow maps: size x filter against the exact scene
-    /// reference, and their cost in the default scene's frame).
-    #[arg(long)]
-    no_scene_shadows: bool,
-    /// Run only the scene-shadow section (with --quick: its small version).
-    #[arg(long, conflicts_with = "no_scene_shadows")]
-    scene_shadows_only: bool,
-    /// Skip the frame-feature section (what tone mapping, MSAA, supersampling and the sky's
-    /// light add to the default scene's frame).
-    #[arg(long)]
-    no_frame_features: bool,
-    /// Run only the frame-feature section (with --quick: its small version).
-    #[arg(long, conflicts_with = "no_frame_features")]
-    frame_features_only: bool,
-    /// Skip the silhouette section (flat and curved relief on curved meshes against the
-    /// displaced-geometry reference).
-    #[arg(long)]
-    no_silhouettes: bool,
-    /// Run only the silhouette section (with --quick: its small version).
-    #[arg(long, conflicts_with = "no_silhouettes")]
-    silhouettes_only: bool,
-    /// Also measure the silhouette section on the first mesh of this glTF file (its uv set 0
-    /// carries the height map; seen from +z of its bounds).
-    #[arg(long, value_name = "FILE.gltf", conflicts_with = "no_silhouettes")]
-    silhouette_mesh: Option<PathBuf>,
-    #[arg(long, value_name = "repeat|clamp", default_value_t = Address::Repeat)]
-    address: Address,
-    #[arg(long, value_enum, default_value = "r16")]
-    height_format: FormatArg,
-    /// Print results.json to stdout and no progress.
-    #[arg(long)]
-    json: bool,
-    #[arg(long, value_name = "SUBSTRING")]
-    device: Option<String>,
-    /// Measure only shard K of N (1 <= K <= N) of the sweep, split by expected cost; `relief bench
-    /// merge` joins the shards' folders.
-    #[arg(long, value_name = "K/N")]
-    shard: Option<Shard>,
-    /// Testing only: dispatch METHOD's timed trace FACTOR times per frame, slowing it on purpose
-    /// (recorded in the results' options); see docs/measuring.md.
-    #[arg(long, value_name = "METHOD=FACTOR", hide = true)]
-    slow_down: Vec<SlowDown>,
-}
-
-/// What `relief bench` does besides measuring.
-#[derive(Subcommand)]
-enum BenchCommand {
-    /// Compare two results files cell by cell: time ratios with intervals, error changes, verdicts.
-    Compare(super::bench_compare::CompareArgs),
-    /// Join the folders of `relief bench --shard K/N` runs into one results.json and report.
-    Merge(MergeArgs),
-}
-
-fn parse_resolution(text: &str) -> anyhow::Result<(u32, u32)> {
-    super::parse_size("--resolution", text)
-}
 
 fn config(args: &BenchArgs) -> anyhow::Result<SweepConfig> {
     let mut cfg = if args.quick {

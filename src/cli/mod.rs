@@ -4,6 +4,7 @@
 
 mod ao;
 mod bench;
+mod bench_args;
 mod bench_compare;
 mod bench_merge;
 mod bench_runs;
@@ -61,7 +62,7 @@ enum Command {
     /// Build a height field's ambient-occlusion map on the GPU and measure it against the exact reference.
     Ao(ao::AoArgs),
     /// Time every method and measure its error against the exact reference; write a report.
-    Bench(bench::BenchArgs),
+    Bench(bench_args::BenchArgs),
     /// Replace a closed mesh by a cubic cell complex with distance maps (Apaza and Andujar) and measure its hits.
     Cells(cells::CellsArgs),
     /// List the Vulkan devices relief can use, best first.
