@@ -100,7 +100,8 @@ fn sorted_files(dir: &Path) -> Vec<PathBuf> {
 }
 
 /// The method whose search curved relief bends (`surface.frag:relief:curved`, and the shadow
-/// pass's `shadow_caster.frag:relief:curved`).
+/// pass's `shadow_caster.frag:relief:curved`), and whose bindings and self-shadows prism shells
+/// use (`:shells`).
 const CURVED_METHOD: &str = "relief";
 
 fn variants(root: &Path) -> Vec<Variant> {
@@ -127,7 +128,7 @@ fn variants(root: &Path) -> Vec<Variant> {
             let defines = vec![("PLAIN_SURFACE".into(), "1".into())];
             out.push(plain(format!("{base}:plain"), defines, None));
         }
-        if base == "mesh.vert" {
+        if base == "mesh.vert" || base == "shell.vert" {
             // The shadow pass's: placed by the shadow view the draw renders into.
             let defines = vec![("SHADOW_CASTER".into(), "1".into())];
             out.push(plain(format!("{base}:shadow"), defines, None));
@@ -159,6 +160,14 @@ fn variants(root: &Path) -> Vec<Variant> {
                     curved.push(("CURVED".into(), "1".into()));
                     let key = format!("{base}:{}:curved", m.id);
                     out.push(plain(key, curved, Some(method_file.clone())));
+                }
+                if m.id == CURVED_METHOD && base != "trace.comp" {
+                    // Prism shells: relief's own structures stand in for nothing; the march is
+                    // shells.glsl's, with relief's self-shadows and bindings.
+                    let mut shells = defines.clone();
+                    shells.push(("SHELLS".into(), "1".into()));
+                    let key = format!("{base}:{}:shells", m.id);
+                    out.push(plain(key, shells, Some(method_file.clone())));
                 }
                 out.push(plain(
                     format!("{base}:{}", m.id),

@@ -6,7 +6,8 @@
 //! (silhouette IoU >= 0.98, mean channel difference <= 3 levels) where flat relief keeps the
 //! mesh's, casts the displaced surface's shadow into the shadow maps, and shadows itself along
 //! light rays that leave through the same curved shell. Prism shells, traced by their CPU
-//! march, cover what the displaced meshes cover, open ends included. On failure the images
+//! march and drawn by the GPU (`Silhouettes::Shells`), cover what the displaced meshes cover,
+//! open ends included, with no hole where prisms meet. On failure the images
 //! are left under `target/test-output/displaced-reference/`.
 
 mod common;
@@ -360,18 +361,106 @@ fn prism_shells_cover_what_the_displaced_mesh_covers() {
             (Vec3::new(0.0, 1.5, 2.6) * 1.2, "30 degrees"),
             (Vec3::new(0.0, 2.9, 0.78) * 1.2, "75 degrees"),
         ] {
-            let flat = scene(mesh.clone(), depth, eye);
+            let mut flat = scene(mesh.clone(), depth, eye);
+            if let Some(relief) = flat.materials[0].relief.as_mut() {
+                relief.method = Method::RELIEF;
+            }
             let reference = draw(&ctx, &displaced(&flat, &heights, 1.0), None);
             let truth = coverage(&reference);
             let shells = scene_shells(&flat, Some(&heights), Address::Repeat).expect("shells");
             let camera = flat.camera.expect("a camera");
-            let shelled = relief::shells::coverage(&shells, &camera, [WIDTH, HEIGHT]);
-            let polygons = coverage(&draw(&ctx, &flat, Some(&heights)));
-            let (shell_iou, flat_iou) = (iou(&shelled, &truth), iou(&polygons, &truth));
-            eprintln!("{name}, {view}: silhouette IoU shells {shell_iou:.4}, flat {flat_iou:.4}");
+            let marched = relief::shells::coverage(&shells, &camera, [WIDTH, HEIGHT]);
+            let flat_image = draw(&ctx, &flat, Some(&heights));
+            let mut shelled = flat.clone();
+            if let Some(relief) = shelled.materials[0].relief.as_mut() {
+                relief.silhouettes = Silhouettes::Shells;
+            }
+            let gpu = draw(&ctx, &shelled, Some(&heights));
+            let (cpu_iou, gpu_iou, flat_iou) = (
+                iou(&marched, &truth),
+                iou(&coverage(&gpu), &truth),
+                iou(&coverage(&flat_image), &truth),
+            );
+            let gpu_diff = mean_difference(&gpu, &reference, |_| true);
+            let flat_diff = mean_difference(&flat_image, &reference, |_| true);
+            eprintln!(
+                "{name}, {view}: silhouette IoU shells {gpu_iou:.4} (CPU march {cpu_iou:.4}), flat {flat_iou:.4}; mean channel difference shells {gpu_diff:.2}, flat {flat_diff:.2}"
+            );
+            let stem = format!("{name}_{}", view.replace(' ', "_"));
+            if gpu_iou < 0.98 || gpu_diff > 3.0 {
+                save(&format!("{stem}_shells"), &gpu);
+                save(&format!("{stem}_reference"), &reference);
+            }
             assert!(
-                shell_iou >= 0.99 && shell_iou > flat_iou,
-                "{name}, {view}: the shells' outline agrees {shell_iou:.4} (flat {flat_iou:.4})"
+                cpu_iou >= 0.99 && cpu_iou > flat_iou,
+                "{name}, {view}: the CPU march's outline agrees {cpu_iou:.4} (flat {flat_iou:.4})"
+            );
+            assert!(
+                gpu_iou >= 0.98 && gpu_iou > flat_iou,
+                "{name}, {view}: the GPU shells' outline agrees {gpu_iou:.4} (flat {flat_iou:.4})"
+            );
+            assert!(
+                gpu_diff <= 3.0 && gpu_diff < flat_diff,
+                "{name}, {view}: the GPU shells differ by {gpu_diff:.2} levels (flat {flat_diff:.2})"
+            );
+        }
+    }
+}
+
+/// Pixels `truth` covers that `rgba` leaves to the background while covering all eight
+/// neighbours: holes inside the outline.
+fn holes(rgba: &[u8], truth: &[bool], width: usize, height: usize) -> Vec<(usize, usize)> {
+    let covered = coverage(rgba);
+    (1..height - 1)
+        .flat_map(|y| (1..width - 1).map(move |x| (x, y)))
+        .filter(|&(x, y)| {
+            truth[y * width + x]
+                && !covered[y * width + x]
+                && (0..9).all(|k| covered[(y + k / 3 - 1) * width + x + k % 3 - 1] || k == 4)
+        })
+        .collect()
+}
+
+#[test]
+fn prism_shells_leave_no_holes_where_prisms_meet() {
+    let Some(ctx) = common::device("prism_shells_leave_no_holes_where_prisms_meet") else {
+        return;
+    };
+    let heights = Generator::Fbm.generate(64, 64, 3);
+    let (width, height) = (400, 300);
+    let sphere_depth = 0.05 / (std::f32::consts::PI * 2f32.sqrt());
+    let torus_depth = 0.05 / (std::f32::consts::TAU * (1.35f32 * 0.35).sqrt());
+    let meshes = [
+        (sphere_mesh("sphere", 1.0, 16, 32, 0), sphere_depth),
+        (torus_mesh("torus", 1.0, 0.35, 48, 24, 0), torus_depth),
+    ];
+    for (mesh, depth) in meshes {
+        // Face-on to nearly edge-on over the torus's ring.
+        for elevation in [30.0f32, 75.0, 88.0] {
+            let e = elevation.to_radians();
+            let eye = Vec3::new(0.0, e.sin(), e.cos()) * 3.6;
+            let mut shelled = scene(mesh.clone(), depth, eye);
+            if let Some(relief) = shelled.materials[0].relief.as_mut() {
+                relief.method = Method::RELIEF;
+            }
+            let opts = RenderOptions {
+                width,
+                height,
+                ..RenderOptions::default()
+            };
+            let reference = displaced(&shelled, &heights, 1.0);
+            let truth = coverage(&render(&ctx, &reference, None, &opts).expect("renders").rgba);
+            if let Some(relief) = shelled.materials[0].relief.as_mut() {
+                relief.silhouettes = Silhouettes::Shells;
+            }
+            let frame = render(&ctx, &shelled, Some(&heights), &opts).expect("renders");
+            common::assert_no_validation_errors(&ctx);
+            let found = holes(&frame.rgba, &truth, width as usize, height as usize);
+            eprintln!("{}, {elevation} degrees: holes at {found:?}", mesh.name);
+            assert!(
+                found.is_empty(),
+                "{}, {elevation} degrees: holes between prisms",
+                mesh.name
             );
         }
     }

@@ -18,6 +18,9 @@
 #ifdef CURVED
 #include "curved.glsl"
 #endif
+#ifdef SHELLS
+#include "shells.glsl"
+#endif
 #endif
 
 layout(location = 0) in vec3 in_world;
@@ -40,6 +43,17 @@ void main() {
     ShadowTile tile = frame.shadow_tiles[draw.extra.x];
     // The light's ray through this fragment: from the light's position, or along its direction.
     vec3 along = tile.rect.w > 0.5 ? normalize(in_world - tile.origin.xyz) : tile.origin.xyz;
+#ifdef SHELLS
+    // The light's ray through the prism this face bounds, as the surface pass walks the view's.
+    ShellPrism prism = shell_prism();
+    ShellHit shell_hit;
+    if (!trace_shell(prism, in_world, along, in_prism.xyz, shell_entry_face(in_prism.z), shell_hit)) {
+        discard;
+    }
+    uv0 = prism_blend2(prism.uv0, shell_hit.coords.xy);
+    uv1 = prism_blend2(prism.uv1, shell_hit.coords.xy);
+    vec3 world = in_world + along * shell_hit.t;
+#else
     vec3 n = normalize(gl_FrontFacing ? in_normal : -in_normal);
     float depth_scale = material.relief.x;
     ReliefFrame f = relief_frame(in_world, n, in_tangent, in_uv0, in_uv1);
@@ -65,6 +79,7 @@ void main() {
     uv0 += d0;
     uv1 += f.uv1_per_uv0 * d0;
     vec3 world = relief_hit_world(f, in_world, uv_h, uv_hit, z);
+#endif
     vec4 clip = tile.view_proj * vec4(world, 1.0);
     gl_FragDepth = max(gl_FragCoord.z, clamp(clip.z / clip.w, 0.0, 1.0));
     out_depth = gl_FragDepth;

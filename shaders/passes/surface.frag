@@ -4,7 +4,9 @@
 // height map's texture space, trace it, move every texture lookup to the hit, shade with the
 // height field's normal (or the normal map) and write the displaced point's depth; with a
 // SHADOW_MODE (shadows.glsl) they also shadow each shadow-casting light by the height field;
-// TERRAIN_LAYERS variants shade a layered material (terrain_layers.glsl). The plain variant
+// TERRAIN_LAYERS variants shade a layered material (terrain_layers.glsl); CURVED variants trace
+// under the mesh's curvature (curved.glsl), SHELLS variants walk the prism this fragment's face
+// bounds (shells.glsl, drawn from shell.vert). The plain variant
 // (PLAIN_SURFACE) does none of that; relief variants declare depth_greater, so early depth
 // testing survives their depth writes. Every variant reads the scene's shadow maps
 // (scene_shadows.glsl); with the frame's shadow probe on it writes one light's visibility
@@ -32,6 +34,9 @@
 #endif
 #ifdef CURVED
 #include "curved.glsl"
+#endif
+#ifdef SHELLS
+#include "shells.glsl"
 #endif
 #endif
 
@@ -66,6 +71,23 @@ void main() {
 
 #ifndef PLAIN_SURFACE
     float depth_scale = material.relief.x;
+#ifdef SHELLS
+    // Prism shells: the ray walked through the prism this face bounds; where it leaves without
+    // meeting the relief, a nearer or farther prism answers for the pixel, or none does.
+    ShellPrism prism = shell_prism();
+    ShellHit shell_hit;
+    if (!trace_shell(prism, in_world, view, in_prism.xyz, shell_entry_face(in_prism.z), shell_hit)) {
+        discard;
+    }
+    ReliefFrame f = shell_frame(prism, shell_hit.coords.xy, in_tangent);
+    n = f.n;
+    face = shell_face(prism, n);
+    float z = shell_hit.coords.z * depth_scale;
+    vec2 uv_hit = prism_blend2(prism.uv, shell_hit.coords.xy);
+    uv0 = prism_blend2(prism.uv0, shell_hit.coords.xy);
+    uv1 = prism_blend2(prism.uv1, shell_hit.coords.xy);
+    world = in_world + view * shell_hit.t;
+#else
     ReliefFrame f = relief_frame(in_world, n, in_tangent, in_uv0, in_uv1);
     vec2 uv_h = slot_uv(SLOT_HEIGHT, in_uv0, in_uv1);
     Ray ray = Ray(uv_h, height_space_ray_dir(f, view), depth_scale);
@@ -103,6 +125,7 @@ void main() {
     uv0 += d0;
     uv1 += f.uv1_per_uv0 * d0;
     world = relief_hit_world(f, in_world, uv_h, uv_hit, z);
+#endif
     // The surface stands depth_scale * h above the bottom plane; its slope per uv0 unit is the
     // height gradient carried back through the uv map.
     vec2 g0 = transpose(f.to_height) * (depth_scale * height_gradient(uv_hit));

@@ -2,7 +2,7 @@
 //! and a curved wall, both lying so that no view looks into them, and any mesh the caller
 //! brings, such as one from a glTF file) against the displaced-geometry reference, for each way
 //! of drawing it (flat
-//! relief mapping and flat QDM under the polygons, curved relief mapping), depth scales from
+//! relief mapping and flat QDM under the polygons, curved relief mapping, prism shells), depth scales from
 //! shallow to deep and views from 30 to 75 degrees: silhouette agreement and colour difference
 //! against GPU time, the numbers a material's choice follows.
 
@@ -55,7 +55,7 @@ pub struct SilhouetteCell {
     pub depth: f32,
     /// The view's elevation above the mesh's equator, in degrees.
     pub view_deg: f32,
-    /// "flat relief", "flat qdm" or "curved relief".
+    /// "flat relief", "flat qdm", "curved relief" or "shells" (prism shells drawn by the GPU).
     pub option: String,
     /// Silhouette agreement with the reference (intersection over union of covered pixels).
     pub iou: f64,
@@ -67,8 +67,8 @@ pub struct SilhouetteCell {
     pub surface_ms: f64,
 }
 
-/// Prism shells' outline for one mesh, depth and view, from the CPU march (no GPU pass draws
-/// shells yet): which pixels the shells cover against the reference's.
+/// Prism shells' outline for one mesh, depth and view, from the CPU march that defines them:
+/// which pixels the shells cover against the reference's, to set beside the GPU's.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct ShellCoverage {
     /// As [`SilhouetteCell::mesh`].
@@ -208,6 +208,7 @@ fn scene_of(subject: &Subject, depth: f32, view_deg: f32, option: &str) -> Scene
     let (method, silhouettes) = match option {
         "flat qdm" => (Method::QDM, Silhouettes::Flat),
         "curved relief" => (Method::RELIEF, Silhouettes::Curved),
+        "shells" => (Method::RELIEF, Silhouettes::Shells),
         _ => (Method::RELIEF, Silhouettes::Flat),
     };
     let relief = Relief {
@@ -243,7 +244,7 @@ fn scene_of(subject: &Subject, depth: f32, view_deg: f32, option: &str) -> Scene
 }
 
 /// The ways of drawing relief the section compares.
-pub const SILHOUETTE_OPTIONS: [&str; 3] = ["flat relief", "flat qdm", "curved relief"];
+pub const SILHOUETTE_OPTIONS: [&str; 4] = ["flat relief", "flat qdm", "curved relief", "shells"];
 
 /// Runs the section; `quick` measures two meshes at one depth and view on a smaller image;
 /// `extra`, a mesh of the caller's (with uvs for the height map), is measured after the built-in
@@ -370,8 +371,9 @@ pub fn report(md: &mut String, s: &SilhouetteSection) {
     }
     let _ = writeln!(
         md,
-        "\nPrism shells, traced by the CPU march (no GPU pass draws them yet): one ray per pixel \
-         centre, the covered pixels against the reference's; no colour, no GPU time.\n"
+        "\nPrism shells as the CPU march (their definition, in f64) traces them: one ray per \
+         pixel centre, the covered pixels against the reference's, to set beside the GPU's \
+         `shells` rows; no colour, no GPU time.\n"
     );
     let _ = writeln!(md, "| mesh | depth | view | prisms | IoU | CPU s |");
     let _ = writeln!(md, "|---|---|---|---|---|---|");

@@ -20,7 +20,7 @@ use glam::{DMat2, DVec2, Mat3, Vec2, Vec3};
 
 use crate::geometry::{depth_length, uv_per_uv, world_per_uv, Mesh, Vertex};
 use crate::heightfield::reference::{surface_depth, SurfaceModel};
-use crate::scene::HeightLookup;
+use crate::scene::{HeightLookup, HeightUv};
 
 /// A vertex's identity across repeats: its original position and normal, bit for bit.
 type Weld = [u32; 6];
@@ -60,7 +60,7 @@ pub fn displace(mesh: &Mesh, heights: &HeightLookup, depth_scale: f32) -> Mesh {
         .map(|v| mesh.transform.transform_point3(Vec3::from(v.position)))
         .collect();
     let welds: Vec<Weld> = mesh.vertices.iter().map(weld).collect();
-    let frames = frames(mesh, heights, &world, &welds);
+    let frames = frames(mesh, &heights.uv, &world, &welds);
     let s = f64::from(depth_scale);
     let vertices = mesh
         .vertices
@@ -111,14 +111,14 @@ pub fn displace(mesh: &Mesh, heights: &HeightLookup, depth_scale: f32) -> Mesh {
 /// mesh moves as one), and the world length of one depth unit there, `None` where only degenerate
 /// triangles meet. What a shell around the mesh needs to extrude its triangles exactly as
 /// [`displace`] moves the vertices.
-pub(crate) fn welded_depth_lengths(mesh: &Mesh, heights: &HeightLookup) -> Vec<(u32, Option<f64>)> {
+pub(crate) fn welded_depth_lengths(mesh: &Mesh, uv: &HeightUv) -> Vec<(u32, Option<f64>)> {
     let world: Vec<Vec3> = mesh
         .vertices
         .iter()
         .map(|v| mesh.transform.transform_point3(Vec3::from(v.position)))
         .collect();
     let welds: Vec<Weld> = mesh.vertices.iter().map(weld).collect();
-    let frames = frames(mesh, heights, &world, &welds);
+    let frames = frames(mesh, uv, &world, &welds);
     let mut first: HashMap<Weld, u32> = HashMap::new();
     welds
         .iter()
@@ -166,12 +166,7 @@ fn height_gradient(heights: &HeightLookup, huv: DVec2) -> DVec2 {
 }
 
 /// Each welded vertex's frame, the area-weighted mean over its triangles with a frame.
-fn frames(
-    mesh: &Mesh,
-    heights: &HeightLookup,
-    world: &[Vec3],
-    welds: &[Weld],
-) -> HashMap<Weld, Frame> {
+fn frames(mesh: &Mesh, uv: &HeightUv, world: &[Vec3], welds: &[Weld]) -> HashMap<Weld, Frame> {
     let mut sums: HashMap<Weld, (Frame, f64)> = HashMap::new();
     for t in mesh.indices.chunks_exact(3) {
         let [a, b, c] = [t[0], t[1], t[2]].map(|k| k as usize);
@@ -180,7 +175,7 @@ fn frames(
             (world[c] - world[a]).as_dvec3(),
         );
         let area = e1.cross(e2).length() * 0.5;
-        let huv = [a, b, c].map(|k| heights.uv.of(&mesh.vertices[k]));
+        let huv = [a, b, c].map(|k| uv.of(&mesh.vertices[k]));
         let uv0 = [a, b, c].map(|k| Vec2::from(mesh.vertices[k].uv));
         let (Some(per_uv0), Some(to_height), Some(depth_len)) = (
             world_per_uv(e1, e2, uv0),

@@ -208,6 +208,11 @@ pub enum Silhouettes {
     /// is the displaced surface's. Traced with relief mapping's linear and binary search (the
     /// other methods' acceleration structures bound straight rays only).
     Curved,
+    /// Prism shells: each triangle extruded down its normals into a prism as deep as the relief
+    /// and the ray walked through every prism it crosses, so the outline is the displaced
+    /// surface's on open meshes too. Drawn from the prisms' faces, with relief mapping's
+    /// bindings and self-shadows; the walk is the shells' own.
+    Shells,
 }
 
 impl std::fmt::Display for Silhouettes {
@@ -215,6 +220,7 @@ impl std::fmt::Display for Silhouettes {
         f.write_str(match self {
             Silhouettes::Flat => "flat",
             Silhouettes::Curved => "curved",
+            Silhouettes::Shells => "shells",
         })
     }
 }
@@ -226,7 +232,10 @@ impl std::str::FromStr for Silhouettes {
         match s {
             "flat" => Ok(Silhouettes::Flat),
             "curved" => Ok(Silhouettes::Curved),
-            _ => Err(format!("unknown silhouettes {s:?}: use flat or curved")),
+            "shells" => Ok(Silhouettes::Shells),
+            _ => Err(format!(
+                "unknown silhouettes {s:?}: use flat, curved or shells"
+            )),
         }
     }
 }

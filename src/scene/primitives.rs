@@ -107,10 +107,15 @@ pub fn sphere_mesh(name: &str, radius: f32, rings: u32, segments: u32, material:
     let mut vertices = Vec::new();
     for i in 0..=rings {
         let v = i as f32 / rings as f32;
-        let (sin_lat, cos_lat) = (std::f32::consts::PI * (v - 0.5)).sin_cos();
+        let (sin_lat, cos_lat) = match i {
+            // Exactly at the poles, so that a pole's repeats are one point, as the seam's are.
+            0 => (-1.0, 0.0),
+            _ if i == rings => (1.0, 0.0),
+            _ => (std::f32::consts::PI * (v - 0.5)).sin_cos(),
+        };
         for j in 0..=segments {
             let u = j as f32 / segments as f32;
-            let (sin_lon, cos_lon) = (std::f32::consts::TAU * u).sin_cos();
+            let (sin_lon, cos_lon) = turn(j, segments).sin_cos();
             let n = Vec3::new(cos_lat * cos_lon, sin_lat, -cos_lat * sin_lon);
             let tangent = Vec3::new(-sin_lon, 0.0, -cos_lon);
             vertices.push(Vertex::new(
@@ -141,7 +146,12 @@ pub fn cylinder_mesh(
         let v = i as f32 / rows as f32;
         for j in 0..=segments {
             let u = j as f32 / segments as f32;
-            let (sin_a, cos_a) = (arc * u).sin_cos();
+            let angle = if arc >= std::f32::consts::TAU {
+                turn(j, segments)
+            } else {
+                arc * u
+            };
+            let (sin_a, cos_a) = angle.sin_cos();
             let n = Vec3::new(cos_a, 0.0, -sin_a);
             let tangent = Vec3::new(-sin_a, 0.0, -cos_a);
             vertices.push(Vertex::new(
@@ -169,10 +179,10 @@ pub fn torus_mesh(
     let mut vertices = Vec::new();
     for i in 0..=segments {
         let v = i as f32 / segments as f32;
-        let (sin_tube, cos_tube) = (std::f32::consts::TAU * v).sin_cos();
+        let (sin_tube, cos_tube) = turn(i, segments).sin_cos();
         for j in 0..=rings {
             let u = j as f32 / rings as f32;
-            let (sin_around, cos_around) = (std::f32::consts::TAU * u).sin_cos();
+            let (sin_around, cos_around) = turn(j, rings).sin_cos();
             let n = Vec3::new(cos_tube * cos_around, sin_tube, -cos_tube * sin_around);
             let centre = Vec3::new(cos_around, 0.0, -sin_around) * major;
             let tangent = Vec3::new(-sin_around, 0.0, -cos_around);
@@ -191,6 +201,12 @@ pub fn torus_mesh(
         }
     }
     grid_mesh(name, vertices, segments, rings, material)
+}
+
+/// The angle of step `k` of `steps` once around: the last step is the first again, bit for bit,
+/// so a seam's repeated vertices are one point (sin of a float 2 pi is not 0).
+fn turn(k: u32, steps: u32) -> f32 {
+    std::f32::consts::TAU * (k % steps) as f32 / steps as f32
 }
 
 /// A mesh over a grid of vertices, `rows + 1` rows of `cols + 1`, each cell two triangles

@@ -321,12 +321,14 @@ mod tests {
     }
 
     #[test]
-    fn silhouettes_are_flat_or_curved() {
+    fn silhouettes_are_flat_curved_or_shells() {
         let curved = parse(r#"{"relief": {"depth_scale": 1, "silhouettes": "curved"}}"#);
         assert_eq!(curved.unwrap().unwrap().silhouettes, Silhouettes::Curved);
-        let err = parse(r#"{"relief": {"depth_scale": 1, "silhouettes": "shells"}}"#).unwrap_err();
+        let shells = parse(r#"{"relief": {"depth_scale": 1, "silhouettes": "shells"}}"#);
+        assert_eq!(shells.unwrap().unwrap().silhouettes, Silhouettes::Shells);
+        let err = parse(r#"{"relief": {"depth_scale": 1, "silhouettes": "cage"}}"#).unwrap_err();
         assert!(
-            err.contains("extras.relief.silhouettes") && err.contains("flat or curved"),
+            err.contains("extras.relief.silhouettes") && err.contains("flat, curved or shells"),
             "{err}"
         );
     }

@@ -4,9 +4,11 @@
 //! position on the triangle and depth), so where the displaced surface falls away from the
 //! polygon the ray passes it by and the outline follows the relief.
 //!
-//! This module is the march on the CPU, in f64, with no Vulkan: the definition of the `shells`
-//! option, which the ground truth (the mesh really displaced, [`crate::displaced_reference`]) is
-//! compared against and which a GPU pass follows step for step.
+//! This module holds the march on the CPU, in f64, with no Vulkan: the definition of the
+//! `shells` option, which the ground truth (the mesh really displaced,
+//! [`crate::displaced_reference`]) is compared against; and the shell as triangles the surface
+//! pass draws ([`ShellMesh`]), whose fragments run the same march in f32
+//! (`shaders/include/shells.glsl`).
 //!
 //! The prisms are extruded exactly as the reference moves vertices: down the vertex normal by the
 //! depth scale times the world length of one depth unit, averaged over the vertex's triangles by
@@ -21,11 +23,13 @@ mod coverage;
 mod march;
 mod prism;
 mod scene_shells;
+mod shell_mesh;
 
 pub use coverage::coverage;
 pub use march::ShellHit;
-pub use prism::{Prism, PrismFace, Shell, ShellError};
+pub use prism::{extrude, Prism, PrismFace, Shell, ShellError};
 pub use scene_shells::{scene_shells, SceneShellsError};
+pub use shell_mesh::{ShellMesh, ShellVertex};
 
 #[cfg(test)]
 mod march_tests;

@@ -5,7 +5,7 @@ use glam::{DMat3, DVec2, DVec3, Mat3, Vec3};
 
 use crate::displaced_reference::welded_depth_lengths;
 use crate::geometry::Mesh;
-use crate::scene::HeightLookup;
+use crate::scene::{HeightLookup, HeightUv};
 
 /// Why a shell could not be built.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -141,62 +141,13 @@ pub struct Shell {
 }
 
 impl Shell {
-    /// The shell of `mesh` (in world space: its transform applied) for relief `heights` at
-    /// `depth_scale`, extruded as [`crate::displaced_reference::displace`] moves the vertices.
-    /// A triangle gets a prism where each of its corners has a depth length, from any triangle
-    /// of that vertex with usable uvs: a pole's fan, whose uvs collapse, is extruded like its
-    /// neighbours, as the reference moves its vertices.
+    /// The shell of `mesh` for relief `heights` at `depth_scale`: its prisms as [`extrude`]
+    /// makes them, traced against `heights`.
     pub fn new(mesh: &Mesh, heights: &HeightLookup, depth_scale: f32) -> Result<Shell, ShellError> {
-        if !(depth_scale.is_finite() && depth_scale > 0.0) {
-            return Err(ShellError::DepthScale {
-                mesh: mesh.name.clone(),
-                depth_scale,
-            });
-        }
-        let linear = Mat3::from_mat4(mesh.transform);
-        let normal_matrix = linear.inverse().transpose();
-        let welded = welded_depth_lengths(mesh, heights);
-        let s = f64::from(depth_scale);
-        let corner = |k: usize| {
-            let v = &mesh.vertices[k];
-            let top = mesh
-                .transform
-                .transform_point3(Vec3::from(v.position))
-                .as_dvec3();
-            let n = (normal_matrix * Vec3::from(v.normal))
-                .normalize_or_zero()
-                .as_dvec3();
-            let (weld, length) = welded[k];
-            // A vertex with only degenerate-uv triangles about it (a pole's fan on some
-            // exporters' spheres) stays on its polygon, as the reference leaves it.
-            let depth = s * length.unwrap_or(0.0);
-            (top, n, depth, heights.uv.of(v).as_dvec2(), weld)
-        };
-        if welded.iter().all(|(_, length)| length.is_none()) {
-            return Err(ShellError::NoUvs {
-                mesh: mesh.name.clone(),
-            });
-        }
-        let prisms: Vec<Prism> = mesh
-            .indices
-            .chunks_exact(3)
-            .map(|t| {
-                let c = [t[0], t[1], t[2]].map(|k| corner(k as usize));
-                Prism {
-                    top: c.map(|c| c.0),
-                    normal: c.map(|c| c.1),
-                    depth: c.map(|c| c.2),
-                    uv: c.map(|c| c.3),
-                    welds: c.map(|c| c.4),
-                }
-            })
-            .filter(|p| p.normal.iter().all(|n| *n != DVec3::ZERO))
+        let prisms: Vec<Prism> = extrude(mesh, &heights.uv, depth_scale)?
+            .into_iter()
+            .map(|(_, p)| p)
             .collect();
-        if prisms.is_empty() {
-            return Err(ShellError::NoUvs {
-                mesh: mesh.name.clone(),
-            });
-        }
         let bounds = prisms
             .iter()
             .map(|p| {
@@ -216,4 +167,69 @@ impl Shell {
             bounds,
         })
     }
+}
+
+/// `mesh`'s prisms (in world space: its transform applied) for relief at `depth_scale` whose
+/// height uv is `uv`, each with the mesh's vertex indices of its corners, extruded as
+/// [`crate::displaced_reference::displace`] moves the vertices. A triangle gets a prism where
+/// each of its corners has a depth length, from any triangle of that vertex with usable uvs: a
+/// pole's fan, whose uvs collapse, is extruded like its neighbours, as the reference moves its
+/// vertices. Only the uv map matters, not the heights, so the GPU's shell needs no decoded map.
+pub fn extrude(
+    mesh: &Mesh,
+    uv: &HeightUv,
+    depth_scale: f32,
+) -> Result<Vec<([u32; 3], Prism)>, ShellError> {
+    if !(depth_scale.is_finite() && depth_scale > 0.0) {
+        return Err(ShellError::DepthScale {
+            mesh: mesh.name.clone(),
+            depth_scale,
+        });
+    }
+    let linear = Mat3::from_mat4(mesh.transform);
+    let normal_matrix = linear.inverse().transpose();
+    let welded = welded_depth_lengths(mesh, uv);
+    if welded.iter().all(|(_, length)| length.is_none()) {
+        return Err(ShellError::NoUvs {
+            mesh: mesh.name.clone(),
+        });
+    }
+    let s = f64::from(depth_scale);
+    let corner = |k: usize| {
+        let v = &mesh.vertices[k];
+        let top = mesh
+            .transform
+            .transform_point3(Vec3::from(v.position))
+            .as_dvec3();
+        let n = (normal_matrix * Vec3::from(v.normal))
+            .normalize_or_zero()
+            .as_dvec3();
+        let (weld, length) = welded[k];
+        // A vertex with only degenerate-uv triangles about it (a pole's fan on some exporters'
+        // spheres) stays on its polygon, as the reference leaves it.
+        let depth = s * length.unwrap_or(0.0);
+        (top, n, depth, uv.of(v).as_dvec2(), weld)
+    };
+    let prisms: Vec<([u32; 3], Prism)> = mesh
+        .indices
+        .chunks_exact(3)
+        .map(|t| {
+            let c = [t[0], t[1], t[2]].map(|k| corner(k as usize));
+            let prism = Prism {
+                top: c.map(|c| c.0),
+                normal: c.map(|c| c.1),
+                depth: c.map(|c| c.2),
+                uv: c.map(|c| c.3),
+                welds: c.map(|c| c.4),
+            };
+            ([t[0], t[1], t[2]], prism)
+        })
+        .filter(|(_, p)| p.normal.iter().all(|n| *n != DVec3::ZERO))
+        .collect();
+    if prisms.is_empty() {
+        return Err(ShellError::NoUvs {
+            mesh: mesh.name.clone(),
+        });
+    }
+    Ok(prisms)
 }

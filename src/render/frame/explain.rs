@@ -22,6 +22,7 @@ struct PipelineEntry {
     shadows: &'static str,
     lod: bool,
     curved: bool,
+    shells: bool,
 }
 
 /// The explanation of what `plan` built; `maps` are the maps built for it, `cells` its cell
@@ -45,6 +46,7 @@ pub fn explain(
             shadows: p.shadows.mode.id(),
             lod: p.lod.is_some(),
             curved: p.curved,
+            shells: p.shells,
         })
         .collect();
     let heights: Vec<Value> = plan

@@ -19,6 +19,7 @@ use crate::render::shader_interface::{
 use crate::render::shadows::shadow_atlas::SHADOW_FORMAT;
 use crate::scene::{Lod, Vertex};
 use crate::shaders;
+use crate::shells::ShellVertex;
 use crate::vk::{
     graphics_pipeline, Context, DescriptorLayout, GraphicsDesc, Pipeline, SpecConstants, VkError,
     VkResult,
@@ -63,7 +64,11 @@ impl MeshStages {
     /// targets of `samples` samples per pixel.
     pub(super) fn surface(key: &PipelineKey, shadow_filter: u32, samples: u32) -> MeshStages {
         MeshStages {
-            vertex: "mesh.vert",
+            vertex: if key.shells {
+                "shell.vert"
+            } else {
+                "mesh.vert"
+            },
             fragment: key.shader(),
             color_format: HDR_FORMAT,
             name: format!("surface {}", describe(key)),
@@ -78,11 +83,16 @@ impl MeshStages {
     pub(super) fn caster(key: &PipelineKey) -> MeshStages {
         let fragment = match key.method {
             Some(m) if key.curved => format!("shadow_caster.frag:{}:curved", m.id()),
+            Some(m) if key.shells => format!("shadow_caster.frag:{}:shells", m.id()),
             Some(m) => format!("shadow_caster.frag:{}", m.id()),
             None => "shadow_caster.frag:plain".to_owned(),
         };
         MeshStages {
-            vertex: "mesh.vert:shadow",
+            vertex: if key.shells {
+                "shell.vert:shadow"
+            } else {
+                "mesh.vert:shadow"
+            },
             name: format!("shadow caster {fragment}"),
             fragment,
             color_format: SHADOW_FORMAT,
@@ -125,27 +135,12 @@ pub(super) fn create_pipeline(
     if let Some(lod) = key.lod {
         spec = lod_spec_constants(spec, &lod);
     }
-    let attributes = [
-        (0, vk::Format::R32G32B32_SFLOAT, 0),
-        (1, vk::Format::R32G32B32_SFLOAT, 12),
-        (2, vk::Format::R32G32_SFLOAT, 24),
-        (3, vk::Format::R32G32_SFLOAT, 32),
-        (4, vk::Format::R32G32B32A32_SFLOAT, 40),
-        (5, vk::Format::R32G32B32A32_SFLOAT, 56),
-    ]
-    .map(
-        |(location, format, offset)| vk::VertexInputAttributeDescription {
-            location,
-            binding: 0,
-            format,
-            offset,
-        },
-    );
+    let (attributes, vertex_stride) = vertex_layout(key.shells);
     let desc = GraphicsDesc {
         vertex: vs,
         fragment: fs,
         fragment_spec: &spec,
-        vertex_stride: std::mem::size_of::<Vertex>() as u32,
+        vertex_stride,
         attributes: &attributes,
         color_format: stages.color_format,
         depth_format: DEPTH_FORMAT,
@@ -160,6 +155,41 @@ pub(super) fn create_pipeline(
         samples: stages.samples,
     };
     graphics_pipeline(ctx, &desc, &stages.name)
+}
+
+/// The vertex attributes and stride of a mesh's [`Vertex`], or of a shell's [`ShellVertex`]:
+/// the same six first, then the prism's coordinates at the corner and the prism's ten vec4s.
+fn vertex_layout(shells: bool) -> (Vec<vk::VertexInputAttributeDescription>, u32) {
+    const RGB: vk::Format = vk::Format::R32G32B32_SFLOAT;
+    const RG: vk::Format = vk::Format::R32G32_SFLOAT;
+    const RGBA: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
+    let mut attributes = vec![
+        (RGB, 0),
+        (RGB, 12),
+        (RG, 24),
+        (RG, 32),
+        (RGBA, 40),
+        (RGBA, 56),
+    ];
+    let stride = if shells {
+        attributes.extend((0..10).map(|k| (RGBA, 72 + 16 * k)));
+        std::mem::size_of::<ShellVertex>()
+    } else {
+        std::mem::size_of::<Vertex>()
+    };
+    let attributes = attributes
+        .into_iter()
+        .enumerate()
+        .map(
+            |(location, (format, offset))| vk::VertexInputAttributeDescription {
+                location: location as u32,
+                binding: 0,
+                format,
+                offset,
+            },
+        )
+        .collect();
+    (attributes, stride as u32)
 }
 
 /// A pipeline's name for debug labels and `--explain`.

@@ -67,6 +67,9 @@ pub struct PipelineKey {
     pub layers: bool,
     /// Curved relief (`Silhouettes::Curved`): the `:curved` variant.
     pub curved: bool,
+    /// Prism shells (`Silhouettes::Shells`): the `:shells` variant, drawn from each mesh's
+    /// prisms instead of its triangles.
+    pub shells: bool,
 }
 
 impl PipelineKey {
@@ -74,6 +77,7 @@ impl PipelineKey {
     pub fn shader(&self) -> String {
         match (self.method, self.lod) {
             (Some(m), None) if self.curved => format!("{}:curved", m.surface_shader_key()),
+            (Some(m), None) if self.shells => format!("{}:shells", m.surface_shader_key()),
             (Some(m), None) if self.layers => format!("{}:layers", m.surface_shader_key()),
             (Some(m), Some(_)) if self.layers => format!("{}:lod:layers", m.surface_shader_key()),
             (Some(m), None) => m.surface_shader_key(),
@@ -379,6 +383,9 @@ impl Plan {
             curved: material
                 .relief
                 .is_some_and(|r| r.silhouettes == Silhouettes::Curved),
+            shells: material
+                .relief
+                .is_some_and(|r| r.silhouettes == Silhouettes::Shells),
         };
         match self.pipelines.iter().position(|p| *p == pipeline) {
             Some(k) => k,

@@ -42,11 +42,13 @@ pub enum PlanError {
         /// How many materials they use.
         count: usize,
     },
-    #[error("material {material:?}: curved silhouettes {why}")]
-    /// A material asks for curved silhouettes where they cannot be drawn.
-    Curved {
+    #[error("material {material:?}: {silhouettes} silhouettes {why}")]
+    /// A material asks for curved or shell silhouettes where they cannot be drawn.
+    Silhouettes {
         /// The material's name.
         material: String,
+        /// The option asked for.
+        silhouettes: Silhouettes,
         /// What stands in the way.
         why: String,
     },
@@ -178,16 +180,17 @@ pub(super) fn height_source(
     })
 }
 
-/// Curved relief bends relief mapping's linear search; the other methods' structures bound
-/// straight rays, and level of detail and blended layers have no curved variant.
+/// Curved relief bends relief mapping's linear search and prism shells walk their own prisms;
+/// the other methods' structures bound straight rays in the polygon's texture space, and level
+/// of detail and blended layers have no curved or shell variant.
 pub(super) fn check_silhouettes(material: &Material, relief: &Relief) -> Result<(), PlanError> {
-    if relief.silhouettes != Silhouettes::Curved {
+    if relief.silhouettes == Silhouettes::Flat {
         return Ok(());
     }
     let why = if relief.method != Method::RELIEF {
         format!(
             "trace with relief mapping's linear and binary search (method relief), not {}: the \
-             other methods' acceleration structures bound straight rays only",
+             other methods' acceleration structures bound straight rays under a flat polygon only",
             relief.method
         )
     } else if relief.lod.is_some() {
@@ -197,8 +200,9 @@ pub(super) fn check_silhouettes(material: &Material, relief: &Relief) -> Result<
     } else {
         return Ok(());
     };
-    Err(PlanError::Curved {
+    Err(PlanError::Silhouettes {
         material: material.name.clone(),
+        silhouettes: relief.silhouettes,
         why,
     })
 }

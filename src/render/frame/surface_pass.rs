@@ -15,6 +15,7 @@ use super::mesh_pipeline::{create_pipeline, MeshStages};
 use super::plan::{DrawPlan, DrawRole, PipelineKey, Plan};
 use super::scene_ao::SceneAo;
 use super::scene_textures::SceneTextures;
+use crate::heightfield::Address;
 use crate::render::environment::{stand_in_binds, EnvironmentLight};
 use crate::render::shader_interface::{
     BINDING_ENV_BRDF, BINDING_ENV_IRRADIANCE, BINDING_ENV_SPECULAR, BINDING_FRAME,
@@ -25,7 +26,8 @@ use crate::render::shadows::shadow_atlas::ShadowAtlas;
 use crate::render::shadows::shadow_plan::relief_pad;
 use crate::render::shadows::shadow_plan::shadow_filter_max;
 use crate::render::terrain::layer_set::{layer_layout, LayerSets};
-use crate::scene::{Frustum, Mesh, Scene, Vertex};
+use crate::scene::{Frustum, MaterialHeights, Mesh, Scene, Vertex};
+use crate::shells::ShellMesh;
 use crate::vk::{
     Bind, Buffer, Context, DescriptorLayout, DescriptorPool, DescriptorSet, ImageView, Pipeline,
     Recording, Sampler, VkError, VkResult,
@@ -77,6 +79,9 @@ impl DrawPush {
         self
     }
 }
+
+/// A draw's set 0 per frame slot, its material's set and its layers' set.
+type DrawSets = (Vec<DescriptorSet>, DescriptorSet, Option<DescriptorSet>);
 
 struct MeshDraw {
     /// The scene mesh it draws.
@@ -226,7 +231,12 @@ fn mesh_draws(
             .set(d.material)
             .filter(|_| plan.pipelines[d.pipeline].layers);
         let key = &plan.pipelines[d.pipeline];
-        let draw = MeshDraw::new(ctx, mesh, d, key, frame_sets, material_set, layer_set)?;
+        let sets = (frame_sets, material_set, layer_set);
+        let draw = if key.shells {
+            MeshDraw::shell(ctx, scene, mesh, d, key, sets)?
+        } else {
+            MeshDraw::new(ctx, mesh, d, key, sets)?
+        };
         draws.push(draw.with_caster_pad(caster_pad));
     }
     Ok(draws)
@@ -257,9 +267,7 @@ impl MeshDraw {
         mesh: &Mesh,
         d: &DrawPlan,
         key: &PipelineKey,
-        frame_sets: Vec<DescriptorSet>,
-        material_set: DescriptorSet,
-        layer_set: Option<DescriptorSet>,
+        (frame_sets, material_set, layer_set): DrawSets,
     ) -> VkResult<MeshDraw> {
         let (lo, hi) = mesh_bounds(&mesh.vertices);
         Ok(MeshDraw {
@@ -285,6 +293,61 @@ impl MeshDraw {
             blend: key.blend,
             center: mesh.transform.transform_point3((lo + hi) * 0.5),
             bounds: world_bounds(mesh.transform, lo, hi),
+            caster_pad: 0.0,
+            shaded: d.role == DrawRole::Surface,
+        })
+    }
+
+    /// Uploads `mesh`'s prism shell for draw `d` with pipeline `key` (a `:shells` variant): six
+    /// corners and eight faces per triangle, in world space, so the draw's transform is the
+    /// identity.
+    fn shell(
+        ctx: &Arc<Context>,
+        scene: &Scene,
+        mesh: &Mesh,
+        d: &DrawPlan,
+        key: &PipelineKey,
+        (frame_sets, material_set, layer_set): DrawSets,
+    ) -> VkResult<MeshDraw> {
+        let invalid = |why: String| VkError::Invalid(format!("mesh {:?}: {why}", mesh.name));
+        let relief = scene.materials[d.material]
+            .relief
+            .ok_or_else(|| invalid("prism shells need a relief material".into()))?;
+        let (_, uv) = MaterialHeights::new(scene, None, Address::Repeat)
+            .placement(relief.height)
+            .ok_or_else(|| invalid("prism shells have no blended-layers variant".into()))?;
+        let shell = ShellMesh::new(mesh, &uv, relief.depth_scale)
+            .map_err(|e| VkError::Invalid(e.to_string()))?;
+        let (lo, hi) = shell.vertices.iter().fold(
+            (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
+            |(lo, hi), v| {
+                let p = Vec3::from(v.position);
+                (lo.min(p), hi.max(p))
+            },
+        );
+        Ok(MeshDraw {
+            mesh: d.mesh,
+            vertices: Buffer::with_data(
+                ctx,
+                bytemuck::cast_slice(&shell.vertices),
+                vk::BufferUsageFlags::VERTEX_BUFFER,
+                &format!("{} shell vertices", mesh.name),
+            )?,
+            indices: Buffer::with_data(
+                ctx,
+                bytemuck::cast_slice(&shell.indices),
+                vk::BufferUsageFlags::INDEX_BUFFER,
+                &format!("{} shell indices", mesh.name),
+            )?,
+            index_count: shell.indices.len() as u32,
+            pipeline: d.pipeline,
+            frame_sets,
+            material_set,
+            layer_set,
+            push: DrawPush::of(Mat4::IDENTITY),
+            blend: key.blend,
+            center: (lo + hi) * 0.5,
+            bounds: (lo, hi),
             caster_pad: 0.0,
             shaded: d.role == DrawRole::Surface,
         })
