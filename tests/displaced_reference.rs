@@ -257,6 +257,41 @@ fn the_command_line_draws_the_reference_and_refuses_a_bad_edge() {
         .collect();
     assert_eq!(curved.len(), 1, "{plan}");
     assert_eq!(curved[0]["shader"], "surface.frag:relief:curved");
+    // Shells are refused under QDM too, and planned under relief mapping.
+    let shells_qdm =
+        common::cli::relief(&["render", "--silhouettes", "shells", "--out", "unused.png"]);
+    common::cli::assert_clean_failure(&shells_qdm, &["bricks", "shells silhouettes", "qdm"]);
+    let explained = common::cli::relief(&[
+        "render",
+        "--silhouettes",
+        "shells",
+        "--method",
+        "relief",
+        "--explain",
+        "--width",
+        "32",
+        "--height",
+        "32",
+        "--out",
+        common::evidence_dir("displaced-reference")
+            .join("shells_explain.png")
+            .to_str()
+            .expect("utf-8"),
+    ]);
+    assert!(
+        explained.status.success(),
+        "{}",
+        String::from_utf8_lossy(&explained.stderr)
+    );
+    let plan: serde_json::Value = serde_json::from_slice(&explained.stdout).expect("JSON");
+    let shells: Vec<&serde_json::Value> = plan["pipelines"]
+        .as_array()
+        .expect("pipelines")
+        .iter()
+        .filter(|p| p["shells"] == true)
+        .collect();
+    assert_eq!(shells.len(), 1, "{plan}");
+    assert_eq!(shells[0]["shader"], "surface.frag:relief:shells");
 }
 
 #[test]

@@ -26,10 +26,12 @@ pub struct ShadingArgs {
     /// the radius in world units for point and spot lights (default: each light's extras).
     #[arg(long, value_name = "R")]
     light_radius: Option<f32>,
-    /// Outline of every relief material: flat (the mesh's polygons) or curved (the relief
-    /// follows the mesh's curvature and its outline is the displaced surface's; method relief
-    /// only). Default: each material's extras.relief.silhouettes, else flat.
-    #[arg(long, value_name = "flat|curved")]
+    /// Outline of every relief material: flat (the mesh's polygons), curved (the relief
+    /// follows the mesh's curvature and its outline is the displaced surface's) or shells
+    /// (each triangle extruded into a prism and the ray walked through the prisms: the
+    /// displaced outline on open meshes too, at several times the cost); curved and shells
+    /// need method relief. Default: each material's extras.relief.silhouettes, else flat.
+    #[arg(long, value_name = "flat|curved|shells")]
     silhouettes: Option<Silhouettes>,
 }
 

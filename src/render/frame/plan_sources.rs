@@ -188,9 +188,16 @@ pub(super) fn check_silhouettes(material: &Material, relief: &Relief) -> Result<
         return Ok(());
     }
     let why = if relief.method != Method::RELIEF {
+        let how = match relief.silhouettes {
+            Silhouettes::Shells => {
+                "walk their prisms with their own march and relief mapping's \
+                                    self-shadows"
+            }
+            _ => "trace with relief mapping's linear and binary search",
+        };
         format!(
-            "trace with relief mapping's linear and binary search (method relief), not {}: the \
-             other methods' acceleration structures bound straight rays under a flat polygon only",
+            "{how} (method relief), not {}: the other methods' acceleration structures bound \
+             straight rays under a flat polygon only",
             relief.method
         )
     } else if relief.lod.is_some() {
