@@ -502,8 +502,9 @@ fn prism_shells_leave_no_holes_where_prisms_meet() {
 }
 
 #[test]
-fn a_curved_caster_throws_the_displaced_surfaces_shadow() {
-    let Some(ctx) = common::device("a_curved_caster_throws_the_displaced_surfaces_shadow") else {
+fn curved_and_shell_casters_throw_the_displaced_surfaces_shadow() {
+    let Some(ctx) = common::device("curved_and_shell_casters_throw_the_displaced_surfaces_shadow")
+    else {
         return;
     };
     let heights = Generator::Fbm.generate(64, 64, 3);
@@ -546,6 +547,7 @@ fn a_curved_caster_throws_the_displaced_surfaces_shadow() {
     let reference = draw(&ctx, &displaced(&flat, &heights, 1.0), None);
     let flat_image = draw(&ctx, &flat, Some(&heights));
     let curved_image = draw(&ctx, &scene(Silhouettes::Curved), Some(&heights));
+    let shells_image = draw(&ctx, &scene(Silhouettes::Shells), Some(&heights));
     // The ground in shadow: dark pixels (the lit ground is far brighter).
     let shadow = |rgba: &[u8]| -> Vec<bool> {
         rgba.chunks_exact(4)
@@ -558,21 +560,27 @@ fn a_curved_caster_throws_the_displaced_surfaces_shadow() {
         shadowed > 1000,
         "only {shadowed} shadowed pixels: the view misses the shadow"
     );
-    let (flat_iou, curved_iou) = (
+    let (flat_iou, curved_iou, shells_iou) = (
         iou(&shadow(&flat_image), &truth),
         iou(&shadow(&curved_image), &truth),
+        iou(&shadow(&shells_image), &truth),
     );
     eprintln!(
-        "shadow on the ground against the displaced sphere's ({shadowed} pixels): IoU flat {flat_iou:.4}, curved {curved_iou:.4}"
+        "shadow on the ground against the displaced sphere's ({shadowed} pixels): IoU flat {flat_iou:.4}, curved {curved_iou:.4}, shells {shells_iou:.4}"
     );
-    if curved_iou <= flat_iou {
+    if curved_iou <= flat_iou || shells_iou <= flat_iou {
         save("shadow_flat", &flat_image);
         save("shadow_curved", &curved_image);
+        save("shadow_shells", &shells_image);
         save("shadow_reference", &reference);
     }
     assert!(
         curved_iou > flat_iou,
         "the curved caster's shadow ({curved_iou:.4}) is no closer to the truth than the flat one's ({flat_iou:.4})"
+    );
+    assert!(
+        shells_iou > flat_iou,
+        "the shells caster's shadow ({shells_iou:.4}) is no closer to the truth than the flat one's ({flat_iou:.4})"
     );
 }
 

@@ -179,9 +179,9 @@ const float SHELL_STEPS_PER_DEPTH = 32.0;
 const float SHELL_MIN_STEPS = 4.0;
 const float SHELL_MAX_STEPS = 512.0;
 const int SHELL_BISECTIONS = 10;
-const int SHELL_NEWTON_STEP = 2;
-const int SHELL_NEWTON_ENTRY = 4;
-const int SHELL_NEWTON_EXIT = 6;
+const int SHELL_NEWTON_STEP = 1;
+const int SHELL_NEWTON_ENTRY = 3;
+const int SHELL_NEWTON_EXIT = 4;
 
 struct ShellHit {
     vec3 coords;  // b.x, b.y, w
@@ -217,20 +217,29 @@ vec3 shell_at(ShellPrism p, vec3 x, vec3 c, int iterations, float size) {
 // it inside prism `p`, entered through face `face` at coordinates near `guess`: walked from the
 // entry to where the ray leaves the prism's faces, in steps of a quarter texel of height uv and
 // a 32nd of the depth (at least 4, at most 512), the step that goes under halved 10 times; or
-// the entry itself, for a ray that comes through a shared side already under the relief.
+// the entry itself, for a ray that comes through a shared side already under the relief. A ray
+// entering through the bottom meets nothing.
 bool trace_shell(ShellPrism p, vec3 entry, vec3 dir, vec3 guess, int face, out ShellHit hit) {
     hit = ShellHit(vec3(0.0), 0.0);
+    if (face == 1) {
+        // From under the relief, through the mesh: on a closed mesh behind the relief its near
+        // side shows, under an open sheet where the one-sided displaced mesh shows nothing.
+        return false;
+    }
     float size = prism_size(p);
+    vec3 c = shell_at(p, entry, guess, SHELL_NEWTON_ENTRY, size);
+    if (face == 0) {
+        c.z = 0.0;
+    }
+    bool was_under = face == 2 && prism_under(p, c);
+    if (was_under && shell_meets_at_side(p, c)) {
+        hit = ShellHit(c, 0.0);
+        return true;
+    }
     bool bottom;
     float t_exit = prism_exit(p, entry, dir, size, bottom);
     if (t_exit <= 0.0) {
         return false;
-    }
-    vec3 c = shell_at(p, entry, guess, SHELL_NEWTON_ENTRY, size);
-    if (face == 0) {
-        c.z = 0.0;
-    } else if (face == 1) {
-        c.z = 1.0;
     }
     vec3 leave = shell_at(p, entry + dir * t_exit, c, SHELL_NEWTON_EXIT, size);
     if (bottom) {
@@ -240,8 +249,8 @@ bool trace_shell(ShellPrism p, vec3 entry, vec3 dir, vec3 guess, int face, out S
     float steps = clamp(ceil(length(texels) * SHELL_STEPS_PER_TEXEL
                              + abs(leave.z - c.z) * SHELL_STEPS_PER_DEPTH),
                         SHELL_MIN_STEPS, SHELL_MAX_STEPS);
-    bool was_under = face == 1 || (face == 2 && prism_under(p, c));
     float t_prev = 0.0;
+    vec3 c_prev = c;
     int n = int(steps);
     for (int k = 0; k <= n; ++k) {
         float t = t_exit * float(k) / steps;
@@ -251,21 +260,22 @@ bool trace_shell(ShellPrism p, vec3 entry, vec3 dir, vec3 guess, int face, out S
                                        : shell_at(p, entry + dir * t, mix(c, leave, float(k) / steps),
                                                   SHELL_NEWTON_STEP, size));
         bool now_under = prism_under(p, ck);
-        if (k == 0 && face == 2 && now_under && shell_meets_at_side(p, ck)) {
-            hit = ShellHit(ck, 0.0);
-            return true;
-        }
         if (now_under && !was_under) {
             float above = t_prev, below = t;
             vec3 c_below = ck;
+            // Within one step the coordinates move along the ray all but linearly (the prism
+            // bends over its whole depth, not over a quarter texel), so the halvings interpolate
+            // them instead of solving again.
+            vec3 c_above = c_prev;
             for (int i = 0; k > 0 && i < SHELL_BISECTIONS; ++i) {
                 float mid = 0.5 * (above + below);
-                vec3 cm = shell_at(p, entry + dir * mid, c_below, SHELL_NEWTON_STEP, size);
+                vec3 cm = 0.5 * (c_above + c_below);
                 if (prism_under(p, cm)) {
                     below = mid;
                     c_below = cm;
                 } else {
                     above = mid;
+                    c_above = cm;
                 }
             }
             hit = ShellHit(c_below, below);
@@ -273,6 +283,7 @@ bool trace_shell(ShellPrism p, vec3 entry, vec3 dir, vec3 guess, int face, out S
         }
         was_under = now_under;
         t_prev = t;
+        c_prev = ck;
     }
     return false;
 }
