@@ -292,6 +292,10 @@ fn the_command_line_draws_the_reference_and_refuses_a_bad_edge() {
         .collect();
     assert_eq!(shells.len(), 1, "{plan}");
     assert_eq!(shells[0]["shader"], "surface.frag:relief:shells");
+    // The prisms were built for the relief meshes only: the default scene's one relief slab.
+    let built = plan["shells"].as_array().expect("shells");
+    assert_eq!(built.len(), 1, "{plan}");
+    assert!(built[0]["prisms"].as_u64().unwrap_or(0) > 0, "{plan}");
 }
 
 #[test]

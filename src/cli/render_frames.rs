@@ -282,7 +282,13 @@ pub fn run_frames(
     let stats = sequence_stats(&drawn.timings);
     if args.explain {
         let created = ctx.created() - before;
-        let mut value = explain(renderer.plan(), renderer.maps(), renderer.cells(), &created);
+        let mut value = explain(
+            renderer.plan(),
+            renderer.maps(),
+            renderer.cells(),
+            renderer.shells(),
+            &created,
+        );
         if edited {
             value["edits"] = edits_json(renderer, &drawn.edits);
         }

@@ -1,6 +1,7 @@
 //! The plan as `relief render --explain` prints it: one JSON object with the pipelines built, the
 //! maps built (kind, size, ms), the lights' shadow maps (kind, views, size, filter, casters), the
-//! cell complexes built, the passes recorded and what was skipped, and why.
+//! cell complexes built, the meshes drawn as prism shells, the passes recorded and what was
+//! skipped, and why.
 
 use serde::Serialize;
 use serde_json::{json, Value};
@@ -8,6 +9,7 @@ use serde_json::{json, Value};
 use super::mesh_pipeline::describe;
 use super::plan::Plan;
 use super::single_frame::BuiltMap;
+use super::surface_pass::BuiltShell;
 use crate::render::cells::cells_pass::BuiltComplex;
 use crate::vk::ObjectCounts;
 
@@ -26,11 +28,13 @@ struct PipelineEntry {
 }
 
 /// The explanation of what `plan` built; `maps` are the maps built for it, `cells` its cell
-/// complexes and `created` what was created on the device.
+/// complexes, `shells` its meshes drawn as prism shells and `created` what was created on the
+/// device.
 pub fn explain(
     plan: &Plan,
     maps: &[BuiltMap],
     cells: &[BuiltComplex],
+    shells: &[BuiltShell],
     created: &ObjectCounts,
 ) -> Value {
     let pipelines: Vec<PipelineEntry> = plan
@@ -84,6 +88,7 @@ pub fn explain(
         "tone_mapping": plan.tone_mapping,
         "environment": plan.environment,
         "cells": cells,
+        "shells": shells,
         "passes": plan.passes,
         "skipped": plan.skipped,
         "draws": plan.surface_draws().count(),

@@ -21,8 +21,8 @@ use super::pass_timer::{per_pass, PassTimer, PassTiming, Scope};
 use super::plan::{HeightKey, Plan};
 use super::scene_ao::SceneAo;
 use super::single_frame::{BuiltMap, RenderError, RenderOptions};
-use super::surface_pass::SurfacePass;
 use super::surface_pass::COLOR_FORMAT;
+use super::surface_pass::{BuiltShell, SurfacePass};
 use super::targets::{average_blocks, FrameReadbacks, Targets};
 use super::tonemap::{ToneMapPass, ToneMapping};
 use crate::environment::Background;
@@ -285,6 +285,11 @@ impl Renderer {
     /// The cell complexes built (`--cells`), with their statistics.
     pub fn cells(&self) -> &[BuiltComplex] {
         self.cells.built()
+    }
+
+    /// The meshes drawn as prism shells (`Silhouettes::Shells`), with their prisms and bytes.
+    pub fn shells(&self) -> &[BuiltShell] {
+        self.surface.shells()
     }
 
     /// CPU wall time of uploading height maps and building their precomputed maps, in ms.

@@ -80,6 +80,17 @@ impl DrawPush {
     }
 }
 
+/// A mesh drawn as prism shells, as `--explain` reports it.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct BuiltShell {
+    /// The mesh's name.
+    pub mesh: String,
+    /// Prisms drawn (triangles of the mesh with area).
+    pub prisms: usize,
+    /// Bytes of its vertex and index buffers.
+    pub bytes: u64,
+}
+
 /// A draw's set 0 per frame slot, its material's set and its layers' set.
 type DrawSets = (Vec<DescriptorSet>, DescriptorSet, Option<DescriptorSet>);
 
@@ -123,6 +134,8 @@ pub struct SurfacePass {
     /// By plan pipeline: the pipeline its draws cast shadows with, when some map has them as
     /// casters.
     casters: Vec<Option<Pipeline>>,
+    /// The meshes drawn as prism shells.
+    shells: Vec<BuiltShell>,
     _layouts: Vec<DescriptorLayout>,
 }
 
@@ -213,6 +226,7 @@ fn mesh_draws(
     plain_sets: &[DescriptorSet],
     materials: &MaterialSets,
     layers: &LayerSets,
+    shells: &mut Vec<BuiltShell>,
 ) -> VkResult<Vec<MeshDraw>> {
     let mut draws = Vec::with_capacity(plan.draws.len());
     // Once for the scene: it reads every vertex.
@@ -233,7 +247,12 @@ fn mesh_draws(
         let key = &plan.pipelines[d.pipeline];
         let sets = (frame_sets, material_set, layer_set);
         let draw = if key.shells {
-            MeshDraw::shell(ctx, scene, mesh, d, key, sets)?
+            let (draw, built) = MeshDraw::shell(ctx, scene, mesh, d, key, sets)?;
+            // A caster-only draw of the same mesh shares its shell's description.
+            if d.role == DrawRole::Surface {
+                shells.push(built);
+            }
+            draw
         } else {
             MeshDraw::new(ctx, mesh, d, key, sets)?
         };
@@ -308,7 +327,7 @@ impl MeshDraw {
         d: &DrawPlan,
         key: &PipelineKey,
         (frame_sets, material_set, layer_set): DrawSets,
-    ) -> VkResult<MeshDraw> {
+    ) -> VkResult<(MeshDraw, BuiltShell)> {
         let invalid = |why: String| VkError::Invalid(format!("mesh {:?}: {why}", mesh.name));
         let relief = scene.materials[d.material]
             .relief
@@ -325,7 +344,13 @@ impl MeshDraw {
                 (lo.min(p), hi.max(p))
             },
         );
-        Ok(MeshDraw {
+        let built = BuiltShell {
+            mesh: mesh.name.clone(),
+            prisms: shell.prisms,
+            bytes: (std::mem::size_of_val(shell.vertices.as_slice())
+                + std::mem::size_of_val(shell.indices.as_slice())) as u64,
+        };
+        let draw = MeshDraw {
             mesh: d.mesh,
             vertices: Buffer::with_data(
                 ctx,
@@ -350,7 +375,8 @@ impl MeshDraw {
             bounds: (lo, hi),
             caster_pad: 0.0,
             shaded: d.role == DrawRole::Surface,
-        })
+        };
+        Ok((draw, built))
     }
 
     /// The draw as a caster whose relief reaches `pad` past its bounds.
@@ -523,6 +549,7 @@ impl SurfacePass {
                 .transpose()
             })
             .collect::<VkResult<Vec<_>>>()?;
+        let mut shells = Vec::new();
         let draws = mesh_draws(
             ctx,
             scene,
@@ -531,6 +558,7 @@ impl SurfacePass {
             &plain_sets,
             &materials,
             &layers,
+            &mut shells,
         )?;
         Ok(SurfacePass {
             pipelines,
@@ -541,6 +569,7 @@ impl SurfacePass {
             plain_uniforms,
             plain_sets,
             casters,
+            shells,
             _layouts: vec![
                 layouts.plain,
                 layouts.heights,
@@ -551,6 +580,11 @@ impl SurfacePass {
             ],
             _textures: textures,
         })
+    }
+
+    /// The meshes drawn as prism shells, with their prism counts and bytes.
+    pub fn shells(&self) -> &[BuiltShell] {
+        &self.shells
     }
 
     /// The splat image layered material `material` is shaded with, if it is drawn layered.
