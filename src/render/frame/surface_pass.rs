@@ -217,7 +217,8 @@ fn layered_materials(scene: &Scene, plan: &Plan) -> Vec<bool> {
 }
 
 /// The draws `plan` lists, each with its uploaded mesh and its sets: set 0 per frame slot
-/// (`height_sets[k]` for height map `k`, else `plain_sets`), the material's and its layers'.
+/// (`height_sets[k]` for height map `k`, else `plain_sets`), the material's and its layers'; and the
+/// meshes drawn as prism shells.
 fn mesh_draws(
     ctx: &Arc<Context>,
     scene: &Scene,
@@ -226,9 +227,9 @@ fn mesh_draws(
     plain_sets: &[DescriptorSet],
     materials: &MaterialSets,
     layers: &LayerSets,
-    shells: &mut Vec<BuiltShell>,
-) -> VkResult<Vec<MeshDraw>> {
+) -> VkResult<(Vec<MeshDraw>, Vec<BuiltShell>)> {
     let mut draws = Vec::with_capacity(plan.draws.len());
+    let mut shells = Vec::new();
     // Once for the scene: it reads every vertex.
     let caster_pad = relief_pad(scene);
     for d in &plan.draws {
@@ -258,7 +259,7 @@ fn mesh_draws(
         };
         draws.push(draw.with_caster_pad(caster_pad));
     }
-    Ok(draws)
+    Ok((draws, shells))
 }
 
 /// The uniforms of the plain set 0, one buffer per frame slot.
@@ -549,8 +550,7 @@ impl SurfacePass {
                 .transpose()
             })
             .collect::<VkResult<Vec<_>>>()?;
-        let mut shells = Vec::new();
-        let draws = mesh_draws(
+        let (draws, shells) = mesh_draws(
             ctx,
             scene,
             plan,
@@ -558,7 +558,6 @@ impl SurfacePass {
             &plain_sets,
             &materials,
             &layers,
-            &mut shells,
         )?;
         Ok(SurfacePass {
             pipelines,
