@@ -301,7 +301,15 @@ void main() {
     if (!surface_at(world, dir, s)) {
         s = SurfaceAt(vec2(0.0), vec2(0.0), -dir, -dir, world, vec4(1.0, 0.0, 0.0, 1.0), vec4(1.0));
     }
-    uv_footprint(eye, ray_dx, ray_dy, world, s);
+    // Two more surface lookups a pixel, a fifth of the pass on an untextured sphere: only when
+    // some texture's mip depends on them.
+    bool textured = has_texture(SLOT_BASE_COLOR) || has_texture(SLOT_METALLIC_ROUGHNESS)
+        || has_texture(SLOT_NORMAL) || has_texture(SLOT_OCCLUSION) || has_texture(SLOT_EMISSIVE);
+    uv_dx = vec2[2](vec2(0.0), vec2(0.0));
+    uv_dy = vec2[2](vec2(0.0), vec2(0.0));
+    if (textured) {
+        uv_footprint(eye, ray_dx, ray_dy, world, s);
+    }
     vec4 clip = frame.view_proj * vec4(world, 1.0);
     gl_FragDepth = max(gl_FragCoord.z, clamp(clip.z / clip.w, 0.0, 1.0));
 

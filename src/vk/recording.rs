@@ -114,6 +114,15 @@ impl<'a> Recording<'a> {
         };
     }
 
+    /// Draws `index_count` indices of the bound index buffer from `first_index` on, once.
+    pub fn draw_indexed_range(&self, index_count: u32, first_index: u32) {
+        // SAFETY: as `draw_indexed`; the validation layer checks the range against the buffer.
+        unsafe {
+            self.device
+                .cmd_draw_indexed(self.cmd, index_count, 1, first_index, 0, 0)
+        };
+    }
+
     /// Copies the whole of `src` to the start of `dst`.
     pub fn copy_buffer(&self, src: &Buffer, dst: &Buffer) {
         let size = src.size().min(dst.size());

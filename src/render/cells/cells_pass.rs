@@ -9,7 +9,7 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use ash::vk;
-use glam::Mat4;
+use glam::{Mat4, Vec3};
 use serde::Serialize;
 
 use super::cells_plan::CellsPlan;
@@ -96,6 +96,14 @@ pub struct BuiltComplex {
     pub build_ms: f64,
 }
 
+/// Halvings of the step in which a pixel's ray goes inside. A step is half a map texel, 1/128 of
+/// a cell at 64^2 maps; 12 halvings leave 1/500,000 of a cell, far below any pixel, where the
+/// march's own 24 (kept by `relief cells` and the ray pass, which measure the complex's hits in
+/// f64 and f32) cost the render a quarter of its time on a one-cell sphere (250 against 186 ms
+/// at 512^2 on lavapipe) for no change in the image (mean channel difference to the raster
+/// 0.043 either way).
+const RENDER_REFINEMENTS: u32 = 12;
+
 /// Mirrors `CellsParams` in `cells.frag` (std140).
 #[repr(C)]
 #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
@@ -119,7 +127,7 @@ impl CellsUniform {
             ],
             n: packed.n,
             resolution: packed.resolution,
-            refinements: settings.refinements,
+            refinements: RENDER_REFINEMENTS.min(settings.refinements),
             samples_per_texel: settings.samples_per_texel as f32,
         }
     }
@@ -142,7 +150,8 @@ const CELLS_SET_BINDINGS: [(u32, vk::DescriptorType); 6] = [
 struct ComplexDraw {
     faces: Buffer,
     indices: Buffer,
-    index_count: u32,
+    /// Each outer face's centre (six indices a face, in order).
+    face_centres: Vec<Vec3>,
     material: usize,
     set: DescriptorSet,
     _arrays: ComplexBuffers,
@@ -214,10 +223,15 @@ impl CellsPass {
 
     /// Records every complex's draw with `frame_set` as set 0 and its material's set (from
     /// `material_set`) as set 1. Rendering must have begun with the targets' formats.
+    ///
+    /// Each complex's faces are drawn nearest `eye` first: a face behind a hit that a nearer face
+    /// has written is then rejected by the early depth test instead of marching its ray again
+    /// (on a 4^3 torus a pixel lies behind several outer faces).
     pub fn record(
         &self,
         rec: &Recording,
         frame_set: DescriptorSet,
+        eye: Vec3,
         material_set: impl Fn(usize) -> Option<DescriptorSet>,
     ) -> VkResult<()> {
         let Some(pipeline) = &self.pipeline else {
@@ -233,7 +247,16 @@ impl CellsPass {
             // The complex is in world space: draw.glsl's push constants (unread) get the identity.
             pipeline.push(rec, bytemuck::bytes_of(&DrawPush::of(Mat4::IDENTITY)))?;
             rec.bind_mesh(&draw.faces, &draw.indices);
-            rec.draw_indexed(draw.index_count);
+            let mut order: Vec<(f32, u32)> = draw
+                .face_centres
+                .iter()
+                .enumerate()
+                .map(|(k, c)| (c.distance_squared(eye), k as u32))
+                .collect();
+            order.sort_by(|a, b| a.0.total_cmp(&b.0));
+            for (_, face) in order {
+                rec.draw_indexed_range(6, face * 6);
+            }
         }
         Ok(())
     }
@@ -316,9 +339,14 @@ fn build_complex(
         attribute_bytes: (surface_bytes.len() + corner_bytes.len()) as u64,
         build_ms,
     };
+    // Four corners a face, in order (outer_faces).
+    let face_centres = vertices
+        .chunks_exact(4)
+        .map(|quad| quad.iter().map(|&v| Vec3::from(v)).sum::<Vec3>() * 0.25)
+        .collect();
     let draw = ComplexDraw {
         faces,
-        index_count: indices.len() as u32,
+        face_centres,
         indices: index_buffer,
         material: plan.material,
         set,

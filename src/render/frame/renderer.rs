@@ -459,7 +459,7 @@ impl Renderer {
                     let frame_set = surface
                         .plain_set(k)
                         .ok_or_else(|| VkError::Invalid("no plain frame set".into()))?;
-                    cells.record(rec, frame_set, |m| surface.material_set(m))
+                    cells.record(rec, frame_set, eye, |m| surface.material_set(m))
                 })?;
                 timer.scope(rec, scope(Pass::Surface), |rec| {
                     let culled = surface.record_draws(rec, k, eye, &frustum);
