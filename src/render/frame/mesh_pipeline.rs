@@ -144,7 +144,9 @@ pub(super) fn create_pipeline(
         attributes: &attributes,
         color_format: stages.color_format,
         depth_format: DEPTH_FORMAT,
-        cull: if key.double_sided {
+        // A prism is closed: a ray enters it through a face that faces the ray, double-sided
+        // material or not, and a face it leaves by must not start a march.
+        cull: if key.double_sided && !key.shells {
             vk::CullModeFlags::NONE
         } else {
             vk::CullModeFlags::BACK

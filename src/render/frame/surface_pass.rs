@@ -27,7 +27,7 @@ use crate::render::shadows::shadow_plan::relief_pad;
 use crate::render::shadows::shadow_plan::shadow_filter_max;
 use crate::render::terrain::layer_set::{layer_layout, LayerSets};
 use crate::scene::{Frustum, MaterialHeights, Mesh, Scene, Vertex};
-use crate::shells::ShellMesh;
+use crate::shells::{ShellMesh, ShellVertex};
 use crate::vk::{
     Bind, Buffer, Context, DescriptorLayout, DescriptorPool, DescriptorSet, ImageView, Pipeline,
     Recording, Sampler, VkError, VkResult,
@@ -79,6 +79,10 @@ impl DrawPush {
         self
     }
 }
+
+/// The most a mesh's prism shell may take: six 232-byte corners a triangle make 1 GiB at about
+/// 770,000 triangles.
+const MAX_SHELL_BYTES: u64 = 1 << 30;
 
 /// A mesh drawn as prism shells, as `--explain` reports it.
 #[derive(Debug, Clone, serde::Serialize)]
@@ -336,6 +340,18 @@ impl MeshDraw {
         let (_, uv) = MaterialHeights::new(scene, None, Address::Repeat)
             .placement(relief.height)
             .ok_or_else(|| invalid("prism shells have no blended-layers variant".into()))?;
+        let corners = mesh.indices.len() as u64 * 2;
+        let bytes = corners * std::mem::size_of::<ShellVertex>() as u64;
+        if bytes > MAX_SHELL_BYTES {
+            return Err(invalid(format!(
+                "its prism shell would take {} MiB ({} triangles at {} bytes each), more than {} \
+                 MiB; draw it with flat or curved silhouettes, or with fewer triangles",
+                bytes >> 20,
+                mesh.indices.len() / 3,
+                6 * std::mem::size_of::<ShellVertex>() + 24 * 4,
+                MAX_SHELL_BYTES >> 20
+            )));
+        }
         let shell = ShellMesh::new(mesh, &uv, relief.depth_scale)
             .map_err(|e| VkError::Invalid(e.to_string()))?;
         let (lo, hi) = shell.vertices.iter().fold(
