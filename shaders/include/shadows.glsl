@@ -338,7 +338,7 @@ float light_visible_bent(vec2 uv_hit, float z_hit, vec3 l, float radius, float d
         return 0.0;
     }
     if (SHADOW_MODE == 1u) {
-#ifdef CURVED
+#if defined(CURVED) || defined(SHELLS)
         return shadow_hard_bent(q);
 #else
         return shadow_hard(q, uv_hit, z_hit, l, depth_scale);

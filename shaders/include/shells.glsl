@@ -8,7 +8,7 @@
 // (src/shells/march.rs, f64) is the definition; this one walks each prism on its own, as a
 // fragment must: a stretch of the ray runs from the face it enters by to the face it leaves by,
 // both the rasterized (flat) faces, so neighbours split the ray where the draw does.
-// Needs heightfield.glsl and draw.glsl.
+// Needs heightfield.glsl, draw.glsl, relief_frame.glsl and curved.glsl.
 #ifndef SHELLS_GLSL
 #define SHELLS_GLSL
 
@@ -315,6 +315,25 @@ ReliefFrame shell_frame(ShellPrism p, vec2 b, vec4 tangent) {
     float area = abs(determinant(f.to_height));
     f.depth_len = sqrt(f.scale.x * f.scale.y / max(area, 1e-20));
     return f;
+}
+
+// Normal curvatures along f.t and f.b across the prism's triangle, from how the corner normals
+// change against the corners (curved.glsl's surface_curvature with the triangle's edges in place
+// of screen derivatives).
+vec2 shell_curvature(ShellPrism p, ReliefFrame f) {
+    vec3 e1 = p.top[1] - p.top[0], e2 = p.top[2] - p.top[0];
+    vec3 dn1 = p.normal[1] - p.normal[0], dn2 = p.normal[2] - p.normal[0];
+    mat2 gram = mat2(dot(e1, e1), dot(e1, e2), dot(e1, e2), dot(e2, e2));
+    if (abs(determinant(gram)) < 1e-30) {
+        return vec2(0.0);
+    }
+    mat2 inv = inverse(gram);
+    vec2 at = inv * vec2(dot(e1, f.t), dot(e2, f.t));
+    vec2 ab = inv * vec2(dot(e1, f.b), dot(e2, f.b));
+    float kt = dot(at.x * dn1 + at.y * dn2, f.t);
+    float kb = dot(ab.x * dn1 + ab.y * dn2, f.b);
+    float limit = CURVED_MAX_BEND / max(f.depth_len, 1e-12);
+    return clamp(vec2(kt, kb), vec2(-limit), vec2(limit));
 }
 
 // The triangle's own plane, on n's side (what the shadow maps hold of it).

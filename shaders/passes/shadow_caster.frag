@@ -19,6 +19,7 @@
 #include "curved.glsl"
 #endif
 #ifdef SHELLS
+#include "curved.glsl"
 #include "shells.glsl"
 #endif
 #endif

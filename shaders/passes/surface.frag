@@ -36,6 +36,7 @@
 #include "curved.glsl"
 #endif
 #ifdef SHELLS
+#include "curved.glsl"
 #include "shells.glsl"
 #endif
 #endif
@@ -80,6 +81,7 @@ void main() {
         discard;
     }
     ReliefFrame f = shell_frame(prism, shell_hit.coords.xy, in_tangent);
+    vec2 curvature = shell_curvature(prism, f);
     n = f.n;
     face = shell_face(prism, n);
     float z = shell_hit.coords.z * depth_scale;
@@ -207,6 +209,13 @@ void main() {
             // where the silhouette does.
             vec3 l_height = to_height_space(f, l);
             vec2 bend = curved_bend(f, curvature, uv_hit - uv_h, l_height.xy);
+            lit_self = facing ? light_visible_bent(uv_hit, z, l_height, radius, depth_scale, bend)
+                              : 0.0;
+#elif defined(SHELLS)
+            // The shell follows the mesh's curvature: the light's path hangs from a curved top
+            // through the hit, as curved relief's does, so the shadow falls where the prisms'.
+            vec3 l_height = to_height_space(f, l);
+            vec2 bend = curved_bend(f, curvature, vec2(0.0), l_height.xy);
             lit_self = facing ? light_visible_bent(uv_hit, z, l_height, radius, depth_scale, bend)
                               : 0.0;
 #else
