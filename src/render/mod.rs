@@ -42,8 +42,8 @@ pub use frame::plan::{
     DrawPlan, DrawRole, HeightKey, HeightPlan, PassPlan, PipelineKey, Plan, PlanError, Skipped,
 };
 pub use frame::renderer::{FrameOutput, FrameRequest, Renderer, FRAMES_IN_FLIGHT};
+pub use frame::shell_draw::BuiltShell;
 pub use frame::single_frame::{render, BuiltMap, Frame, RenderError, RenderOptions};
-pub use frame::surface_pass::BuiltShell;
 pub use frame::surface_pass::{COLOR_FORMAT, DEPTH_FORMAT};
 pub use frame::tonemap::{ToneMap, ToneMapping, HDR_FORMAT};
 pub use maps::ao_map_pass::{AoJob, AoMap, AoMapPass, AO_MAP_FORMAT, SWEEP_DIRECTIONS};

@@ -6,6 +6,7 @@ pub mod base64;
 #[cfg(feature = "cli")]
 pub mod cli;
 pub mod corpus;
+pub mod displaced;
 pub mod golden;
 pub mod mesh_gltf;
 pub mod npy;

@@ -8,8 +8,8 @@ use serde_json::{json, Value};
 
 use super::mesh_pipeline::describe;
 use super::plan::Plan;
+use super::shell_draw::BuiltShell;
 use super::single_frame::BuiltMap;
-use super::surface_pass::BuiltShell;
 use crate::render::cells::cells_pass::BuiltComplex;
 use crate::vk::ObjectCounts;
 

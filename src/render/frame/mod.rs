@@ -1,5 +1,6 @@
 //! The frame renderer and its passes: the plan of what a scene needs, the uploads it keeps, the surface pass, targets, uniforms and timers.
 
+mod draw_bounds;
 pub(in crate::render) mod explain;
 pub(in crate::render) mod frame_stats;
 pub(in crate::render) mod frame_uniforms;
@@ -18,6 +19,7 @@ mod plan_sources;
 pub(in crate::render) mod renderer;
 pub(in crate::render) mod scene_ao;
 pub(in crate::render) mod scene_textures;
+pub(in crate::render) mod shell_draw;
 pub(in crate::render) mod single_frame;
 pub(in crate::render) mod surface_pass;
 pub(in crate::render) mod targets;

@@ -8,6 +8,7 @@ use std::sync::Arc;
 use ash::vk;
 use glam::{Mat3, Mat4, Vec3};
 
+use super::draw_bounds::{mesh_bounds, world_bounds};
 use super::frame_uniforms::FrameUniforms;
 use super::height_resources::HeightResources;
 use super::material_set::{material_layout, MaterialSets};
@@ -15,7 +16,7 @@ use super::mesh_pipeline::{create_pipeline, MeshStages};
 use super::plan::{DrawPlan, DrawRole, PipelineKey, Plan};
 use super::scene_ao::SceneAo;
 use super::scene_textures::SceneTextures;
-use crate::heightfield::Address;
+use super::shell_draw::{upload_shell, BuiltShell};
 use crate::render::environment::{stand_in_binds, EnvironmentLight};
 use crate::render::shader_interface::{
     BINDING_ENV_BRDF, BINDING_ENV_IRRADIANCE, BINDING_ENV_SPECULAR, BINDING_FRAME,
@@ -26,8 +27,7 @@ use crate::render::shadows::shadow_atlas::ShadowAtlas;
 use crate::render::shadows::shadow_plan::relief_pad;
 use crate::render::shadows::shadow_plan::shadow_filter_max;
 use crate::render::terrain::layer_set::{layer_layout, LayerSets};
-use crate::scene::{Frustum, MaterialHeights, Mesh, Scene, Vertex};
-use crate::shells::{ShellMesh, ShellVertex};
+use crate::scene::{Frustum, Mesh, Scene};
 use crate::vk::{
     Bind, Buffer, Context, DescriptorLayout, DescriptorPool, DescriptorSet, ImageView, Pipeline,
     Recording, Sampler, VkError, VkResult,
@@ -78,21 +78,6 @@ impl DrawPush {
         self.extra[0] = tile;
         self
     }
-}
-
-/// The most a mesh's prism shell may take: six 232-byte corners a triangle make 1 GiB at about
-/// 770,000 triangles.
-const MAX_SHELL_BYTES: u64 = 1 << 30;
-
-/// A mesh drawn as prism shells, as `--explain` reports it.
-#[derive(Debug, Clone, serde::Serialize)]
-pub struct BuiltShell {
-    /// The mesh's name.
-    pub mesh: String,
-    /// Prisms drawn (triangles of the mesh with area).
-    pub prisms: usize,
-    /// Bytes of its vertex and index buffers.
-    pub bytes: u64,
 }
 
 /// A draw's set 0 per frame slot, its material's set and its layers' set.
@@ -322,9 +307,8 @@ impl MeshDraw {
         })
     }
 
-    /// Uploads `mesh`'s prism shell for draw `d` with pipeline `key` (a `:shells` variant): six
-    /// corners and eight faces per triangle, in world space, so the draw's transform is the
-    /// identity.
+    /// Uploads `mesh`'s prism shell for draw `d` with pipeline `key` (a `:shells` variant), in
+    /// world space, so the draw's transform is the identity.
     fn shell(
         ctx: &Arc<Context>,
         scene: &Scene,
@@ -333,55 +317,13 @@ impl MeshDraw {
         key: &PipelineKey,
         (frame_sets, material_set, layer_set): DrawSets,
     ) -> VkResult<(MeshDraw, BuiltShell)> {
-        let invalid = |why: String| VkError::Invalid(format!("mesh {:?}: {why}", mesh.name));
-        let relief = scene.materials[d.material]
-            .relief
-            .ok_or_else(|| invalid("prism shells need a relief material".into()))?;
-        let (_, uv) = MaterialHeights::new(scene, None, Address::Repeat)
-            .placement(relief.height)
-            .ok_or_else(|| invalid("prism shells have no blended-layers variant".into()))?;
-        let corners = mesh.indices.len() as u64 * 2;
-        let bytes = corners * std::mem::size_of::<ShellVertex>() as u64;
-        if bytes > MAX_SHELL_BYTES {
-            return Err(invalid(format!(
-                "its prism shell would take {} MiB ({} triangles at {} bytes each), more than {} \
-                 MiB; draw it with flat or curved silhouettes, or with fewer triangles",
-                bytes >> 20,
-                mesh.indices.len() / 3,
-                6 * std::mem::size_of::<ShellVertex>() + 24 * 4,
-                MAX_SHELL_BYTES >> 20
-            )));
-        }
-        let shell = ShellMesh::new(mesh, &uv, relief.depth_scale)
-            .map_err(|e| VkError::Invalid(e.to_string()))?;
-        let (lo, hi) = shell.vertices.iter().fold(
-            (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
-            |(lo, hi), v| {
-                let p = Vec3::from(v.position);
-                (lo.min(p), hi.max(p))
-            },
-        );
-        let built = BuiltShell {
-            mesh: mesh.name.clone(),
-            prisms: shell.prisms,
-            bytes: (std::mem::size_of_val(shell.vertices.as_slice())
-                + std::mem::size_of_val(shell.indices.as_slice())) as u64,
-        };
+        let shell = upload_shell(ctx, scene, mesh, d.material)?;
+        let (lo, hi) = shell.bounds;
         let draw = MeshDraw {
             mesh: d.mesh,
-            vertices: Buffer::with_data(
-                ctx,
-                bytemuck::cast_slice(&shell.vertices),
-                vk::BufferUsageFlags::VERTEX_BUFFER,
-                &format!("{} shell vertices", mesh.name),
-            )?,
-            indices: Buffer::with_data(
-                ctx,
-                bytemuck::cast_slice(&shell.indices),
-                vk::BufferUsageFlags::INDEX_BUFFER,
-                &format!("{} shell indices", mesh.name),
-            )?,
-            index_count: shell.indices.len() as u32,
+            vertices: shell.vertices,
+            indices: shell.indices,
+            index_count: shell.index_count,
             pipeline: d.pipeline,
             frame_sets,
             material_set,
@@ -393,7 +335,7 @@ impl MeshDraw {
             caster_pad: 0.0,
             shaded: d.role == DrawRole::Surface,
         };
-        Ok((draw, built))
+        Ok((draw, shell.built))
     }
 
     /// The draw as a caster whose relief reaches `pad` past its bounds.
@@ -743,30 +685,4 @@ fn caster_pipelines_needed(plan: &Plan) -> Vec<bool> {
         }
     }
     needed
-}
-
-/// The world-space box around the local box `lo`..`hi` under `transform`.
-fn world_bounds(transform: Mat4, lo: Vec3, hi: Vec3) -> (Vec3, Vec3) {
-    (0..8).fold(
-        (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
-        |(a, b), k| {
-            let corner = Vec3::new(
-                if k & 1 == 0 { lo.x } else { hi.x },
-                if k & 2 == 0 { lo.y } else { hi.y },
-                if k & 4 == 0 { lo.z } else { hi.z },
-            );
-            let p = transform.transform_point3(corner);
-            (a.min(p), b.max(p))
-        },
-    )
-}
-
-fn mesh_bounds(vertices: &[Vertex]) -> (Vec3, Vec3) {
-    vertices.iter().fold(
-        (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
-        |(lo, hi), v| {
-            let p = Vec3::from(v.position);
-            (lo.min(p), hi.max(p))
-        },
-    )
 }
