@@ -11,12 +11,12 @@
 
 mod common;
 
-use common::displaced::{displaced, draw, mean_difference, save, scene};
+use common::displaced::{displaced, draw, mean_difference, save, scene, sphere_and_torus};
 use glam::Vec3;
 use relief::displaced_reference::{coverage, iou};
 use relief::heightfield::Generator;
 use relief::method::Method;
-use relief::scene::{quad_mesh, sphere_mesh, torus_mesh, Silhouettes};
+use relief::scene::{quad_mesh, sphere_mesh, Silhouettes};
 
 #[test]
 fn the_reference_converges_as_its_edges_shrink() {
@@ -154,81 +154,54 @@ fn the_command_line_draws_the_reference_and_refuses_a_bad_edge() {
         "unused.png",
     ]);
     common::cli::assert_clean_failure(&bad, &["texels per edge must be a positive number"]);
-    // The default scene is traced with QDM, whose pyramid bounds straight rays only.
-    let straight_only =
-        common::cli::relief(&["render", "--silhouettes", "curved", "--out", "unused.png"]);
-    common::cli::assert_clean_failure(&straight_only, &["bricks", "curved silhouettes", "qdm"]);
-    // With relief mapping the curved variant is planned, and --explain says so.
-    let explained = common::cli::relief(&[
-        "render",
-        "--silhouettes",
-        "curved",
-        "--method",
-        "relief",
-        "--explain",
-        "--width",
-        "32",
-        "--height",
-        "32",
-        "--out",
-        common::evidence_dir("displaced-reference")
-            .join("curved_explain.png")
-            .to_str()
-            .expect("utf-8"),
-    ]);
-    assert!(
-        explained.status.success(),
-        "{}",
-        String::from_utf8_lossy(&explained.stderr)
-    );
-    let plan: serde_json::Value = serde_json::from_slice(&explained.stdout).expect("JSON");
-    let curved: Vec<&serde_json::Value> = plan["pipelines"]
-        .as_array()
-        .expect("pipelines")
-        .iter()
-        .filter(|p| p["curved"] == true)
-        .collect();
-    assert_eq!(curved.len(), 1, "{plan}");
-    assert_eq!(curved[0]["shader"], "surface.frag:relief:curved");
-    // Shells are refused under QDM too, and planned under relief mapping.
-    let shells_qdm =
-        common::cli::relief(&["render", "--silhouettes", "shells", "--out", "unused.png"]);
-    common::cli::assert_clean_failure(&shells_qdm, &["bricks", "shells silhouettes", "qdm"]);
-    let explained = common::cli::relief(&[
-        "render",
-        "--silhouettes",
-        "shells",
-        "--method",
-        "relief",
-        "--explain",
-        "--width",
-        "32",
-        "--height",
-        "32",
-        "--out",
-        common::evidence_dir("displaced-reference")
-            .join("shells_explain.png")
-            .to_str()
-            .expect("utf-8"),
-    ]);
-    assert!(
-        explained.status.success(),
-        "{}",
-        String::from_utf8_lossy(&explained.stderr)
-    );
-    let plan: serde_json::Value = serde_json::from_slice(&explained.stdout).expect("JSON");
-    let shells: Vec<&serde_json::Value> = plan["pipelines"]
-        .as_array()
-        .expect("pipelines")
-        .iter()
-        .filter(|p| p["shells"] == true)
-        .collect();
-    assert_eq!(shells.len(), 1, "{plan}");
-    assert_eq!(shells[0]["shader"], "surface.frag:relief:shells");
-    // The prisms were built for the relief meshes only: the default scene's one relief slab.
-    let built = plan["shells"].as_array().expect("shells");
-    assert_eq!(built.len(), 1, "{plan}");
-    assert!(built[0]["prisms"].as_u64().unwrap_or(0) > 0, "{plan}");
+    for silhouettes in ["curved", "shells"] {
+        // The default scene is traced with QDM, whose pyramid bounds straight rays only.
+        let straight_only = common::cli::relief(&[
+            "render",
+            "--silhouettes",
+            silhouettes,
+            "--out",
+            "unused.png",
+        ]);
+        let why = format!("{silhouettes} silhouettes");
+        common::cli::assert_clean_failure(&straight_only, &["bricks", &why, "qdm"]);
+        // With relief mapping the variant is planned, and --explain says so.
+        let out = common::evidence_dir("displaced-reference").join(format!("{silhouettes}.png"));
+        let explained = common::cli::relief(&[
+            "render",
+            "--silhouettes",
+            silhouettes,
+            "--method",
+            "relief",
+            "--explain",
+            "--width",
+            "32",
+            "--height",
+            "32",
+            "--out",
+            out.to_str().expect("utf-8"),
+        ]);
+        let stderr = String::from_utf8_lossy(&explained.stderr);
+        assert!(explained.status.success(), "{stderr}");
+        let plan: serde_json::Value = serde_json::from_slice(&explained.stdout).expect("JSON");
+        let variants: Vec<&serde_json::Value> = plan["pipelines"]
+            .as_array()
+            .expect("pipelines")
+            .iter()
+            .filter(|p| p[silhouettes] == true)
+            .collect();
+        assert_eq!(variants.len(), 1, "{plan}");
+        let shader = format!("surface.frag:relief:{silhouettes}");
+        assert_eq!(variants[0]["shader"], shader.as_str());
+        // Prisms are built for shells only, and only for the default scene's one relief slab.
+        let built = plan["shells"].as_array().expect("shells");
+        if silhouettes == "shells" {
+            assert_eq!(built.len(), 1, "{plan}");
+            assert!(built[0]["prisms"].as_u64().unwrap_or(0) > 0, "{plan}");
+        } else {
+            assert!(built.is_empty(), "{plan}");
+        }
+    }
 }
 
 #[test]
@@ -237,23 +210,7 @@ fn curved_relief_follows_the_displaced_outline() {
         return;
     };
     let heights = Generator::Fbm.generate(64, 64, 3);
-    // World depth 0.05 of the sphere's radius, and of the torus's ring radius at its outer
-    // equator (one depth unit is sqrt(2 pi (R + r) 2 pi r) there).
-    let sphere_depth = 0.05 / (std::f32::consts::PI * 2f32.sqrt());
-    let torus_depth = 0.05 / (std::f32::consts::TAU * (1.35f32 * 0.35).sqrt());
-    let meshes = [
-        (
-            "sphere",
-            sphere_mesh("sphere", 1.0, 16, 32, 0),
-            sphere_depth,
-        ),
-        (
-            "torus",
-            torus_mesh("torus", 1.0, 0.35, 48, 24, 0),
-            torus_depth,
-        ),
-    ];
-    for (name, mesh, depth) in meshes {
+    for (name, mesh, depth) in sphere_and_torus() {
         for (eye, view) in [
             (Vec3::new(0.0, 1.5, 2.6), "30 degrees"),
             (Vec3::new(0.0, 2.9, 0.78), "75 degrees"),

@@ -6,13 +6,15 @@
 
 mod common;
 
-use common::displaced::{displaced, draw, mean_difference, save, scene, HEIGHT, WIDTH};
+use common::displaced::{
+    displaced, draw, mean_difference, save, scene, sphere_and_torus, HEIGHT, WIDTH,
+};
 use glam::Vec3;
 use relief::displaced_reference::{coverage, iou};
 use relief::heightfield::{Address, Generator};
 use relief::method::Method;
 use relief::render::{render, RenderOptions};
-use relief::scene::{cylinder_mesh, sphere_mesh, torus_mesh, Silhouettes};
+use relief::scene::{cylinder_mesh, Silhouettes};
 use relief::shells::scene_shells;
 
 #[test]
@@ -21,26 +23,15 @@ fn prism_shells_cover_what_the_displaced_mesh_covers() {
         return;
     };
     let heights = Generator::Fbm.generate(64, 64, 3);
-    let sphere_depth = 0.05 / (std::f32::consts::PI * 2f32.sqrt());
-    let torus_depth = 0.05 / (std::f32::consts::TAU * (1.35f32 * 0.35).sqrt());
     // Open, lying along x so that no view looks into it: its ends are an open boundary the
     // displaced surface leaves inward.
     let mut cylinder = cylinder_mesh("open cylinder", 1.0, 2.0, std::f32::consts::TAU, 48, 4, 0);
     cylinder.transform = glam::Mat4::from_rotation_z(std::f32::consts::FRAC_PI_2);
     let cylinder_depth = 0.05 / (std::f32::consts::TAU * 2.0).sqrt();
-    let meshes = [
-        (
-            "sphere",
-            sphere_mesh("sphere", 1.0, 16, 32, 0),
-            sphere_depth,
-        ),
-        (
-            "torus",
-            torus_mesh("torus", 1.0, 0.35, 48, 24, 0),
-            torus_depth,
-        ),
-        ("open cylinder", cylinder, cylinder_depth),
-    ];
+    let meshes =
+        sphere_and_torus()
+            .into_iter()
+            .chain([("open cylinder", cylinder, cylinder_depth)]);
     for (name, mesh, depth) in meshes {
         for (eye, view) in [
             (Vec3::new(0.0, 1.5, 2.6) * 1.2, "30 degrees"),
@@ -113,13 +104,7 @@ fn prism_shells_leave_no_holes_where_prisms_meet() {
     };
     let heights = Generator::Fbm.generate(64, 64, 3);
     let (width, height) = (400, 300);
-    let sphere_depth = 0.05 / (std::f32::consts::PI * 2f32.sqrt());
-    let torus_depth = 0.05 / (std::f32::consts::TAU * (1.35f32 * 0.35).sqrt());
-    let meshes = [
-        (sphere_mesh("sphere", 1.0, 16, 32, 0), sphere_depth),
-        (torus_mesh("torus", 1.0, 0.35, 48, 24, 0), torus_depth),
-    ];
-    for (mesh, depth) in meshes {
+    for (_, mesh, depth) in sphere_and_torus() {
         // Face-on to nearly edge-on over the torus's ring.
         for elevation in [30.0f32, 75.0, 88.0] {
             let e = elevation.to_radians();

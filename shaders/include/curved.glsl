@@ -12,12 +12,11 @@
 // screen derivatives are noise (a triangle seen edge-on).
 const float CURVED_MAX_BEND = 64.0;
 
-// Normal curvatures along f.t and f.b, from how the interpolated unit normal `n` changes across
-// the screen against the world position: for a direction w in the tangent plane, the screen step
-// (a, b) that moves the point by w (least squares), and dn = a dn/dx + b dn/dy along it.
-vec2 surface_curvature(vec3 world, vec3 n, ReliefFrame f) {
-    vec3 dpx = dFdx(world), dpy = dFdy(world);
-    vec3 dnx = dFdx(n), dny = dFdy(n);
+// Normal curvatures along f.t and f.b from two steps across the surface, `dpx` and `dpy`, and
+// how the unit normal changes over them, `dnx` and `dny`: for a direction w in the tangent plane,
+// the combination (a, b) of the steps that moves the point by w (least squares), and
+// dn = a dnx + b dny along it.
+vec2 curvature_along(vec3 dpx, vec3 dpy, vec3 dnx, vec3 dny, ReliefFrame f) {
     mat2 gram = mat2(dot(dpx, dpx), dot(dpx, dpy), dot(dpx, dpy), dot(dpy, dpy));
     float det = determinant(gram);
     if (abs(det) < 1e-30) {
@@ -30,6 +29,12 @@ vec2 surface_curvature(vec3 world, vec3 n, ReliefFrame f) {
     float kb = dot(ab.x * dnx + ab.y * dny, f.b);
     float limit = CURVED_MAX_BEND / max(f.depth_len, 1e-12);
     return clamp(vec2(kt, kb), vec2(-limit), vec2(limit));
+}
+
+// Normal curvatures along f.t and f.b, from how the interpolated unit normal `n` changes across
+// the screen against the world position (one pixel's steps).
+vec2 surface_curvature(vec3 world, vec3 n, ReliefFrame f) {
+    return curvature_along(dFdx(world), dFdy(world), dFdx(n), dFdy(n), f);
 }
 
 // How far below the tangent plane the curved top lies at the height-uv offset `d` from the

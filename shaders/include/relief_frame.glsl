@@ -32,6 +32,16 @@ mat2 safe_inverse(mat2 m) {
     return abs(det) < 1e-20 ? mat2(0.0) : inverse(m);
 }
 
+// The frame's maps to and from height uv and its depth length, from its scale and uv1_per_uv0.
+void relief_frame_height_maps(inout ReliefFrame f) {
+    mat2 set_map = slot_set(SLOT_HEIGHT) == 1 ? f.uv1_per_uv0 : mat2(1.0);
+    f.to_height = slot_linear(SLOT_HEIGHT) * set_map;
+    f.from_height = safe_inverse(f.to_height);
+    // One height-uv unit spans the mean world length of the two height-uv axes.
+    float area = abs(determinant(f.to_height));
+    f.depth_len = sqrt(f.scale.x * f.scale.y / max(area, 1e-20));
+}
+
 ReliefFrame relief_frame(vec3 world, vec3 n, vec4 tangent, vec2 uv0, vec2 uv1) {
     ReliefFrame f;
     f.n = n;
@@ -42,12 +52,7 @@ ReliefFrame relief_frame(vec3 world, vec3 n, vec4 tangent, vec2 uv0, vec2 uv1) {
     mat2 d0 = mat2(dFdx(uv0), dFdy(uv0));
     mat2 d1 = mat2(dFdx(uv1), dFdy(uv1));
     f.uv1_per_uv0 = d1 * safe_inverse(d0);
-    mat2 set_map = slot_set(SLOT_HEIGHT) == 1 ? f.uv1_per_uv0 : mat2(1.0);
-    f.to_height = slot_linear(SLOT_HEIGHT) * set_map;
-    f.from_height = safe_inverse(f.to_height);
-    // One height-uv unit spans the mean world length of the two height-uv axes.
-    float area = abs(determinant(f.to_height));
-    f.depth_len = sqrt(f.scale.x * f.scale.y / max(area, 1e-20));
+    relief_frame_height_maps(f);
     return f;
 }
 

@@ -309,31 +309,15 @@ ReliefFrame shell_frame(ShellPrism p, vec2 b, vec4 tangent) {
     mat2 d0 = mat2(d1, d2);
     mat2 d_1 = mat2(p.uv1[1] - p.uv1[0], p.uv1[2] - p.uv1[0]);
     f.uv1_per_uv0 = d_1 * safe_inverse(d0);
-    mat2 set_map = slot_set(SLOT_HEIGHT) == 1 ? f.uv1_per_uv0 : mat2(1.0);
-    f.to_height = slot_linear(SLOT_HEIGHT) * set_map;
-    f.from_height = safe_inverse(f.to_height);
-    float area = abs(determinant(f.to_height));
-    f.depth_len = sqrt(f.scale.x * f.scale.y / max(area, 1e-20));
+    relief_frame_height_maps(f);
     return f;
 }
 
-// Normal curvatures along f.t and f.b across the prism's triangle, from how the corner normals
-// change against the corners (curved.glsl's surface_curvature with the triangle's edges in place
-// of screen derivatives).
+// Normal curvatures along f.t and f.b across the prism's triangle: how the corner normals change
+// along its edges (where curved relief reads them across a pixel).
 vec2 shell_curvature(ShellPrism p, ReliefFrame f) {
-    vec3 e1 = p.top[1] - p.top[0], e2 = p.top[2] - p.top[0];
-    vec3 dn1 = p.normal[1] - p.normal[0], dn2 = p.normal[2] - p.normal[0];
-    mat2 gram = mat2(dot(e1, e1), dot(e1, e2), dot(e1, e2), dot(e2, e2));
-    if (abs(determinant(gram)) < 1e-30) {
-        return vec2(0.0);
-    }
-    mat2 inv = inverse(gram);
-    vec2 at = inv * vec2(dot(e1, f.t), dot(e2, f.t));
-    vec2 ab = inv * vec2(dot(e1, f.b), dot(e2, f.b));
-    float kt = dot(at.x * dn1 + at.y * dn2, f.t);
-    float kb = dot(ab.x * dn1 + ab.y * dn2, f.b);
-    float limit = CURVED_MAX_BEND / max(f.depth_len, 1e-12);
-    return clamp(vec2(kt, kb), vec2(-limit), vec2(limit));
+    return curvature_along(p.top[1] - p.top[0], p.top[2] - p.top[0], p.normal[1] - p.normal[0],
+                           p.normal[2] - p.normal[0], f);
 }
 
 // The triangle's own plane, on n's side (what the shadow maps hold of it).

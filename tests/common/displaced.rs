@@ -8,7 +8,7 @@ use relief::displaced_reference::displaced_scene;
 use relief::heightfield::{Address, Heightfield};
 use relief::method::Method;
 use relief::render::{render, RenderOptions};
-use relief::scene::{Camera, Light, Material, Mesh, Relief, Scene};
+use relief::scene::{sphere_mesh, torus_mesh, Camera, Light, Material, Mesh, Relief, Scene};
 
 /// The size the displaced-reference tests draw at.
 pub const WIDTH: u32 = 200;
@@ -77,4 +77,22 @@ pub fn mean_difference(a: &[u8], b: &[u8], keep: impl Fn(usize) -> bool) -> f64 
 pub fn save(name: &str, rgba: &[u8]) {
     let path = super::evidence_dir("displaced-reference").join(format!("{name}.png"));
     image::save_buffer(&path, rgba, WIDTH, HEIGHT, image::ColorType::Rgba8).expect("writes");
+}
+
+/// A 16x32 sphere of radius 1 and a 48x24 torus (ring 1, tube 0.35), each with the depth scale
+/// that sinks its relief by 0.05 of its radius (the torus's: of its tube at the outer equator,
+/// where one depth unit is sqrt(2 pi (R + r) 2 pi r) long).
+pub fn sphere_and_torus() -> [(&'static str, Mesh, f32); 2] {
+    [
+        (
+            "sphere",
+            sphere_mesh("sphere", 1.0, 16, 32, 0),
+            0.05 / (std::f32::consts::PI * 2f32.sqrt()),
+        ),
+        (
+            "torus",
+            torus_mesh("torus", 1.0, 0.35, 48, 24, 0),
+            0.05 / (std::f32::consts::TAU * (1.35f32 * 0.35).sqrt()),
+        ),
+    ]
 }
