@@ -98,7 +98,8 @@ pub use shadow_stats::{
 pub use shard::{partition, Shard, UnitCost};
 pub use shard_info::{ShardInfo, StepOrigins};
 pub use silhouettes::{
-    run_silhouette_section, SilhouetteCell, SilhouetteError, SilhouetteSection, SILHOUETTE_OPTIONS,
+    run_silhouette_section, SilhouetteCell, SilhouetteError, SilhouetteSection, SilhouetteStrip,
+    SILHOUETTE_OPTIONS,
 };
 pub use slow_down::{SlowDown, MAX_SLOW_DOWN};
 pub use stability::{run_stiff_case, stiff_cases, StiffCase};

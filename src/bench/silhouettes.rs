@@ -97,6 +97,44 @@ pub struct SilhouetteSection {
     /// Prism shells' coverage per mesh, depth and view (absent from files written before it).
     #[serde(default)]
     pub shells: Vec<ShellCoverage>,
+    /// Per mesh, its first depth and view drawn every way beside the reference (not in
+    /// results.json: `relief bench` writes them as PNG files).
+    #[serde(skip)]
+    pub strips: Vec<SilhouetteStrip>,
+}
+
+/// One mesh, depth and view as the reference and every option draw it, side by side (RGBA8):
+/// the picture beside the section's numbers.
+#[derive(Debug, Clone, Default)]
+pub struct SilhouetteStrip {
+    /// File name to write it under: `silhouettes-<mesh>.png`.
+    pub file: String,
+    /// Width and height in pixels.
+    pub size: [u32; 2],
+    /// Its pixels.
+    pub rgba: Vec<u8>,
+}
+
+/// `silhouettes-<mesh>.png`, the mesh's name kept to letters and digits.
+fn strip_file(mesh: &str) -> String {
+    let name: String = mesh
+        .chars()
+        .map(|c| if c.is_ascii_alphanumeric() { c } else { '-' })
+        .collect();
+    format!("silhouettes-{name}.png")
+}
+
+/// Lays `images` (each `size`, RGBA8) side by side.
+fn side_by_side(images: &[Vec<u8>], size: [u32; 2]) -> Vec<u8> {
+    let (w, h) = (size[0] as usize * 4, size[1] as usize);
+    let mut out = vec![0u8; w * h * images.len()];
+    for (k, image) in images.iter().enumerate() {
+        for (y, row) in image.chunks_exact(w).enumerate() {
+            let at = (y * images.len() + k) * w;
+            out[at..at + w].copy_from_slice(row);
+        }
+    }
+    out
 }
 
 /// A test mesh, how long one depth unit is on it (at its widest), its radius, and where the
@@ -268,6 +306,7 @@ pub fn run_silhouette_section(
     };
     let mut cells = Vec::new();
     let mut shell_cells = Vec::new();
+    let mut strips = Vec::new();
     let mut all = subjects(quick);
     if let Some(mesh) = extra {
         all.push(subject_of(mesh)?);
@@ -284,9 +323,14 @@ pub fn run_silhouette_section(
                 let truth = render(ctx, &reference.scene, None, &opts)?.rgba;
                 let cell = (subject.name.clone(), depth, view_deg);
                 shell_cells.push(shell_coverage(cell, &base, &heights, &truth, size)?);
+                let pictured = depth == depths[0] && view_deg == views[0];
+                let mut drawn = vec![truth.clone()];
                 for option in SILHOUETTE_OPTIONS {
                     let scene = scene_of(&subject, depth, view_deg, option);
                     let image = render(ctx, &scene, Some(&heights), &opts)?.rgba;
+                    if pictured {
+                        drawn.push(image.clone());
+                    }
                     let agreement = compare_with_reference(&image, &truth, size[0], size[1]);
                     let timed = time_steady_frames(ctx, &scene, Some(&heights), &opts, frames)?;
                     cells.push(SilhouetteCell {
@@ -300,6 +344,13 @@ pub fn run_silhouette_section(
                         surface_ms: timed.surface_ms,
                     });
                 }
+                if pictured {
+                    strips.push(SilhouetteStrip {
+                        file: strip_file(&subject.name),
+                        size: [size[0] * drawn.len() as u32, size[1]],
+                        rgba: side_by_side(&drawn, size),
+                    });
+                }
             }
         }
     }
@@ -308,6 +359,7 @@ pub fn run_silhouette_section(
         frames,
         cells,
         shells: shell_cells,
+        strips,
     })
 }
 
@@ -364,6 +416,16 @@ pub fn report(md: &mut String, s: &SilhouetteSection) {
             c.mean_difference,
             c.band_difference,
             c.surface_ms
+        );
+    }
+    if !s.strips.is_empty() {
+        let files: Vec<&str> = s.strips.iter().map(|p| p.file.as_str()).collect();
+        let _ = writeln!(
+            md,
+            "\nPictures: {}, each mesh at the first depth and view above drawn as the reference, \
+             then {}, side by side.",
+            files.join(", "),
+            SILHOUETTE_OPTIONS.join(", ")
         );
     }
     if s.shells.is_empty() {

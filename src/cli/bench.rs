@@ -587,6 +587,12 @@ pub(super) fn write_outputs(
     for (name, svg) in &plots {
         write(name, svg)?;
     }
+    for strip in results.silhouettes.iter().flat_map(|s| &s.strips) {
+        let path = out.join(&strip.file);
+        let [w, h] = strip.size;
+        image::save_buffer(&path, &strip.rgba, w, h, image::ColorType::Rgba8)
+            .with_context(|| format!("writing {}", path.display()))?;
+    }
     if json {
         println!("{text}");
     } else {
