@@ -92,25 +92,21 @@ mat3 prism_jacobian(ShellPrism p, vec3 c) {
     return j;
 }
 
-// The prism's size: its longest top edge or its deepest corner.
-float prism_size(ShellPrism p) {
-    float edges = max(max(distance(p.top[0], p.top[1]), distance(p.top[1], p.top[2])),
-                      distance(p.top[2], p.top[0]));
-    return max(edges, max(max(p.depth.x, p.depth.y), p.depth.z));
-}
-
-// Newton's method on point(c) = x from `c`, `iterations` times; false where it fails (a
-// singular Jacobian or a residual left above a thousandth of the prism).
-bool prism_solve(ShellPrism p, vec3 x, inout vec3 c, int iterations, float size) {
+// Newton's method on point(c) = x from `c`, `iterations` times; where the Jacobian is singular
+// or a step leaves the finite numbers, the last finite coordinates stand.
+vec3 prism_newton(ShellPrism p, vec3 x, vec3 c, int iterations) {
     for (int i = 0; i < iterations; ++i) {
-        vec3 r = prism_point(p, c) - x;
         mat3 j = prism_jacobian(p, c);
         if (abs(determinant(j)) < 1e-30) {
-            return false;
+            break;
         }
-        c -= inverse(j) * r;
+        vec3 next = c - inverse(j) * (prism_point(p, c) - x);
+        if (any(isnan(next)) || any(isinf(next))) {
+            break;
+        }
+        c = next;
     }
-    return all(not(isnan(c))) && length(prism_point(p, c) - x) <= 1e-3 * size;
+    return c;
 }
 
 // Coordinates of a point on or in the prism, clamped into it (the rasterized faces are flat,
@@ -132,7 +128,7 @@ bool prism_under(ShellPrism p, vec3 c) {
 // farthest crossing, since a prism is all but convex and the ray enters it at t = 0 (the entry
 // face's own crossing, at t near 0, cannot be told from others by t alone at grazing angles);
 // t <= 0 where there is none. `bottom` says whether it leaves through the bottom.
-float prism_exit(ShellPrism p, vec3 entry, vec3 dir, float size, out bool bottom) {
+float prism_exit(ShellPrism p, vec3 entry, vec3 dir, out bool bottom) {
     vec3 d[3];
     for (int k = 0; k < 3; ++k) {
         d[k] = p.top[k] - p.normal[k] * p.depth[k];
@@ -208,9 +204,8 @@ bool shell_meets_at_side(ShellPrism p, vec3 c) {
 }
 
 // Prism coordinates at t along the ray, Newton warm-started from `c`, clamped into the prism.
-vec3 shell_at(ShellPrism p, vec3 x, vec3 c, int iterations, float size) {
-    prism_solve(p, x, c, iterations, size);
-    return prism_clamp(c);
+vec3 shell_at(ShellPrism p, vec3 x, vec3 c, int iterations) {
+    return prism_clamp(prism_newton(p, x, c, iterations));
 }
 
 // The first passage of the ray `entry + t dir` (t >= 0, dir unit) from above the relief to under
@@ -226,8 +221,7 @@ bool trace_shell(ShellPrism p, vec3 entry, vec3 dir, vec3 guess, int face, out S
         // side shows, under an open sheet where the one-sided displaced mesh shows nothing.
         return false;
     }
-    float size = prism_size(p);
-    vec3 c = shell_at(p, entry, guess, SHELL_NEWTON_ENTRY, size);
+    vec3 c = shell_at(p, entry, guess, SHELL_NEWTON_ENTRY);
     if (face == 0) {
         c.z = 0.0;
     }
@@ -237,11 +231,11 @@ bool trace_shell(ShellPrism p, vec3 entry, vec3 dir, vec3 guess, int face, out S
         return true;
     }
     bool bottom;
-    float t_exit = prism_exit(p, entry, dir, size, bottom);
+    float t_exit = prism_exit(p, entry, dir, bottom);
     if (t_exit <= 0.0) {
         return false;
     }
-    vec3 leave = shell_at(p, entry + dir * t_exit, c, SHELL_NEWTON_EXIT, size);
+    vec3 leave = shell_at(p, entry + dir * t_exit, c, SHELL_NEWTON_EXIT);
     if (bottom) {
         leave.z = 1.0;
     }
@@ -258,7 +252,7 @@ bool trace_shell(ShellPrism p, vec3 entry, vec3 dir, vec3 guess, int face, out S
         // carries from one step to the next.
         vec3 ck = k == 0 ? c : (k == n ? leave
                                        : shell_at(p, entry + dir * t, mix(c, leave, float(k) / steps),
-                                                  SHELL_NEWTON_STEP, size));
+                                                  SHELL_NEWTON_STEP));
         bool now_under = prism_under(p, ck);
         if (now_under && !was_under) {
             float above = t_prev, below = t;

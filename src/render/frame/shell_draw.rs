@@ -3,10 +3,10 @@
 
 use std::sync::Arc;
 
-use ash::vk;
 use glam::Vec3;
 
 use super::draw_bounds::points_bounds;
+use super::surface_pass::mesh_buffers;
 use crate::heightfield::Address;
 use crate::scene::{MaterialHeights, Mesh, Scene};
 use crate::shells::{ShellMesh, ShellVertex};
@@ -72,19 +72,15 @@ pub(super) fn upload_shell(
         bytes: (std::mem::size_of_val(shell.vertices.as_slice())
             + std::mem::size_of_val(shell.indices.as_slice())) as u64,
     };
+    let (vertices, indices) = mesh_buffers(
+        ctx,
+        bytemuck::cast_slice(&shell.vertices),
+        &shell.indices,
+        &format!("{} shell", mesh.name),
+    )?;
     Ok(ShellUpload {
-        vertices: Buffer::with_data(
-            ctx,
-            bytemuck::cast_slice(&shell.vertices),
-            vk::BufferUsageFlags::VERTEX_BUFFER,
-            &format!("{} shell vertices", mesh.name),
-        )?,
-        indices: Buffer::with_data(
-            ctx,
-            bytemuck::cast_slice(&shell.indices),
-            vk::BufferUsageFlags::INDEX_BUFFER,
-            &format!("{} shell indices", mesh.name),
-        )?,
+        vertices,
+        indices,
         index_count: shell.indices.len() as u32,
         bounds,
         built,

@@ -251,6 +251,29 @@ fn mesh_draws(
     Ok((draws, shells))
 }
 
+/// A draw's vertex buffer (`vertices`, as bytes) and index buffer, named after `name`.
+pub(super) fn mesh_buffers(
+    ctx: &Arc<Context>,
+    vertices: &[u8],
+    indices: &[u32],
+    name: &str,
+) -> VkResult<(Buffer, Buffer)> {
+    Ok((
+        Buffer::with_data(
+            ctx,
+            vertices,
+            vk::BufferUsageFlags::VERTEX_BUFFER,
+            &format!("{name} vertices"),
+        )?,
+        Buffer::with_data(
+            ctx,
+            bytemuck::cast_slice(indices),
+            vk::BufferUsageFlags::INDEX_BUFFER,
+            &format!("{name} indices"),
+        )?,
+    ))
+}
+
 /// The uniforms of the plain set 0, one buffer per frame slot.
 fn plain_uniform_buffers(
     ctx: &Arc<Context>,
@@ -279,20 +302,16 @@ impl MeshDraw {
         (frame_sets, material_set, layer_set): DrawSets,
     ) -> VkResult<MeshDraw> {
         let (lo, hi) = mesh_bounds(&mesh.vertices);
+        let (vertices, indices) = mesh_buffers(
+            ctx,
+            bytemuck::cast_slice(&mesh.vertices),
+            &mesh.indices,
+            &mesh.name,
+        )?;
         Ok(MeshDraw {
             mesh: d.mesh,
-            vertices: Buffer::with_data(
-                ctx,
-                bytemuck::cast_slice(&mesh.vertices),
-                vk::BufferUsageFlags::VERTEX_BUFFER,
-                &format!("{} vertices", mesh.name),
-            )?,
-            indices: Buffer::with_data(
-                ctx,
-                bytemuck::cast_slice(&mesh.indices),
-                vk::BufferUsageFlags::INDEX_BUFFER,
-                &format!("{} indices", mesh.name),
-            )?,
+            vertices,
+            indices,
             index_count: mesh.indices.len() as u32,
             pipeline: d.pipeline,
             frame_sets,
