@@ -6,6 +6,11 @@ set -euo pipefail
 
 packages=(libvulkan1 mesa-vulkan-drivers vulkan-validationlayers)
 
+# Before the missing packages: on a machine where lavapipe comes from Debian 12's backports, it is
+# installed from there at once; after them, an old one is upgraded or reported.
+scripts_dir=$(dirname "${BASH_SOURCE[0]}")
+"$scripts_dir/lavapipe.sh"
+
 missing=()
 # grep without -q reads all of ldconfig's output: with pipefail, -q's early exit would SIGPIPE
 # ldconfig and make the check fail.
@@ -34,6 +39,10 @@ if ((${#missing[@]} > 0)); then
     apt-get update -qq
     apt-get install -y -qq --no-install-recommends "${packages[@]}" >/dev/null
 fi
+
+# Mesa's lavapipe before 23.0 leaks about 5 MB a frame (Debian 12 ships 22.3.6); Debian's own
+# bookworm-backports suite carries 25.0.7, which holds memory flat and offers ray queries.
+"$scripts_dir/lavapipe.sh"
 
 # Xvfb and the X11 libraries the viewer's window (winit) loads at run time.
 view_packages=(xvfb libx11-6 libxcursor1 libxrandr2 libxi6 libxkbcommon-x11-0 libxcb1)
