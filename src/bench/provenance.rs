@@ -25,6 +25,13 @@ pub struct BenchDevice {
     pub device_id: u32,
     /// Nanoseconds per timestamp tick (`timestampPeriod`).
     pub timestamp_period: f32,
+    /// Whether the device traces ray queries (`VK_KHR_ray_query`); false in files written before
+    /// relief recorded it.
+    #[serde(default)]
+    pub ray_query: bool,
+    /// Whether the device builds acceleration structures (`VK_KHR_acceleration_structure`).
+    #[serde(default)]
+    pub acceleration_structure: bool,
 }
 
 impl BenchDevice {
@@ -46,6 +53,8 @@ impl From<&DeviceInfo> for BenchDevice {
             vendor_id: i.vendor_id,
             device_id: i.device_id,
             timestamp_period: i.timestamp_period_ns,
+            ray_query: i.ray_query,
+            acceleration_structure: i.acceleration_structure,
         }
     }
 }

@@ -13,6 +13,14 @@ use super::runner::Section;
 use super::svg::{Plot, Series};
 use crate::method::{BenchRole, Method};
 
+fn yes_no(b: bool) -> &'static str {
+    if b {
+        "yes"
+    } else {
+        "no"
+    }
+}
+
 /// The report's Markdown and its plots as (file name, SVG).
 pub fn render_report(results: &BenchResults) -> (String, Vec<(String, String)>) {
     let mut md = String::new();
@@ -20,8 +28,14 @@ pub fn render_report(results: &BenchResults) -> (String, Vec<(String, String)>) 
     let _ = writeln!(md, "# relief bench\n");
     let _ = writeln!(
         md,
-        "Device: **{}** ({}; Vulkan {}; timestamp period {} ns).  ",
-        d.name, d.driver, d.api, d.timestamp_period
+        "Device: **{}** ({}; Vulkan {}; timestamp period {} ns; ray queries {}, acceleration \
+         structures {}).  ",
+        d.name,
+        d.driver,
+        d.api,
+        d.timestamp_period,
+        yes_no(d.ray_query),
+        yes_no(d.acceleration_structure)
     );
     let _ = writeln!(md, "Command: `{}`\n", results.command);
     let _ = writeln!(

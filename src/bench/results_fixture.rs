@@ -18,6 +18,8 @@ pub(crate) fn device(name: &str) -> BenchDevice {
         vendor_id: 0x10005,
         device_id: 0,
         timestamp_period: 1.0,
+        ray_query: true,
+        acceleration_structure: true,
     }
 }
 

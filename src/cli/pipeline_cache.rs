@@ -161,6 +161,9 @@ mod tests {
             device_id: 0,
             pipeline_cache_uuid: [0; 16],
             max_samples: 1,
+            ray_query: false,
+            acceleration_structure: false,
+            known_frame_leak: None,
         }
     }
 

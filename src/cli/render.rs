@@ -39,6 +39,13 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let mut loaded = args.scene.load()?;
     let ctx = super::open_device(args.scene.device.as_deref(), args.json)?;
     loaded.check_device(&ctx)?;
+    if let (true, Some(why)) = (args.frames.frames > 1, &ctx.info().known_frame_leak) {
+        eprintln!(
+            "relief: warning: {why}; {} frames will grow this process's memory accordingly \
+             (scripts/setup.sh upgrades lavapipe)",
+            args.frames.frames
+        );
+    }
     let mut opts = args
         .scene
         .render_options(args.scene.width, args.scene.height);

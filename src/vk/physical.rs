@@ -47,6 +47,77 @@ pub struct DeviceInfo {
     /// The most samples per pixel (1, 2, 4 or 8) a colour and a depth attachment both take.
     #[serde(skip)]
     pub max_samples: u32,
+    /// `VK_KHR_ray_query` with its `rayQuery` feature: shaders may trace rays through
+    /// acceleration structures.
+    pub ray_query: bool,
+    /// `VK_KHR_acceleration_structure` (with `VK_KHR_deferred_host_operations`, which it needs)
+    /// and its `accelerationStructure` feature.
+    pub acceleration_structure: bool,
+    /// Why this driver is known to leak host memory every frame, where it is (see
+    /// [`known_frame_leak`]): long sequences on it grow without bound.
+    pub known_frame_leak: Option<String>,
+}
+
+/// The first Mesa release whose lavapipe is not known to leak every frame. 22.3.6 (Debian 12)
+/// leaks about 5 MB a frame in its queue thread; 25.0.7 holds memory flat.
+const LAVAPIPE_FLAT_SINCE: (u32, u32) = (23, 0);
+
+/// Why a driver is known to leak host memory every frame, from its `driverName` and
+/// `driverInfo` (lavapipe's `driverVersion` does not carry Mesa's version): lavapipe
+/// ("llvmpipe") of Mesa before 23.0.
+pub fn known_frame_leak(driver_name: &str, driver_info: &str) -> Option<String> {
+    if !driver_name.contains("llvmpipe") {
+        return None;
+    }
+    let version = driver_info
+        .split_whitespace()
+        .skip_while(|w| *w != "Mesa")
+        .nth(1)?;
+    let mut parts = version.split(['.', '-']).map(|p| p.parse::<u32>().ok());
+    let major = parts.next()??;
+    let minor = parts.next().flatten().unwrap_or(0);
+    ((major, minor) < LAVAPIPE_FLAT_SINCE).then(|| {
+        format!(
+            "lavapipe of Mesa {version} leaks host memory every frame (about 5 MB at relief's \
+             default scene); Mesa {}.{} and later hold memory flat",
+            LAVAPIPE_FLAT_SINCE.0, LAVAPIPE_FLAT_SINCE.1
+        )
+    })
+}
+
+/// The device extensions `pd` offers, by name.
+fn device_extensions(instance: &ash::Instance, pd: vk::PhysicalDevice) -> Vec<String> {
+    // SAFETY: valid physical device.
+    let props = unsafe { instance.enumerate_device_extension_properties(pd) }.unwrap_or_default();
+    props
+        .iter()
+        .filter_map(|p| p.extension_name_as_c_str().ok())
+        .map(|c| c.to_string_lossy().into_owned())
+        .collect()
+}
+
+/// Whether `pd` can trace ray queries and build acceleration structures: (ray query,
+/// acceleration structure). The feature structs are chained only where the extension is offered.
+fn ray_tracing_support(instance: &ash::Instance, pd: vk::PhysicalDevice) -> (bool, bool) {
+    let extensions = device_extensions(instance, pd);
+    let has = |name: &CStr| extensions.iter().any(|e| e.as_bytes() == name.to_bytes());
+    let has_structures = has(ash::khr::acceleration_structure::NAME)
+        && has(ash::khr::deferred_host_operations::NAME);
+    let has_query = has_structures && has(ash::khr::ray_query::NAME);
+    if !has_structures {
+        return (false, false);
+    }
+    let mut structures = vk::PhysicalDeviceAccelerationStructureFeaturesKHR::default();
+    let mut query = vk::PhysicalDeviceRayQueryFeaturesKHR::default();
+    let mut feats2 = vk::PhysicalDeviceFeatures2::default().push_next(&mut structures);
+    if has_query {
+        feats2 = feats2.push_next(&mut query);
+    }
+    // SAFETY: valid physical device; the chained structs belong to extensions it offers and
+    // live across the call.
+    unsafe { instance.get_physical_device_features2(pd, &mut feats2) };
+    let structures = structures.acceleration_structure == vk::TRUE;
+    (structures && query.ray_query == vk::TRUE, structures)
 }
 
 /// The most samples of 1, 2, 4 and 8 that `counts` holds.
@@ -114,13 +185,17 @@ fn describe(instance: &ash::Instance, pd: vk::PhysicalDevice) -> Option<(u32, De
         s.map(|c: &CStr| c.to_string_lossy().into_owned())
             .unwrap_or_default()
     };
+    let (driver_name, driver_info) = (
+        text(driver.driver_name_as_c_str()),
+        text(driver.driver_info_as_c_str()),
+    );
+    let (ray_query, acceleration_structure) = ray_tracing_support(instance, pd);
     let info = DeviceInfo {
         name: text(props.device_name_as_c_str()),
-        driver: format!(
-            "{} {}",
-            text(driver.driver_name_as_c_str()),
-            text(driver.driver_info_as_c_str())
-        ),
+        known_frame_leak: known_frame_leak(&driver_name, &driver_info),
+        driver: format!("{driver_name} {driver_info}"),
+        ray_query,
+        acceleration_structure,
         api: version_string(props.api_version),
         kind,
         max_image_dimension_2d: props.limits.max_image_dimension2_d,
@@ -192,4 +267,21 @@ pub(crate) fn choose_physical_device(
             wanted: filter.to_owned(),
             available: names.join(", "),
         })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::known_frame_leak;
+
+    #[test]
+    fn old_lavapipe_is_known_to_leak_and_new_is_not() {
+        let old = known_frame_leak("llvmpipe", "Mesa 22.3.6 (LLVM 15.0.6)");
+        assert!(old.is_some_and(|why| why.contains("22.3.6")));
+        assert!(known_frame_leak("llvmpipe", "Mesa 25.0.7-2~bpo12+1 (LLVM 15.0.6)").is_none());
+        assert!(known_frame_leak("llvmpipe", "Mesa 23.0.0 (LLVM 15.0.6)").is_none());
+        assert!(known_frame_leak("llvmpipe", "Mesa 22.0.1").is_some());
+        // Other drivers, and info strings without a Mesa version, are not judged.
+        assert!(known_frame_leak("NVIDIA", "550.54.14").is_none());
+        assert!(known_frame_leak("llvmpipe", "a build of unknown origin").is_none());
+    }
 }
