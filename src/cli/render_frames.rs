@@ -13,7 +13,7 @@ use relief::render::{
     explain, sequence_stats, FrameOutput, FrameRequest, PassTiming, Renderer, SequenceStats,
 };
 use relief::scene::{Camera, Scene};
-use relief::vk::{Context, ObjectCounts};
+use relief::vk::{Context, LiveObjects, ObjectCounts};
 use serde_json::json;
 
 use super::frame_range::FrameRange;
@@ -193,6 +193,8 @@ struct Drawn {
     edits: Vec<EditRecord>,
     /// Objects created from the end of the first frame's submission to the end of the last.
     created_after_first: ObjectCounts,
+    /// Objects alive after the first frame's submission, and after the last frame retired.
+    alive: [LiveObjects; 2],
 }
 
 /// Draws every frame of the range, writing each as it retires. Frames before the range are
@@ -248,7 +250,7 @@ fn draw_all(
         let retired = renderer
             .submit(&request)
             .with_context(|| format!("drawing frame {}", k + 1))?;
-        after_first.get_or_insert_with(|| ctx.created());
+        after_first.get_or_insert_with(|| (ctx.created(), ctx.alive()));
         if let Some(frame) = retired {
             keep(frame, &submitted)?;
         }
@@ -256,13 +258,15 @@ fn draw_all(
     for frame in renderer.finish().context("finishing the frames")? {
         keep(frame, &submitted)?;
     }
-    let after_first = after_first.unwrap_or_else(|| ctx.created());
+    let (after_first, alive_after_first) =
+        after_first.unwrap_or_else(|| (ctx.created(), ctx.alive()));
     Ok(Drawn {
         frames,
         kept,
         timings,
         edits: records,
         created_after_first: ctx.created() - after_first,
+        alive: [alive_after_first, ctx.alive()],
     })
 }
 
@@ -289,6 +293,7 @@ pub fn run_frames(
             renderer.shells(),
             &created,
         );
+        value["device"] = json!(ctx.info());
         if edited {
             value["edits"] = edits_json(renderer, &drawn.edits);
         }
@@ -312,6 +317,10 @@ pub fn run_frames(
             "frame_range": args.frames.frame_range.map(|_| [drawn.kept.start + 1, drawn.kept.end]),
             "steady": stats.steady,
             "created_after_first_frame": drawn.created_after_first,
+            "alive": {
+                "after_first_frame": drawn.alive[0],
+                "after_last_frame": drawn.alive[1],
+            },
             "edits": edited.then(|| edits_json(renderer, &drawn.edits)),
             "pipeline_cache": cache.json(),
         });
@@ -385,6 +394,24 @@ fn report_files(args: &RenderArgs, renderer: &Renderer, methods: &str, source: &
         )
     };
     eprintln!("{what} ({w}x{h}, relief: {methods}, heights: {source})");
+    if d.kept.len() > 1 {
+        let [first, last] = &d.alive;
+        let mib = |b: u64| b as f64 / f64::from(1u32 << 20);
+        eprintln!(
+            "alive after the first frame / the last: {} / {} buffers, {} / {} images, {} / {} \
+             descriptor sets, {} / {} pipelines, {:.1} / {:.1} MiB of device memory",
+            first.buffers,
+            last.buffers,
+            first.images,
+            last.images,
+            first.descriptor_sets,
+            last.descriptor_sets,
+            first.pipelines,
+            last.pipelines,
+            mib(first.allocated_bytes),
+            mib(last.allocated_bytes)
+        );
+    }
     for c in renderer.cells() {
         eprintln!(
             "cells {:?}: {n}^3 grid ({}), {} grey cells, {} domain faces at {r}^2, {:.1} MiB of maps, built on the cpu in {:.0} ms",

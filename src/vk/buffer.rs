@@ -64,9 +64,8 @@ impl Buffer {
             });
         let allocation = match allocation {
             Ok(a) => {
-                ctx.count(Created::Buffer {
-                    bytes: requirements.size,
-                });
+                // The allocation's own size, which its destruction counts off again.
+                ctx.count(Created::Buffer { bytes: a.size() });
                 a
             }
             Err(source) => {

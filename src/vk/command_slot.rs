@@ -58,14 +58,14 @@ impl CommandSlot {
         // SAFETY: the pool belongs to this device and is used by this slot only.
         slot.cmd = unsafe { device.allocate_command_buffers(&alloc) }
             .named("vkAllocateCommandBuffers")?[0];
+        ctx.count(Created::CommandBuffer);
         // SAFETY: valid device.
         slot.fence = unsafe { device.create_fence(&vk::FenceCreateInfo::default(), None) }
             .named("vkCreateFence")?;
+        ctx.count(Created::Fence);
         ctx.set_name(slot.pool, &format!("{name} pool"));
         ctx.set_name(slot.cmd, name);
         ctx.set_name(slot.fence, &format!("{name} fence"));
-        ctx.count(Created::CommandBuffer);
-        ctx.count(Created::Fence);
         Ok(slot)
     }
 
@@ -143,6 +143,13 @@ impl Drop for CommandSlot {
         unsafe {
             self.ctx.device().destroy_fence(self.fence, None);
             self.ctx.device().destroy_command_pool(self.pool, None);
+        }
+        // A slot whose creation failed part-way counted only what it made.
+        if self.cmd != vk::CommandBuffer::null() {
+            self.ctx.count_destroyed(Created::CommandBuffer);
+        }
+        if self.fence != vk::Fence::null() {
+            self.ctx.count_destroyed(Created::Fence);
         }
     }
 }

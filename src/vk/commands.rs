@@ -38,6 +38,7 @@ impl Context {
         if !matches!(result, Err(VkError::Hang { .. })) {
             // SAFETY: the submission has completed or never happened; the pool is locked.
             unsafe { device.free_command_buffers(*pool, &[cmd]) };
+            self.count_destroyed(Created::CommandBuffer);
         }
         result
     }
@@ -69,6 +70,7 @@ impl Context {
         if !matches!(waited, Err(VkError::Hang { .. })) {
             // SAFETY: the fence is signalled or was never submitted.
             unsafe { device.destroy_fence(fence, None) };
+            self.count_destroyed(Created::Fence);
         }
         waited.map(|_| value)
     }

@@ -11,7 +11,7 @@ use ash::{ext, khr, vk};
 use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
 use gpu_allocator::{AllocationSizes, AllocatorDebugSettings};
 
-use super::counters::{Created, ObjectCounters, ObjectCounts};
+use super::counters::{Created, LiveObjects, ObjectCounters, ObjectCounts};
 use super::deferred::Retirement;
 use super::error::{Named, VkError, VkResult};
 use super::fence::gpu_timeout_from_env;
@@ -297,8 +297,18 @@ impl Context {
         self.created.snapshot()
     }
 
+    /// Vulkan objects and allocations of this context alive now (created and not yet destroyed).
+    pub fn alive(&self) -> LiveObjects {
+        self.created.alive()
+    }
+
     pub(crate) fn count(&self, what: Created) {
         self.created.record(what);
+    }
+
+    /// Counts the destruction of an object counted as `what` when it was created.
+    pub(crate) fn count_destroyed(&self, what: Created) {
+        self.created.release(what);
     }
 
     /// The queue family of the single graphics + compute queue relief uses.

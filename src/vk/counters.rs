@@ -1,5 +1,7 @@
-//! How many Vulkan objects and memory allocations a context has created: the evidence that a
-//! scene builds only what its plan lists (a test compares counts before and after a frame).
+//! How many Vulkan objects and memory allocations a context has created, and how many of them are
+//! still alive: the evidence that a scene builds only what its plan lists (a test compares counts
+//! before and after a frame) and that a long sequence holds no more objects at its end than after
+//! its first frame.
 
 use std::sync::atomic::{AtomicU64, Ordering};
 
@@ -53,6 +55,51 @@ impl std::ops::Sub for ObjectCounts {
     }
 }
 
+/// Objects alive now: created and not yet destroyed. An object dropped while the GPU may still
+/// use it stays alive until the deferred destruction retires it; a descriptor set stops being
+/// alive when its last owner drops it (its pool's memory goes with the pool).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize)]
+pub struct LiveObjects {
+    /// Graphics and compute pipelines.
+    pub pipelines: u64,
+    /// Images.
+    pub images: u64,
+    /// Buffers.
+    pub buffers: u64,
+    /// Samplers.
+    pub samplers: u64,
+    /// Descriptor sets.
+    pub descriptor_sets: u64,
+    /// Timestamp query pools.
+    pub query_pools: u64,
+    /// Command buffers.
+    pub command_buffers: u64,
+    /// Fences.
+    pub fences: u64,
+    /// Device memory allocations.
+    pub allocations: u64,
+    /// Bytes of those allocations.
+    pub allocated_bytes: u64,
+}
+
+impl LiveObjects {
+    /// Each count as (name, value), in a fixed order: what a soak samples and fits.
+    pub fn fields(&self) -> [(&'static str, u64); 10] {
+        [
+            ("pipelines", self.pipelines),
+            ("images", self.images),
+            ("buffers", self.buffers),
+            ("samplers", self.samplers),
+            ("descriptor_sets", self.descriptor_sets),
+            ("query_pools", self.query_pools),
+            ("command_buffers", self.command_buffers),
+            ("fences", self.fences),
+            ("allocations", self.allocations),
+            ("allocated_bytes", self.allocated_bytes),
+        ]
+    }
+}
+
 /// What a context counts, by kind.
 #[derive(Debug, Clone, Copy)]
 pub(crate) enum Created {
@@ -68,9 +115,9 @@ pub(crate) enum Created {
     PipelineTime { micros: u64 },
 }
 
-/// The live counters a context keeps.
+/// One tally of objects by kind: the created ones, or the destroyed ones.
 #[derive(Debug, Default)]
-pub(crate) struct ObjectCounters {
+struct Tally {
     graphics_pipelines: AtomicU64,
     compute_pipelines: AtomicU64,
     images: AtomicU64,
@@ -85,8 +132,8 @@ pub(crate) struct ObjectCounters {
     allocated_bytes: AtomicU64,
 }
 
-impl ObjectCounters {
-    pub(crate) fn record(&self, what: Created) {
+impl Tally {
+    fn add(&self, what: Created) {
         let bump = |c: &AtomicU64, n: u64| {
             c.fetch_add(n, Ordering::Relaxed);
         };
@@ -112,7 +159,7 @@ impl ObjectCounters {
         }
     }
 
-    pub(crate) fn snapshot(&self) -> ObjectCounts {
+    fn snapshot(&self) -> ObjectCounts {
         let get = |c: &AtomicU64| c.load(Ordering::Relaxed);
         ObjectCounts {
             graphics_pipelines: get(&self.graphics_pipelines),
@@ -128,5 +175,73 @@ impl ObjectCounters {
             allocations: get(&self.allocations),
             allocated_bytes: get(&self.allocated_bytes),
         }
+    }
+}
+
+/// The live counters a context keeps.
+#[derive(Debug, Default)]
+pub(crate) struct ObjectCounters {
+    created: Tally,
+    destroyed: Tally,
+}
+
+impl ObjectCounters {
+    /// Counts an object created (or the time spent creating pipelines).
+    pub(crate) fn record(&self, what: Created) {
+        self.created.add(what);
+    }
+
+    /// Counts an object destroyed: `what` as it was counted when created.
+    pub(crate) fn release(&self, what: Created) {
+        self.destroyed.add(what);
+    }
+
+    pub(crate) fn snapshot(&self) -> ObjectCounts {
+        self.created.snapshot()
+    }
+
+    /// What is alive now. Destructions are read first, so a creation and destruction racing
+    /// with the read never make a count negative.
+    pub(crate) fn alive(&self) -> LiveObjects {
+        let gone = self.destroyed.snapshot();
+        let made = self.created.snapshot();
+        let live = |made: u64, gone: u64| made.saturating_sub(gone);
+        LiveObjects {
+            pipelines: live(
+                made.graphics_pipelines + made.compute_pipelines,
+                gone.graphics_pipelines + gone.compute_pipelines,
+            ),
+            images: live(made.images, gone.images),
+            buffers: live(made.buffers, gone.buffers),
+            samplers: live(made.samplers, gone.samplers),
+            descriptor_sets: live(made.descriptor_sets, gone.descriptor_sets),
+            query_pools: live(made.query_pools, gone.query_pools),
+            command_buffers: live(made.command_buffers, gone.command_buffers),
+            fences: live(made.fences, gone.fences),
+            allocations: live(made.allocations, gone.allocations),
+            allocated_bytes: live(made.allocated_bytes, gone.allocated_bytes),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{Created, ObjectCounters};
+
+    #[test]
+    fn alive_is_created_less_destroyed() {
+        let c = ObjectCounters::default();
+        c.record(Created::Buffer { bytes: 256 });
+        c.record(Created::Buffer { bytes: 64 });
+        c.record(Created::Image { bytes: 1024 });
+        c.record(Created::ComputePipeline);
+        c.record(Created::GraphicsPipeline);
+        c.release(Created::Buffer { bytes: 256 });
+        c.release(Created::GraphicsPipeline);
+        let live = c.alive();
+        assert_eq!((live.buffers, live.images, live.pipelines), (1, 1, 1));
+        assert_eq!((live.allocations, live.allocated_bytes), (2, 64 + 1024));
+        // Creations are never decremented.
+        assert_eq!(c.snapshot().buffers, 2);
     }
 }

@@ -14,6 +14,7 @@ use ash::{khr, vk};
 use gpu_allocator::vulkan::Allocation;
 
 use super::context::Context;
+use super::counters::Created;
 use super::error::{Named, VkError, VkResult};
 
 /// Handles whose owner has gone, waiting for the GPU to finish with them.
@@ -22,7 +23,8 @@ pub(crate) enum Doomed {
     Image(vk::Image, Option<Allocation>),
     ImageView(vk::ImageView),
     Sampler(vk::Sampler),
-    Pipeline(vk::Pipeline, vk::PipelineLayout),
+    /// With its bind point: graphics and compute pipelines are counted apart.
+    Pipeline(vk::Pipeline, vk::PipelineLayout, vk::PipelineBindPoint),
     DescriptorPool(vk::DescriptorPool),
     DescriptorLayout(vk::DescriptorSetLayout),
     QueryPool(vk::QueryPool),
@@ -222,6 +224,7 @@ impl Context {
 
 fn destroy(ctx: &Context, doomed: Doomed) {
     let device = ctx.device();
+    let counted = counted_as(&doomed);
     let allocation = match doomed {
         // SAFETY (all arms): the GPU has passed every submission that may use the handle (its tag
         // or a drained, idle device), its owner is gone, and it is destroyed here once.
@@ -245,7 +248,7 @@ fn destroy(ctx: &Context, doomed: Doomed) {
             unsafe { device.destroy_sampler(raw, None) };
             None
         }
-        Doomed::Pipeline(raw, layout) => {
+        Doomed::Pipeline(raw, layout, _) => {
             // SAFETY: see above; the layout goes with its pipeline.
             unsafe {
                 device.destroy_pipeline(raw, None);
@@ -281,7 +284,24 @@ fn destroy(ctx: &Context, doomed: Doomed) {
             None
         }
     };
+    if let Some(what) = counted {
+        ctx.count_destroyed(what);
+    }
     if let (Some(a), Ok(mut alloc)) = (allocation, ctx.allocator().lock()) {
         let _ = alloc.free(a);
+    }
+}
+
+/// How `doomed` was counted when it was created, if it was: buffers and images only once their
+/// memory was bound, and views, pools, layouts, swapchains and semaphores not at all.
+fn counted_as(doomed: &Doomed) -> Option<Created> {
+    match doomed {
+        Doomed::Buffer(_, Some(a)) => Some(Created::Buffer { bytes: a.size() }),
+        Doomed::Image(_, Some(a)) => Some(Created::Image { bytes: a.size() }),
+        Doomed::Sampler(_) => Some(Created::Sampler),
+        Doomed::QueryPool(_) => Some(Created::QueryPool),
+        Doomed::Pipeline(_, _, vk::PipelineBindPoint::COMPUTE) => Some(Created::ComputePipeline),
+        Doomed::Pipeline(..) => Some(Created::GraphicsPipeline),
+        _ => None,
     }
 }

@@ -277,6 +277,14 @@ impl DescriptorPool {
     }
 }
 
+impl Drop for SetInner {
+    fn drop(&mut self) {
+        // Sets are never freed one by one: the handle goes with its pool. It stops being alive
+        // here, since nothing can use it any more.
+        self.pool.ctx.count_destroyed(Created::DescriptorSet);
+    }
+}
+
 impl Drop for PoolInner {
     fn drop(&mut self) {
         self.ctx.defer(Doomed::DescriptorPool(self.raw));

@@ -259,8 +259,9 @@ impl ImageInner {
                 name: self.name.clone(),
                 reason,
             })?;
+        // The allocation's own size, which its destruction counts off again.
         self.ctx.count(Created::Image {
-            bytes: requirements.size,
+            bytes: allocation.size(),
         });
         // SAFETY: the allocation satisfies the image's requirements and is kept with the image.
         let bound =

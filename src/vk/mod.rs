@@ -53,7 +53,7 @@ pub use buffer::Buffer;
 pub use command_slot::{CommandSlot, SubmitSync};
 pub use commands::{memory_barrier, transition_images, whole_color_region, ImageTransition};
 pub use context::{Context, ContextOptions};
-pub use counters::ObjectCounts;
+pub use counters::{LiveObjects, ObjectCounts};
 pub use descriptors::{Bind, DescriptorLayout, DescriptorPool, DescriptorSet};
 pub use error::{VkError, VkResult};
 pub use fence::{gpu_timeout_from, DEFAULT_GPU_TIMEOUT, GPU_TIMEOUT_ENV};

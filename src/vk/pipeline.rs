@@ -111,7 +111,8 @@ impl Pipeline {
 
 impl Drop for Pipeline {
     fn drop(&mut self) {
-        self.ctx.defer(Doomed::Pipeline(self.raw, self.layout));
+        self.ctx
+            .defer(Doomed::Pipeline(self.raw, self.layout, self.bind_point));
     }
 }
 
