@@ -12,6 +12,7 @@ pub mod mesh_gltf;
 pub mod npy;
 pub mod plane_gltf;
 pub mod rays;
+pub mod soak;
 pub mod srgb;
 pub mod terrain;
 pub mod xvfb;

@@ -35,7 +35,9 @@ use crate::render::shadows::shadow_pass::ShadowMaps;
 use crate::render::shadows::shadow_plan::plan_shadow_maps;
 use crate::render::terrain::layer_paint::LayerPainter;
 use crate::scene::{Camera, Frustum, Light, Mesh, Scene};
-use crate::vk::{half_floats_to_rgba, CommandSlot, Context, Image, Readback, VkError, VkResult};
+use crate::vk::{
+    half_floats_to_rgba, Buffer, CommandSlot, Context, Image, Readback, VkError, VkResult,
+};
 
 /// How many frames may be recorded or running at once.
 pub const FRAMES_IN_FLIGHT: usize = 2;
@@ -113,6 +115,9 @@ pub struct Renderer {
     height: u32,
     submitted: u64,
     pub(in crate::render) pyramids_built: bool,
+    /// Test-only: a frame-sized buffer made and kept at every retired frame (a leak a soak must
+    /// catch); `None` in every real renderer.
+    kept_for_leak_test: Option<Vec<Buffer>>,
 }
 
 impl Renderer {
@@ -257,6 +262,7 @@ impl Renderer {
             height: opts.height,
             submitted: 0,
             pyramids_built: false,
+            kept_for_leak_test: None,
         })
     }
 
@@ -475,6 +481,14 @@ impl Renderer {
         Ok(retired)
     }
 
+    /// Test-only, never for real use: from now on the renderer makes a frame-sized buffer at
+    /// every retired frame and keeps it until it is dropped, a leak of device objects and host
+    /// memory that relief's soak test must catch.
+    #[doc(hidden)]
+    pub fn leak_a_buffer_every_frame_for_tests(&mut self) {
+        self.kept_for_leak_test.get_or_insert_with(Vec::new);
+    }
+
     /// Waits for every frame still in flight and returns them, oldest first.
     pub fn finish(&mut self) -> Result<Vec<FrameOutput>, RenderError> {
         let mut out = Vec::new();
@@ -523,6 +537,13 @@ impl Renderer {
         if index == 0 {
             self.note_pyramids(&scopes);
             self.note_ao_maps(&scopes);
+        }
+        if let Some(kept) = &mut self.kept_for_leak_test {
+            // Filled, so its pages count in the process's resident memory as a real leak's would.
+            let bytes = vec![0x5a; self.targets.readback_bytes() as usize];
+            let name = format!("frame {index} buffer kept for the leak test");
+            let usage = ash::vk::BufferUsageFlags::TRANSFER_DST;
+            kept.push(Buffer::with_data(&self.ctx, &bytes, usage, &name)?);
         }
         Ok(Some(FrameOutput {
             index,
