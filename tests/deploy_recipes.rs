@@ -314,6 +314,14 @@ fn the_container_file_builds_relief_on_debian_with_lavapipe() {
     ] {
         assert!(apt.contains(needed), "{needed} in {apt}");
     }
+    // Debian 12's own lavapipe (Mesa 22.3.6) leaks every frame: the image takes Mesa, and the
+    // libdrm it needs, from Debian's backports of the same release.
+    assert!(
+        apt.contains("bookworm-backports main")
+            && apt.contains("-t bookworm-backports")
+            && apt.contains("libdrm2"),
+        "lavapipe from bookworm-backports in {apt}"
+    );
     assert!(instructions.contains(&(
         "COPY",
         "--from=build /src/target/release/relief /usr/local/bin/relief"
