@@ -54,7 +54,7 @@ pub struct DeviceInfo {
     /// and its `accelerationStructure` feature.
     pub acceleration_structure: bool,
     /// Why this driver is known to leak host memory every frame, where it is (see
-    /// [`known_frame_leak`]): long sequences on it grow without bound.
+    /// `known_frame_leak`): long sequences on it grow without bound.
     pub known_frame_leak: Option<String>,
 }
 
