@@ -196,3 +196,35 @@ fn bad_shading_flags_name_the_flag() {
     let out = relief(&[&trace[..], &["--light-radius", "nan"]].concat());
     common::cli::assert_clean_failure(&out, &["--light-radius must be in [0, 90]"]);
 }
+
+#[test]
+fn devices_name_ray_query_support_and_old_lavapipe() {
+    if common::device("devices_name_ray_query_support").is_none() {
+        return;
+    }
+    let listed = relief(&["devices", "--json"]);
+    assert!(listed.status.success(), "{}", stderr(&listed));
+    let devices: serde_json::Value = serde_json::from_slice(&listed.stdout).expect("JSON list");
+    let first = &devices[0];
+    let ray_query = first["ray_query"].as_bool().expect("ray_query");
+    assert!(first["acceleration_structure"].is_boolean(), "{first}");
+    let text = relief(&["devices"]);
+    let out = String::from_utf8_lossy(&text.stdout);
+    let yes_no = if ray_query { "yes" } else { "no" };
+    assert!(
+        out.contains(&format!("ray queries {yes_no}")),
+        "the table disagrees with --json: {out}"
+    );
+    let leak = &first["known_frame_leak"];
+    assert_eq!(
+        leak.is_string(),
+        out.contains("warning: lavapipe of Mesa"),
+        "{out}"
+    );
+    if common::under_ci() && first["kind"] == "cpu" {
+        // CI's machines have no GPU and take lavapipe from Debian's backports
+        // (scripts/lavapipe.sh): one that holds memory flat and traces ray queries.
+        assert!(leak.is_null(), "CI runs on a leaking lavapipe: {leak}");
+        assert!(ray_query, "CI's lavapipe offers no ray queries: {first}");
+    }
+}

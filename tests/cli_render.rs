@@ -138,6 +138,11 @@ fn explain_prints_the_plan() {
     // cone shadows and horizon AO would read the pyramid).
     let flags = ["--explain", "--shadows", "hard", "--ao", "none"];
     let (plan, _) = render_default("explain", "64", "48", "csm", &flags);
+    assert!(
+        plan["device"]["name"].is_string() && plan["device"]["ray_query"].is_boolean(),
+        "--explain carries the device block: {}",
+        plan["device"]
+    );
     let shaders: Vec<&str> = plan["pipelines"]
         .as_array()
         .expect("pipelines")
@@ -246,6 +251,23 @@ fn a_frame_sequence_reuses_its_resources_and_reports_steady_statistics() {
     let created = &report["created_after_first_frame"];
     for (key, count) in created.as_object().expect("counts") {
         assert_eq!(count, 0, "{key} created after the first frame: {created}");
+    }
+    // vk counts destructions too: a sequence that keeps its resources ends with what it had
+    // after its first frame, and has some.
+    let alive = &report["alive"];
+    assert_eq!(
+        alive["after_first_frame"], alive["after_last_frame"],
+        "objects alive changed over the sequence"
+    );
+    assert!(alive["after_last_frame"]["buffers"]
+        .as_u64()
+        .is_some_and(|n| n > 0));
+    assert!(alive["after_last_frame"]["allocated_bytes"]
+        .as_u64()
+        .is_some_and(|n| n > 0));
+    let device = &report["device"];
+    for key in ["ray_query", "acceleration_structure"] {
+        assert!(device[key].is_boolean(), "device lacks {key}: {device}");
     }
 }
 
