@@ -12,8 +12,9 @@ pub enum Pass {
     /// Builds the texture-space AO map of every height map a material asks AO of (first frame
     /// only, after the pyramids).
     AmbientOcclusion,
-    /// Renders each shadow-casting light's shadow map (every frame: cascades follow the view),
-    /// relief casters traced from the light; one timestamp scope per map.
+    /// Renders each shadow-casting light's shadow map, relief casters traced from the light; one
+    /// timestamp scope per map. Only in frames where a view moved (cascades follow the camera)
+    /// or the casters changed: a still sequence renders the maps once.
     ShadowMaps,
     /// Draws the meshes replaced by cell complexes: each grey cell's front faces, a ray marched
     /// through the complex per fragment (Apaza and Andujar).

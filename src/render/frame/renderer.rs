@@ -360,7 +360,15 @@ impl Renderer {
         for (index, mesh) in meshes {
             self.surface.replace_vertices(&self.ctx, *index, mesh)?;
         }
+        self.invalidate_shadow_maps();
         Ok(retired)
+    }
+
+    /// Makes the next frame render every shadow map again, as it does after the casters changed
+    /// (meshes replaced, a terrain edited or painted; views that move are noticed without it):
+    /// for timing the shadow pass, or after a change the renderer cannot see.
+    pub fn invalidate_shadow_maps(&mut self) {
+        self.shadows.invalidate();
     }
 
     /// Records and submits one frame. If the slot it takes still held an older frame, that frame
@@ -398,6 +406,7 @@ impl Renderer {
             }
         }
         let build_pyramids = !self.pyramids_built;
+        let render_maps = self.shadows.needs_render(&views);
         let eye = request.camera.eye();
         let frustum = Frustum::from_view_projection(request.camera.view_projection(aspect));
         let slot = &mut self.slots[k];
@@ -450,7 +459,9 @@ impl Renderer {
                     timer.scope(rec, scope, |rec| ao.record(rec, part))?;
                 }
             }
-            shadows.record(rec, timer, plan, surface, k, &views)?;
+            if render_maps {
+                shadows.record(rec, timer, plan, surface, k, &views)?;
+            }
             let scope = |pass| Scope { pass, part: None };
             if cells.is_empty() {
                 timer.scope(rec, scope(Pass::Surface), |rec| {
@@ -477,6 +488,9 @@ impl Renderer {
         })?;
         slot.pending = Some((self.submitted, request.read_back, culled));
         self.pyramids_built = true;
+        if render_maps {
+            self.shadows.mark_rendered(&views);
+        }
         self.submitted += 1;
         Ok(retired)
     }

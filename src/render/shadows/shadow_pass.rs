@@ -1,6 +1,8 @@
-//! The shadow pass: every planned map rendered into its tiles of the atlas each frame (the
-//! cascades follow the camera), each map's casters drawn with their caster pipelines (relief
-//! traced from the light) into each of its views, one timestamp scope per map.
+//! The shadow pass: every planned map rendered into its tiles of the atlas, each map's casters
+//! drawn with their caster pipelines (relief traced from the light) into each of its views, one
+//! timestamp scope per map. The atlas is rendered again only when what it holds would change: a
+//! view (the cascades follow the camera; spot and point views do not) or the casters (meshes
+//! replaced, terrain edited or painted). A still sequence renders it once.
 
 use std::sync::Arc;
 
@@ -23,6 +25,9 @@ pub struct ShadowMaps {
     atlas: ShadowAtlas,
     /// The scene's bounds grown by the deepest relief: what the views must hold.
     bounds: (Vec3, Vec3),
+    /// The views the atlas was last rendered with, in tile order; `None` before the first
+    /// rendering and after the casters changed.
+    rendered: Option<Vec<LightView>>,
 }
 
 impl ShadowMaps {
@@ -42,7 +47,26 @@ impl ShadowMaps {
         Ok(ShadowMaps {
             atlas: ShadowAtlas::new(ctx, &sizes)?,
             bounds,
+            rendered: None,
         })
+    }
+
+    /// Whether a frame with these `views` must render the atlas: it has maps, and they were
+    /// never rendered, the casters changed since, or a view moved.
+    pub fn needs_render(&self, views: &[LightView]) -> bool {
+        self.atlas.is_rendered() && self.rendered.as_deref() != Some(views)
+    }
+
+    /// Notes that a submitted frame rendered the atlas with `views`: later frames with the same
+    /// views read it as it is (the single queue orders them after that frame).
+    pub fn mark_rendered(&mut self, views: &[LightView]) {
+        self.rendered = Some(views.to_vec());
+    }
+
+    /// The casters changed (a mesh replaced, a terrain edited or painted): the next frame
+    /// renders every map again.
+    pub fn invalidate(&mut self) {
+        self.rendered = None;
     }
 
     /// The atlas every draw's set 0 binds.
@@ -97,7 +121,8 @@ impl ShadowMaps {
     }
 
     /// Records every map into the atlas for frame slot `slot`, with the frame's `views`; returns
-    /// how many caster draws the views' frusta skipped. Records nothing without maps.
+    /// how many caster draws the views' frusta skipped. Records nothing without maps. The atlas's
+    /// old contents are discarded: call it only when [`ShadowMaps::needs_render`] says so.
     pub fn record(
         &self,
         rec: &Recording,

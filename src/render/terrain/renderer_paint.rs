@@ -84,6 +84,8 @@ impl Renderer {
             PaintError::Vulkan(v) => RenderError::from(v),
         })?;
         let report = self.rebuild_painted(h, material, &staged, strokes.len())?;
+        // The blended heights moved, and with them the relief the shadow maps trace.
+        self.invalidate_shadow_maps();
         Ok((retired, report))
     }
 
@@ -106,6 +108,7 @@ impl Renderer {
             return Ok((retired, None));
         };
         let report = self.rebuild_painted(h, material, &staged, 0)?;
+        self.invalidate_shadow_maps();
         Ok((retired, Some(report)))
     }
 
