@@ -1,5 +1,5 @@
 //! Steady frames of one renderer, timed: what the bench's frame-level sections (scene shadows,
-//! frame features) compare.
+//! frame features, frame costs) compare.
 
 use std::sync::Arc;
 
@@ -22,6 +22,28 @@ pub struct SteadyFrames {
     pub maps: Vec<BuiltMap>,
 }
 
+/// How often the timed frames render their shadow maps.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MapRate {
+    /// As the renderer decides: only when a view moved or the casters changed, so a still
+    /// view's steady frames render none.
+    AsNeeded,
+    /// Every frame, as a moving view would: what rendering the maps costs.
+    EveryFrame,
+}
+
+/// One renderer to time: its scene, the heights of relief materials without their own, and its
+/// options.
+#[derive(Clone, Copy)]
+pub struct FrameSetup<'a> {
+    /// The scene drawn, from its own camera.
+    pub scene: &'a Scene,
+    /// The heights of relief materials without a height texture of their own.
+    pub heights: Option<&'a Heightfield>,
+    /// How it is drawn.
+    pub opts: &'a RenderOptions,
+}
+
 /// Times `frames` frames of `scene` (relief materials without heights of their own read
 /// `heights`) after a first, untimed one that builds the static maps.
 pub fn time_steady_frames(
@@ -30,8 +52,14 @@ pub fn time_steady_frames(
     heights: Option<&Heightfield>,
     opts: &RenderOptions,
     frames: u32,
+    maps: MapRate,
 ) -> Result<SteadyFrames, RenderError> {
-    let mut all = time_interleaved(ctx, scene, heights, std::slice::from_ref(opts), frames)?;
+    let setup = FrameSetup {
+        scene,
+        heights,
+        opts,
+    };
+    let mut all = time_setups_interleaved(ctx, &[setup], frames, maps)?;
     all.pop()
         .ok_or_else(|| RenderError::Vulkan(crate::vk::VkError::Invalid("no renderer".into())))
 }
@@ -45,13 +73,34 @@ pub fn time_interleaved(
     options: &[RenderOptions],
     frames: u32,
 ) -> Result<Vec<SteadyFrames>, RenderError> {
-    let mut renderers = options
+    let setups: Vec<FrameSetup> = options
         .iter()
-        .map(|opts| Renderer::new(ctx, scene, heights, opts))
+        .map(|opts| FrameSetup {
+            scene,
+            heights,
+            opts,
+        })
+        .collect();
+    time_setups_interleaved(ctx, &setups, frames, MapRate::AsNeeded)
+}
+
+/// [`time_interleaved`] over renderers of different scenes or options.
+pub fn time_setups_interleaved(
+    ctx: &Arc<Context>,
+    setups: &[FrameSetup],
+    frames: u32,
+    maps: MapRate,
+) -> Result<Vec<SteadyFrames>, RenderError> {
+    let mut renderers = setups
+        .iter()
+        .map(|s| Renderer::new(ctx, s.scene, s.heights, s.opts))
         .collect::<Result<Vec<_>, _>>()?;
     let mut samples = vec![(Vec::new(), Vec::new(), Vec::new()); renderers.len()];
     for round in 0..=frames {
-        for (renderer, (maps, surface, total)) in renderers.iter_mut().zip(&mut samples) {
+        for (renderer, (shadow, surface, total)) in renderers.iter_mut().zip(&mut samples) {
+            if maps == MapRate::EveryFrame {
+                renderer.invalidate_shadow_maps();
+            }
             let request = FrameRequest {
                 camera: renderer.default_camera(),
                 read_back: false,
@@ -61,14 +110,14 @@ pub fn time_interleaved(
             if round == 0 {
                 continue;
             }
+            // A fold from +0.0: an empty sum of floats is -0.0, which prints as "-0.000".
             let ms = |pass: Pass| {
                 out.timings
                     .iter()
                     .filter(|t| t.pass == pass)
-                    .map(|t| t.gpu_ms)
-                    .sum::<f64>()
+                    .fold(0.0, |sum, t| sum + t.gpu_ms)
             };
-            maps.push(ms(Pass::ShadowMaps));
+            shadow.push(ms(Pass::ShadowMaps));
             surface.push(ms(Pass::Surface));
             total.push(out.timings.iter().map(|t| t.gpu_ms).sum::<f64>());
         }
@@ -76,8 +125,8 @@ pub fn time_interleaved(
     Ok(renderers
         .iter()
         .zip(samples)
-        .map(|(renderer, (maps, surface, total))| SteadyFrames {
-            shadow_maps_ms: median(maps),
+        .map(|(renderer, (shadow, surface, total))| SteadyFrames {
+            shadow_maps_ms: median(shadow),
             surface_ms: median(surface),
             total_ms: median(total),
             maps: renderer.maps().to_vec(),

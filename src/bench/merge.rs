@@ -313,6 +313,7 @@ fn join(shards: Vec<ShardFile>) -> BenchResults {
     merged.scene_shadows = shards.iter().find_map(|f| f.results.scene_shadows.clone());
     merged.frame_features = shards.iter().find_map(|f| f.results.frame_features.clone());
     merged.silhouettes = shards.iter().find_map(|f| f.results.silhouettes.clone());
+    merged.frame_costs = shards.iter().find_map(|f| f.results.frame_costs.clone());
     merged.shard = None;
     merged
 }

@@ -29,6 +29,7 @@ mod blending_report;
 pub mod compare;
 mod depth_match;
 mod edits;
+mod frame_costs;
 mod frame_features;
 mod frame_timing;
 mod lod;
@@ -68,8 +69,14 @@ pub use blending::{
 pub use blending_report::{notes as blending_notes, STEPS_RATIO_NOTED};
 pub use depth_match::{settled as depth_match_settled, MAX_COST_RATIO, MAX_STEP_BUDGET};
 pub use edits::{run_edit_section, EditCost};
+pub use frame_costs::{
+    run_frame_cost_section, ChainStep, FrameCostRow, FrameCostSection, StackRow,
+};
 pub use frame_features::{run_frame_feature_section, FrameFeatureRow, FrameFeatureSection};
-pub use frame_timing::{time_interleaved, time_steady_frames, SteadyFrames};
+pub use frame_timing::{
+    time_interleaved, time_setups_interleaved, time_steady_frames, FrameSetup, MapRate,
+    SteadyFrames,
+};
 pub use lod::{
     downsample, image_error, receding_plane, render_interleaved, render_timed, run_lod_section,
     ImageError, LodConfig, LodRun, LodScaling, LodSection,

@@ -71,6 +71,9 @@ pub fn render_report(results: &BenchResults) -> (String, Vec<(String, String)>) 
     if let Some(silhouettes) = &results.silhouettes {
         super::silhouettes::report(&mut md, silhouettes);
     }
+    if let Some(costs) = &results.frame_costs {
+        super::frame_costs::report(&mut md, costs);
+    }
     (md, plots(results))
 }
 

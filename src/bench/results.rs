@@ -185,6 +185,10 @@ pub struct BenchResults {
     /// before it have none).
     #[serde(default)]
     pub silhouettes: Option<super::silhouettes::SilhouetteSection>,
+    /// The frame-cost section (`None` when skipped, e.g. `--no-frame-costs`; files written
+    /// before it have none).
+    #[serde(default)]
+    pub frame_costs: Option<super::frame_costs::FrameCostSection>,
     /// Which shard of a split sweep this file holds (`relief bench --shard K/N`); absent for a
     /// whole sweep and for `relief bench merge`'s output.
     #[serde(default, skip_serializing_if = "Option::is_none")]

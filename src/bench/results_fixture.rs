@@ -79,6 +79,7 @@ pub(crate) fn results(device: BenchDevice, runs: Vec<Run>) -> BenchResults {
         scene_shadows: None,
         frame_features: None,
         silhouettes: None,
+        frame_costs: None,
         shard: None,
     }
 }

@@ -13,7 +13,7 @@ use std::sync::Arc;
 use glam::{Mat4, Vec3};
 use serde::{Deserialize, Serialize};
 
-use super::frame_timing::time_steady_frames;
+use super::frame_timing::{time_steady_frames, MapRate};
 use crate::displaced_reference::{
     compare_with_reference, coverage, displaced_scene, iou, DisplacedReferenceError,
 };
@@ -332,7 +332,14 @@ pub fn run_silhouette_section(
                         drawn.push(image.clone());
                     }
                     let agreement = compare_with_reference(&image, &truth, size[0], size[1]);
-                    let timed = time_steady_frames(ctx, &scene, Some(&heights), &opts, frames)?;
+                    let timed = time_steady_frames(
+                        ctx,
+                        &scene,
+                        Some(&heights),
+                        &opts,
+                        frames,
+                        MapRate::AsNeeded,
+                    )?;
                     cells.push(SilhouetteCell {
                         mesh: subject.name.clone(),
                         depth,

@@ -45,6 +45,8 @@ pub struct SweepSections {
     pub frame_features: bool,
     /// Whether the silhouette section runs.
     pub silhouettes: bool,
+    /// Whether the frame-cost section runs.
+    pub frame_costs: bool,
 }
 
 /// A section that runs as one piece.
@@ -64,6 +66,8 @@ pub enum WholeSection {
     FrameFeatures,
     /// Silhouettes on curved meshes.
     Silhouettes,
+    /// The frame's costs: looks against the plain frame, hidden relief, still shadow maps.
+    FrameCosts,
 }
 
 /// The steps of a sweep, numbered in the order an unsharded run measures them: the jobs, then the
@@ -219,6 +223,11 @@ pub fn work_units(cfg: &SweepConfig, sections: &SweepSections) -> Vec<WorkUnit> 
             sections.silhouettes,
             whole(5.0, 150.0),
         ),
+        (
+            WholeSection::FrameCosts,
+            sections.frame_costs,
+            whole(4.0, 90.0),
+        ),
     ];
     for (section, runs, cost) in sections_whole {
         if runs {
@@ -351,6 +360,7 @@ mod tests {
             scene_shadows: true,
             frame_features: true,
             silhouettes: true,
+            frame_costs: true,
         };
         (cfg, sections)
     }
@@ -365,7 +375,7 @@ mod tests {
             .all(|u| u.steps.windows(2).all(|p| p[0] < p[1])));
         steps.sort_unstable();
         let layout = StepLayout::new(&cfg, &sections);
-        let total = layout.whole(WholeSection::Silhouettes) + 1;
+        let total = layout.whole(WholeSection::FrameCosts) + 1;
         assert_eq!(steps, (0..total).collect::<Vec<_>>());
         assert!(units
             .iter()

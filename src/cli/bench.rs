@@ -9,12 +9,13 @@ use std::io::IsTerminal;
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
 use relief::bench::{
     blending_notes, measure_ao, measure_shadows, plan_jobs, render_report, run_blending_section,
-    run_edit_section, run_frame_feature_section, run_lod_section, run_paint_section,
-    run_scene_shadow_section, run_silhouette_section, run_stiff_case, stiff_cases, utc_now_rfc3339,
-    AoConfig, AoRun, BenchResults, BlendingConfig, BlendingSection, EditCost, FieldSource,
-    FrameFeatureSection, LodConfig, LodSection, PaintCost, ReliefBuild, Runner, SceneShadowSection,
-    ShadingConfig, ShadowRun, ShadowStabilityCell, SilhouetteSection, StabilityCell, StepOrigins,
-    StiffCase, SweepConfig, SweepSections, WholeSection, SCHEMA_VERSION,
+    run_edit_section, run_frame_cost_section, run_frame_feature_section, run_lod_section,
+    run_paint_section, run_scene_shadow_section, run_silhouette_section, run_stiff_case,
+    stiff_cases, utc_now_rfc3339, AoConfig, AoRun, BenchResults, BlendingConfig, BlendingSection,
+    EditCost, FieldSource, FrameCostSection, FrameFeatureSection, LodConfig, LodSection, PaintCost,
+    ReliefBuild, Runner, SceneShadowSection, ShadingConfig, ShadowRun, ShadowStabilityCell,
+    SilhouetteSection, StabilityCell, StepOrigins, StiffCase, SweepConfig, SweepSections,
+    WholeSection, SCHEMA_VERSION,
 };
 
 /// The brush radius of the terrain-edit section, in texels (the stroke).
@@ -220,7 +221,8 @@ fn sections(args: &BenchArgs, cfg: &SweepConfig, ctx: &Context) -> SweepSections
         || args.stability_only
         || args.scene_shadows_only
         || args.frame_features_only
-        || args.silhouettes_only;
+        || args.silhouettes_only
+        || args.frame_costs_only;
     let jobs = if only_other {
         Vec::new()
     } else {
@@ -231,7 +233,8 @@ fn sections(args: &BenchArgs, cfg: &SweepConfig, ctx: &Context) -> SweepSections
         || args.stability_only
         || args.scene_shadows_only
         || args.frame_features_only
-        || args.silhouettes_only);
+        || args.silhouettes_only
+        || args.frame_costs_only);
     let shading = shading_wanted.then(|| {
         if cfg.quick {
             ShadingConfig::quick()
@@ -249,7 +252,8 @@ fn sections(args: &BenchArgs, cfg: &SweepConfig, ctx: &Context) -> SweepSections
             || args.lod_only
             || args.scene_shadows_only
             || args.frame_features_only
-            || args.silhouettes_only)
+            || args.silhouettes_only
+            || args.frame_costs_only)
     {
         stiff_cases(largest, cfg.quick)
     } else {
@@ -272,7 +276,8 @@ fn sections(args: &BenchArgs, cfg: &SweepConfig, ctx: &Context) -> SweepSections
             || args.stability_only
             || args.scene_shadows_only
             || args.frame_features_only
-            || args.silhouettes_only),
+            || args.silhouettes_only
+            || args.frame_costs_only),
         edit_sizes: if edits_wanted {
             edit_sizes(args, cfg)
         } else {
@@ -282,6 +287,7 @@ fn sections(args: &BenchArgs, cfg: &SweepConfig, ctx: &Context) -> SweepSections
         scene_shadows: args.scene_shadows_only || !(args.no_scene_shadows || only_other),
         frame_features: args.frame_features_only || !(args.no_frame_features || only_other),
         silhouettes: args.silhouettes_only || !(args.no_silhouettes || only_other),
+        frame_costs: args.frame_costs_only || !(args.no_frame_costs || only_other),
     }
 }
 
@@ -320,6 +326,7 @@ fn progress_steps(s: &SweepSections, cfg: &SweepConfig, plan: &StepPlan) -> usiz
         + whole(s.scene_shadows, WholeSection::SceneShadows)
         + whole(s.frame_features, WholeSection::FrameFeatures)
         + whole(s.silhouettes, WholeSection::Silhouettes)
+        + whole(s.frame_costs, WholeSection::FrameCosts)
 }
 
 pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
@@ -391,6 +398,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         scene_shadows: whole.scene_shadows,
         frame_features: whole.frame_features,
         silhouettes: whole.silhouettes,
+        frame_costs: whole.frame_costs,
         shard: plan.info(fingerprint, origins),
     };
     write_outputs(out, &results, args.json)
@@ -406,6 +414,7 @@ struct Whole {
     scene_shadows: Option<SceneShadowSection>,
     frame_features: Option<FrameFeatureSection>,
     silhouettes: Option<SilhouetteSection>,
+    frame_costs: Option<FrameCostSection>,
 }
 
 /// Runs the sections that run as one piece, those asked for and in this run's shard.
@@ -515,6 +524,14 @@ fn measure_whole(
     } else {
         None
     };
+    let frame_costs = if whole_wanted(sections.frame_costs, plan, WholeSection::FrameCosts) {
+        let section = run_frame_cost_section(ctx, cfg.quick, |what| note(bar, what, quiet))
+            .context("the frame-cost section")?;
+        bar.inc(1);
+        Some(section)
+    } else {
+        None
+    };
     Ok(Whole {
         shadow_stability,
         lod,
@@ -524,6 +541,7 @@ fn measure_whole(
         scene_shadows,
         frame_features,
         silhouettes,
+        frame_costs,
     })
 }
 

@@ -103,6 +103,13 @@ pub struct BenchArgs {
     /// Run only the silhouette section (with --quick: its small version).
     #[arg(long, conflicts_with = "no_silhouettes")]
     pub(super) silhouettes_only: bool,
+    /// Skip the frame-cost section (the default look against the plain frame as a chain of
+    /// ratios, three sizes, stacks of hidden relief quads, a still view's shadow maps).
+    #[arg(long)]
+    pub(super) no_frame_costs: bool,
+    /// Run only the frame-cost section (with --quick: its small version).
+    #[arg(long, conflicts_with = "no_frame_costs")]
+    pub(super) frame_costs_only: bool,
     /// Also measure the silhouette section on the first mesh of this glTF file (its uv set 0
     /// carries the height map; seen from +z of its bounds).
     #[arg(long, value_name = "FILE.gltf", conflicts_with = "no_silhouettes")]

@@ -1,0 +1,378 @@
+//! The bench's frame-cost section: what the frame's architecture makes each feature cost, as
+//! ratios measured in one run. The default look (`relief render`'s: 4x MSAA, sky light and
+//! background, PCSS shadow maps, PBR Neutral) against the plain frame (one sample, flat ambient
+//! light, no tone curve, no shadow maps) as a chain of steps that multiply out; the look at
+//! three sizes; hidden relief (stacks of eight relief quads, one behind the other, against one
+//! quad, in both draw orders); and the shadow-map pass of a still view's steady frames against
+//! the rest of its frame.
+
+use std::fmt::Write as _;
+use std::sync::Arc;
+
+use glam::{Mat4, Vec3};
+use serde::{Deserialize, Serialize};
+
+use super::frame_timing::{
+    time_interleaved, time_setups_interleaved, FrameSetup, MapRate, SteadyFrames,
+};
+use crate::environment::{Background, EnvironmentSource};
+use crate::heightfield::{Generator, Heightfield};
+use crate::method::Method;
+use crate::render::{RenderError, RenderOptions, ShadowFilter, ShadowOptions, ToneMapping};
+use crate::scene::{
+    default_heightfield, default_scene, quad_mesh, Camera, Light, Material, Relief, Scene,
+    DEFAULT_SCENE_METHOD,
+};
+use crate::vk::Context;
+
+/// One frame timed.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct FrameCostRow {
+    /// What is drawn, and how.
+    pub frame: String,
+    /// Frame size.
+    pub size: [u32; 2],
+    /// GPU ms per steady frame, every pass (median).
+    pub gpu_ms: f64,
+    /// Of that, the shadow maps' pass.
+    pub shadow_maps_ms: f64,
+}
+
+/// One step of the chain from the plain frame to the default look: `ratio` is `to` over `from`.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct ChainStep {
+    /// What the step adds.
+    pub step: String,
+    /// The row measured without it.
+    pub from: String,
+    /// The row measured with it.
+    pub to: String,
+    /// `to`'s GPU ms over `from`'s.
+    pub ratio: f64,
+}
+
+/// One stack of relief quads against the single quad.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct StackRow {
+    /// World units between neighbouring quads (the relief is 0.3 units deep).
+    pub spacing: f32,
+    /// GPU ms of the single quad (median).
+    pub one_ms: f64,
+    /// GPU ms of eight quads drawn nearest first.
+    pub nearest_first_ms: f64,
+    /// GPU ms of eight quads drawn farthest first.
+    pub farthest_first_ms: f64,
+}
+
+/// The whole section.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct FrameCostSection {
+    /// Frames timed per row (after one untimed frame), in interleaved rounds.
+    pub frames: u32,
+    /// Every frame of the default scene timed, plain and looks.
+    pub rows: Vec<FrameCostRow>,
+    /// The chain from plain to the default look, at the main size.
+    pub chain: Vec<ChainStep>,
+    /// The default look over the plain frame, at the main size (the chain's product).
+    pub look_over_plain: f64,
+    /// The stacks of eight quads, plain frame.
+    pub stacks: Vec<StackRow>,
+    /// Size of the stack frames.
+    pub stack_size: [u32; 2],
+    /// On the one-quad scene with the default look: the steady frames' shadow-map pass over the
+    /// rest of their frame.
+    pub still_shadow_share: f64,
+}
+
+/// The plain frame: one sample, flat ambient light, no tone curve, no shadow maps.
+fn plain(size: [u32; 2]) -> RenderOptions {
+    RenderOptions {
+        width: size[0],
+        height: size[1],
+        msaa: 1,
+        environment: EnvironmentSource::Flat,
+        background: Background::Colour,
+        tone_mapping: ToneMapping::NONE,
+        shadows: ShadowOptions::OFF,
+        ..RenderOptions::default()
+    }
+}
+
+/// `relief render`'s default look.
+fn look(size: [u32; 2]) -> RenderOptions {
+    RenderOptions::finished(size[0], size[1])
+}
+
+/// The looks of the chain at `size`, by name, in the chain's order: plain, then sky light,
+/// background and tone curve, then 4x MSAA, then the shadow maps.
+fn chain_looks(size: [u32; 2]) -> Vec<(&'static str, RenderOptions)> {
+    let one_sample_no_maps = RenderOptions {
+        msaa: 1,
+        shadows: ShadowOptions::OFF,
+        ..look(size)
+    };
+    let no_maps = RenderOptions {
+        shadows: ShadowOptions::OFF,
+        ..look(size)
+    };
+    let hard = RenderOptions {
+        shadows: ShadowOptions {
+            filter: Some(ShadowFilter::Hard),
+            ..ShadowOptions::DEFAULT
+        },
+        ..look(size)
+    };
+    let one_sample = RenderOptions {
+        msaa: 1,
+        ..look(size)
+    };
+    vec![
+        ("plain", plain(size)),
+        ("look, 1 sample, no shadow maps", one_sample_no_maps),
+        ("look, no shadow maps", no_maps),
+        ("look", look(size)),
+        ("look, hard shadow-map filter", hard),
+        ("look, 1 sample", one_sample),
+    ]
+}
+
+/// The relief quads' side, in world units.
+const QUAD_SIDE: f32 = 6.0;
+/// Their depth scale in uv: 0.3 world units of relief on a 6-unit quad.
+const STACK_DEPTH_SCALE: f32 = 0.05;
+/// Quads in a stack.
+const STACK_QUADS: usize = 8;
+/// The camera's distance to the nearest quad: close enough that it fills a 16:9 view at a
+/// 40-degree vertical field of view.
+const STACK_CAMERA_DISTANCE: f32 = 4.0;
+
+/// One 256^2 bumpy field for every quad of the stacks.
+fn stack_heights() -> Heightfield {
+    Generator::Fbm.generate(256, 256, 7)
+}
+
+/// `quads` QDM quads facing the camera, `spacing` apart along the view axis, the nearest at the
+/// origin; `nearest_first` orders the meshes (and so the draws) from the camera outwards. A sun
+/// casts shadows, so the look builds a shadow map.
+fn stack_scene(quads: usize, spacing: f32, nearest_first: bool) -> Scene {
+    let relief = Relief::new(STACK_DEPTH_SCALE, Method::QDM);
+    let material = Material {
+        name: "stack".into(),
+        base_color: [0.6, 0.5, 0.4, 1.0],
+        roughness: 0.7,
+        relief: Some(relief),
+        ..Material::default()
+    };
+    let mut meshes: Vec<_> = (0..quads)
+        .map(|k| {
+            let mut quad = quad_mesh(&format!("quad {k}"), QUAD_SIDE, QUAD_SIDE, 1.0, 0);
+            // The XZ quad turned to face +Z (the camera), then pushed back k steps.
+            quad.transform = Mat4::from_translation(Vec3::new(0.0, 0.0, -spacing * k as f32))
+                * Mat4::from_rotation_x(std::f32::consts::FRAC_PI_2);
+            quad
+        })
+        .collect();
+    if !nearest_first {
+        meshes.reverse();
+    }
+    Scene {
+        meshes,
+        materials: vec![material],
+        camera: Some(Camera::look_at(
+            Vec3::new(0.0, 0.0, STACK_CAMERA_DISTANCE),
+            Vec3::ZERO,
+            40f32.to_radians(),
+            0.05,
+            100.0,
+        )),
+        lights: vec![Light {
+            casts_shadows: true,
+            direction: -Vec3::new(-0.4, 0.5, 0.8).normalize(),
+            radius: 2f32.to_radians(),
+            ..Light::default_light()
+        }],
+        images: Vec::new(),
+        camera_path: None,
+    }
+}
+
+fn row(frame: &str, opts: &RenderOptions, t: &SteadyFrames) -> FrameCostRow {
+    FrameCostRow {
+        frame: frame.to_owned(),
+        size: [opts.width, opts.height],
+        gpu_ms: t.total_ms,
+        shadow_maps_ms: t.shadow_maps_ms,
+    }
+}
+
+/// Runs the section; `quick` times fewer frames on smaller images.
+pub fn run_frame_cost_section(
+    ctx: &Arc<Context>,
+    quick: bool,
+    mut progress: impl FnMut(&str),
+) -> Result<FrameCostSection, RenderError> {
+    let (main, sizes, stack_size, frames): ([u32; 2], Vec<[u32; 2]>, [u32; 2], u32) = if quick {
+        ([320, 180], vec![[160, 90], [480, 270]], [240, 135], 3)
+    } else {
+        ([960, 540], vec![[480, 270], [1920, 1080]], [480, 270], 8)
+    };
+    let scene = default_scene(DEFAULT_SCENE_METHOD);
+    let heights = default_heightfield();
+    progress("frame costs: the default scene, plain and looks, frames in turn");
+    let looks = chain_looks(main);
+    let options: Vec<RenderOptions> = looks.iter().map(|(_, o)| o.clone()).collect();
+    let timed = time_interleaved(ctx, &scene, Some(&heights), &options, frames)?;
+    let mut rows: Vec<FrameCostRow> = looks
+        .iter()
+        .zip(&timed)
+        .map(|((name, opts), t)| row(name, opts, t))
+        .collect();
+    let ms = |rows: &[FrameCostRow], name: &str| {
+        rows.iter()
+            .find(|r| r.frame == name && r.size == main)
+            .map_or(f64::NAN, |r| r.gpu_ms)
+    };
+    let step = |rows: &[FrameCostRow], step: &str, from: &str, to: &str| ChainStep {
+        step: step.to_owned(),
+        from: from.to_owned(),
+        to: to.to_owned(),
+        ratio: ms(rows, to) / ms(rows, from),
+    };
+    let chain = vec![
+        step(
+            &rows,
+            "sky light, background, tone curve",
+            "plain",
+            "look, 1 sample, no shadow maps",
+        ),
+        step(
+            &rows,
+            "4x MSAA",
+            "look, 1 sample, no shadow maps",
+            "look, no shadow maps",
+        ),
+        step(&rows, "PCSS shadow maps", "look, no shadow maps", "look"),
+    ];
+    let look_over_plain = ms(&rows, "look") / ms(&rows, "plain");
+    for size in sizes {
+        progress(&format!(
+            "frame costs: plain and look at {}x{}",
+            size[0], size[1]
+        ));
+        let options = [plain(size), look(size)];
+        let timed = time_interleaved(ctx, &scene, Some(&heights), &options, frames)?;
+        rows.push(row("plain", &options[0], &timed[0]));
+        rows.push(row("look", &options[1], &timed[1]));
+    }
+    let stack_heights = stack_heights();
+    let mut stacks = Vec::new();
+    for spacing in [0.25f32, 1.0] {
+        progress(&format!(
+            "frame costs: one quad and eight {spacing} apart, both orders"
+        ));
+        let opts = plain(stack_size);
+        let scenes = [
+            stack_scene(1, spacing, true),
+            stack_scene(STACK_QUADS, spacing, true),
+            stack_scene(STACK_QUADS, spacing, false),
+        ];
+        let setups: Vec<FrameSetup> = scenes
+            .iter()
+            .map(|scene| FrameSetup {
+                scene,
+                heights: Some(&stack_heights),
+                opts: &opts,
+            })
+            .collect();
+        let timed = time_setups_interleaved(ctx, &setups, frames, MapRate::AsNeeded)?;
+        stacks.push(StackRow {
+            spacing,
+            one_ms: timed[0].total_ms,
+            nearest_first_ms: timed[1].total_ms,
+            farthest_first_ms: timed[2].total_ms,
+        });
+    }
+    progress("frame costs: the one-quad scene's steady shadow maps");
+    let one_quad = stack_scene(1, 1.0, true);
+    let look_opts = look(stack_size);
+    let t = time_interleaved(
+        ctx,
+        &one_quad,
+        Some(&stack_heights),
+        std::slice::from_ref(&look_opts),
+        frames,
+    )?;
+    let still = &t[0];
+    let still_shadow_share =
+        still.shadow_maps_ms / (still.total_ms - still.shadow_maps_ms).max(1e-9);
+    Ok(FrameCostSection {
+        frames,
+        rows,
+        chain,
+        look_over_plain,
+        stacks,
+        stack_size,
+        still_shadow_share,
+    })
+}
+
+/// The section's tables in `report.md`.
+pub fn report(md: &mut String, s: &FrameCostSection) {
+    let _ = writeln!(md, "\n## Frame costs\n");
+    let _ = writeln!(
+        md,
+        "GPU ms per steady frame (every pass; median of {} frames taken in interleaved rounds). \
+         *plain*: one sample, flat ambient light, no tone curve, no shadow maps. *look*: \
+         `relief render`'s default (4x MSAA, sky light and background, PCSS shadow maps, PBR \
+         Neutral). The default look costs **{:.2}x** the plain frame.\n",
+        s.frames, s.look_over_plain
+    );
+    let _ = writeln!(md, "| frame | size | GPU ms | of it shadow maps |");
+    let _ = writeln!(md, "|---|---|---|---|");
+    for r in &s.rows {
+        let _ = writeln!(
+            md,
+            "| {} | {}x{} | {:.3} | {:.3} |",
+            r.frame, r.size[0], r.size[1], r.gpu_ms, r.shadow_maps_ms
+        );
+    }
+    let _ = writeln!(md, "\n| step | from | to | ratio |");
+    let _ = writeln!(md, "|---|---|---|---|");
+    for c in &s.chain {
+        let _ = writeln!(
+            md,
+            "| {} | {} | {} | {:.2}x |",
+            c.step, c.from, c.to, c.ratio
+        );
+    }
+    let _ = writeln!(
+        md,
+        "\nHidden relief: eight QDM quads ({QUAD_SIDE} x {QUAD_SIDE} units, 0.3 units of relief, \
+         one 256^2 fbm field), one behind the other, the nearest filling the {}x{} view, plain \
+         frame.\n",
+        s.stack_size[0], s.stack_size[1]
+    );
+    let _ = writeln!(
+        md,
+        "| spacing | one quad ms | eight, nearest first | eight, farthest first | eight vs one |"
+    );
+    let _ = writeln!(md, "|---|---|---|---|---|");
+    for r in &s.stacks {
+        let worse = r.nearest_first_ms.max(r.farthest_first_ms);
+        let _ = writeln!(
+            md,
+            "| {} | {:.3} | {:.3} | {:.3} | {:.2}x |",
+            r.spacing,
+            r.one_ms,
+            r.nearest_first_ms,
+            r.farthest_first_ms,
+            worse / r.one_ms.max(1e-9)
+        );
+    }
+    let _ = writeln!(
+        md,
+        "\nA still view's steady frames (the one-quad scene, default look): the shadow-map pass \
+         costs **{:.1}%** of the rest of the frame.",
+        100.0 * s.still_shadow_share
+    );
+}
