@@ -357,3 +357,68 @@ fn the_pipeline_cache_persists_between_runs_and_a_corrupt_one_is_ignored() {
     let (off, _) = run(&["--no-pipeline-cache"]);
     assert!(off["path"].is_null() && off["seeded"] == false, "{off}");
 }
+
+/// A plane whose one material carries relief from `extras.relief` (POM over a 4x4 height image),
+/// written as a .gltf in `dir`.
+fn plane_with_relief_extras(dir: &std::path::Path) -> std::path::PathBuf {
+    let (bin, views, accessors) = common::plane_gltf::plane_buffer(None);
+    let mut png = Vec::new();
+    image::DynamicImage::ImageLuma8(image::GrayImage::from_fn(4, 4, |x, y| {
+        image::Luma([(40 * (x + y)) as u8])
+    }))
+    .write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
+    .expect("png");
+    let doc = serde_json::json!({
+        "asset": {"version": "2.0"},
+        "buffers": [{"byteLength": bin.len(), "uri": format!("data:application/octet-stream;base64,{}", common::base64::base64(&bin))}],
+        "bufferViews": views,
+        "accessors": accessors,
+        "images": [{"uri": format!("data:image/png;base64,{}", common::base64::base64(&png))}],
+        "textures": [{"source": 0}],
+        "materials": [{"name": "Bumps", "extras": {"relief": {"depth_scale": 0.05, "method": "pom", "height": {"index": 0}}}}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1, "TEXCOORD_0": 2}, "indices": 3, "material": 0}]}],
+        "nodes": [{"mesh": 0}],
+        "scenes": [{"nodes": [0]}],
+    });
+    let path = dir.join("plane.gltf");
+    std::fs::write(&path, serde_json::to_vec(&doc).expect("json")).expect("writes");
+    path
+}
+
+#[test]
+fn method_overrides_the_methods_a_gltf_file_gives() {
+    if common::device("method_overrides_the_methods_a_gltf_file_gives").is_none() {
+        return;
+    }
+    let dir = common::scratch_dir("method-override");
+    let file = plane_with_relief_extras(&dir);
+    let shaders = |flags: &[&str]| -> Vec<String> {
+        let mut args = vec!["render", file.to_str().expect("utf-8"), "--explain"];
+        args.extend_from_slice(&["--width", "32", "--height", "24", "--no-write"]);
+        args.extend_from_slice(flags);
+        let run = relief(&args);
+        assert!(
+            run.status.success(),
+            "render {flags:?} failed:\n{}",
+            String::from_utf8_lossy(&run.stderr)
+        );
+        let plan: serde_json::Value = serde_json::from_slice(&run.stdout).expect("one JSON object");
+        plan["pipelines"]
+            .as_array()
+            .expect("pipelines")
+            .iter()
+            .filter_map(|p| p["shader"].as_str().map(str::to_owned))
+            .collect()
+    };
+    let own = shaders(&[]);
+    assert!(own.iter().any(|s| s == "surface.frag:pom"), "{own:?}");
+    let overridden = shaders(&["--method", "qdm"]);
+    assert!(
+        overridden.iter().any(|s| s == "surface.frag:qdm"),
+        "{overridden:?}"
+    );
+    assert!(
+        !overridden.iter().any(|s| s == "surface.frag:pom"),
+        "--method left the file's method in place: {overridden:?}"
+    );
+}

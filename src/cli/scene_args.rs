@@ -49,8 +49,9 @@ pub struct SceneArgs {
     /// Depth of height 0 below the surface, in uv units (0.05 = a twentieth of the texture).
     #[arg(long, value_name = "S")]
     depth_scale: Option<f32>,
-    /// Displacement method id (see `relief methods`) for the default scene (default qdm) and for
-    /// materials given relief by --heightmap (default pom).
+    /// Displacement method id (see `relief methods`): for the default scene (default qdm), for
+    /// materials given relief by --heightmap (default pom), and for every relief material of a
+    /// glTF file (default: each material's own).
     #[arg(long)]
     method: Option<String>,
     /// Which materials --heightmap displaces: a material name, or `all`.
@@ -258,6 +259,15 @@ impl SceneArgs {
             anyhow::bail!(
                 "--material chooses which materials --heightmap displaces; give --heightmap FILE"
             );
+        } else if self.method.is_some() {
+            // Like the shading flags, --method speaks for every relief material of the file;
+            // what a material cannot combine with it (shells, LOD, layers) the plan refuses by
+            // name.
+            scene
+                .materials
+                .iter_mut()
+                .filter_map(|m| m.relief.as_mut())
+                .for_each(|r| r.method = method);
         }
         Ok(scene)
     }
