@@ -102,10 +102,27 @@ pub fn run() -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(err) => {
-            eprintln!("relief: error: {err:#}");
+            eprintln!("relief: error: {}", error_message(&err));
             ExitCode::from(exit_code(&err))
         }
     }
+}
+
+/// The error and its causes joined by ": ", each cause said once: a cause whose text the
+/// message already holds (an error that prints its source as part of its own text) is left
+/// out.
+fn error_message(err: &anyhow::Error) -> String {
+    let mut message = String::new();
+    for cause in err.chain() {
+        let text = cause.to_string();
+        if message.is_empty() {
+            message = text;
+        } else if !message.contains(&text) {
+            message.push_str(": ");
+            message.push_str(&text);
+        }
+    }
+    message
 }
 
 /// The exit code for a failure: 77 when there is no Vulkan device at all, 3 when `bench compare
@@ -194,6 +211,22 @@ mod tests {
         }
         let err = anyhow::Error::from(VkError::NoDevice).context("opening the device");
         assert_eq!(exit_code(&err), EXIT_NO_DEVICE);
+    }
+
+    #[test]
+    fn each_cause_is_said_once() {
+        let io = std::io::Error::new(std::io::ErrorKind::NotFound, "No such file or directory");
+        // An error whose own text carries its source, as thiserror's "{0}" messages do.
+        #[derive(Debug, thiserror::Error)]
+        #[error("scene \"missing.gltf\": {0}")]
+        struct Wrapping(#[source] std::io::Error);
+        let err = anyhow::Error::from(Wrapping(io)).context("loading the scene");
+        assert_eq!(
+            error_message(&err),
+            "loading the scene: scene \"missing.gltf\": No such file or directory"
+        );
+        let plain = anyhow::anyhow!("the cause").context("the step");
+        assert_eq!(error_message(&plain), "the step: the cause");
     }
 
     #[test]
