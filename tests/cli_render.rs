@@ -422,3 +422,27 @@ fn method_overrides_the_methods_a_gltf_file_gives() {
         "--method left the file's method in place: {overridden:?}"
     );
 }
+
+#[test]
+fn methods_prints_the_table_and_json_carries_each_default_budget() {
+    let table = relief(&["methods"]);
+    assert!(table.status.success());
+    let text = String::from_utf8_lossy(&table.stdout);
+    let mut lines = text.lines();
+    let header = lines.next().expect("a header");
+    assert!(
+        header.starts_with("id") && header.contains("default budget"),
+        "{header}"
+    );
+    let ids: Vec<&str> = lines.filter_map(|l| l.split_whitespace().next()).collect();
+    let known: Vec<&str> = relief::method::Method::all().map(|m| m.id()).collect();
+    assert_eq!(ids, known, "one row per method, in the table's order");
+    assert!(text.contains("16 + 5"), "relief's budget: {text}");
+    let json = relief(&["methods", "--json"]);
+    let list: serde_json::Value = serde_json::from_slice(&json.stdout).expect("JSON");
+    for m in list.as_array().expect("a list") {
+        let steps = m["default_budget"]["max_steps"].as_u64();
+        assert!(steps.is_some_and(|n| n >= 1), "no default budget in {m}");
+        assert!(m["needs"].is_array() && m["fixed_step"].is_boolean(), "{m}");
+    }
+}
