@@ -18,7 +18,12 @@ pub struct LodArgs {
     pub lod_bias: Option<f32>,
     /// Fade to normal mapping between these world distances from the eye (nothing is traced
     /// beyond END).
-    #[arg(long, value_name = "START,END", value_delimiter = ',', num_args = 2)]
+    #[arg(
+        long,
+        value_name = "START,END",
+        value_delimiter = ',',
+        allow_hyphen_values = true
+    )]
     pub lod_fade: Vec<f32>,
     /// Stop levels below this end on the averaged pyramid; 0 never.
     #[arg(long, value_name = "LEVEL")]
@@ -38,8 +43,13 @@ impl LodArgs {
         let mut lod = Lod::default();
         lod.factor = self.lod_factor.unwrap_or(lod.factor);
         lod.bias = self.lod_bias.unwrap_or(lod.bias);
-        if let [start, end] = self.lod_fade[..] {
-            (lod.fade_start, lod.fade_end) = (start, end);
+        match self.lod_fade[..] {
+            [] => {}
+            [start, end] => (lod.fade_start, lod.fade_end) = (start, end),
+            _ => anyhow::bail!(
+                "--lod-fade takes two distances, START,END (e.g. --lod-fade 3,6), got {} values",
+                self.lod_fade.len()
+            ),
         }
         lod.average_below = self.lod_average_below.unwrap_or(lod.average_below);
         lod.validate("lod")
@@ -69,6 +79,22 @@ mod tests {
             lod_fade: fade.to_vec(),
             lod_average_below: None,
         }
+    }
+
+    #[derive(clap::Parser)]
+    struct Wrapper {
+        #[command(flatten)]
+        lod: LodArgs,
+    }
+
+    #[test]
+    fn lod_fade_takes_start_comma_end_as_documented() {
+        use clap::Parser;
+        let parsed = Wrapper::try_parse_from(["relief", "--lod-fade", "3,6"]).expect("parses");
+        assert_eq!(parsed.lod.lod_fade, [3.0, 6.0]);
+        let one = Wrapper::try_parse_from(["relief", "--lod-fade", "3"]).expect("parses");
+        let err = one.lod.settings().unwrap_err().to_string();
+        assert!(err.contains("START,END"), "{err}");
     }
 
     #[test]

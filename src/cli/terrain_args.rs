@@ -52,8 +52,9 @@ pub struct TerrainArgs {
     /// World height of the elevation map's white, the terrain being 10 units across.
     #[arg(long, value_name = "H", default_value_t = 1.5, requires = "terrain")]
     pub terrain_height: f32,
-    /// Brush strokes between frames: a JSON array with one array of strokes per frame (see the
-    /// README); frame 1 is unedited, and the sequence runs until every list is shown.
+    /// Brush strokes between frames: a JSON array with one array of strokes per frame (kinds
+    /// raise, lower, flatten, crater and paint; see docs/terrain.md); frame 1 is unedited, and
+    /// the sequence runs until every list is shown.
     #[arg(long, value_name = "STROKES.json", requires = "terrain")]
     pub edits: Option<PathBuf>,
 }
