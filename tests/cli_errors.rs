@@ -228,3 +228,28 @@ fn devices_name_ray_query_support_and_old_lavapipe() {
         assert!(ray_query, "CI's lavapipe offers no ray queries: {first}");
     }
 }
+
+#[test]
+fn bad_image_sizes_and_sample_counts_are_usage_errors_before_any_device() {
+    // Refused by the argument parser: exit 2, one line naming the flag and what it takes, and no
+    // device made (none is needed to see it, so none is asked for: this runs with no driver).
+    for (flag, value, says) in [
+        ("--msaa", "3", "must be 1, 2, 4 or 8 samples per pixel"),
+        ("--width", "0", "an image side is 1 to 16384 pixels"),
+        ("--height", "99999", "an image side is 1 to 16384 pixels"),
+        ("--supersample", "5", "must be 1 to 4"),
+    ] {
+        let out = Command::new(env!("CARGO_BIN_EXE_relief"))
+            .args(["render", flag, value, "--out", "/dev/null"])
+            .env("VK_DRIVER_FILES", "/nonexistent/icd.json")
+            .env("VK_ICD_FILENAMES", "/nonexistent/icd.json")
+            .output()
+            .expect("binary runs");
+        let err = stderr(&out);
+        assert_eq!(out.status.code(), Some(2), "{flag} {value}: {err}");
+        assert!(
+            err.contains(flag) && err.contains(says) && !err.contains("panicked"),
+            "{flag} {value}: {err}"
+        );
+    }
+}

@@ -9,7 +9,9 @@ use clap::{Args, ValueEnum};
 use relief::environment::{Background, EnvironmentSource};
 use relief::heightfield::{Address, Heightfield, MAX_SIDE};
 use relief::method::Method;
-use relief::render::{HeightFormat, RenderOptions, ToneMap, ToneMapping};
+use relief::render::{
+    HeightFormat, RenderOptions, ToneMap, ToneMapping, MAX_SUPERSAMPLE, SAMPLE_COUNTS,
+};
 use relief::scene::{
     default_heightfield, default_scene, load_gltf, Scene, SceneOptions, DEFAULT_SCENE_METHOD,
 };
@@ -35,10 +37,10 @@ pub struct SceneArgs {
     /// glTF scene (.gltf or .glb); the built-in default scene when left out.
     scene: Option<PathBuf>,
     /// Image width in pixels (`view`: the window's first width).
-    #[arg(long, default_value_t = 960)]
+    #[arg(long, default_value_t = 960, value_parser = image_side)]
     pub(super) width: u32,
     /// Image height in pixels (`view`: the window's first height).
-    #[arg(long, default_value_t = 540)]
+    #[arg(long, default_value_t = 540, value_parser = image_side)]
     pub(super) height: u32,
     #[command(flatten)]
     heights: HeightmapArgs,
@@ -71,11 +73,11 @@ pub struct SceneArgs {
     address: Address,
     /// Samples per pixel of the raster passes: 1, 2, 4 or 8 (clamped to what the device takes;
     /// relief is traced once per pixel). Smooths geometry edges.
-    #[arg(long, value_name = "N", default_value_t = 4)]
+    #[arg(long, value_name = "N", default_value_t = 4, value_parser = msaa_samples)]
     msaa: u32,
     /// Supersampling: draw the scene K times larger along each axis and average each pixel's
     /// K x K block (1 to 4). Smooths what MSAA cannot: the relief's own silhouettes and steps.
-    #[arg(long, value_name = "K", default_value_t = 1)]
+    #[arg(long, value_name = "K", default_value_t = 1, value_parser = supersample_factor)]
     supersample: u32,
     /// Tone mapping from linear radiance to the frame's colours: pbr-neutral (Khronos PBR
     /// Neutral), aces, or none (clamped).
@@ -280,6 +282,33 @@ impl LoadedScene {
             hf.check_max_dimension(ctx.info().max_image_dimension_2d, &self.source)?;
         }
         Ok(())
+    }
+}
+
+/// An image side in pixels, 1 to `MAX_SIDE`: refused by the argument parser (exit 2), before any
+/// device is made.
+fn image_side(text: &str) -> Result<u32, String> {
+    match text.parse::<u32>() {
+        Ok(n) if (1..=MAX_SIDE).contains(&n) => Ok(n),
+        _ => Err(format!("an image side is 1 to {MAX_SIDE} pixels")),
+    }
+}
+
+/// `--msaa`'s value: a sample count the renderer takes (`SAMPLE_COUNTS`).
+fn msaa_samples(text: &str) -> Result<u32, String> {
+    match text.parse::<u32>() {
+        Ok(n) if SAMPLE_COUNTS.contains(&n) => Ok(n),
+        _ => Err("must be 1, 2, 4 or 8 samples per pixel".into()),
+    }
+}
+
+/// `--supersample`'s value: 1 to `MAX_SUPERSAMPLE` samples per pixel along each axis.
+fn supersample_factor(text: &str) -> Result<u32, String> {
+    match text.parse::<u32>() {
+        Ok(k) if (1..=MAX_SUPERSAMPLE).contains(&k) => Ok(k),
+        _ => Err(format!(
+            "must be 1 to {MAX_SUPERSAMPLE} (samples per pixel along each axis)"
+        )),
     }
 }
 

@@ -41,7 +41,7 @@ pub use frame::pass_timer::{PassTiming, Scope};
 pub use frame::plan::{
     DrawPlan, DrawRole, HeightKey, HeightPlan, PassPlan, PipelineKey, Plan, PlanError, Skipped,
 };
-pub use frame::renderer::{FrameOutput, FrameRequest, Renderer, FRAMES_IN_FLIGHT};
+pub use frame::renderer::{FrameOutput, FrameRequest, Renderer, FRAMES_IN_FLIGHT, MAX_SUPERSAMPLE};
 pub use frame::shell_draw::BuiltShell;
 pub use frame::single_frame::{render, BuiltMap, Frame, RenderError, RenderOptions};
 pub use frame::surface_pass::{COLOR_FORMAT, DEPTH_FORMAT};
