@@ -216,10 +216,6 @@ impl SceneArgs {
                 );
             }
         }
-        let (w, h) = (self.width, self.height);
-        if !super::within_max_side(w, h) {
-            anyhow::bail!("--width and --height must be within 1..={MAX_SIDE}, got {w}x{h}");
-        }
         if let Some(s) = self.depth_scale {
             if !(s.is_finite() && s > 0.0) {
                 anyhow::bail!("--depth-scale must be a finite number above 0, got {s}");
