@@ -8,7 +8,7 @@
 //! binds the method map (binding 3); `surface.frag` also once per row with level of detail
 //! (`surface.frag:<id>:lod`, RELIEF_LOD), once per row shading height-blended layers
 //! (`surface.frag:<id>:layers`, TERRAIN_LAYERS, and `:lod:layers` with both) and once plain (no relief), as is
-//! `shadow_caster.frag`; `mesh.vert` also as the shadow pass's (`mesh.vert:shadow`); `passes/pyramid.comp` and
+//! `shadow_caster.frag` and `occluders.frag`; `mesh.vert` also as the shadow pass's (`mesh.vert:shadow`); `passes/pyramid.comp` and
 //! `passes/mean_pyramid.comp` once per storage format (`pyramid.comp` also for four-channel
 //! terrain layers), `passes/blended_pyramid.comp` and `passes/brush.comp` per height format; every other file under
 //! `passes/` once. A file in
@@ -123,7 +123,7 @@ fn variants(root: &Path) -> Vec<Variant> {
                 defines,
                 method_file,
             };
-        if base == "surface.frag" || base == "shadow_caster.frag" {
+        if base == "surface.frag" || base == "shadow_caster.frag" || base == "occluders.frag" {
             // Surfaces without relief: no method, no height bindings, early depth testing.
             let defines = vec![("PLAIN_SURFACE".into(), "1".into())];
             out.push(plain(format!("{base}:plain"), defines, None));

@@ -53,8 +53,11 @@ fn render_default_scene_reports_passes() {
     let names: Vec<&str> = passes.iter().filter_map(|p| p["pass"].as_str()).collect();
     // QDM reads the max pyramid, so its build is a pass of its own; the default scene's bricks
     // ask for horizon AO, built once after it; its sun casts, so its shadow map comes before the
-    // surface.
-    assert_eq!(names, ["pyramid", "ao map", "shadow maps", "surface"]);
+    // surface; the occluder pass bounds what the relief slab's fragments must trace.
+    assert_eq!(
+        names,
+        ["pyramid", "ao map", "shadow maps", "occluders", "surface"]
+    );
     assert!(
         passes
             .iter()
@@ -187,9 +190,9 @@ fn explain_prints_the_plan() {
         plan["created"]["compute_pipelines"], 4,
         "no pyramid for csm, only the cone map build and the sky's three kernels"
     );
-    // The slab and the plain meshes, each drawn and each casting into the sun's map, the
-    // tone-mapping pass and the sky behind the scene.
-    assert_eq!(plan["created"]["graphics_pipelines"], 6);
+    // The slab and the plain meshes, each drawn, each casting into the sun's map and each
+    // bounding what lies behind it, the tone-mapping pass and the sky behind the scene.
+    assert_eq!(plan["created"]["graphics_pipelines"], 8);
     let maps = plan["shadow_maps"].as_array().expect("shadow maps");
     assert_eq!(maps.len(), 1, "{maps:?}");
     assert_eq!(maps[0]["kind"], "cascades");
@@ -232,17 +235,17 @@ fn a_frame_sequence_reuses_its_resources_and_reports_steady_statistics() {
         .collect();
     assert_eq!(
         first,
-        ["pyramid", "ao map", "shadow maps", "surface"],
+        ["pyramid", "ao map", "shadow maps", "occluders", "surface"],
         "the first frame builds the pyramid and the AO map"
     );
     let steady = report["steady"].as_array().expect("steady statistics");
+    let names: Vec<&str> = steady.iter().filter_map(|p| p["pass"].as_str()).collect();
     assert_eq!(
-        steady.len(),
-        2,
-        "only the shadow maps and the surface pass after frame 1: {steady:?}"
+        names,
+        ["shadow maps", "occluders", "surface"],
+        "only the shadow maps, the occluders and the surface pass after frame 1: {steady:?}"
     );
-    assert_eq!(steady[0]["pass"], "shadow maps");
-    let surface = &steady[1];
+    let surface = &steady[2];
     assert_eq!(surface["pass"], "surface");
     assert_eq!(surface["frames"], 3);
     let ms = |key: &str| surface[key].as_f64().expect(key);
@@ -341,9 +344,10 @@ fn the_pipeline_cache_persists_between_runs_and_a_corrupt_one_is_ignored() {
     let path = cache.to_str().expect("utf-8");
     let (first, _) = run(&["--pipeline-cache", path]);
     assert_eq!(first["seeded"], false, "{first}");
-    // The slab (qdm) and the plain meshes, drawn and casting, the tone-mapping pass, the pyramid
-    // build, the horizon AO build, the sky's three map kernels and its background.
-    assert_eq!(first["pipelines"], 11, "{first}");
+    // The slab (qdm) and the plain meshes, drawn, casting and bounding what lies behind them,
+    // the tone-mapping pass, the pyramid build, the horizon AO build, the sky's three map
+    // kernels and its background.
+    assert_eq!(first["pipelines"], 13, "{first}");
     assert!(cache.exists(), "the cache was written");
     let (second, _) = run(&["--pipeline-cache", path]);
     assert_eq!(second["seeded"], true, "{second}");

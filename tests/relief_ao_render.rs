@@ -22,6 +22,7 @@ const OPTS: RenderOptions = RenderOptions {
     environment: relief::environment::EnvironmentSource::Flat,
     background: relief::environment::Background::Colour,
     supersample: 1,
+    occluders: true,
 };
 
 #[test]

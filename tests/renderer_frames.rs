@@ -25,6 +25,7 @@ const OPTS: RenderOptions = RenderOptions {
     environment: relief::environment::EnvironmentSource::Flat,
     background: relief::environment::Background::Colour,
     supersample: 1,
+    occluders: true,
 };
 
 #[test]

@@ -1,6 +1,6 @@
 #version 460
 // The background's geometry: one triangle covering the frame at the far plane (depth 1), drawn
-// first, so every surface drawn after it lies in front.
+// after the opaque surfaces: the less-or-equal depth test passes only where none was drawn.
 
 layout(location = 0) out vec2 ndc;
 

@@ -7,8 +7,9 @@
 // TERRAIN_LAYERS variants shade a layered material (terrain_layers.glsl); CURVED variants trace
 // under the mesh's curvature (curved.glsl), SHELLS variants walk the prism this fragment's face
 // bounds (shells.glsl, drawn from shell.vert). The plain variant
-// (PLAIN_SURFACE) does none of that; relief variants declare depth_greater, so early depth
-// testing survives their depth writes. Every variant reads the scene's shadow maps
+// (PLAIN_SURFACE) does none of that; relief variants first skip fragments the occluder pass
+// shows hidden (occluders.glsl), and declare depth_greater, so a driver may keep early depth
+// tests despite their depth writes. Every variant reads the scene's shadow maps
 // (scene_shadows.glsl); with the frame's shadow probe on it writes one light's visibility
 // terms instead of a colour.
 #extension GL_GOOGLE_include_directive : require
@@ -29,6 +30,7 @@
 #endif
 #include "method.glsl"
 #include "shadows.glsl"
+#include "occluders.glsl"
 #ifdef TERRAIN_LAYERS
 #include "terrain_layers.glsl"
 #endif
@@ -55,7 +57,8 @@ layout(location = 0) out vec4 out_color;
 layout(depth_greater) out float gl_FragDepth;
 #endif
 
-void main() {
+// Traces and shades the fragment (main decides whether it is worth it).
+void shade() {
     vec3 n = normalize(gl_FrontFacing ? in_normal : -in_normal);
     // The triangle's own plane, on n's side: the shadow maps hold the triangles' depths, so a
     // receiver's plane must be the triangle's, not the one the smooth shading normal spans
@@ -240,4 +243,19 @@ void main() {
         return;
     }
     out_color = vec4(color, material.relief.y > 0.5 ? base.a : 1.0);
+}
+
+void main() {
+#ifndef PLAIN_SURFACE
+    // Hidden behind the occluder pass's bounds: nothing this fragment traces could show. The
+    // shading sits in the other branch, not after the discard: lavapipe runs straight-line code
+    // after a discard with its lanes masked off, but skips a branch no lane takes.
+    if (behind_occluders()) {
+        discard;
+    } else {
+        shade();
+    }
+#else
+    shade();
+#endif
 }

@@ -253,6 +253,7 @@ pub fn render_interleaved(
         environment: EnvironmentSource::Flat,
         background: crate::environment::Background::Colour,
         supersample: 1,
+        occluders: true,
     };
     let mut renderers = scenes
         .iter()

@@ -26,6 +26,13 @@ use super::shadow_map_args::ShadowMapArgs;
 use super::terrain_args::TerrainArgs;
 use super::terrain_edits::TerrainEdits;
 
+/// A feature switched on or off.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum Toggle {
+    On,
+    Off,
+}
+
 #[derive(Clone, Copy, Debug, ValueEnum)]
 pub enum FormatArg {
     R16,
@@ -79,6 +86,11 @@ pub struct SceneArgs {
     /// K x K block (1 to 4). Smooths what MSAA cannot: the relief's own silhouettes and steps.
     #[arg(long, value_name = "K", default_value_t = 1, value_parser = supersample_factor)]
     supersample: u32,
+    /// Hidden relief: on lays down, before the surface pass, how far each pixel's nearest
+    /// opaque surface can reach, and relief fragments behind it skip their trace (the image
+    /// is the same); off traces every relief fragment (the forward reference).
+    #[arg(long, value_enum, value_name = "on|off", default_value = "on")]
+    occluders: Toggle,
     /// Tone mapping from linear radiance to the frame's colours: pbr-neutral (Khronos PBR
     /// Neutral), aces, or none (clamped).
     #[arg(long, value_name = "CURVE", default_value = "pbr-neutral")]
@@ -198,6 +210,7 @@ impl SceneArgs {
             environment: self.environment.clone(),
             background: self.background,
             supersample: self.supersample,
+            occluders: self.occluders == Toggle::On,
         }
     }
 

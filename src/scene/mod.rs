@@ -23,6 +23,7 @@ mod material;
 mod material_heights;
 mod primitives;
 mod relief_extras;
+mod relief_stack;
 mod shading;
 mod shadow_scenes;
 mod tangents;
@@ -45,6 +46,7 @@ pub use material::{
 };
 pub use material_heights::{HeightLookup, HeightUv, MaterialHeights, MaterialHeightsError};
 pub use primitives::{box_mesh, cylinder_mesh, quad_mesh, sphere_mesh, torus_mesh};
+pub use relief_stack::{relief_stack_scene, STACK_DEPTH_SCALE, STACK_QUAD_SIDE};
 pub use shading::{AoMode, ShadowMode, ShadowSettings, AO_HORIZON_DIRECTIONS};
 pub use shadow_scenes::{shadow_scene, sun, ShadowScene, SHADOW_SCENE_DEPTH};
 pub use terrain_scene::{

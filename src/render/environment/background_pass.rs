@@ -1,6 +1,7 @@
 //! The environment drawn behind the scene (`--background environment`): one full-frame triangle
-//! at the far plane, drawn first into the radiance target, looking each pixel's view direction up
-//! in the uploaded environment image.
+//! at the far plane, drawn into the radiance target after the opaque surfaces (so the depth test
+//! leaves it only the pixels nothing covers) and before the blended ones, looking each pixel's
+//! view direction up in the uploaded environment image.
 
 use std::sync::Arc;
 

@@ -6,6 +6,7 @@ use std::sync::Arc;
 
 use ash::vk;
 
+use super::occluders::BOUNDS_FORMAT;
 use super::plan::PipelineKey;
 use super::surface_pass::{DrawPush, DEPTH_FORMAT};
 use super::tonemap::HDR_FORMAT;
@@ -13,8 +14,8 @@ use crate::method::Method;
 use crate::render::shader_interface::{
     SPEC_BUDGET_EXTENT_LIMIT, SPEC_BUDGET_LEAF_EXACT, SPEC_BUDGET_MAX_STEPS,
     SPEC_BUDGET_REFINE_STEPS, SPEC_HARD_SHADOW_TEXELS, SPEC_LOD_AVERAGE_BELOW, SPEC_LOD_BIAS,
-    SPEC_LOD_FACTOR, SPEC_LOD_FADE_END, SPEC_LOD_FADE_START, SPEC_SHADOW_FILTER, SPEC_SHADOW_MODE,
-    SPEC_SHADOW_REACH, SPEC_SHADOW_STEPS,
+    SPEC_LOD_FACTOR, SPEC_LOD_FADE_END, SPEC_LOD_FADE_START, SPEC_OCCLUDER_TAPS,
+    SPEC_SHADOW_FILTER, SPEC_SHADOW_MODE, SPEC_SHADOW_REACH, SPEC_SHADOW_STEPS,
 };
 use crate::render::shadows::shadow_atlas::SHADOW_FORMAT;
 use crate::scene::{Lod, Vertex};
@@ -47,7 +48,8 @@ fn lod_spec_constants(spec: SpecConstants, lod: &Lod) -> SpecConstants {
         .u32(SPEC_LOD_AVERAGE_BELOW, lod.average_below)
 }
 
-/// The shaders and target of a mesh pipeline: the surface pass's, or a shadow caster's.
+/// The shaders and target of a mesh pipeline: the surface pass's, a shadow caster's, or an
+/// occluder's.
 pub(super) struct MeshStages {
     vertex: &'static str,
     fragment: String,
@@ -57,12 +59,20 @@ pub(super) struct MeshStages {
     shadow_filter: u32,
     /// Samples per pixel of its targets.
     samples: u32,
+    /// `SPEC_OCCLUDER_TAPS`: the occluder bounds a relief fragment reads, 0 for none.
+    occluder_taps: u32,
 }
 
 impl MeshStages {
     /// The surface pass's, looking shadow maps up with filters up to `shadow_filter`, into
-    /// targets of `samples` samples per pixel.
-    pub(super) fn surface(key: &PipelineKey, shadow_filter: u32, samples: u32) -> MeshStages {
+    /// targets of `samples` samples per pixel, relief reading `occluder_taps` occluder bounds
+    /// before it traces.
+    pub(super) fn surface(
+        key: &PipelineKey,
+        shadow_filter: u32,
+        samples: u32,
+        occluder_taps: u32,
+    ) -> MeshStages {
         MeshStages {
             vertex: if key.shells {
                 "shell.vert"
@@ -74,6 +84,25 @@ impl MeshStages {
             name: format!("surface {}", describe(key)),
             shadow_filter,
             samples,
+            occluder_taps,
+        }
+    }
+
+    /// The occluder pass's: the farthest depth the draw's surface can reach, written as the
+    /// colour the surface pass samples (`occluders.frag`).
+    pub(super) fn occluder(key: &PipelineKey) -> MeshStages {
+        let fragment = match key.method {
+            Some(_) => "occluders.frag",
+            None => "occluders.frag:plain",
+        };
+        MeshStages {
+            vertex: "mesh.vert",
+            fragment: fragment.to_owned(),
+            color_format: BOUNDS_FORMAT,
+            name: format!("occluder {}", describe(key)),
+            shadow_filter: 0,
+            samples: 1,
+            occluder_taps: 0,
         }
     }
 
@@ -98,6 +127,7 @@ impl MeshStages {
             color_format: SHADOW_FORMAT,
             shadow_filter: 0,
             samples: 1,
+            occluder_taps: 0,
         }
     }
 }
@@ -115,7 +145,8 @@ pub(super) fn create_pipeline(
         .u32(SPEC_SHADOW_MODE, key.shadows.mode.shader_value())
         .u32(SPEC_SHADOW_STEPS, key.shadows.resolved_steps())
         .f32(SPEC_SHADOW_REACH, key.shadows.horizon_reach)
-        .u32(SPEC_SHADOW_FILTER, stages.shadow_filter);
+        .u32(SPEC_SHADOW_FILTER, stages.shadow_filter)
+        .u32(SPEC_OCCLUDER_TAPS, stages.occluder_taps);
     if let Some(method) = key.method {
         let budget = method.info().default_budget;
         spec = spec

@@ -12,6 +12,7 @@ pub(in crate::render) mod material_set;
 pub(in crate::render) mod mesh_pipeline;
 pub(in crate::render) mod method_map;
 pub(in crate::render) mod msaa;
+pub(in crate::render) mod occluders;
 pub(in crate::render) mod pass;
 pub(in crate::render) mod pass_timer;
 pub(in crate::render) mod plan;

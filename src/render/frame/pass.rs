@@ -16,6 +16,10 @@ pub enum Pass {
     /// timestamp scope per map. Only in frames where a view moved (cascades follow the camera)
     /// or the casters changed: a still sequence renders the maps once.
     ShadowMaps,
+    /// Writes, per pixel, the farthest depth the nearest opaque surface can reach (a plain
+    /// mesh's own depth, the bottom of a relief slab), so relief fragments behind it skip their
+    /// trace in the surface pass.
+    Occluders,
     /// Draws the meshes replaced by cell complexes: each grey cell's front faces, a ray marched
     /// through the complex per fragment (Apaza and Andujar).
     Cells,
@@ -28,10 +32,11 @@ pub enum Pass {
 
 impl Pass {
     /// Every pass, in recording order.
-    pub const ALL: [Pass; 6] = [
+    pub const ALL: [Pass; 7] = [
         Pass::Pyramid,
         Pass::AmbientOcclusion,
         Pass::ShadowMaps,
+        Pass::Occluders,
         Pass::Cells,
         Pass::Surface,
         Pass::SelfShadowRays,
@@ -43,6 +48,7 @@ impl Pass {
             Pass::Pyramid => "pyramid",
             Pass::AmbientOcclusion => "ao map",
             Pass::ShadowMaps => "shadow maps",
+            Pass::Occluders => "occluders",
             Pass::Cells => "cells",
             Pass::Surface => "surface",
             Pass::SelfShadowRays => "self-shadow rays",

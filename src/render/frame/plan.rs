@@ -224,6 +224,9 @@ pub struct Plan {
     /// The environment maps built for the ambient light, `None` for flat ambient light (set by
     /// the renderer from its options).
     pub environment: Option<EnvironmentPlan>,
+    /// Relief fragments behind the occluder pass's bounds skip their trace (set by the renderer
+    /// from its options: the pass runs when some opaque draw can occlude relief).
+    pub occluders: bool,
 }
 
 impl Plan {
@@ -259,6 +262,7 @@ impl Plan {
             tone_mapping: ToneMapping::NONE,
             environment: None,
             supersample: 1,
+            occluders: false,
         };
         let mut used = vec![false; scene.materials.len()];
         for c in &plan.cells {

@@ -16,6 +16,7 @@ use super::frame_uniforms::{frame_camera, FrameUniforms, MAX_LIGHTS};
 use super::height_resources::HeightResources;
 use super::height_upload::upload_heights;
 use super::msaa::MsaaPlan;
+use super::occluders::{plan_occluders, OccluderTargets};
 use super::pass::Pass;
 use super::pass_timer::{per_pass, PassTimer, PassTiming, Scope};
 use super::plan::{HeightKey, Plan};
@@ -108,6 +109,8 @@ pub struct Renderer {
     background: Option<BackgroundPass>,
     tone_map: ToneMapPass,
     targets: Targets,
+    /// The occluder pass's bounds, when some relief surface reads them.
+    occluders: Option<OccluderTargets>,
     slots: Vec<FrameSlot>,
     lights: Vec<Light>,
     default_camera: Camera,
@@ -135,6 +138,7 @@ impl Renderer {
         let probe = opts.shadow_probe.is_some();
         plan.msaa = MsaaPlan::choose(opts.msaa, ctx.info().max_samples, probe)?;
         plan.supersample = choose_supersample(opts, ctx.info().max_image_dimension_2d, probe)?;
+        plan_occluders(&mut plan, scene, opts.occluders);
         // The probe's colours are visibilities, not radiance.
         plan.tone_mapping = if probe {
             ToneMapping::NONE
@@ -224,8 +228,13 @@ impl Renderer {
             plan.target_options(probe, opts.keep_radiance),
             &tone_map,
         )?;
-        // One scope per pyramid build, AO map and shadow map, plus the cells and surface passes.
-        let scopes = (plan.heights.len() + ao.len()) as u32 + ShadowMaps::scopes(&plan) + 2;
+        let occluders = plan
+            .occluders
+            .then(|| occluder_targets(ctx, &surface, &targets))
+            .transpose()?;
+        // One scope per pyramid build, AO map and shadow map, plus the occluder, cells and
+        // surface passes.
+        let scopes = (plan.heights.len() + ao.len()) as u32 + ShadowMaps::scopes(&plan) + 3;
         let slots = (0..FRAMES_IN_FLIGHT)
             .map(|k| {
                 Ok(FrameSlot {
@@ -256,6 +265,7 @@ impl Renderer {
             background,
             tone_map,
             targets,
+            occluders,
             slots,
             default_camera,
             width: opts.width,
@@ -337,6 +347,9 @@ impl Renderer {
             .plan
             .target_options(self.shadow_probe.is_some(), self.keep_radiance);
         self.targets = Targets::new(&self.ctx, width, height, options, &self.tone_map)?;
+        if self.occluders.is_some() {
+            self.occluders = Some(occluder_targets(&self.ctx, &self.surface, &self.targets)?);
+        }
         for slot in &mut self.slots {
             slot.readback = None;
             slot.depth_readback = None;
@@ -428,10 +441,13 @@ impl Renderer {
             &self.shadows,
             &self.plan,
         );
+        let occluders = self.occluders.as_ref();
+        let bounds = occluders.map(OccluderTargets::set);
         let tone_map = (&self.tone_map, self.plan.tone_mapping);
         let view_proj = request.camera.view_projection(aspect);
-        let begin = |rec: &crate::vk::Recording| -> VkResult<()> {
-            targets.begin(rec);
+        // After the opaque draws, with the depth test: the sky is shaded only where nothing
+        // was drawn.
+        let behind = |rec: &crate::vk::Recording| -> VkResult<()> {
             match &self.background {
                 Some(b) => b.record(rec, view_proj),
                 None => Ok(()),
@@ -463,24 +479,32 @@ impl Renderer {
                 shadows.record(rec, timer, plan, surface, k, &views)?;
             }
             let scope = |pass| Scope { pass, part: None };
+            if let Some(o) = occluders {
+                timer.scope(rec, scope(Pass::Occluders), |rec| {
+                    o.begin(rec);
+                    surface.record_occluders(rec, k, eye, &frustum)?;
+                    o.end(rec);
+                    Ok(())
+                })?;
+            }
             if cells.is_empty() {
                 timer.scope(rec, scope(Pass::Surface), |rec| {
-                    begin(rec)?;
-                    let culled = surface.record_draws(rec, k, eye, &frustum);
+                    targets.begin(rec);
+                    let culled = surface.record_draws(rec, k, (eye, &frustum), bounds, behind);
                     targets.end(rec, tone_map, into)?;
                     culled
                 })
             } else {
                 // The complexes first (opaque), then the surface pass's draws, blended ones last.
                 timer.scope(rec, scope(Pass::Cells), |rec| {
-                    begin(rec)?;
+                    targets.begin(rec);
                     let frame_set = surface
                         .plain_set(k)
                         .ok_or_else(|| VkError::Invalid("no plain frame set".into()))?;
                     cells.record(rec, frame_set, eye, |m| surface.material_set(m))
                 })?;
                 timer.scope(rec, scope(Pass::Surface), |rec| {
-                    let culled = surface.record_draws(rec, k, eye, &frustum);
+                    let culled = surface.record_draws(rec, k, (eye, &frustum), bounds, behind);
                     targets.end(rec, tone_map, into)?;
                     culled
                 })
@@ -618,6 +642,17 @@ impl Renderer {
 
 /// The supersampling factor a frame draws with: `opts.supersample`, checked; 1 for the shadow
 /// probe (which reads one depth per pixel).
+/// The occluder bounds at the size the scene is drawn at (`targets`' depth, supersampling
+/// included), bound through `surface`'s set 3.
+fn occluder_targets(
+    ctx: &Arc<Context>,
+    surface: &SurfacePass,
+    targets: &Targets,
+) -> VkResult<OccluderTargets> {
+    let desc = targets.depth.desc();
+    OccluderTargets::new(ctx, surface.occluder_layout(), desc.width, desc.height)
+}
+
 fn choose_supersample(opts: &RenderOptions, max_side: u32, probe: bool) -> Result<u32, VkError> {
     let k = opts.supersample;
     if !(1..=MAX_SUPERSAMPLE).contains(&k) {

@@ -59,6 +59,10 @@ pub struct RenderOptions {
     pub supersample: u32,
     /// What shows where no surface is drawn: a colour, or the environment (`--background`).
     pub background: Background,
+    /// Lay down the occluder pass's bounds first, so relief hidden behind nearer surfaces is
+    /// not traced (`--occluders`; on by default, off draws every relief fragment's trace as the
+    /// forward path always did).
+    pub occluders: bool,
 }
 
 impl Default for RenderOptions {
@@ -78,6 +82,7 @@ impl Default for RenderOptions {
             environment: EnvironmentSource::Flat,
             background: Background::Colour,
             supersample: 1,
+            occluders: true,
         }
     }
 }

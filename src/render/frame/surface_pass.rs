@@ -13,6 +13,7 @@ use super::frame_uniforms::FrameUniforms;
 use super::height_resources::HeightResources;
 use super::material_set::{material_layout, MaterialSets};
 use super::mesh_pipeline::{create_pipeline, MeshStages};
+use super::occluders::{occluder_layout, occluder_taps, occludes};
 use super::plan::{DrawPlan, DrawRole, PipelineKey, Plan};
 use super::scene_ao::SceneAo;
 use super::scene_textures::SceneTextures;
@@ -21,7 +22,7 @@ use crate::render::environment::{stand_in_binds, EnvironmentLight};
 use crate::render::shader_interface::{
     BINDING_ENV_BRDF, BINDING_ENV_IRRADIANCE, BINDING_ENV_SPECULAR, BINDING_FRAME,
     BINDING_HEIGHT_LINEAR, BINDING_HEIGHT_MEAN, BINDING_HEIGHT_POINT, BINDING_METHOD_MAP,
-    BINDING_SHADOW_ATLAS,
+    BINDING_OCCLUDER_BOUNDS, BINDING_SHADOW_ATLAS, SET_OCCLUDERS,
 };
 use crate::render::shadows::shadow_atlas::ShadowAtlas;
 use crate::render::shadows::shadow_plan::relief_pad;
@@ -105,6 +106,8 @@ struct MeshDraw {
     caster_pad: f32,
     /// Whether the surface pass shades it (else it only casts).
     shaded: bool,
+    /// Whether the occluder pass draws it: shaded, opaque, never cut away.
+    occludes: bool,
 }
 
 /// Everything the surface pass needs for one scene.
@@ -125,6 +128,15 @@ pub struct SurfacePass {
     casters: Vec<Option<Pipeline>>,
     /// The meshes drawn as prism shells.
     shells: Vec<BuiltShell>,
+    /// By plan pipeline: the pipeline its occluding draws write their bounds with.
+    occluders: Vec<Option<Pipeline>>,
+    /// Set 3 of the relief variants (the occluder bounds).
+    occluder_layout: DescriptorLayout,
+    /// By plan pipeline: whether it is a relief variant, which binds set 3.
+    reads_occluders: Vec<bool>,
+    /// Without the occluder pass, the set 3 relief variants bind: the white texture, which
+    /// they never read (`SPEC_OCCLUDER_TAPS` 0), and its pool.
+    no_occluders: Option<(DescriptorSet, DescriptorPool)>,
     _layouts: Vec<DescriptorLayout>,
 }
 
@@ -246,7 +258,9 @@ fn mesh_draws(
         } else {
             MeshDraw::new(ctx, mesh, d, key, sets)?
         };
-        draws.push(draw.with_caster_pad(caster_pad));
+        let mut draw = draw.with_caster_pad(caster_pad);
+        draw.occludes = plan.occluders && occludes(scene, d, key);
+        draws.push(draw);
     }
     Ok((draws, shells))
 }
@@ -323,6 +337,7 @@ impl MeshDraw {
             bounds: world_bounds(mesh.transform, lo, hi),
             caster_pad: 0.0,
             shaded: d.role == DrawRole::Surface,
+            occludes: false,
         })
     }
 
@@ -353,6 +368,7 @@ impl MeshDraw {
             bounds: (lo, hi),
             caster_pad: 0.0,
             shaded: d.role == DrawRole::Surface,
+            occludes: false,
         };
         Ok((draw, shell.built))
     }
@@ -492,6 +508,22 @@ impl SurfacePass {
             Some(_) => &layouts.heights,
         };
         let shadow_filter = shadow_filter_max(plan);
+        let occluder_layout = occluder_layout(ctx)?;
+        // Set 2 of relief variants without layers: nothing, so set 3 can follow it.
+        let no_layers =
+            DescriptorLayout::new(ctx, &[], vk::ShaderStageFlags::FRAGMENT, "no layers layout")?;
+        let taps = if plan.occluders {
+            occluder_taps(plan.msaa.samples)
+        } else {
+            0
+        };
+        let no_occluders = (!plan.occluders && plan.pipelines.iter().any(|k| k.method.is_some()))
+            .then(|| -> VkResult<_> {
+                let pool = DescriptorPool::new(ctx, 1, 1, "no occluder bounds set")?;
+                let bind = Bind::Texture(BINDING_OCCLUDER_BOUNDS, &stand_in.0, &stand_in.1);
+                Ok((pool.allocate(&occluder_layout, &[bind])?, pool))
+            })
+            .transpose()?;
         let mut shading = vec![false; plan.pipelines.len()];
         plan.surface_draws()
             .for_each(|d| shading[d.pipeline] = true);
@@ -503,8 +535,17 @@ impl SurfacePass {
                 shaded
                     .then(|| {
                         let set0 = set0_of(key);
-                        let stages = MeshStages::surface(key, shadow_filter, plan.msaa.samples);
-                        if key.layers {
+                        let samples = plan.msaa.samples;
+                        let stages = MeshStages::surface(key, shadow_filter, samples, taps);
+                        let layers = if key.layers {
+                            &layer_layout
+                        } else {
+                            &no_layers
+                        };
+                        if key.method.is_some() {
+                            let sets = [set0, &material_layout, layers, &occluder_layout];
+                            create_pipeline(ctx, key, &stages, &sets)
+                        } else if key.layers {
                             let sets = [set0, &material_layout, &layer_layout];
                             create_pipeline(ctx, key, &stages, &sets)
                         } else {
@@ -536,6 +577,24 @@ impl SurfacePass {
             &materials,
             &layers,
         )?;
+        let mut occluding = vec![false; plan.pipelines.len()];
+        draws
+            .iter()
+            .filter(|d| d.occludes)
+            .for_each(|d| occluding[d.pipeline] = true);
+        let occluders = plan
+            .pipelines
+            .iter()
+            .zip(&occluding)
+            .map(|(key, &occludes)| {
+                occludes
+                    .then(|| {
+                        let stages = MeshStages::occluder(key);
+                        create_pipeline(ctx, key, &stages, &[set0_of(key), &material_layout])
+                    })
+                    .transpose()
+            })
+            .collect::<VkResult<Vec<_>>>()?;
         Ok(SurfacePass {
             pipelines,
             draws,
@@ -546,7 +605,12 @@ impl SurfacePass {
             plain_sets,
             casters,
             shells,
+            occluders,
+            occluder_layout,
+            reads_occluders: plan.pipelines.iter().map(|k| k.method.is_some()).collect(),
+            no_occluders,
             _layouts: vec![
+                no_layers,
                 layouts.plain,
                 layouts.heights,
                 layouts.heights_and_map,
@@ -618,29 +682,92 @@ impl SurfacePass {
         }
     }
 
-    /// Records every draw of frame slot `slot` that `frustum` may see, from `eye`: opaque ones in
-    /// plan order, then blended ones from far to near; returns how many were skipped as out of
-    /// view. Rendering must have begun with the targets' formats.
-    pub fn record_draws(
+    /// Set 3 of the relief variants, which [`OccluderTargets`](super::occluders::OccluderTargets)
+    /// allocate theirs from.
+    pub fn occluder_layout(&self) -> &DescriptorLayout {
+        &self.occluder_layout
+    }
+
+    /// Records the occluder pass's draws of frame slot `slot` that `frustum` may see, nearest
+    /// to `eye` first (so the depth test rejects hidden polygons before they are shaded);
+    /// returns how many it drew. Rendering into the occluder targets must have begun.
+    pub fn record_occluders(
         &self,
         rec: &Recording,
         slot: usize,
         eye: Vec3,
         frustum: &Frustum,
     ) -> VkResult<usize> {
+        let mut order: Vec<&MeshDraw> = self
+            .draws
+            .iter()
+            .filter(|d| d.occludes && frustum.may_see_box(d.bounds.0, d.bounds.1))
+            .collect();
+        order.sort_by(|a, b| {
+            let da = nearest_distance_squared(a.bounds, eye);
+            let db = nearest_distance_squared(b.bounds, eye);
+            da.total_cmp(&db)
+        });
+        let mut drawn = 0;
+        for draw in order {
+            let Some(pipeline) = self.occluders[draw.pipeline].as_ref() else {
+                return Err(VkError::Invalid(format!(
+                    "mesh {} has no occluder pipeline",
+                    draw.mesh
+                )));
+            };
+            let set = &draw.frame_sets[slot.min(draw.frame_sets.len() - 1)];
+            pipeline.bind(rec, Some(set));
+            pipeline.bind_set(rec, 1, &draw.material_set);
+            pipeline.push(rec, bytemuck::bytes_of(&draw.push))?;
+            rec.bind_mesh(&draw.vertices, &draw.indices);
+            rec.draw_indexed(draw.index_count);
+            drawn += 1;
+        }
+        Ok(drawn)
+    }
+
+    /// Records every draw of frame slot `slot` that `frustum` may see, from `eye`: opaque ones in
+    /// plan order, then `behind` (what shows where no opaque surface was drawn), then blended
+    /// ones from far to near; returns how many were skipped as out of view. Relief draws read the
+    /// occluder bounds through `occluders` (required when some draw is relief). Rendering must
+    /// have begun with the targets' formats.
+    pub fn record_draws(
+        &self,
+        rec: &Recording,
+        slot: usize,
+        view: (Vec3, &Frustum),
+        occluders: Option<&DescriptorSet>,
+        behind: impl FnOnce(&Recording) -> VkResult<()>,
+    ) -> VkResult<usize> {
+        let (eye, frustum) = view;
+        let occluders = occluders.or(self.no_occluders.as_ref().map(|(set, _)| set));
         let shaded: Vec<&MeshDraw> = self.draws.iter().filter(|d| d.shaded).collect();
         let visible = |d: &&MeshDraw| frustum.may_see_box(d.bounds.0, d.bounds.1);
         let in_view: Vec<&MeshDraw> = shaded.iter().copied().filter(visible).collect();
         let culled = shaded.len() - in_view.len();
-        let mut order: Vec<&MeshDraw> = in_view.iter().copied().filter(|d| !d.blend).collect();
+        let opaque: Vec<&MeshDraw> = in_view.iter().copied().filter(|d| !d.blend).collect();
         let mut blended: Vec<&MeshDraw> = in_view.iter().copied().filter(|d| d.blend).collect();
         blended.sort_by(|a, b| {
             let da = a.center.distance_squared(eye);
             let db = b.center.distance_squared(eye);
             db.total_cmp(&da)
         });
-        order.extend(blended);
-        for draw in order {
+        self.record_list(rec, slot, &opaque, occluders)?;
+        behind(rec)?;
+        self.record_list(rec, slot, &blended, occluders)?;
+        Ok(culled)
+    }
+
+    /// Records `draws` of frame slot `slot` in order.
+    fn record_list(
+        &self,
+        rec: &Recording,
+        slot: usize,
+        draws: &[&MeshDraw],
+        occluders: Option<&DescriptorSet>,
+    ) -> VkResult<()> {
+        for &draw in draws {
             let Some(pipeline) = self.pipelines[draw.pipeline].as_ref() else {
                 return Err(VkError::Invalid(format!(
                     "mesh {} has no surface pipeline",
@@ -653,11 +780,20 @@ impl SurfacePass {
             if let Some(layers) = &draw.layer_set {
                 pipeline.bind_set(rec, 2, layers);
             }
+            if self.reads_occluders[draw.pipeline] {
+                let Some(bounds) = occluders else {
+                    return Err(VkError::Invalid(format!(
+                        "mesh {} is relief, and the frame has no occluder bounds",
+                        draw.mesh
+                    )));
+                };
+                pipeline.bind_set(rec, SET_OCCLUDERS, bounds);
+            }
             pipeline.push(rec, bytemuck::bytes_of(&draw.push))?;
             rec.bind_mesh(&draw.vertices, &draw.indices);
             rec.draw_indexed(draw.index_count);
         }
-        Ok(culled)
+        Ok(())
     }
 }
 
@@ -693,6 +829,11 @@ impl SurfacePass {
         }
         Ok(culled)
     }
+}
+
+/// The squared distance from `eye` to the nearest point of the box `bounds` (0 inside it).
+fn nearest_distance_squared(bounds: (Vec3, Vec3), eye: Vec3) -> f32 {
+    eye.clamp(bounds.0, bounds.1).distance_squared(eye)
 }
 
 /// By plan pipeline: whether some shadow map has a draw of it among its casters.

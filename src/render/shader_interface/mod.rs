@@ -161,6 +161,18 @@ glsl_table! {
 }
 
 glsl_table! {
+    /// Set 3 of the relief surface variants: the occluder pass's bounds
+    /// (`shaders/include/occluders.glsl`), as `#define`s.
+    OCCLUDER_BINDINGS {
+        /// The set's index: after the layers' set 2 (an empty set 2 stands in for materials
+        /// without layers).
+        SET_OCCLUDERS = 3;
+        /// Per pixel, the farthest depth the nearest opaque surface can reach.
+        BINDING_OCCLUDER_BOUNDS = 0;
+    }
+}
+
+glsl_table! {
     /// A cell complex's set (`shaders/include/cells_march.glsl`; set 2 of `cells.frag`, set 0 of
     /// `cells_trace.comp`), as `#define`s.
     CELLS_BINDINGS {
@@ -260,6 +272,9 @@ glsl_table! {
         SPEC_LOD_FADE_END = 23;
         /// Level of detail: below this many samples a linear search averages.
         SPEC_LOD_AVERAGE_BELOW = 24;
+        /// The occluder bounds a relief fragment reads before tracing: 0 none, 1 its own pixel,
+        /// 9 its pixel and the eight around it (multisampled targets).
+        SPEC_OCCLUDER_TAPS = 30;
     }
 }
 
@@ -294,6 +309,7 @@ pub const GLSL_DEFINES: &[&[(&str, u32)]] = &[
     TERRAIN_BINDINGS,
     MATERIAL_BINDINGS,
     LAYER_BINDINGS,
+    OCCLUDER_BINDINGS,
     CELLS_BINDINGS,
     ENVIRONMENT_BINDINGS,
     TERRAIN_MODES,
