@@ -9,7 +9,6 @@
 use std::fmt::Write as _;
 use std::sync::Arc;
 
-use glam::{Mat4, Vec3};
 use serde::{Deserialize, Serialize};
 
 use super::frame_timing::{
@@ -20,8 +19,8 @@ use crate::heightfield::{Generator, Heightfield};
 use crate::method::Method;
 use crate::render::{RenderError, RenderOptions, ShadowFilter, ShadowOptions, ToneMapping};
 use crate::scene::{
-    default_heightfield, default_scene, quad_mesh, Camera, Light, Material, Relief, Scene,
-    DEFAULT_SCENE_METHOD,
+    default_heightfield, default_scene, relief_stack_scene, Scene, DEFAULT_SCENE_METHOD,
+    STACK_QUAD_SIDE,
 };
 use crate::vk::Context;
 
@@ -51,7 +50,8 @@ pub struct ChainStep {
     pub ratio: f64,
 }
 
-/// One stack of relief quads against the single quad.
+/// One stack of relief quads against the single quad, with the occluder pass (the default) and
+/// without it (the forward reference, `--occluders off`).
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct StackRow {
     /// World units between neighbouring quads (the relief is 0.3 units deep).
@@ -62,6 +62,12 @@ pub struct StackRow {
     pub nearest_first_ms: f64,
     /// GPU ms of eight quads drawn farthest first.
     pub farthest_first_ms: f64,
+    /// The same three without the occluder pass.
+    #[serde(default)]
+    pub forward: Option<[f64; 3]>,
+    /// Of the three with it, the occluder pass's GPU ms.
+    #[serde(default)]
+    pub occluders_ms: [f64; 3],
 }
 
 /// The whole section.
@@ -75,6 +81,10 @@ pub struct FrameCostSection {
     pub chain: Vec<ChainStep>,
     /// The default look over the plain frame, at the main size (the chain's product).
     pub look_over_plain: f64,
+    /// The plain frame over the same without the occluder pass, on the default scene (where
+    /// nothing relief draws is hidden, so the pass only costs).
+    #[serde(default)]
+    pub occluder_cost: f64,
     /// The stacks of eight quads, plain frame.
     pub stacks: Vec<StackRow>,
     /// Size of the stack frames.
@@ -126,8 +136,13 @@ fn chain_looks(size: [u32; 2]) -> Vec<(&'static str, RenderOptions)> {
         msaa: 1,
         ..look(size)
     };
+    let forward = RenderOptions {
+        occluders: false,
+        ..plain(size)
+    };
     vec![
         ("plain", plain(size)),
+        ("plain, occluders off", forward),
         ("look, 1 sample, no shadow maps", one_sample_no_maps),
         ("look, no shadow maps", no_maps),
         ("look", look(size)),
@@ -136,64 +151,17 @@ fn chain_looks(size: [u32; 2]) -> Vec<(&'static str, RenderOptions)> {
     ]
 }
 
-/// The relief quads' side, in world units.
-const QUAD_SIDE: f32 = 6.0;
-/// Their depth scale in uv: 0.3 world units of relief on a 6-unit quad.
-const STACK_DEPTH_SCALE: f32 = 0.05;
 /// Quads in a stack.
 const STACK_QUADS: usize = 8;
-/// The camera's distance to the nearest quad: close enough that it fills a 16:9 view at a
-/// 40-degree vertical field of view.
-const STACK_CAMERA_DISTANCE: f32 = 4.0;
 
 /// One 256^2 bumpy field for every quad of the stacks.
 fn stack_heights() -> Heightfield {
     Generator::Fbm.generate(256, 256, 7)
 }
 
-/// `quads` QDM quads facing the camera, `spacing` apart along the view axis, the nearest at the
-/// origin; `nearest_first` orders the meshes (and so the draws) from the camera outwards. A sun
-/// casts shadows, so the look builds a shadow map.
+/// The bench's stack: QDM quads.
 fn stack_scene(quads: usize, spacing: f32, nearest_first: bool) -> Scene {
-    let relief = Relief::new(STACK_DEPTH_SCALE, Method::QDM);
-    let material = Material {
-        name: "stack".into(),
-        base_color: [0.6, 0.5, 0.4, 1.0],
-        roughness: 0.7,
-        relief: Some(relief),
-        ..Material::default()
-    };
-    let mut meshes: Vec<_> = (0..quads)
-        .map(|k| {
-            let mut quad = quad_mesh(&format!("quad {k}"), QUAD_SIDE, QUAD_SIDE, 1.0, 0);
-            // The XZ quad turned to face +Z (the camera), then pushed back k steps.
-            quad.transform = Mat4::from_translation(Vec3::new(0.0, 0.0, -spacing * k as f32))
-                * Mat4::from_rotation_x(std::f32::consts::FRAC_PI_2);
-            quad
-        })
-        .collect();
-    if !nearest_first {
-        meshes.reverse();
-    }
-    Scene {
-        meshes,
-        materials: vec![material],
-        camera: Some(Camera::look_at(
-            Vec3::new(0.0, 0.0, STACK_CAMERA_DISTANCE),
-            Vec3::ZERO,
-            40f32.to_radians(),
-            0.05,
-            100.0,
-        )),
-        lights: vec![Light {
-            casts_shadows: true,
-            direction: -Vec3::new(-0.4, 0.5, 0.8).normalize(),
-            radius: 2f32.to_radians(),
-            ..Light::default_light()
-        }],
-        images: Vec::new(),
-        camera_path: None,
-    }
+    relief_stack_scene(quads, spacing, nearest_first, Method::QDM)
 }
 
 fn row(frame: &str, opts: &RenderOptions, t: &SteadyFrames) -> FrameCostRow {
@@ -254,6 +222,7 @@ pub fn run_frame_cost_section(
         step(&rows, "PCSS shadow maps", "look, no shadow maps", "look"),
     ];
     let look_over_plain = ms(&rows, "look") / ms(&rows, "plain");
+    let occluder_cost = ms(&rows, "plain") / ms(&rows, "plain, occluders off");
     for size in sizes {
         progress(&format!(
             "frame costs: plain and look at {}x{}",
@@ -270,18 +239,25 @@ pub fn run_frame_cost_section(
         progress(&format!(
             "frame costs: one quad and eight {spacing} apart, both orders"
         ));
-        let opts = plain(stack_size);
+        let culled = plain(stack_size);
+        let forward = RenderOptions {
+            occluders: false,
+            ..plain(stack_size)
+        };
         let scenes = [
             stack_scene(1, spacing, true),
             stack_scene(STACK_QUADS, spacing, true),
             stack_scene(STACK_QUADS, spacing, false),
         ];
-        let setups: Vec<FrameSetup> = scenes
-            .iter()
-            .map(|scene| FrameSetup {
-                scene,
-                heights: Some(&stack_heights),
-                opts: &opts,
+        let heights = &stack_heights;
+        let setups: Vec<FrameSetup> = [&culled, &forward]
+            .into_iter()
+            .flat_map(|opts| {
+                scenes.iter().map(move |scene| FrameSetup {
+                    scene,
+                    heights: Some(heights),
+                    opts,
+                })
             })
             .collect();
         let timed = time_setups_interleaved(ctx, &setups, frames, MapRate::AsNeeded)?;
@@ -290,6 +266,12 @@ pub fn run_frame_cost_section(
             one_ms: timed[0].total_ms,
             nearest_first_ms: timed[1].total_ms,
             farthest_first_ms: timed[2].total_ms,
+            forward: Some([timed[3].total_ms, timed[4].total_ms, timed[5].total_ms]),
+            occluders_ms: [
+                timed[0].occluders_ms,
+                timed[1].occluders_ms,
+                timed[2].occluders_ms,
+            ],
         });
     }
     progress("frame costs: the one-quad scene's steady shadow maps");
@@ -310,6 +292,7 @@ pub fn run_frame_cost_section(
         rows,
         chain,
         look_over_plain,
+        occluder_cost,
         stacks,
         stack_size,
         still_shadow_share,
@@ -324,8 +307,10 @@ pub fn report(md: &mut String, s: &FrameCostSection) {
         "GPU ms per steady frame (every pass; median of {} frames taken in interleaved rounds). \
          *plain*: one sample, flat ambient light, no tone curve, no shadow maps. *look*: \
          `relief render`'s default (4x MSAA, sky light and background, PCSS shadow maps, PBR \
-         Neutral). The default look costs **{:.2}x** the plain frame.\n",
-        s.frames, s.look_over_plain
+         Neutral). The default look costs **{:.2}x** the plain frame. The occluder pass \
+         (on in every row but *occluders off*) costs the plain frame **{:.2}x** on this scene, \
+         where it hides no relief.\n",
+        s.frames, s.look_over_plain, s.occluder_cost
     );
     let _ = writeln!(md, "| frame | size | GPU ms | of it shadow maps |");
     let _ = writeln!(md, "|---|---|---|---|");
@@ -347,27 +332,36 @@ pub fn report(md: &mut String, s: &FrameCostSection) {
     }
     let _ = writeln!(
         md,
-        "\nHidden relief: eight QDM quads ({QUAD_SIDE} x {QUAD_SIDE} units, 0.3 units of relief, \
+        "\nHidden relief: eight QDM quads ({STACK_QUAD_SIDE} x {STACK_QUAD_SIDE} units, 0.3 units of relief, \
          one 256^2 fbm field), one behind the other, the nearest filling the {}x{} view, plain \
-         frame.\n",
+         frame; *forward* is the same without the occluder pass (`--occluders off`).\n",
         s.stack_size[0], s.stack_size[1]
     );
     let _ = writeln!(
         md,
-        "| spacing | one quad ms | eight, nearest first | eight, farthest first | eight vs one |"
+        "| spacing | frame | one quad ms | eight, nearest first | eight, farthest first | eight vs one |"
     );
-    let _ = writeln!(md, "|---|---|---|---|---|");
+    let _ = writeln!(md, "|---|---|---|---|---|---|");
     for r in &s.stacks {
-        let worse = r.nearest_first_ms.max(r.farthest_first_ms);
+        let mut lines = vec![(
+            "occluders",
+            [r.one_ms, r.nearest_first_ms, r.farthest_first_ms],
+        )];
+        lines.extend(r.forward.map(|f| ("forward", f)));
+        let pass = r.occluders_ms;
         let _ = writeln!(
             md,
-            "| {} | {:.3} | {:.3} | {:.3} | {:.2}x |",
-            r.spacing,
-            r.one_ms,
-            r.nearest_first_ms,
-            r.farthest_first_ms,
-            worse / r.one_ms.max(1e-9)
+            "| {} | of it the occluder pass | {:.3} | {:.3} | {:.3} | |",
+            r.spacing, pass[0], pass[1], pass[2]
         );
+        for (frame, [one, nearest, farthest]) in lines {
+            let _ = writeln!(
+                md,
+                "| {} | {frame} | {one:.3} | {nearest:.3} | {farthest:.3} | {:.2}x |",
+                r.spacing,
+                nearest.max(farthest) / one.max(1e-9)
+            );
+        }
     }
     let _ = writeln!(
         md,

@@ -16,6 +16,8 @@ pub struct SteadyFrames {
     pub shadow_maps_ms: f64,
     /// The surface pass (tone mapping included).
     pub surface_ms: f64,
+    /// The occluder pass.
+    pub occluders_ms: f64,
     /// Every pass a steady frame records.
     pub total_ms: f64,
     /// The maps built for the renderer (environment maps included), with their cost.
@@ -95,9 +97,11 @@ pub fn time_setups_interleaved(
         .iter()
         .map(|s| Renderer::new(ctx, s.scene, s.heights, s.opts))
         .collect::<Result<Vec<_>, _>>()?;
-    let mut samples = vec![(Vec::new(), Vec::new(), Vec::new()); renderers.len()];
+    let mut samples = vec![(Vec::new(), Vec::new(), Vec::new(), Vec::new()); renderers.len()];
     for round in 0..=frames {
-        for (renderer, (shadow, surface, total)) in renderers.iter_mut().zip(&mut samples) {
+        for (renderer, (shadow, surface, occluders, total)) in
+            renderers.iter_mut().zip(&mut samples)
+        {
             if maps == MapRate::EveryFrame {
                 renderer.invalidate_shadow_maps();
             }
@@ -119,17 +123,21 @@ pub fn time_setups_interleaved(
             };
             shadow.push(ms(Pass::ShadowMaps));
             surface.push(ms(Pass::Surface));
+            occluders.push(ms(Pass::Occluders));
             total.push(out.timings.iter().map(|t| t.gpu_ms).sum::<f64>());
         }
     }
     Ok(renderers
         .iter()
         .zip(samples)
-        .map(|(renderer, (shadow, surface, total))| SteadyFrames {
-            shadow_maps_ms: median(shadow),
-            surface_ms: median(surface),
-            total_ms: median(total),
-            maps: renderer.maps().to_vec(),
-        })
+        .map(
+            |(renderer, (shadow, surface, occluders, total))| SteadyFrames {
+                shadow_maps_ms: median(shadow),
+                surface_ms: median(surface),
+                occluders_ms: median(occluders),
+                total_ms: median(total),
+                maps: renderer.maps().to_vec(),
+            },
+        )
         .collect())
 }
