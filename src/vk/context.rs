@@ -454,7 +454,9 @@ fn create_device(
         // glslang lowers `discard` (alpha masks) to demote-to-helper under SPIR-V 1.6.
         .shader_demote_to_helper_invocation(true);
     let features = vk::PhysicalDeviceFeatures::default()
-        .shader_storage_image_extended_formats(info.storage_r16);
+        .shader_storage_image_extended_formats(info.storage_r16)
+        // The G-buffer's attachments keep their own write masks beside the radiance's blend.
+        .independent_blend(true);
     let swapchain = [khr::swapchain::NAME.as_ptr()];
     let extensions: &[*const std::ffi::c_char] = if parts.surface.is_some() {
         &swapchain

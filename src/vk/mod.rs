@@ -66,7 +66,7 @@ pub use pipeline_cache::{
 };
 pub use query::TimestampPool;
 pub use readback::{host_read_barrier, Readback};
-pub use recording::Recording;
+pub use recording::{ColorTarget, Recording};
 pub use semaphore::Semaphore;
 #[cfg(feature = "window")]
 pub use surface::WindowHandles;

@@ -165,7 +165,10 @@ fn describe(instance: &ash::Instance, pd: vk::PhysicalDevice) -> Option<(u32, De
     // SAFETY: as above.
     unsafe { instance.get_physical_device_features2(pd, &mut feats2) };
     let storage_r16 = feats2.features.shader_storage_image_extended_formats == vk::TRUE;
+    // independentBlend: the G-buffer's attachments keep their own write masks (Vulkan's 2022
+    // roadmap profile requires it; lavapipe has it).
     let usable = props.api_version >= vk::API_VERSION_1_3
+        && feats2.features.independent_blend == vk::TRUE
         && v13.dynamic_rendering == vk::TRUE
         && v13.synchronization2 == vk::TRUE
         && v13.shader_demote_to_helper_invocation == vk::TRUE

@@ -246,8 +246,13 @@ pub struct GraphicsDesc<'a> {
     pub vertex_stride: u32,
     /// Vertex attributes read from binding 0.
     pub attributes: &'a [vk::VertexInputAttributeDescription],
-    /// The colour attachment's format.
+    /// The first colour attachment's format.
     pub color_format: vk::Format,
+    /// Formats of the colour attachments after the first (a G-buffer's channels), never
+    /// blended.
+    pub extra_colors: &'a [vk::Format],
+    /// Whether the shader's writes to `extra_colors` land (else their write masks are empty).
+    pub writes_extra: bool,
     /// `UNDEFINED` for a pass without depth.
     pub depth_format: vk::Format,
     /// Which faces are culled.
@@ -318,7 +323,7 @@ pub fn graphics_pipeline(
         .depth_test_enable(has_depth)
         .depth_write_enable(has_depth && !desc.blend)
         .depth_compare_op(vk::CompareOp::LESS_OR_EQUAL);
-    let blend_attachments = [vk::PipelineColorBlendAttachmentState::default()
+    let mut blend_attachments = vec![vk::PipelineColorBlendAttachmentState::default()
         .blend_enable(desc.blend)
         .src_color_blend_factor(vk::BlendFactor::SRC_ALPHA)
         .dst_color_blend_factor(vk::BlendFactor::ONE_MINUS_SRC_ALPHA)
@@ -327,10 +332,21 @@ pub fn graphics_pipeline(
         .dst_alpha_blend_factor(vk::BlendFactor::ONE_MINUS_SRC_ALPHA)
         .alpha_blend_op(vk::BlendOp::ADD)
         .color_write_mask(vk::ColorComponentFlags::RGBA)];
+    let extra_mask = if desc.writes_extra {
+        vk::ColorComponentFlags::RGBA
+    } else {
+        vk::ColorComponentFlags::empty()
+    };
+    blend_attachments.extend(
+        desc.extra_colors
+            .iter()
+            .map(|_| vk::PipelineColorBlendAttachmentState::default().color_write_mask(extra_mask)),
+    );
     let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachments);
     let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
     let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
-    let color_formats = [desc.color_format];
+    let mut color_formats = vec![desc.color_format];
+    color_formats.extend_from_slice(desc.extra_colors);
     let mut rendering = vk::PipelineRenderingCreateInfo::default()
         .color_attachment_formats(&color_formats)
         .depth_attachment_format(desc.depth_format);

@@ -11,6 +11,19 @@ use super::buffer::Buffer;
 use super::error::{VkError, VkResult};
 use super::image::{Image, WholeImage};
 
+/// One colour attachment of a dynamic rendering: the image drawn into, where (and how) its
+/// samples are resolved when rendering ends, and the value it is cleared to.
+#[derive(Clone, Copy)]
+pub struct ColorTarget<'a> {
+    /// The attachment, in the colour attachment layout.
+    pub image: &'a Image,
+    /// A single-sample image (in the colour attachment layout) its samples resolve into, and
+    /// how: averaged for float formats, sample 0 for integer ones.
+    pub resolve: Option<(&'a Image, vk::ResolveModeFlags)>,
+    /// What it is cleared to.
+    pub clear: vk::ClearColorValue,
+}
+
 /// A command buffer in the recording state, borrowed for one recording.
 ///
 /// Safe code cannot make a recording of its own, so it cannot record into a null or foreign
@@ -182,22 +195,46 @@ impl<'a> Recording<'a> {
         clear: [f32; 4],
         store_depth: bool,
     ) {
-        let (width, height) = (color.desc().width, color.desc().height);
-        let mut attachment = vk::RenderingAttachmentInfo::default()
-            .image_view(color.view().raw())
-            .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
-            .load_op(vk::AttachmentLoadOp::CLEAR)
-            .store_op(vk::AttachmentStoreOp::STORE)
-            .clear_value(vk::ClearValue {
-                color: vk::ClearColorValue { float32: clear },
-            });
-        if let Some(target) = resolve {
-            attachment = attachment
-                .resolve_mode(vk::ResolveModeFlags::AVERAGE)
-                .resolve_image_view(target.view().raw())
-                .resolve_image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL);
-        }
-        let color_attachment = [attachment];
+        let target = ColorTarget {
+            image: color,
+            resolve: resolve.map(|r| (r, vk::ResolveModeFlags::AVERAGE)),
+            clear: vk::ClearColorValue { float32: clear },
+        };
+        self.begin_rendering_targets(&[target], depth, store_depth);
+    }
+
+    /// Begins dynamic rendering into `colors` (each cleared, stored, and resolved into its
+    /// single-sample image as rendering ends when it names one) and, if given, `depth` (cleared
+    /// to 1), all already in attachment layouts, with a viewport over the first colour target.
+    /// `store_depth` keeps the depth for later reads (a copy); otherwise it is discarded.
+    pub fn begin_rendering_targets(
+        &self,
+        colors: &[ColorTarget],
+        depth: Option<&Image>,
+        store_depth: bool,
+    ) {
+        let Some(first) = colors.first() else {
+            return;
+        };
+        let (width, height) = (first.image.desc().width, first.image.desc().height);
+        let color_attachment: Vec<vk::RenderingAttachmentInfo> = colors
+            .iter()
+            .map(|c| {
+                let attachment = vk::RenderingAttachmentInfo::default()
+                    .image_view(c.image.view().raw())
+                    .image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+                    .load_op(vk::AttachmentLoadOp::CLEAR)
+                    .store_op(vk::AttachmentStoreOp::STORE)
+                    .clear_value(vk::ClearValue { color: c.clear });
+                match c.resolve {
+                    Some((target, mode)) => attachment
+                        .resolve_mode(mode)
+                        .resolve_image_view(target.view().raw())
+                        .resolve_image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL),
+                    None => attachment,
+                }
+            })
+            .collect();
         let depth_attachment = depth.map(|d| {
             vk::RenderingAttachmentInfo::default()
                 .image_view(d.view().raw())

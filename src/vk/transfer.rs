@@ -29,7 +29,7 @@ pub fn texel_size(format: vk::Format) -> VkResult<usize> {
         vk::Format::R16G16B16A16_SFLOAT
         | vk::Format::R16G16B16A16_UNORM
         | vk::Format::R32G32_SFLOAT => 8,
-        vk::Format::R32G32B32A32_SFLOAT => 16,
+        vk::Format::R32G32B32A32_SFLOAT | vk::Format::R32G32B32A32_UINT => 16,
         other => {
             return Err(VkError::Invalid(format!(
                 "no host transfer for format {other:?}"
