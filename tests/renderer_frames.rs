@@ -26,6 +26,7 @@ const OPTS: RenderOptions = RenderOptions {
     background: relief::environment::Background::Colour,
     supersample: 1,
     occluders: true,
+    gbuffer: false,
 };
 
 #[test]

@@ -12,7 +12,8 @@ layout(push_constant, std430) uniform Draw {
     // Columns of the inverse transpose of the model's linear part; normal[0].w is -1 when the
     // model mirrors (negative determinant), else 1.
     vec4 normal[3];
-    uvec4 extra;  // x: the shadow view a caster draw renders into (shadow pass only)
+    uvec4 extra;  // x: the shadow view a caster draw renders into (shadow pass only); y: the
+                  // scene mesh index + 1 (the G-buffer's mesh channel)
 } draw;
 
 // Texture slots; mirrors `TextureSlot` in src/scene/material.rs, plus the height map's uv.

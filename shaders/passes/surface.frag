@@ -51,6 +51,10 @@ layout(location = 4) in vec4 in_tangent;
 layout(location = 5) in vec4 in_color;
 
 layout(location = 0) out vec4 out_color;
+// The G-buffer (src/render/frame/gbuffer.rs): written always, kept only where the frame has the
+// attachments (a write without one is dropped).
+layout(location = 1) out vec4 out_gbuffer_normal;
+layout(location = 2) out uvec4 out_gbuffer_surface;
 #ifndef PLAIN_SURFACE
 // The written depth is only ever behind the polygon's (see main), so the rasterizer may still
 // reject fragments early against the polygon's depth.
@@ -72,6 +76,7 @@ void shade() {
     vec3 view = normalize(in_world - frame.eye.xyz);
     vec3 normal = n;
     bool relief_normal = false;
+    uint traced_steps = 0u;
 
 #ifndef PLAIN_SURFACE
     float depth_scale = material.relief.x;
@@ -115,6 +120,7 @@ void shade() {
 #else
     Hit hit = METHOD_TRACE(ray, ray_budget(ray));
 #endif
+    traced_steps = hit.steps;
 #ifdef CURVED
     // Below the tangent plane the curved shell reaches deeper than depth_scale.
     float z = max(hit.z, 0.0);
@@ -238,6 +244,10 @@ void shade() {
         vec3 radiance = frame.lights[i].color.rgb * (attenuation * lit_map * lit_self);
         color += shade_ggx(base.rgb, roughness, metallic, normal, v, l, radiance);
     }
+    out_gbuffer_normal = vec4(normal, 1.0);
+    uint surface_ids = (draw.extra.y & 0xffffu) | (min(traced_steps, 0xffffu) << 16);
+    out_gbuffer_surface = uvec4(floatBitsToUint(uv0), floatBitsToUint(distance(world, frame.eye.xyz)),
+                                surface_ids);
     if (frame.counts.y > 0) {
         out_color = probe;
         return;

@@ -254,6 +254,7 @@ pub fn render_interleaved(
         background: crate::environment::Background::Colour,
         supersample: 1,
         occluders: true,
+        gbuffer: false,
     };
     let mut renderers = scenes
         .iter()

@@ -211,7 +211,13 @@ impl SceneArgs {
             background: self.background,
             supersample: self.supersample,
             occluders: self.occluders == Toggle::On,
+            gbuffer: false,
         }
+    }
+
+    /// Whether the scene is drawn larger and averaged down (`--supersample` above 1).
+    pub fn supersampled(&self) -> bool {
+        self.supersample > 1
     }
 
     fn check(&self) -> anyhow::Result<()> {

@@ -31,6 +31,7 @@ pub use frame::frame_stats::{sequence_stats, PassStats, SequenceStats};
 pub use frame::frame_uniforms::{
     frame_camera, FrameUniforms, LightUniform, ShadowTileUniform, MAX_LIGHTS, MAX_SHADOW_TILES,
 };
+pub use frame::gbuffer::{GBufferChannels, GBUFFER_FORMATS};
 pub use frame::gpu_heightfield::{GpuHeightfield, HeightFormat};
 pub use frame::height_resources::{HeightResources, HeightUpload};
 pub use frame::mesh_pipeline::describe as describe_pipeline;

@@ -19,6 +19,7 @@ use crate::cells::{
     ClosedMesh, Colour, Face, GridStop, MarchSettings, MeshSelection, PackedComplex, SceneMesh,
     MAP_MEMORY_LIMIT,
 };
+use crate::render::frame::gbuffer::scene_extra_formats;
 use crate::render::frame::material_set::material_layout;
 use crate::render::frame::plan::Plan;
 use crate::render::frame::single_frame::RenderError;
@@ -192,7 +193,13 @@ impl CellsPass {
         let material_layout = material_layout(ctx)?;
         let sets = [&frame_layout, &material_layout, &cells_layout];
         let samples = plan.msaa.samples;
-        let pipeline = create_pipeline(ctx, &sets, shadow_filter_max(plan), samples)?;
+        let pipeline = create_pipeline(
+            ctx,
+            &sets,
+            shadow_filter_max(plan),
+            samples,
+            scene_extra_formats(plan.gbuffer),
+        )?;
         let count = plan.cells.len() as u32;
         let pool = DescriptorPool::new(ctx, count, 4 * count, "cells sets")?;
         let mut draws = Vec::with_capacity(plan.cells.len());
@@ -483,6 +490,7 @@ fn create_pipeline(
     set_layouts: &[&DescriptorLayout],
     shadow_filter: u32,
     samples: u32,
+    extra_colors: &[vk::Format],
 ) -> VkResult<Pipeline> {
     let missing = |k: &str| VkError::Invalid(format!("no compiled shader {k}"));
     let vertex = shaders::spirv("cells.vert").ok_or_else(|| missing("cells.vert"))?;
@@ -500,6 +508,9 @@ fn create_pipeline(
         vertex_stride: 12,
         attributes: &attributes,
         color_format: HDR_FORMAT,
+        // The cells pass leaves the G-buffer as cleared.
+        extra_colors,
+        writes_extra: false,
         depth_format: DEPTH_FORMAT,
         cull: vk::CullModeFlags::BACK,
         set_layouts,

@@ -27,11 +27,13 @@ pub struct BackgroundPass {
 
 impl BackgroundPass {
     /// The pass drawing `light`'s environment (built with its source kept) into targets of
-    /// `samples` samples per pixel.
+    /// `samples` samples per pixel, whose colour attachments after the radiance are
+    /// `extra_colors` (it leaves them as cleared).
     pub fn new(
         ctx: &Arc<Context>,
         light: &EnvironmentLight,
         samples: u32,
+        extra_colors: &[vk::Format],
     ) -> VkResult<BackgroundPass> {
         let bind = light.background_bind(0).ok_or_else(|| {
             VkError::Invalid("the environment was built without its image".into())
@@ -55,6 +57,8 @@ impl BackgroundPass {
             vertex_stride: 0,
             attributes: &[],
             color_format: HDR_FORMAT,
+            extra_colors,
+            writes_extra: false,
             // At depth 1 it passes the cleared depth's less-or-equal test and leaves it at 1.
             depth_format: DEPTH_FORMAT,
             cull: vk::CullModeFlags::NONE,

@@ -61,6 +61,8 @@ pub(super) struct MeshStages {
     samples: u32,
     /// `SPEC_OCCLUDER_TAPS`: the occluder bounds a relief fragment reads, 0 for none.
     occluder_taps: u32,
+    /// Colour attachments after the first (the G-buffer's), which the surface pass writes.
+    extra_colors: &'static [vk::Format],
 }
 
 impl MeshStages {
@@ -72,6 +74,7 @@ impl MeshStages {
         shadow_filter: u32,
         samples: u32,
         occluder_taps: u32,
+        extra_colors: &'static [vk::Format],
     ) -> MeshStages {
         MeshStages {
             vertex: if key.shells {
@@ -85,6 +88,7 @@ impl MeshStages {
             shadow_filter,
             samples,
             occluder_taps,
+            extra_colors,
         }
     }
 
@@ -103,6 +107,7 @@ impl MeshStages {
             shadow_filter: 0,
             samples: 1,
             occluder_taps: 0,
+            extra_colors: &[],
         }
     }
 
@@ -128,6 +133,7 @@ impl MeshStages {
             shadow_filter: 0,
             samples: 1,
             occluder_taps: 0,
+            extra_colors: &[],
         }
     }
 }
@@ -174,6 +180,9 @@ pub(super) fn create_pipeline(
         vertex_stride,
         attributes: &attributes,
         color_format: stages.color_format,
+        extra_colors: stages.extra_colors,
+        // Blended surfaces leave the G-buffer to the opaque ones under them.
+        writes_extra: !key.blend,
         depth_format: DEPTH_FORMAT,
         // A prism is closed: a ray enters it through a face that faces the ray, double-sided
         // material or not, and a face it leaves by must not start a march.

@@ -4,6 +4,7 @@ mod draw_bounds;
 pub(in crate::render) mod explain;
 pub(in crate::render) mod frame_stats;
 pub(in crate::render) mod frame_uniforms;
+pub(in crate::render) mod gbuffer;
 pub(in crate::render) mod gpu_heightfield;
 pub(in crate::render) mod height_resources;
 mod height_upload;

@@ -227,6 +227,9 @@ pub struct Plan {
     /// Relief fragments behind the occluder pass's bounds skip their trace (set by the renderer
     /// from its options: the pass runs when some opaque draw can occlude relief).
     pub occluders: bool,
+    /// The surface pass writes the G-buffer beside the radiance (set by the renderer from its
+    /// options).
+    pub gbuffer: bool,
 }
 
 impl Plan {
@@ -263,6 +266,7 @@ impl Plan {
             environment: None,
             supersample: 1,
             occluders: false,
+            gbuffer: false,
         };
         let mut used = vec![false; scene.materials.len()];
         for c in &plan.cells {
@@ -474,6 +478,7 @@ impl Plan {
             scale: self.supersample,
             keep_depth,
             keep_radiance,
+            gbuffer: self.gbuffer,
         }
     }
 

@@ -13,6 +13,7 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use super::frame_uniforms::{frame_camera, FrameUniforms, MAX_LIGHTS};
+use super::gbuffer::{scene_extra_formats, GBufferChannels};
 use super::height_resources::HeightResources;
 use super::height_upload::upload_heights;
 use super::msaa::MsaaPlan;
@@ -72,6 +73,8 @@ pub struct FrameOutput {
     /// With `RenderOptions::keep_radiance` and a read-back, each pixel's linear radiance before
     /// exposure and tone mapping, RGBA (rows top to bottom).
     pub radiance: Option<Vec<[f32; 4]>>,
+    /// With `RenderOptions::gbuffer` and a read-back, the surface pass's G-buffer.
+    pub gbuffer: Option<GBufferChannels>,
 }
 
 struct FrameSlot {
@@ -82,6 +85,8 @@ struct FrameSlot {
     depth_readback: Option<Readback>,
     /// The radiance's copy (`RenderOptions::keep_radiance` only).
     radiance_readback: Option<Readback>,
+    /// The G-buffer's normal and surface channels (`RenderOptions::gbuffer` only).
+    gbuffer_readback: Option<(Readback, Readback)>,
     /// The frame submitted from this slot and not yet retired: (index, read back?, draws culled).
     pending: Option<(u64, bool, usize)>,
 }
@@ -139,6 +144,7 @@ impl Renderer {
         plan.msaa = MsaaPlan::choose(opts.msaa, ctx.info().max_samples, probe)?;
         plan.supersample = choose_supersample(opts, ctx.info().max_image_dimension_2d, probe)?;
         plan_occluders(&mut plan, scene, opts.occluders);
+        plan.gbuffer = opts.gbuffer;
         // The probe's colours are visibilities, not radiance.
         plan.tone_mapping = if probe {
             ToneMapping::NONE
@@ -178,7 +184,12 @@ impl Renderer {
             _ => None,
         };
         let background = match &environment {
-            Some(e) if behind => Some(BackgroundPass::new(ctx, e, plan.msaa.samples)?),
+            Some(e) if behind => Some(BackgroundPass::new(
+                ctx,
+                e,
+                plan.msaa.samples,
+                scene_extra_formats(plan.gbuffer),
+            )?),
             _ => None,
         };
         if environment.is_none() && !probe {
@@ -243,6 +254,7 @@ impl Renderer {
                     readback: None,
                     depth_readback: None,
                     radiance_readback: None,
+                    gbuffer_readback: None,
                     pending: None,
                 })
             })
@@ -354,6 +366,7 @@ impl Renderer {
             slot.readback = None;
             slot.depth_readback = None;
             slot.radiance_readback = None;
+            slot.gbuffer_readback = None;
         }
         (self.width, self.height) = (width, height);
         Ok(retired)
@@ -416,6 +429,13 @@ impl Renderer {
                     let name = format!("frame slot {j} radiance readback");
                     slot.radiance_readback = Some(self.targets.radiance_buffer(&self.ctx, &name)?);
                 }
+                if let Some(g) = &self.targets.gbuffer {
+                    let name = format!("frame slot {j} g-buffer normal readback");
+                    let normal = Readback::new(&self.ctx, g.normal_bytes(), &name)?;
+                    let name = format!("frame slot {j} g-buffer surface readback");
+                    let surface = Readback::new(&self.ctx, g.surface_bytes(), &name)?;
+                    slot.gbuffer_readback = Some((normal, surface));
+                }
             }
         }
         let build_pyramids = !self.pyramids_built;
@@ -431,6 +451,11 @@ impl Renderer {
                 .radiance_readback
                 .as_ref()
                 .filter(|_| request.read_back),
+            gbuffer: slot
+                .gbuffer_readback
+                .as_ref()
+                .filter(|_| request.read_back)
+                .map(|(n, s)| (n, s)),
         };
         let (heights, ao, surface, cells, targets, shadows, plan) = (
             &self.heights,
@@ -572,6 +597,15 @@ impl Renderer {
             }
             _ => None,
         };
+        let gbuffer = match (&slot.gbuffer_readback, read_back) {
+            (Some((normal, surface)), true) => Some(GBufferChannels::decode(
+                self.width,
+                self.height,
+                normal.bytes()?,
+                surface.bytes()?,
+            )),
+            _ => None,
+        };
         if index == 0 {
             self.note_pyramids(&scopes);
             self.note_ao_maps(&scopes);
@@ -592,6 +626,7 @@ impl Renderer {
             culled_draws,
             depth,
             radiance,
+            gbuffer,
         }))
     }
 

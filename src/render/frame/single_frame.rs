@@ -63,6 +63,10 @@ pub struct RenderOptions {
     /// not traced (`--occluders`; on by default, off draws every relief fragment's trace as the
     /// forward path always did).
     pub occluders: bool,
+    /// The surface pass writes its G-buffer (normal, uv, distance, mesh, steps: see
+    /// [`GBufferChannels`](super::gbuffer::GBufferChannels)) beside the radiance, and read-back
+    /// frames return it. Not with supersampling.
+    pub gbuffer: bool,
 }
 
 impl Default for RenderOptions {
@@ -83,6 +87,7 @@ impl Default for RenderOptions {
             background: Background::Colour,
             supersample: 1,
             occluders: true,
+            gbuffer: false,
         }
     }
 }
@@ -141,6 +146,8 @@ pub struct Frame {
     /// With `RenderOptions::keep_radiance`, every pixel's linear radiance before exposure and
     /// tone mapping, RGBA, rows top to bottom; empty otherwise.
     pub radiance: Vec<[f32; 4]>,
+    /// With `RenderOptions::gbuffer`, the surface pass's G-buffer.
+    pub gbuffer: Option<super::gbuffer::GBufferChannels>,
     /// GPU time of each pass recorded in this frame.
     pub timings: Vec<PassTiming>,
     /// CPU wall time of uploading height maps and precomputed maps, in ms.
@@ -260,6 +267,7 @@ pub fn render(
         rgba,
         depth: out.depth.unwrap_or_default(),
         radiance: out.radiance.unwrap_or_default(),
+        gbuffer: out.gbuffer,
         timings: out.timings,
         upload_ms: renderer.upload_ms(),
         plan: renderer.plan().clone(),

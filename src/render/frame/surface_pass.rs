@@ -10,6 +10,7 @@ use glam::{Mat3, Mat4, Vec3};
 
 use super::draw_bounds::{mesh_bounds, world_bounds};
 use super::frame_uniforms::FrameUniforms;
+use super::gbuffer::scene_extra_formats;
 use super::height_resources::HeightResources;
 use super::material_set::{material_layout, MaterialSets};
 use super::mesh_pipeline::{create_pipeline, MeshStages};
@@ -48,7 +49,8 @@ pub(in crate::render) struct DrawPush {
     model: [[f32; 4]; 4],
     /// Columns of the inverse transpose of the model's 3x3; `normal[0][3]` is the mirror sign.
     normal: [[f32; 4]; 3],
-    /// x: the shadow view a caster draw renders into (shadow pass only); y, z, w: unused.
+    /// x: the shadow view a caster draw renders into (shadow pass only); y: the scene mesh
+    /// index + 1, which the G-buffer records; z, w: unused.
     extra: [u32; 4],
 }
 const _: () = assert!(std::mem::size_of::<DrawPush>() == 128);
@@ -72,6 +74,12 @@ impl DrawPush {
             ],
             extra: [0; 4],
         }
+    }
+
+    /// The same draw, of scene mesh `mesh`.
+    pub(in crate::render) fn for_mesh(mut self, mesh: usize) -> DrawPush {
+        self.extra[1] = mesh as u32 + 1;
+        self
     }
 
     /// The same draw rendering into shadow view `tile`.
@@ -331,7 +339,7 @@ impl MeshDraw {
             frame_sets,
             material_set,
             layer_set,
-            push: DrawPush::of(mesh.transform),
+            push: DrawPush::of(mesh.transform).for_mesh(d.mesh),
             blend: key.blend,
             center: mesh.transform.transform_point3((lo + hi) * 0.5),
             bounds: world_bounds(mesh.transform, lo, hi),
@@ -362,7 +370,7 @@ impl MeshDraw {
             frame_sets,
             material_set,
             layer_set,
-            push: DrawPush::of(Mat4::IDENTITY),
+            push: DrawPush::of(Mat4::IDENTITY).for_mesh(d.mesh),
             blend: key.blend,
             center: (lo + hi) * 0.5,
             bounds: (lo, hi),
@@ -536,7 +544,8 @@ impl SurfacePass {
                     .then(|| {
                         let set0 = set0_of(key);
                         let samples = plan.msaa.samples;
-                        let stages = MeshStages::surface(key, shadow_filter, samples, taps);
+                        let extra = scene_extra_formats(plan.gbuffer);
+                        let stages = MeshStages::surface(key, shadow_filter, samples, taps, extra);
                         let layers = if key.layers {
                             &layer_layout
                         } else {

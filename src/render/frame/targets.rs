@@ -7,11 +7,12 @@ use std::sync::Arc;
 
 use ash::vk;
 
+use super::gbuffer::GBuffer;
 use super::surface_pass::{COLOR_FORMAT, DEPTH_FORMAT};
 use super::tonemap::{ToneMapPass, ToneMapping, HDR_FORMAT};
 use crate::vk::{
-    transition_images, whole_color_region, Context, DescriptorPool, DescriptorSet, Image,
-    ImageDesc, ImageTransition, Readback, Recording, VkError, VkResult,
+    transition_images, whole_color_region, ColorTarget, Context, DescriptorPool, DescriptorSet,
+    Image, ImageDesc, ImageTransition, Readback, Recording, VkError, VkResult,
 };
 
 /// Background colour (linear).
@@ -26,6 +27,8 @@ pub struct FrameReadbacks<'a> {
     pub depth: Option<&'a Readback>,
     /// The radiance before tone mapping (RGBA half floats).
     pub radiance: Option<&'a Readback>,
+    /// The G-buffer's normal and surface channels (targets made to keep them).
+    pub gbuffer: Option<(&'a Readback, &'a Readback)>,
 }
 
 /// Colour and depth targets of one size.
@@ -50,6 +53,8 @@ pub struct Targets {
     keep_depth: bool,
     /// Supersampling: the radiance and depth are this many times the frame's size per axis.
     scale: u32,
+    /// The G-buffer the surface pass writes beside the radiance, when frames keep it.
+    pub gbuffer: Option<GBuffer>,
 }
 
 /// How targets are made: samples per pixel, supersampling, and whether the depth is kept.
@@ -63,6 +68,8 @@ pub struct TargetOptions {
     pub keep_depth: bool,
     /// Frames may read the radiance back (with MSAA, it is resolved for them).
     pub keep_radiance: bool,
+    /// The surface pass writes the G-buffer, and frames may read it back (no supersampling).
+    pub gbuffer: bool,
 }
 
 impl Targets {
@@ -80,6 +87,7 @@ impl Targets {
             scale,
             keep_depth,
             keep_radiance,
+            gbuffer,
         } = options;
         if tone_map.samples() != samples {
             return Err(VkError::Invalid(format!(
@@ -92,6 +100,14 @@ impl Targets {
                 "a depth read back needs single-sample targets".into(),
             ));
         }
+        if gbuffer && scale > 1 {
+            return Err(VkError::Invalid(
+                "the G-buffer channels (--exr-out) are read at the frame's size: leave out --supersample".into(),
+            ));
+        }
+        let gbuffer = gbuffer
+            .then(|| GBuffer::new(ctx, width, height, samples))
+            .transpose()?;
         let depth_usage = if keep_depth {
             vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC
         } else {
@@ -155,6 +171,7 @@ impl Targets {
             _pool: pool,
             keep_depth,
             scale,
+            gbuffer,
         })
     }
 
@@ -224,17 +241,29 @@ impl Targets {
         if let Some(msaa) = &self.msaa_hdr {
             transitions.push(radiance(msaa));
         }
-        transition_images(rec, &transitions);
-        match &self.msaa_hdr {
-            Some(msaa) => rec.begin_rendering_resolved(
-                msaa,
-                self.resolve_radiance.then_some(&self.hdr),
-                Some(&self.depth),
-                CLEAR,
-                self.keep_depth,
-            ),
-            None => rec.begin_rendering(&self.hdr, Some(&self.depth), CLEAR, self.keep_depth),
+        if let Some(g) = &self.gbuffer {
+            transitions.extend(g.transitions());
         }
+        transition_images(rec, &transitions);
+        let radiance = match &self.msaa_hdr {
+            Some(msaa) => ColorTarget {
+                image: msaa,
+                resolve: self
+                    .resolve_radiance
+                    .then_some((&self.hdr, vk::ResolveModeFlags::AVERAGE)),
+                clear: vk::ClearColorValue { float32: CLEAR },
+            },
+            None => ColorTarget {
+                image: &self.hdr,
+                resolve: None,
+                clear: vk::ClearColorValue { float32: CLEAR },
+            },
+        };
+        let mut colors = vec![radiance];
+        if let Some(g) = &self.gbuffer {
+            colors.extend(g.targets());
+        }
+        rec.begin_rendering_targets(&colors, Some(&self.depth), self.keep_depth);
     }
 
     /// Ends the scene's rendering, tone maps the radiance into the frame with `tone_map` and
@@ -249,6 +278,9 @@ impl Targets {
         rec.end_rendering();
         if let Some(buffer) = into.depth.filter(|_| self.keep_depth) {
             self.copy_depth(rec, buffer)?;
+        }
+        if let (Some(g), Some((normal, surface))) = (&self.gbuffer, into.gbuffer) {
+            g.copy_out(rec, normal, surface)?;
         }
         let radiance_layout = match into.radiance {
             Some(buffer) => {

@@ -177,6 +177,8 @@ impl ToneMapPass {
             vertex_stride: 0,
             attributes: &[],
             color_format,
+            extra_colors: &[],
+            writes_extra: false,
             depth_format: vk::Format::UNDEFINED,
             cull: vk::CullModeFlags::NONE,
             set_layouts: &[&layout],
