@@ -14,6 +14,7 @@ mod cells_compare;
 mod cells_lookup;
 mod cells_render_args;
 mod devices;
+mod exr_out;
 mod frame_range;
 mod heightmap_args;
 mod lod_args;

@@ -22,6 +22,13 @@ pub struct RenderArgs {
     /// Radiance .hdr file, named like the PNGs.
     #[arg(long, value_name = "FILE.hdr")]
     pub(super) hdr_out: Option<PathBuf>,
+    /// Also write each frame as an OpenEXR file, named like the PNGs: the linear radiance (R, G,
+    /// B, A) and the surface pass's G-buffer: Z (distance from the eye to the displaced hit,
+    /// infinite where nothing was drawn), N.X, N.Y, N.Z (world shading normal), coverage,
+    /// uv.U, uv.V (texture coordinates at the hit), id (scene mesh index + 1, 0 for none) and
+    /// steps (the view ray's steps through its height field).
+    #[arg(long, value_name = "FILE.exr")]
+    pub(super) exr_out: Option<PathBuf>,
     /// Print one JSON object instead of the table.
     #[arg(long)]
     pub(super) json: bool,
@@ -36,6 +43,7 @@ pub struct RenderArgs {
 
 pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     check_hdr_out(args)?;
+    check_exr_out(args)?;
     let mut loaded = args.scene.load()?;
     let ctx = super::open_device(args.scene.device.as_deref(), args.json)?;
     loaded.check_device(&ctx)?;
@@ -49,7 +57,8 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let mut opts = args
         .scene
         .render_options(args.scene.width, args.scene.height);
-    opts.keep_radiance = args.hdr_out.is_some();
+    opts.keep_radiance = args.hdr_out.is_some() || args.exr_out.is_some();
+    opts.gbuffer = args.exr_out.is_some();
     opts.paintable_layers = loaded
         .edits
         .as_ref()
@@ -85,6 +94,30 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     super::check_validation(&ctx)?;
     if let Some(path) = &cache {
         pipeline_cache::persist(&ctx, path);
+    }
+    Ok(())
+}
+
+fn check_exr_out(args: &RenderArgs) -> anyhow::Result<()> {
+    let Some(path) = &args.exr_out else {
+        return Ok(());
+    };
+    let exr = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("exr"));
+    if !exr {
+        anyhow::bail!(
+            "--exr-out writes OpenEXR files; {} does not end in .exr",
+            path.display()
+        );
+    }
+    if args.frames.no_write {
+        anyhow::bail!("--exr-out writes the frames' channels; leave out --no-write");
+    }
+    if args.scene.supersampled() {
+        anyhow::bail!(
+            "--exr-out reads the G-buffer at the frame's size, one entry per pixel; leave out --supersample"
+        );
     }
     Ok(())
 }

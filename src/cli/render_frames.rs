@@ -16,6 +16,7 @@ use relief::scene::{Camera, Scene};
 use relief::vk::{Context, LiveObjects, ObjectCounts};
 use serde_json::json;
 
+use super::exr_out::write_exr;
 use super::frame_range::FrameRange;
 use super::render::RenderArgs;
 use super::scene_args::LoadedScene;
@@ -225,6 +226,9 @@ fn draw_all(
             write_png(&frame, &frame_path(&args.out, u64::from(k), frames))?;
             if let Some(hdr) = &args.hdr_out {
                 write_hdr(&frame, &frame_path(hdr, u64::from(k), frames))?;
+            }
+            if let Some(exr) = &args.exr_out {
+                write_exr(&frame, &frame_path(exr, u64::from(k), frames))?;
             }
             timings.push(frame.timings);
         }

@@ -1,0 +1,288 @@
+//! The surface pass's G-buffer (`RenderOptions::gbuffer`, `relief render --exr-out`): a plain
+//! quad's distance, normal, uv and id as the geometry says; a relief quad's distance is its
+//! displaced hit's, checked against the height field itself; MSAA keeps interior pixels as one
+//! sample draws them (to float rounding); the channels leave the image as it was; and the EXR
+//! file holds them all.
+
+mod common;
+
+use std::process::Command;
+use std::sync::Arc;
+
+use glam::{Mat4, Vec3};
+use relief::heightfield::{Generator, Heightfield};
+use relief::method::Method;
+use relief::render::{render, GBufferChannels, RenderOptions};
+use relief::scene::{quad_mesh, Camera, Material, Relief, Scene};
+use relief::vk::Context;
+
+/// The camera's distance from the quad.
+const DISTANCE: f32 = 5.0;
+/// The quad's side: it fills the view, and one uv unit spans it.
+const SIDE: f32 = 6.0;
+/// Depth scale in uv: 0.3 world units of relief.
+const DEPTH_SCALE: f32 = 0.05;
+
+/// One 6 x 6 quad facing the camera from `DISTANCE` away, relief traced by QDM when `relief`.
+fn quad_scene(relief: bool) -> Scene {
+    let mut quad = quad_mesh("quad", SIDE, SIDE, 1.0, 0);
+    quad.transform = Mat4::from_rotation_x(std::f32::consts::FRAC_PI_2);
+    Scene {
+        meshes: vec![quad],
+        materials: vec![Material {
+            name: "quad".into(),
+            relief: relief.then(|| Relief::new(DEPTH_SCALE, Method::QDM)),
+            ..Material::default()
+        }],
+        camera: Some(Camera::look_at(
+            Vec3::new(0.0, 0.0, DISTANCE),
+            Vec3::ZERO,
+            40f32.to_radians(),
+            0.05,
+            100.0,
+        )),
+        ..Scene::default()
+    }
+}
+
+fn options(msaa: u32) -> RenderOptions {
+    RenderOptions {
+        width: 96,
+        height: 64,
+        msaa,
+        gbuffer: true,
+        ..RenderOptions::default()
+    }
+}
+
+fn channels(
+    ctx: &Arc<Context>,
+    scene: &Scene,
+    heights: &Heightfield,
+    opts: &RenderOptions,
+) -> GBufferChannels {
+    let frame = render(ctx, scene, Some(heights), opts).expect("renders");
+    let g = frame.gbuffer.expect("the G-buffer was asked for");
+    assert_eq!((g.width, g.height), (opts.width, opts.height));
+    assert_eq!(g.depth.len(), (g.width * g.height) as usize);
+    g
+}
+
+/// The bilinear height at `uv` between texel centres, repeat addressing.
+fn height_at(hf: &Heightfield, uv: [f32; 2]) -> f32 {
+    let (w, h) = (hf.width() as i64, hf.height() as i64);
+    let x = uv[0] as f64 * w as f64 - 0.5;
+    let y = uv[1] as f64 * h as f64 - 0.5;
+    let (x0, y0) = (x.floor(), y.floor());
+    let (fx, fy) = ((x - x0) as f32, (y - y0) as f32);
+    let at = |i: i64, j: i64| hf.get(i.rem_euclid(w) as u32, j.rem_euclid(h) as u32);
+    let (i, j) = (x0 as i64, y0 as i64);
+    let top = at(i, j) * (1.0 - fx) + at(i + 1, j) * fx;
+    let bottom = at(i, j + 1) * (1.0 - fx) + at(i + 1, j + 1) * fx;
+    top * (1.0 - fy) + bottom * fy
+}
+
+#[test]
+fn a_plain_quad_has_its_distance_normal_uv_and_id() {
+    let Some(ctx) = common::device("a_plain_quad_has_its_distance_normal_uv_and_id") else {
+        return;
+    };
+    let heights = Generator::Flat1.generate(4, 4, 0);
+    let g = channels(&ctx, &quad_scene(false), &heights, &options(1));
+    let (w, h) = (g.width as usize, g.height as usize);
+    // Every pixel sees the quad: at 5 units a 40-degree view spans 3.6 units high, 5.5 wide.
+    assert!(g.mesh.iter().all(|&m| m == 1), "a pixel missed the quad");
+    assert!(g.steps.iter().all(|&s| s == 0), "a plain mesh traced");
+    for (k, n) in g.normal.iter().enumerate() {
+        let n = Vec3::from(*n);
+        assert!(
+            n.distance(Vec3::Z) < 1e-3,
+            "pixel {k}: normal {n}, the quad faces +z"
+        );
+    }
+    // The centre pixels look almost straight at the quad; the corners farther, by 1/cos.
+    let centre = g.depth[(h / 2) * w + w / 2];
+    assert!(
+        (centre - DISTANCE).abs() < 0.01,
+        "centre distance {centre}, the quad is {DISTANCE} away"
+    );
+    let corner = g.depth[0];
+    assert!(
+        corner > centre + 0.3,
+        "corner distance {corner} not beyond the centre's {centre}"
+    );
+    // u runs along +x (left to right); v along the quad's +z, which faces down the screen.
+    for y in 0..h {
+        for x in 1..w {
+            let (a, b) = (g.uv[y * w + x - 1], g.uv[y * w + x]);
+            assert!(b[0] > a[0], "u does not grow along row {y} at {x}");
+        }
+    }
+    for x in 0..w {
+        for y in 1..h {
+            let (a, b) = (g.uv[(y - 1) * w + x], g.uv[y * w + x]);
+            assert!(b[1] > a[1], "v does not grow down column {x} at {y}");
+        }
+    }
+    common::assert_no_validation_errors(&ctx);
+}
+
+#[test]
+fn relief_distances_are_the_height_fields_hits() {
+    let Some(ctx) = common::device("relief_distances_are_the_height_fields_hits") else {
+        return;
+    };
+    let heights = Generator::Bricks.generate(128, 128, 7).quantized_unorm16();
+    let plain = channels(&ctx, &quad_scene(false), &heights, &options(1));
+    let relief = channels(&ctx, &quad_scene(true), &heights, &options(1));
+    let depth_world = DEPTH_SCALE * SIDE;
+    let mut errors: Vec<f32> = Vec::new();
+    for k in 0..relief.depth.len() {
+        assert_eq!(relief.mesh[k], 1, "pixel {k} missed the quad");
+        assert!(relief.steps[k] > 0, "pixel {k}: no step traced");
+        // Along one view ray distances scale with depth under the polygon: the polygon's point
+        // is DISTANCE deep, the hit DISTANCE + (1 - h) * depth_world, h taken at the hit's uv.
+        let below = (1.0 - height_at(&heights, relief.uv[k])) * depth_world;
+        let expected = plain.depth[k] * (DISTANCE + below) / DISTANCE;
+        errors.push((relief.depth[k] - expected).abs());
+    }
+    errors.sort_by(f32::total_cmp);
+    let median = errors[errors.len() / 2];
+    let p99 = errors[errors.len() * 99 / 100];
+    eprintln!("relief distance error: median {median:.2e}, 99th percentile {p99:.2e} world units");
+    // The relief is 0.3 units deep; a ray on a brick's face meets it within float rounding.
+    assert!(median < 1e-3, "median distance error {median}");
+    assert!(p99 < 5e-3, "99th percentile distance error {p99}");
+    common::assert_no_validation_errors(&ctx);
+}
+
+#[test]
+fn msaa_keeps_interior_pixels_and_the_image_is_unchanged() {
+    let Some(ctx) = common::device("msaa_keeps_interior_pixels_and_the_image_is_unchanged") else {
+        return;
+    };
+    let heights = Generator::Bricks.generate(64, 64, 3);
+    let mut scene = quad_scene(true);
+    // Turned, so its edges cross pixels, and pulled back so they and the background are in view.
+    let turned = Mat4::from_rotation_z(0.3) * scene.meshes[0].transform;
+    scene.meshes[0].transform = turned;
+    scene.camera = Some(Camera::look_at(
+        Vec3::new(0.0, 0.0, 12.0),
+        Vec3::ZERO,
+        40f32.to_radians(),
+        0.05,
+        100.0,
+    ));
+    let one = channels(&ctx, &scene, &heights, &options(1));
+    let four = channels(&ctx, &scene, &heights, &options(4));
+    let mut interior = 0;
+    let mut edges = 0;
+    for k in 0..four.depth.len() {
+        match four.coverage[k] {
+            c if c >= 1.0 => {
+                interior += 1;
+                // The same trace at the pixel's centre, compiled into another pipeline: equal to
+                // float rounding.
+                let (d4, d1) = (four.depth[k], one.depth[k]);
+                assert!(
+                    (d4 - d1).abs() <= 1e-5 * d1,
+                    "interior pixel {k}: {d4} against {d1}"
+                );
+                let (u4, u1) = (four.uv[k], one.uv[k]);
+                let du = (u4[0] - u1[0]).abs().max((u4[1] - u1[1]).abs());
+                assert!(du <= 1e-5, "interior pixel {k}'s uv: {u4:?} against {u1:?}");
+                assert_eq!(four.mesh[k], 1);
+            }
+            c if c > 0.0 => edges += 1,
+            _ => {
+                assert_eq!(four.mesh[k], 0, "pixel {k} uncovered yet has a mesh");
+                assert!(four.depth[k].is_infinite());
+            }
+        }
+    }
+    assert!(
+        interior > 1000 && edges > 50,
+        "{interior} interior and {edges} edge pixels: the view does not frame the quad"
+    );
+    for look in [options(1), options(4)] {
+        let without = RenderOptions {
+            gbuffer: false,
+            ..look.clone()
+        };
+        let with = render(&ctx, &scene, Some(&heights), &look).expect("renders");
+        let plain = render(&ctx, &scene, Some(&heights), &without).expect("renders");
+        assert!(
+            with.rgba == plain.rgba,
+            "the G-buffer changed the {}-sample image",
+            look.msaa
+        );
+    }
+    common::assert_no_validation_errors(&ctx);
+}
+
+#[test]
+fn exr_out_writes_the_beauty_and_every_channel() {
+    if common::device("exr_out_writes_the_beauty_and_every_channel").is_none() {
+        return;
+    }
+    let dir = common::scratch_dir("gbuffer-exr");
+    let exr_path = dir.join("frame.exr");
+    let run = Command::new(env!("CARGO_BIN_EXE_relief"))
+        .args(["render", "--width", "64", "--height", "48", "--out"])
+        .arg(dir.join("frame.png"))
+        .arg("--exr-out")
+        .arg(&exr_path)
+        .output()
+        .expect("binary runs");
+    assert!(
+        run.status.success(),
+        "render failed: {}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let image = exr::prelude::read_all_flat_layers_from_file(&exr_path).expect("an EXR file");
+    let layer = &image.layer_data[0];
+    assert_eq!(layer.size.0, 64);
+    assert_eq!(layer.size.1, 48);
+    let names: Vec<String> = layer
+        .channel_data
+        .list
+        .iter()
+        .map(|c| c.name.to_string())
+        .collect();
+    for name in [
+        "A", "B", "G", "R", "Z", "N.X", "N.Y", "N.Z", "coverage", "uv.U", "uv.V", "id", "steps",
+    ] {
+        assert!(names.iter().any(|n| n == name), "no {name} in {names:?}");
+    }
+    let channel = |name: &str| {
+        &layer
+            .channel_data
+            .list
+            .iter()
+            .find(|c| c.name.to_string() == name)
+            .expect("channel")
+            .sample_data
+    };
+    let ids = match channel("id") {
+        exr::prelude::FlatSamples::U32(v) => v.clone(),
+        other => panic!("id is not 32-bit unsigned: {other:?}"),
+    };
+    let z = match channel("Z") {
+        exr::prelude::FlatSamples::F32(v) => v.clone(),
+        other => panic!("Z is not 32-bit float: {other:?}"),
+    };
+    let drawn = ids.iter().filter(|&&id| id > 0).count();
+    assert!(
+        drawn > 0 && drawn < ids.len(),
+        "the default scene fills part of the frame"
+    );
+    for (id, z) in ids.iter().zip(&z) {
+        assert_eq!(*id > 0, z.is_finite(), "Z {z} for id {id}");
+    }
+    let bad = Command::new(env!("CARGO_BIN_EXE_relief"))
+        .args(["render", "--supersample", "2", "--exr-out"])
+        .arg(dir.join("x.exr"))
+        .output()
+        .expect("binary runs");
+    common::cli::assert_clean_failure(&bad, &["--supersample"]);
+}
