@@ -31,6 +31,7 @@ layout(set = 0, binding = BINDING_FRAME, std140) uniform Frame {
     LightData lights[MAX_LIGHTS];
     ivec4 light_shadows[MAX_LIGHTS];  // x: first tile, y: tiles (0: no map), z: filter
     ShadowTile shadow_tiles[MAX_SHADOW_TILES];
+    vec4 view_depth;   // dot(xyz, p) + w: world point p's depth along the camera's axis
 } frame;
 
 #ifndef PLAIN_SURFACE

@@ -246,8 +246,8 @@ void shade() {
     }
     out_gbuffer_normal = vec4(normal, 1.0);
     uint surface_ids = (draw.extra.y & 0xffffu) | (min(traced_steps, 0xffffu) << 16);
-    out_gbuffer_surface = uvec4(floatBitsToUint(uv0), floatBitsToUint(distance(world, frame.eye.xyz)),
-                                surface_ids);
+    float view_depth = dot(frame.view_depth.xyz, world) + frame.view_depth.w;
+    out_gbuffer_surface = uvec4(floatBitsToUint(uv0), floatBitsToUint(view_depth), surface_ids);
     if (frame.counts.y > 0) {
         out_color = probe;
         return;

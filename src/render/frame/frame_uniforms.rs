@@ -68,9 +68,12 @@ pub struct FrameUniforms {
     pub light_shadows: [[i32; 4]; MAX_LIGHTS],
     /// The shadow maps' views.
     pub shadow_tiles: [ShadowTileUniform; MAX_SHADOW_TILES],
+    /// The plane of linear view depth: `dot(xyz, p) + w` is world point p's distance along the
+    /// camera's axis (the G-buffer's depth).
+    pub view_depth: [f32; 4],
 }
 const _: () =
-    assert!(std::mem::size_of::<FrameUniforms>() == 128 + 80 * MAX_LIGHTS + 112 * MAX_SHADOW_TILES);
+    assert!(std::mem::size_of::<FrameUniforms>() == 144 + 80 * MAX_LIGHTS + 112 * MAX_SHADOW_TILES);
 
 /// Ambient radiance: a dim sky so unlit sides keep their shape.
 const AMBIENT: [f32; 4] = [0.09, 0.1, 0.12, 0.0];
@@ -115,6 +118,9 @@ impl FrameUniforms {
     /// The uniforms for `camera` with an image of `aspect` (width / height), lit by `lights`.
     pub fn new(camera: &Camera, lights: &[Light], aspect: f32) -> FrameUniforms {
         let eye = camera.eye();
+        // A right-handed view looks down its -z; a scaled view still measures world units.
+        let row = -camera.view.row(2);
+        let axis = row / row.truncate().length().max(f32::MIN_POSITIVE);
         let mut out = FrameUniforms {
             view_proj: camera.view_projection(aspect).to_cols_array_2d(),
             eye: [eye.x, eye.y, eye.z, 1.0],
@@ -124,6 +130,7 @@ impl FrameUniforms {
             lights: [LightUniform::default(); MAX_LIGHTS],
             light_shadows: [[0; 4]; MAX_LIGHTS],
             shadow_tiles: [ShadowTileUniform::default(); MAX_SHADOW_TILES],
+            view_depth: axis.to_array(),
         };
         for (slot, light) in out.lights.iter_mut().zip(lights) {
             *slot = LightUniform::of(light);

@@ -1,6 +1,6 @@
 //! The G-buffer: what the surface pass writes beside the radiance when a frame asks for it, from
 //! the very trace that shades each pixel (`shaders/passes/surface.frag`): the shading normal, and
-//! the hit's uv, its distance from the eye, the mesh drawn and the steps its trace took. Read
+//! the hit's uv, its depth along the camera's axis, the mesh drawn and the steps its trace took. Read
 //! back as [`GBufferChannels`], written by `relief render --exr-out` as layers beside the beauty.
 //!
 //! With MSAA the normal is averaged over a pixel's samples (with a coverage channel), and the
@@ -19,8 +19,8 @@ use crate::vk::{
 /// The normal channel: world-space shading normal (xyz) and coverage (w, 1 where a surface was
 /// drawn).
 pub const GBUFFER_NORMAL_FORMAT: vk::Format = vk::Format::R16G16B16A16_SFLOAT;
-/// The surface channel, as bits: uv0 at the hit (x, y: f32 bits), its distance from the eye
-/// (z: f32 bits), the mesh (w, low 16 bits: scene mesh index + 1, 0 for none) and the trace's
+/// The surface channel, as bits: uv0 at the hit (x, y: f32 bits), its depth along the camera's
+/// axis (z: f32 bits), the mesh (w, low 16 bits: scene mesh index + 1, 0 for none) and the trace's
 /// steps (w, high 16 bits).
 pub const GBUFFER_SURFACE_FORMAT: vk::Format = vk::Format::R32G32B32A32_UINT;
 /// The G-buffer's attachments after the radiance, in location order (1, 2).
@@ -43,8 +43,8 @@ pub struct GBufferChannels {
     pub width: u32,
     /// Frame size in pixels.
     pub height: u32,
-    /// Distance from the eye to the surface point shown (the displaced hit), world units;
-    /// infinite where nothing was drawn.
+    /// Linear view depth of the surface point shown (the displaced hit): its distance along the
+    /// camera's axis, world units; infinite where nothing was drawn.
     pub depth: Vec<f32>,
     /// World-space shading normal, averaged over the pixel's samples and renormalised (zero
     /// where nothing was drawn).
