@@ -58,13 +58,15 @@ fn empty_image() {
 #[test]
 fn zero_depth_scale() {
     let out = relief(&["render", "--depth-scale", "0", "--out", "/dev/null"]);
-    common::cli::assert_clean_failure(&out, &["--depth-scale"]);
+    common::cli::assert_usage_failure(&out, &["--depth-scale"]);
 }
 
 #[test]
 fn unknown_method() {
+    // Refused by the argument parser (exit 2), with the known ids.
     let out = relief(&["render", "--method", "warp", "--out", "/dev/null"]);
-    common::cli::assert_clean_failure(&out, &["warp"]);
+    assert_eq!(out.status.code(), Some(2), "{}", stderr(&out));
+    assert!(stderr(&out).contains("unknown method \"warp\"; known methods: parallax"));
 }
 
 #[test]
@@ -142,7 +144,7 @@ fn material_flag_without_a_height_map_or_naming_nothing() {
     let plane = corpus.join("gltf/sascha/plane.gltf");
     let plane = plane.to_str().expect("utf-8");
     let out = relief(&["render", plane, "--material", "Floor"]);
-    common::cli::assert_clean_failure(&out, &["--heightmap"]);
+    common::cli::assert_usage_failure(&out, &["--heightmap"]);
     let out = relief(&[
         "render",
         plane,
@@ -153,7 +155,7 @@ fn material_flag_without_a_height_map_or_naming_nothing() {
         "--material",
         "NoSuch",
     ]);
-    common::cli::assert_clean_failure(&out, &["plane.gltf"]);
+    common::cli::assert_usage_failure(&out, &["plane.gltf"]);
     assert!(
         stderr(&out).contains("its materials:"),
         "lists the materials"
@@ -250,6 +252,29 @@ fn bad_image_sizes_and_sample_counts_are_usage_errors_before_any_device() {
         assert!(
             err.contains(flag) && err.contains(says) && !err.contains("panicked"),
             "{flag} {value}: {err}"
+        );
+    }
+}
+
+#[test]
+fn value_errors_exit_2_before_any_device() {
+    // Each is refused before a device is made, so these hold on a machine without one.
+    for (args, needle) in [
+        (&["--depth-scale", "0"][..], "--depth-scale"),
+        (&["--exposure", "nan"][..], "--exposure"),
+        (&["--camera", "3"][..], "--camera 3"),
+        (&["--material", "Floor"][..], "--material \"Floor\""),
+        (&["--lod-fade", "1"][..], "--lod-fade"),
+        (&["--shadow-map-size", "3"][..], "--shadow-map-size"),
+    ] {
+        let mut full = vec!["render", "--out", "/dev/null"];
+        full.extend_from_slice(args);
+        let out = relief(&full);
+        common::cli::assert_usage_failure(&out, &[needle]);
+        assert!(
+            !stderr(&out).contains("device:"),
+            "{args:?} opened a device first: {}",
+            stderr(&out)
         );
     }
 }

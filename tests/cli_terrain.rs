@@ -192,7 +192,7 @@ fn bad_edits_and_layers_fail_in_one_line() {
         "--terrain",
         elevation.to_str().unwrap(),
     ]);
-    assert_clean_failure(&run, &["--terrain", "scene.gltf"]);
+    common::cli::assert_usage_failure(&run, &["--terrain", "scene.gltf"]);
     let run = relief(&[
         "render",
         "--terrain",

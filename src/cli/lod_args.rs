@@ -46,14 +46,16 @@ impl LodArgs {
         match self.lod_fade[..] {
             [] => {}
             [start, end] => (lod.fade_start, lod.fade_end) = (start, end),
-            _ => anyhow::bail!(
+            _ => {
+                return Err(super::usage(format!(
                 "--lod-fade takes two distances, START,END (e.g. --lod-fade 3,6), got {} values",
                 self.lod_fade.len()
-            ),
+            )))
+            }
         }
         lod.average_below = self.lod_average_below.unwrap_or(lod.average_below);
         lod.validate("lod")
-            .map_err(|e| anyhow::anyhow!("--lod-*: {e}"))?;
+            .map_err(|e| super::usage(format!("--lod-*: {e}")))?;
         Ok(Some(lod))
     }
 

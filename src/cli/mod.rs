@@ -83,6 +83,20 @@ enum Command {
     View(view::ViewArgs),
 }
 
+/// A bad value or a bad combination of flags, found before any device is made: it exits 2, as
+/// the argument parser's own refusals do.
+#[derive(Debug, thiserror::Error)]
+#[error("{0}")]
+pub struct UsageError(pub String);
+
+/// A [`UsageError`] saying `message`.
+pub fn usage(message: impl Into<String>) -> anyhow::Error {
+    UsageError(message.into()).into()
+}
+
+/// The exit code of bad usage, as clap's.
+const EXIT_USAGE: u8 = 2;
+
 /// Runs the tool and turns any error into one line on stderr and an exit code.
 pub fn run() -> ExitCode {
     let cli = Cli::parse();
@@ -127,11 +141,14 @@ fn error_message(err: &anyhow::Error) -> String {
 }
 
 /// The exit code for a failure: 77 when there is no Vulkan device at all, 3 when `bench compare
-/// --fail-above` found a cell slower than allowed, else 1 (a lost or hung device and exhausted
+/// --fail-above` found a cell slower than allowed, 2 for bad usage found after parsing, else 1 (a lost or hung device and exhausted
 /// memory included: the device exists, the run failed).
 fn exit_code(err: &anyhow::Error) -> u8 {
     if err.is::<bench_compare::SlowerThanAllowed>() {
         return bench_compare::EXIT_SLOWER;
+    }
+    if err.chain().any(|e| e.is::<UsageError>()) {
+        return EXIT_USAGE;
     }
     let no_device = err.chain().any(|e| {
         matches!(

@@ -25,6 +25,7 @@ use super::shading_args::ShadingArgs;
 use super::shadow_map_args::ShadowMapArgs;
 use super::terrain_args::TerrainArgs;
 use super::terrain_edits::TerrainEdits;
+use super::usage;
 
 /// A feature switched on or off.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
@@ -61,8 +62,8 @@ pub struct SceneArgs {
     /// Displacement method id (see `relief methods`): for the default scene (default qdm), for
     /// materials given relief by --heightmap (default pom), and for every relief material of a
     /// glTF file (default: each material's own).
-    #[arg(long)]
-    method: Option<String>,
+    #[arg(long, value_name = "ID", value_parser = method_id)]
+    method: Option<Method>,
     /// Which materials --heightmap displaces: a material name, or `all`.
     #[arg(long, value_name = "NAME|all", default_value = "all")]
     material: String,
@@ -141,7 +142,7 @@ impl SceneArgs {
     pub fn load(&self) -> anyhow::Result<LoadedScene> {
         self.check()?;
         let method: Method = match &self.method {
-            Some(id) => id.parse()?,
+            Some(method) => *method,
             None if self.scene.is_none() => DEFAULT_SCENE_METHOD,
             None => Method::POM,
         };
@@ -222,22 +223,41 @@ impl SceneArgs {
 
     fn check(&self) -> anyhow::Result<()> {
         self.cells.check()?;
+        if !self.exposure.is_finite() {
+            return Err(usage(format!(
+                "--exposure must be a finite number of stops, got {}",
+                self.exposure
+            )));
+        }
+        if self.material != "all" && self.scene.is_none() {
+            return Err(usage(format!(
+                "--material {:?} chooses materials of a glTF file for --heightmap; give the scene file",
+                self.material
+            )));
+        }
+        if let (Some(k), None) = (self.camera, &self.scene) {
+            return Err(usage(format!(
+                "--camera {k} chooses a camera of a glTF file; the built-in scenes have none (they are framed)"
+            )));
+        }
         if self.terrain.terrain.is_some() {
             if let Some(path) = &self.scene {
-                anyhow::bail!(
+                return Err(usage(format!(
                     "--terrain draws the built-in terrain scene; leave out the scene file {}",
                     path.display()
-                );
+                )));
             }
             if self.heights.heightmap.is_some() || self.heights.field.is_some() {
-                anyhow::bail!(
-                    "--terrain displaces the ground with its layers; leave out --heightmap"
-                );
+                return Err(usage(
+                    "--terrain displaces the ground with its layers; leave out --heightmap",
+                ));
             }
         }
         if let Some(s) = self.depth_scale {
             if !(s.is_finite() && s > 0.0) {
-                anyhow::bail!("--depth-scale must be a finite number above 0, got {s}");
+                return Err(usage(format!(
+                    "--depth-scale must be a finite number above 0, got {s}"
+                )));
             }
         }
         Ok(())
@@ -265,17 +285,17 @@ impl SceneArgs {
             let depth = self.depth_scale.unwrap_or(DEFAULT_GLTF_DEPTH_SCALE);
             if scene.apply_relief(depth, method, filter) == 0 {
                 let names: Vec<&str> = scene.materials.iter().map(|m| m.name.as_str()).collect();
-                anyhow::bail!(
+                return Err(usage(format!(
                     "--material {:?} names no material of {}; its materials: {}",
                     self.material,
                     path.display(),
                     names.join(", ")
-                );
+                )));
             }
         } else if filter.is_some() {
-            anyhow::bail!(
-                "--material chooses which materials --heightmap displaces; give --heightmap FILE"
-            );
+            return Err(usage(
+                "--material chooses which materials --heightmap displaces; give --heightmap FILE",
+            ));
         } else if self.method.is_some() {
             // Like the shading flags, --method speaks for every relief material of the file;
             // what a material cannot combine with it (shells, LOD, layers) the plan refuses by
@@ -307,6 +327,11 @@ fn image_side(text: &str) -> Result<u32, String> {
         Ok(n) if (1..=MAX_SIDE).contains(&n) => Ok(n),
         _ => Err(format!("an image side is 1 to {MAX_SIDE} pixels")),
     }
+}
+
+/// `--method`'s value: a method id of the table.
+fn method_id(text: &str) -> Result<Method, String> {
+    text.parse::<Method>().map_err(|e| e.to_string())
 }
 
 /// `--msaa`'s value: a sample count the renderer takes (`SAMPLE_COUNTS`).

@@ -45,21 +45,21 @@ impl ShadowMapArgs {
             .shadow_map_size
             .filter(|n| !SHADOW_MAP_SIZES.contains(n))
         {
-            anyhow::bail!(
+            return Err(super::usage(format!(
                 "--shadow-map-size must be in {}..={}, got {n}",
                 SHADOW_MAP_SIZES.start(),
                 SHADOW_MAP_SIZES.end()
-            );
+            )));
         }
         if let Some(n) = self
             .shadow_cascades
             .filter(|n| !SHADOW_CASCADES.contains(n))
         {
-            anyhow::bail!(
+            return Err(super::usage(format!(
                 "--shadow-cascades must be in {}..={}, got {n}",
                 SHADOW_CASCADES.start(),
                 SHADOW_CASCADES.end()
-            );
+            )));
         }
         for light in &mut scene.lights {
             if let Some(n) = self.shadow_map_size {

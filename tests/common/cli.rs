@@ -13,11 +13,22 @@ pub fn relief(args: &[&str]) -> Output {
 /// Asserts that the command failed cleanly: exit code 1, no panic, and exactly one
 /// `relief: error:` line, which names every one of `needles`.
 pub fn assert_clean_failure(out: &Output, needles: &[&str]) {
+    assert_failure_with(out, 1, needles);
+}
+
+/// Asserts that the command was refused as bad usage found after parsing (a bad value or a bad
+/// combination of flags): exit code 2, no panic, and exactly one `relief: error:` line naming
+/// every one of `needles`.
+pub fn assert_usage_failure(out: &Output, needles: &[&str]) {
+    assert_failure_with(out, 2, needles);
+}
+
+fn assert_failure_with(out: &Output, code: i32, needles: &[&str]) {
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(
         out.status.code(),
-        Some(1),
-        "exit code 1 expected; stderr:\n{err}"
+        Some(code),
+        "exit code {code} expected; stderr:\n{err}"
     );
     assert!(!err.contains("panicked"), "must not panic:\n{err}");
     let lines: Vec<&str> = err
