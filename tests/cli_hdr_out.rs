@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::cli::{assert_clean_failure, relief};
+use common::cli::relief;
 use common::srgb;
 
 #[test]
@@ -57,7 +57,7 @@ fn the_radiance_is_the_frame_before_tone_mapping() {
 #[test]
 fn only_hdr_files_are_written() {
     let run = relief(&["render", "--hdr-out", "frame.exr", "--out", "unused.png"]);
-    assert_clean_failure(&run, &["--hdr-out writes Radiance .hdr files"]);
+    common::cli::assert_usage_failure(&run, &["--hdr-out writes Radiance .hdr files"]);
     let run = relief(&["render", "--hdr-out", "f.hdr", "--no-write"]);
-    assert_clean_failure(&run, &["leave out --no-write"]);
+    common::cli::assert_usage_failure(&run, &["leave out --no-write"]);
 }

@@ -274,10 +274,40 @@ fn exr_out_writes_the_beauty_and_every_channel() {
     for (id, z) in ids.iter().zip(&z) {
         assert_eq!(*id > 0, z.is_finite(), "Z {z} for id {id}");
     }
+    let view_proj = layer
+        .attributes
+        .other
+        .get(&exr::meta::attribute::Text::from("reliefViewProjection"));
+    assert!(
+        matches!(
+            view_proj,
+            Some(exr::meta::attribute::AttributeValue::Matrix4x4(_))
+        ),
+        "no camera in the header: {view_proj:?}"
+    );
+    assert!(layer.attributes.world_to_camera.is_some());
+    // The same command writes the same bytes; --out FILE.exr writes the same file as --exr-out.
+    let again = dir.join("again");
+    let run = Command::new(env!("CARGO_BIN_EXE_relief"))
+        .args(["render", "--width", "64", "--height", "48", "--out"])
+        .arg(again.join("frame.exr"))
+        .output()
+        .expect("binary runs");
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let first = std::fs::read(&exr_path).expect("first EXR");
+    let second = std::fs::read(again.join("frame.exr")).expect("second EXR");
+    assert!(
+        first == second,
+        "two runs of one command wrote different EXR files"
+    );
     let bad = Command::new(env!("CARGO_BIN_EXE_relief"))
         .args(["render", "--supersample", "2", "--exr-out"])
         .arg(dir.join("x.exr"))
         .output()
         .expect("binary runs");
-    common::cli::assert_clean_failure(&bad, &["--supersample"]);
+    common::cli::assert_usage_failure(&bad, &["--supersample"]);
 }

@@ -1,15 +1,29 @@
-//! `relief render --exr-out`: a frame as one OpenEXR file, the linear radiance beside the
-//! surface pass's G-buffer, every channel 32 bits.
+//! `relief render --exr-out` (or `--out FILE.exr`): a frame as one OpenEXR file, the linear
+//! radiance beside the surface pass's G-buffer, every channel 32 bits, with the camera in its
+//! header.
 
 use std::path::Path;
 
 use anyhow::Context as _;
+use exr::meta::attribute::{AttributeValue, Text};
 use exr::prelude::{AnyChannel, AnyChannels, FlatSamples, Image, WritableImage};
+use glam::Mat4;
 use relief::render::FrameOutput;
+use relief::scene::Camera;
 
-/// Writes `frame`'s radiance and G-buffer (both read back) to `out`; nothing when either is
-/// missing.
-pub fn write_exr(frame: &FrameOutput, out: &Path) -> anyhow::Result<()> {
+/// The header attribute holding relief's own view-projection (column-major, right-handed
+/// world, Vulkan clip space: y down, depth 0 to 1), beside the standard `worldToCamera`.
+pub const VIEW_PROJECTION_ATTRIBUTE: &str = "reliefViewProjection";
+
+/// Whether `path` names an OpenEXR file.
+pub fn is_exr(path: &Path) -> bool {
+    path.extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("exr"))
+}
+
+/// Writes `frame`'s radiance and G-buffer (both read back) to `out`, seen by `camera`; nothing
+/// when either is missing.
+pub fn write_exr(frame: &FrameOutput, out: &Path, camera: &Camera) -> anyhow::Result<()> {
     let (Some(radiance), Some(g)) = (&frame.radiance, &frame.gbuffer) else {
         return Ok(());
     };
@@ -37,7 +51,18 @@ pub fn write_exr(frame: &FrameOutput, out: &Path) -> anyhow::Result<()> {
         uint("steps", g.steps.clone()),
     ];
     let size = (frame.width as usize, frame.height as usize);
-    let image = Image::from_channels(size, AnyChannels::sort(channels.into()));
+    let mut image = Image::from_channels(size, AnyChannels::sort(channels.into()));
+    let attributes = &mut image.layer_data.attributes;
+    // OpenEXR's camera space is left-handed, z forward: relief's view looks down -z. Imath
+    // multiplies row vectors, so its row-major array is the column-major one of the matrix
+    // that multiplies column vectors.
+    let to_camera = Mat4::from_scale(glam::Vec3::new(1.0, 1.0, -1.0)) * camera.view;
+    attributes.world_to_camera = Some(to_camera.to_cols_array());
+    let aspect = frame.width as f32 / frame.height as f32;
+    attributes.other.insert(
+        Text::from(VIEW_PROJECTION_ATTRIBUTE),
+        AttributeValue::Matrix4x4(camera.view_projection(aspect).to_cols_array()),
+    );
     image
         .write()
         .to_file(out)

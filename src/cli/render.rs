@@ -6,6 +6,7 @@ use anyhow::Context as _;
 use clap::Args;
 use relief::render::Renderer;
 
+use super::exr_out::is_exr;
 use super::pipeline_cache::{self, CacheArgs};
 use super::render_frames::{run_frames, CacheReport, FrameArgs};
 use super::scene_args::SceneArgs;
@@ -15,7 +16,8 @@ use super::terrain_edits::TerrainEdits;
 pub struct RenderArgs {
     #[command(flatten)]
     scene: SceneArgs,
-    /// Output PNG; with --frames N > 1, frame k is written as STEM_000k.png beside it.
+    /// Output PNG, or OpenEXR (FILE.exr: the channels --exr-out writes); with --frames N > 1,
+    /// frame k is written as STEM_000k.png (.exr) beside it.
     #[arg(long, default_value = "frame.png")]
     pub(super) out: PathBuf,
     /// Also write each frame's linear radiance (before exposure and tone mapping) as a
@@ -57,8 +59,9 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
     let mut opts = args
         .scene
         .render_options(args.scene.width, args.scene.height);
-    opts.keep_radiance = args.hdr_out.is_some() || args.exr_out.is_some();
-    opts.gbuffer = args.exr_out.is_some();
+    let exr = args.exr_out.is_some() || is_exr(&args.out);
+    opts.keep_radiance = args.hdr_out.is_some() || exr;
+    opts.gbuffer = exr;
     opts.paintable_layers = loaded
         .edits
         .as_ref()
@@ -99,25 +102,30 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
 }
 
 fn check_exr_out(args: &RenderArgs) -> anyhow::Result<()> {
+    if is_exr(&args.out) && args.scene.supersampled() {
+        return Err(super::usage(format!(
+            "--out {} reads the G-buffer at the frame's size, one entry per pixel; leave out --supersample",
+            args.out.display()
+        )));
+    }
     let Some(path) = &args.exr_out else {
         return Ok(());
     };
-    let exr = path
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("exr"));
-    if !exr {
-        anyhow::bail!(
+    if !is_exr(path) {
+        return Err(super::usage(format!(
             "--exr-out writes OpenEXR files; {} does not end in .exr",
             path.display()
-        );
+        )));
     }
     if args.frames.no_write {
-        anyhow::bail!("--exr-out writes the frames' channels; leave out --no-write");
+        return Err(super::usage(
+            "--exr-out writes the frames' channels; leave out --no-write",
+        ));
     }
     if args.scene.supersampled() {
-        anyhow::bail!(
-            "--exr-out reads the G-buffer at the frame's size, one entry per pixel; leave out --supersample"
-        );
+        return Err(super::usage(
+            "--exr-out reads the G-buffer at the frame's size, one entry per pixel; leave out --supersample",
+        ));
     }
     Ok(())
 }
@@ -130,13 +138,15 @@ fn check_hdr_out(args: &RenderArgs) -> anyhow::Result<()> {
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("hdr"));
     if !hdr {
-        anyhow::bail!(
+        return Err(super::usage(format!(
             "--hdr-out writes Radiance .hdr files; {} does not end in .hdr",
             path.display()
-        );
+        )));
     }
     if args.frames.no_write {
-        anyhow::bail!("--hdr-out writes the frames' radiance; leave out --no-write");
+        return Err(super::usage(
+            "--hdr-out writes the frames' radiance; leave out --no-write",
+        ));
     }
     Ok(())
 }

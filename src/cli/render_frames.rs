@@ -16,7 +16,7 @@ use relief::scene::{Camera, Scene};
 use relief::vk::{Context, LiveObjects, ObjectCounts};
 use serde_json::json;
 
-use super::exr_out::write_exr;
+use super::exr_out::{is_exr, write_exr};
 use super::frame_range::FrameRange;
 use super::render::RenderArgs;
 use super::scene_args::LoadedScene;
@@ -223,12 +223,18 @@ fn draw_all(
     let mut keep = |frame: FrameOutput, submitted: &[u32]| -> anyhow::Result<()> {
         let k = submitted[frame.index as usize];
         if kept.contains(&k) {
-            write_png(&frame, &frame_path(&args.out, u64::from(k), frames))?;
+            let camera = path.at(k, frames);
+            let out = frame_path(&args.out, u64::from(k), frames);
+            if is_exr(&args.out) {
+                write_exr(&frame, &out, &camera)?;
+            } else {
+                write_png(&frame, &out)?;
+            }
             if let Some(hdr) = &args.hdr_out {
                 write_hdr(&frame, &frame_path(hdr, u64::from(k), frames))?;
             }
             if let Some(exr) = &args.exr_out {
-                write_exr(&frame, &frame_path(exr, u64::from(k), frames))?;
+                write_exr(&frame, &frame_path(exr, u64::from(k), frames), &camera)?;
             }
             timings.push(frame.timings);
         }
