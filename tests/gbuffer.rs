@@ -107,6 +107,24 @@ fn a_plain_quad_has_its_depth_normal_uv_and_id() {
             "pixel {k}: depth {d}, the quad is {DISTANCE} along the camera's axis"
         );
     }
+    // Unprojected through the camera, every pixel lands on the quad's plane (z = 0), inside it.
+    let camera = quad_scene(false).camera.expect("camera");
+    for (k, p) in g.positions(&camera).iter().enumerate() {
+        assert!(
+            p[2].abs() < 1e-3,
+            "pixel {k}: position {p:?} off the quad's plane"
+        );
+        assert!(
+            p[0].abs() <= SIDE / 2.0 && p[1].abs() <= SIDE / 2.0,
+            "pixel {k}: position {p:?} outside the quad"
+        );
+    }
+    // The centre pixels look straight down the axis at the origin.
+    let centre = g.positions(&camera)[(h / 2) * w + w / 2];
+    assert!(
+        centre[0].abs() < 0.1 && centre[1].abs() < 0.1,
+        "centre pixel at {centre:?}"
+    );
     // u runs along +x (left to right); v along the quad's +z, which faces down the screen.
     for y in 0..h {
         for x in 1..w {
@@ -245,7 +263,8 @@ fn exr_out_writes_the_beauty_and_every_channel() {
         .map(|c| c.name.to_string())
         .collect();
     for name in [
-        "A", "B", "G", "R", "Z", "N.X", "N.Y", "N.Z", "coverage", "uv.U", "uv.V", "id", "steps",
+        "A", "B", "G", "R", "Z", "P.X", "P.Y", "P.Z", "N.X", "N.Y", "N.Z", "coverage", "uv.U",
+        "uv.V", "id", "steps",
     ] {
         assert!(names.iter().any(|n| n == name), "no {name} in {names:?}");
     }
@@ -310,4 +329,111 @@ fn exr_out_writes_the_beauty_and_every_channel() {
         .output()
         .expect("binary runs");
     common::cli::assert_usage_failure(&bad, &["--supersample"]);
+}
+
+/// A Python that imports the OpenEXR bindings from PyPI (the Academy Software Foundation's
+/// reader, not the `exr` crate that wrote the file): the system's, or one installed once into
+/// target/python-openexr; `None` when neither works (no python3, no network).
+fn python_with_openexr() -> Option<(String, Option<std::path::PathBuf>)> {
+    let imports = |path: Option<&std::path::Path>| {
+        let mut cmd = Command::new("python3");
+        cmd.args(["-c", "import OpenEXR, numpy"]);
+        if let Some(p) = path {
+            cmd.env("PYTHONPATH", p);
+        }
+        cmd.output().is_ok_and(|o| o.status.success())
+    };
+    if imports(None) {
+        return Some(("python3".into(), None));
+    }
+    let target = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("python-openexr");
+    if !imports(Some(&target)) {
+        let installed = Command::new("python3")
+            .args([
+                "-m",
+                "pip",
+                "install",
+                "--quiet",
+                "--disable-pip-version-check",
+            ])
+            .args(["--target"])
+            .arg(&target)
+            .args(["openexr", "numpy"])
+            .output()
+            .is_ok_and(|o| o.status.success());
+        if !installed || !imports(Some(&target)) {
+            return None;
+        }
+    }
+    Some(("python3".into(), Some(target)))
+}
+
+#[test]
+fn another_reader_opens_the_exr_with_the_documented_channels() {
+    if common::device("another_reader_opens_the_exr_with_the_documented_channels").is_none() {
+        return;
+    }
+    let Some((python, path)) = python_with_openexr() else {
+        eprintln!(
+            "SKIPPED: another_reader_opens_the_exr: Python's OpenEXR (PyPI) neither imports nor installs here"
+        );
+        return;
+    };
+    let dir = common::scratch_dir("gbuffer-exr-reader");
+    let exr_path = dir.join("frame.exr");
+    let run = Command::new(env!("CARGO_BIN_EXE_relief"))
+        .args(["render", "--width", "64", "--height", "48", "--out"])
+        .arg(&exr_path)
+        .output()
+        .expect("binary runs");
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    // The reader merges R, G, B, A into one RGBA entry; every other name is as written.
+    let script = r#"
+import json, sys, numpy, OpenEXR
+with OpenEXR.File(sys.argv[1]) as f:
+    ch = f.channels()
+    ids = ch["id"].pixels
+    z = ch["Z"].pixels
+    print(json.dumps({
+        "names": sorted(ch.keys()),
+        "shape": list(ids.shape),
+        "drawn": int((ids > 0).sum()),
+        "z_finite_where_drawn": bool(numpy.isfinite(z[ids > 0]).all()),
+        "z_infinite_elsewhere": bool(numpy.isinf(z[ids == 0]).all()),
+        "world_to_camera": "worldToCamera" in f.header(),
+    }))
+"#;
+    let mut cmd = Command::new(&python);
+    cmd.args(["-c", script]).arg(&exr_path);
+    if let Some(p) = &path {
+        cmd.env("PYTHONPATH", p);
+    }
+    let out = cmd.output().expect("python runs");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let report: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON");
+    let names: Vec<&str> = report["names"]
+        .as_array()
+        .expect("names")
+        .iter()
+        .filter_map(|n| n.as_str())
+        .collect();
+    for name in [
+        "RGBA", "Z", "P.X", "P.Y", "P.Z", "N.X", "N.Y", "N.Z", "coverage", "uv.U", "uv.V", "id",
+        "steps",
+    ] {
+        assert!(names.contains(&name), "OpenEXR reads no {name}: {names:?}");
+    }
+    assert_eq!(report["shape"], serde_json::json!([48, 64]));
+    assert!(report["drawn"].as_u64().unwrap_or(0) > 0, "{report}");
+    assert_eq!(report["z_finite_where_drawn"], true, "{report}");
+    assert_eq!(report["z_infinite_elsewhere"], true, "{report}");
+    assert_eq!(report["world_to_camera"], true, "{report}");
 }

@@ -35,12 +35,17 @@ pub fn write_exr(frame: &FrameOutput, out: &Path, camera: &Camera) -> anyhow::Re
     let rgba = |c: usize| radiance.iter().map(|p| p[c]).collect::<Vec<f32>>();
     let normal = |c: usize| g.normal.iter().map(|n| n[c]).collect::<Vec<f32>>();
     let uv = |c: usize| g.uv.iter().map(|t| t[c]).collect::<Vec<f32>>();
+    let positions = g.positions(camera);
+    let position = |c: usize| positions.iter().map(|p| p[c]).collect::<Vec<f32>>();
     let channels = vec![
         float("R", rgba(0)),
         float("G", rgba(1)),
         float("B", rgba(2)),
         float("A", rgba(3)),
         float("Z", g.depth.clone()),
+        float("P.X", position(0)),
+        float("P.Y", position(1)),
+        float("P.Z", position(2)),
         float("N.X", normal(0)),
         float("N.Y", normal(1)),
         float("N.Z", normal(2)),

@@ -26,9 +26,10 @@ pub struct RenderArgs {
     pub(super) hdr_out: Option<PathBuf>,
     /// Also write each frame as an OpenEXR file, named like the PNGs: the linear radiance (R, G,
     /// B, A) and the surface pass's G-buffer: Z (linear view depth of the displaced hit, along the
-    /// camera's axis; infinite where nothing was drawn), N.X, N.Y, N.Z (world shading normal), coverage,
-    /// uv.U, uv.V (texture coordinates at the hit), id (scene mesh index + 1, 0 for none) and
-    /// steps (the view ray's steps through its height field).
+    /// camera's axis; infinite where nothing was drawn), P.X, P.Y, P.Z (world position,
+    /// unprojected from Z), N.X, N.Y, N.Z (world shading normal), coverage, uv.U, uv.V (texture
+    /// coordinates at the hit), id (scene mesh index + 1, 0 for none) and steps (the view ray's
+    /// steps through its height field). The header holds the camera.
     #[arg(long, value_name = "FILE.exr")]
     pub(super) exr_out: Option<PathBuf>,
     /// Print one JSON object instead of the table.

@@ -123,6 +123,19 @@ impl DeviceOwned {
     }
 }
 
+/// Held while an instance and its device are created or destroyed. The loader, layers and
+/// drivers keep process-wide state there, and not all of them guard it: the Khronos validation
+/// layer of Debian 12 (1.3.239) was seen to crash in two threads that made and dropped contexts
+/// at once (relief's tests do, one context per test). Relief serialises those calls; everything
+/// else runs concurrently.
+static LIFECYCLE: Mutex<()> = Mutex::new(());
+
+fn lifecycle() -> std::sync::MutexGuard<'static, ()> {
+    LIFECYCLE
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner)
+}
+
 impl Context {
     /// Creates the instance, picks a device (discrete > integrated > virtual > CPU, or by name) and
     /// creates the logical device with the features relief uses.
@@ -159,6 +172,7 @@ impl Context {
         };
         let counts = Box::<MessageCounts>::default();
         let validation = options.validation.unwrap_or_else(Validation::from_env);
+        let _lifecycle = lifecycle();
         let extensions = match window {
             Some(w) => surface_extensions(w)?,
             None => &[],
@@ -414,6 +428,7 @@ impl Drop for Context {
             if let Ok(pool) = self.command_pool.lock() {
                 self.device.destroy_command_pool(*pool, None);
             }
+            let _lifecycle = lifecycle();
             self.device.destroy_device(None);
             destroy_instance_parts(&self.parts);
             ManuallyDrop::drop(&mut self.parts);

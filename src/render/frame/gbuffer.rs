@@ -10,6 +10,9 @@
 use std::sync::Arc;
 
 use ash::vk;
+use glam::Vec3;
+
+use crate::scene::Camera;
 
 use crate::vk::{
     half_floats_to_rgba, transition_images, whole_color_region, ColorTarget, Context, Image,
@@ -61,6 +64,40 @@ pub struct GBufferChannels {
 }
 
 impl GBufferChannels {
+    /// Each pixel's world position, unprojected from its depth through `camera` (the frame's):
+    /// the point along the ray through the pixel's centre whose depth along the camera's axis is
+    /// the pixel's; infinite where nothing was drawn.
+    pub fn positions(&self, camera: &Camera) -> Vec<[f32; 3]> {
+        let aspect = self.width as f32 / self.height.max(1) as f32;
+        let inverse = camera.view_projection(aspect).inverse();
+        let row = -camera.view.row(2);
+        let axis = row.truncate() / row.truncate().length().max(f32::MIN_POSITIVE);
+        let eye = camera.eye();
+        let (w, h) = (self.width as usize, self.height.max(1) as usize);
+        self.depth
+            .iter()
+            .enumerate()
+            .map(|(k, &depth)| {
+                if !depth.is_finite() {
+                    return [f32::INFINITY; 3];
+                }
+                // Framebuffer rows run with clip y (the projection flips y for Vulkan).
+                let ndc_x = ((k % w) as f32 + 0.5) / w as f32 * 2.0 - 1.0;
+                let ndc_y = ((k / w) as f32 + 0.5) / h as f32 * 2.0 - 1.0;
+                let near = inverse.project_point3(Vec3::new(ndc_x, ndc_y, 0.0));
+                let far = inverse.project_point3(Vec3::new(ndc_x, ndc_y, 1.0));
+                let dir = (far - near).normalize_or_zero();
+                let along = dir.dot(axis);
+                if along.abs() < f32::MIN_POSITIVE {
+                    return [f32::INFINITY; 3];
+                }
+                // From the near plane, so orthographic views (parallel rays) work alike.
+                let t = (depth - (near - eye).dot(axis)) / along;
+                (near + dir * t).to_array()
+            })
+            .collect()
+    }
+
     /// Decodes the two read-back channels of a `width` x `height` frame.
     pub fn decode(width: u32, height: u32, normal: &[u8], surface: &[u8]) -> GBufferChannels {
         let normal = half_floats_to_rgba(normal);
