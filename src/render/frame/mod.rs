@@ -1,5 +1,6 @@
 //! The frame renderer and its passes: the plan of what a scene needs, the uploads it keeps, the surface pass, targets, uniforms and timers.
 
+pub(in crate::render) mod depth_as_colour;
 mod draw_bounds;
 pub(in crate::render) mod explain;
 pub(in crate::render) mod frame_stats;

@@ -12,20 +12,18 @@ use std::sync::Arc;
 
 use ash::vk;
 
+use super::depth_as_colour::{DepthAsColour, DEPTH_COLOUR_FORMAT};
 use super::pass::Pass;
 use super::plan::{DrawPlan, DrawRole, PassPlan, PipelineKey, Plan};
-use super::surface_pass::DEPTH_FORMAT;
 use crate::render::shader_interface::BINDING_OCCLUDER_BOUNDS;
-use crate::render::shadows::shadow_atlas::SHADOW_FORMAT;
 use crate::scene::{AlphaMode, Mesh, Scene};
 use crate::vk::{
-    transition_images, Bind, Context, DescriptorLayout, DescriptorPool, DescriptorSet, Image,
-    ImageDesc, ImageTransition, Recording, Sampler, VkResult,
+    Bind, Context, DescriptorLayout, DescriptorPool, DescriptorSet, Recording, Sampler, VkResult,
 };
 use glam::Vec3;
 
 /// The bounds' format: one float depth per pixel, as the shadow atlas holds.
-pub const BOUNDS_FORMAT: vk::Format = SHADOW_FORMAT;
+pub const BOUNDS_FORMAT: vk::Format = DEPTH_COLOUR_FORMAT;
 
 /// Whether draw `d` (pipeline `key`) bounds what lies behind it in the occluder pass: it is
 /// shaded and opaque, and nothing of it is cut away but where a clamp-addressed map ends (which
@@ -124,8 +122,7 @@ pub fn occluder_layout(ctx: &Arc<Context>) -> VkResult<DescriptorLayout> {
 
 /// The bounds, the depth test that keeps the nearest, and the set the surface pass binds.
 pub struct OccluderTargets {
-    bounds: Image,
-    test: Image,
+    bounds: DepthAsColour,
     set: DescriptorSet,
     _pool: DescriptorPool,
 }
@@ -139,32 +136,7 @@ impl OccluderTargets {
         width: u32,
         height: u32,
     ) -> VkResult<OccluderTargets> {
-        let desc = |format, usage, aspect| ImageDesc {
-            width,
-            height,
-            format,
-            mip_levels: 1,
-            usage,
-            aspect,
-        };
-        let bounds = Image::new(
-            ctx,
-            desc(
-                BOUNDS_FORMAT,
-                vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED,
-                vk::ImageAspectFlags::COLOR,
-            ),
-            "occluder bounds",
-        )?;
-        let test = Image::new(
-            ctx,
-            desc(
-                DEPTH_FORMAT,
-                vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
-                vk::ImageAspectFlags::DEPTH,
-            ),
-            "occluder bounds depth test",
-        )?;
+        let bounds = DepthAsColour::new(ctx, width, height, "occluder bounds")?;
         let sampler = Sampler::new(
             ctx,
             vk::Filter::NEAREST,
@@ -172,17 +144,10 @@ impl OccluderTargets {
             "occluder bounds sampler",
         )?;
         let pool = DescriptorPool::new(ctx, 1, 1, "occluder bounds set")?;
-        let set = pool.allocate(
-            layout,
-            &[Bind::Texture(
-                BINDING_OCCLUDER_BOUNDS,
-                bounds.view(),
-                &sampler,
-            )],
-        )?;
+        let bind = Bind::Texture(BINDING_OCCLUDER_BOUNDS, bounds.depths.view(), &sampler);
+        let set = pool.allocate(layout, &[bind])?;
         Ok(OccluderTargets {
             bounds,
-            test,
             set,
             _pool: pool,
         })
@@ -193,75 +158,15 @@ impl OccluderTargets {
         &self.set
     }
 
-    /// Begins rendering the bounds, cleared to the far plane (nothing hidden). The previous
-    /// frame's surface pass (same queue) may still read them, so its fragment shaders finish
-    /// first.
+    /// Begins rendering the bounds, cleared to the far plane (nothing hidden), after the
+    /// previous frame's surface pass has read them.
     pub fn begin(&self, rec: &Recording) {
-        let depth_stages = vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS
-            | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS;
-        transition_images(
-            rec,
-            &[
-                ImageTransition {
-                    image: &self.bounds,
-                    aspect: vk::ImageAspectFlags::COLOR,
-                    base_mip: 0,
-                    mip_count: 1,
-                    old: vk::ImageLayout::UNDEFINED,
-                    new: vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-                    src: (
-                        vk::PipelineStageFlags2::FRAGMENT_SHADER,
-                        vk::AccessFlags2::NONE,
-                    ),
-                    dst: (
-                        vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
-                        vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
-                    ),
-                },
-                ImageTransition {
-                    image: &self.test,
-                    aspect: vk::ImageAspectFlags::DEPTH,
-                    base_mip: 0,
-                    mip_count: 1,
-                    old: vk::ImageLayout::UNDEFINED,
-                    new: vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
-                    src: (
-                        depth_stages,
-                        vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE,
-                    ),
-                    dst: (
-                        depth_stages,
-                        vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ
-                            | vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE,
-                    ),
-                },
-            ],
-        );
-        rec.begin_rendering(&self.bounds, Some(&self.test), [1.0; 4], false);
+        self.bounds.begin(rec);
     }
 
     /// Ends the rendering and hands the bounds to the surface pass's fragment shaders.
     pub fn end(&self, rec: &Recording) {
-        rec.end_rendering();
-        transition_images(
-            rec,
-            &[ImageTransition {
-                image: &self.bounds,
-                aspect: vk::ImageAspectFlags::COLOR,
-                base_mip: 0,
-                mip_count: 1,
-                old: vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-                new: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-                src: (
-                    vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
-                    vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
-                ),
-                dst: (
-                    vk::PipelineStageFlags2::FRAGMENT_SHADER,
-                    vk::AccessFlags2::SHADER_SAMPLED_READ,
-                ),
-            }],
-        );
+        self.bounds.end(rec);
     }
 }
 

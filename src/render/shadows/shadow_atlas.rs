@@ -12,17 +12,12 @@ use std::sync::Arc;
 
 use ash::vk;
 
+use crate::render::frame::depth_as_colour::{DepthAsColour, DEPTH_COLOUR_FORMAT};
 use crate::render::shader_interface::BINDING_SHADOW_ATLAS;
-use crate::vk::{
-    transition_images, Bind, Context, Image, ImageDesc, ImageTransition, ImageView, Recording,
-    Sampler, VkError, VkResult,
-};
+use crate::vk::{Bind, Context, ImageView, Recording, Sampler, VkError, VkResult};
 
 /// Format of the sampled depths.
-pub const SHADOW_FORMAT: vk::Format = vk::Format::R32_SFLOAT;
-/// Format of the depth test's attachment.
-const SHADOW_DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
-
+pub const SHADOW_FORMAT: vk::Format = DEPTH_COLOUR_FORMAT;
 /// Where one view lives in the atlas, in texels.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Tile {
@@ -36,10 +31,8 @@ pub struct Tile {
 
 /// The atlas's images.
 struct AtlasImages {
-    /// The depths the surface pass samples (cleared to 1, the far plane).
-    depths: Image,
-    /// The depth test's attachment, never sampled.
-    test: Image,
+    /// The depths the surface pass samples, and their depth test.
+    target: DepthAsColour,
     sampler: Sampler,
 }
 
@@ -84,32 +77,7 @@ impl ShadowAtlas {
                 sizes.len()
             )));
         }
-        let desc = |format, usage, aspect| ImageDesc {
-            width,
-            height,
-            format,
-            mip_levels: 1,
-            usage,
-            aspect,
-        };
-        let depths = Image::new(
-            ctx,
-            desc(
-                SHADOW_FORMAT,
-                vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED,
-                vk::ImageAspectFlags::COLOR,
-            ),
-            "shadow atlas",
-        )?;
-        let test = Image::new(
-            ctx,
-            desc(
-                SHADOW_DEPTH_FORMAT,
-                vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT,
-                vk::ImageAspectFlags::DEPTH,
-            ),
-            "shadow atlas depth test",
-        )?;
+        let target = DepthAsColour::new(ctx, width, height, "shadow atlas")?;
         let sampler = Sampler::new(
             ctx,
             vk::Filter::NEAREST,
@@ -117,11 +85,7 @@ impl ShadowAtlas {
             "shadow atlas sampler",
         )?;
         Ok(ShadowAtlas {
-            images: Some(AtlasImages {
-                depths,
-                test,
-                sampler,
-            }),
+            images: Some(AtlasImages { target, sampler }),
             tiles,
         })
     }
@@ -130,7 +94,7 @@ impl ShadowAtlas {
     /// when there are no maps.
     pub fn bind<'a>(&'a self, stand_in: &'a (ImageView, Sampler)) -> Bind<'a> {
         match &self.images {
-            Some(a) => Bind::Texture(BINDING_SHADOW_ATLAS, a.depths.view(), &a.sampler),
+            Some(a) => Bind::Texture(BINDING_SHADOW_ATLAS, a.target.depths.view(), &a.sampler),
             None => Bind::Texture(BINDING_SHADOW_ATLAS, &stand_in.0, &stand_in.1),
         }
     }
@@ -143,77 +107,16 @@ impl ShadowAtlas {
     /// Begins rendering into the whole atlas, cleared to the far plane. The previous frame (same
     /// queue) may still sample it, so its fragment shaders finish first.
     pub fn begin(&self, rec: &Recording) {
-        let Some(a) = &self.images else {
-            return;
-        };
-        let depth_stages = vk::PipelineStageFlags2::EARLY_FRAGMENT_TESTS
-            | vk::PipelineStageFlags2::LATE_FRAGMENT_TESTS;
-        transition_images(
-            rec,
-            &[
-                ImageTransition {
-                    image: &a.depths,
-                    aspect: vk::ImageAspectFlags::COLOR,
-                    base_mip: 0,
-                    mip_count: 1,
-                    old: vk::ImageLayout::UNDEFINED,
-                    new: vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-                    src: (
-                        vk::PipelineStageFlags2::FRAGMENT_SHADER,
-                        vk::AccessFlags2::NONE,
-                    ),
-                    dst: (
-                        vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
-                        vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
-                    ),
-                },
-                ImageTransition {
-                    image: &a.test,
-                    aspect: vk::ImageAspectFlags::DEPTH,
-                    base_mip: 0,
-                    mip_count: 1,
-                    old: vk::ImageLayout::UNDEFINED,
-                    new: vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL,
-                    src: (
-                        depth_stages,
-                        vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE,
-                    ),
-                    dst: (
-                        depth_stages,
-                        vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_READ
-                            | vk::AccessFlags2::DEPTH_STENCIL_ATTACHMENT_WRITE,
-                    ),
-                },
-            ],
-        );
-        rec.begin_rendering(&a.depths, Some(&a.test), [1.0; 4], false);
+        if let Some(a) = &self.images {
+            a.target.begin(rec);
+        }
     }
 
     /// Ends the rendering and hands the depths to the surface pass's fragment shaders.
     pub fn end(&self, rec: &Recording) {
-        let Some(a) = &self.images else {
-            return;
-        };
-        rec.end_rendering();
-        transition_images(
-            rec,
-            &[ImageTransition {
-                image: &a.depths,
-                aspect: vk::ImageAspectFlags::COLOR,
-                base_mip: 0,
-                mip_count: 1,
-                old: vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
-                new: vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-                src: (
-                    vk::PipelineStageFlags2::COLOR_ATTACHMENT_OUTPUT,
-                    vk::AccessFlags2::COLOR_ATTACHMENT_WRITE,
-                ),
-                dst: (
-                    vk::PipelineStageFlags2::FRAGMENT_SHADER,
-                    vk::AccessFlags2::SHADER_SAMPLED_READ,
-                ),
-            }],
-        );
+        if let Some(a) = &self.images {
+            a.target.end(rec);
+        }
     }
 
     /// Whether the atlas holds maps to render.
