@@ -2,14 +2,17 @@
 //! radiance beside the surface pass's G-buffer, every channel 32 bits, with the camera in its
 //! header.
 
+use std::io::Cursor;
 use std::path::Path;
 
 use anyhow::Context as _;
-use exr::meta::attribute::{AttributeValue, Text};
+use exr::math::Vec2;
+use exr::meta::attribute::{AttributeValue, Chromaticities, Text};
+use exr::meta::header::LayerAttributes;
 use exr::prelude::{AnyChannel, AnyChannels, FlatSamples, Image, WritableImage};
 use glam::Mat4;
 use relief::render::FrameOutput;
-use relief::scene::Camera;
+use relief::scene::{Camera, Projection};
 
 /// The header attribute holding relief's own view-projection (column-major, right-handed
 /// world, Vulkan clip space: y down, depth 0 to 1), beside the standard `worldToCamera`.
@@ -21,15 +24,12 @@ pub fn is_exr(path: &Path) -> bool {
         .is_some_and(|e| e.eq_ignore_ascii_case("exr"))
 }
 
-/// Writes `frame`'s radiance and G-buffer (both read back) to `out`, seen by `camera`; nothing
-/// when either is missing.
-pub fn write_exr(frame: &FrameOutput, out: &Path, camera: &Camera) -> anyhow::Result<()> {
+/// `frame`'s radiance and G-buffer (both read back), seen by `camera`, as the bytes of one
+/// OpenEXR file; `None` when either is missing.
+pub fn encode_exr(frame: &FrameOutput, camera: &Camera) -> anyhow::Result<Option<Vec<u8>>> {
     let (Some(radiance), Some(g)) = (&frame.radiance, &frame.gbuffer) else {
-        return Ok(());
+        return Ok(None);
     };
-    if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
-    }
     let float = |name: &str, values: Vec<f32>| AnyChannel::new(name, FlatSamples::F32(values));
     let uint = |name: &str, values: Vec<u32>| AnyChannel::new(name, FlatSamples::U32(values));
     let rgba = |c: usize| radiance.iter().map(|p| p[c]).collect::<Vec<f32>>();
@@ -57,19 +57,40 @@ pub fn write_exr(frame: &FrameOutput, out: &Path, camera: &Camera) -> anyhow::Re
     ];
     let size = (frame.width as usize, frame.height as usize);
     let mut image = Image::from_channels(size, AnyChannels::sort(channels.into()));
-    let attributes = &mut image.layer_data.attributes;
+    describe_camera(&mut image.layer_data.attributes, camera, frame);
+    // The radiance is linear light in the sRGB / Rec. 709 primaries, white D65.
+    image.attributes.chromaticities = Some(Chromaticities {
+        red: Vec2(0.64, 0.33),
+        green: Vec2(0.30, 0.60),
+        blue: Vec2(0.15, 0.06),
+        white: Vec2(0.3127, 0.3290),
+    });
+    let mut bytes = Vec::new();
+    image
+        .write()
+        .to_buffered(Cursor::new(&mut bytes))
+        .context("encoding the OpenEXR frame")?;
+    Ok(Some(bytes))
+}
+
+/// The camera in the header: OpenEXR's standard attributes, and relief's own view-projection.
+/// Only one attribute goes into `other`, a hash map, so that the header's bytes keep one order.
+fn describe_camera(attributes: &mut LayerAttributes, camera: &Camera, frame: &FrameOutput) {
     // OpenEXR's camera space is left-handed, z forward: relief's view looks down -z. Imath
     // multiplies row vectors, so its row-major array is the column-major one of the matrix
     // that multiplies column vectors.
     let to_camera = Mat4::from_scale(glam::Vec3::new(1.0, 1.0, -1.0)) * camera.view;
     attributes.world_to_camera = Some(to_camera.to_cols_array());
+    let (near, far) = camera.near_far();
+    attributes.near_clip_plane = Some(near);
+    attributes.far_clip_plane = Some(far);
+    if let Projection::Perspective { yfov, .. } = camera.projection {
+        attributes.vertical_field_of_view = Some(yfov.to_degrees());
+    }
+    attributes.software_name = Some(Text::from("relief"));
     let aspect = frame.width as f32 / frame.height as f32;
     attributes.other.insert(
         Text::from(VIEW_PROJECTION_ATTRIBUTE),
         AttributeValue::Matrix4x4(camera.view_projection(aspect).to_cols_array()),
     );
-    image
-        .write()
-        .to_file(out)
-        .with_context(|| format!("writing {}", out.display()))
 }

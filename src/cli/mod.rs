@@ -1,5 +1,5 @@
 //! Argument parsing (clap), logging, and the mapping of failures to exit codes: 0 success,
-//! 1 failure, 2 bad usage (clap), 3 `bench compare --fail-above` found a slower cell, 77 no
+//! 1 failure (a batch of `relief render` with any failed scene too), 2 bad usage (clap), 3 `bench compare --fail-above` found a slower cell, 77 no
 //! Vulkan device (with the install line).
 
 mod ao;
@@ -9,12 +9,16 @@ mod bench_compare;
 mod bench_merge;
 mod bench_runs;
 mod bench_shard;
+mod camera_sidecar;
 mod cells;
 mod cells_compare;
 mod cells_lookup;
 mod cells_render_args;
 mod devices;
 mod exr_out;
+mod frame_encoders;
+mod frame_files;
+mod frame_progress;
 mod frame_range;
 mod heightmap_args;
 mod lod_args;
@@ -24,6 +28,7 @@ mod methods;
 mod pipeline_cache;
 mod reference_args;
 mod render;
+mod render_batch;
 mod render_frames;
 mod scene_args;
 mod shading_args;

@@ -3,11 +3,12 @@
 //! (`--no-write`), with per-pass GPU times: the first frame apart (it builds the pyramids and
 //! pays first-use compilation), min / median / p95 over the rest.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::sync::Arc;
 
 use anyhow::Context as _;
 use clap::Args;
+use serde::Serialize;
 use glam::Vec3;
 use relief::render::{
     explain, sequence_stats, FrameOutput, FrameRequest, PassTiming, Renderer, SequenceStats,
@@ -16,7 +17,8 @@ use relief::scene::{Camera, Scene};
 use relief::vk::{Context, LiveObjects, ObjectCounts};
 use serde_json::json;
 
-use super::exr_out::{is_exr, write_exr};
+use super::frame_files::{frame_path, FileArgs};
+use super::frame_progress::FrameProgress;
 use super::frame_range::FrameRange;
 use super::render::RenderArgs;
 use super::scene_args::LoadedScene;
@@ -96,59 +98,6 @@ impl CameraPath {
     }
 }
 
-/// The file frame `index` (0-based) of `frames` is written to.
-fn frame_path(out: &Path, index: u64, frames: u32) -> PathBuf {
-    if frames == 1 {
-        return out.to_path_buf();
-    }
-    let stem = out
-        .file_stem()
-        .map_or("frame".into(), |s| s.to_string_lossy());
-    let ext = out
-        .extension()
-        .map_or("png".into(), |e| e.to_string_lossy());
-    out.with_file_name(format!("{stem}_{:04}.{ext}", index + 1))
-}
-
-fn write_png(frame: &FrameOutput, out: &Path) -> anyhow::Result<()> {
-    let Some(rgba) = &frame.rgba else {
-        return Ok(());
-    };
-    if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
-    }
-    image::save_buffer(
-        out,
-        rgba,
-        frame.width,
-        frame.height,
-        image::ColorType::Rgba8,
-    )
-    .with_context(|| format!("writing {}", out.display()))
-}
-
-/// The frame's radiance as a Radiance .hdr file (RGB; alpha dropped).
-fn write_hdr(frame: &FrameOutput, out: &Path) -> anyhow::Result<()> {
-    let Some(radiance) = &frame.radiance else {
-        return Ok(());
-    };
-    if let Some(dir) = out.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
-    }
-    let rgb: Vec<f32> = radiance
-        .iter()
-        .flat_map(|p| [p[0], p[1], p[2]].map(|c| if c.is_finite() { c.max(0.0) } else { 0.0 }))
-        .collect();
-    image::save_buffer(
-        out,
-        bytemuck::cast_slice(&rgb),
-        frame.width,
-        frame.height,
-        image::ExtendedColorType::Rgb32F,
-    )
-    .with_context(|| format!("writing {}", out.display()))
-}
-
 /// Where pipelines came from: the cache file (if any), whether it seeded this run, and what the
 /// renderer created while it was made (pipelines and the CPU time they took).
 pub struct CacheReport {
@@ -190,6 +139,8 @@ struct Drawn {
     frames: u32,
     /// The 0-based frames drawn and kept: the whole sequence, or --frame-range's part of it.
     kept: std::ops::Range<u32>,
+    /// Frames of `kept` not drawn because `--resume` found their files written.
+    skipped: u32,
     timings: Vec<Vec<PassTiming>>,
     edits: Vec<EditRecord>,
     /// Objects created from the end of the first frame's submission to the end of the last.
@@ -203,6 +154,7 @@ struct Drawn {
 /// unread, so the strokes land between frames exactly as in the whole sequence.
 fn draw_all(
     args: &RenderArgs,
+    files: &FileArgs,
     ctx: &Context,
     renderer: &mut Renderer,
     path: &CameraPath,
@@ -214,29 +166,30 @@ fn draw_all(
         Some(range) => range.within(frames)?,
         None => 0..frames,
     };
-    let replayed = lists.min(kept.start);
+    // Frames whose files --resume finds written are not drawn, unless a later frame's strokes
+    // need them drawn first (then they are drawn unread).
+    let written: Vec<bool> = kept
+        .clone()
+        .map(|k| files.resume && files.written(k, frames))
+        .collect();
+    let wanted = |k: u32| kept.contains(&k) && !written[(k - kept.start) as usize];
+    let skipped = written.iter().filter(|&&w| w).count() as u32;
+    let mut progress = FrameProgress::new(kept.len() as u32, args.json || args.explain);
+    (0..skipped).for_each(|_| progress.advance());
     let mut records = Vec::new();
     let read_back = !args.frames.no_write;
+    let tone = renderer.plan().tone_mapping;
     let mut timings = Vec::with_capacity(kept.len());
     // The sequence frame of each submission, by the renderer's frame index.
     let mut submitted: Vec<u32> = Vec::with_capacity(kept.len());
     let mut keep = |frame: FrameOutput, submitted: &[u32]| -> anyhow::Result<()> {
         let k = submitted[frame.index as usize];
-        if kept.contains(&k) {
-            let camera = path.at(k, frames);
-            let out = frame_path(&args.out, u64::from(k), frames);
-            if is_exr(&args.out) {
-                write_exr(&frame, &out, &camera)?;
-            } else {
-                write_png(&frame, &out)?;
-            }
-            if let Some(hdr) = &args.hdr_out {
-                write_hdr(&frame, &frame_path(hdr, u64::from(k), frames))?;
-            }
-            if let Some(exr) = &args.exr_out {
-                write_exr(&frame, &frame_path(exr, u64::from(k), frames), &camera)?;
+        if wanted(k) {
+            if read_back {
+                files.write(&frame, k, frames, &path.at(k, frames), &tone)?;
             }
             timings.push(frame.timings);
+            progress.advance();
         }
         Ok(())
     };
@@ -249,12 +202,12 @@ fn draw_all(
             }
             records.extend(record);
         }
-        if (replayed..kept.start).contains(&k) {
+        if !wanted(k) && k >= lists {
             continue;
         }
         let request = FrameRequest {
             camera: path.at(k, frames),
-            read_back: read_back && kept.contains(&k),
+            read_back: read_back && wanted(k),
         };
         submitted.push(k);
         let retired = renderer
@@ -268,11 +221,13 @@ fn draw_all(
     for frame in renderer.finish().context("finishing the frames")? {
         keep(frame, &submitted)?;
     }
+    progress.finish();
     let (after_first, alive_after_first) =
         after_first.unwrap_or_else(|| (ctx.created(), ctx.alive()));
     Ok(Drawn {
         frames,
         kept,
+        skipped,
         timings,
         edits: records,
         created_after_first: ctx.created() - after_first,
@@ -283,17 +238,19 @@ fn draw_all(
 /// Draws the frames `args` asks for and reports them.
 pub fn run_frames(
     args: &RenderArgs,
+    files: &FileArgs,
     ctx: &Arc<Context>,
     renderer: &mut Renderer,
     loaded: &mut LoadedScene,
     before: ObjectCounts,
     cache: &CacheReport,
-) -> anyhow::Result<()> {
+) -> anyhow::Result<SceneSummary> {
     let path = CameraPath::choose(&args.frames, renderer, &loaded.scene)?;
     let edited = loaded.edits.is_some();
-    let drawn = draw_all(args, ctx, renderer, &path, loaded.edits.as_mut())?;
+    let drawn = draw_all(args, files, ctx, renderer, &path, loaded.edits.as_mut())?;
     let source = loaded.source.as_str();
     let stats = sequence_stats(&drawn.timings);
+    let summary = SceneSummary::of(&drawn, &stats, args.frames.no_write);
     if args.explain {
         let created = ctx.created() - before;
         let mut value = explain(
@@ -308,13 +265,13 @@ pub fn run_frames(
             value["edits"] = edits_json(renderer, &drawn.edits);
         }
         println!("{value}");
-        return Ok(());
+        return Ok(summary);
     }
     let methods = methods_drawn(renderer);
     if args.json {
         let value = json!({
             "device": ctx.info(),
-            "out": (!args.frames.no_write).then_some(&args.out),
+            "out": (!args.frames.no_write).then_some(&files.out),
             "width": renderer.size().0,
             "height": renderer.size().1,
             "methods": methods,
@@ -333,14 +290,47 @@ pub fn run_frames(
             },
             "edits": edited.then(|| edits_json(renderer, &drawn.edits)),
             "pipeline_cache": cache.json(),
+            "written": summary.written,
+            "skipped_written": summary.skipped,
         });
         println!("{value}");
-        return Ok(());
+        return Ok(summary);
     }
     print_table(&stats);
-    report_files(args, renderer, &methods, source, &drawn);
+    report_files(args, files, renderer, &methods, source, &drawn);
     eprintln!("{}", cache.line());
-    Ok(())
+    Ok(summary)
+}
+
+/// What one scene's sequence came to, for a batch's summary.
+#[derive(Debug, Clone, Serialize)]
+pub struct SceneSummary {
+    /// Frames of the sequence asked for (--frame-range's part of it).
+    pub frames: u32,
+    /// Frames drawn and written.
+    pub written: u32,
+    /// Frames `--resume` found written and did not draw.
+    pub skipped: u32,
+    /// GPU milliseconds per frame: the sum of the passes' medians over the frames after the
+    /// first, or the first frame's sum when it was the only one drawn.
+    pub gpu_ms_per_frame: f64,
+}
+
+impl SceneSummary {
+    fn of(drawn: &Drawn, stats: &SequenceStats, no_write: bool) -> SceneSummary {
+        let gpu_ms_per_frame = if stats.steady.is_empty() {
+            stats.first.iter().map(|t| t.gpu_ms).sum()
+        } else {
+            stats.steady.iter().map(|s| s.median_ms).sum()
+        };
+        let frames = drawn.kept.len() as u32;
+        SceneSummary {
+            frames,
+            written: if no_write { 0 } else { frames - drawn.skipped },
+            skipped: drawn.skipped,
+            gpu_ms_per_frame,
+        }
+    }
 }
 
 /// The edits of a sequence: the maps every frame kept (built once, before the first) and what
@@ -388,21 +378,35 @@ fn print_table(stats: &SequenceStats) {
     }
 }
 
-fn report_files(args: &RenderArgs, renderer: &Renderer, methods: &str, source: &str, d: &Drawn) {
+fn report_files(
+    args: &RenderArgs,
+    files: &FileArgs,
+    renderer: &Renderer,
+    methods: &str,
+    source: &str,
+    d: &Drawn,
+) {
     let (w, h) = renderer.size();
     let frames = d.frames;
-    let (first, last) = (u64::from(d.kept.start), u64::from(d.kept.end) - 1);
-    let what = if args.frames.no_write {
+    let (first, last) = (d.kept.start, d.kept.end - 1);
+    let mut what = if args.frames.no_write {
         format!("drew {} frame(s), wrote none (--no-write)", d.kept.len())
     } else if frames == 1 {
-        format!("wrote {}", args.out.display())
+        format!("wrote {}", files.out.display())
     } else {
         format!(
             "wrote {} .. {}",
-            frame_path(&args.out, first, frames).display(),
-            frame_path(&args.out, last, frames).display()
+            frame_path(&files.out, first, frames).display(),
+            frame_path(&files.out, last, frames).display()
         )
     };
+    if d.skipped > 0 {
+        what = format!(
+            "{what}: {} frame(s) drawn, {} already written (--resume)",
+            d.kept.len() as u32 - d.skipped,
+            d.skipped
+        );
+    }
     eprintln!("{what} ({w}x{h}, relief: {methods}, heights: {source})");
     if d.kept.len() > 1 {
         let [first, last] = &d.alive;
@@ -549,20 +553,6 @@ mod tests {
         assert!(
             (quarter - Vec3::new(4.0, 1.0, 0.0)).length() < 1e-4,
             "{quarter}"
-        );
-    }
-
-    #[test]
-    fn a_sequence_numbers_its_files_beside_the_output() {
-        let out = Path::new("shots/frame.png");
-        assert_eq!(frame_path(out, 0, 1), PathBuf::from("shots/frame.png"));
-        assert_eq!(
-            frame_path(out, 0, 60),
-            PathBuf::from("shots/frame_0001.png")
-        );
-        assert_eq!(
-            frame_path(out, 59, 60),
-            PathBuf::from("shots/frame_0060.png")
         );
     }
 }

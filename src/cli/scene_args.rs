@@ -2,7 +2,7 @@
 //! scene (a glTF file or the built-in default), its relief (height map, method, depth scale,
 //! shading, LOD), the image size, height storage and addressing, and the device.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use clap::{Args, ValueEnum};
@@ -13,7 +13,7 @@ use relief::render::{
     HeightFormat, RenderOptions, ToneMap, ToneMapping, MAX_SUPERSAMPLE, SAMPLE_COUNTS,
 };
 use relief::scene::{
-    default_heightfield, default_scene, load_gltf, Scene, SceneOptions, DEFAULT_SCENE_METHOD,
+    default_heightfield, default_scene, load_gltf_with_report, Scene, SceneOptions, DEFAULT_SCENE_METHOD,
 };
 use relief::vk::Context;
 
@@ -42,8 +42,9 @@ pub enum FormatArg {
 
 #[derive(Args)]
 pub struct SceneArgs {
-    /// glTF scene (.gltf or .glb); the built-in default scene when left out.
-    scene: Option<PathBuf>,
+    /// glTF scenes (.gltf or .glb), drawn one after another (`render` only: a batch, each
+    /// scene's files tagged with its name); the built-in default scene when left out.
+    scenes: Vec<PathBuf>,
     /// Image width in pixels (`view`: the window's first width).
     #[arg(long, default_value_t = 960, value_parser = image_side)]
     pub(super) width: u32,
@@ -70,9 +71,10 @@ pub struct SceneArgs {
     /// Which scene of the glTF file (default: the file's default scene).
     #[arg(long = "scene", value_name = "N")]
     scene_index: Option<usize>,
-    /// Which camera of the scene, in node order (default: the first; none frames the scene).
-    #[arg(long, value_name = "N")]
-    camera: Option<usize>,
+    /// Which camera of the scene, in node order (default: the first; none frames the scene), or
+    /// `all` (`render` only: one image per camera, each camera's files tagged camK).
+    #[arg(long, value_name = "N|all", value_parser = camera_choice)]
+    camera: Option<CameraChoice>,
     /// Storage of heights on the GPU.
     #[arg(long, value_enum, default_value = "r16")]
     height_format: FormatArg,
@@ -125,6 +127,15 @@ pub struct SceneArgs {
     displaced: DisplacedReferenceArgs,
 }
 
+/// Which of a glTF scene's cameras to draw through.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CameraChoice {
+    /// The camera with this index, in node order.
+    One(usize),
+    /// Each camera in turn.
+    All,
+}
+
 /// A scene ready for a renderer: the scene with every flag applied, the height map relief
 /// materials without their own read (if any), and what that map is, for reports.
 pub struct LoadedScene {
@@ -133,17 +144,59 @@ pub struct LoadedScene {
     pub source: String,
     /// Strokes to apply between frames (`--terrain ... --edits`).
     pub edits: Option<TerrainEdits>,
+    /// Cameras the glTF scene holds (0 for the built-in scenes, which are framed).
+    pub cameras: usize,
 }
 
 const DEFAULT_GLTF_DEPTH_SCALE: f32 = 0.05;
 
 impl SceneArgs {
-    /// Checks the flags, loads the scene and the height map, and applies shading and LOD.
+    /// Checks the flags, loads the one scene they name (refusing several, or every camera) and
+    /// its height map, and applies shading and LOD.
     pub fn load(&self) -> anyhow::Result<LoadedScene> {
+        if self.scenes.len() > 1 {
+            return Err(usage(format!(
+                "one scene at a time here; {} were given",
+                self.scenes.len()
+            )));
+        }
+        let camera = match self.camera {
+            Some(CameraChoice::All) => {
+                return Err(usage(
+                    "--camera all renders one image per camera; here, choose one: --camera N",
+                ))
+            }
+            Some(CameraChoice::One(k)) => Some(k),
+            None => None,
+        };
         self.check()?;
+        self.load_scene(self.scenes.first().map(PathBuf::as_path), camera)
+    }
+
+    /// The scene files given, in order; one `None` (the built-in scene) when none was.
+    pub fn scene_files(&self) -> Vec<Option<&Path>> {
+        if self.scenes.is_empty() {
+            vec![None]
+        } else {
+            self.scenes.iter().map(|p| Some(p.as_path())).collect()
+        }
+    }
+
+    /// The camera choice (`None`: the scene's first camera, or a framing).
+    pub fn camera(&self) -> Option<CameraChoice> {
+        self.camera
+    }
+
+    /// Loads `scene` (the built-in one for `None`) through its `camera`-th camera, with its
+    /// height map, shading and LOD. The flags must have been checked ([`SceneArgs::check`]).
+    pub fn load_scene(
+        &self,
+        scene: Option<&Path>,
+        camera: Option<usize>,
+    ) -> anyhow::Result<LoadedScene> {
         let method: Method = match &self.method {
             Some(method) => *method,
-            None if self.scene.is_none() => DEFAULT_SCENE_METHOD,
+            None if scene.is_none() => DEFAULT_SCENE_METHOD,
             None => Method::POM,
         };
         if let Some((mut scene, edits)) = self.terrain.scene(method, self.depth_scale)? {
@@ -162,16 +215,18 @@ impl SceneArgs {
                 heights: None,
                 source,
                 edits,
+                cameras: 0,
             });
         }
         let loaded = self.heights.load()?;
-        let mut scene = self.build_scene(method, loaded.is_some())?;
+        let built_in = scene.is_none();
+        let (mut scene, cameras) = self.build_scene(scene, camera, method, loaded.is_some())?;
         self.shading.apply(&mut scene)?;
         self.shadow_maps.apply(&mut scene)?;
         self.lod.apply(&mut scene)?;
         let (heights, source) = match loaded {
             Some((hf, source)) => (Some(hf), source),
-            None if self.scene.is_none() => (
+            None if built_in => (
                 Some(default_heightfield()),
                 "built-in bricks 256x256".to_owned(),
             ),
@@ -185,6 +240,7 @@ impl SceneArgs {
             heights,
             source,
             edits: None,
+            cameras,
         })
     }
 
@@ -221,7 +277,8 @@ impl SceneArgs {
         self.supersample > 1
     }
 
-    fn check(&self) -> anyhow::Result<()> {
+    /// Refuses bad values and combinations of the flags, before anything is read or made.
+    pub fn check(&self) -> anyhow::Result<()> {
         self.cells.check()?;
         if !self.exposure.is_finite() {
             return Err(usage(format!(
@@ -229,19 +286,23 @@ impl SceneArgs {
                 self.exposure
             )));
         }
-        if self.material != "all" && self.scene.is_none() {
+        if self.material != "all" && self.scenes.is_empty() {
             return Err(usage(format!(
                 "--material {:?} chooses materials of a glTF file for --heightmap; give the scene file",
                 self.material
             )));
         }
-        if let (Some(k), None) = (self.camera, &self.scene) {
+        if let (Some(k), true) = (self.camera, self.scenes.is_empty()) {
+            let k = match k {
+                CameraChoice::One(k) => k.to_string(),
+                CameraChoice::All => "all".into(),
+            };
             return Err(usage(format!(
                 "--camera {k} chooses a camera of a glTF file; the built-in scenes have none (they are framed)"
             )));
         }
         if self.terrain.terrain.is_some() {
-            if let Some(path) = &self.scene {
+            if let Some(path) = self.scenes.first() {
                 return Err(usage(format!(
                     "--terrain draws the built-in terrain scene; leave out the scene file {}",
                     path.display()
@@ -263,8 +324,14 @@ impl SceneArgs {
         Ok(())
     }
 
-    fn build_scene(&self, method: Method, heights: bool) -> anyhow::Result<Scene> {
-        let Some(path) = &self.scene else {
+    fn build_scene(
+        &self,
+        path: Option<&Path>,
+        camera: Option<usize>,
+        method: Method,
+        heights: bool,
+    ) -> anyhow::Result<(Scene, usize)> {
+        let Some(path) = path else {
             let mut scene = default_scene(method);
             if let Some(s) = self.depth_scale {
                 scene
@@ -273,13 +340,13 @@ impl SceneArgs {
                     .filter_map(|m| m.relief.as_mut())
                     .for_each(|r| r.depth_scale = s);
             }
-            return Ok(scene);
+            return Ok((scene, 0));
         };
         let options = SceneOptions {
             scene: self.scene_index,
-            camera: self.camera,
+            camera,
         };
-        let mut scene = load_gltf(path, &options)?;
+        let (mut scene, report) = load_gltf_with_report(path, &options)?;
         let filter = (self.material != "all").then_some(self.material.as_str());
         if heights {
             let depth = self.depth_scale.unwrap_or(DEFAULT_GLTF_DEPTH_SCALE);
@@ -306,7 +373,7 @@ impl SceneArgs {
                 .filter_map(|m| m.relief.as_mut())
                 .for_each(|r| r.method = method);
         }
-        Ok(scene)
+        Ok((scene, report.cameras))
     }
 }
 
@@ -327,6 +394,16 @@ fn image_side(text: &str) -> Result<u32, String> {
         Ok(n) if (1..=MAX_SIDE).contains(&n) => Ok(n),
         _ => Err(format!("an image side is 1 to {MAX_SIDE} pixels")),
     }
+}
+
+/// `--camera`'s value: a camera index or `all`.
+fn camera_choice(text: &str) -> Result<CameraChoice, String> {
+    if text == "all" {
+        return Ok(CameraChoice::All);
+    }
+    text.parse()
+        .map(CameraChoice::One)
+        .map_err(|_| "a camera index (0 for the first) or all".into())
 }
 
 /// `--method`'s value: a method id of the table.

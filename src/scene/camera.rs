@@ -83,6 +83,12 @@ impl Camera {
     /// Projection times view for an image of `aspect` (width / height), in Vulkan clip space
     /// (y down, depth 0..1).
     pub fn view_projection(&self, aspect: f32) -> Mat4 {
+        self.clip_from_view(aspect) * self.view
+    }
+
+    /// The projection alone for an image of `aspect` (width / height): view space (right-handed,
+    /// looking down -z) to Vulkan clip space (y down, depth 0..1).
+    pub fn clip_from_view(&self, aspect: f32) -> Mat4 {
         let proj = match self.projection {
             Projection::Perspective {
                 yfov,
@@ -99,7 +105,15 @@ impl Camera {
         };
         // glTF and glam use y up; Vulkan's framebuffer y points down.
         let flip = Mat4::from_scale(Vec3::new(1.0, -1.0, 1.0));
-        flip * proj * self.view
+        flip * proj
+    }
+
+    /// The near and far plane distances.
+    pub fn near_far(&self) -> (f32, f32) {
+        match self.projection {
+            Projection::Perspective { znear, zfar, .. }
+            | Projection::Orthographic { znear, zfar, .. } => (znear, zfar),
+        }
     }
 }
 

@@ -60,6 +60,8 @@ pub struct SceneOptions {
 pub struct LoadReport {
     /// Primitives that are points, lines, strips or fans (only triangle lists are drawn).
     pub skipped_primitives: usize,
+    /// Cameras met walking the chosen scene's nodes (what [`SceneOptions::camera`] counts).
+    pub cameras: usize,
 }
 
 /// Loads a glTF file with its buffers and images.
@@ -193,6 +195,7 @@ fn build(
         None => cameras.first().copied(),
     };
     scene.camera = chosen.map(|(_, camera)| camera);
+    report.cameras = cameras.len();
     Ok((report, chosen.map(|(node, _)| node)))
 }
 

@@ -65,10 +65,7 @@ fn corners(lo: Vec3, hi: Vec3) -> [Vec3; 8] {
 /// The camera's near and far distances, the far one pulled in to the farthest corner of the
 /// scene's bounds (a cascade beyond the scene holds nothing).
 fn depth_range(camera: &Camera, bounds: (Vec3, Vec3)) -> (f32, f32) {
-    let (near, far) = match camera.projection {
-        Projection::Perspective { znear, zfar, .. } => (znear, zfar),
-        Projection::Orthographic { znear, zfar, .. } => (znear, zfar),
-    };
+    let (near, far) = camera.near_far();
     let farthest = corners(bounds.0, bounds.1)
         .iter()
         .map(|&c| -camera.view.transform_point3(c).z)

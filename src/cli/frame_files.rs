@@ -1,0 +1,302 @@
+//! The files each frame of `relief render` leaves: its image (8- or 16-bit PNG, or OpenEXR) and
+//! the sidecars the flags ask for (a Radiance `.hdr`, an OpenEXR with the G-buffer, the camera
+//! as JSON). Each is written whole under a hidden temporary name beside its place and renamed
+//! into it, so a run killed mid-frame leaves no truncated file for `--resume` to take as done.
+
+use std::fs;
+use std::io::Write as _;
+use std::path::{Path, PathBuf};
+
+use anyhow::Context as _;
+use clap::Args;
+use relief::render::{FrameOutput, ToneMapping};
+use relief::scene::Camera;
+
+use super::camera_sidecar::camera_json;
+use super::exr_out::{encode_exr, is_exr};
+use super::frame_encoders;
+use super::usage;
+
+/// Where `relief render` writes each frame, and in what form.
+#[derive(Args, Clone, Debug)]
+pub struct FileArgs {
+    /// Output PNG, or OpenEXR (FILE.exr: the channels --exr-out writes); with --frames N > 1,
+    /// frame k is written as STEM_000k.png (.exr) beside it.
+    #[arg(long, default_value = "frame.png")]
+    pub out: PathBuf,
+    /// Bits per channel of the PNG: 8 (the GPU's tone-mapped frame) or 16 (tone mapped on the
+    /// CPU from the read-back linear radiance with the same curve and exposure).
+    #[arg(long, value_name = "8|16", default_value_t = 8, value_parser = bit_depth)]
+    pub bit_depth: u8,
+    /// Also write each frame's linear radiance (before exposure and tone mapping) as a
+    /// Radiance .hdr file, named like the PNGs.
+    #[arg(long, value_name = "FILE.hdr")]
+    pub hdr_out: Option<PathBuf>,
+    /// Also write each frame as an OpenEXR file, named like the PNGs: the linear radiance (R, G,
+    /// B, A) and the surface pass's G-buffer: Z (linear view depth of the displaced hit, along the
+    /// camera's axis; infinite where nothing was drawn), P.X, P.Y, P.Z (world position,
+    /// unprojected from Z), N.X, N.Y, N.Z (world shading normal), coverage, uv.U, uv.V (texture
+    /// coordinates at the hit), id (scene mesh index + 1, 0 for none) and steps (the view ray's
+    /// steps through its height field). The header holds the camera.
+    #[arg(long, value_name = "FILE.exr")]
+    pub exr_out: Option<PathBuf>,
+    /// Also write each frame's camera as JSON, named like the PNGs: view, projection and
+    /// view-projection matrices, camera-to-world, eye, near and far planes, lens and image size.
+    #[arg(long, value_name = "FILE.json")]
+    pub camera_out: Option<PathBuf>,
+    /// Skip the frames whose files are all there already (a sequence stopped part way picks up
+    /// where it stopped); the others are drawn and written as usual.
+    #[arg(long)]
+    pub resume: bool,
+}
+
+/// The files one frame writes, in the order they are written.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum FileKind {
+    Image,
+    Hdr,
+    Exr,
+    Camera,
+}
+
+impl FileArgs {
+    /// Refuses combinations that cannot be written, before any device is made.
+    pub fn check(&self, no_write: bool, supersampled: bool) -> anyhow::Result<()> {
+        let exr_out = is_exr(&self.out);
+        if exr_out && self.bit_depth != 8 {
+            return Err(usage(format!(
+                "--bit-depth {} sets a PNG's bits; {} is an OpenEXR file (32-bit float)",
+                self.bit_depth,
+                self.out.display()
+            )));
+        }
+        if (exr_out || self.exr_out.is_some()) && supersampled {
+            return Err(usage(
+                "OpenEXR frames hold the G-buffer at the frame's size, one entry per pixel; leave out --supersample",
+            ));
+        }
+        let sidecars = [
+            ("--hdr-out", &self.hdr_out, "hdr"),
+            ("--exr-out", &self.exr_out, "exr"),
+            ("--camera-out", &self.camera_out, "json"),
+        ];
+        for (flag, path, extension) in sidecars {
+            let Some(path) = path else { continue };
+            let fits = path
+                .extension()
+                .is_some_and(|e| e.eq_ignore_ascii_case(extension));
+            if !fits {
+                return Err(usage(format!(
+                    "{flag} writes .{extension} files; {} does not end in .{extension}",
+                    path.display()
+                )));
+            }
+            if no_write {
+                return Err(usage(format!(
+                    "{flag} writes a file for every frame; leave out --no-write"
+                )));
+            }
+        }
+        if self.resume && no_write {
+            return Err(usage(
+                "--resume skips frames whose files are written; --no-write writes none",
+            ));
+        }
+        Ok(())
+    }
+
+    /// Whether frames must read back their linear radiance.
+    pub fn needs_radiance(&self) -> bool {
+        self.hdr_out.is_some() || self.needs_gbuffer() || self.bit_depth == 16
+    }
+
+    /// Whether frames must keep and read back the G-buffer.
+    pub fn needs_gbuffer(&self) -> bool {
+        self.exr_out.is_some() || is_exr(&self.out)
+    }
+
+    /// Every file frame `index` (0-based) of `frames` writes.
+    pub fn paths(&self, index: u32, frames: u32) -> Vec<PathBuf> {
+        self.kinds()
+            .map(|(_, base)| frame_path(base, index, frames))
+            .collect()
+    }
+
+    /// Whether every file of frame `index` is already there (for `--resume`).
+    pub fn written(&self, index: u32, frames: u32) -> bool {
+        self.paths(index, frames).iter().all(|p| p.is_file())
+    }
+
+    /// These outputs with `tag` joined to every file's stem (`frame.png` -> `frame_TAG.png`):
+    /// one scene's or one camera's files in a batch.
+    pub fn tagged(&self, tag: &str) -> FileArgs {
+        let tag_path = |p: &Path| {
+            let stem = p.file_stem().map_or("frame".into(), |s| s.to_string_lossy());
+            let name = match p.extension() {
+                Some(ext) => format!("{stem}_{tag}.{}", ext.to_string_lossy()),
+                None => format!("{stem}_{tag}"),
+            };
+            p.with_file_name(name)
+        };
+        FileArgs {
+            out: tag_path(&self.out),
+            hdr_out: self.hdr_out.as_deref().map(tag_path),
+            exr_out: self.exr_out.as_deref().map(tag_path),
+            camera_out: self.camera_out.as_deref().map(tag_path),
+            ..self.clone()
+        }
+    }
+
+    /// Writes every file of frame `index` of `frames`, drawn through `camera` and tone mapped
+    /// with `tone`.
+    pub fn write(
+        &self,
+        frame: &FrameOutput,
+        index: u32,
+        frames: u32,
+        camera: &Camera,
+        tone: &ToneMapping,
+    ) -> anyhow::Result<()> {
+        for (kind, base) in self.kinds() {
+            let bytes = match kind {
+                FileKind::Image if is_exr(base) => encode_exr(frame, camera)?,
+                FileKind::Image if self.bit_depth == 16 => frame_encoders::png16(frame, tone)?,
+                FileKind::Image => frame_encoders::png8(frame)?,
+                FileKind::Hdr => frame_encoders::hdr(frame)?,
+                FileKind::Exr => encode_exr(frame, camera)?,
+                FileKind::Camera => {
+                    let value = camera_json(camera, index + 1, frame.width, frame.height);
+                    let mut text = value.to_string();
+                    text.push('\n');
+                    Some(text.into_bytes())
+                }
+            };
+            if let Some(bytes) = bytes {
+                write_whole(&frame_path(base, index, frames), &bytes)?;
+            }
+        }
+        Ok(())
+    }
+
+    fn kinds(&self) -> impl Iterator<Item = (FileKind, &Path)> {
+        [
+            Some((FileKind::Image, self.out.as_path())),
+            self.hdr_out.as_deref().map(|p| (FileKind::Hdr, p)),
+            self.exr_out.as_deref().map(|p| (FileKind::Exr, p)),
+            self.camera_out.as_deref().map(|p| (FileKind::Camera, p)),
+        ]
+        .into_iter()
+        .flatten()
+    }
+}
+
+/// The file frame `index` (0-based) of `frames` is written to: `out` itself for one frame, else
+/// `STEM_000k.EXT` beside it.
+pub fn frame_path(out: &Path, index: u32, frames: u32) -> PathBuf {
+    if frames == 1 {
+        return out.to_path_buf();
+    }
+    let stem = out
+        .file_stem()
+        .map_or("frame".into(), |s| s.to_string_lossy());
+    let ext = out
+        .extension()
+        .map_or("png".into(), |e| e.to_string_lossy());
+    out.with_file_name(format!("{stem}_{:04}.{ext}", index + 1))
+}
+
+/// The hidden name `path` is written under until it is whole.
+pub fn partial_path(path: &Path) -> PathBuf {
+    let name = path
+        .file_name()
+        .map_or("frame".into(), |n| n.to_string_lossy());
+    path.with_file_name(format!(".{name}.partial"))
+}
+
+/// Writes `bytes` to `path` through its partial name, flushed to the disk before the rename, so
+/// `path` holds either nothing (or its old contents) or all of `bytes`.
+fn write_whole(path: &Path, bytes: &[u8]) -> anyhow::Result<()> {
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+    }
+    let partial = partial_path(path);
+    let written = fs::File::create(&partial).and_then(|mut file| {
+        file.write_all(bytes)?;
+        file.sync_all()
+    });
+    if let Err(e) = written.and_then(|()| fs::rename(&partial, path)) {
+        // What was written so far is useless; the error is about `path`, not the leftover.
+        let _ = fs::remove_file(&partial);
+        return Err(e).with_context(|| format!("writing {}", path.display()));
+    }
+    Ok(())
+}
+
+/// `--bit-depth`'s value.
+fn bit_depth(text: &str) -> Result<u8, String> {
+    match text {
+        "8" => Ok(8),
+        "16" => Ok(16),
+        _ => Err("PNGs are written with 8 or 16 bits per channel".into()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn args(out: &str) -> FileArgs {
+        FileArgs {
+            out: out.into(),
+            bit_depth: 8,
+            hdr_out: Some("radiance/frame.hdr".into()),
+            exr_out: None,
+            camera_out: Some("frame.json".into()),
+            resume: false,
+        }
+    }
+
+    #[test]
+    fn a_sequence_numbers_its_files_beside_the_output() {
+        let out = Path::new("shots/frame.png");
+        assert_eq!(frame_path(out, 0, 1), PathBuf::from("shots/frame.png"));
+        assert_eq!(
+            frame_path(out, 0, 60),
+            PathBuf::from("shots/frame_0001.png")
+        );
+        assert_eq!(
+            frame_path(out, 59, 60),
+            PathBuf::from("shots/frame_0060.png")
+        );
+    }
+
+    #[test]
+    fn a_tag_goes_into_every_files_stem() {
+        let tagged = args("shots/frame.png").tagged("box");
+        assert_eq!(
+            tagged.paths(2, 10),
+            [
+                PathBuf::from("shots/frame_box_0003.png"),
+                PathBuf::from("radiance/frame_box_0003.hdr"),
+                PathBuf::from("frame_box_0003.json"),
+            ]
+        );
+    }
+
+    #[test]
+    fn a_file_is_whole_or_absent_and_no_partial_stays() {
+        let dir = std::env::temp_dir().join(format!("relief-frame-files-{}", std::process::id()));
+        let _ = fs::remove_dir_all(&dir);
+        let path = dir.join("sub").join("frame.png");
+        write_whole(&path, b"first").expect("writes");
+        write_whole(&path, b"second, longer").expect("replaces");
+        assert_eq!(fs::read(&path).expect("reads"), b"second, longer");
+        assert!(!partial_path(&path).exists());
+        // A directory where the file should go: the rename fails, the partial is removed.
+        let blocked = dir.join("blocked.png");
+        fs::create_dir_all(blocked.join("inside")).expect("makes the obstacle");
+        assert!(write_whole(&blocked, b"bytes").is_err());
+        assert!(!partial_path(&blocked).exists());
+        fs::remove_dir_all(&dir).expect("cleans up");
+    }
+}
