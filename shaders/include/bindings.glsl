@@ -32,6 +32,8 @@ layout(set = 0, binding = BINDING_FRAME, std140) uniform Frame {
     ivec4 light_shadows[MAX_LIGHTS];  // x: first tile, y: tiles (0: no map), z: filter
     ShadowTile shadow_tiles[MAX_SHADOW_TILES];
     vec4 view_depth;   // dot(xyz, p) + w: world point p's depth along the camera's axis
+    mat4 previous_view_proj;  // the previous frame's view_proj (the G-buffer's motion)
+    vec4 viewport;     // xy: the frame's size in pixels
 } frame;
 
 #ifndef PLAIN_SURFACE

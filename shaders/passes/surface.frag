@@ -55,6 +55,8 @@ layout(location = 0) out vec4 out_color;
 // attachments (a write without one is dropped).
 layout(location = 1) out vec4 out_gbuffer_normal;
 layout(location = 2) out uvec4 out_gbuffer_surface;
+layout(location = 3) out vec4 out_gbuffer_material;
+layout(location = 4) out vec4 out_gbuffer_motion;
 #ifndef PLAIN_SURFACE
 // The written depth is only ever behind the polygon's (see main), so the rasterizer may still
 // reject fragments early against the polygon's depth.
@@ -190,6 +192,10 @@ void shade() {
     vec3 v = -view;
     vec3 color = ambient_light(base.rgb, roughness, metallic, normal, v, occlusion) + emissive;
     vec4 probe = vec4(0.0, 0.0, 0.0, 1.0);
+    // The G-buffer's shadow: the direct light arriving, each light weighed by how much of it
+    // the surface would receive unshadowed.
+    float direct_unshadowed = 0.0;
+    float direct_arriving = 0.0;
     for (int i = 0; i < min(frame.counts.x, MAX_LIGHTS); ++i) {
         float attenuation;
         vec3 l = light_toward(i, world, attenuation);
@@ -243,11 +249,22 @@ void shade() {
         }
         vec3 radiance = frame.lights[i].color.rgb * (attenuation * lit_map * lit_self);
         color += shade_ggx(base.rgb, roughness, metallic, normal, v, l, radiance);
+        float weight = dot(frame.lights[i].color.rgb, vec3(0.2126, 0.7152, 0.0722))
+                     * attenuation * max(dot(normal, l), 0.0);
+        direct_unshadowed += weight;
+        direct_arriving += weight * lit_map * lit_self;
     }
     out_gbuffer_normal = vec4(normal, 1.0);
     uint surface_ids = (draw.extra.y & 0xffffu) | (min(traced_steps, 0xffffu) << 16);
     float view_depth = dot(frame.view_depth.xyz, world) + frame.view_depth.w;
     out_gbuffer_surface = uvec4(floatBitsToUint(uv0), floatBitsToUint(view_depth), surface_ids);
+    out_gbuffer_material = vec4(base.rgb, occlusion);
+    // Screen motion of the surface point itself (the hit, not the polygon), in pixels.
+    vec4 now = frame.view_proj * vec4(world, 1.0);
+    vec4 before = frame.previous_view_proj * vec4(world, 1.0);
+    vec2 motion = (now.xy / now.w - before.xy / before.w) * 0.5 * frame.viewport.xy;
+    float lit = direct_unshadowed > 0.0 ? direct_arriving / direct_unshadowed : 1.0;
+    out_gbuffer_motion = vec4(motion, lit, 0.0);
     if (frame.counts.y > 0) {
         out_color = probe;
         return;

@@ -1,6 +1,6 @@
 //! `relief render --exr-out` (or `--out FILE.exr`): a frame as one OpenEXR file, the linear
-//! radiance beside the surface pass's G-buffer, every channel 32 bits, with the camera in its
-//! header.
+//! radiance beside the render outputs (`aov`), every channel 32 bits, with the camera and the
+//! colour space in its header.
 
 use std::io::Cursor;
 use std::path::Path;
@@ -14,6 +14,8 @@ use glam::Mat4;
 use relief::render::FrameOutput;
 use relief::scene::{Camera, Projection};
 
+use super::aov::{Layer, LayerSource};
+
 /// The header attribute holding relief's own view-projection (column-major, right-handed
 /// world, Vulkan clip space: y down, depth 0 to 1), beside the standard `worldToCamera`.
 pub const VIEW_PROJECTION_ATTRIBUTE: &str = "reliefViewProjection";
@@ -24,37 +26,31 @@ pub fn is_exr(path: &Path) -> bool {
         .is_some_and(|e| e.eq_ignore_ascii_case("exr"))
 }
 
-/// `frame`'s radiance and G-buffer (both read back), seen by `camera`, as the bytes of one
-/// OpenEXR file; `None` when either is missing.
-pub fn encode_exr(frame: &FrameOutput, camera: &Camera) -> anyhow::Result<Option<Vec<u8>>> {
-    let (Some(radiance), Some(g)) = (&frame.radiance, &frame.gbuffer) else {
+/// `frame`'s radiance and the G-buffer's `layers` (both read back), seen by `camera`, as the
+/// bytes of one OpenEXR file; `None` when either is missing.
+pub fn encode_exr(
+    frame: &FrameOutput,
+    layers: &[Layer],
+    camera: &Camera,
+    mesh_materials: &[usize],
+) -> anyhow::Result<Option<Vec<u8>>> {
+    let (Some(radiance), Some(gbuffer)) = (&frame.radiance, &frame.gbuffer) else {
         return Ok(None);
     };
-    let float = |name: &str, values: Vec<f32>| AnyChannel::new(name, FlatSamples::F32(values));
-    let uint = |name: &str, values: Vec<u32>| AnyChannel::new(name, FlatSamples::U32(values));
+    let source = LayerSource {
+        gbuffer,
+        camera,
+        mesh_materials,
+    };
     let rgba = |c: usize| radiance.iter().map(|p| p[c]).collect::<Vec<f32>>();
-    let normal = |c: usize| g.normal.iter().map(|n| n[c]).collect::<Vec<f32>>();
-    let uv = |c: usize| g.uv.iter().map(|t| t[c]).collect::<Vec<f32>>();
-    let positions = g.positions(camera);
-    let position = |c: usize| positions.iter().map(|p| p[c]).collect::<Vec<f32>>();
-    let channels = vec![
-        float("R", rgba(0)),
-        float("G", rgba(1)),
-        float("B", rgba(2)),
-        float("A", rgba(3)),
-        float("Z", g.depth.clone()),
-        float("P.X", position(0)),
-        float("P.Y", position(1)),
-        float("P.Z", position(2)),
-        float("N.X", normal(0)),
-        float("N.Y", normal(1)),
-        float("N.Z", normal(2)),
-        float("coverage", g.coverage.clone()),
-        float("uv.U", uv(0)),
-        float("uv.V", uv(1)),
-        uint("id", g.mesh.clone()),
-        uint("steps", g.steps.clone()),
-    ];
+    let mut channels: Vec<_> = ["R", "G", "B", "A"]
+        .iter()
+        .enumerate()
+        .map(|(c, name)| AnyChannel::new(*name, FlatSamples::F32(rgba(c))))
+        .collect();
+    for &layer in layers {
+        channels.extend(source.channels(layer));
+    }
     let size = (frame.width as usize, frame.height as usize);
     let mut image = Image::from_channels(size, AnyChannels::sort(channels.into()));
     describe_camera(&mut image.layer_data.attributes, camera, frame);

@@ -1,6 +1,6 @@
 //! The files each frame of `relief render` leaves: its image (8- or 16-bit PNG, or OpenEXR) and
-//! the sidecars the flags ask for (a Radiance `.hdr`, an OpenEXR with the G-buffer, the camera
-//! as JSON). Each is written whole under a hidden temporary name beside its place and renamed
+//! the sidecars the flags ask for (a Radiance `.hdr`, an OpenEXR with the render outputs, 16-bit
+//! PNGs of the scalar outputs, the camera as JSON). Each is written whole under a hidden temporary name beside its place and renamed
 //! into it, so a run killed mid-frame leaves no truncated file for `--resume` to take as done.
 
 use std::fs;
@@ -12,6 +12,7 @@ use clap::Args;
 use relief::render::{FrameOutput, ToneMapping};
 use relief::scene::Camera;
 
+use super::aov::{Layer, LayerSource};
 use super::camera_sidecar::camera_json;
 use super::exr_out::{encode_exr, is_exr};
 use super::frame_encoders;
@@ -33,13 +34,22 @@ pub struct FileArgs {
     #[arg(long, value_name = "FILE.hdr")]
     pub hdr_out: Option<PathBuf>,
     /// Also write each frame as an OpenEXR file, named like the PNGs: the linear radiance (R, G,
-    /// B, A) and the surface pass's G-buffer: Z (linear view depth of the displaced hit, along the
-    /// camera's axis; infinite where nothing was drawn), P.X, P.Y, P.Z (world position,
-    /// unprojected from Z), N.X, N.Y, N.Z (world shading normal), coverage, uv.U, uv.V (texture
-    /// coordinates at the hit), id (scene mesh index + 1, 0 for none) and steps (the view ray's
-    /// steps through its height field). The header holds the camera.
+    /// B, A) and the render outputs --aov chooses (default all): Z (linear view depth of the
+    /// displaced hit, along the camera's axis; infinite where nothing was drawn), P.X, P.Y, P.Z
+    /// (world position), N.X, N.Y, N.Z (world shading normal), uv.U, uv.V (texture coordinates at
+    /// the hit), albedo.R, albedo.G, albedo.B, material, id (scene mesh index + 1, 0 for none),
+    /// steps (the view ray's steps through its height field), shadow, ao, coverage, motion.X,
+    /// motion.Y (pixels since the previous frame). The header holds the camera.
     #[arg(long, value_name = "FILE.exr")]
     pub exr_out: Option<PathBuf>,
+    /// The render outputs the OpenEXR files (and --aov-png) hold, comma-separated: depth,
+    /// position, normal, uv, albedo, material, object, steps, shadow, ao, coverage, motion.
+    #[arg(long, value_name = "LAYERS", value_delimiter = ',', value_enum)]
+    pub aov: Vec<Layer>,
+    /// Also write each scalar render output (depth, material, object, steps, shadow, ao,
+    /// coverage) as a 16-bit greyscale PNG beside the image, named STEM.LAYER.png.
+    #[arg(long)]
+    pub aov_png: bool,
     /// Also write each frame's camera as JSON, named like the PNGs: view, projection and
     /// view-projection matrices, camera-to-world, eye, near and far planes, lens and image size.
     #[arg(long, value_name = "FILE.json")]
@@ -56,7 +66,18 @@ enum FileKind {
     Image,
     Hdr,
     Exr,
+    LayerPng(Layer),
     Camera,
+}
+
+/// What a frame's files are made from besides its pixels.
+pub struct FrameView<'a> {
+    /// The camera it was drawn through.
+    pub camera: Camera,
+    /// The tone curve and exposure the GPU applied.
+    pub tone: ToneMapping,
+    /// Each scene mesh's material index (the material layer).
+    pub mesh_materials: &'a [usize],
 }
 
 impl FileArgs {
@@ -76,18 +97,18 @@ impl FileArgs {
             ));
         }
         let sidecars = [
-            ("--hdr-out", &self.hdr_out, "hdr"),
-            ("--exr-out", &self.exr_out, "exr"),
-            ("--camera-out", &self.camera_out, "json"),
+            ("--hdr-out", &self.hdr_out, "hdr", "Radiance"),
+            ("--exr-out", &self.exr_out, "exr", "OpenEXR"),
+            ("--camera-out", &self.camera_out, "json", "JSON"),
         ];
-        for (flag, path, extension) in sidecars {
+        for (flag, path, extension, kind) in sidecars {
             let Some(path) = path else { continue };
             let fits = path
                 .extension()
                 .is_some_and(|e| e.eq_ignore_ascii_case(extension));
             if !fits {
                 return Err(usage(format!(
-                    "{flag} writes .{extension} files; {} does not end in .{extension}",
+                    "{flag} writes {kind} .{extension} files; {} does not end in .{extension}",
                     path.display()
                 )));
             }
@@ -96,6 +117,27 @@ impl FileArgs {
                     "{flag} writes a file for every frame; leave out --no-write"
                 )));
             }
+        }
+        let exr = exr_out || self.exr_out.is_some();
+        if !self.aov.is_empty() && !exr && !self.aov_png {
+            return Err(usage(
+                "--aov chooses the layers of OpenEXR frames and --aov-png; give --exr-out FILE.exr, --out FILE.exr or --aov-png",
+            ));
+        }
+        if self.aov_png && !self.layers().iter().any(|l| l.scalar()) {
+            return Err(usage(
+                "--aov-png writes the scalar layers (depth, material, object, steps, shadow, ao, coverage); --aov chose none",
+            ));
+        }
+        if self.aov_png && supersampled {
+            return Err(usage(
+                "--aov-png reads the G-buffer at the frame's size, one entry per pixel; leave out --supersample",
+            ));
+        }
+        if self.aov_png && no_write {
+            return Err(usage(
+                "--aov-png writes files for every frame; leave out --no-write",
+            ));
         }
         if self.resume && no_write {
             return Err(usage(
@@ -112,13 +154,25 @@ impl FileArgs {
 
     /// Whether frames must keep and read back the G-buffer.
     pub fn needs_gbuffer(&self) -> bool {
-        self.exr_out.is_some() || is_exr(&self.out)
+        self.exr_out.is_some() || is_exr(&self.out) || self.aov_png
+    }
+
+    /// The render outputs chosen: --aov's, in the documented order, or every one.
+    fn layers(&self) -> Vec<Layer> {
+        if self.aov.is_empty() {
+            return Layer::ALL.to_vec();
+        }
+        let mut layers = self.aov.clone();
+        layers.sort_unstable();
+        layers.dedup();
+        layers
     }
 
     /// Every file frame `index` (0-based) of `frames` writes.
     pub fn paths(&self, index: u32, frames: u32) -> Vec<PathBuf> {
         self.kinds()
-            .map(|(_, base)| frame_path(base, index, frames))
+            .into_iter()
+            .map(|(kind, base)| file_path(kind, base, index, frames))
             .collect()
     }
 
@@ -131,7 +185,9 @@ impl FileArgs {
     /// one scene's or one camera's files in a batch.
     pub fn tagged(&self, tag: &str) -> FileArgs {
         let tag_path = |p: &Path| {
-            let stem = p.file_stem().map_or("frame".into(), |s| s.to_string_lossy());
+            let stem = p
+                .file_stem()
+                .map_or("frame".into(), |s| s.to_string_lossy());
             let name = match p.extension() {
                 Some(ext) => format!("{stem}_{tag}.{}", ext.to_string_lossy()),
                 None => format!("{stem}_{tag}"),
@@ -147,47 +203,78 @@ impl FileArgs {
         }
     }
 
-    /// Writes every file of frame `index` of `frames`, drawn through `camera` and tone mapped
-    /// with `tone`.
+    /// Writes every file of frame `index` of `frames`.
     pub fn write(
         &self,
         frame: &FrameOutput,
         index: u32,
         frames: u32,
-        camera: &Camera,
-        tone: &ToneMapping,
+        view: &FrameView,
     ) -> anyhow::Result<()> {
+        let layers = self.layers();
+        let exr = || encode_exr(frame, &layers, &view.camera, view.mesh_materials);
         for (kind, base) in self.kinds() {
             let bytes = match kind {
-                FileKind::Image if is_exr(base) => encode_exr(frame, camera)?,
-                FileKind::Image if self.bit_depth == 16 => frame_encoders::png16(frame, tone)?,
+                FileKind::Image if is_exr(base) => exr()?,
+                FileKind::Image if self.bit_depth == 16 => {
+                    frame_encoders::png16(frame, &view.tone)?
+                }
                 FileKind::Image => frame_encoders::png8(frame)?,
                 FileKind::Hdr => frame_encoders::hdr(frame)?,
-                FileKind::Exr => encode_exr(frame, camera)?,
+                FileKind::Exr => exr()?,
+                FileKind::LayerPng(layer) => {
+                    let values = frame.gbuffer.as_ref().and_then(|gbuffer| {
+                        let source = LayerSource {
+                            gbuffer,
+                            camera: &view.camera,
+                            mesh_materials: view.mesh_materials,
+                        };
+                        source.png_values(layer)
+                    });
+                    match values {
+                        Some(v) => Some(frame_encoders::grey16(&v, frame.width, frame.height)?),
+                        None => None,
+                    }
+                }
                 FileKind::Camera => {
-                    let value = camera_json(camera, index + 1, frame.width, frame.height);
+                    let value = camera_json(&view.camera, index + 1, frame.width, frame.height);
                     let mut text = value.to_string();
                     text.push('\n');
                     Some(text.into_bytes())
                 }
             };
             if let Some(bytes) = bytes {
-                write_whole(&frame_path(base, index, frames), &bytes)?;
+                write_whole(&file_path(kind, base, index, frames), &bytes)?;
             }
         }
         Ok(())
     }
 
-    fn kinds(&self) -> impl Iterator<Item = (FileKind, &Path)> {
-        [
-            Some((FileKind::Image, self.out.as_path())),
-            self.hdr_out.as_deref().map(|p| (FileKind::Hdr, p)),
-            self.exr_out.as_deref().map(|p| (FileKind::Exr, p)),
-            self.camera_out.as_deref().map(|p| (FileKind::Camera, p)),
-        ]
-        .into_iter()
-        .flatten()
+    /// Each file a frame writes, with the path its name is made from.
+    fn kinds(&self) -> Vec<(FileKind, &Path)> {
+        let mut kinds = vec![(FileKind::Image, self.out.as_path())];
+        kinds.extend(self.hdr_out.as_deref().map(|p| (FileKind::Hdr, p)));
+        kinds.extend(self.exr_out.as_deref().map(|p| (FileKind::Exr, p)));
+        if self.aov_png {
+            let scalar = self.layers().into_iter().filter(|l| l.scalar());
+            kinds.extend(scalar.map(|l| (FileKind::LayerPng(l), self.out.as_path())));
+        }
+        kinds.extend(self.camera_out.as_deref().map(|p| (FileKind::Camera, p)));
+        kinds
     }
+}
+
+/// Where a file of `kind` made from `base` goes for frame `index` of `frames`: a layer's PNG is
+/// `STEM.LAYER.png` beside the frame's image.
+fn file_path(kind: FileKind, base: &Path, index: u32, frames: u32) -> PathBuf {
+    let path = frame_path(base, index, frames);
+    let FileKind::LayerPng(layer) = kind else {
+        return path;
+    };
+    let stem = path
+        .file_stem()
+        .map_or("frame".into(), |s| s.to_string_lossy());
+    path.with_file_name(format!("{stem}.{layer}.png"))
 }
 
 /// The file frame `index` (0-based) of `frames` is written to: `out` itself for one frame, else
@@ -252,6 +339,8 @@ mod tests {
             hdr_out: Some("radiance/frame.hdr".into()),
             exr_out: None,
             camera_out: Some("frame.json".into()),
+            aov: vec![Layer::Shadow, Layer::Normal, Layer::Depth],
+            aov_png: true,
             resume: false,
         }
     }
@@ -278,6 +367,8 @@ mod tests {
             [
                 PathBuf::from("shots/frame_box_0003.png"),
                 PathBuf::from("radiance/frame_box_0003.hdr"),
+                PathBuf::from("shots/frame_box_0003.depth.png"),
+                PathBuf::from("shots/frame_box_0003.shadow.png"),
                 PathBuf::from("frame_box_0003.json"),
             ]
         );

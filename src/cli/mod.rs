@@ -3,6 +3,7 @@
 //! Vulkan device (with the install line).
 
 mod ao;
+mod aov;
 mod bench;
 mod bench_args;
 mod bench_compare;

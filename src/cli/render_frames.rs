@@ -8,16 +8,16 @@ use std::sync::Arc;
 
 use anyhow::Context as _;
 use clap::Args;
-use serde::Serialize;
 use glam::Vec3;
 use relief::render::{
     explain, sequence_stats, FrameOutput, FrameRequest, PassTiming, Renderer, SequenceStats,
 };
 use relief::scene::{Camera, Scene};
 use relief::vk::{Context, LiveObjects, ObjectCounts};
+use serde::Serialize;
 use serde_json::json;
 
-use super::frame_files::{frame_path, FileArgs};
+use super::frame_files::{frame_path, FileArgs, FrameView};
 use super::frame_progress::FrameProgress;
 use super::frame_range::FrameRange;
 use super::render::RenderArgs;
@@ -158,6 +158,7 @@ fn draw_all(
     ctx: &Context,
     renderer: &mut Renderer,
     path: &CameraPath,
+    scene: &Scene,
     mut edits: Option<&mut TerrainEdits>,
 ) -> anyhow::Result<Drawn> {
     let lists = edits.as_ref().map_or(0, |e| e.frames_needed() - 1);
@@ -178,6 +179,7 @@ fn draw_all(
     (0..skipped).for_each(|_| progress.advance());
     let mut records = Vec::new();
     let read_back = !args.frames.no_write;
+    let mesh_materials: Vec<usize> = scene.meshes.iter().map(|m| m.material).collect();
     let tone = renderer.plan().tone_mapping;
     let mut timings = Vec::with_capacity(kept.len());
     // The sequence frame of each submission, by the renderer's frame index.
@@ -186,7 +188,12 @@ fn draw_all(
         let k = submitted[frame.index as usize];
         if wanted(k) {
             if read_back {
-                files.write(&frame, k, frames, &path.at(k, frames), &tone)?;
+                let view = FrameView {
+                    camera: path.at(k, frames),
+                    tone,
+                    mesh_materials: &mesh_materials,
+                };
+                files.write(&frame, k, frames, &view)?;
             }
             timings.push(frame.timings);
             progress.advance();
@@ -209,6 +216,8 @@ fn draw_all(
             camera: path.at(k, frames),
             read_back: read_back && wanted(k),
         };
+        // Motion is measured from the sequence's previous frame, drawn or not.
+        renderer.set_motion_origin(path.at(k.saturating_sub(1), frames));
         submitted.push(k);
         let retired = renderer
             .submit(&request)
@@ -247,7 +256,15 @@ pub fn run_frames(
 ) -> anyhow::Result<SceneSummary> {
     let path = CameraPath::choose(&args.frames, renderer, &loaded.scene)?;
     let edited = loaded.edits.is_some();
-    let drawn = draw_all(args, files, ctx, renderer, &path, loaded.edits.as_mut())?;
+    let drawn = draw_all(
+        args,
+        files,
+        ctx,
+        renderer,
+        &path,
+        &loaded.scene,
+        loaded.edits.as_mut(),
+    )?;
     let source = loaded.source.as_str();
     let stats = sequence_stats(&drawn.timings);
     let summary = SceneSummary::of(&drawn, &stats, args.frames.no_write);

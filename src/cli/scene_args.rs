@@ -13,7 +13,8 @@ use relief::render::{
     HeightFormat, RenderOptions, ToneMap, ToneMapping, MAX_SUPERSAMPLE, SAMPLE_COUNTS,
 };
 use relief::scene::{
-    default_heightfield, default_scene, load_gltf_with_report, Scene, SceneOptions, DEFAULT_SCENE_METHOD,
+    default_heightfield, default_scene, load_gltf_with_report, Scene, SceneOptions,
+    DEFAULT_SCENE_METHOD,
 };
 use relief::vk::Context;
 

@@ -71,9 +71,14 @@ pub struct FrameUniforms {
     /// The plane of linear view depth: `dot(xyz, p) + w` is world point p's distance along the
     /// camera's axis (the G-buffer's depth).
     pub view_depth: [f32; 4],
+    /// The previous frame's world to clip space (the G-buffer's motion is measured against it);
+    /// the frame's own when there is none.
+    pub previous_view_proj: [[f32; 4]; 4],
+    /// x, y: the frame's size in pixels; z, w: unused.
+    pub viewport: [f32; 4],
 }
 const _: () =
-    assert!(std::mem::size_of::<FrameUniforms>() == 144 + 80 * MAX_LIGHTS + 112 * MAX_SHADOW_TILES);
+    assert!(std::mem::size_of::<FrameUniforms>() == 224 + 80 * MAX_LIGHTS + 112 * MAX_SHADOW_TILES);
 
 /// Ambient radiance: a dim sky so unlit sides keep their shape.
 const AMBIENT: [f32; 4] = [0.09, 0.1, 0.12, 0.0];
@@ -121,8 +126,9 @@ impl FrameUniforms {
         // A right-handed view looks down its -z; a scaled view still measures world units.
         let row = -camera.view.row(2);
         let axis = row / row.truncate().length().max(f32::MIN_POSITIVE);
+        let view_proj = camera.view_projection(aspect).to_cols_array_2d();
         let mut out = FrameUniforms {
-            view_proj: camera.view_projection(aspect).to_cols_array_2d(),
+            view_proj,
             eye: [eye.x, eye.y, eye.z, 1.0],
             ambient: AMBIENT,
             height_info: [0.0; 4],
@@ -131,6 +137,8 @@ impl FrameUniforms {
             light_shadows: [[0; 4]; MAX_LIGHTS],
             shadow_tiles: [ShadowTileUniform::default(); MAX_SHADOW_TILES],
             view_depth: axis.to_array(),
+            previous_view_proj: view_proj,
+            viewport: [0.0; 4],
         };
         for (slot, light) in out.lights.iter_mut().zip(lights) {
             *slot = LightUniform::of(light);

@@ -1,11 +1,14 @@
 //! The G-buffer: what the surface pass writes beside the radiance when a frame asks for it, from
-//! the very trace that shades each pixel (`shaders/passes/surface.frag`): the shading normal, and
-//! the hit's uv, its depth along the camera's axis, the mesh drawn and the steps its trace took. Read
-//! back as [`GBufferChannels`], written by `relief render --exr-out` as layers beside the beauty.
+//! the very trace that shades each pixel (`shaders/passes/surface.frag`): the shading normal; the
+//! hit's uv, its depth along the camera's axis, the mesh drawn and the steps its trace took; the
+//! albedo and ambient occlusion it was shaded with; the share of its direct light no shadow
+//! blocked; and its motion on screen since the previous frame. Read back as
+//! [`GBufferChannels`], written by `relief render --exr-out` as layers beside the beauty.
 //!
-//! With MSAA the normal is averaged over a pixel's samples (with a coverage channel), and the
-//! rest comes from one sample, unfiltered, as compositors want depth and ids: the integer
-//! channel is resolved with sample zero, which Vulkan allows for integer formats only.
+//! With MSAA the float channels are averaged over a pixel's samples and divided by its coverage
+//! (so an edge pixel holds the mean of its covered samples), and the integer channel comes from
+//! sample zero, unfiltered, as compositors want depth and ids: Vulkan resolves integer formats
+//! with one sample only, and float formats only by averaging.
 
 use std::sync::Arc;
 
@@ -19,15 +22,58 @@ use crate::vk::{
     ImageDesc, ImageTransition, Readback, Recording, VkResult,
 };
 
-/// The normal channel: world-space shading normal (xyz) and coverage (w, 1 where a surface was
-/// drawn).
-pub const GBUFFER_NORMAL_FORMAT: vk::Format = vk::Format::R16G16B16A16_SFLOAT;
-/// The surface channel, as bits: uv0 at the hit (x, y: f32 bits), its depth along the camera's
-/// axis (z: f32 bits), the mesh (w, low 16 bits: scene mesh index + 1, 0 for none) and the trace's
-/// steps (w, high 16 bits).
-pub const GBUFFER_SURFACE_FORMAT: vk::Format = vk::Format::R32G32B32A32_UINT;
-/// The G-buffer's attachments after the radiance, in location order (1, 2).
-pub const GBUFFER_FORMATS: [vk::Format; 2] = [GBUFFER_NORMAL_FORMAT, GBUFFER_SURFACE_FORMAT];
+/// One attachment of the G-buffer.
+struct ChannelSpec {
+    format: vk::Format,
+    name: &'static str,
+    /// Bytes per texel of its read-back.
+    bytes: u64,
+    /// Integer channels take sample zero; float ones are averaged.
+    integer: bool,
+}
+
+/// The G-buffer's attachments after the radiance, in location order (1 to 4).
+const CHANNELS: [ChannelSpec; 4] = [
+    // World-space shading normal (xyz) and coverage (w, 1 where a surface was drawn).
+    ChannelSpec {
+        format: vk::Format::R16G16B16A16_SFLOAT,
+        name: "normal",
+        bytes: 8,
+        integer: false,
+    },
+    // As bits: uv0 at the hit (x, y: f32 bits), its depth along the camera's axis (z: f32
+    // bits), the mesh (w, low 16 bits: scene mesh index + 1, 0 for none) and the trace's steps
+    // (w, high 16 bits).
+    ChannelSpec {
+        format: vk::Format::R32G32B32A32_UINT,
+        name: "surface",
+        bytes: 16,
+        integer: true,
+    },
+    // Albedo, linear (xyz), and the ambient occlusion the ambient light was darkened by (w).
+    ChannelSpec {
+        format: vk::Format::R16G16B16A16_SFLOAT,
+        name: "material",
+        bytes: 8,
+        integer: false,
+    },
+    // Screen motion since the previous frame in pixels (xy: x right, y down), and the share of
+    // the direct light not shadowed (z).
+    ChannelSpec {
+        format: vk::Format::R16G16B16A16_SFLOAT,
+        name: "motion and shadow",
+        bytes: 8,
+        integer: false,
+    },
+];
+
+/// The G-buffer's attachment formats after the radiance, in location order (1 to 4).
+pub const GBUFFER_FORMATS: [vk::Format; 4] = [
+    CHANNELS[0].format,
+    CHANNELS[1].format,
+    CHANNELS[2].format,
+    CHANNELS[3].format,
+];
 
 /// The colour formats a scene pipeline draws after the radiance: the G-buffer's when the frame
 /// keeps it, else none.
@@ -61,6 +107,20 @@ pub struct GBufferChannels {
     pub mesh: Vec<u32>,
     /// Steps the pixel's view ray took through its height field (0 for plain meshes).
     pub steps: Vec<u32>,
+    /// Linear albedo (base colour times its texture and vertex colour, with terrain layers
+    /// mixed in) of the surface shown; zero where nothing was drawn.
+    pub albedo: Vec<[f32; 3]>,
+    /// The ambient occlusion the ambient light was darkened by (the material's occlusion texture
+    /// times the height field's own AO map), 1 for none; zero where nothing was drawn.
+    pub ao: Vec<f32>,
+    /// The share of the direct light reaching the surface that no shadow blocked: each light
+    /// facing it weighs by its luminance, attenuation and cosine; 1 where no light faces it,
+    /// zero where nothing was drawn.
+    pub shadow: Vec<f32>,
+    /// Where the surface point moved on screen since the previous frame, in pixels (x right, y
+    /// down): its pixel now less its pixel through the previous frame's camera; zero where
+    /// nothing was drawn and in a first frame.
+    pub motion: Vec<[f32; 2]>,
 }
 
 impl GBufferChannels {
@@ -98,25 +158,35 @@ impl GBufferChannels {
             .collect()
     }
 
-    /// Decodes the two read-back channels of a `width` x `height` frame.
-    pub fn decode(width: u32, height: u32, normal: &[u8], surface: &[u8]) -> GBufferChannels {
+    /// Decodes the read-back channels of a `width` x `height` frame, in location order (pixels
+    /// past the shortest channel are left out).
+    pub fn decode(width: u32, height: u32, channels: &[&[u8]]) -> GBufferChannels {
+        let channel = |k: usize| channels.get(k).copied().unwrap_or_default();
+        let (normal, surface, material, motion) = (channel(0), channel(1), channel(2), channel(3));
         let normal = half_floats_to_rgba(normal);
         let surface: Vec<u32> = bytemuck::pod_collect_to_vec(surface);
+        let material = half_floats_to_rgba(material);
+        let motion = half_floats_to_rgba(motion);
         let mut out = GBufferChannels {
             width,
             height,
             ..GBufferChannels::default()
         };
-        for (n, s) in normal.iter().zip(surface.chunks_exact(4)) {
+        let texels = normal.iter().zip(surface.chunks_exact(4));
+        for ((n, s), (m, v)) in texels.zip(material.iter().zip(&motion)) {
             let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
             let unit = if len > 0.0 {
                 [n[0] / len, n[1] / len, n[2] / len]
             } else {
                 [0.0; 3]
             };
+            let coverage = n[3];
+            // Averaged over all samples, uncovered ones cleared to zero: back to the mean of
+            // the covered ones.
+            let covered = |x: f32| if coverage > 0.0 { x / coverage } else { 0.0 };
             let mesh = s[3] & 0xffff;
             out.normal.push(unit);
-            out.coverage.push(n[3]);
+            out.coverage.push(coverage);
             out.uv.push([f32::from_bits(s[0]), f32::from_bits(s[1])]);
             out.depth.push(if mesh == 0 {
                 f32::INFINITY
@@ -125,6 +195,11 @@ impl GBufferChannels {
             });
             out.mesh.push(mesh);
             out.steps.push(s[3] >> 16);
+            out.albedo
+                .push([covered(m[0]), covered(m[1]), covered(m[2])]);
+            out.ao.push(covered(m[3]));
+            out.motion.push([covered(v[0]), covered(v[1])]);
+            out.shadow.push(covered(v[2]));
         }
         out
     }
@@ -133,9 +208,10 @@ impl GBufferChannels {
 /// The G-buffer's images: drawn into with the scene's samples, and with MSAA resolved into
 /// single-sample images when rendering ends.
 pub struct GBuffer {
-    normal: Image,
-    surface: Image,
-    resolved: Option<(Image, Image)>,
+    /// One image per channel, in location order.
+    drawn: Vec<Image>,
+    /// With MSAA, the resolve target of each; else empty.
+    resolved: Vec<Image>,
 }
 
 impl GBuffer {
@@ -149,28 +225,28 @@ impl GBuffer {
             usage: vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC,
             aspect: vk::ImageAspectFlags::COLOR,
         };
-        let drawn = |format, name: &str| {
-            Image::new_multisampled(ctx, desc(format), samples, &format!("g-buffer {name}"))
-        };
-        let normal = drawn(GBUFFER_NORMAL_FORMAT, "normal")?;
-        let surface = drawn(GBUFFER_SURFACE_FORMAT, "surface")?;
-        let resolved = (samples > 1)
-            .then(|| -> VkResult<_> {
-                Ok((
-                    Image::new(ctx, desc(GBUFFER_NORMAL_FORMAT), "g-buffer normal resolved")?,
+        let drawn = CHANNELS
+            .iter()
+            .map(|c| {
+                let name = format!("g-buffer {}", c.name);
+                Image::new_multisampled(ctx, desc(c.format), samples, &name)
+            })
+            .collect::<VkResult<Vec<_>>>()?;
+        let resolved = if samples > 1 {
+            CHANNELS
+                .iter()
+                .map(|c| {
                     Image::new(
                         ctx,
-                        desc(GBUFFER_SURFACE_FORMAT),
-                        "g-buffer surface resolved",
-                    )?,
-                ))
-            })
-            .transpose()?;
-        Ok(GBuffer {
-            normal,
-            surface,
-            resolved,
-        })
+                        desc(c.format),
+                        &format!("g-buffer {} resolved", c.name),
+                    )
+                })
+                .collect::<VkResult<Vec<_>>>()?
+        } else {
+            Vec::new()
+        };
+        Ok(GBuffer { drawn, resolved })
     }
 
     /// Every image into the colour attachment layout, old contents discarded; the previous
@@ -188,51 +264,58 @@ impl GBuffer {
             vk::ImageLayout::UNDEFINED,
             vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
         );
-        let mut images = vec![&self.normal, &self.surface];
-        if let Some((n, s)) = &self.resolved {
-            images.extend([n, s]);
-        }
-        images
-            .into_iter()
+        self.drawn
+            .iter()
+            .chain(&self.resolved)
             .map(|image| ImageTransition::color(image, layouts, before, attachment))
             .collect()
     }
 
-    /// The two attachments after the radiance, cleared to zero (nothing drawn).
-    pub fn targets(&self) -> [ColorTarget<'_>; 2] {
-        let resolved = self.resolved.as_ref();
-        [
-            ColorTarget {
-                image: &self.normal,
-                resolve: resolved.map(|(n, _)| (n, vk::ResolveModeFlags::AVERAGE)),
-                clear: vk::ClearColorValue { float32: [0.0; 4] },
-            },
-            ColorTarget {
-                image: &self.surface,
-                resolve: resolved.map(|(_, s)| (s, vk::ResolveModeFlags::SAMPLE_ZERO)),
-                clear: vk::ClearColorValue { uint32: [0; 4] },
-            },
-        ]
+    /// The attachments after the radiance, cleared to zero (nothing drawn).
+    pub fn targets(&self) -> Vec<ColorTarget<'_>> {
+        CHANNELS
+            .iter()
+            .zip(&self.drawn)
+            .enumerate()
+            .map(|(k, (c, image))| {
+                let mode = if c.integer {
+                    vk::ResolveModeFlags::SAMPLE_ZERO
+                } else {
+                    vk::ResolveModeFlags::AVERAGE
+                };
+                ColorTarget {
+                    image,
+                    resolve: self.resolved.get(k).map(|r| (r, mode)),
+                    clear: if c.integer {
+                        vk::ClearColorValue { uint32: [0; 4] }
+                    } else {
+                        vk::ClearColorValue { float32: [0.0; 4] }
+                    },
+                }
+            })
+            .collect()
     }
 
-    /// Bytes of the normal channel's read-back.
-    pub fn normal_bytes(&self) -> u64 {
-        let d = self.normal.desc();
-        u64::from(d.width) * u64::from(d.height) * 8
+    /// One read-back buffer per channel, in location order, named after `slot`.
+    pub fn readbacks(&self, ctx: &Arc<Context>, slot: &str) -> VkResult<Vec<Readback>> {
+        CHANNELS
+            .iter()
+            .zip(&self.drawn)
+            .map(|(c, image)| {
+                let d = image.desc();
+                let bytes = u64::from(d.width) * u64::from(d.height) * c.bytes;
+                Readback::new(ctx, bytes, &format!("{slot} g-buffer {} readback", c.name))
+            })
+            .collect()
     }
 
-    /// Bytes of the surface channel's read-back.
-    pub fn surface_bytes(&self) -> u64 {
-        let d = self.surface.desc();
-        u64::from(d.width) * u64::from(d.height) * 16
-    }
-
-    /// Copies the channels (resolved, with MSAA) into `normal` and `surface`, after the scene's
-    /// rendering has ended.
-    pub fn copy_out(&self, rec: &Recording, normal: &Readback, surface: &Readback) -> VkResult<()> {
-        let (n, s) = match &self.resolved {
-            Some((n, s)) => (n, s),
-            None => (&self.normal, &self.surface),
+    /// Copies the channels (resolved, with MSAA) into `into`, one buffer per channel in location
+    /// order, after the scene's rendering has ended.
+    pub fn copy_out(&self, rec: &Recording, into: &[Readback]) -> VkResult<()> {
+        let images = if self.resolved.is_empty() {
+            &self.drawn
+        } else {
+            &self.resolved
         };
         let layouts = (
             vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL,
@@ -246,16 +329,16 @@ impl GBuffer {
             vk::PipelineStageFlags2::COPY,
             vk::AccessFlags2::TRANSFER_READ,
         );
-        transition_images(
-            rec,
-            &[
-                ImageTransition::color(n, layouts, written, read),
-                ImageTransition::color(s, layouts, written, read),
-            ],
-        );
-        let d = n.desc();
-        normal.record_copy_from_image(rec, n, whole_color_region(d.width, d.height))?;
-        surface.record_copy_from_image(rec, s, whole_color_region(d.width, d.height))
+        let transitions: Vec<_> = images
+            .iter()
+            .map(|image| ImageTransition::color(image, layouts, written, read))
+            .collect();
+        transition_images(rec, &transitions);
+        for (image, buffer) in images.iter().zip(into) {
+            let d = image.desc();
+            buffer.record_copy_from_image(rec, image, whole_color_region(d.width, d.height))?;
+        }
+        Ok(())
     }
 }
 
@@ -287,14 +370,33 @@ mod tests {
             0,
             0,
         ];
+        // Half of the first pixel covered: its averaged material and motion are halved.
+        let material: Vec<u16> = [0.5, 0.5, 0.0, 0.5, 0.0, 0.0, 0.0, 0.0]
+            .iter()
+            .map(|&x| half(x))
+            .collect();
+        let motion: Vec<u16> = [0.5, 0.0, 0.5, 0.0, 0.0, 0.0, 0.0, 0.0]
+            .iter()
+            .map(|&x| half(x))
+            .collect();
+        let mut normal = normal;
+        normal[3] = half(0.5);
         let g = GBufferChannels::decode(
             2,
             1,
-            bytemuck::cast_slice(&normal),
-            bytemuck::cast_slice(&surface),
+            &[
+                bytemuck::cast_slice(&normal),
+                bytemuck::cast_slice(&surface),
+                bytemuck::cast_slice(&material),
+                bytemuck::cast_slice(&motion),
+            ],
         );
         assert_eq!(g.normal, [[0.0, 0.0, 1.0], [0.0; 3]]);
-        assert_eq!(g.coverage, [1.0, 0.0]);
+        assert_eq!(g.coverage, [0.5, 0.0]);
+        assert_eq!(g.albedo, [[1.0, 1.0, 0.0], [0.0; 3]]);
+        assert_eq!(g.ao, [1.0, 0.0]);
+        assert_eq!(g.motion, [[1.0, 0.0], [0.0; 2]]);
+        assert_eq!(g.shadow, [1.0, 0.0]);
         assert_eq!(g.uv[0], [0.25, 0.75]);
         assert_eq!(g.depth[0], 3.5);
         assert!(

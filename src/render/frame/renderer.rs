@@ -85,8 +85,8 @@ struct FrameSlot {
     depth_readback: Option<Readback>,
     /// The radiance's copy (`RenderOptions::keep_radiance` only).
     radiance_readback: Option<Readback>,
-    /// The G-buffer's normal and surface channels (`RenderOptions::gbuffer` only).
-    gbuffer_readback: Option<(Readback, Readback)>,
+    /// The G-buffer's channels (`RenderOptions::gbuffer` only).
+    gbuffer_readback: Option<Vec<Readback>>,
     /// The frame submitted from this slot and not yet retired: (index, read back?, draws culled).
     pending: Option<(u64, bool, usize)>,
 }
@@ -126,6 +126,9 @@ pub struct Renderer {
     /// Test-only: a frame-sized buffer made and kept at every retired frame (a leak a soak must
     /// catch); `None` in every real renderer.
     kept_for_leak_test: Option<Vec<Buffer>>,
+    /// The camera the next frame's motion is measured from: the last frame's, or the one
+    /// [`Renderer::set_motion_origin`] gave; none before the first frame (no motion).
+    motion_origin: Option<Camera>,
 }
 
 impl Renderer {
@@ -285,6 +288,7 @@ impl Renderer {
             submitted: 0,
             pyramids_built: false,
             kept_for_leak_test: None,
+            motion_origin: None,
         })
     }
 
@@ -397,6 +401,13 @@ impl Renderer {
         self.shadows.invalidate();
     }
 
+    /// Measures the next frame's motion (the G-buffer's) from `camera` instead of the last
+    /// frame's camera: for a sequence drawn out of order or in part, the camera of the frame
+    /// before it in the sequence.
+    pub fn set_motion_origin(&mut self, camera: Camera) {
+        self.motion_origin = Some(camera);
+    }
+
     /// Records and submits one frame. If the slot it takes still held an older frame, that frame
     /// is retired first and returned.
     pub fn submit(&mut self, request: &FrameRequest) -> Result<Option<FrameOutput>, RenderError> {
@@ -404,6 +415,12 @@ impl Renderer {
         let retired = self.retire(k)?;
         let aspect = self.width as f32 / self.height as f32;
         let mut uniforms = FrameUniforms::new(&request.camera, &self.lights, aspect);
+        let origin = self.motion_origin.replace(request.camera);
+        uniforms.previous_view_proj = origin
+            .unwrap_or(request.camera)
+            .view_projection(aspect)
+            .to_cols_array_2d();
+        uniforms.viewport = [self.width as f32, self.height as f32, 0.0, 0.0];
         uniforms.counts[1] = self.shadow_probe.map_or(0, |k| k as i32 + 1);
         if let Some(e) = &self.environment {
             uniforms.counts[2] = 1;
@@ -430,11 +447,8 @@ impl Renderer {
                     slot.radiance_readback = Some(self.targets.radiance_buffer(&self.ctx, &name)?);
                 }
                 if let Some(g) = &self.targets.gbuffer {
-                    let name = format!("frame slot {j} g-buffer normal readback");
-                    let normal = Readback::new(&self.ctx, g.normal_bytes(), &name)?;
-                    let name = format!("frame slot {j} g-buffer surface readback");
-                    let surface = Readback::new(&self.ctx, g.surface_bytes(), &name)?;
-                    slot.gbuffer_readback = Some((normal, surface));
+                    let name = format!("frame slot {j}");
+                    slot.gbuffer_readback = Some(g.readbacks(&self.ctx, &name)?);
                 }
             }
         }
@@ -453,9 +467,8 @@ impl Renderer {
                 .filter(|_| request.read_back),
             gbuffer: slot
                 .gbuffer_readback
-                .as_ref()
-                .filter(|_| request.read_back)
-                .map(|(n, s)| (n, s)),
+                .as_deref()
+                .filter(|_| request.read_back),
         };
         let (heights, ao, surface, cells, targets, shadows, plan) = (
             &self.heights,
@@ -598,12 +611,13 @@ impl Renderer {
             _ => None,
         };
         let gbuffer = match (&slot.gbuffer_readback, read_back) {
-            (Some((normal, surface)), true) => Some(GBufferChannels::decode(
-                self.width,
-                self.height,
-                normal.bytes()?,
-                surface.bytes()?,
-            )),
+            (Some(buffers), true) => {
+                let bytes = buffers
+                    .iter()
+                    .map(Readback::bytes)
+                    .collect::<VkResult<Vec<_>>>()?;
+                Some(GBufferChannels::decode(self.width, self.height, &bytes))
+            }
             _ => None,
         };
         if index == 0 {

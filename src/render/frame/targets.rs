@@ -27,8 +27,8 @@ pub struct FrameReadbacks<'a> {
     pub depth: Option<&'a Readback>,
     /// The radiance before tone mapping (RGBA half floats).
     pub radiance: Option<&'a Readback>,
-    /// The G-buffer's normal and surface channels (targets made to keep them).
-    pub gbuffer: Option<(&'a Readback, &'a Readback)>,
+    /// The G-buffer's channels, in location order (targets made to keep them).
+    pub gbuffer: Option<&'a [Readback]>,
 }
 
 /// Colour and depth targets of one size.
@@ -279,8 +279,8 @@ impl Targets {
         if let Some(buffer) = into.depth.filter(|_| self.keep_depth) {
             self.copy_depth(rec, buffer)?;
         }
-        if let (Some(g), Some((normal, surface))) = (&self.gbuffer, into.gbuffer) {
-            g.copy_out(rec, normal, surface)?;
+        if let (Some(g), Some(buffers)) = (&self.gbuffer, into.gbuffer) {
+            g.copy_out(rec, buffers)?;
         }
         let radiance_layout = match into.radiance {
             Some(buffer) => {
