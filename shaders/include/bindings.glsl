@@ -34,7 +34,14 @@ layout(set = 0, binding = BINDING_FRAME, std140) uniform Frame {
     vec4 view_depth;   // dot(xyz, p) + w: world point p's depth along the camera's axis
     mat4 previous_view_proj;  // the previous frame's view_proj (the G-buffer's motion)
     vec4 viewport;     // xy: the frame's size in pixels
+    vec4 view_axis;    // xyz: the camera's forward axis; w: 1 orthographic, 0 perspective
 } frame;
+
+// The direction of the view ray through world point p: from the eye for a perspective camera,
+// along the camera's axis for an orthographic one, whose rays are parallel.
+vec3 view_ray_dir(vec3 p) {
+    return frame.view_axis.w > 0.5 ? frame.view_axis.xyz : normalize(p - frame.eye.xyz);
+}
 
 #ifndef PLAIN_SURFACE
 // The height field and its max pyramid in one mip-chained image, read two ways.

@@ -285,8 +285,9 @@ void uv_footprint(vec3 eye, vec3 ray_dx, vec3 ray_dy, vec3 world, SurfaceAt s) {
 }
 
 void main() {
-    vec3 eye = frame.eye.xyz;
-    vec3 dir = normalize(in_world - eye);
+    vec3 dir = view_ray_dir(in_world);
+    // The ray's origin in the camera's plane: the eye itself for a perspective camera.
+    vec3 eye = in_world - dir * dot(in_world - frame.eye.xyz, dir);
     // Derivatives of an interpolated input: valid in every invocation of the quad.
     vec3 ray_dx = dir + dFdx(dir);
     vec3 ray_dy = dir + dFdy(dir);

@@ -33,7 +33,7 @@ void main() {
     vec3 n = normalize(gl_FrontFacing ? in_normal : -in_normal);
     float depth_scale = material.relief.x;
     ReliefFrame f = relief_frame(in_world, n, in_tangent, in_uv0, in_uv1);
-    vec3 view = normalize(in_world - frame.eye.xyz);
+    vec3 view = view_ray_dir(in_world);
     vec2 uv_h = slot_uv(SLOT_HEIGHT, in_uv0, in_uv1);
     Ray ray = Ray(uv_h, height_space_ray_dir(f, view), depth_scale);
     vec2 uv_bottom = ray_uv(ray, depth_scale);

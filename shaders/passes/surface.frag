@@ -75,7 +75,7 @@ void shade() {
     vec2 uv0 = in_uv0;
     vec2 uv1 = in_uv1;
     vec3 world = in_world;
-    vec3 view = normalize(in_world - frame.eye.xyz);
+    vec3 view = view_ray_dir(in_world);
     vec3 normal = n;
     bool relief_normal = false;
     uint traced_steps = 0u;

@@ -3,7 +3,7 @@
 
 use glam::{Mat4, Vec3};
 
-use crate::scene::{Camera, Light, LightKind, Scene};
+use crate::scene::{Camera, Light, LightKind, Projection, Scene};
 
 /// Lights the shaders read; a scene with more is lit by its first ones (the plan says so).
 pub const MAX_LIGHTS: usize = crate::render::shader_interface::MAX_LIGHTS as usize;
@@ -76,9 +76,12 @@ pub struct FrameUniforms {
     pub previous_view_proj: [[f32; 4]; 4],
     /// x, y: the frame's size in pixels; z, w: unused.
     pub viewport: [f32; 4],
+    /// xyz: the camera's axis (unit, world space, looking forward); w: 1 for an orthographic
+    /// camera, whose view rays all run along it, 0 for a perspective one.
+    pub view_axis: [f32; 4],
 }
 const _: () =
-    assert!(std::mem::size_of::<FrameUniforms>() == 224 + 80 * MAX_LIGHTS + 112 * MAX_SHADOW_TILES);
+    assert!(std::mem::size_of::<FrameUniforms>() == 240 + 80 * MAX_LIGHTS + 112 * MAX_SHADOW_TILES);
 
 /// Ambient radiance: a dim sky so unlit sides keep their shape.
 const AMBIENT: [f32; 4] = [0.09, 0.1, 0.12, 0.0];
@@ -126,6 +129,11 @@ impl FrameUniforms {
         // A right-handed view looks down its -z; a scaled view still measures world units.
         let row = -camera.view.row(2);
         let axis = row / row.truncate().length().max(f32::MIN_POSITIVE);
+        let forward = axis.truncate();
+        let orthographic = match camera.projection {
+            Projection::Orthographic { .. } => 1.0,
+            Projection::Perspective { .. } => 0.0,
+        };
         let view_proj = camera.view_projection(aspect).to_cols_array_2d();
         let mut out = FrameUniforms {
             view_proj,
@@ -139,6 +147,7 @@ impl FrameUniforms {
             view_depth: axis.to_array(),
             previous_view_proj: view_proj,
             viewport: [0.0; 4],
+            view_axis: [forward.x, forward.y, forward.z, orthographic],
         };
         for (slot, light) in out.lights.iter_mut().zip(lights) {
             *slot = LightUniform::of(light);
