@@ -364,6 +364,10 @@ fn flags_that_cannot_be_written_are_refused_before_any_device() {
             &["render", "--aov-png", "--supersample", "2"],
             &["--supersample"],
         ),
+        (
+            &["render", "--exr-beauty", "tone-mapped"],
+            &["--exr-beauty"],
+        ),
     ] {
         assert_usage_failure(&relief(args), needles);
     }
@@ -373,4 +377,80 @@ fn flags_that_cannot_be_written_are_refused_before_any_device() {
         Some(2),
         "an unknown layer is a usage error"
     );
+}
+
+#[test]
+fn one_command_writes_the_same_bytes_twice_and_tone_maps_its_exr_as_its_png() {
+    if common::device("one_command_writes_the_same_bytes_twice").is_none() {
+        return;
+    }
+    let dir = common::scratch_dir("deterministic");
+    let run_into = |name: &str| -> PathBuf {
+        let sub = dir.join(name);
+        let arg = |file: &str| sub.join(file).to_string_lossy().into_owned();
+        let args = [
+            "render".to_owned(),
+            "--width".into(),
+            "64".into(),
+            "--height".into(),
+            "48".into(),
+            "--frames".into(),
+            "2".into(),
+            "--orbit".into(),
+            "20".into(),
+            "--out".into(),
+            arg("f.png"),
+            "--bit-depth".into(),
+            "16".into(),
+            "--exr-out".into(),
+            arg("f.exr"),
+            "--exr-beauty".into(),
+            "tone-mapped".into(),
+            "--aov-png".into(),
+            "--hdr-out".into(),
+            arg("f.hdr"),
+            "--camera-out".into(),
+            arg("f.json"),
+        ];
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        ok(&relief(&args));
+        sub
+    };
+    let (a, b) = (run_into("a"), run_into("b"));
+    let mut names: Vec<String> = std::fs::read_dir(&a)
+        .expect("a/")
+        .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert_eq!(names.len(), 2 * 11, "files of two frames: {names:?}");
+    for name in &names {
+        let (x, y) = (std::fs::read(a.join(name)), std::fs::read(b.join(name)));
+        assert!(x.expect("first") == y.expect("second"), "{name} differs");
+    }
+    // The tone-mapped EXR, sRGB-encoded, is the 16-bit PNG (both from one radiance, one curve).
+    let image = exr::prelude::read_all_flat_layers_from_file(a.join("f_0002.exr")).expect("EXR");
+    let layer = &image.layer_data[0];
+    let red = layer
+        .channel_data
+        .list
+        .iter()
+        .find(|c| c.name.to_string() == "R")
+        .expect("R");
+    let exr::prelude::FlatSamples::F32(red) = &red.sample_data else {
+        panic!("R is not 32-bit float");
+    };
+    let png = image::open(a.join("f_0002.png")).expect("PNG").to_rgba16();
+    for (r, p) in red.iter().zip(png.pixels()) {
+        assert!((0.0..=1.0).contains(r), "tone mapped into 0..1: {r}");
+        let encoded = if *r <= 0.003_130_8 {
+            r * 12.92
+        } else {
+            1.055 * r.powf(1.0 / 2.4) - 0.055
+        };
+        assert!(
+            (encoded * 65535.0 - f32::from(p.0[0])).abs() < 2.0,
+            "{r} encodes to {encoded}, the PNG holds {}",
+            p.0[0]
+        );
+    }
 }

@@ -405,6 +405,7 @@ with OpenEXR.File(sys.argv[1]) as f:
         "z_finite_where_drawn": bool(numpy.isfinite(z[ids > 0]).all()),
         "z_infinite_elsewhere": bool(numpy.isinf(z[ids == 0]).all()),
         "world_to_camera": "worldToCamera" in f.header(),
+        "chromaticities": "chromaticities" in f.header(),
     }))
 "#;
     let mut cmd = Command::new(&python);
@@ -425,9 +426,10 @@ with OpenEXR.File(sys.argv[1]) as f:
         .iter()
         .filter_map(|n| n.as_str())
         .collect();
+    // It merges albedo.R, .G and .B into one RGB entry as it does the beauty's.
     for name in [
         "RGBA", "Z", "P.X", "P.Y", "P.Z", "N.X", "N.Y", "N.Z", "coverage", "uv.U", "uv.V", "id",
-        "steps",
+        "steps", "albedo", "material", "shadow", "ao", "motion.X", "motion.Y",
     ] {
         assert!(names.contains(&name), "OpenEXR reads no {name}: {names:?}");
     }
@@ -436,4 +438,5 @@ with OpenEXR.File(sys.argv[1]) as f:
     assert_eq!(report["z_finite_where_drawn"], true, "{report}");
     assert_eq!(report["z_infinite_elsewhere"], true, "{report}");
     assert_eq!(report["world_to_camera"], true, "{report}");
+    assert_eq!(report["chromaticities"], true, "{report}");
 }

@@ -15,6 +15,7 @@ use relief::render::FrameOutput;
 use relief::scene::{Camera, Projection};
 
 use super::aov::{Layer, LayerSource};
+use super::frame_files::FrameView;
 
 /// The header attribute holding relief's own view-projection (column-major, right-handed
 /// world, Vulkan clip space: y down, depth 0 to 1), beside the standard `worldToCamera`.
@@ -31,9 +32,10 @@ pub fn is_exr(path: &Path) -> bool {
 pub fn encode_exr(
     frame: &FrameOutput,
     layers: &[Layer],
-    camera: &Camera,
-    mesh_materials: &[usize],
+    view: &FrameView,
+    tone_mapped: bool,
 ) -> anyhow::Result<Option<Vec<u8>>> {
+    let (camera, mesh_materials) = (&view.camera, view.mesh_materials);
     let (Some(radiance), Some(gbuffer)) = (&frame.radiance, &frame.gbuffer) else {
         return Ok(None);
     };
@@ -42,7 +44,19 @@ pub fn encode_exr(
         camera,
         mesh_materials,
     };
-    let rgba = |c: usize| radiance.iter().map(|p| p[c]).collect::<Vec<f32>>();
+    let scale = 2f32.powf(view.tone.exposure_ev);
+    let beauty: Vec<[f32; 4]> = if tone_mapped {
+        radiance
+            .iter()
+            .map(|p| {
+                let [r, g, b] = view.tone.curve.apply([p[0], p[1], p[2]].map(|c| c * scale));
+                [r, g, b, p[3]]
+            })
+            .collect()
+    } else {
+        radiance.clone()
+    };
+    let rgba = |c: usize| beauty.iter().map(|p| p[c]).collect::<Vec<f32>>();
     let mut channels: Vec<_> = ["R", "G", "B", "A"]
         .iter()
         .enumerate()
@@ -54,6 +68,15 @@ pub fn encode_exr(
     let size = (frame.width as usize, frame.height as usize);
     let mut image = Image::from_channels(size, AnyChannels::sort(channels.into()));
     describe_camera(&mut image.layer_data.attributes, camera, frame);
+    let beauty = if tone_mapped {
+        format!(
+            "R, G, B: tone mapped with {} at {:+} EV (display-referred, linear, not sRGB-encoded)",
+            view.tone.curve, view.tone.exposure_ev
+        )
+    } else {
+        "R, G, B: linear scene radiance, before exposure and tone mapping".to_owned()
+    };
+    image.layer_data.attributes.comments = Some(Text::from(beauty.as_str()));
     // The radiance is linear light in the sRGB / Rec. 709 primaries, white D65.
     image.attributes.chromaticities = Some(Chromaticities {
         red: Vec2(0.64, 0.33),

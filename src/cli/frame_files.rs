@@ -8,7 +8,7 @@ use std::io::Write as _;
 use std::path::{Path, PathBuf};
 
 use anyhow::Context as _;
-use clap::Args;
+use clap::{Args, ValueEnum};
 use relief::render::{FrameOutput, ToneMapping};
 use relief::scene::Camera;
 
@@ -42,6 +42,11 @@ pub struct FileArgs {
     /// motion.Y (pixels since the previous frame). The header holds the camera.
     #[arg(long, value_name = "FILE.exr")]
     pub exr_out: Option<PathBuf>,
+    /// What the OpenEXR files' R, G, B hold: linear (the scene's radiance, before exposure and
+    /// tone mapping) or tone-mapped (the curve and exposure applied, display-referred but not
+    /// sRGB-encoded, as compositors expect linear values).
+    #[arg(long, value_name = "linear|tone-mapped", default_value = "linear")]
+    pub exr_beauty: ExrBeauty,
     /// The render outputs the OpenEXR files (and --aov-png) hold, comma-separated: depth,
     /// position, normal, uv, albedo, material, object, steps, shadow, ao, coverage, motion.
     #[arg(long, value_name = "LAYERS", value_delimiter = ',', value_enum)]
@@ -58,6 +63,13 @@ pub struct FileArgs {
     /// where it stopped); the others are drawn and written as usual.
     #[arg(long)]
     pub resume: bool,
+}
+
+/// What an OpenEXR frame's colour channels hold.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum ExrBeauty {
+    Linear,
+    ToneMapped,
 }
 
 /// The files one frame writes, in the order they are written.
@@ -127,6 +139,11 @@ impl FileArgs {
         if self.aov_png && !self.layers().iter().any(|l| l.scalar()) {
             return Err(usage(
                 "--aov-png writes the scalar layers (depth, material, object, steps, shadow, ao, coverage); --aov chose none",
+            ));
+        }
+        if self.exr_beauty != ExrBeauty::Linear && !exr {
+            return Err(usage(
+                "--exr-beauty sets what OpenEXR frames hold; give --exr-out FILE.exr or --out FILE.exr",
             ));
         }
         if self.aov_png && supersampled {
@@ -212,7 +229,8 @@ impl FileArgs {
         view: &FrameView,
     ) -> anyhow::Result<()> {
         let layers = self.layers();
-        let exr = || encode_exr(frame, &layers, &view.camera, view.mesh_materials);
+        let tone_mapped = self.exr_beauty == ExrBeauty::ToneMapped;
+        let exr = || encode_exr(frame, &layers, view, tone_mapped);
         for (kind, base) in self.kinds() {
             let bytes = match kind {
                 FileKind::Image if is_exr(base) => exr()?,
@@ -341,6 +359,7 @@ mod tests {
             camera_out: Some("frame.json".into()),
             aov: vec![Layer::Shadow, Layer::Normal, Layer::Depth],
             aov_png: true,
+            exr_beauty: ExrBeauty::Linear,
             resume: false,
         }
     }
