@@ -209,6 +209,16 @@ fn a_lit_grounds_albedo_ao_and_shadow_are_its_material_and_its_blocker() {
         if g.mesh[k] != 1 {
             continue;
         }
+        // The raster's uv: where the pixel's ray meets the ground plane, over its 8 x 8 units.
+        let (x, y) = ((k as u32 % WIDTH) as f32, (k as u32 / WIDTH) as f32);
+        let (origin, dir) = pixel_ray_at(&camera, x + 0.5, y + 0.5);
+        let on_ground = origin - dir * (origin.y / dir.y);
+        let uv = [on_ground.x / 8.0 + 0.5, on_ground.z / 8.0 + 0.5];
+        assert!(
+            (g.uv[k][0] - uv[0]).abs() < 1e-4 && (g.uv[k][1] - uv[1]).abs() < 1e-4,
+            "pixel {k}: uv {:?}, the ground's {uv:?} there",
+            g.uv[k]
+        );
         for c in 0..3 {
             assert!(
                 (g.albedo[k][c] - albedo[c]).abs() < 2e-3,

@@ -31,10 +31,20 @@ pub struct RenderArgs {
     pub(super) frames: FrameArgs,
     /// In a batch (several scenes, or --camera all), stop at the first scene that fails; by
     /// default every scene is drawn and the run exits 1 at the end if any failed.
+    #[arg(long, conflicts_with = "keep_going")]
+    fail_fast: bool,
+    /// In a batch, draw every scene even when one fails (the default; for scripts that say so).
     #[arg(long)]
-    pub(super) fail_fast: bool,
+    keep_going: bool,
     #[command(flatten)]
     cache: CacheArgs,
+}
+
+impl RenderArgs {
+    /// Whether a batch stops at its first failing scene.
+    pub fn fail_fast(&self) -> bool {
+        self.fail_fast && !self.keep_going
+    }
 }
 
 pub fn run(args: &RenderArgs) -> anyhow::Result<()> {

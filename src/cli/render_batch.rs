@@ -58,7 +58,7 @@ pub fn run(args: &RenderArgs) -> anyhow::Result<()> {
         }
         let tag = if scenes.len() > 1 { tag.as_str() } else { "" };
         let failed = draw_scene(args, &ctx, *scene, &name, tag, all_cameras, &mut items);
-        if failed && args.fail_fast {
+        if failed && args.fail_fast() {
             break;
         }
     }
@@ -124,7 +124,7 @@ fn draw_scene(
         });
         failed |= outcome.is_err();
         items.push(Item { name, tag, outcome });
-        if failed && args.fail_fast {
+        if failed && args.fail_fast() {
             break;
         }
     }
