@@ -30,12 +30,14 @@ fn with_two_cameras(dir: &Path) -> PathBuf {
         serde_json::from_slice(&std::fs::read(&path).expect("reads")).expect("JSON");
     let lens = serde_json::json!({"type": "perspective", "perspective": {"yfov": 0.8, "znear": 0.1, "zfar": 50.0}});
     doc["cameras"] = serde_json::json!([lens, lens]);
+    let half_turn = std::f64::consts::FRAC_1_SQRT_2;
     doc["nodes"]
         .as_array_mut()
         .expect("nodes")
         .extend([
             serde_json::json!({"camera": 0, "translation": [2.3, 0.3, 4.0]}),
-            serde_json::json!({"camera": 1, "translation": [6.0, 0.3, 0.3], "rotation": [0.0, 0.7071068, 0.0, 0.7071068]}),
+            // A quarter turn about y: looking down -x, from +x.
+            serde_json::json!({"camera": 1, "translation": [6.0, 0.3, 0.3], "rotation": [0.0, half_turn, 0.0, half_turn]}),
         ]);
     doc["scenes"][0]["nodes"] = serde_json::json!([0, 1, 2]);
     let cameras = dir.join("cameras.gltf");

@@ -205,13 +205,13 @@ fn a_lit_grounds_albedo_ao_and_shadow_are_its_material_and_its_blocker() {
     let g = gbuffer(&ctx, &scene, &options(1));
     let positions = g.positions(&camera);
     let (mut under, mut open) = (0, 0);
-    for k in 0..g.mesh.len() {
+    for (k, &[x, _, z]) in positions.iter().enumerate() {
         if g.mesh[k] != 1 {
             continue;
         }
         // The raster's uv: where the pixel's ray meets the ground plane, over its 8 x 8 units.
-        let (x, y) = ((k as u32 % WIDTH) as f32, (k as u32 / WIDTH) as f32);
-        let (origin, dir) = pixel_ray_at(&camera, x + 0.5, y + 0.5);
+        let (px, py) = ((k as u32 % WIDTH) as f32, (k as u32 / WIDTH) as f32);
+        let (origin, dir) = pixel_ray_at(&camera, px + 0.5, py + 0.5);
         let on_ground = origin - dir * (origin.y / dir.y);
         let uv = [on_ground.x / 8.0 + 0.5, on_ground.z / 8.0 + 0.5];
         assert!(
@@ -227,7 +227,6 @@ fn a_lit_grounds_albedo_ao_and_shadow_are_its_material_and_its_blocker() {
             );
         }
         assert!((g.ao[k] - 1.0).abs() < 1e-3, "pixel {k}: ao {}", g.ao[k]);
-        let [x, _, z] = positions[k];
         if x.abs() < 0.8 && z.abs() < 0.8 {
             under += 1;
             assert!(
