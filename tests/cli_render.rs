@@ -197,6 +197,29 @@ fn explain_prints_the_plan() {
     assert_eq!(maps.len(), 1, "{maps:?}");
     assert_eq!(maps[0]["kind"], "cascades");
     assert_eq!(maps[0]["caster_meshes"].as_array().map(Vec::len), Some(4));
+    // The frame's graph: its passes in recording order, each with what it reads and writes.
+    let nodes = plan["graph"]["nodes"].as_array().expect("graph nodes");
+    let order: Vec<&str> = nodes.iter().filter_map(|n| n["pass"].as_str()).collect();
+    assert_eq!(
+        order,
+        [
+            "shadow maps",
+            "occluders",
+            "surface",
+            "background",
+            "tone map"
+        ],
+        "csm without the pyramid: {nodes:?}"
+    );
+    let surface = nodes
+        .iter()
+        .find(|n| n["pass"] == "surface")
+        .expect("surface");
+    assert_eq!(
+        surface["reads"],
+        serde_json::json!(["shadow-atlas", "occluder-bounds"])
+    );
+    assert_eq!(nodes[0]["rate"], "when-changed");
 }
 
 #[test]

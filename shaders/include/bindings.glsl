@@ -13,7 +13,7 @@ struct LightData {
     vec4 cone;       // x, y: cos of the outer and inner cone angles (spot); z: radius (see Light)
 };
 
-// One shadow map's view; mirrors `ShadowTileUniform` in src/render/frame/frame_uniforms.rs.
+// One shadow map's view; mirrors `ShadowTileUniform` in src/render/kit/frame_uniforms.rs.
 struct ShadowTile {
     mat4 view_proj;
     vec4 rect;    // xy: atlas texel of its corner; z: size in texels; w: 1 perspective, 0 orthographic

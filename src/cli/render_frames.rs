@@ -278,6 +278,7 @@ pub fn run_frames(
             &created,
         );
         value["device"] = json!(ctx.info());
+        value["graph"] = json!(renderer.graph());
         if edited {
             value["edits"] = edits_json(renderer, &drawn.edits);
         }

@@ -16,8 +16,11 @@ mod cells;
 mod compute_pass;
 mod environment;
 mod frame;
+mod heights;
+mod kit;
 mod maps;
 mod measure;
+mod plan;
 mod shader_interface;
 mod shadows;
 mod terrain;
@@ -28,25 +31,24 @@ pub use cells::cells_trace_pass::{march_cells_on_gpu, CellsTrace};
 pub use environment::{BakedEnvironment, EnvironmentLight, EnvironmentPlan};
 pub use frame::explain::explain;
 pub use frame::frame_stats::{sequence_stats, PassStats, SequenceStats};
-pub use frame::frame_uniforms::{
+pub use frame::gbuffer::GBufferChannels;
+pub use frame::mesh_pipeline::describe as describe_pipeline;
+pub use frame::renderer::{FrameOutput, FrameRequest, Renderer, FRAMES_IN_FLIGHT, MAX_SUPERSAMPLE};
+pub use frame::shadow_probe::{probe_shadows, ShadowProbe};
+pub use frame::shell_draw::BuiltShell;
+pub use frame::single_frame::{render, BuiltMap, Frame, RenderOptions};
+pub use heights::height_resources::{HeightResources, HeightUpload};
+pub use heights::method_map::GpuMethodMap;
+pub use kit::formats::{COLOR_FORMAT, DEPTH_FORMAT, GBUFFER_FORMATS, HDR_FORMAT};
+pub use kit::frame_uniforms::{
     frame_camera, FrameUniforms, LightUniform, ShadowTileUniform, MAX_LIGHTS, MAX_SHADOW_TILES,
 };
-pub use frame::gbuffer::{GBufferChannels, GBUFFER_FORMATS};
-pub use frame::gpu_heightfield::{GpuHeightfield, HeightFormat};
-pub use frame::height_resources::{HeightResources, HeightUpload};
-pub use frame::mesh_pipeline::describe as describe_pipeline;
-pub use frame::method_map::GpuMethodMap;
-pub use frame::msaa::{MsaaPlan, SAMPLE_COUNTS};
-pub use frame::pass::Pass;
-pub use frame::pass_timer::{PassTiming, Scope};
-pub use frame::plan::{
-    DrawPlan, DrawRole, HeightKey, HeightPlan, PassPlan, PipelineKey, Plan, PlanError, Skipped,
-};
-pub use frame::renderer::{FrameOutput, FrameRequest, Renderer, FRAMES_IN_FLIGHT, MAX_SUPERSAMPLE};
-pub use frame::shell_draw::BuiltShell;
-pub use frame::single_frame::{render, BuiltMap, Frame, RenderError, RenderOptions};
-pub use frame::surface_pass::{COLOR_FORMAT, DEPTH_FORMAT};
-pub use frame::tonemap::{ToneMap, ToneMapping, HDR_FORMAT};
+pub use kit::gpu_heightfield::{GpuHeightfield, HeightFormat};
+pub use kit::graph::{DroppedPass, FrameGraph, FrameResource, GraphError, GraphNode, PassRate};
+pub use kit::pass::Pass;
+pub use kit::pass_timer::{PassTiming, Scope};
+pub use kit::render_error::RenderError;
+pub use kit::tone_curves::{ToneMap, ToneMapping};
 pub use maps::ao_map_pass::{AoJob, AoMap, AoMapPass, AO_MAP_FORMAT, SWEEP_DIRECTIONS};
 pub use maps::cone_map_pass::{
     build_cone_map_on_gpu, ConeMapPass, MAX_SIDE as CONE_MAP_GPU_MAX_SIDE, RATIO_TOLERANCE,
@@ -61,8 +63,11 @@ pub use measure::trace_pass::{
     time_through_pyramid, trace_on_gpu, trace_repeated, trace_through_pyramid, ShadowTrace,
     TraceOutput, TraceRequest, TRACE_GROUP_SIDE,
 };
+pub use plan::frame_plan::{
+    DrawPlan, DrawRole, HeightKey, HeightPlan, PassPlan, PipelineKey, Plan, PlanError, Skipped,
+};
+pub use plan::msaa::{MsaaPlan, SAMPLE_COUNTS};
 pub use shadows::light_views::{cascade_splits, LightView};
-pub use shadows::probe::{probe_shadows, ShadowProbe};
 pub use shadows::shadow_plan::{
     ShadowFilter, ShadowMapKind, ShadowMapPlan, ShadowOptions, DEFAULT_SHADOW_CASCADES,
     DEFAULT_SHADOW_MAP_SIZE,

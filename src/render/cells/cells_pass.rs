@@ -19,12 +19,13 @@ use crate::cells::{
     ClosedMesh, Colour, Face, GridStop, MarchSettings, MeshSelection, PackedComplex, SceneMesh,
     MAP_MEMORY_LIMIT,
 };
-use crate::render::frame::gbuffer::scene_extra_formats;
-use crate::render::frame::material_set::material_layout;
-use crate::render::frame::plan::Plan;
-use crate::render::frame::single_frame::RenderError;
-use crate::render::frame::surface_pass::{plain_frame_layout, DrawPush, DEPTH_FORMAT};
-use crate::render::frame::tonemap::HDR_FORMAT;
+use crate::render::kit::draw_push::DrawPush;
+use crate::render::kit::formats::scene_extra_formats;
+use crate::render::kit::formats::DEPTH_FORMAT;
+use crate::render::kit::formats::HDR_FORMAT;
+use crate::render::kit::render_error::RenderError;
+use crate::render::kit::set_layouts::{material_layout, plain_frame_layout};
+use crate::render::plan::frame_plan::Plan;
 use crate::render::shader_interface::{
     BINDING_CELLS_CELLS, BINDING_CELLS_CORNERS, BINDING_CELLS_GREY, BINDING_CELLS_MAPS,
     BINDING_CELLS_PARAMS, BINDING_CELLS_SURFACE_TRIANGLES, SPEC_SHADOW_FILTER,

@@ -3,8 +3,8 @@
 //! the surface pass; the cells pass, its pipeline and its maps are planned only when a complex is.
 
 use crate::cells::MeshSelection;
-use crate::render::frame::pass::Pass;
-use crate::render::frame::plan::{PassPlan, Plan, PlanError};
+use crate::render::kit::pass::Pass;
+use crate::render::plan::frame_plan::{PassPlan, Plan, PlanError};
 use crate::scene::Scene;
 
 /// One cell complex to build and draw.

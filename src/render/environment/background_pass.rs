@@ -9,8 +9,8 @@ use ash::vk;
 use glam::Mat4;
 
 use super::environment_light::EnvironmentLight;
-use crate::render::frame::surface_pass::DEPTH_FORMAT;
-use crate::render::frame::tonemap::HDR_FORMAT;
+use crate::render::kit::formats::DEPTH_FORMAT;
+use crate::render::kit::formats::HDR_FORMAT;
 use crate::shaders;
 use crate::vk::{
     graphics_pipeline, Context, DescriptorLayout, DescriptorPool, DescriptorSet, GraphicsDesc,

@@ -7,10 +7,10 @@ use serde::Serialize;
 use serde_json::{json, Value};
 
 use super::mesh_pipeline::describe;
-use super::plan::Plan;
 use super::shell_draw::BuiltShell;
 use super::single_frame::BuiltMap;
 use crate::render::cells::cells_pass::BuiltComplex;
+use crate::render::plan::frame_plan::Plan;
 use crate::vk::ObjectCounts;
 
 #[derive(Serialize)]

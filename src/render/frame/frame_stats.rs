@@ -4,8 +4,8 @@
 
 use serde::Serialize;
 
-use super::pass::Pass;
-use super::pass_timer::PassTiming;
+use crate::render::kit::pass::Pass;
+use crate::render::kit::pass_timer::PassTiming;
 
 /// One pass over the steady frames (every frame after the first).
 #[derive(Debug, Clone, PartialEq, Serialize)]

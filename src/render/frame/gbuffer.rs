@@ -15,6 +15,7 @@ use std::sync::Arc;
 use ash::vk;
 use glam::Vec3;
 
+use crate::render::kit::formats::GBUFFER_FORMATS;
 use crate::scene::Camera;
 
 use crate::vk::{
@@ -36,7 +37,7 @@ struct ChannelSpec {
 const CHANNELS: [ChannelSpec; 4] = [
     // World-space shading normal (xyz) and coverage (w, 1 where a surface was drawn).
     ChannelSpec {
-        format: vk::Format::R16G16B16A16_SFLOAT,
+        format: GBUFFER_FORMATS[0],
         name: "normal",
         bytes: 8,
         integer: false,
@@ -45,14 +46,14 @@ const CHANNELS: [ChannelSpec; 4] = [
     // bits), the mesh (w, low 16 bits: scene mesh index + 1, 0 for none) and the trace's steps
     // (w, high 16 bits).
     ChannelSpec {
-        format: vk::Format::R32G32B32A32_UINT,
+        format: GBUFFER_FORMATS[1],
         name: "surface",
         bytes: 16,
         integer: true,
     },
     // Albedo, linear (xyz), and the ambient occlusion the ambient light was darkened by (w).
     ChannelSpec {
-        format: vk::Format::R16G16B16A16_SFLOAT,
+        format: GBUFFER_FORMATS[2],
         name: "material",
         bytes: 8,
         integer: false,
@@ -60,30 +61,12 @@ const CHANNELS: [ChannelSpec; 4] = [
     // Screen motion since the previous frame in pixels (xy: x right, y down), and the share of
     // the direct light not shadowed (z).
     ChannelSpec {
-        format: vk::Format::R16G16B16A16_SFLOAT,
+        format: GBUFFER_FORMATS[3],
         name: "motion and shadow",
         bytes: 8,
         integer: false,
     },
 ];
-
-/// The G-buffer's attachment formats after the radiance, in location order (1 to 4).
-pub const GBUFFER_FORMATS: [vk::Format; 4] = [
-    CHANNELS[0].format,
-    CHANNELS[1].format,
-    CHANNELS[2].format,
-    CHANNELS[3].format,
-];
-
-/// The colour formats a scene pipeline draws after the radiance: the G-buffer's when the frame
-/// keeps it, else none.
-pub fn scene_extra_formats(gbuffer: bool) -> &'static [vk::Format] {
-    if gbuffer {
-        &GBUFFER_FORMATS
-    } else {
-        &[]
-    }
-}
 
 /// One frame's G-buffer, read back: one entry per pixel, rows top to bottom.
 #[derive(Debug, Clone, Default, PartialEq)]

@@ -4,13 +4,14 @@
 use std::borrow::Cow;
 use std::sync::Arc;
 
-use super::frame_uniforms::FrameUniforms;
-use super::height_resources::{HeightResources, HeightUpload};
-use super::plan::{HeightKey, Plan};
 use super::renderer::FRAMES_IN_FLIGHT;
-use super::single_frame::{planned_heights, BuiltMap, RenderError, RenderOptions};
+use super::single_frame::{planned_heights, BuiltMap, RenderOptions};
 use crate::heightfield::{Address, Heightfield};
+use crate::render::heights::height_resources::{HeightResources, HeightUpload};
+use crate::render::kit::frame_uniforms::FrameUniforms;
+use crate::render::kit::render_error::RenderError;
 use crate::render::maps::map_builder::{build_method_map_with, MapBuilder};
+use crate::render::plan::frame_plan::{HeightKey, Plan};
 use crate::render::terrain::layer_paint::LayerPainter;
 use crate::render::terrain::layered_heights::blended_heights;
 use crate::scene::Scene;

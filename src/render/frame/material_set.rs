@@ -7,11 +7,8 @@ use std::sync::Arc;
 use ash::vk;
 
 use super::scene_textures::SceneTextures;
-use crate::render::shader_interface::{
-    BINDING_MATERIAL_BASE_COLOR, BINDING_MATERIAL_EMISSIVE, BINDING_MATERIAL_METALLIC_ROUGHNESS,
-    BINDING_MATERIAL_NORMAL, BINDING_MATERIAL_OCCLUSION, BINDING_MATERIAL_PARAMS,
-    BINDING_MATERIAL_RELIEF_AO,
-};
+use crate::render::kit::set_layouts::{RELIEF_AO_SLOT, TEXTURE_BINDINGS};
+use crate::render::shader_interface::BINDING_MATERIAL_PARAMS;
 use crate::scene::{AlphaMode, HeightSource, Material, SceneImage, TextureSlot, UvTransform};
 use crate::vk::{
     Bind, Buffer, Context, DescriptorLayout, DescriptorPool, DescriptorSet, ImageView, Sampler,
@@ -33,17 +30,6 @@ const _: () = assert!(std::mem::size_of::<MaterialUniform>() == 272);
 
 /// Index of the height map's uv transform after the five texture slots.
 const HEIGHT_SLOT: usize = 5;
-/// Bit of `textures.x` and binding of the relief AO map (`SLOT_RELIEF_AO` in draw.glsl).
-const RELIEF_AO_SLOT: u32 = BINDING_MATERIAL_RELIEF_AO;
-/// The bindings of the texture slots, in `TextureSlot::ALL`'s order.
-const TEXTURE_BINDINGS: [u32; 5] = [
-    BINDING_MATERIAL_BASE_COLOR,
-    BINDING_MATERIAL_METALLIC_ROUGHNESS,
-    BINDING_MATERIAL_NORMAL,
-    BINDING_MATERIAL_OCCLUSION,
-    BINDING_MATERIAL_EMISSIVE,
-];
-
 fn uv_rows(transform: &UvTransform, tex_coord: u32) -> [[f32; 4]; 2] {
     let [r0, r1] = transform.rows();
     [
@@ -100,18 +86,6 @@ impl MaterialUniform {
             uv_rows: rows,
         }
     }
-}
-
-/// The layout of set 1.
-pub fn material_layout(ctx: &Arc<Context>) -> VkResult<DescriptorLayout> {
-    let mut bindings: Vec<(u32, vk::DescriptorType)> = TEXTURE_BINDINGS
-        .iter()
-        .map(|&b| (b, vk::DescriptorType::COMBINED_IMAGE_SAMPLER))
-        .collect();
-    bindings.push((BINDING_MATERIAL_PARAMS, vk::DescriptorType::UNIFORM_BUFFER));
-    bindings.push((RELIEF_AO_SLOT, vk::DescriptorType::COMBINED_IMAGE_SAMPLER));
-    let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
-    DescriptorLayout::new(ctx, &bindings, stages, "material layout")
 }
 
 /// One descriptor set per drawn material, with the buffers it points at.

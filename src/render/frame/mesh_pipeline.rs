@@ -7,10 +7,11 @@ use std::sync::Arc;
 use ash::vk;
 
 use super::occluders::BOUNDS_FORMAT;
-use super::plan::PipelineKey;
-use super::surface_pass::{DrawPush, DEPTH_FORMAT};
-use super::tonemap::HDR_FORMAT;
-use crate::method::Method;
+use crate::render::kit::draw_push::DrawPush;
+use crate::render::kit::formats::DEPTH_FORMAT;
+use crate::render::kit::formats::HDR_FORMAT;
+use crate::render::kit::hard_shadow::hard_shadow_texels;
+use crate::render::plan::frame_plan::PipelineKey;
 use crate::render::shader_interface::{
     SPEC_BUDGET_EXTENT_LIMIT, SPEC_BUDGET_LEAF_EXACT, SPEC_BUDGET_MAX_STEPS,
     SPEC_BUDGET_REFINE_STEPS, SPEC_HARD_SHADOW_TEXELS, SPEC_LOD_AVERAGE_BELOW, SPEC_LOD_BIAS,
@@ -25,19 +26,6 @@ use crate::vk::{
     graphics_pipeline, Context, DescriptorLayout, GraphicsDesc, Pipeline, SpecConstants, VkError,
     VkResult,
 };
-
-/// How far from the shaded point a hard shadow ray's hit must be to count as a blocker, in
-/// texels. Methods that meet the surface to float rounding get a twentieth of a texel (measured:
-/// a quarter let 0.13% of bricks' points at 5 degrees see past a blocker); fixed-step searches a
-/// quarter, which trades their shadow acne against leaks (POM on fbm at 15 degrees: 74% of
-/// points agree with the exact verdict at a twentieth, 90% at a quarter).
-pub fn hard_shadow_texels(method: Method) -> f32 {
-    if method.info().fixed_step {
-        0.25
-    } else {
-        0.05
-    }
-}
 
 /// The LOD variants' constants (`shaders/include/lod.glsl`).
 fn lod_spec_constants(spec: SpecConstants, lod: &Lod) -> SpecConstants {

@@ -12,9 +12,9 @@ use std::sync::Arc;
 
 use ash::vk;
 
-use super::depth_as_colour::{DepthAsColour, DEPTH_COLOUR_FORMAT};
-use super::pass::Pass;
-use super::plan::{DrawPlan, DrawRole, PassPlan, PipelineKey, Plan};
+use crate::render::kit::depth_as_colour::{DepthAsColour, DEPTH_COLOUR_FORMAT};
+use crate::render::kit::pass::Pass;
+use crate::render::plan::frame_plan::{DrawPlan, DrawRole, PassPlan, PipelineKey, Plan};
 use crate::render::shader_interface::BINDING_OCCLUDER_BOUNDS;
 use crate::scene::{AlphaMode, Mesh, Scene};
 use crate::vk::{

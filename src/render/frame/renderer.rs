@@ -12,27 +12,32 @@
 use std::sync::Arc;
 use std::time::Instant;
 
-use super::frame_uniforms::{frame_camera, FrameUniforms, MAX_LIGHTS};
-use super::gbuffer::{scene_extra_formats, GBufferChannels};
-use super::height_resources::HeightResources;
+use super::frame_graph::{frame_graph, FrameParts};
+use super::gbuffer::GBufferChannels;
 use super::height_upload::upload_heights;
-use super::msaa::MsaaPlan;
 use super::occluders::{plan_occluders, OccluderTargets};
-use super::pass::Pass;
-use super::pass_timer::{per_pass, PassTimer, PassTiming, Scope};
-use super::plan::{HeightKey, Plan};
 use super::scene_ao::SceneAo;
 use super::shell_draw::BuiltShell;
-use super::single_frame::{BuiltMap, RenderError, RenderOptions};
+use super::single_frame::{BuiltMap, RenderOptions};
 use super::surface_pass::SurfacePass;
-use super::surface_pass::COLOR_FORMAT;
-use super::targets::{average_blocks, FrameReadbacks, Targets};
-use super::tonemap::{ToneMapPass, ToneMapping};
+use super::targets::{average_blocks, FrameReadbacks, TargetOptions, Targets};
+use super::tonemap::ToneMapPass;
 use crate::environment::Background;
 use crate::heightfield::Heightfield;
 use crate::method::MapKind;
 use crate::render::cells::cells_pass::{BuiltComplex, CellsPass};
 use crate::render::environment::{BackgroundPass, EnvironmentLight};
+use crate::render::heights::height_resources::HeightResources;
+use crate::render::kit::formats::scene_extra_formats;
+use crate::render::kit::formats::COLOR_FORMAT;
+use crate::render::kit::frame_uniforms::{frame_camera, FrameUniforms, MAX_LIGHTS};
+use crate::render::kit::graph::FrameGraph;
+use crate::render::kit::pass::Pass;
+use crate::render::kit::pass_timer::{per_pass, PassTimer, PassTiming, Scope};
+use crate::render::kit::render_error::RenderError;
+use crate::render::kit::tone_curves::ToneMapping;
+use crate::render::plan::frame_plan::{HeightKey, Plan};
+use crate::render::plan::msaa::MsaaPlan;
 use crate::render::shadows::shadow_pass::ShadowMaps;
 use crate::render::shadows::shadow_plan::plan_shadow_maps;
 use crate::render::terrain::layer_paint::LayerPainter;
@@ -129,6 +134,8 @@ pub struct Renderer {
     /// The camera the next frame's motion is measured from: the last frame's, or the one
     /// [`Renderer::set_motion_origin`] gave; none before the first frame (no motion).
     motion_origin: Option<Camera>,
+    /// The frame's passes in recording order, and those left out.
+    graph: FrameGraph,
 }
 
 impl Renderer {
@@ -239,7 +246,7 @@ impl Renderer {
             ctx,
             opts.width,
             opts.height,
-            plan.target_options(probe, opts.keep_radiance),
+            TargetOptions::of(&plan, probe, opts.keep_radiance),
             &tone_map,
         )?;
         let occluders = plan
@@ -262,8 +269,19 @@ impl Renderer {
                 })
             })
             .collect::<VkResult<Vec<_>>>()?;
+        let graph = frame_graph(FrameParts {
+            pyramids: heights.iter().any(HeightResources::builds_pyramid),
+            ao_maps: ao.len() > 0,
+            shadow_maps: !plan.shadow_maps.is_empty(),
+            occluders: occluders.is_some(),
+            cells: !cells.is_empty(),
+            background: background.is_some(),
+            gbuffer: plan.gbuffer,
+            depth: probe,
+        })?;
         Ok(Renderer {
             ctx: ctx.clone(),
+            graph,
             lights: plan.lights.clone(),
             plan,
             maps,
@@ -359,9 +377,8 @@ impl Renderer {
             return Err(VkError::Invalid(format!("a {width}x{height} frame")).into());
         }
         let retired = self.finish()?;
-        let options = self
-            .plan
-            .target_options(self.shadow_probe.is_some(), self.keep_radiance);
+        let options =
+            TargetOptions::of(&self.plan, self.shadow_probe.is_some(), self.keep_radiance);
         self.targets = Targets::new(&self.ctx, width, height, options, &self.tone_map)?;
         if self.occluders.is_some() {
             self.occluders = Some(occluder_targets(&self.ctx, &self.surface, &self.targets)?);
@@ -399,6 +416,12 @@ impl Renderer {
     /// for timing the shadow pass, or after a change the renderer cannot see.
     pub fn invalidate_shadow_maps(&mut self) {
         self.shadows.invalidate();
+    }
+
+    /// The frame's passes, in the order they are recorded, with what each reads and writes and
+    /// how often it runs, and the passes left out.
+    pub fn graph(&self) -> &FrameGraph {
+        &self.graph
     }
 
     /// Measures the next frame's motion (the G-buffer's) from `camera` instead of the last
@@ -492,61 +515,78 @@ impl Renderer {
             }
         };
         let timer = &mut slot.timer;
+        let graph = &self.graph;
+        let mut behind = Some(behind);
         let culled = slot.commands.submit(|rec| {
-            if build_pyramids {
-                for (part, h) in heights
-                    .iter()
-                    .enumerate()
-                    .filter(|(_, h)| h.builds_pyramid())
-                {
-                    let scope = Scope {
-                        pass: Pass::Pyramid,
-                        part: Some(part),
-                    };
-                    timer.scope(rec, scope, |rec| h.record_pyramid(rec))?;
-                }
-                for part in 0..ao.len() {
-                    let scope = Scope {
-                        pass: Pass::AmbientOcclusion,
-                        part: Some(part),
-                    };
-                    timer.scope(rec, scope, |rec| ao.record(rec, part))?;
-                }
-            }
-            if render_maps {
-                shadows.record(rec, timer, plan, surface, k, &views)?;
-            }
             let scope = |pass| Scope { pass, part: None };
-            if let Some(o) = occluders {
-                timer.scope(rec, scope(Pass::Occluders), |rec| {
-                    o.begin(rec);
-                    surface.record_occluders(rec, k, eye, &frustum)?;
-                    o.end(rec);
-                    Ok(())
-                })?;
+            let mut culled = 0;
+            // The passes inside the scene's rendering (background, tone map) are recorded by
+            // the pass that holds it.
+            let mut rendering = false;
+            for pass in graph.passes() {
+                match pass {
+                    Pass::Pyramid if build_pyramids => {
+                        for (part, h) in heights.iter().enumerate() {
+                            if h.builds_pyramid() {
+                                let scope = Scope {
+                                    pass,
+                                    part: Some(part),
+                                };
+                                timer.scope(rec, scope, |rec| h.record_pyramid(rec))?;
+                            }
+                        }
+                    }
+                    Pass::AmbientOcclusion if build_pyramids => {
+                        for part in 0..ao.len() {
+                            let scope = Scope {
+                                pass,
+                                part: Some(part),
+                            };
+                            timer.scope(rec, scope, |rec| ao.record(rec, part))?;
+                        }
+                    }
+                    Pass::ShadowMaps if render_maps => {
+                        shadows.record(rec, timer, plan, surface, k, &views)?;
+                    }
+                    Pass::Occluders => {
+                        if let Some(o) = occluders {
+                            timer.scope(rec, scope(pass), |rec| {
+                                o.begin(rec);
+                                surface.record_occluders(rec, k, eye, &frustum)?;
+                                o.end(rec);
+                                Ok(())
+                            })?;
+                        }
+                    }
+                    Pass::Cells => {
+                        // The complexes first (opaque), then the surface pass's draws.
+                        timer.scope(rec, scope(pass), |rec| {
+                            targets.begin(rec);
+                            let frame_set = surface
+                                .plain_set(k)
+                                .ok_or_else(|| VkError::Invalid("no plain frame set".into()))?;
+                            cells.record(rec, frame_set, eye, |m| surface.material_set(m))
+                        })?;
+                        rendering = true;
+                    }
+                    Pass::Surface => {
+                        culled = timer.scope(rec, scope(pass), |rec| {
+                            if !rendering {
+                                targets.begin(rec);
+                            }
+                            let sky = |rec: &crate::vk::Recording| match behind.take() {
+                                Some(draw) => draw(rec),
+                                None => Ok(()),
+                            };
+                            let culled = surface.record_draws(rec, k, (eye, &frustum), bounds, sky);
+                            targets.end(rec, tone_map, into)?;
+                            culled
+                        })?;
+                    }
+                    _ => {}
+                }
             }
-            if cells.is_empty() {
-                timer.scope(rec, scope(Pass::Surface), |rec| {
-                    targets.begin(rec);
-                    let culled = surface.record_draws(rec, k, (eye, &frustum), bounds, behind);
-                    targets.end(rec, tone_map, into)?;
-                    culled
-                })
-            } else {
-                // The complexes first (opaque), then the surface pass's draws, blended ones last.
-                timer.scope(rec, scope(Pass::Cells), |rec| {
-                    targets.begin(rec);
-                    let frame_set = surface
-                        .plain_set(k)
-                        .ok_or_else(|| VkError::Invalid("no plain frame set".into()))?;
-                    cells.record(rec, frame_set, eye, |m| surface.material_set(m))
-                })?;
-                timer.scope(rec, scope(Pass::Surface), |rec| {
-                    let culled = surface.record_draws(rec, k, (eye, &frustum), bounds, behind);
-                    targets.end(rec, tone_map, into)?;
-                    culled
-                })
-            }
+            Ok(culled)
         })?;
         slot.pending = Some((self.submitted, request.read_back, culled));
         self.pyramids_built = true;

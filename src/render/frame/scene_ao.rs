@@ -7,9 +7,9 @@
 
 use std::sync::Arc;
 
-use super::height_resources::HeightResources;
-use super::plan::Plan;
+use crate::render::heights::height_resources::HeightResources;
 use crate::render::maps::ao_map_pass::{AoJob, AoMapPass};
+use crate::render::plan::frame_plan::Plan;
 use crate::scene::AoMode;
 use crate::vk::{Context, ImageView, Recording, Sampler, VkError, VkResult};
 

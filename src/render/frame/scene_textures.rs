@@ -8,7 +8,7 @@ use std::sync::Arc;
 
 use ash::vk;
 
-use super::texture_mips::mip_chain;
+use crate::render::kit::texture_mips::mip_chain;
 use crate::scene::{Filter, SamplerDesc, SceneImage, TextureRef, Wrap};
 use crate::vk::{upload_mips, Context, Image, ImageDesc, ImageView, Sampler, VkError, VkResult};
 

@@ -6,14 +6,15 @@ use std::sync::Arc;
 
 use serde::Serialize;
 
-use super::gpu_heightfield::HeightFormat;
-use super::pass_timer::PassTiming;
-use super::plan::{HeightKey, HeightPlan, Plan, PlanError};
 use super::renderer::{FrameRequest, Renderer};
-use super::tonemap::ToneMapping;
-use crate::environment::{Background, EnvironmentError, EnvironmentSource};
-use crate::heightfield::{Address, Heightfield, HeightfieldError, LoadOptions};
+use crate::environment::{Background, EnvironmentSource};
+use crate::heightfield::{Address, Heightfield, LoadOptions};
 use crate::render::cells::cells_pass::{BuiltComplex, CellsOptions};
+use crate::render::kit::gpu_heightfield::HeightFormat;
+use crate::render::kit::pass_timer::PassTiming;
+use crate::render::kit::render_error::RenderError;
+use crate::render::kit::tone_curves::ToneMapping;
+use crate::render::plan::frame_plan::{HeightKey, HeightPlan, Plan};
 use crate::render::shadows::shadow_plan::ShadowOptions;
 use crate::scene::Scene;
 use crate::vk::{Context, VkError};
@@ -103,7 +104,7 @@ impl RenderOptions {
             height,
             msaa: 4,
             tone_mapping: ToneMapping {
-                curve: super::tonemap::ToneMap::PbrNeutral,
+                curve: crate::render::kit::tone_curves::ToneMap::PbrNeutral,
                 exposure_ev: 0.0,
             },
             environment: EnvironmentSource::Sky,
@@ -158,51 +159,6 @@ pub struct Frame {
     pub maps: Vec<BuiltMap>,
     /// The cell complexes built.
     pub cells: Vec<BuiltComplex>,
-}
-
-/// Why a frame could not be rendered.
-#[derive(Debug, thiserror::Error)]
-pub enum RenderError {
-    /// The scene cannot be planned.
-    #[error(transparent)]
-    Plan(#[from] PlanError),
-    /// A height map cannot be read, or exceeds the device's largest image.
-    #[error(transparent)]
-    Height(#[from] HeightfieldError),
-    /// The environment image cannot be read or used.
-    #[error(transparent)]
-    Environment(#[from] EnvironmentError),
-    /// A Vulkan call failed, or the device lacks something the frame needs.
-    #[error(transparent)]
-    Vulkan(#[from] VkError),
-    /// A mesh selected by `--cells` cannot be turned into a cell complex.
-    #[error(transparent)]
-    Cells(#[from] crate::cells::MeshError),
-    /// A layered material's textures cannot be blended or painted; the message says why.
-    #[error("layered material: {0}")]
-    Layers(String),
-    /// A paint stroke is invalid.
-    #[error("paint: {0}")]
-    Stroke(#[from] crate::terrain::StrokeError),
-    #[error("--cells {name:?}: its maps take {mib} MiB in one storage buffer, more than this device's {limit_mib} MiB; lower --cells-resolution or --cells-max-grid")]
-    /// A cell complex's maps or attributes exceed the device's storage buffer range
-    /// (`maxStorageBufferRange`).
-    CellsBufferTooLarge {
-        /// The `--cells` mesh name.
-        name: String,
-        /// Size of its largest buffer, in MiB.
-        mib: u64,
-        /// The device's limit, in MiB.
-        limit_mib: u64,
-    },
-    #[error("--cells {name:?}: {source}; lower --cells-grid or --cells-resolution")]
-    /// A cell complex's fixed grid would take more memory than the cells module allows.
-    CellsTooLarge {
-        /// The `--cells` mesh name.
-        name: String,
-        /// Which limit the grid exceeds.
-        source: crate::cells::GridTooLarge,
-    },
 }
 
 /// The heights of one planned height map, as stored on the GPU. The frame's own map is borrowed

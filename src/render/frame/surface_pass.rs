@@ -6,24 +6,26 @@
 use std::sync::Arc;
 
 use ash::vk;
-use glam::{Mat3, Mat4, Vec3};
+use glam::{Mat4, Vec3};
 
 use super::draw_bounds::{mesh_bounds, world_bounds};
-use super::frame_uniforms::FrameUniforms;
-use super::gbuffer::scene_extra_formats;
-use super::height_resources::HeightResources;
-use super::material_set::{material_layout, MaterialSets};
+use super::material_set::MaterialSets;
 use super::mesh_pipeline::{create_pipeline, MeshStages};
 use super::occluders::{occluder_layout, occluder_taps, occludes};
-use super::plan::{DrawPlan, DrawRole, PipelineKey, Plan};
 use super::scene_ao::SceneAo;
 use super::scene_textures::SceneTextures;
 use super::shell_draw::{upload_shell, BuiltShell};
 use crate::render::environment::{stand_in_binds, EnvironmentLight};
+use crate::render::heights::height_resources::HeightResources;
+use crate::render::kit::caster_draws::CasterDraws;
+use crate::render::kit::draw_push::DrawPush;
+use crate::render::kit::formats::scene_extra_formats;
+use crate::render::kit::frame_uniforms::FrameUniforms;
+use crate::render::kit::set_layouts::{material_layout, plain_frame_layout, set0_layout};
+use crate::render::plan::frame_plan::{DrawPlan, DrawRole, PipelineKey, Plan};
 use crate::render::shader_interface::{
-    BINDING_ENV_BRDF, BINDING_ENV_IRRADIANCE, BINDING_ENV_SPECULAR, BINDING_FRAME,
-    BINDING_HEIGHT_LINEAR, BINDING_HEIGHT_MEAN, BINDING_HEIGHT_POINT, BINDING_METHOD_MAP,
-    BINDING_OCCLUDER_BOUNDS, BINDING_SHADOW_ATLAS, SET_OCCLUDERS,
+    BINDING_FRAME, BINDING_HEIGHT_LINEAR, BINDING_HEIGHT_MEAN, BINDING_HEIGHT_POINT,
+    BINDING_METHOD_MAP, BINDING_OCCLUDER_BOUNDS, SET_OCCLUDERS,
 };
 use crate::render::shadows::shadow_atlas::ShadowAtlas;
 use crate::render::shadows::shadow_plan::relief_pad;
@@ -34,60 +36,6 @@ use crate::vk::{
     Bind, Buffer, Context, DescriptorLayout, DescriptorPool, DescriptorSet, ImageView, Pipeline,
     Recording, Sampler, VkError, VkResult,
 };
-
-/// Colour target format: sRGB, so the hardware encodes the shader's linear output.
-pub const COLOR_FORMAT: vk::Format = vk::Format::R8G8B8A8_SRGB;
-/// Depth target format.
-pub const DEPTH_FORMAT: vk::Format = vk::Format::D32_SFLOAT;
-
-/// What a draw pushes; mirrors `Draw` in `shaders/include/draw.glsl`. The normal matrix is
-/// made once per object here rather than per vertex in the shader. 128 bytes, the least every
-/// device allows.
-#[repr(C)]
-#[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
-pub(in crate::render) struct DrawPush {
-    model: [[f32; 4]; 4],
-    /// Columns of the inverse transpose of the model's 3x3; `normal[0][3]` is the mirror sign.
-    normal: [[f32; 4]; 3],
-    /// x: the shadow view a caster draw renders into (shadow pass only); y: the scene mesh
-    /// index + 1, which the G-buffer records; z, w: unused.
-    extra: [u32; 4],
-}
-const _: () = assert!(std::mem::size_of::<DrawPush>() == 128);
-
-impl DrawPush {
-    pub(in crate::render) fn of(model: Mat4) -> DrawPush {
-        let linear = Mat3::from_mat4(model);
-        let normal = linear.inverse().transpose();
-        let mirror = if linear.determinant() < 0.0 {
-            -1.0
-        } else {
-            1.0
-        };
-        let col = |c: Vec3, w: f32| [c.x, c.y, c.z, w];
-        DrawPush {
-            model: model.to_cols_array_2d(),
-            normal: [
-                col(normal.x_axis, mirror),
-                col(normal.y_axis, 0.0),
-                col(normal.z_axis, 0.0),
-            ],
-            extra: [0; 4],
-        }
-    }
-
-    /// The same draw, of scene mesh `mesh`.
-    pub(in crate::render) fn for_mesh(mut self, mesh: usize) -> DrawPush {
-        self.extra[1] = mesh as u32 + 1;
-        self
-    }
-
-    /// The same draw rendering into shadow view `tile`.
-    pub(in crate::render) fn for_tile(mut self, tile: u32) -> DrawPush {
-        self.extra[0] = tile;
-        self
-    }
-}
 
 /// A draw's set 0 per frame slot, its material's set and its layers' set.
 type DrawSets = (Vec<DescriptorSet>, DescriptorSet, Option<DescriptorSet>);
@@ -386,35 +334,6 @@ impl MeshDraw {
         self.caster_pad = pad;
         self
     }
-}
-
-/// The bindings every drawing pass's set 0 ends with: the shadow atlas and the environment's
-/// three maps.
-const SCENE_BINDINGS: [u32; 4] = [
-    BINDING_SHADOW_ATLAS,
-    BINDING_ENV_IRRADIANCE,
-    BINDING_ENV_SPECULAR,
-    BINDING_ENV_BRDF,
-];
-
-/// The set 0 layout of `bindings` (each a sampled texture but the frame uniforms), followed by
-/// the scene's.
-fn set0_layout(ctx: &Arc<Context>, bindings: &[u32], name: &str) -> VkResult<DescriptorLayout> {
-    let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
-    let all: Vec<_> = bindings
-        .iter()
-        .chain(&SCENE_BINDINGS)
-        .map(|&b| match b {
-            BINDING_FRAME => (b, vk::DescriptorType::UNIFORM_BUFFER),
-            _ => (b, vk::DescriptorType::COMBINED_IMAGE_SAMPLER),
-        })
-        .collect();
-    DescriptorLayout::new(ctx, &all, stages, name)
-}
-
-/// Set 0 of draws without relief: the frame uniforms and the scene's bindings.
-pub(in crate::render) fn plain_frame_layout(ctx: &Arc<Context>) -> VkResult<DescriptorLayout> {
-    set0_layout(ctx, &[BINDING_FRAME], "plain frame layout")
 }
 
 fn frame_layouts(ctx: &Arc<Context>) -> VkResult<FrameLayouts> {
@@ -806,11 +725,25 @@ impl SurfacePass {
     }
 }
 
-impl SurfacePass {
-    /// Records the caster draws `draws` (indices into the plan's draws) of frame slot `slot`
-    /// into shadow view `tile`, skipping those `frustum` (the view's) cannot see; returns how
-    /// many were skipped. Depth rendering into the view's tile must have begun.
-    pub(in crate::render) fn record_casters(
+/// The squared distance from `eye` to the nearest point of the box `bounds` (0 inside it).
+fn nearest_distance_squared(bounds: (Vec3, Vec3), eye: Vec3) -> f32 {
+    eye.clamp(bounds.0, bounds.1).distance_squared(eye)
+}
+
+/// By plan pipeline: whether some shadow map has a draw of it among its casters.
+fn caster_pipelines_needed(plan: &Plan) -> Vec<bool> {
+    let mut needed = vec![false; plan.pipelines.len()];
+    for map in &plan.shadow_maps {
+        for &k in &map.casters {
+            needed[plan.draws[k].pipeline] = true;
+        }
+    }
+    needed
+}
+
+impl CasterDraws for SurfacePass {
+    /// Depth rendering into the view's tile must have begun.
+    fn record_casters(
         &self,
         rec: &Recording,
         slot: usize,
@@ -838,20 +771,4 @@ impl SurfacePass {
         }
         Ok(culled)
     }
-}
-
-/// The squared distance from `eye` to the nearest point of the box `bounds` (0 inside it).
-fn nearest_distance_squared(bounds: (Vec3, Vec3), eye: Vec3) -> f32 {
-    eye.clamp(bounds.0, bounds.1).distance_squared(eye)
-}
-
-/// By plan pipeline: whether some shadow map has a draw of it among its casters.
-fn caster_pipelines_needed(plan: &Plan) -> Vec<bool> {
-    let mut needed = vec![false; plan.pipelines.len()];
-    for map in &plan.shadow_maps {
-        for &k in &map.casters {
-            needed[plan.draws[k].pipeline] = true;
-        }
-    }
-    needed
 }

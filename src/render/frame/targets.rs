@@ -8,8 +8,11 @@ use std::sync::Arc;
 use ash::vk;
 
 use super::gbuffer::GBuffer;
-use super::surface_pass::{COLOR_FORMAT, DEPTH_FORMAT};
-use super::tonemap::{ToneMapPass, ToneMapping, HDR_FORMAT};
+use super::tonemap::ToneMapPass;
+use crate::render::kit::formats::HDR_FORMAT;
+use crate::render::kit::formats::{COLOR_FORMAT, DEPTH_FORMAT};
+use crate::render::kit::tone_curves::ToneMapping;
+use crate::render::plan::frame_plan::Plan;
 use crate::vk::{
     transition_images, whole_color_region, ColorTarget, Context, DescriptorPool, DescriptorSet,
     Image, ImageDesc, ImageTransition, Readback, Recording, VkError, VkResult,
@@ -70,6 +73,20 @@ pub struct TargetOptions {
     pub keep_radiance: bool,
     /// The surface pass writes the G-buffer, and frames may read it back (no supersampling).
     pub gbuffer: bool,
+}
+
+impl TargetOptions {
+    /// How `plan`'s targets are made (`keep_depth`: the shadow probe reads the depth back;
+    /// `keep_radiance`: frames read the radiance back).
+    pub fn of(plan: &Plan, keep_depth: bool, keep_radiance: bool) -> TargetOptions {
+        TargetOptions {
+            samples: plan.msaa.samples,
+            scale: plan.supersample,
+            keep_depth,
+            keep_radiance,
+            gbuffer: plan.gbuffer,
+        }
+    }
 }
 
 impl Targets {

@@ -52,7 +52,7 @@ use super::ao_sweep::{
 use super::pyramid_pass::PyramidPass;
 use crate::heightfield::{Address, Heightfield};
 use crate::render::compute_pass::ComputePass;
-use crate::render::frame::gpu_heightfield::{sampler_address_mode, GpuHeightfield, HeightFormat};
+use crate::render::kit::gpu_heightfield::{sampler_address_mode, GpuHeightfield, HeightFormat};
 use crate::render::shader_interface::{
     AoHorizonParams, AoSweepParams, BINDING_AO_ACCUM, BINDING_AO_CROSSINGS, BINDING_AO_FIELD,
     BINDING_AO_HEIGHTS, BINDING_AO_HULLS, BINDING_AO_MAP, MODE_RESOLVE, MODE_SWEEP, MODE_UNPACK,

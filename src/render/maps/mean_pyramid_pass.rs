@@ -10,7 +10,7 @@ use ash::vk;
 
 use crate::heightfield::{mip_level_count, Heightfield};
 use crate::render::compute_pass::ComputePass;
-use crate::render::frame::gpu_heightfield::HeightFormat;
+use crate::render::kit::gpu_heightfield::HeightFormat;
 use crate::render::shader_interface::{BINDING_PYRAMID_COARSE, BINDING_PYRAMID_FINE};
 use crate::vk::{
     memory_barrier, transition_images, upload_mips, Bind, Context, DescriptorPool, DescriptorSet,

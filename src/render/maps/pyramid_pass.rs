@@ -9,7 +9,7 @@ use ash::vk;
 
 use crate::heightfield::Address;
 use crate::render::compute_pass::ComputePass;
-use crate::render::frame::gpu_heightfield::GpuHeightfield;
+use crate::render::kit::gpu_heightfield::GpuHeightfield;
 use crate::render::shader_interface::{
     PyramidParams, BINDING_PYRAMID_COARSE, BINDING_PYRAMID_FINE,
 };

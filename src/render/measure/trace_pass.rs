@@ -8,9 +8,9 @@ use ash::vk;
 use crate::heightfield::{Address, Heightfield, MapData, MaxPyramid};
 use crate::method::{Budget, Method};
 use crate::render::compute_pass::ComputePass;
-use crate::render::frame::gpu_heightfield::HeightFormat;
-use crate::render::frame::height_resources::HeightResources;
-use crate::render::frame::mesh_pipeline::hard_shadow_texels;
+use crate::render::heights::height_resources::HeightResources;
+use crate::render::kit::gpu_heightfield::HeightFormat;
+use crate::render::kit::hard_shadow::hard_shadow_texels;
 use crate::render::shader_interface::{
     TraceParams, BINDING_TRACE_HITS, BINDING_TRACE_STEPS, BINDING_TRACE_VISIBLE,
     SPEC_BUDGET_EXTENT_LIMIT, SPEC_BUDGET_LEAF_EXACT, SPEC_BUDGET_MAX_STEPS,

@@ -7,7 +7,7 @@ use glam::Vec3;
 use super::light_views::{directional_cascades, point_views, spot_view, LightView};
 use super::shadow_atlas::Tile;
 use super::shadow_plan::ShadowMapPlan;
-use crate::render::frame::frame_uniforms::{FrameUniforms, ShadowTileUniform};
+use crate::render::kit::frame_uniforms::{FrameUniforms, ShadowTileUniform};
 use crate::scene::{Camera, Light, LightKind};
 
 /// The views of `map` (its light `light`) for a frame seen by `camera` at `aspect`, over a scene

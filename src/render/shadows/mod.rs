@@ -11,7 +11,6 @@
 
 pub(in crate::render) mod frame_views;
 pub(in crate::render) mod light_views;
-pub(in crate::render) mod probe;
 pub(in crate::render) mod shadow_atlas;
 pub(in crate::render) mod shadow_pass;
 pub(in crate::render) mod shadow_plan;

@@ -12,7 +12,7 @@ use std::sync::Arc;
 
 use ash::vk;
 
-use crate::render::frame::depth_as_colour::{DepthAsColour, DEPTH_COLOUR_FORMAT};
+use crate::render::kit::depth_as_colour::{DepthAsColour, DEPTH_COLOUR_FORMAT};
 use crate::render::shader_interface::BINDING_SHADOW_ATLAS;
 use crate::vk::{Bind, Context, ImageView, Recording, Sampler, VkError, VkResult};
 

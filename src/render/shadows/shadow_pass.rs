@@ -12,11 +12,11 @@ use super::frame_views::{map_views, texel_world_at, write_shadow_views};
 use super::light_views::LightView;
 use super::shadow_atlas::ShadowAtlas;
 use super::shadow_plan::relief_pad;
-use crate::render::frame::frame_uniforms::FrameUniforms;
-use crate::render::frame::pass::Pass;
-use crate::render::frame::pass_timer::{PassTimer, Scope};
-use crate::render::frame::plan::Plan;
-use crate::render::frame::surface_pass::SurfacePass;
+use crate::render::kit::caster_draws::CasterDraws;
+use crate::render::kit::frame_uniforms::FrameUniforms;
+use crate::render::kit::pass::Pass;
+use crate::render::kit::pass_timer::{PassTimer, Scope};
+use crate::render::plan::frame_plan::Plan;
 use crate::scene::{Camera, Frustum, Scene};
 use crate::vk::{Context, Recording, VkResult};
 
@@ -128,7 +128,7 @@ impl ShadowMaps {
         rec: &Recording,
         timer: &mut PassTimer,
         plan: &Plan,
-        surface: &SurfacePass,
+        casters: &impl CasterDraws,
         slot: usize,
         views: &[LightView],
     ) -> VkResult<usize> {
@@ -149,7 +149,7 @@ impl ShadowMaps {
                     let tile = self.atlas.tiles()[index as usize];
                     rec.set_viewport(tile.x, tile.y, tile.size, tile.size);
                     let frustum = Frustum::from_view_projection(views[index as usize].view_proj);
-                    culled += surface.record_casters(rec, slot, index, &map.casters, &frustum)?;
+                    culled += casters.record_casters(rec, slot, index, &map.casters, &frustum)?;
                 }
                 Ok(culled)
             })?;

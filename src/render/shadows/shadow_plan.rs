@@ -8,9 +8,9 @@ use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
 use super::light_views::{point_views, spot_view};
-use crate::render::frame::frame_uniforms::{MAX_LIGHTS, MAX_SHADOW_TILES};
-use crate::render::frame::pass::Pass;
-use crate::render::frame::plan::{PassPlan, Plan};
+use crate::render::kit::frame_uniforms::{MAX_LIGHTS, MAX_SHADOW_TILES};
+use crate::render::kit::pass::Pass;
+use crate::render::plan::frame_plan::{PassPlan, Plan};
 use crate::render::shader_interface::{SHADOW_FILTER_HARD, SHADOW_FILTER_PCF, SHADOW_FILTER_PCSS};
 use crate::scene::{AlphaMode, Frustum, LightKind, Mesh, Scene};
 

@@ -15,7 +15,7 @@ use ash::vk;
 
 use crate::heightfield::{mip_level_count, Address, Heightfield};
 use crate::render::compute_pass::ComputePass;
-use crate::render::frame::gpu_heightfield::HeightFormat;
+use crate::render::kit::gpu_heightfield::HeightFormat;
 use crate::render::maps::pyramid_pass::{regions_above, PyramidJob, PyramidPass, Region};
 use crate::render::shader_interface::{
     BlendParams, BINDING_BLEND_LAYER_HEIGHTS, BINDING_BLEND_LAYER_WEIGHTS, BINDING_BLEND_OUT,

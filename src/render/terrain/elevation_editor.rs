@@ -9,7 +9,7 @@ use ash::vk;
 
 use crate::heightfield::{Address, Heightfield};
 use crate::render::compute_pass::ComputePass;
-use crate::render::frame::gpu_heightfield::{GpuHeightfield, HeightFormat};
+use crate::render::kit::gpu_heightfield::{GpuHeightfield, HeightFormat};
 use crate::render::maps::pyramid_pass::{regions_above, PyramidJob, PyramidPass, Region};
 use crate::render::shader_interface::{
     BrushParams, BINDING_BRUSH_HEIGHTS, BRUSH_CRATER, BRUSH_FLATTEN, BRUSH_LOWER, BRUSH_RAISE,

@@ -16,7 +16,7 @@ use ash::vk;
 use image::{imageops::FilterType, DynamicImage, RgbaImage};
 
 use crate::heightfield::Channel;
-use crate::render::frame::texture_mips::mip_chain;
+use crate::render::kit::texture_mips::mip_chain;
 use crate::render::shader_interface::{
     BINDING_LAYER_ALBEDO_HEIGHT, BINDING_LAYER_NORMAL_ROUGHNESS, BINDING_LAYER_PARAMS,
     BINDING_LAYER_WEIGHTS,

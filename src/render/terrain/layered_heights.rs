@@ -10,12 +10,12 @@ use std::time::Instant;
 use super::blended_pyramid_pass::{time_on_gpu, BlendedPyramid};
 use super::layer_paint::LayerPainter;
 use crate::heightfield::{Address, Heightfield, LoadOptions, MaxPyramid, PyramidLevel};
-use crate::render::frame::gpu_heightfield::HeightFormat;
+use crate::render::kit::gpu_heightfield::HeightFormat;
 use crate::scene::{Layers, LayersError, Scene, SceneImage};
 use crate::terrain::{tiled_stack, SplatMap, TiledLayer};
 use crate::vk::Context;
 
-use crate::render::frame::single_frame::RenderError;
+use crate::render::kit::render_error::RenderError;
 
 /// A blended field and how long it took.
 pub struct BlendedHeights {

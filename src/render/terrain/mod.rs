@@ -5,4 +5,3 @@ pub(in crate::render) mod elevation_editor;
 pub(in crate::render) mod layer_paint;
 pub(in crate::render) mod layer_set;
 pub(in crate::render) mod layered_heights;
-mod renderer_paint;

@@ -28,11 +28,17 @@ pub enum Pass {
     /// Rays from each relief hit toward the shadow-casting lights, traced inside the surface
     /// pass's fragments (listed for the plan; its time is part of `Surface`).
     SelfShadowRays,
+    /// The sky behind the scene, drawn after the opaque surfaces where the depth test leaves
+    /// pixels uncovered (inside the surface pass's rendering; its time is part of `Surface`).
+    Background,
+    /// Exposure and the tone curve from the linear radiance into the frame (after the surface
+    /// pass's rendering ends, timed within its scope).
+    ToneMap,
 }
 
 impl Pass {
     /// Every pass, in recording order.
-    pub const ALL: [Pass; 7] = [
+    pub const ALL: [Pass; 9] = [
         Pass::Pyramid,
         Pass::AmbientOcclusion,
         Pass::ShadowMaps,
@@ -40,6 +46,8 @@ impl Pass {
         Pass::Cells,
         Pass::Surface,
         Pass::SelfShadowRays,
+        Pass::Background,
+        Pass::ToneMap,
     ];
 
     /// The name the plan, `--explain` and the timing tables print.
@@ -52,12 +60,17 @@ impl Pass {
             Pass::Cells => "cells",
             Pass::Surface => "surface",
             Pass::SelfShadowRays => "self-shadow rays",
+            Pass::Background => "background",
+            Pass::ToneMap => "tone map",
         }
     }
 
     /// Whether the pass has timestamps of its own (else it runs inside another pass).
     pub fn timed(self) -> bool {
-        !matches!(self, Pass::SelfShadowRays)
+        !matches!(
+            self,
+            Pass::SelfShadowRays | Pass::Background | Pass::ToneMap
+        )
     }
 }
 

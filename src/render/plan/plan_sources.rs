@@ -2,7 +2,7 @@
 //! frame's map, an image's channel, blended layers), the address its sampler implies, and the
 //! settings that cannot be drawn together; and the errors that say why a scene cannot be planned.
 
-use super::plan::HeightKey;
+use super::frame_plan::HeightKey;
 use crate::heightfield::{Address, Heightfield};
 use crate::method::Method;
 use crate::scene::{HeightSource, Material, Relief, Scene, Silhouettes, Wrap};

@@ -2,7 +2,7 @@
 //! is built only for LOD materials whose pyramid traversal can stop on it, and otherwise listed
 //! as skipped with the reason (`relief render --explain`).
 
-use super::plan::{HeightPlan, PipelineKey};
+use super::frame_plan::{HeightPlan, PipelineKey};
 use crate::method::Method;
 
 /// The name the plan and `--explain` give the averaged pyramid.
@@ -45,7 +45,7 @@ pub fn skipped(pipelines: &[PipelineKey], heights: &[HeightPlan]) -> Option<Stri
 mod tests {
     use super::*;
     use crate::heightfield::Generator;
-    use crate::render::frame::plan::Plan;
+    use crate::render::plan::frame_plan::Plan;
     use crate::scene::{quad_mesh, Lod, Material, Relief, Scene};
 
     fn plan(materials: &[(&str, Option<Lod>)]) -> Plan {

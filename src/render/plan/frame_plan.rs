@@ -6,18 +6,17 @@
 use super::msaa::MsaaPlan;
 pub use super::plan_sources::PlanError;
 use super::plan_sources::{check_silhouettes, height_source};
-use super::targets::TargetOptions;
-use super::tonemap::ToneMapping;
 use crate::render::environment::EnvironmentPlan;
+use crate::render::kit::tone_curves::ToneMapping;
 use serde::Serialize;
 
-use super::frame_uniforms::MAX_LIGHTS;
 use super::lod_note;
-use super::pass::Pass;
 use crate::cells::MeshSelection;
 use crate::heightfield::{Address, Channel, Heightfield};
 use crate::method::{MapKind, Method};
 use crate::render::cells::cells_plan::{plan_cells, CellsPlan};
+use crate::render::kit::frame_uniforms::MAX_LIGHTS;
+use crate::render::kit::pass::Pass;
 use crate::render::shadows::shadow_plan::ShadowMapPlan;
 use crate::scene::{
     AlphaMode, AoMode, HeightSource, Layers, Light, Lod, Material, Scene, ShadowMode,
@@ -463,22 +462,6 @@ impl Plan {
                 self.ao_maps.push(wanted);
                 self.ao_maps.len() - 1
             }
-        }
-    }
-
-    /// How the frame's targets are made (`keep_depth`: the shadow probe reads the depth back;
-    /// `keep_radiance`: frames read the radiance back).
-    pub(in crate::render) fn target_options(
-        &self,
-        keep_depth: bool,
-        keep_radiance: bool,
-    ) -> TargetOptions {
-        TargetOptions {
-            samples: self.msaa.samples,
-            scale: self.supersample,
-            keep_depth,
-            keep_radiance,
-            gbuffer: self.gbuffer,
         }
     }
 

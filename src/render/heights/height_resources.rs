@@ -9,10 +9,10 @@ use std::sync::Arc;
 
 use ash::vk;
 
-use super::frame_uniforms::FrameUniforms;
-use super::gpu_heightfield::{GpuHeightfield, HeightFormat};
 use super::method_map::GpuMethodMap;
 use crate::heightfield::{Address, Heightfield, MapData, MaxPyramid};
+use crate::render::kit::frame_uniforms::FrameUniforms;
+use crate::render::kit::gpu_heightfield::{GpuHeightfield, HeightFormat};
 use crate::render::maps::mean_pyramid_pass::MeanPyramid;
 use crate::render::maps::pyramid_pass::{PyramidJob, PyramidPass};
 use crate::render::shader_interface::{

@@ -2,11 +2,13 @@
 //! painted, the strokes and rule reweighing applied through its painter, and the partial rebuild
 //! on the GPU of what they changed (splat texels, blended pyramid regions, nearby AO).
 
-use super::blended_pyramid_pass::time_on_gpu;
-use super::layer_paint::{record_paint_copies, LayerPainter, PaintError, PaintReport, StagedPaint};
-use crate::render::frame::plan::HeightKey;
 use crate::render::frame::renderer::{FrameOutput, Renderer};
-use crate::render::frame::single_frame::RenderError;
+use crate::render::kit::render_error::RenderError;
+use crate::render::plan::frame_plan::HeightKey;
+use crate::render::terrain::blended_pyramid_pass::time_on_gpu;
+use crate::render::terrain::layer_paint::{
+    record_paint_copies, LayerPainter, PaintError, PaintReport, StagedPaint,
+};
 use crate::terrain::{SplatMap, Stroke, TexelRect};
 use crate::vk::{RegionTexels, StagedRegions};
 

@@ -7,9 +7,10 @@ use std::sync::Arc;
 use glam::{Vec3, Vec4};
 
 use crate::heightfield::Heightfield;
-use crate::render::frame::pass_timer::PassTiming;
 use crate::render::frame::renderer::{FrameRequest, Renderer};
-use crate::render::frame::single_frame::{RenderError, RenderOptions};
+use crate::render::frame::single_frame::RenderOptions;
+use crate::render::kit::pass_timer::PassTiming;
+use crate::render::kit::render_error::RenderError;
 use crate::scene::{Camera, Scene};
 use crate::vk::{Context, VkError};
 

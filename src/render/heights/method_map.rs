@@ -6,8 +6,8 @@ use std::sync::Arc;
 
 use ash::vk;
 
-use super::gpu_heightfield::sampler_address_mode;
 use crate::heightfield::{Address, MapData};
+use crate::render::kit::gpu_heightfield::sampler_address_mode;
 use crate::vk::{upload_mips, Context, Image, ImageDesc, Sampler, VkError, VkResult};
 
 /// A map on the GPU, with the nearest sampler its binding uses.
