@@ -473,3 +473,35 @@ fn methods_prints_the_table_and_json_carries_each_default_budget() {
         assert!(m["needs"].is_array() && m["fixed_step"].is_boolean(), "{m}");
     }
 }
+
+#[test]
+fn write_depth_off_reaches_every_relief_pipeline() {
+    if common::device("write_depth_off_reaches_every_relief_pipeline").is_none() {
+        return;
+    }
+    let out = common::scratch_dir("write-depth-off").join("frame.png");
+    let run = relief(&[
+        "render",
+        "--width",
+        "32",
+        "--height",
+        "18",
+        "--explain",
+        "--write-depth",
+        "off",
+        "--out",
+        out.to_str().expect("utf-8"),
+    ]);
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let plan: serde_json::Value = serde_json::from_slice(&run.stdout).expect("JSON");
+    let pipelines = plan["pipelines"].as_array().expect("pipelines");
+    for p in pipelines {
+        let relief = p["method"].is_string();
+        assert_eq!(p["write_depth"], !relief, "{p}");
+    }
+    assert!(pipelines.iter().any(|p| p["method"].is_string()));
+}

@@ -5,7 +5,7 @@
 
 #include "interface.glsl"
 
-// A punctual light; mirrors `LightUniform` in src/render/frame_uniforms.rs.
+// A punctual light; mirrors `LightUniform` in src/render/kit/frame_uniforms.rs.
 struct LightData {
     vec4 position;   // xyz: world position (point, spot); w: kind, 0 directional, 1 point, 2 spot
     vec4 direction;  // xyz: direction the light travels (directional, spot); w: range, 0 = none

@@ -6,7 +6,7 @@
 
 #include "interface.glsl"
 
-// Mirrors `DrawPush` in src/render/surface_pass.rs.
+// Mirrors `DrawPush` in src/render/kit/draw_push.rs.
 layout(push_constant, std430) uniform Draw {
     mat4 model;
     // Columns of the inverse transpose of the model's linear part; normal[0].w is -1 when the

@@ -34,7 +34,7 @@ const float MAX_SHADOW_ELEVATION = 1.5707;
 
 // How far (in texels, uv and depth together) a hard shadow ray's first hit must lie from the
 // shaded point to count as a blocker rather than the point itself seen through the method's own
-// error: set per method (`hard_shadow_texels` in src/render/surface_pass.rs), small for methods
+// error: set per method (`hard_shadow_texels` in src/render/kit/hard_shadow.rs), small for methods
 // that meet the surface exactly, larger for fixed-step searches, whose shadow rays land short
 // or long of the point.
 layout(constant_id = SPEC_HARD_SHADOW_TEXELS) const float HARD_SHADOW_TEXELS = 0.25;

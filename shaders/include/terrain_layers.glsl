@@ -3,7 +3,7 @@
 // colours, normals and roughness are mixed by the blend mode's shading weights, the same as
 // `terrain::BlendMode::shading_weights`: the splat weights for `alpha`, height times weight,
 // normalised, for `height` and `height-intersect` (the higher layer shows: sand in the cracks
-// between stones). Set 2 mirrors src/render/layer_set.rs.
+// between stones). Set 2 mirrors src/render/terrain/layer_set.rs.
 #ifndef TERRAIN_LAYERS_GLSL
 #define TERRAIN_LAYERS_GLSL
 

@@ -1,5 +1,5 @@
 // The tone curves: exposure, then none (clamped), Khronos PBR Neutral or ACES. They mirror
-// src/render/frame/tonemap.rs (ToneMap::apply), which the tests compare with.
+// src/render/kit/tone_curves.rs (ToneMap::apply), which the tests compare with.
 #ifndef TONE_CURVES_GLSL
 #define TONE_CURVES_GLSL
 

@@ -61,6 +61,8 @@ layout(location = 4) out vec4 out_gbuffer_motion;
 // The written depth is only ever behind the polygon's (see main), so the rasterizer may still
 // reject fragments early against the polygon's depth.
 layout(depth_greater) out float gl_FragDepth;
+// Whether the displaced hit's depth is written (`Relief::write_depth`), else the polygon's.
+layout(constant_id = SPEC_WRITE_DEPTH) const uint WRITE_DEPTH = 1u;
 #endif
 
 // Traces and shades the fragment (main decides whether it is worth it).
@@ -155,7 +157,9 @@ void shade() {
     vec4 clip = frame.view_proj * vec4(world, 1.0);
     // The hit lies along the view ray beyond the polygon, so its depth is never nearer; the max
     // keeps rounding from breaking the depth_greater promise that lets early depth tests run.
-    gl_FragDepth = max(gl_FragCoord.z, clamp(clip.z / clip.w, 0.0, 1.0));
+    // A material that keeps its polygon's depth writes that instead.
+    gl_FragDepth = WRITE_DEPTH != 0u ? max(gl_FragCoord.z, clamp(clip.z / clip.w, 0.0, 1.0))
+                                     : gl_FragCoord.z;
 #endif
 
 #ifdef TERRAIN_LAYERS
@@ -256,12 +260,19 @@ void shade() {
     }
     out_gbuffer_normal = vec4(normal, 1.0);
     uint surface_ids = (draw.extra.y & 0xffffu) | (min(traced_steps, 0xffffu) << 16);
-    float view_depth = dot(frame.view_depth.xyz, world) + frame.view_depth.w;
+    // The depth and motion of the point the depth buffer holds: the hit, or with the
+    // material's depth off, its polygon.
+#ifndef PLAIN_SURFACE
+    vec3 depth_point = WRITE_DEPTH != 0u ? world : in_world;
+#else
+    vec3 depth_point = world;
+#endif
+    float view_depth = dot(frame.view_depth.xyz, depth_point) + frame.view_depth.w;
     out_gbuffer_surface = uvec4(floatBitsToUint(uv0), floatBitsToUint(view_depth), surface_ids);
     out_gbuffer_material = vec4(base.rgb, occlusion);
-    // Screen motion of the surface point itself (the hit, not the polygon), in pixels.
-    vec4 now = frame.view_proj * vec4(world, 1.0);
-    vec4 before = frame.previous_view_proj * vec4(world, 1.0);
+    // Screen motion of that point, in pixels.
+    vec4 now = frame.view_proj * vec4(depth_point, 1.0);
+    vec4 before = frame.previous_view_proj * vec4(depth_point, 1.0);
     vec2 motion = (now.xy / now.w - before.xy / before.w) * 0.5 * frame.viewport.xy;
     float lit = direct_unshadowed > 0.0 ? direct_arriving / direct_unshadowed : 1.0;
     out_gbuffer_motion = vec4(motion, lit, 0.0);

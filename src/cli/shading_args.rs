@@ -2,6 +2,8 @@
 //! mode, ambient occlusion mode and the lights' size. They override what the scene's extras say.
 
 use clap::Args;
+
+use super::scene_args::Toggle;
 use relief::scene::{AoMode, LightKind, Scene, ShadowMode, Silhouettes, MAX_ANGULAR_RADIUS_DEG};
 
 #[derive(Args)]
@@ -33,6 +35,11 @@ pub struct ShadingArgs {
     /// need method relief. Default: each material's extras.relief.silhouettes, else flat.
     #[arg(long, value_name = "flat|curved|shells")]
     silhouettes: Option<Silhouettes>,
+    /// Whether every relief material writes its displaced hit's depth into the frame's depth
+    /// (on), or its polygon's (off: other surfaces, the sky and the G-buffer's depth then see
+    /// the flat polygon). Default: each material's extras.relief.write_depth, else on.
+    #[arg(long, value_name = "on|off")]
+    write_depth: Option<Toggle>,
 }
 
 impl ShadingArgs {
@@ -62,6 +69,9 @@ impl ShadingArgs {
             }
             if let Some(silhouettes) = self.silhouettes {
                 relief.silhouettes = silhouettes;
+            }
+            if let Some(write) = self.write_depth {
+                relief.write_depth = write == Toggle::On;
             }
         }
         let Some(r) = self.light_radius else {

@@ -194,6 +194,9 @@ pub struct Relief {
     pub lod: Option<Lod>,
     /// Whether the relief's outline follows the mesh's polygons or its curvature.
     pub silhouettes: Silhouettes,
+    /// Whether the frame's depth holds the displaced hit's depth (what other surfaces are tested
+    /// against, and what the G-buffer and an engine's passes read) or the polygon's own.
+    pub write_depth: bool,
 }
 
 /// How a relief material's outline is cut.
@@ -244,6 +247,7 @@ impl Relief {
     /// Relief from the frame's height map with the method's own budget, hard self-shadows and no AO.
     pub fn new(depth_scale: f32, method: Method) -> Relief {
         Relief {
+            write_depth: true,
             depth_scale,
             method,
             budget: None,

@@ -6,7 +6,7 @@
 //!     "depth_scale": 0.05, "method": "qdm", "budget": 64,
 //!     "shadows": "horizon", "shadow_steps": 5, "horizon_reach": 1.0, "ao": "horizon-8",
 //!     "lod": { "factor": 1, "bias": 0, "fade_start": 0, "fade_end": 0, "average_below": 16 },
-//!     "silhouettes": "flat" } }
+//!     "silhouettes": "flat", "write_depth": true } }
 //! ```
 //!
 //! `depth_scale` is required (finite, > 0). Defaults: `method` "pom", `budget` none (the
@@ -20,7 +20,8 @@
 //! eye the relief fades to normal mapping until `fade_end` (0: no fade), and stop levels below
 //! `average_below` end on the averaged pyramid, 0 never), `silhouettes` "flat" (or "curved":
 //! the relief follows the mesh's curvature and its outline is cut where rays leave the shell;
-//! method "relief" only). Without
+//! method "relief" only), `write_depth` true (false: the frame's depth holds the polygon's
+//! depth, not the displaced hit's). Without
 //! `height` the material takes the frame's height map, unless it has `layers` (height-blended
 //! layers, documented in `layer_extras`). Extras without `relief` are ignored;
 //! unknown keys inside `relief` are errors, so a misspelt setting is not silently dropped.
@@ -67,6 +68,7 @@ pub(super) fn parse_relief(
             "lod",
             "layers",
             "silhouettes",
+            "write_depth",
         ],
     )?;
     let depth_scale = depth_scale(relief)?;
@@ -100,7 +102,14 @@ pub(super) fn parse_relief(
         None => Silhouettes::Flat,
         Some(v) => parsed(v, "extras.relief.silhouettes")?,
     };
+    let write_depth = match relief.get("write_depth") {
+        None => true,
+        Some(v) => v
+            .as_bool()
+            .ok_or_else(|| format!("extras.relief.write_depth: {v} is not true or false"))?,
+    };
     let relief = Relief {
+        write_depth,
         depth_scale,
         method,
         budget,
@@ -303,6 +312,9 @@ mod tests {
         assert_eq!((r.shadows, r.ao), (ShadowSettings::default(), AoMode::None));
         assert_eq!(r.lod, None);
         assert_eq!(r.silhouettes, Silhouettes::Flat);
+        assert!(r.write_depth);
+        let r = parse(r#"{"relief": {"depth_scale": 1, "write_depth": false}}"#);
+        assert!(!r.unwrap().unwrap().write_depth);
         let r = parse(r#"{"relief": {"depth_scale": 1, "height": {"index": 0}}}"#)
             .unwrap()
             .unwrap();
@@ -386,6 +398,10 @@ mod tests {
             (
                 r#"{"relief": {"depth_scale": 1, "method": 2}}"#,
                 "extras.relief.method: expected a string",
+            ),
+            (
+                r#"{"relief": {"depth_scale": 1, "write_depth": "yes"}}"#,
+                "extras.relief.write_depth: \"yes\" is not true or false",
             ),
             (
                 r#"{"relief": {"depth_scale": 1, "budget": 0}}"#,

@@ -25,6 +25,8 @@ struct PipelineEntry {
     lod: bool,
     curved: bool,
     shells: bool,
+    /// Whether the frame's depth holds the displaced hit's depth (else the polygon's).
+    write_depth: bool,
 }
 
 /// The explanation of what `plan` built; `maps` are the maps built for it, `cells` its cell
@@ -51,6 +53,7 @@ pub fn explain(
             lod: p.lod.is_some(),
             curved: p.curved,
             shells: p.shells,
+            write_depth: p.write_depth,
         })
         .collect();
     let heights: Vec<Value> = plan

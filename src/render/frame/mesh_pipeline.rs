@@ -16,7 +16,7 @@ use crate::render::shader_interface::{
     SPEC_BUDGET_EXTENT_LIMIT, SPEC_BUDGET_LEAF_EXACT, SPEC_BUDGET_MAX_STEPS,
     SPEC_BUDGET_REFINE_STEPS, SPEC_HARD_SHADOW_TEXELS, SPEC_LOD_AVERAGE_BELOW, SPEC_LOD_BIAS,
     SPEC_LOD_FACTOR, SPEC_LOD_FADE_END, SPEC_LOD_FADE_START, SPEC_OCCLUDER_TAPS,
-    SPEC_SHADOW_FILTER, SPEC_SHADOW_MODE, SPEC_SHADOW_REACH, SPEC_SHADOW_STEPS,
+    SPEC_SHADOW_FILTER, SPEC_SHADOW_MODE, SPEC_SHADOW_REACH, SPEC_SHADOW_STEPS, SPEC_WRITE_DEPTH,
 };
 use crate::render::shadows::shadow_atlas::SHADOW_FORMAT;
 use crate::scene::{Lod, Vertex};
@@ -140,7 +140,8 @@ pub(super) fn create_pipeline(
         .u32(SPEC_SHADOW_STEPS, key.shadows.resolved_steps())
         .f32(SPEC_SHADOW_REACH, key.shadows.horizon_reach)
         .u32(SPEC_SHADOW_FILTER, stages.shadow_filter)
-        .u32(SPEC_OCCLUDER_TAPS, stages.occluder_taps);
+        .u32(SPEC_OCCLUDER_TAPS, stages.occluder_taps)
+        .u32(SPEC_WRITE_DEPTH, u32::from(key.write_depth));
     if let Some(method) = key.method {
         let budget = method.info().default_budget;
         spec = spec
@@ -236,6 +237,9 @@ pub fn describe(key: &PipelineKey) -> String {
     }
     if key.shadows.mode.is_some() {
         name.push_str(&format!(" shadows {}", key.shadows.mode));
+    }
+    if !key.write_depth {
+        name.push_str(" polygon depth");
     }
     name
 }

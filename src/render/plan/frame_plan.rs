@@ -69,6 +69,9 @@ pub struct PipelineKey {
     /// Prism shells (`Silhouettes::Shells`): the `:shells` variant, drawn from each mesh's
     /// prisms instead of its triangles.
     pub shells: bool,
+    /// Relief fragments write their displaced hit's depth (`Relief::write_depth`), else the
+    /// polygon's: a specialization constant, so both come from one shader.
+    pub write_depth: bool,
 }
 
 impl PipelineKey {
@@ -393,6 +396,8 @@ impl Plan {
             shells: material
                 .relief
                 .is_some_and(|r| r.silhouettes == Silhouettes::Shells),
+            // Plain meshes write their own depth; the switch is relief's.
+            write_depth: material.relief.is_none_or(|r| r.write_depth),
         };
         match self.pipelines.iter().position(|p| *p == pipeline) {
             Some(k) => k,

@@ -275,6 +275,8 @@ glsl_table! {
         /// The occluder bounds a relief fragment reads before tracing: 0 none, 1 its own pixel,
         /// 9 its pixel and the eight around it (multisampled targets).
         SPEC_OCCLUDER_TAPS = 30;
+        /// 1: a relief fragment writes its displaced hit's depth; 0: the polygon's own.
+        SPEC_WRITE_DEPTH = 31;
     }
 }
 
