@@ -1,5 +1,6 @@
 //! Synchronisation in `relief::vk`: one-shot submissions from several threads at once, and GPU
-//! results read on the host only through a copy with the host-read barrier.
+//! results read on the host only through a copy with the host-read barrier, once the submission
+//! that carries the copy has finished (waited for when it has not).
 
 mod common;
 
@@ -123,5 +124,50 @@ fn read_mip_returns_what_was_uploaded() {
     assert_eq!(read_mip(&ctx, &image, 0, layout).expect("mip 0"), level0);
     assert_eq!(read_mip(&ctx, &image, 1, layout).expect("mip 1"), level1);
     drop(image);
+    common::assert_no_validation_errors(&ctx);
+}
+
+#[test]
+fn a_readback_is_read_only_after_the_submission_that_fills_it() {
+    let Some(ctx) = common::device("a_readback_is_read_only_after_the_submission_that_fills_it")
+    else {
+        return;
+    };
+    let usage = vk::BufferUsageFlags::TRANSFER_SRC | vk::BufferUsageFlags::TRANSFER_DST;
+    let gpu = Buffer::new(&ctx, 64, usage, MemoryLocation::GpuOnly, "filled").expect("buffer");
+    let back = Readback::new(&ctx, 64, "pending readback").expect("readback");
+    let written = (
+        vk::PipelineStageFlags2::CLEAR,
+        vk::AccessFlags2::TRANSFER_WRITE,
+    );
+    let fill = |rec: &relief::vk::Recording, word: u32| -> relief::vk::VkResult<()> {
+        rec.fill_buffer(&gpu, 0, 64, word)?;
+        back.record_copy_from_buffer(rec, &gpu, written)
+    };
+    // Inside its recording the copy has not gone out: no bytes.
+    ctx.one_shot(|rec| {
+        fill(rec, 7)?;
+        let e = back.bytes().expect_err("not submitted yet").to_string();
+        assert!(e.contains("submitted"), "{e}");
+        Ok(())
+    })
+    .expect("one-shot");
+    let words = |b: &[u8]| bytemuck::pod_collect_to_vec::<u8, u32>(b);
+    assert!(words(back.bytes().expect("filled")).iter().all(|&w| w == 7));
+    // A recording abandoned by an error never goes out: its copy is never readable.
+    let abandoned = ctx.one_shot(|rec| {
+        fill(rec, 8)?;
+        Err::<(), _>(relief::vk::VkError::Invalid("abandoned".into()))
+    });
+    assert!(abandoned.is_err());
+    let e = back.bytes().expect_err("abandoned").to_string();
+    assert!(e.contains("submitted"), "{e}");
+    // A frame slot's submission returns before the GPU is done: reading waits for it.
+    let mut slot = relief::vk::CommandSlot::new(&ctx, "readback slot").expect("slot");
+    slot.submit(|rec| fill(rec, 9)).expect("submits");
+    let read = words(back.bytes().expect("waited for"));
+    assert!(read.iter().all(|&w| w == 9));
+    slot.wait().expect("waits");
+    drop(slot);
     common::assert_no_validation_errors(&ctx);
 }

@@ -111,8 +111,14 @@ impl Buffer {
             MemoryLocation::CpuToGpu,
             name,
         )?;
-        buffer.write(0, bytes)?;
+        // SAFETY: the buffer was just made: no submission can read it yet.
+        unsafe { buffer.write(0, bytes)? };
         Ok(buffer)
+    }
+
+    /// The context the buffer belongs to.
+    pub(crate) fn context(&self) -> &Arc<Context> {
+        &self.inner.ctx
     }
 
     /// The raw handle, for the vk layer's own commands.
@@ -156,7 +162,18 @@ impl Buffer {
     }
 
     /// Copies `bytes` into a mapped buffer at `offset`.
-    pub fn write(&mut self, offset: usize, bytes: &[u8]) -> VkResult<()> {
+    ///
+    /// # Safety
+    /// No submission that may read the buffer is pending or executing: the caller waited for
+    /// every one that binds it (the fence of each frame slot whose descriptor sets point at
+    /// it), or the buffer was never bound. Safe code cannot call it:
+    ///
+    /// ```compile_fail,E0133
+    /// fn overwrite(buffer: &mut relief::vk::Buffer) {
+    ///     buffer.write(0, &[0u8; 4]).unwrap();
+    /// }
+    /// ```
+    pub unsafe fn write(&mut self, offset: usize, bytes: &[u8]) -> VkResult<()> {
         let name = self.name();
         let ptr = self
             .inner
@@ -185,9 +202,16 @@ impl Buffer {
         Ok(())
     }
 
-    /// The mapped contents of a host-visible buffer, as the host last wrote them. For what the GPU
-    /// wrote, copy into a [`Readback`](super::Readback): it records the host-read barrier.
-    pub fn mapped(&self) -> VkResult<&[u8]> {
+    /// The mapped contents of a host-visible buffer, as the host last wrote them. Not public: what
+    /// the GPU wrote is read through a [`Readback`](super::Readback), which records the host-read
+    /// barrier and waits for nothing it cannot prove finished:
+    ///
+    /// ```compile_fail,E0624
+    /// fn peek(buffer: &relief::vk::Buffer) -> usize {
+    ///     buffer.mapped().map_or(0, |b| b.len())
+    /// }
+    /// ```
+    pub(crate) fn mapped(&self) -> VkResult<&[u8]> {
         self.inner
             .allocation
             .as_ref()

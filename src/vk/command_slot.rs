@@ -110,7 +110,8 @@ impl CommandSlot {
         // SAFETY: the buffer was reset above.
         unsafe { device.begin_command_buffer(self.cmd, &begin) }.named("vkBeginCommandBuffer")?;
         let open = self.ctx.open_recording();
-        let recorded = record(&Recording::new(device, self.cmd));
+        let rec = Recording::new(device, self.cmd);
+        let recorded = record(&rec);
         // SAFETY: recording was begun above; ending it also closes a recording cut short by an
         // error, so the pool reset next time finds no buffer in the recording state.
         let ended = unsafe { device.end_command_buffer(self.cmd) }.named("vkEndCommandBuffer");
@@ -122,8 +123,10 @@ impl CommandSlot {
             .map(|&(s, stage)| (s.raw(), stage))
             .collect();
         let signals: Vec<_> = sync.signal.iter().map(|s| s.raw()).collect();
-        self.ctx
+        let timeline = self
+            .ctx
             .submit_tracked(self.cmd, &waits, &signals, self.fence)?;
+        rec.submitted(timeline);
         drop(open);
         self.in_flight = true;
         Ok(value)

@@ -54,7 +54,8 @@ impl Context {
         // SAFETY: freshly allocated command buffer.
         unsafe { device.begin_command_buffer(cmd, &begin) }.named("vkBeginCommandBuffer")?;
         let open = self.open_recording();
-        let value = record(&Recording::new(device, cmd))?;
+        let rec = Recording::new(device, cmd);
+        let value = record(&rec)?;
         // SAFETY: recording was begun above.
         unsafe { device.end_command_buffer(cmd) }.named("vkEndCommandBuffer")?;
         // SAFETY: valid device.
@@ -62,6 +63,9 @@ impl Context {
             .named("vkCreateFence")?;
         self.count(Created::Fence);
         let submitted = self.submit_tracked(cmd, &[], &[], fence);
+        if let Ok(timeline) = submitted {
+            rec.submitted(timeline);
+        }
         drop(open);
         // SAFETY: the fence was created above and is destroyed only below.
         let waited =

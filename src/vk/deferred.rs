@@ -124,14 +124,15 @@ impl Context {
     }
 
     /// Submits `cmd` on the queue, waiting for `waits` and signalling `signals` and `fence`, and
-    /// signals the next timeline value, so what the work uses is destroyed only after it.
+    /// signals the next timeline value, so what the work uses is destroyed only after it;
+    /// returns that value.
     pub(crate) fn submit_tracked(
         &self,
         cmd: vk::CommandBuffer,
         waits: &[(vk::Semaphore, vk::PipelineStageFlags)],
         signals: &[vk::Semaphore],
         fence: vk::Fence,
-    ) -> VkResult<()> {
+    ) -> VkResult<u64> {
         let queue = self
             .queue()
             .lock()
@@ -161,7 +162,7 @@ impl Context {
         self.retirement().state().submitted = value;
         drop(queue);
         self.retire();
-        Ok(())
+        Ok(value)
     }
 
     /// Hands `doomed` over for destruction once the GPU has passed every submission that may use
@@ -199,6 +200,12 @@ impl Context {
     /// Waits (at most the GPU timeout) until every submission made so far has finished.
     pub(crate) fn wait_submitted(&self, what: &str) -> VkResult<()> {
         let value = self.retirement().state().submitted;
+        self.wait_submission(value, what)
+    }
+
+    /// Waits (at most the GPU timeout) until submission `value` (a timeline value
+    /// [`Context::submit_tracked`] returned) has finished.
+    pub(crate) fn wait_submission(&self, value: u64, what: &str) -> VkResult<()> {
         let semaphores = [self.retirement().timeline];
         let values = [value];
         let info = vk::SemaphoreWaitInfo::default()

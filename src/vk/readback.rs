@@ -1,12 +1,14 @@
 //! Reading GPU results on the host. Device writes become visible to host reads only through a
 //! barrier to `HOST`/`HOST_READ` before the fence signals; a fence alone is not enough on non-coherent
-//! or cached memory. [`Readback`] records that barrier with every copy it records, and refuses to
-//! hand out bytes no copy was recorded for, so a caller cannot forget either.
+//! or cached memory. [`Readback`] records that barrier with every copy it records, and hands out
+//! its bytes only once the submission that carries its latest copy has finished on the GPU (the
+//! context's timeline has passed it): never memory a copy may still be writing, nor bytes no copy
+//! was recorded for.
 //!
 //! Producers write device-local memory; the copy into this host-visible buffer is recorded after
 //! them (and after any closing timestamp), so timed work never pays for writes over the bus.
 
-use std::cell::Cell;
+use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::Arc;
 
 use ash::vk;
@@ -17,13 +19,16 @@ use super::commands::memory_barrier;
 use super::context::Context;
 use super::error::{VkError, VkResult};
 use super::image::WholeImage;
-use super::recording::Recording;
+use super::recording::{Recording, UNSUBMITTED};
 use super::transfer::texel_size;
 
 /// A host-visible (`GpuToCpu`) buffer that GPU results are copied into and read from.
 pub struct Readback {
     buffer: Buffer,
-    recorded: Cell<bool>,
+    /// The timeline value of the submission that carries the latest copy into it: 0 before any
+    /// copy was recorded, `UNSUBMITTED` while the recording that holds it is open or was
+    /// abandoned.
+    filled_by: Arc<AtomicU64>,
 }
 
 impl Readback {
@@ -38,7 +43,7 @@ impl Readback {
         )?;
         Ok(Readback {
             buffer,
-            recorded: Cell::new(false),
+            filled_by: Arc::new(AtomicU64::new(0)),
         })
     }
 
@@ -151,23 +156,42 @@ impl Readback {
 
     fn record_host_barrier(&self, rec: &Recording) {
         host_read_barrier(rec);
-        self.recorded.set(true);
+        rec.note_fill(&self.filled_by);
     }
 
-    /// The copied bytes: valid once the submission that recorded the copy has completed.
+    /// The copied bytes, once the submission that carries the latest copy into this buffer has
+    /// finished on the GPU: it waits for that submission (at most the GPU timeout) when it is
+    /// still running, so it never returns bytes a copy may still be writing; an error before any
+    /// copy was recorded, or while the recording that holds the copy is not submitted.
     pub fn bytes(&self) -> VkResult<&[u8]> {
-        if !self.recorded.get() {
+        let filled_by = self.filled_by.load(Ordering::Acquire);
+        if let Some(why) = unreadable(filled_by) {
             return Err(VkError::Invalid(format!(
-                "readback {:?} read before a copy into it was recorded",
+                "readback {:?} read {why}",
                 self.buffer.name()
             )));
         }
+        let what = format!(
+            "the submission that fills readback {:?}",
+            self.buffer.name()
+        );
+        self.buffer.context().wait_submission(filled_by, &what)?;
         self.buffer.mapped()
     }
 
     /// The buffer the copies land in.
     pub fn buffer(&self) -> &Buffer {
         &self.buffer
+    }
+}
+
+/// Why a readback whose copy went out in submission `filled_by` can never be read as it is;
+/// `None` when waiting for that submission is enough.
+fn unreadable(filled_by: u64) -> Option<&'static str> {
+    match filled_by {
+        0 => Some("before a copy into it was recorded"),
+        UNSUBMITTED => Some("before the recording that copies into it was submitted"),
+        _ => None,
     }
 }
 
@@ -189,4 +213,16 @@ pub fn host_read_barrier(rec: &Recording) {
         ),
         (vk::PipelineStageFlags2::HOST, vk::AccessFlags2::HOST_READ),
     );
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn only_a_submitted_copy_can_be_waited_for() {
+        assert!(unreadable(0).is_some_and(|w| w.contains("before a copy")));
+        assert!(unreadable(UNSUBMITTED).is_some_and(|w| w.contains("submitted")));
+        assert_eq!(unreadable(7), None);
+    }
 }

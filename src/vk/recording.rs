@@ -3,13 +3,20 @@
 //! recording: safe code can record only into a buffer that is recording now, never into a null,
 //! foreign or finished one. Every command relief records goes through it.
 
+use std::cell::RefCell;
 use std::marker::PhantomData;
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::Arc;
 
 use ash::vk;
 
 use super::buffer::Buffer;
 use super::error::{VkError, VkResult};
 use super::image::{Image, WholeImage};
+
+/// A readback's mark while the recording that fills it is not yet submitted (timeline values
+/// count up from 1; 0 is "never filled").
+pub(crate) const UNSUBMITTED: u64 = u64::MAX;
 
 /// One colour attachment of a dynamic rendering: the image drawn into, where (and how) its
 /// samples are resolved when rendering ends, and the value it is cleared to.
@@ -64,6 +71,9 @@ pub struct ColorTarget<'a> {
 pub struct Recording<'a> {
     device: &'a ash::Device,
     cmd: vk::CommandBuffer,
+    /// The submission marks of the readbacks this recording copies into: told the
+    /// submission's timeline value when it is submitted.
+    fills: RefCell<Vec<Arc<AtomicU64>>>,
     // Not Send or Sync: a command buffer is recorded by one thread (its pool is externally
     // synchronised).
     _single_thread: PhantomData<*const ()>,
@@ -75,7 +85,22 @@ impl<'a> Recording<'a> {
         Recording {
             device,
             cmd,
+            fills: RefCell::new(Vec::new()),
             _single_thread: PhantomData,
+        }
+    }
+
+    /// Marks `fill` (a readback's) as filled by this recording: unsubmitted until
+    /// [`Recording::submitted`] tells it the submission's timeline value.
+    pub(crate) fn note_fill(&self, fill: &Arc<AtomicU64>) {
+        fill.store(UNSUBMITTED, Ordering::Release);
+        self.fills.borrow_mut().push(fill.clone());
+    }
+
+    /// Tells every readback filled by this recording that it went out as timeline `value`.
+    pub(crate) fn submitted(&self, value: u64) {
+        for fill in self.fills.borrow().iter() {
+            fill.store(value, Ordering::Release);
         }
     }
 

@@ -452,10 +452,15 @@ impl Renderer {
         let views = self
             .shadows
             .write_views(&mut uniforms, &self.plan, &request.camera, aspect);
+        // The slot's last submission is the only one binding its uniforms; retiring it waited
+        // for it, and an idle slot's wait returns at once.
+        self.slots[k].commands.wait()?;
         for h in &mut self.heights {
-            h.write_uniforms(k, uniforms)?;
+            // SAFETY: slot k's submissions have finished (waited for above).
+            unsafe { h.write_uniforms(k, uniforms)? };
         }
-        self.surface.write_uniforms(k, &uniforms)?;
+        // SAFETY: as above.
+        unsafe { self.surface.write_uniforms(k, &uniforms)? };
         if request.read_back && self.slots[k].readback.is_none() {
             // Every slot's at once, so frames after the first create nothing.
             for (j, slot) in self.slots.iter_mut().enumerate() {

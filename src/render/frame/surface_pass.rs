@@ -603,9 +603,13 @@ impl SurfacePass {
 
     /// Writes the plain variant's uniforms of frame slot `slot` (the height maps' own are
     /// written through their `HeightResources`).
-    pub fn write_uniforms(&mut self, slot: usize, uniforms: &FrameUniforms) -> VkResult<()> {
+    ///
+    /// # Safety
+    /// The slot's previous frame has finished on the GPU (its fence was waited for).
+    pub unsafe fn write_uniforms(&mut self, slot: usize, uniforms: &FrameUniforms) -> VkResult<()> {
         match self.plain_uniforms.get_mut(slot) {
-            Some(buffer) => buffer.write(0, bytemuck::bytes_of(uniforms)),
+            // SAFETY: only the slot's frames bind its buffer, and the caller waited for them.
+            Some(buffer) => unsafe { buffer.write(0, bytemuck::bytes_of(uniforms)) },
             None => Ok(()),
         }
     }

@@ -260,16 +260,20 @@ impl HeightResources {
         }
     }
 
-    /// Writes `frame`, with this map's height info, into slot `slot`'s uniforms. The slot's
-    /// previous frame must have finished on the GPU.
-    pub fn write_uniforms(&mut self, slot: usize, mut frame: FrameUniforms) -> VkResult<()> {
+    /// Writes `frame`, with this map's height info, into slot `slot`'s uniforms.
+    ///
+    /// # Safety
+    /// The slot's previous frame has finished on the GPU (its fence was waited for): the
+    /// uniforms are host memory its draws read.
+    pub unsafe fn write_uniforms(&mut self, slot: usize, mut frame: FrameUniforms) -> VkResult<()> {
         frame.height_info = self.heights.shader_info();
         let count = self.uniforms.len();
         let buffer = self
             .uniforms
             .get_mut(slot)
             .ok_or_else(|| VkError::Invalid(format!("uniform slot {slot} of {count}")))?;
-        buffer.write(0, bytemuck::bytes_of(&frame))
+        // SAFETY: only the slot's frames bind its buffer, and the caller waited for them.
+        unsafe { buffer.write(0, bytemuck::bytes_of(&frame)) }
     }
 
     /// How many frame slots have uniforms.
