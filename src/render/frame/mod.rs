@@ -11,6 +11,7 @@ mod height_upload;
 pub(in crate::render) mod material_set;
 pub(in crate::render) mod mesh_pipeline;
 pub(in crate::render) mod occluders;
+mod record_graph;
 pub(in crate::render) mod renderer;
 pub(in crate::render) mod scene_ao;
 pub(in crate::render) mod scene_textures;

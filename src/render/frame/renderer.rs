@@ -16,6 +16,7 @@ use super::frame_graph::{frame_graph, FrameParts};
 use super::gbuffer::GBufferChannels;
 use super::height_upload::upload_heights;
 use super::occluders::{plan_occluders, OccluderTargets};
+use super::record_graph::{FrameWork, RecordingParts};
 use super::scene_ao::SceneAo;
 use super::shell_draw::BuiltShell;
 use super::single_frame::{BuiltMap, RenderOptions};
@@ -41,7 +42,7 @@ use crate::render::plan::msaa::MsaaPlan;
 use crate::render::shadows::shadow_pass::ShadowMaps;
 use crate::render::shadows::shadow_plan::plan_shadow_maps;
 use crate::render::terrain::layer_paint::LayerPainter;
-use crate::scene::{Camera, Frustum, Light, Mesh, Scene};
+use crate::scene::{Camera, Light, Mesh, Scene};
 use crate::vk::{
     half_floats_to_rgba, Buffer, CommandSlot, Context, Image, Readback, VkError, VkResult,
 };
@@ -482,117 +483,40 @@ impl Renderer {
         }
         let build_pyramids = !self.pyramids_built;
         let render_maps = self.shadows.needs_render(&views);
-        let eye = request.camera.eye();
-        let frustum = Frustum::from_view_projection(request.camera.view_projection(aspect));
-        let slot = &mut self.slots[k];
-        let readback = slot.readback.as_ref().filter(|_| request.read_back);
-        let into = FrameReadbacks {
-            color: readback,
-            depth: slot.depth_readback.as_ref().filter(|_| request.read_back),
-            radiance: slot
-                .radiance_readback
-                .as_ref()
-                .filter(|_| request.read_back),
-            gbuffer: slot
-                .gbuffer_readback
-                .as_deref()
-                .filter(|_| request.read_back),
+        let parts = RecordingParts {
+            graph: &self.graph,
+            plan: &self.plan,
+            heights: &self.heights,
+            ao: &self.ao,
+            shadows: &self.shadows,
+            occluders: self.occluders.as_ref(),
+            cells: &self.cells,
+            surface: &self.surface,
+            background: self.background.as_ref(),
+            targets: &self.targets,
+            tone_map: (&self.tone_map, self.plan.tone_mapping),
         };
-        let (heights, ao, surface, cells, targets, shadows, plan) = (
-            &self.heights,
-            &self.ao,
-            &self.surface,
-            &self.cells,
-            &self.targets,
-            &self.shadows,
-            &self.plan,
-        );
-        let occluders = self.occluders.as_ref();
-        let bounds = occluders.map(OccluderTargets::set);
-        let tone_map = (&self.tone_map, self.plan.tone_mapping);
-        let view_proj = request.camera.view_projection(aspect);
-        // After the opaque draws, with the depth test: the sky is shaded only where nothing
-        // was drawn.
-        let behind = |rec: &crate::vk::Recording| -> VkResult<()> {
-            match &self.background {
-                Some(b) => b.record(rec, view_proj),
-                None => Ok(()),
-            }
+        let slot = &mut self.slots[k];
+        fn kept(buffer: &Option<Readback>, read: bool) -> Option<&Readback> {
+            buffer.as_ref().filter(|_| read)
+        }
+        let read = request.read_back;
+        let work = FrameWork {
+            slot: k,
+            eye: request.camera.eye(),
+            view_proj: request.camera.view_projection(aspect),
+            views: &views,
+            build_maps: build_pyramids,
+            render_shadow_maps: render_maps,
+            into: FrameReadbacks {
+                color: kept(&slot.readback, read),
+                depth: kept(&slot.depth_readback, read),
+                radiance: kept(&slot.radiance_readback, read),
+                gbuffer: slot.gbuffer_readback.as_deref().filter(|_| read),
+            },
         };
         let timer = &mut slot.timer;
-        let graph = &self.graph;
-        let mut behind = Some(behind);
-        let culled = slot.commands.submit(|rec| {
-            let scope = |pass| Scope { pass, part: None };
-            let mut culled = 0;
-            // The passes inside the scene's rendering (background, tone map) are recorded by
-            // the pass that holds it.
-            let mut rendering = false;
-            for pass in graph.passes() {
-                match pass {
-                    Pass::Pyramid if build_pyramids => {
-                        for (part, h) in heights.iter().enumerate() {
-                            if h.builds_pyramid() {
-                                let scope = Scope {
-                                    pass,
-                                    part: Some(part),
-                                };
-                                timer.scope(rec, scope, |rec| h.record_pyramid(rec))?;
-                            }
-                        }
-                    }
-                    Pass::AmbientOcclusion if build_pyramids => {
-                        for part in 0..ao.len() {
-                            let scope = Scope {
-                                pass,
-                                part: Some(part),
-                            };
-                            timer.scope(rec, scope, |rec| ao.record(rec, part))?;
-                        }
-                    }
-                    Pass::ShadowMaps if render_maps => {
-                        shadows.record(rec, timer, plan, surface, k, &views)?;
-                    }
-                    Pass::Occluders => {
-                        if let Some(o) = occluders {
-                            timer.scope(rec, scope(pass), |rec| {
-                                o.begin(rec);
-                                surface.record_occluders(rec, k, eye, &frustum)?;
-                                o.end(rec);
-                                Ok(())
-                            })?;
-                        }
-                    }
-                    Pass::Cells => {
-                        // The complexes first (opaque), then the surface pass's draws.
-                        timer.scope(rec, scope(pass), |rec| {
-                            targets.begin(rec);
-                            let frame_set = surface
-                                .plain_set(k)
-                                .ok_or_else(|| VkError::Invalid("no plain frame set".into()))?;
-                            cells.record(rec, frame_set, eye, |m| surface.material_set(m))
-                        })?;
-                        rendering = true;
-                    }
-                    Pass::Surface => {
-                        culled = timer.scope(rec, scope(pass), |rec| {
-                            if !rendering {
-                                targets.begin(rec);
-                            }
-                            let sky = |rec: &crate::vk::Recording| match behind.take() {
-                                Some(draw) => draw(rec),
-                                None => Ok(()),
-                            };
-                            let culled = surface.record_draws(rec, k, (eye, &frustum), bounds, sky);
-                            targets.end(rec, tone_map, into)?;
-                            culled
-                        })?;
-                    }
-                    _ => {}
-                }
-            }
-            Ok(culled)
-        })?;
+        let culled = slot.commands.submit(|rec| parts.record(rec, timer, work))?;
         slot.pending = Some((self.submitted, request.read_back, culled));
         self.pyramids_built = true;
         if render_maps {
