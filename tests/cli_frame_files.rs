@@ -55,19 +55,19 @@ fn a_batch_writes_its_good_scenes_and_fails_for_the_broken_one() {
     let broken = dir.join("broken.gltf");
     std::fs::write(&broken, "{ this is not JSON").expect("writes");
     let cameras = with_two_cameras(&dir);
-    let out = dir.join("shots").join("frame.png");
-    let run = relief(&[
-        "render",
-        path_arg(&good),
-        path_arg(&broken),
-        path_arg(&cameras),
-        "--width",
-        "48",
-        "--height",
-        "32",
-        "--out",
-        path_arg(&out),
-    ]);
+    // The three scenes at a small size into `out`, with `extra` flags.
+    let batch = |out: &Path, extra: &[&str]| {
+        let mut args = vec![
+            "render",
+            path_arg(&good),
+            path_arg(&broken),
+            path_arg(&cameras),
+        ];
+        args.extend(["--width", "48", "--height", "32", "--out", path_arg(out)]);
+        args.extend(extra);
+        relief(&args)
+    };
+    let run = batch(&dir.join("shots").join("frame.png"), &[]);
     let err = String::from_utf8_lossy(&run.stderr);
     common::cli::assert_clean_failure(&run, &["1 of 3", "broken.gltf"]);
     assert!(err.contains("broken.gltf failed"), "{err}");
@@ -79,20 +79,7 @@ fn a_batch_writes_its_good_scenes_and_fails_for_the_broken_one() {
     written.sort();
     assert_eq!(written, ["frame_cameras.png", "frame_tetra.png"]);
     // --fail-fast stops at the broken scene: the third is not drawn.
-    let fast = dir.join("fast").join("frame.png");
-    let run = relief(&[
-        "render",
-        path_arg(&good),
-        path_arg(&broken),
-        path_arg(&cameras),
-        "--width",
-        "48",
-        "--height",
-        "32",
-        "--fail-fast",
-        "--out",
-        path_arg(&fast),
-    ]);
+    let run = batch(&dir.join("fast").join("frame.png"), &["--fail-fast"]);
     common::cli::assert_clean_failure(&run, &["1 of 2", "broken.gltf"]);
     assert!(dir.join("fast").join("frame_tetra.png").is_file());
     assert!(!dir.join("fast").join("frame_cameras.png").exists());
