@@ -5,7 +5,7 @@
 use std::mem::ManuallyDrop;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex, RwLock};
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use ash::{ext, khr, vk};
 use gpu_allocator::vulkan::{Allocator, AllocatorCreateDesc};
@@ -18,6 +18,7 @@ use super::fence::gpu_timeout_from_env;
 use super::instance::{create_instance, InstanceParts, MessageCounts, Validation};
 use super::physical::{choose_physical_device, DeviceInfo};
 use super::pipeline_cache::{CacheIdentity, PipelineCache};
+use super::query::ClockPair;
 use super::surface::{surface_extensions, WindowHandles, WindowSurface};
 
 /// What the caller wants from [`Context::new`].
@@ -43,6 +44,8 @@ pub struct Context {
     info: DeviceInfo,
     device: ash::Device,
     debug_device: Option<ext::debug_utils::Device>,
+    /// `VK_EXT_calibrated_timestamps`, where the device has it with its own time domain.
+    calibration: Option<ext::calibrated_timestamps::Device>,
     queue: Mutex<vk::Queue>,
     queue_family: u32,
     allocator: ManuallyDrop<Mutex<Allocator>>,
@@ -196,13 +199,14 @@ impl Context {
         };
         let chosen =
             choose_physical_device(&parts.instance, options.device_filter.as_deref(), &presents);
-        let (physical, info) = match chosen {
+        let (physical, mut info) = match chosen {
             Ok(pair) => pair,
             Err(e) => {
                 destroy_instance_parts(&parts);
                 return Err(e);
             }
         };
+        info.calibrated_timestamps &= device_time_domain(&parts, physical);
         let device = match create_device(&parts, physical, &info) {
             Ok(device) => device,
             Err(e) => {
@@ -241,6 +245,9 @@ impl Context {
             .debug_utils
             .as_ref()
             .map(|_| ext::debug_utils::Device::new(&parts.instance, &device));
+        let calibration = info
+            .calibrated_timestamps
+            .then(|| ext::calibrated_timestamps::Device::new(&parts.instance, &device));
         Arc::new(Context {
             parts: ManuallyDrop::new(parts),
             counts,
@@ -248,6 +255,7 @@ impl Context {
             info,
             device,
             debug_device,
+            calibration,
             queue: Mutex::new(queue),
             queue_family,
             allocator: ManuallyDrop::new(Mutex::new(owned.allocator)),
@@ -381,6 +389,31 @@ impl Context {
         .optimal_tiling_features
     }
 
+    /// The device's timestamp counter read beside the host's clock, where the device calibrates
+    /// its time domain (`VK_EXT_calibrated_timestamps`); `None` elsewhere.
+    pub fn calibrate(&self) -> Option<ClockPair> {
+        let calibration = self.calibration.as_ref()?;
+        let domains =
+            [vk::CalibratedTimestampInfoKHR::default().time_domain(vk::TimeDomainKHR::DEVICE)];
+        let before = Instant::now();
+        // SAFETY: the extension is enabled and the device domain is calibrateable (checked when
+        // the device was made).
+        let (ticks, _) = unsafe { calibration.get_calibrated_timestamps(&domains) }.ok()?;
+        let after = Instant::now();
+        let half = (after - before) / 2;
+        let bits = self.info.timestamp_valid_bits;
+        let mask = if bits >= 64 {
+            u64::MAX
+        } else {
+            (1u64 << bits) - 1
+        };
+        Some(ClockPair {
+            gpu_ticks: ticks[0] & mask,
+            host: before + half,
+            uncertainty: half,
+        })
+    }
+
     /// Gives a Vulkan object a debug name, so validation messages say what they are about.
     pub(crate) fn set_name<H: vk::Handle>(&self, handle: H, name: &str) {
         let Some(debug) = &self.debug_device else {
@@ -449,6 +482,15 @@ fn destroy_instance_parts(parts: &InstanceParts) {
     }
 }
 
+/// Whether `physical`, which offers `VK_EXT_calibrated_timestamps`, calibrates its own time
+/// domain (the one its timestamp queries count in).
+fn device_time_domain(parts: &InstanceParts, physical: vk::PhysicalDevice) -> bool {
+    let calibrated = ext::calibrated_timestamps::Instance::new(&parts.entry, &parts.instance);
+    // SAFETY: valid physical device; the caller has seen it offer the extension.
+    let domains = unsafe { calibrated.get_physical_device_calibrateable_time_domains(physical) };
+    domains.is_ok_and(|d| d.contains(&vk::TimeDomainKHR::DEVICE))
+}
+
 fn create_device(
     parts: &InstanceParts,
     physical: vk::PhysicalDevice,
@@ -470,17 +512,20 @@ fn create_device(
         .shader_demote_to_helper_invocation(true);
     let features = vk::PhysicalDeviceFeatures::default()
         .shader_storage_image_extended_formats(info.storage_r16)
+        // Passes count their invocations where the device can (PassTimer).
+        .pipeline_statistics_query(info.pipeline_statistics)
         // The G-buffer's attachments keep their own write masks beside the radiance's blend.
         .independent_blend(true);
-    let swapchain = [khr::swapchain::NAME.as_ptr()];
-    let extensions: &[*const std::ffi::c_char] = if parts.surface.is_some() {
-        &swapchain
-    } else {
-        &[]
-    };
+    let mut extensions = Vec::new();
+    if parts.surface.is_some() {
+        extensions.push(khr::swapchain::NAME.as_ptr());
+    }
+    if info.calibrated_timestamps {
+        extensions.push(ext::calibrated_timestamps::NAME.as_ptr());
+    }
     let info = vk::DeviceCreateInfo::default()
         .queue_create_infos(&queues)
-        .enabled_extension_names(extensions)
+        .enabled_extension_names(&extensions)
         .enabled_features(&features)
         .push_next(&mut v12)
         .push_next(&mut v13);

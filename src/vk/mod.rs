@@ -45,6 +45,7 @@ mod query;
 mod readback;
 mod recording;
 mod semaphore;
+mod statistics_query;
 mod surface;
 mod swapchain;
 mod transfer;
@@ -64,10 +65,11 @@ pub use pipeline::{compute_pipeline, graphics_pipeline, GraphicsDesc, Pipeline, 
 pub use pipeline_cache::{
     check_header as check_pipeline_cache_header, CacheIdentity, PipelineCache,
 };
-pub use query::TimestampPool;
+pub use query::{ClockPair, TimestampPool};
 pub use readback::{host_read_barrier, Readback};
 pub use recording::{ColorTarget, Recording};
 pub use semaphore::Semaphore;
+pub use statistics_query::{PipelineCounts, StatisticsPool};
 #[cfg(feature = "window")]
 pub use surface::WindowHandles;
 pub use swapchain::{Acquired, PresentMode, Swapchain, SwapchainImage, SwapchainLost};

@@ -56,6 +56,25 @@ pub struct DeviceInfo {
     /// Why this driver is known to leak host memory every frame, where it is (see
     /// `known_frame_leak`): long sequences on it grow without bound.
     pub known_frame_leak: Option<String>,
+    /// `pipelineStatisticsQuery`: passes can count their shader invocations and primitives.
+    pub pipeline_statistics: bool,
+    /// `VK_EXT_calibrated_timestamps` with the device's time domain: GPU timestamps can be
+    /// placed on the host's clock.
+    pub calibrated_timestamps: bool,
+    /// `deviceUUID` in hex: the same device across processes and APIs.
+    pub device_uuid: String,
+    /// `driverUUID` in hex: changes with the driver build.
+    pub driver_uuid: String,
+}
+
+/// Sixteen bytes as 32 lowercase hex digits.
+fn hex_uuid(bytes: &[u8; 16]) -> String {
+    bytes.iter().map(|b| format!("{b:02x}")).collect()
+}
+
+/// Whether `extensions` holds `name`.
+fn offers(extensions: &[String], name: &CStr) -> bool {
+    extensions.iter().any(|e| e.as_bytes() == name.to_bytes())
 }
 
 /// The first Mesa release whose lavapipe is not known to leak every frame. 22.3.6 (Debian 12)
@@ -98,8 +117,11 @@ fn device_extensions(instance: &ash::Instance, pd: vk::PhysicalDevice) -> Vec<St
 
 /// Whether `pd` can trace ray queries and build acceleration structures: (ray query,
 /// acceleration structure). The feature structs are chained only where the extension is offered.
-fn ray_tracing_support(instance: &ash::Instance, pd: vk::PhysicalDevice) -> (bool, bool) {
-    let extensions = device_extensions(instance, pd);
+fn ray_tracing_support(
+    instance: &ash::Instance,
+    pd: vk::PhysicalDevice,
+    extensions: &[String],
+) -> (bool, bool) {
     let has = |name: &CStr| extensions.iter().any(|e| e.as_bytes() == name.to_bytes());
     let has_structures = has(ash::khr::acceleration_structure::NAME)
         && has(ash::khr::deferred_host_operations::NAME);
@@ -151,9 +173,11 @@ fn version_string(v: u32) -> String {
 fn describe(instance: &ash::Instance, pd: vk::PhysicalDevice) -> Option<(u32, DeviceInfo)> {
     let mut driver = vk::PhysicalDeviceDriverProperties::default();
     let mut subgroup = vk::PhysicalDeviceSubgroupProperties::default();
+    let mut ids = vk::PhysicalDeviceIDProperties::default();
     let mut props2 = vk::PhysicalDeviceProperties2::default()
         .push_next(&mut driver)
-        .push_next(&mut subgroup);
+        .push_next(&mut subgroup)
+        .push_next(&mut ids);
     // SAFETY: valid physical device; the chained structs live across the call.
     unsafe { instance.get_physical_device_properties2(pd, &mut props2) };
     let props = props2.properties;
@@ -165,6 +189,7 @@ fn describe(instance: &ash::Instance, pd: vk::PhysicalDevice) -> Option<(u32, De
     // SAFETY: as above.
     unsafe { instance.get_physical_device_features2(pd, &mut feats2) };
     let storage_r16 = feats2.features.shader_storage_image_extended_formats == vk::TRUE;
+    let pipeline_statistics = feats2.features.pipeline_statistics_query == vk::TRUE;
     // independentBlend: the G-buffer's attachments keep their own write masks (Vulkan's 2022
     // roadmap profile requires it; lavapipe has it).
     let usable = props.api_version >= vk::API_VERSION_1_3
@@ -192,8 +217,14 @@ fn describe(instance: &ash::Instance, pd: vk::PhysicalDevice) -> Option<(u32, De
         text(driver.driver_name_as_c_str()),
         text(driver.driver_info_as_c_str()),
     );
-    let (ray_query, acceleration_structure) = ray_tracing_support(instance, pd);
+    let extensions = device_extensions(instance, pd);
+    let (ray_query, acceleration_structure) = ray_tracing_support(instance, pd, &extensions);
     let info = DeviceInfo {
+        pipeline_statistics,
+        // The device time domain is checked when the device is made (it needs the entry).
+        calibrated_timestamps: offers(&extensions, ash::ext::calibrated_timestamps::NAME),
+        device_uuid: hex_uuid(&ids.device_uuid),
+        driver_uuid: hex_uuid(&ids.driver_uuid),
         name: text(props.device_name_as_c_str()),
         known_frame_leak: known_frame_leak(&driver_name, &driver_info),
         driver: format!("{driver_name} {driver_info}"),

@@ -3,6 +3,7 @@
 
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
+use std::time::{Duration, Instant};
 
 use ash::vk;
 
@@ -167,6 +168,19 @@ impl TimestampPool {
         }
     }
 
+    /// When the device's clock read `ticks`, on the host's clock, from a calibration taken near
+    /// it ([`Context::calibrate`]); ticks before the calibration come out before its instant.
+    pub fn host_time(&self, pair: &ClockPair, ticks: u64) -> Instant {
+        let ahead = ticks.wrapping_sub(pair.gpu_ticks) & self.mask;
+        let behind = pair.gpu_ticks.wrapping_sub(ticks) & self.mask;
+        let ns = |t: u64| Duration::from_nanos((t as f64 * self.period_ns).round() as u64);
+        if ahead <= behind {
+            pair.host + ns(ahead)
+        } else {
+            pair.host.checked_sub(ns(behind)).unwrap_or(pair.host)
+        }
+    }
+
     /// Milliseconds between two raw ticks (handles a wrap of the valid bits).
     pub fn ticks_to_ms(&self, start: u64, end: u64) -> f64 {
         let delta = end.wrapping_sub(start) & self.mask;
@@ -178,4 +192,16 @@ impl Drop for TimestampPool {
     fn drop(&mut self) {
         self.ctx.defer(Doomed::QueryPool(self.raw));
     }
+}
+
+/// The device's timestamp counter and the host's clock read at one moment.
+#[derive(Debug, Clone, Copy)]
+pub struct ClockPair {
+    /// The device's counter, in timestamp ticks (masked to the valid bits).
+    pub gpu_ticks: u64,
+    /// The host's clock at the same moment.
+    pub host: Instant,
+    /// How far apart the two readings may be: half the time the host took to read the
+    /// device's counter.
+    pub uncertainty: Duration,
 }
