@@ -63,6 +63,12 @@ pub struct FileArgs {
     /// where it stopped); the others are drawn and written as usual.
     #[arg(long)]
     pub resume: bool,
+    /// Write the sequence's work as a timeline (Chrome trace-event JSON, which ui.perfetto.dev
+    /// and chrome://tracing open): the host's recording, submission and retiring on one track,
+    /// every pass of every frame on another with its invocation counts, on one clock. Works
+    /// with --no-write.
+    #[arg(long, value_name = "FILE.json")]
+    pub timeline: Option<PathBuf>,
 }
 
 /// What an OpenEXR frame's colour channels hold.
@@ -127,6 +133,17 @@ impl FileArgs {
             if no_write {
                 return Err(usage(format!(
                     "{flag} writes a file for every frame; leave out --no-write"
+                )));
+            }
+        }
+        if let Some(path) = &self.timeline {
+            if !path
+                .extension()
+                .is_some_and(|e| e.eq_ignore_ascii_case("json"))
+            {
+                return Err(usage(format!(
+                    "--timeline writes trace-event JSON; {} does not end in .json",
+                    path.display()
                 )));
             }
         }
@@ -216,6 +233,7 @@ impl FileArgs {
             hdr_out: self.hdr_out.as_deref().map(tag_path),
             exr_out: self.exr_out.as_deref().map(tag_path),
             camera_out: self.camera_out.as_deref().map(tag_path),
+            timeline: self.timeline.as_deref().map(tag_path),
             ..self.clone()
         }
     }
@@ -320,7 +338,7 @@ pub fn partial_path(path: &Path) -> PathBuf {
 
 /// Writes `bytes` to `path` through its partial name, flushed to the disk before the rename, so
 /// `path` holds either nothing (or its old contents) or all of `bytes`.
-fn write_whole(path: &Path, bytes: &[u8]) -> anyhow::Result<()> {
+pub fn write_whole(path: &Path, bytes: &[u8]) -> anyhow::Result<()> {
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
     }
@@ -361,6 +379,7 @@ mod tests {
             aov_png: true,
             exr_beauty: ExrBeauty::Linear,
             resume: false,
+            timeline: Some("trace.json".into()),
         }
     }
 
@@ -391,6 +410,7 @@ mod tests {
                 PathBuf::from("frame_box_0003.json"),
             ]
         );
+        assert_eq!(tagged.timeline, Some(PathBuf::from("trace_box.json")));
     }
 
     #[test]

@@ -146,6 +146,10 @@ mod tests {
 
     fn info() -> DeviceInfo {
         DeviceInfo {
+            pipeline_statistics: true,
+            calibrated_timestamps: false,
+            device_uuid: String::new(),
+            driver_uuid: String::new(),
             name: "test".into(),
             driver: String::new(),
             api: "1.3.0".into(),

@@ -3,21 +3,22 @@
 //! (`--no-write`), with per-pass GPU times: the first frame apart (it builds the pyramids and
 //! pays first-use compilation), min / median / p95 over the rest.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use anyhow::Context as _;
 use clap::Args;
 use glam::Vec3;
 use relief::render::{
-    explain, sequence_stats, FrameOutput, FrameRequest, PassTiming, Renderer, SequenceStats,
+    explain, sequence_stats, timeline_trace, FrameOutput, FrameRequest, FrameTimeline, PassTiming,
+    Renderer, SequenceStats, TraceHeader,
 };
 use relief::scene::{Camera, Scene};
 use relief::vk::{Context, LiveObjects, ObjectCounts};
 use serde::Serialize;
 use serde_json::json;
 
-use super::frame_files::{frame_path, FileArgs, FrameView};
+use super::frame_files::{frame_path, write_whole, FileArgs, FrameView};
 use super::frame_progress::FrameProgress;
 use super::frame_range::FrameRange;
 use super::render::RenderArgs;
@@ -142,6 +143,8 @@ struct Drawn {
     /// Frames of `kept` not drawn because `--resume` found their files written.
     skipped: u32,
     timings: Vec<Vec<PassTiming>>,
+    /// Each kept frame's timeline with its 0-based number, when --timeline asked for them.
+    timelines: Vec<(u32, FrameTimeline)>,
     edits: Vec<EditRecord>,
     /// Objects created from the end of the first frame's submission to the end of the last.
     created_after_first: ObjectCounts,
@@ -182,6 +185,7 @@ fn draw_all(
     let mesh_materials: Vec<usize> = scene.meshes.iter().map(|m| m.material).collect();
     let tone = renderer.plan().tone_mapping;
     let mut timings = Vec::with_capacity(kept.len());
+    let mut timelines = Vec::new();
     // The sequence frame of each submission, by the renderer's frame index.
     let mut submitted: Vec<u32> = Vec::with_capacity(kept.len());
     let mut keep = |frame: FrameOutput, submitted: &[u32]| -> anyhow::Result<()> {
@@ -194,6 +198,9 @@ fn draw_all(
                     mesh_materials: &mesh_materials,
                 };
                 files.write(&frame, k, frames, &view)?;
+            }
+            if files.timeline.is_some() {
+                timelines.push((k, frame.timeline));
             }
             timings.push(frame.timings);
             progress.advance();
@@ -238,6 +245,7 @@ fn draw_all(
         kept,
         skipped,
         timings,
+        timelines,
         edits: records,
         created_after_first: ctx.created() - after_first,
         alive: [alive_after_first, ctx.alive()],
@@ -266,6 +274,9 @@ pub fn run_frames(
         loaded.edits.as_mut(),
     )?;
     let source = loaded.source.as_str();
+    if let Some(path) = &files.timeline {
+        write_timeline(path, ctx, source, &drawn.timelines)?;
+    }
     let stats = sequence_stats(&drawn.timings);
     let summary = SceneSummary::of(&drawn, &stats, args.frames.no_write);
     if args.explain {
@@ -318,6 +329,30 @@ pub fn run_frames(
     report_files(args, files, renderer, &methods, source, &drawn);
     eprintln!("{}", cache.line());
     Ok(summary)
+}
+
+/// Writes the kept frames' timelines to `path` as trace-event JSON.
+fn write_timeline(
+    path: &Path,
+    ctx: &Context,
+    source: &str,
+    timelines: &[(u32, FrameTimeline)],
+) -> anyhow::Result<()> {
+    let header = TraceHeader {
+        title: format!("relief render {source}"),
+        device: ctx.describe(),
+        other: json!({
+            "command": std::env::args().collect::<Vec<_>>().join(" "),
+            "relief": env!("CARGO_PKG_VERSION"),
+            "commit": env!("RELIEF_GIT_COMMIT"),
+        }),
+    };
+    // Frame numbers from 1, as in the files' names.
+    let numbered: Vec<(u32, FrameTimeline)> =
+        timelines.iter().map(|(k, t)| (k + 1, t.clone())).collect();
+    let trace = timeline_trace(&header, &numbered);
+    let bytes = serde_json::to_vec(&trace).context("encoding the timeline")?;
+    write_whole(path, &bytes).with_context(|| format!("writing the timeline {}", path.display()))
 }
 
 /// What one scene's sequence came to, for a batch's summary.
@@ -374,8 +409,8 @@ fn print_table(stats: &SequenceStats) {
         return;
     }
     println!(
-        "{:<10} {:>9} {:>9} {:>9} {:>9}   (first frame apart; min/median/p95 over frames 2..{})",
-        "pass", "first_ms", "min_ms", "median_ms", "p95_ms", stats.frames
+        "{:<10} {:>9} {:>9} {:>9} {:>9} {:>12} {:>12}   (first frame apart; min/median/p95 over frames 2..{}; invocations: median)",
+        "pass", "first_ms", "min_ms", "median_ms", "p95_ms", "fragments", "compute", stats.frames
     );
     let mut passes: Vec<_> = stats.first.iter().map(|t| t.pass).collect();
     passes.extend(stats.steady.iter().map(|s| s.pass));
@@ -385,13 +420,17 @@ fn print_table(stats: &SequenceStats) {
         let first = stats.first.iter().find(|t| t.pass == pass);
         let cell = |v: Option<f64>| v.map_or(format!("{:>9}", "-"), |v| format!("{v:>9.3}"));
         let steady = stats.steady.iter().find(|s| s.pass == pass);
+        let counts = steady.and_then(|s| s.counts);
+        let count = |v: Option<u64>| v.map_or(format!("{:>12}", "-"), |v| format!("{v:>12}"));
         println!(
-            "{:<10} {} {} {} {}",
+            "{:<10} {} {} {} {} {} {}",
             pass.name(),
             cell(first.map(|t| t.gpu_ms)),
             cell(steady.map(|s| s.min_ms)),
             cell(steady.map(|s| s.median_ms)),
             cell(steady.map(|s| s.p95_ms)),
+            count(counts.map(|c| c.fragment_invocations)),
+            count(counts.map(|c| c.compute_invocations)),
         );
     }
 }

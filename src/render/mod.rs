@@ -31,6 +31,7 @@ pub use cells::cells_trace_pass::{march_cells_on_gpu, CellsTrace};
 pub use environment::{BakedEnvironment, EnvironmentLight, EnvironmentPlan};
 pub use frame::explain::explain;
 pub use frame::frame_stats::{sequence_stats, PassStats, SequenceStats};
+pub use frame::frame_timeline::{ClockAlignment, FrameTimeline, GpuSpan, HostSpan, HostWork};
 pub use frame::gbuffer::GBufferChannels;
 pub use frame::mesh_pipeline::describe as describe_pipeline;
 pub use frame::renderer::{FrameOutput, FrameRequest, Renderer, FRAMES_IN_FLIGHT, MAX_SUPERSAMPLE};
@@ -46,7 +47,7 @@ pub use kit::frame_uniforms::{
 pub use kit::gpu_heightfield::{GpuHeightfield, HeightFormat};
 pub use kit::graph::{DroppedPass, FrameGraph, FrameResource, GraphError, GraphNode, PassRate};
 pub use kit::pass::Pass;
-pub use kit::pass_timer::{PassTiming, Scope};
+pub use kit::pass_timer::{PassTiming, Scope, TimedScope};
 pub use kit::render_error::RenderError;
 pub use kit::tone_curves::{ToneMap, ToneMapping};
 pub use maps::ao_map_pass::{AoJob, AoMap, AoMapPass, AO_MAP_FORMAT, SWEEP_DIRECTIONS};
@@ -59,6 +60,7 @@ pub use maps::pyramid_pass::{build_pyramid_on_gpu, PyramidJob, PyramidPass};
 pub use maps::quadric_map_pass::{build_quadric_map_on_gpu, QuadricMapPass};
 pub use maps::relaxed_cone_map_pass::{build_relaxed_cone_map_on_gpu, RelaxedConeMapPass};
 pub use measure::bench_pass::{time_method, BenchRequest, BenchTiming};
+pub use measure::timeline_trace::{timeline_trace, TraceHeader};
 pub use measure::trace_pass::{
     time_through_pyramid, trace_on_gpu, trace_repeated, trace_through_pyramid, ShadowTrace,
     TraceOutput, TraceRequest, TRACE_GROUP_SIDE,

@@ -99,7 +99,11 @@ mod tests {
     }
 
     fn timing(pass: Pass, gpu_ms: f64) -> PassTiming {
-        PassTiming { pass, gpu_ms }
+        PassTiming {
+            pass,
+            gpu_ms,
+            counts: None,
+        }
     }
 
     #[test]

@@ -6,6 +6,7 @@ use serde::Serialize;
 
 use crate::render::kit::pass::Pass;
 use crate::render::kit::pass_timer::PassTiming;
+use crate::vk::PipelineCounts;
 
 /// One pass over the steady frames (every frame after the first).
 #[derive(Debug, Clone, PartialEq, Serialize)]
@@ -22,6 +23,27 @@ pub struct PassStats {
     pub p95_ms: f64,
     /// Mean over the steady frames, ms.
     pub mean_ms: f64,
+    /// Each pipeline statistic's median over the steady frames, where every one was counted.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub counts: Option<PipelineCounts>,
+}
+
+/// Each field's median (the lower middle of an even count) over `counts`; `None` if empty.
+fn median_counts(counts: &[PipelineCounts]) -> Option<PipelineCounts> {
+    if counts.is_empty() {
+        return None;
+    }
+    let median = |field: fn(&PipelineCounts) -> u64| {
+        let mut v: Vec<u64> = counts.iter().map(field).collect();
+        v.sort_unstable();
+        v[(v.len() - 1) / 2]
+    };
+    Some(PipelineCounts {
+        vertex_invocations: median(|c| c.vertex_invocations),
+        clipped_primitives: median(|c| c.clipped_primitives),
+        fragment_invocations: median(|c| c.fragment_invocations),
+        compute_invocations: median(|c| c.compute_invocations),
+    })
 }
 
 /// A sequence's timings.
@@ -58,7 +80,14 @@ pub fn sequence_stats(frames: &[Vec<PassTiming>]) -> SequenceStats {
                 .map(|t| t.gpu_ms)
                 .collect();
             ms.sort_by(f64::total_cmp);
+            let counted: Option<Vec<PipelineCounts>> = rest
+                .iter()
+                .flatten()
+                .filter(|t| t.pass == pass)
+                .map(|t| t.counts)
+                .collect();
             PassStats {
+                counts: counted.and_then(|c| median_counts(&c)),
                 pass,
                 frames: ms.len(),
                 min_ms: ms[0],
@@ -82,7 +111,14 @@ mod tests {
     fn frame(pairs: &[(Pass, f64)]) -> Vec<PassTiming> {
         pairs
             .iter()
-            .map(|&(pass, gpu_ms)| PassTiming { pass, gpu_ms })
+            .map(|&(pass, gpu_ms)| PassTiming {
+                pass,
+                gpu_ms,
+                counts: Some(PipelineCounts {
+                    fragment_invocations: gpu_ms as u64,
+                    ..PipelineCounts::default()
+                }),
+            })
             .collect()
     }
 
@@ -107,6 +143,11 @@ mod tests {
         assert_eq!(surface.median_ms, 10.0, "nearest rank: the 10th of 20");
         assert_eq!(surface.p95_ms, 19.0, "nearest rank: the 19th of 20");
         assert!((surface.mean_ms - 10.5).abs() < 1e-12);
+        let counts = surface.counts.expect("every frame counted");
+        assert_eq!(
+            counts.fragment_invocations, 10,
+            "the lower middle of 1..=20"
+        );
     }
 
     #[test]

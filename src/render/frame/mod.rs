@@ -6,6 +6,7 @@ mod draw_bounds;
 pub(in crate::render) mod explain;
 pub(in crate::render) mod frame_graph;
 pub(in crate::render) mod frame_stats;
+pub(in crate::render) mod frame_timeline;
 pub(in crate::render) mod gbuffer;
 mod height_upload;
 pub(in crate::render) mod material_set;

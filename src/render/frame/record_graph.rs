@@ -107,8 +107,10 @@ impl RecordingParts<'_> {
                     }
                 }
                 Pass::Cells => {
-                    // The complexes first (opaque), then the surface pass's draws.
-                    timer.scope(rec, scope(pass), |rec| {
+                    // The complexes first (opaque), then the surface pass's draws, in one
+                    // rendering that this scope begins and the surface's ends: neither is
+                    // counted, since a statistics query may not span a rendering's begin or end.
+                    timer.scope_uncounted(rec, scope(pass), |rec| {
                         self.targets.begin(rec);
                         let frame_set = self
                             .surface
@@ -121,7 +123,7 @@ impl RecordingParts<'_> {
                 }
                 Pass::Surface => {
                     let bounds = self.occluders.map(OccluderTargets::set);
-                    culled = timer.scope(rec, scope(pass), |rec| {
+                    let record = |rec: &Recording| {
                         if !rendering {
                             self.targets.begin(rec);
                         }
@@ -133,7 +135,12 @@ impl RecordingParts<'_> {
                         let culled = self.surface.record_draws(rec, k, view, bounds, behind);
                         self.targets.end(rec, self.tone_map, work.into)?;
                         culled
-                    })?;
+                    };
+                    culled = if rendering {
+                        timer.scope_uncounted(rec, scope(pass), record)?
+                    } else {
+                        timer.scope(rec, scope(pass), record)?
+                    };
                 }
                 _ => {}
             }

@@ -13,6 +13,7 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use super::frame_graph::{frame_graph, FrameParts};
+use super::frame_timeline::{FrameTimeline, HostSpan, HostWork, SubmittedTimeline};
 use super::gbuffer::GBufferChannels;
 use super::height_upload::upload_heights;
 use super::occluders::{plan_occluders, OccluderTargets};
@@ -34,7 +35,7 @@ use crate::render::kit::formats::COLOR_FORMAT;
 use crate::render::kit::frame_uniforms::{frame_camera, FrameUniforms, MAX_LIGHTS};
 use crate::render::kit::graph::FrameGraph;
 use crate::render::kit::pass::Pass;
-use crate::render::kit::pass_timer::{per_pass, PassTimer, PassTiming, Scope};
+use crate::render::kit::pass_timer::{per_pass, PassTimer, PassTiming, TimedScope};
 use crate::render::kit::render_error::RenderError;
 use crate::render::kit::tone_curves::ToneMapping;
 use crate::render::plan::frame_plan::{HeightKey, Plan};
@@ -81,6 +82,8 @@ pub struct FrameOutput {
     pub radiance: Option<Vec<[f32; 4]>>,
     /// With `RenderOptions::gbuffer` and a read-back, the surface pass's G-buffer.
     pub gbuffer: Option<GBufferChannels>,
+    /// What the host and the GPU did for the frame, on the host's clock.
+    pub timeline: FrameTimeline,
 }
 
 struct FrameSlot {
@@ -95,6 +98,8 @@ struct FrameSlot {
     gbuffer_readback: Option<Vec<Readback>>,
     /// The frame submitted from this slot and not yet retired: (index, read back?, draws culled).
     pending: Option<(u64, bool, usize)>,
+    /// That frame's host spans and clock calibration so far.
+    timeline: Option<SubmittedTimeline>,
 }
 
 /// Everything a scene needs on the device, kept across frames.
@@ -267,6 +272,7 @@ impl Renderer {
                     radiance_readback: None,
                     gbuffer_readback: None,
                     pending: None,
+                    timeline: None,
                 })
             })
             .collect::<VkResult<Vec<_>>>()?;
@@ -437,6 +443,7 @@ impl Renderer {
     pub fn submit(&mut self, request: &FrameRequest) -> Result<Option<FrameOutput>, RenderError> {
         let k = (self.submitted % FRAMES_IN_FLIGHT as u64) as usize;
         let retired = self.retire(k)?;
+        let started = Instant::now();
         let aspect = self.width as f32 / self.height as f32;
         let mut uniforms = FrameUniforms::new(&request.camera, &self.lights, aspect);
         let origin = self.motion_origin.replace(request.camera);
@@ -516,7 +523,31 @@ impl Renderer {
             },
         };
         let timer = &mut slot.timer;
-        let culled = slot.commands.submit(|rec| parts.record(rec, timer, work))?;
+        let mut recorded = None;
+        let culled = slot.commands.submit(|rec| {
+            let start = Instant::now();
+            let culled = parts.record(rec, timer, work);
+            recorded = Some((start, Instant::now()));
+            culled
+        })?;
+        let submitted = Instant::now();
+        let mut host = vec![HostSpan {
+            work: HostWork::Submit,
+            start: started,
+            end: submitted,
+        }];
+        if let Some((start, end)) = recorded {
+            host.push(HostSpan {
+                work: HostWork::Record,
+                start,
+                end,
+            });
+        }
+        slot.timeline = Some(SubmittedTimeline {
+            host,
+            calibration: self.ctx.calibrate(),
+            submitted,
+        });
         slot.pending = Some((self.submitted, request.read_back, culled));
         self.pyramids_built = true;
         if render_maps {
@@ -559,6 +590,7 @@ impl Renderer {
         let Some((index, read_back, culled_draws)) = slot.pending.take() else {
             return Ok(None);
         };
+        let retire_start = Instant::now();
         slot.commands.wait()?;
         let scopes = slot.timer.read()?;
         // SAFETY: the slot's only submission, the one that wrote its timer, was waited for above.
@@ -600,8 +632,24 @@ impl Renderer {
             let usage = ash::vk::BufferUsageFlags::TRANSFER_DST;
             kept.push(Buffer::with_data(&self.ctx, &bytes, usage, &name)?);
         }
+        let slot = &mut self.slots[k];
+        let retire = HostSpan {
+            work: HostWork::Retire,
+            start: retire_start,
+            end: Instant::now(),
+        };
+        let timeline = match slot.timeline.take() {
+            Some(submitted) => submitted.finish(&slot.timer, &scopes, retire),
+            None => SubmittedTimeline {
+                host: Vec::new(),
+                calibration: None,
+                submitted: retire_start,
+            }
+            .finish(&slot.timer, &scopes, retire),
+        };
         Ok(Some(FrameOutput {
             index,
+            timeline,
             timings: per_pass(&scopes),
             rgba,
             width: self.width,
@@ -614,10 +662,12 @@ impl Renderer {
     }
 
     /// Lists the AO maps the first frame built, with their GPU time.
-    fn note_ao_maps(&mut self, scopes: &[(Scope, f64)]) {
-        for (scope, ms) in scopes
+    fn note_ao_maps(&mut self, scopes: &[TimedScope]) {
+        for TimedScope {
+            scope, gpu_ms: ms, ..
+        } in scopes
             .iter()
-            .filter(|(s, _)| s.pass == Pass::AmbientOcclusion)
+            .filter(|s| s.scope.pass == Pass::AmbientOcclusion)
         {
             let Some(ao) = scope.part.and_then(|p| self.plan.ao_maps.get(p)) else {
                 continue;
@@ -637,8 +687,11 @@ impl Renderer {
     }
 
     /// Lists the pyramids the first frame built, with their GPU time.
-    fn note_pyramids(&mut self, scopes: &[(Scope, f64)]) {
-        for (scope, ms) in scopes.iter().filter(|(s, _)| s.pass == Pass::Pyramid) {
+    fn note_pyramids(&mut self, scopes: &[TimedScope]) {
+        for TimedScope {
+            scope, gpu_ms: ms, ..
+        } in scopes.iter().filter(|s| s.scope.pass == Pass::Pyramid)
+        {
             let Some(hp) = scope.part.and_then(|p| self.plan.heights.get(p)) else {
                 continue;
             };
