@@ -77,7 +77,23 @@ fn quick_bench_covers_every_method_without_nan() {
     assert!(results["device"]["name"]
         .as_str()
         .is_some_and(|n| !n.is_empty()));
+    // Provenance: which device and driver build exactly, and the machine and its load.
+    for uuid in ["device_uuid", "driver_uuid"] {
+        let hex = results["device"][uuid].as_str().expect(uuid);
+        assert!(
+            hex.len() == 32 && hex.chars().all(|c| c.is_ascii_hexdigit()),
+            "{uuid}: {hex}"
+        );
+    }
+    let machine = &results["machine"];
+    assert!(machine["cpus"].as_u64().is_some_and(|n| n >= 1), "{machine}");
+    assert!(machine["cpu_model"].as_str().is_some_and(|m| !m.is_empty()));
+    if std::path::Path::new("/proc/loadavg").exists() {
+        assert_eq!(machine["load_before"].as_array().map(Vec::len), Some(3));
+        assert_eq!(machine["load_after"].as_array().map(Vec::len), Some(3));
+    }
     let report = std::fs::read_to_string(out.join("report.md")).expect("report.md");
+    assert!(report.contains("Machine: "), "the report names the machine");
     for heading in [
         "## 1. Error against run time",
         "## 2. Scaling with map size",

@@ -289,6 +289,13 @@ fn join(shards: Vec<ShardFile>) -> BenchResults {
         .max()
         .unwrap_or_default();
     merged.argv = without_shard(&merged.argv);
+    // One busy shard makes the merged figures doubtful.
+    if let Some(machine) = &mut merged.machine {
+        machine.busy = machine.busy.take().or_else(|| {
+            let busy = |f: &ShardFile| f.results.machine.as_ref()?.busy.clone();
+            shards.iter().find_map(busy)
+        });
+    }
     merged.command = merged.argv.join(" ");
     merged.runs = runs;
     merged.stability = stability;

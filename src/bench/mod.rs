@@ -33,6 +33,7 @@ mod frame_costs;
 mod frame_features;
 mod frame_timing;
 mod lod;
+mod machine;
 mod median;
 mod merge;
 mod nan_null;
@@ -81,6 +82,7 @@ pub use lod::{
     downsample, image_error, receding_plane, render_interleaved, render_timed, run_lod_section,
     ImageError, LodConfig, LodRun, LodScaling, LodSection,
 };
+pub use machine::{BenchMachine, MachineAtStart};
 pub use median::median;
 pub use merge::{merge_shards, MergeError, ShardFile};
 pub use npy::write_npy_f32;

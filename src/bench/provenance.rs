@@ -32,6 +32,12 @@ pub struct BenchDevice {
     /// Whether the device builds acceleration structures (`VK_KHR_acceleration_structure`).
     #[serde(default)]
     pub acceleration_structure: bool,
+    /// `deviceUUID` in hex; empty in files written before relief recorded it.
+    #[serde(default)]
+    pub device_uuid: String,
+    /// `driverUUID` in hex (changes with the driver build); empty in older files.
+    #[serde(default)]
+    pub driver_uuid: String,
 }
 
 impl BenchDevice {
@@ -55,6 +61,8 @@ impl From<&DeviceInfo> for BenchDevice {
             timestamp_period: i.timestamp_period_ns,
             ray_query: i.ray_query,
             acceleration_structure: i.acceleration_structure,
+            device_uuid: i.device_uuid.clone(),
+            driver_uuid: i.driver_uuid.clone(),
         }
     }
 }

@@ -37,6 +37,28 @@ pub fn render_report(results: &BenchResults) -> (String, Vec<(String, String)>) 
         yes_no(d.ray_query),
         yes_no(d.acceleration_structure)
     );
+    if let Some(m) = &results.machine {
+        let load = |l: Option<[f64; 3]>| {
+            l.map_or("unknown".to_owned(), |[a, b, c]| {
+                format!("{a:.2} {b:.2} {c:.2}")
+            })
+        };
+        let _ = writeln!(
+            md,
+            "Machine: {} ({} CPUs; {}); load average {} before, {} after.  ",
+            m.cpu_model,
+            m.cpus,
+            m.os,
+            load(m.load_before),
+            load(m.load_after)
+        );
+        if let Some(clocks) = &m.gpu_clocks {
+            let _ = writeln!(md, "GPU clocks: `{clocks}`.  ");
+        }
+        if let Some(why) = &m.busy {
+            let _ = writeln!(md, "**Warning: {why}.**  ");
+        }
+    }
     let _ = writeln!(md, "Command: `{}`\n", results.command);
     let _ = writeln!(
         md,

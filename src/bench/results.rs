@@ -193,6 +193,10 @@ pub struct BenchResults {
     /// whole sweep and for `relief bench merge`'s output.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub shard: Option<super::shard_info::ShardInfo>,
+    /// The machine and its load while measuring; absent in files written before relief
+    /// recorded it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub machine: Option<super::machine::BenchMachine>,
 }
 
 #[cfg(test)]

@@ -20,6 +20,8 @@ pub(crate) fn device(name: &str) -> BenchDevice {
         timestamp_period: 1.0,
         ray_query: true,
         acceleration_structure: true,
+        device_uuid: String::new(),
+        driver_uuid: String::new(),
     }
 }
 
@@ -81,5 +83,6 @@ pub(crate) fn results(device: BenchDevice, runs: Vec<Run>) -> BenchResults {
         silhouettes: None,
         frame_costs: None,
         shard: None,
+        machine: None,
     }
 }

@@ -12,10 +12,10 @@ use relief::bench::{
     run_edit_section, run_frame_cost_section, run_frame_feature_section, run_lod_section,
     run_paint_section, run_scene_shadow_section, run_silhouette_section, run_stiff_case,
     stiff_cases, utc_now_rfc3339, AoConfig, AoRun, BenchResults, BlendingConfig, BlendingSection,
-    EditCost, FieldSource, FrameCostSection, FrameFeatureSection, LodConfig, LodSection, PaintCost,
-    ReliefBuild, Runner, SceneShadowSection, ShadingConfig, ShadowRun, ShadowStabilityCell,
-    SilhouetteSection, StabilityCell, StepOrigins, StiffCase, SweepConfig, SweepSections,
-    WholeSection, SCHEMA_VERSION,
+    EditCost, FieldSource, FrameCostSection, FrameFeatureSection, LodConfig, LodSection,
+    MachineAtStart, PaintCost, ReliefBuild, Runner, SceneShadowSection, ShadingConfig, ShadowRun,
+    ShadowStabilityCell, SilhouetteSection, StabilityCell, StepOrigins, StiffCase, SweepConfig,
+    SweepSections, WholeSection, SCHEMA_VERSION,
 };
 
 /// The brush radius of the terrain-edit section, in texels (the stroke).
@@ -342,6 +342,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     // Read before any measuring, so that a bad file fails the run at once.
     let extra_mesh = silhouette_mesh(args.silhouette_mesh.as_deref())?;
     let ctx = super::open_device(args.device.as_deref(), args.json)?;
+    let machine = MachineAtStart::read();
     let sections = sections(args, &cfg, &ctx);
     let plan = StepPlan::new(args.shard, &cfg, &sections);
     if let (Some(shard), Some((mine, all, load, most)), false) =
@@ -400,7 +401,14 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         silhouettes: whole.silhouettes,
         frame_costs: whole.frame_costs,
         shard: plan.info(fingerprint, origins),
+        machine: Some(machine.finish()),
     };
+    if let (Some(why), false) = (
+        results.machine.as_ref().and_then(|m| m.busy.as_ref()),
+        args.json,
+    ) {
+        eprintln!("relief: warning: {why}");
+    }
     write_outputs(out, &results, args.json)
 }
 
