@@ -86,7 +86,10 @@ fn quick_bench_covers_every_method_without_nan() {
         );
     }
     let machine = &results["machine"];
-    assert!(machine["cpus"].as_u64().is_some_and(|n| n >= 1), "{machine}");
+    assert!(
+        machine["cpus"].as_u64().is_some_and(|n| n >= 1),
+        "{machine}"
+    );
     assert!(machine["cpu_model"].as_str().is_some_and(|m| !m.is_empty()));
     if std::path::Path::new("/proc/loadavg").exists() {
         assert_eq!(machine["load_before"].as_array().map(Vec::len), Some(3));

@@ -27,6 +27,7 @@ mod ao;
 mod blending;
 mod blending_report;
 pub mod compare;
+mod cost_gate;
 mod depth_match;
 mod edits;
 mod frame_costs;
@@ -68,6 +69,10 @@ pub use blending::{
     run_blending_section, BlendCost, BlendTrace, BlendingConfig, BlendingSection, ONE_HOT,
 };
 pub use blending_report::{notes as blending_notes, STEPS_RATIO_NOTED};
+pub use cost_gate::{
+    check_gate, gate_setup, measure_gate, GateCell, GateCounts, GateFinding, GATE_DEPTH_SCALE,
+    GATE_ELEVATIONS, GATE_FIELDS, GATE_RAYS, GATE_SIZE, MAX_GROWTH, MEAN_GROWTH,
+};
 pub use depth_match::{settled as depth_match_settled, MAX_COST_RATIO, MAX_STEP_BUDGET};
 pub use edits::{run_edit_section, EditCost};
 pub use frame_costs::{

@@ -333,6 +333,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     match &args.command {
         Some(BenchCommand::Compare(a)) => return super::bench_compare::run(a),
         Some(BenchCommand::Merge(a)) => return bench_merge::run(a),
+        Some(BenchCommand::Gate(a)) => return super::bench_gate::run(a),
         None => {}
     }
     let Some(out) = &args.out else {

@@ -140,6 +140,9 @@ pub(super) enum BenchCommand {
     Compare(super::bench_compare::CompareArgs),
     /// Join the folders of `relief bench --shard K/N` runs into one results.json and report.
     Merge(MergeArgs),
+    /// The cost gate: count each method's steps on a fixed small sweep and fail when any grew
+    /// beyond its tolerance over the baseline (assets/cost-gate.json); --update rewrites it.
+    Gate(super::bench_gate::GateArgs),
 }
 
 pub(super) fn parse_resolution(text: &str) -> anyhow::Result<(u32, u32)> {

@@ -7,6 +7,7 @@ mod aov;
 mod bench;
 mod bench_args;
 mod bench_compare;
+mod bench_gate;
 mod bench_merge;
 mod bench_runs;
 mod bench_shard;
