@@ -50,7 +50,11 @@ fn a_method_wasting_steps_trips_the_gate_and_is_named() {
 fn two_runs_count_the_same() {
     let run = || -> Value {
         let out = gate(&["--methods", "pom,qdm", "--json"]);
-        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
         serde_json::from_slice(&out.stdout).expect("--json prints JSON")
     };
     let (a, b) = (run(), run());

@@ -24,6 +24,7 @@ const OPTS: RenderOptions = RenderOptions {
     supersample: 1,
     occluders: true,
     gbuffer: false,
+    count_work: false,
 };
 
 #[test]

@@ -8,6 +8,32 @@
 layout(set = SET_OCCLUDERS, binding = BINDING_OCCLUDER_BOUNDS) uniform sampler2D occluder_bounds;
 layout(constant_id = SPEC_OCCLUDER_TAPS) const uint OCCLUDER_TAPS = 0u;
 
+// The frame's work counters beside the bounds (src/render/frame/work_counters.rs): per pixel of
+// the targets, the relief fragments that survived the bounds and traced, and their steps.
+layout(set = SET_OCCLUDERS, binding = BINDING_WORK_COUNTS, std430) buffer WorkCounts {
+    uint work_counts[];
+};
+layout(constant_id = SPEC_COUNT_WORK) const uint COUNT_WORK = 0u;
+
+uint work_index() {
+    ivec2 p = ivec2(gl_FragCoord.xy);
+    return 2u * uint(p.y * textureSize(occluder_bounds, 0).x + p.x);
+}
+
+// Counts this fragment as traced (after the bounds let it through).
+void count_traced_fragment() {
+    if (COUNT_WORK != 0u) {
+        atomicAdd(work_counts[work_index()], 1u);
+    }
+}
+
+// Adds the trace's steps to this pixel's count.
+void count_traced_steps(uint steps) {
+    if (COUNT_WORK != 0u) {
+        atomicAdd(work_counts[work_index() + 1u], steps);
+    }
+}
+
 // Whether every sample this fragment covers lies behind the occluders. Call it where every
 // lane of the quad is still running (it takes a derivative).
 bool behind_occluders() {

@@ -125,6 +125,7 @@ void shade() {
     Hit hit = METHOD_TRACE(ray, ray_budget(ray));
 #endif
     traced_steps = hit.steps;
+    count_traced_steps(traced_steps);
 #ifdef CURVED
     // Below the tangent plane the curved shell reaches deeper than depth_scale.
     float z = max(hit.z, 0.0);
@@ -291,6 +292,7 @@ void main() {
     if (behind_occluders()) {
         discard;
     } else {
+        count_traced_fragment();
         shade();
     }
 #else

@@ -255,6 +255,7 @@ pub fn render_interleaved(
         supersample: 1,
         occluders: true,
         gbuffer: false,
+        count_work: false,
     };
     let mut renderers = scenes
         .iter()

@@ -14,6 +14,7 @@ use relief::scene::Camera;
 
 use super::aov::{Layer, LayerSource};
 use super::camera_sidecar::camera_json;
+use super::cost_map::{cost_map_png, CostMap};
 use super::exr_out::{encode_exr, is_exr};
 use super::frame_encoders;
 use super::usage;
@@ -69,6 +70,12 @@ pub struct FileArgs {
     /// with --no-write.
     #[arg(long, value_name = "FILE.json")]
     pub timeline: Option<PathBuf>,
+    /// Also write each frame's cost as a heat map PNG beside it, STEM.cost-steps.png and
+    /// STEM.cost-fragments.png: per pixel the relief steps traced, or the relief fragments
+    /// traced (overdraw after culling); black none, white the frame's most, with the colour bar
+    /// on the right. Counts the frame's work, as --count-work.
+    #[arg(long, value_name = "steps|fragments", value_delimiter = ',')]
+    pub cost_map: Vec<CostMap>,
 }
 
 /// What an OpenEXR frame's colour channels hold.
@@ -86,6 +93,7 @@ enum FileKind {
     Exr,
     LayerPng(Layer),
     Camera,
+    CostMap(CostMap),
 }
 
 /// What a frame's files are made from besides its pixels.
@@ -171,6 +179,11 @@ impl FileArgs {
         if self.aov_png && no_write {
             return Err(usage(
                 "--aov-png writes files for every frame; leave out --no-write",
+            ));
+        }
+        if !self.cost_map.is_empty() && no_write {
+            return Err(usage(
+                "--cost-map writes a heat map for every frame; leave out --no-write (--count-work counts without files)",
             ));
         }
         if self.resume && no_write {
@@ -272,6 +285,10 @@ impl FileArgs {
                         None => None,
                     }
                 }
+                FileKind::CostMap(map) => match &frame.work {
+                    Some(counts) => Some(cost_map_png(map, counts)?),
+                    None => None,
+                },
                 FileKind::Camera => {
                     let value = camera_json(&view.camera, index + 1, frame.width, frame.height);
                     let mut text = value.to_string();
@@ -296,6 +313,13 @@ impl FileArgs {
             kinds.extend(scalar.map(|l| (FileKind::LayerPng(l), self.out.as_path())));
         }
         kinds.extend(self.camera_out.as_deref().map(|p| (FileKind::Camera, p)));
+        let mut maps = self.cost_map.clone();
+        maps.sort_by_key(|m| m.name());
+        maps.dedup();
+        kinds.extend(
+            maps.into_iter()
+                .map(|m| (FileKind::CostMap(m), self.out.as_path())),
+        );
         kinds
     }
 }
@@ -304,13 +328,15 @@ impl FileArgs {
 /// `STEM.LAYER.png` beside the frame's image.
 fn file_path(kind: FileKind, base: &Path, index: u32, frames: u32) -> PathBuf {
     let path = frame_path(base, index, frames);
-    let FileKind::LayerPng(layer) = kind else {
-        return path;
+    let suffix = match kind {
+        FileKind::LayerPng(layer) => layer.to_string(),
+        FileKind::CostMap(map) => format!("cost-{}", map.name()),
+        _ => return path,
     };
     let stem = path
         .file_stem()
         .map_or("frame".into(), |s| s.to_string_lossy());
-    path.with_file_name(format!("{stem}.{layer}.png"))
+    path.with_file_name(format!("{stem}.{suffix}.png"))
 }
 
 /// The file frame `index` (0-based) of `frames` is written to: `out` itself for one frame, else
@@ -380,6 +406,7 @@ mod tests {
             exr_beauty: ExrBeauty::Linear,
             resume: false,
             timeline: Some("trace.json".into()),
+            cost_map: Vec::new(),
         }
     }
 

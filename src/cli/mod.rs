@@ -16,6 +16,7 @@ mod cells;
 mod cells_compare;
 mod cells_lookup;
 mod cells_render_args;
+mod cost_map;
 mod devices;
 mod exr_out;
 mod frame_encoders;

@@ -147,6 +147,7 @@ mod tests {
     fn info() -> DeviceInfo {
         DeviceInfo {
             pipeline_statistics: true,
+            fragment_stores: true,
             calibrated_timestamps: false,
             device_uuid: String::new(),
             driver_uuid: String::new(),

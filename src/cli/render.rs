@@ -80,6 +80,7 @@ pub fn render_scene(
         .render_options(args.scene.width, args.scene.height);
     opts.keep_radiance = files.needs_radiance();
     opts.gbuffer = files.needs_gbuffer();
+    opts.count_work = args.frames.count_work || !files.cost_map.is_empty();
     opts.paintable_layers = loaded
         .edits
         .as_ref()

@@ -11,7 +11,7 @@ use clap::Args;
 use glam::Vec3;
 use relief::render::{
     explain, sequence_stats, timeline_trace, FrameOutput, FrameRequest, FrameTimeline, PassTiming,
-    Renderer, SequenceStats, TraceHeader,
+    Renderer, SequenceStats, TraceHeader, WorkSummary,
 };
 use relief::scene::{Camera, Scene};
 use relief::vk::{Context, LiveObjects, ObjectCounts};
@@ -44,6 +44,11 @@ pub struct FrameArgs {
     /// --edits the earlier frames' strokes are applied first.
     #[arg(long, value_name = "A..B")]
     pub frame_range: Option<FrameRange>,
+    /// Count the relief fragments each frame traces and their steps, per pixel (the surface
+    /// shader's own counters, compiled out otherwise); the table and --json report the last
+    /// frame's totals.
+    #[arg(long)]
+    pub count_work: bool,
 }
 
 /// Where the camera is in each frame.
@@ -145,6 +150,8 @@ struct Drawn {
     timings: Vec<Vec<PassTiming>>,
     /// Each kept frame's timeline with its 0-based number, when --timeline asked for them.
     timelines: Vec<(u32, FrameTimeline)>,
+    /// The last kept frame's work counts, when counted.
+    work: Option<WorkSummary>,
     edits: Vec<EditRecord>,
     /// Objects created from the end of the first frame's submission to the end of the last.
     created_after_first: ObjectCounts,
@@ -186,6 +193,7 @@ fn draw_all(
     let tone = renderer.plan().tone_mapping;
     let mut timings = Vec::with_capacity(kept.len());
     let mut timelines = Vec::new();
+    let mut work = None;
     // The sequence frame of each submission, by the renderer's frame index.
     let mut submitted: Vec<u32> = Vec::with_capacity(kept.len());
     let mut keep = |frame: FrameOutput, submitted: &[u32]| -> anyhow::Result<()> {
@@ -201,6 +209,9 @@ fn draw_all(
             }
             if files.timeline.is_some() {
                 timelines.push((k, frame.timeline));
+            }
+            if let Some(counts) = &frame.work {
+                work = Some(counts.summary());
             }
             timings.push(frame.timings);
             progress.advance();
@@ -246,6 +257,7 @@ fn draw_all(
         skipped,
         timings,
         timelines,
+        work,
         edits: records,
         created_after_first: ctx.created() - after_first,
         alive: [alive_after_first, ctx.alive()],
@@ -319,6 +331,7 @@ pub fn run_frames(
             },
             "edits": edited.then(|| edits_json(renderer, &drawn.edits)),
             "pipeline_cache": cache.json(),
+            "work": drawn.work,
             "written": summary.written,
             "skipped_written": summary.skipped,
         });
@@ -326,6 +339,17 @@ pub fn run_frames(
         return Ok(summary);
     }
     print_table(&stats);
+    if let Some(w) = &drawn.work {
+        println!(
+            "work (last frame): {} relief fragment(s) traced at {} pixel(s), {:.3} per pixel (at most {} at one), {} steps, {:.2} per traced pixel",
+            w.traced_fragments,
+            w.traced_pixels,
+            w.fragments_per_traced_pixel,
+            w.most_fragments_at_a_pixel,
+            w.steps,
+            w.steps_per_traced_pixel
+        );
+    }
     report_files(args, files, renderer, &methods, source, &drawn);
     eprintln!("{}", cache.line());
     Ok(summary)

@@ -270,6 +270,7 @@ impl SceneArgs {
             supersample: self.supersample,
             occluders: self.occluders == Toggle::On,
             gbuffer: false,
+            count_work: false,
         }
     }
 

@@ -38,6 +38,7 @@ pub use frame::renderer::{FrameOutput, FrameRequest, Renderer, FRAMES_IN_FLIGHT,
 pub use frame::shadow_probe::{probe_shadows, ShadowProbe};
 pub use frame::shell_draw::BuiltShell;
 pub use frame::single_frame::{render, BuiltMap, Frame, RenderOptions};
+pub use frame::work_counters::{WorkCounts, WorkSummary};
 pub use heights::height_resources::{HeightResources, HeightUpload};
 pub use heights::method_map::GpuMethodMap;
 pub use kit::formats::{COLOR_FORMAT, DEPTH_FORMAT, GBUFFER_FORMATS, HDR_FORMAT};

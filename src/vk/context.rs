@@ -514,6 +514,8 @@ fn create_device(
         .shader_storage_image_extended_formats(info.storage_r16)
         // Passes count their invocations where the device can (PassTimer).
         .pipeline_statistics_query(info.pipeline_statistics)
+        // Relief fragments count their work per pixel where asked (work counters).
+        .fragment_stores_and_atomics(info.fragment_stores)
         // The G-buffer's attachments keep their own write masks beside the radiance's blend.
         .independent_blend(true);
     let mut extensions = Vec::new();

@@ -58,6 +58,8 @@ pub struct DeviceInfo {
     pub known_frame_leak: Option<String>,
     /// `pipelineStatisticsQuery`: passes can count their shader invocations and primitives.
     pub pipeline_statistics: bool,
+    /// `fragmentStoresAndAtomics`: fragment shaders can count into storage buffers.
+    pub fragment_stores: bool,
     /// `VK_EXT_calibrated_timestamps` with the device's time domain: GPU timestamps can be
     /// placed on the host's clock.
     pub calibrated_timestamps: bool,
@@ -190,6 +192,7 @@ fn describe(instance: &ash::Instance, pd: vk::PhysicalDevice) -> Option<(u32, De
     unsafe { instance.get_physical_device_features2(pd, &mut feats2) };
     let storage_r16 = feats2.features.shader_storage_image_extended_formats == vk::TRUE;
     let pipeline_statistics = feats2.features.pipeline_statistics_query == vk::TRUE;
+    let fragment_stores = feats2.features.fragment_stores_and_atomics == vk::TRUE;
     // independentBlend: the G-buffer's attachments keep their own write masks (Vulkan's 2022
     // roadmap profile requires it; lavapipe has it).
     let usable = props.api_version >= vk::API_VERSION_1_3
@@ -221,6 +224,7 @@ fn describe(instance: &ash::Instance, pd: vk::PhysicalDevice) -> Option<(u32, De
     let (ray_query, acceleration_structure) = ray_tracing_support(instance, pd, &extensions);
     let info = DeviceInfo {
         pipeline_statistics,
+        fragment_stores,
         // The device time domain is checked when the device is made (it needs the entry).
         calibrated_timestamps: offers(&extensions, ash::ext::calibrated_timestamps::NAME),
         device_uuid: hex_uuid(&ids.device_uuid),

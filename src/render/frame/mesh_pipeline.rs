@@ -14,8 +14,8 @@ use crate::render::kit::hard_shadow::hard_shadow_texels;
 use crate::render::plan::frame_plan::PipelineKey;
 use crate::render::shader_interface::{
     SPEC_BUDGET_EXTENT_LIMIT, SPEC_BUDGET_LEAF_EXACT, SPEC_BUDGET_MAX_STEPS,
-    SPEC_BUDGET_REFINE_STEPS, SPEC_HARD_SHADOW_TEXELS, SPEC_LOD_AVERAGE_BELOW, SPEC_LOD_BIAS,
-    SPEC_LOD_FACTOR, SPEC_LOD_FADE_END, SPEC_LOD_FADE_START, SPEC_OCCLUDER_TAPS,
+    SPEC_BUDGET_REFINE_STEPS, SPEC_COUNT_WORK, SPEC_HARD_SHADOW_TEXELS, SPEC_LOD_AVERAGE_BELOW,
+    SPEC_LOD_BIAS, SPEC_LOD_FACTOR, SPEC_LOD_FADE_END, SPEC_LOD_FADE_START, SPEC_OCCLUDER_TAPS,
     SPEC_SHADOW_FILTER, SPEC_SHADOW_MODE, SPEC_SHADOW_REACH, SPEC_SHADOW_STEPS, SPEC_WRITE_DEPTH,
 };
 use crate::render::shadows::shadow_atlas::SHADOW_FORMAT;
@@ -49,6 +49,8 @@ pub(super) struct MeshStages {
     samples: u32,
     /// `SPEC_OCCLUDER_TAPS`: the occluder bounds a relief fragment reads, 0 for none.
     occluder_taps: u32,
+    /// `SPEC_COUNT_WORK`: relief fragments count their traces and steps.
+    count_work: bool,
     /// Colour attachments after the first (the G-buffer's), which the surface pass writes.
     extra_colors: &'static [vk::Format],
 }
@@ -61,7 +63,7 @@ impl MeshStages {
         key: &PipelineKey,
         shadow_filter: u32,
         samples: u32,
-        occluder_taps: u32,
+        (occluder_taps, count_work): (u32, bool),
         extra_colors: &'static [vk::Format],
     ) -> MeshStages {
         MeshStages {
@@ -76,6 +78,7 @@ impl MeshStages {
             shadow_filter,
             samples,
             occluder_taps,
+            count_work,
             extra_colors,
         }
     }
@@ -95,6 +98,7 @@ impl MeshStages {
             shadow_filter: 0,
             samples: 1,
             occluder_taps: 0,
+            count_work: false,
             extra_colors: &[],
         }
     }
@@ -121,6 +125,7 @@ impl MeshStages {
             shadow_filter: 0,
             samples: 1,
             occluder_taps: 0,
+            count_work: false,
             extra_colors: &[],
         }
     }
@@ -141,7 +146,8 @@ pub(super) fn create_pipeline(
         .f32(SPEC_SHADOW_REACH, key.shadows.horizon_reach)
         .u32(SPEC_SHADOW_FILTER, stages.shadow_filter)
         .u32(SPEC_OCCLUDER_TAPS, stages.occluder_taps)
-        .u32(SPEC_WRITE_DEPTH, u32::from(key.write_depth));
+        .u32(SPEC_WRITE_DEPTH, u32::from(key.write_depth))
+        .u32(SPEC_COUNT_WORK, u32::from(stages.count_work));
     if let Some(method) = key.method {
         let budget = method.info().default_budget;
         spec = spec

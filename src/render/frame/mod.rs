@@ -23,3 +23,4 @@ pub(in crate::render) mod surface_pass;
 pub(in crate::render) mod targets;
 mod terrain_paint;
 pub(in crate::render) mod tonemap;
+pub(in crate::render) mod work_counters;

@@ -12,10 +12,11 @@ use std::sync::Arc;
 
 use ash::vk;
 
+use super::work_counters::WorkCounterBuffer;
 use crate::render::kit::depth_as_colour::{DepthAsColour, DEPTH_COLOUR_FORMAT};
 use crate::render::kit::pass::Pass;
 use crate::render::plan::frame_plan::{DrawPlan, DrawRole, PassPlan, PipelineKey, Plan};
-use crate::render::shader_interface::BINDING_OCCLUDER_BOUNDS;
+use crate::render::shader_interface::{BINDING_OCCLUDER_BOUNDS, BINDING_WORK_COUNTS};
 use crate::scene::{AlphaMode, Mesh, Scene};
 use crate::vk::{
     Bind, Context, DescriptorLayout, DescriptorPool, DescriptorSet, Recording, Sampler, VkResult,
@@ -107,35 +108,42 @@ pub fn occluder_taps(samples: u32) -> u32 {
     }
 }
 
-/// Set 3 of the relief surface variants: the bounds, one texture.
+/// Set 3 of the relief surface variants: the bounds, one texture, and the work counters.
 pub fn occluder_layout(ctx: &Arc<Context>) -> VkResult<DescriptorLayout> {
     DescriptorLayout::new(
         ctx,
-        &[(
-            BINDING_OCCLUDER_BOUNDS,
-            vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
-        )],
+        &[
+            (
+                BINDING_OCCLUDER_BOUNDS,
+                vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
+            ),
+            (BINDING_WORK_COUNTS, vk::DescriptorType::STORAGE_BUFFER),
+        ],
         vk::ShaderStageFlags::FRAGMENT,
         "occluder bounds layout",
     )
 }
 
-/// The bounds, the depth test that keeps the nearest, and the set the surface pass binds.
+/// The bounds, the depth test that keeps the nearest, the work counters beside them, and the
+/// set the surface pass binds.
 pub struct OccluderTargets {
     bounds: DepthAsColour,
+    counters: WorkCounterBuffer,
     set: DescriptorSet,
     _pool: DescriptorPool,
 }
 
 impl OccluderTargets {
     /// Targets of `width` x `height` pixels (the scene's drawing size, supersampling included),
-    /// bound through a set of `layout` ([`occluder_layout`]).
+    /// bound through a set of `layout` ([`occluder_layout`]), with per-pixel work counters when
+    /// `counting`.
     pub fn new(
         ctx: &Arc<Context>,
         layout: &DescriptorLayout,
-        width: u32,
-        height: u32,
+        (width, height): (u32, u32),
+        counting: bool,
     ) -> VkResult<OccluderTargets> {
+        let counters = WorkCounterBuffer::new(ctx, (width, height), counting)?;
         let bounds = DepthAsColour::new(ctx, width, height, "occluder bounds")?;
         let sampler = Sampler::new(
             ctx,
@@ -144,13 +152,22 @@ impl OccluderTargets {
             "occluder bounds sampler",
         )?;
         let pool = DescriptorPool::new(ctx, 1, 1, "occluder bounds set")?;
-        let bind = Bind::Texture(BINDING_OCCLUDER_BOUNDS, bounds.depths.view(), &sampler);
-        let set = pool.allocate(layout, &[bind])?;
+        let binds = [
+            Bind::Texture(BINDING_OCCLUDER_BOUNDS, bounds.depths.view(), &sampler),
+            Bind::Storage(BINDING_WORK_COUNTS, counters.buffer()),
+        ];
+        let set = pool.allocate(layout, &binds)?;
         Ok(OccluderTargets {
             bounds,
+            counters,
             set,
             _pool: pool,
         })
+    }
+
+    /// The per-pixel work counters (a stand-in unless the frame counts).
+    pub fn counters(&self) -> &WorkCounterBuffer {
+        &self.counters
     }
 
     /// The set the relief surface variants bind as set 3.

@@ -21,7 +21,7 @@ use crate::render::plan::frame_plan::Plan;
 use crate::render::shadows::light_views::LightView;
 use crate::render::shadows::shadow_pass::ShadowMaps;
 use crate::scene::Frustum;
-use crate::vk::{Recording, VkError, VkResult};
+use crate::vk::{Readback, Recording, VkError, VkResult};
 
 /// The renderer's parts one frame records with.
 pub(super) struct RecordingParts<'a> {
@@ -49,6 +49,8 @@ pub(super) struct FrameWork<'a> {
     pub build_maps: bool,
     /// A view moved or a caster changed: the shadow maps are rendered again.
     pub render_shadow_maps: bool,
+    /// Where the work counters are copied, when the frame counts.
+    pub work: Option<&'a Readback>,
     pub into: FrameReadbacks<'a>,
 }
 
@@ -73,6 +75,18 @@ impl RecordingParts<'_> {
         let mut sky = Some(sky);
         let mut culled = 0;
         let mut rendering = false;
+        let counters = self
+            .occluders
+            .map(OccluderTargets::counters)
+            .filter(|c| c.counting());
+        if let (Some(counters), Some(o)) = (counters, self.occluders) {
+            counters.record_clear(rec)?;
+            if !self.plan.occluders {
+                // Bound beside the counters though never read: cleared, so it has a layout.
+                o.begin(rec);
+                o.end(rec);
+            }
+        }
         for pass in self.graph.passes() {
             match pass {
                 Pass::Pyramid if work.build_maps => {
@@ -144,6 +158,9 @@ impl RecordingParts<'_> {
                 }
                 _ => {}
             }
+        }
+        if let (Some(counters), Some(into)) = (counters, work.work) {
+            counters.record_copy(rec, into)?;
         }
         Ok(culled)
     }

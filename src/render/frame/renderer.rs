@@ -24,6 +24,7 @@ use super::single_frame::{BuiltMap, RenderOptions};
 use super::surface_pass::SurfacePass;
 use super::targets::{average_blocks, FrameReadbacks, TargetOptions, Targets};
 use super::tonemap::ToneMapPass;
+use super::work_counters::WorkCounts;
 use crate::environment::Background;
 use crate::heightfield::Heightfield;
 use crate::method::MapKind;
@@ -84,6 +85,8 @@ pub struct FrameOutput {
     pub gbuffer: Option<GBufferChannels>,
     /// What the host and the GPU did for the frame, on the host's clock.
     pub timeline: FrameTimeline,
+    /// With `RenderOptions::count_work`, the relief fragments traced and their steps per pixel.
+    pub work: Option<WorkCounts>,
 }
 
 struct FrameSlot {
@@ -100,6 +103,8 @@ struct FrameSlot {
     pending: Option<(u64, bool, usize)>,
     /// That frame's host spans and clock calibration so far.
     timeline: Option<SubmittedTimeline>,
+    /// The work counters' copy (`RenderOptions::count_work` only).
+    work_readback: Option<Readback>,
 }
 
 /// Everything a scene needs on the device, kept across frames.
@@ -161,6 +166,13 @@ impl Renderer {
         plan.supersample = choose_supersample(opts, ctx.info().max_image_dimension_2d, probe)?;
         plan_occluders(&mut plan, scene, opts.occluders);
         plan.gbuffer = opts.gbuffer;
+        if opts.count_work && !ctx.info().fragment_stores {
+            return Err(VkError::Unsupported(
+                "counting work per pixel (fragmentStoresAndAtomics)".into(),
+            )
+            .into());
+        }
+        plan.count_work = opts.count_work;
         // The probe's colours are visibilities, not radiance.
         plan.tone_mapping = if probe {
             ToneMapping::NONE
@@ -255,9 +267,10 @@ impl Renderer {
             TargetOptions::of(&plan, probe, opts.keep_radiance),
             &tone_map,
         )?;
-        let occluders = plan
-            .occluders
-            .then(|| occluder_targets(ctx, &surface, &targets))
+        // The counters live beside the bounds, so a counting frame has the bounds' targets even
+        // where nothing occludes (then they are cleared and never read).
+        let occluders = (plan.occluders || plan.count_work)
+            .then(|| occluder_targets(ctx, &surface, &targets, plan.count_work))
             .transpose()?;
         // One scope per pyramid build, AO map and shadow map, plus the occluder, cells and
         // surface passes.
@@ -273,6 +286,7 @@ impl Renderer {
                     gbuffer_readback: None,
                     pending: None,
                     timeline: None,
+                    work_readback: None,
                 })
             })
             .collect::<VkResult<Vec<_>>>()?;
@@ -388,13 +402,20 @@ impl Renderer {
             TargetOptions::of(&self.plan, self.shadow_probe.is_some(), self.keep_radiance);
         self.targets = Targets::new(&self.ctx, width, height, options, &self.tone_map)?;
         if self.occluders.is_some() {
-            self.occluders = Some(occluder_targets(&self.ctx, &self.surface, &self.targets)?);
+            let counting = self.plan.count_work;
+            self.occluders = Some(occluder_targets(
+                &self.ctx,
+                &self.surface,
+                &self.targets,
+                counting,
+            )?);
         }
         for slot in &mut self.slots {
             slot.readback = None;
             slot.depth_readback = None;
             slot.radiance_readback = None;
             slot.gbuffer_readback = None;
+            slot.work_readback = None;
         }
         (self.width, self.height) = (width, height);
         Ok(retired)
@@ -488,6 +509,13 @@ impl Renderer {
                 }
             }
         }
+        if let (Some(o), true) = (&self.occluders, self.plan.count_work) {
+            let slot = &mut self.slots[k];
+            if slot.work_readback.is_none() {
+                let name = format!("frame slot {k} work counters readback");
+                slot.work_readback = Some(o.counters().readback(&self.ctx, &name)?);
+            }
+        }
         let build_pyramids = !self.pyramids_built;
         let render_maps = self.shadows.needs_render(&views);
         let parts = RecordingParts {
@@ -515,6 +543,7 @@ impl Renderer {
             views: &views,
             build_maps: build_pyramids,
             render_shadow_maps: render_maps,
+            work: slot.work_readback.as_ref(),
             into: FrameReadbacks {
                 color: kept(&slot.readback, read),
                 depth: kept(&slot.depth_readback, read),
@@ -632,6 +661,10 @@ impl Renderer {
             let usage = ash::vk::BufferUsageFlags::TRANSFER_DST;
             kept.push(Buffer::with_data(&self.ctx, &bytes, usage, &name)?);
         }
+        let work = match (&self.slots[k].work_readback, &self.occluders) {
+            (Some(buffer), Some(o)) => Some(o.counters().decode(buffer.bytes()?)),
+            _ => None,
+        };
         let slot = &mut self.slots[k];
         let retire = HostSpan {
             work: HostWork::Retire,
@@ -650,6 +683,7 @@ impl Renderer {
         Ok(Some(FrameOutput {
             index,
             timeline,
+            work,
             timings: per_pass(&scopes),
             rgba,
             width: self.width,
@@ -719,9 +753,11 @@ fn occluder_targets(
     ctx: &Arc<Context>,
     surface: &SurfacePass,
     targets: &Targets,
+    counting: bool,
 ) -> VkResult<OccluderTargets> {
     let desc = targets.depth.desc();
-    OccluderTargets::new(ctx, surface.occluder_layout(), desc.width, desc.height)
+    let size = (desc.width, desc.height);
+    OccluderTargets::new(ctx, surface.occluder_layout(), size, counting)
 }
 
 fn choose_supersample(opts: &RenderOptions, max_side: u32, probe: bool) -> Result<u32, VkError> {

@@ -68,6 +68,10 @@ pub struct RenderOptions {
     /// [`GBufferChannels`](super::gbuffer::GBufferChannels)) beside the radiance, and read-back
     /// frames return it. Not with supersampling.
     pub gbuffer: bool,
+    /// Relief fragments count their traces and steps per pixel, and every frame returns the
+    /// counts ([`WorkCounts`](super::work_counters::WorkCounts)); off, the counting is compiled
+    /// out. Needs `fragmentStoresAndAtomics`.
+    pub count_work: bool,
 }
 
 impl Default for RenderOptions {
@@ -89,6 +93,7 @@ impl Default for RenderOptions {
             supersample: 1,
             occluders: true,
             gbuffer: false,
+            count_work: false,
         }
     }
 }

@@ -15,6 +15,7 @@ use super::occluders::{occluder_layout, occluder_taps, occludes};
 use super::scene_ao::SceneAo;
 use super::scene_textures::SceneTextures;
 use super::shell_draw::{upload_shell, BuiltShell};
+use super::work_counters::WorkCounterBuffer;
 use crate::render::environment::{stand_in_binds, EnvironmentLight};
 use crate::render::heights::height_resources::HeightResources;
 use crate::render::kit::caster_draws::CasterDraws;
@@ -25,7 +26,7 @@ use crate::render::kit::set_layouts::{material_layout, plain_frame_layout, set0_
 use crate::render::plan::frame_plan::{DrawPlan, DrawRole, PipelineKey, Plan};
 use crate::render::shader_interface::{
     BINDING_FRAME, BINDING_HEIGHT_LINEAR, BINDING_HEIGHT_MEAN, BINDING_HEIGHT_POINT,
-    BINDING_METHOD_MAP, BINDING_OCCLUDER_BOUNDS, SET_OCCLUDERS,
+    BINDING_METHOD_MAP, BINDING_OCCLUDER_BOUNDS, BINDING_WORK_COUNTS, SET_OCCLUDERS,
 };
 use crate::render::shadows::shadow_atlas::ShadowAtlas;
 use crate::render::shadows::shadow_plan::relief_pad;
@@ -447,8 +448,12 @@ impl SurfacePass {
         let no_occluders = (!plan.occluders && plan.pipelines.iter().any(|k| k.method.is_some()))
             .then(|| -> VkResult<_> {
                 let pool = DescriptorPool::new(ctx, 1, 1, "no occluder bounds set")?;
-                let bind = Bind::Texture(BINDING_OCCLUDER_BOUNDS, &stand_in.0, &stand_in.1);
-                Ok((pool.allocate(&occluder_layout, &[bind])?, pool))
+                let counters = WorkCounterBuffer::new(ctx, (1, 1), false)?;
+                let binds = [
+                    Bind::Texture(BINDING_OCCLUDER_BOUNDS, &stand_in.0, &stand_in.1),
+                    Bind::Storage(BINDING_WORK_COUNTS, counters.buffer()),
+                ];
+                Ok((pool.allocate(&occluder_layout, &binds)?, pool))
             })
             .transpose()?;
         let mut shading = vec![false; plan.pipelines.len()];
@@ -464,7 +469,9 @@ impl SurfacePass {
                         let set0 = set0_of(key);
                         let samples = plan.msaa.samples;
                         let extra = scene_extra_formats(plan.gbuffer);
-                        let stages = MeshStages::surface(key, shadow_filter, samples, taps, extra);
+                        let occluder_use = (taps, plan.count_work);
+                        let stages =
+                            MeshStages::surface(key, shadow_filter, samples, occluder_use, extra);
                         let layers = if key.layers {
                             &layer_layout
                         } else {

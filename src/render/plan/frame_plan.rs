@@ -232,6 +232,9 @@ pub struct Plan {
     /// The surface pass writes the G-buffer beside the radiance (set by the renderer from its
     /// options).
     pub gbuffer: bool,
+    /// Relief fragments count their traces and steps per pixel (set by the renderer from its
+    /// options; `SPEC_COUNT_WORK`).
+    pub count_work: bool,
 }
 
 impl Plan {
@@ -269,6 +272,7 @@ impl Plan {
             supersample: 1,
             occluders: false,
             gbuffer: false,
+            count_work: false,
         };
         let mut used = vec![false; scene.materials.len()];
         for c in &plan.cells {

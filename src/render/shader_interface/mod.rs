@@ -169,6 +169,9 @@ glsl_table! {
         SET_OCCLUDERS = 3;
         /// Per pixel, the farthest depth the nearest opaque surface can reach.
         BINDING_OCCLUDER_BOUNDS = 0;
+        /// Per pixel of the scene's targets, two counters: relief fragments traced and the
+        /// steps they took (written only where `SPEC_COUNT_WORK` is 1).
+        BINDING_WORK_COUNTS = 1;
     }
 }
 
@@ -277,6 +280,9 @@ glsl_table! {
         SPEC_OCCLUDER_TAPS = 30;
         /// 1: a relief fragment writes its displaced hit's depth; 0: the polygon's own.
         SPEC_WRITE_DEPTH = 31;
+        /// 1: relief fragments count themselves and their steps per pixel (`relief render
+        /// --count-work`); 0, the default, compiles the counting out.
+        SPEC_COUNT_WORK = 32;
     }
 }
 
