@@ -510,10 +510,12 @@ impl Renderer {
             }
         }
         if let (Some(o), true) = (&self.occluders, self.plan.count_work) {
-            let slot = &mut self.slots[k];
-            if slot.work_readback.is_none() {
-                let name = format!("frame slot {k} work counters readback");
-                slot.work_readback = Some(o.counters().readback(&self.ctx, &name)?);
+            // Every slot's at once, as the other read-backs, so later frames create nothing.
+            for (j, slot) in self.slots.iter_mut().enumerate() {
+                if slot.work_readback.is_none() {
+                    let name = format!("frame slot {j} work counters readback");
+                    slot.work_readback = Some(o.counters().readback(&self.ctx, &name)?);
+                }
             }
         }
         let build_pyramids = !self.pyramids_built;
