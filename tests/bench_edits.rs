@@ -58,6 +58,8 @@ fn bench(out: &std::path::Path, extra: &[&str]) -> (serde_json::Value, String) {
         "1",
         "--resolution",
         "32x32",
+        "--sections",
+        "main,edits",
         "--no-stability",
         "--no-shading",
         "--no-lod",

@@ -24,6 +24,8 @@ const SWEEP: &[&str] = &[
     "30,60",
     "--depth-scales",
     "0.1,0.5",
+    "--sections",
+    "main,stability,shading,blending",
     "--no-lod",
     "--no-edits",
     "--no-scene-shadows",

@@ -11,6 +11,7 @@ use std::sync::Arc;
 
 use serde::{Deserialize, Serialize};
 
+use super::cost_curve::fitted_exponent;
 use super::frame_timing::{
     time_interleaved, time_setups_interleaved, FrameSetup, MapRate, SteadyFrames,
 };
@@ -319,6 +320,27 @@ pub fn report(md: &mut String, s: &FrameCostSection) {
             md,
             "| {} | {}x{} | {:.3} | {:.3} |",
             r.frame, r.size[0], r.size[1], r.gpu_ms, r.shadow_maps_ms
+        );
+    }
+    let curves: Vec<String> = ["plain", "look"]
+        .iter()
+        .filter_map(|&frame| {
+            let points: Vec<(f64, f64)> = s
+                .rows
+                .iter()
+                .filter(|r| r.frame == frame)
+                .map(|r| (f64::from(r.size[0]) * f64::from(r.size[1]), r.gpu_ms))
+                .collect();
+            let k = fitted_exponent(&points)?;
+            Some(format!("*{frame}* k = {k:.3} over {} sizes", points.len()))
+        })
+        .collect();
+    if !curves.is_empty() {
+        let _ = writeln!(
+            md,
+            "\nCost against resolution, time ~ pixels^k fitted over the sizes above (1 is linear \
+             in pixels; below 1, fixed costs such as the shadow maps and per-draw setup): {}.",
+            curves.join(", ")
         );
     }
     let _ = writeln!(md, "\n| step | from | to | ratio |");

@@ -27,6 +27,7 @@ mod ao;
 mod blending;
 mod blending_report;
 pub mod compare;
+mod cost_curve;
 mod cost_gate;
 mod depth_match;
 mod edits;
@@ -49,6 +50,7 @@ mod results_fixture;
 mod runner;
 mod scene_shadow_section;
 mod scene_shadows;
+mod sections_run;
 mod shading;
 mod shading_report;
 mod shadow_stability;
@@ -69,6 +71,7 @@ pub use blending::{
     run_blending_section, BlendCost, BlendTrace, BlendingConfig, BlendingSection, ONE_HOT,
 };
 pub use blending_report::{notes as blending_notes, STEPS_RATIO_NOTED};
+pub use cost_curve::fitted_exponent;
 pub use cost_gate::{
     check_gate, gate_setup, measure_gate, GateCell, GateCounts, GateFinding, GATE_DEPTH_SCALE,
     GATE_ELEVATIONS, GATE_FIELDS, GATE_RAYS, GATE_SIZE, MAX_GROWTH, MEAN_GROWTH,
@@ -104,6 +107,7 @@ pub use scene_shadows::{
     measure_scene_shadows, CasterDifference, SceneShadowConfig, SceneShadowError, SceneShadowRun,
     TURNED_AWAY,
 };
+pub use sections_run::{SectionsRun, SkippedSection};
 pub use shading::{measure_shadows, ShadingConfig, ShadowRun};
 pub use shadow_stability::{shadow_stability, ShadowStabilityCell};
 pub use shadow_stats::{

@@ -197,6 +197,10 @@ pub struct BenchResults {
     /// recorded it.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub machine: Option<super::machine::BenchMachine>,
+    /// The sections measured and why the others were left out; absent in files written before
+    /// relief recorded it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sections: Option<super::sections_run::SectionsRun>,
 }
 
 #[cfg(test)]

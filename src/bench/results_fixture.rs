@@ -84,5 +84,6 @@ pub(crate) fn results(device: BenchDevice, runs: Vec<Run>) -> BenchResults {
         frame_costs: None,
         shard: None,
         machine: None,
+        sections: None,
     }
 }

@@ -13,9 +13,9 @@ use relief::bench::{
     run_paint_section, run_scene_shadow_section, run_silhouette_section, run_stiff_case,
     stiff_cases, utc_now_rfc3339, AoConfig, AoRun, BenchResults, BlendingConfig, BlendingSection,
     EditCost, FieldSource, FrameCostSection, FrameFeatureSection, LodConfig, LodSection,
-    MachineAtStart, PaintCost, ReliefBuild, Runner, SceneShadowSection, ShadingConfig, ShadowRun,
-    ShadowStabilityCell, SilhouetteSection, StabilityCell, StepOrigins, StiffCase, SweepConfig,
-    SweepSections, WholeSection, SCHEMA_VERSION,
+    MachineAtStart, PaintCost, ReliefBuild, Runner, SceneShadowSection, SectionsRun, ShadingConfig,
+    ShadowRun, ShadowStabilityCell, SilhouetteSection, StabilityCell, StepOrigins, StiffCase,
+    SweepConfig, SweepSections, WholeSection, SCHEMA_VERSION,
 };
 
 /// The brush radius of the terrain-edit section, in texels (the stroke).
@@ -29,6 +29,7 @@ use relief::vk::Context;
 use super::bench_args::{parse_resolution, BenchArgs, BenchCommand};
 use super::bench_merge;
 use super::bench_runs::measure_runs;
+use super::bench_sections::{SectionChoice, SectionName};
 use super::bench_shard::{self, StepPlan};
 use super::scene_args::FormatArg;
 
@@ -216,6 +217,8 @@ pub(super) fn note(bar: &ProgressBar, what: &str, quiet: bool) {
 /// What one `relief bench` measures, from its flags: the sweep's jobs and which other sections
 /// run, with their settings.
 fn sections(args: &BenchArgs, cfg: &SweepConfig, ctx: &Context) -> SweepSections {
+    let choice = SectionChoice::of(args);
+    let asked = |s: SectionName| choice.left_out(s).is_none();
     let only_other = args.shading_only
         || args.lod_only
         || args.stability_only
@@ -223,18 +226,19 @@ fn sections(args: &BenchArgs, cfg: &SweepConfig, ctx: &Context) -> SweepSections
         || args.frame_features_only
         || args.silhouettes_only
         || args.frame_costs_only;
-    let jobs = if only_other {
+    let jobs = if only_other || !asked(SectionName::Main) {
         Vec::new()
     } else {
         plan_jobs(cfg)
     };
-    let shading_wanted = !(args.no_shading
-        || args.lod_only
-        || args.stability_only
-        || args.scene_shadows_only
-        || args.frame_features_only
-        || args.silhouettes_only
-        || args.frame_costs_only);
+    let shading_wanted = (args.shading_only || asked(SectionName::Shading))
+        && !(args.no_shading
+            || args.lod_only
+            || args.stability_only
+            || args.scene_shadows_only
+            || args.frame_features_only
+            || args.silhouettes_only
+            || args.frame_costs_only);
     let shading = shading_wanted.then(|| {
         if cfg.quick {
             ShadingConfig::quick()
@@ -248,6 +252,7 @@ fn sections(args: &BenchArgs, cfg: &SweepConfig, ctx: &Context) -> SweepSections
         8192.min(ctx.info().max_image_dimension_2d)
     };
     let cases = if cfg.stability
+        && (args.stability_only || asked(SectionName::Stability))
         && !(args.shading_only
             || args.lod_only
             || args.scene_shadows_only
@@ -264,31 +269,52 @@ fn sections(args: &BenchArgs, cfg: &SweepConfig, ctx: &Context) -> SweepSections
     } else {
         AoConfig::full()
     };
-    let edits_wanted = !(args.no_edits || only_other);
+    let edits_wanted = asked(SectionName::Edits) && !(args.no_edits || only_other);
     SweepSections {
         jobs,
         shadow_stability: shading.is_some() && cfg.stability,
         shading,
         cases,
         ao,
-        lod: !(args.no_lod
-            || args.shading_only
-            || args.stability_only
-            || args.scene_shadows_only
-            || args.frame_features_only
-            || args.silhouettes_only
-            || args.frame_costs_only),
+        lod: (args.lod_only || asked(SectionName::Lod))
+            && !(args.no_lod
+                || args.shading_only
+                || args.stability_only
+                || args.scene_shadows_only
+                || args.frame_features_only
+                || args.silhouettes_only
+                || args.frame_costs_only),
         edit_sizes: if edits_wanted {
             edit_sizes(args, cfg)
         } else {
             Vec::new()
         },
-        blending: !(args.no_blending || only_other),
-        scene_shadows: args.scene_shadows_only || !(args.no_scene_shadows || only_other),
-        frame_features: args.frame_features_only || !(args.no_frame_features || only_other),
-        silhouettes: args.silhouettes_only || !(args.no_silhouettes || only_other),
-        frame_costs: args.frame_costs_only || !(args.no_frame_costs || only_other),
+        blending: asked(SectionName::Blending) && !(args.no_blending || only_other),
+        scene_shadows: args.scene_shadows_only
+            || (asked(SectionName::SceneShadows) && !(args.no_scene_shadows || only_other)),
+        frame_features: args.frame_features_only
+            || (asked(SectionName::FrameFeatures) && !(args.no_frame_features || only_other)),
+        silhouettes: args.silhouettes_only
+            || (asked(SectionName::Silhouettes) && !(args.no_silhouettes || only_other)),
+        frame_costs: args.frame_costs_only
+            || (asked(SectionName::FrameCosts) && !(args.no_frame_costs || only_other)),
     }
+}
+
+/// Which sections `sections` runs and why the others are left out.
+fn sections_record(args: &BenchArgs, sections: &SweepSections) -> SectionsRun {
+    SectionChoice::of(args).record(|s| match s {
+        SectionName::Main => !sections.jobs.is_empty(),
+        SectionName::Stability => !sections.cases.is_empty(),
+        SectionName::Shading => sections.shading.is_some(),
+        SectionName::Lod => sections.lod,
+        SectionName::Edits => !sections.edit_sizes.is_empty(),
+        SectionName::Blending => sections.blending,
+        SectionName::SceneShadows => sections.scene_shadows,
+        SectionName::FrameFeatures => sections.frame_features,
+        SectionName::Silhouettes => sections.silhouettes,
+        SectionName::FrameCosts => sections.frame_costs,
+    })
 }
 
 /// Whether a section that runs whole runs here: asked for, and in this run's shard.
@@ -345,6 +371,10 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     let ctx = super::open_device(args.device.as_deref(), args.json)?;
     let machine = MachineAtStart::read();
     let sections = sections(args, &cfg, &ctx);
+    let sections_run = sections_record(args, &sections);
+    if !args.json && !sections_run.skipped.is_empty() {
+        eprintln!("relief bench: {}", sections_run.line());
+    }
     let plan = StepPlan::new(args.shard, &cfg, &sections);
     if let (Some(shard), Some((mine, all, load, most)), false) =
         (args.shard, plan.estimate, args.json)
@@ -403,6 +433,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         frame_costs: whole.frame_costs,
         shard: plan.info(fingerprint, origins),
         machine: Some(machine.finish()),
+        sections: Some(sections_run),
     };
     if let (Some(why), false) = (
         results.machine.as_ref().and_then(|m| m.busy.as_ref()),

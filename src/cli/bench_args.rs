@@ -20,6 +20,13 @@ pub struct BenchArgs {
     /// Small sweep for CI (a few minutes on lavapipe).
     #[arg(long)]
     pub(super) quick: bool,
+    /// Sections to run, comma-separated: main, stability, shading, lod, edits, blending,
+    /// scene-shadows, frame-features, silhouettes, frame-costs. Without it every section runs,
+    /// or, when --methods, --fields, --heightmap, --sizes, --angles, --azimuths, --depth-scales
+    /// or --budgets narrow the sweep, only those they narrow (main, stability, blending). The
+    /// --no-X and --X-only flags apply on top.
+    #[arg(long, value_enum, value_delimiter = ',')]
+    pub(super) sections: Vec<super::bench_sections::SectionName>,
     /// Method ids, comma-separated (default: all).
     #[arg(long, value_delimiter = ',')]
     pub(super) methods: Vec<String>,

@@ -10,6 +10,7 @@ mod bench_compare;
 mod bench_gate;
 mod bench_merge;
 mod bench_runs;
+mod bench_sections;
 mod bench_shard;
 mod camera_sidecar;
 mod cells;
