@@ -36,6 +36,10 @@ pub struct FrameCostRow {
     pub gpu_ms: f64,
     /// Of that, the shadow maps' pass.
     pub shadow_maps_ms: f64,
+    /// Fragment shader invocations of a steady frame, every pass, as the device counts them;
+    /// absent where it cannot (and in files written before relief counted them).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fragment_invocations: Option<u64>,
 }
 
 /// One step of the chain from the plain frame to the default look: `ratio` is `to` over `from`.
@@ -171,6 +175,7 @@ fn row(frame: &str, opts: &RenderOptions, t: &SteadyFrames) -> FrameCostRow {
         size: [opts.width, opts.height],
         gpu_ms: t.total_ms,
         shadow_maps_ms: t.shadow_maps_ms,
+        fragment_invocations: t.fragment_invocations,
     }
 }
 
@@ -313,12 +318,18 @@ pub fn report(md: &mut String, s: &FrameCostSection) {
          where it hides no relief.\n",
         s.frames, s.look_over_plain, s.occluder_cost
     );
-    let _ = writeln!(md, "| frame | size | GPU ms | of it shadow maps |");
-    let _ = writeln!(md, "|---|---|---|---|");
+    let _ = writeln!(
+        md,
+        "| frame | size | GPU ms | of it shadow maps | fragment invocations |"
+    );
+    let _ = writeln!(md, "|---|---|---|---|---|");
     for r in &s.rows {
+        let counted = r
+            .fragment_invocations
+            .map_or("-".to_owned(), |n| n.to_string());
         let _ = writeln!(
             md,
-            "| {} | {}x{} | {:.3} | {:.3} |",
+            "| {} | {}x{} | {:.3} | {:.3} | {counted} |",
             r.frame, r.size[0], r.size[1], r.gpu_ms, r.shadow_maps_ms
         );
     }

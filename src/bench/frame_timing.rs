@@ -20,6 +20,10 @@ pub struct SteadyFrames {
     pub occluders_ms: f64,
     /// Every pass a steady frame records.
     pub total_ms: f64,
+    /// The fragment shader invocations of a steady frame's passes, as the device counts them
+    /// (pipeline statistics; the same in every steady frame of a still view); `None` where the
+    /// device cannot count or some pass was not counted.
+    pub fragment_invocations: Option<u64>,
     /// The maps built for the renderer (environment maps included), with their cost.
     pub maps: Vec<BuiltMap>,
 }
@@ -98,9 +102,10 @@ pub fn time_setups_interleaved(
         .map(|s| Renderer::new(ctx, s.scene, s.heights, s.opts))
         .collect::<Result<Vec<_>, _>>()?;
     let mut samples = vec![(Vec::new(), Vec::new(), Vec::new(), Vec::new()); renderers.len()];
+    let mut invocations = vec![None; renderers.len()];
     for round in 0..=frames {
-        for (renderer, (shadow, surface, occluders, total)) in
-            renderers.iter_mut().zip(&mut samples)
+        for ((renderer, (shadow, surface, occluders, total)), counted) in
+            renderers.iter_mut().zip(&mut samples).zip(&mut invocations)
         {
             if maps == MapRate::EveryFrame {
                 renderer.invalidate_shadow_maps();
@@ -125,18 +130,27 @@ pub fn time_setups_interleaved(
             surface.push(ms(Pass::Surface));
             occluders.push(ms(Pass::Occluders));
             total.push(out.timings.iter().map(|t| t.gpu_ms).sum::<f64>());
+            *counted = out
+                .timings
+                .iter()
+                .map(|t| t.counts.map(|c| c.fragment_invocations))
+                .sum::<Option<u64>>();
         }
     }
     Ok(renderers
         .iter()
         .zip(samples)
+        .zip(invocations)
         .map(
-            |(renderer, (shadow, surface, occluders, total))| SteadyFrames {
-                shadow_maps_ms: median(shadow),
-                surface_ms: median(surface),
-                occluders_ms: median(occluders),
-                total_ms: median(total),
-                maps: renderer.maps().to_vec(),
+            |((renderer, (shadow, surface, occluders, total)), fragment_invocations)| {
+                SteadyFrames {
+                    fragment_invocations,
+                    shadow_maps_ms: median(shadow),
+                    surface_ms: median(surface),
+                    occluders_ms: median(occluders),
+                    total_ms: median(total),
+                    maps: renderer.maps().to_vec(),
+                }
             },
         )
         .collect())
