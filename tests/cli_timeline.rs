@@ -189,3 +189,53 @@ fn a_timeline_that_is_not_json_by_name_is_refused() {
     let out = relief(&["render", "--no-write", "--timeline", "trace.txt"]);
     assert_usage_failure(&out, &["--timeline", "trace.txt", ".json"]);
 }
+
+#[test]
+fn the_bench_lays_its_frame_costs_on_a_timeline() {
+    let dir = common::scratch_dir("bench-timeline");
+    let trace = dir.join("bench-timeline.json");
+    let out = relief(&[
+        "bench",
+        "--quick",
+        "--frame-costs-only",
+        "--timeline",
+        trace.to_str().expect("UTF-8 path"),
+        "--out",
+        dir.join("out").to_str().expect("UTF-8 path"),
+    ]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "relief bench failed:\n{err}");
+    let trace: Value =
+        serde_json::from_slice(&std::fs::read(&trace).expect("written")).expect("JSON");
+    let events = trace["traceEvents"].as_array().expect("traceEvents");
+    let renderers: BTreeSet<&str> = events
+        .iter()
+        .filter(|e| e["ph"] == "X")
+        .map(|e| {
+            assert!(e["dur"].as_f64().is_some_and(|d| d >= 0.0), "{e}");
+            e["args"]["renderer"]
+                .as_str()
+                .expect("every span names its renderer")
+        })
+        .collect();
+    for label in ["plain 320x180", "look 320x180", "plain 160x90"] {
+        assert!(renderers.contains(label), "{label} in {renderers:?}");
+    }
+    let surfaces = events
+        .iter()
+        .filter(|e| e["name"] == "surface" && e["args"]["renderer"] == "look 320x180")
+        .count();
+    assert_eq!(
+        surfaces, 4,
+        "the look's untimed frame and its three timed ones"
+    );
+    let refused = relief(&[
+        "bench",
+        "--stability-only",
+        "--timeline",
+        "t.json",
+        "--out",
+        dir.join("refused").to_str().unwrap(),
+    ]);
+    assert_usage_failure(&refused, &["--timeline", "frame-cost"]);
+}

@@ -18,7 +18,9 @@ use super::frame_timing::{
 use crate::environment::{Background, EnvironmentSource};
 use crate::heightfield::{Generator, Heightfield};
 use crate::method::Method;
-use crate::render::{RenderError, RenderOptions, ShadowFilter, ShadowOptions, ToneMapping};
+use crate::render::{
+    FrameTimeline, RenderError, RenderOptions, ShadowFilter, ShadowOptions, ToneMapping,
+};
 use crate::scene::{
     default_heightfield, default_scene, relief_stack_scene, Scene, DEFAULT_SCENE_METHOD,
     STACK_QUAD_SIDE,
@@ -97,6 +99,10 @@ pub struct FrameCostSection {
     /// On the one-quad scene with the default look: the steady frames' shadow-map pass over the
     /// rest of their frame.
     pub still_shadow_share: f64,
+    /// Every renderer's frames as they ran, labelled by what it drew (`relief bench
+    /// --timeline`); not kept in results.json.
+    #[serde(skip)]
+    pub timelines: Vec<(String, Vec<FrameTimeline>)>,
 }
 
 /// The plain frame: one sample, flat ambient light, no tone curve, no shadow maps.
@@ -196,11 +202,16 @@ pub fn run_frame_cost_section(
     let looks = chain_looks(main);
     let options: Vec<RenderOptions> = looks.iter().map(|(_, o)| o.clone()).collect();
     let timed = time_interleaved(ctx, &scene, Some(&heights), &options, frames)?;
+    let mut timelines = Vec::new();
+    let mut keep = |label: String, t: &SteadyFrames| timelines.push((label, t.timelines.clone()));
     let mut rows: Vec<FrameCostRow> = looks
         .iter()
         .zip(&timed)
         .map(|((name, opts), t)| row(name, opts, t))
         .collect();
+    for (r, t) in rows.iter().zip(&timed) {
+        keep(format!("{} {}x{}", r.frame, r.size[0], r.size[1]), t);
+    }
     let ms = |rows: &[FrameCostRow], name: &str| {
         rows.iter()
             .find(|r| r.frame == name && r.size == main)
@@ -238,6 +249,8 @@ pub fn run_frame_cost_section(
         let timed = time_interleaved(ctx, &scene, Some(&heights), &options, frames)?;
         rows.push(row("plain", &options[0], &timed[0]));
         rows.push(row("look", &options[1], &timed[1]));
+        keep(format!("plain {}x{}", size[0], size[1]), &timed[0]);
+        keep(format!("look {}x{}", size[0], size[1]), &timed[1]);
     }
     let stack_heights = stack_heights();
     let mut stacks = Vec::new();
@@ -267,6 +280,14 @@ pub fn run_frame_cost_section(
             })
             .collect();
         let timed = time_setups_interleaved(ctx, &setups, frames, MapRate::AsNeeded)?;
+        let kinds = ["one quad", "eight, nearest first", "eight, farthest first"];
+        for (k, t) in timed.iter().enumerate() {
+            let path = if k < 3 { "occluders" } else { "forward" };
+            keep(
+                format!("stack {spacing} apart: {}, {path}", kinds[k % 3]),
+                t,
+            );
+        }
         stacks.push(StackRow {
             spacing,
             one_ms: timed[0].total_ms,
@@ -291,6 +312,7 @@ pub fn run_frame_cost_section(
         frames,
     )?;
     let still = &t[0];
+    keep("one quad, look, still view".to_owned(), still);
     let still_shadow_share =
         still.shadow_maps_ms / (still.total_ms - still.shadow_maps_ms).max(1e-9);
     Ok(FrameCostSection {
@@ -302,6 +324,7 @@ pub fn run_frame_cost_section(
         stacks,
         stack_size,
         still_shadow_share,
+        timelines,
     })
 }
 

@@ -5,7 +5,9 @@ use std::sync::Arc;
 
 use super::median::median;
 use crate::heightfield::Heightfield;
-use crate::render::{BuiltMap, FrameRequest, Pass, RenderError, RenderOptions, Renderer};
+use crate::render::{
+    BuiltMap, FrameRequest, FrameTimeline, Pass, RenderError, RenderOptions, Renderer,
+};
 use crate::scene::Scene;
 use crate::vk::Context;
 
@@ -24,6 +26,8 @@ pub struct SteadyFrames {
     /// (pipeline statistics; the same in every steady frame of a still view); `None` where the
     /// device cannot count or some pass was not counted.
     pub fragment_invocations: Option<u64>,
+    /// Every frame's timeline, the first (untimed) one included.
+    pub timelines: Vec<FrameTimeline>,
     /// The maps built for the renderer (environment maps included), with their cost.
     pub maps: Vec<BuiltMap>,
 }
@@ -102,10 +106,11 @@ pub fn time_setups_interleaved(
         .map(|s| Renderer::new(ctx, s.scene, s.heights, s.opts))
         .collect::<Result<Vec<_>, _>>()?;
     let mut samples = vec![(Vec::new(), Vec::new(), Vec::new(), Vec::new()); renderers.len()];
-    let mut invocations = vec![None; renderers.len()];
+    let mut kept: Vec<(Option<u64>, Vec<FrameTimeline>)> =
+        vec![(None, Vec::new()); renderers.len()];
     for round in 0..=frames {
-        for ((renderer, (shadow, surface, occluders, total)), counted) in
-            renderers.iter_mut().zip(&mut samples).zip(&mut invocations)
+        for ((renderer, (shadow, surface, occluders, total)), (counted, lines)) in
+            renderers.iter_mut().zip(&mut samples).zip(&mut kept)
         {
             if maps == MapRate::EveryFrame {
                 renderer.invalidate_shadow_maps();
@@ -115,6 +120,7 @@ pub fn time_setups_interleaved(
                 read_back: false,
             };
             let out = renderer.draw(&request)?;
+            lines.push(out.timeline.clone());
             // The first round builds the static maps.
             if round == 0 {
                 continue;
@@ -140,11 +146,15 @@ pub fn time_setups_interleaved(
     Ok(renderers
         .iter()
         .zip(samples)
-        .zip(invocations)
+        .zip(kept)
         .map(
-            |((renderer, (shadow, surface, occluders, total)), fragment_invocations)| {
+            |(
+                (renderer, (shadow, surface, occluders, total)),
+                (fragment_invocations, timelines),
+            )| {
                 SteadyFrames {
                     fragment_invocations,
+                    timelines,
                     shadow_maps_ms: median(shadow),
                     surface_ms: median(surface),
                     occluders_ms: median(occluders),

@@ -22,7 +22,7 @@ use relief::bench::{
 const EDIT_RADIUS: f32 = 32.0;
 use relief::heightfield::MAX_SIDE;
 use relief::method::Method;
-use relief::render::HeightFormat;
+use relief::render::{timeline_trace, HeightFormat, TraceHeader, TracedFrame};
 use relief::scene::AoMode;
 use relief::vk::Context;
 
@@ -365,12 +365,28 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     let Some(out) = &args.out else {
         anyhow::bail!("relief bench needs --out DIR");
     };
+    if let Some(path) = &args.timeline {
+        if !path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("json"))
+        {
+            return Err(super::usage(format!(
+                "--timeline writes trace-event JSON; {} does not end in .json",
+                path.display()
+            )));
+        }
+    }
     let cfg = config(args)?;
     // Read before any measuring, so that a bad file fails the run at once.
     let extra_mesh = silhouette_mesh(args.silhouette_mesh.as_deref())?;
     let ctx = super::open_device(args.device.as_deref(), args.json)?;
     let machine = MachineAtStart::read();
     let sections = sections(args, &cfg, &ctx);
+    if args.timeline.is_some() && !sections.frame_costs {
+        return Err(super::usage(
+            "--timeline lays out the frame-cost section's frames, which this run leaves out; add --sections frame-costs or --frame-costs-only",
+        ));
+    }
     let sections_run = sections_record(args, &sections);
     if !args.json && !sections_run.skipped.is_empty() {
         eprintln!("relief bench: {}", sections_run.line());
@@ -441,7 +457,43 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     ) {
         eprintln!("relief: warning: {why}");
     }
+    if let (Some(path), Some(costs)) = (&args.timeline, &results.frame_costs) {
+        write_bench_timeline(path, &ctx, costs)?;
+    }
     write_outputs(out, &results, args.json)
+}
+
+/// Writes the frame-cost section's frames to `path` as trace-event JSON.
+fn write_bench_timeline(
+    path: &std::path::Path,
+    ctx: &Context,
+    costs: &FrameCostSection,
+) -> anyhow::Result<()> {
+    let header = TraceHeader {
+        title: "relief bench: frame costs".into(),
+        device: ctx.describe(),
+        other: serde_json::json!({
+            "command": std::env::args().collect::<Vec<_>>().join(" "),
+            "commit": env!("RELIEF_GIT_COMMIT"),
+        }),
+    };
+    let frames: Vec<TracedFrame> = costs
+        .timelines
+        .iter()
+        .flat_map(|(label, timelines)| {
+            timelines
+                .iter()
+                .zip(1..)
+                .map(|(timeline, number)| TracedFrame {
+                    label,
+                    number,
+                    timeline,
+                })
+        })
+        .collect();
+    let bytes = serde_json::to_vec(&timeline_trace(&header, &frames))?;
+    super::frame_files::write_whole(path, &bytes)
+        .with_context(|| format!("writing the timeline {}", path.display()))
 }
 
 /// What the sections that run as one piece measured.

@@ -27,6 +27,11 @@ pub struct BenchArgs {
     /// --no-X and --X-only flags apply on top.
     #[arg(long, value_enum, value_delimiter = ',')]
     pub(super) sections: Vec<super::bench_sections::SectionName>,
+    /// Write the frame-cost section's frames as a timeline (trace-event JSON for
+    /// ui.perfetto.dev and chrome://tracing): every renderer's host and GPU work on one clock,
+    /// each span labelled with what its renderer drew. Needs the frame-cost section in the run.
+    #[arg(long, value_name = "FILE.json")]
+    pub(super) timeline: Option<PathBuf>,
     /// Method ids, comma-separated (default: all).
     #[arg(long, value_delimiter = ',')]
     pub(super) methods: Vec<String>,

@@ -11,7 +11,7 @@ use clap::Args;
 use glam::Vec3;
 use relief::render::{
     explain, sequence_stats, timeline_trace, FrameOutput, FrameRequest, FrameTimeline, PassTiming,
-    Renderer, SequenceStats, TraceHeader, WorkSummary,
+    Renderer, SequenceStats, TraceHeader, TracedFrame, WorkSummary,
 };
 use relief::scene::{Camera, Scene};
 use relief::vk::{Context, LiveObjects, ObjectCounts};
@@ -372,8 +372,14 @@ fn write_timeline(
         }),
     };
     // Frame numbers from 1, as in the files' names.
-    let numbered: Vec<(u32, FrameTimeline)> =
-        timelines.iter().map(|(k, t)| (k + 1, t.clone())).collect();
+    let numbered: Vec<TracedFrame> = timelines
+        .iter()
+        .map(|(k, timeline)| TracedFrame {
+            label: "",
+            number: k + 1,
+            timeline,
+        })
+        .collect();
     let trace = timeline_trace(&header, &numbered);
     let bytes = serde_json::to_vec(&trace).context("encoding the timeline")?;
     write_whole(path, &bytes).with_context(|| format!("writing the timeline {}", path.display()))

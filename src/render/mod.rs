@@ -61,7 +61,7 @@ pub use maps::pyramid_pass::{build_pyramid_on_gpu, PyramidJob, PyramidPass};
 pub use maps::quadric_map_pass::{build_quadric_map_on_gpu, QuadricMapPass};
 pub use maps::relaxed_cone_map_pass::{build_relaxed_cone_map_on_gpu, RelaxedConeMapPass};
 pub use measure::bench_pass::{time_method, BenchRequest, BenchTiming};
-pub use measure::timeline_trace::{timeline_trace, TraceHeader};
+pub use measure::timeline_trace::{timeline_trace, TraceHeader, TracedFrame};
 pub use measure::trace_pass::{
     time_through_pyramid, trace_on_gpu, trace_repeated, trace_through_pyramid, ShadowTrace,
     TraceOutput, TraceRequest, TRACE_GROUP_SIDE,

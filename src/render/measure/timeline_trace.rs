@@ -24,11 +24,24 @@ pub struct TraceHeader {
     pub other: Value,
 }
 
-/// The trace of `frames`, each with its frame number in the sequence (shown on its spans).
-pub fn timeline_trace(header: &TraceHeader, frames: &[(u32, FrameTimeline)]) -> Value {
+/// One frame laid on the trace.
+#[derive(Debug, Clone, Copy)]
+pub struct TracedFrame<'a> {
+    /// What drew it, where frames of several renderers share the trace (the bench's); empty for
+    /// one renderer's sequence.
+    pub label: &'a str,
+    /// Its number, shown on its spans.
+    pub number: u32,
+    /// Its host and GPU spans.
+    pub timeline: &'a FrameTimeline,
+}
+
+/// The trace of `frames`.
+pub fn timeline_trace(header: &TraceHeader, frames: &[TracedFrame]) -> Value {
     let origin = frames
         .iter()
-        .flat_map(|(_, t)| {
+        .map(|f| f.timeline)
+        .flat_map(|t| {
             let host = t.host.iter().map(|s| s.start);
             host.chain(t.gpu.iter().map(|s| s.start))
         })
@@ -54,17 +67,25 @@ pub fn timeline_trace(header: &TraceHeader, frames: &[(u32, FrameTimeline)]) -> 
     ];
     let mut worst = Duration::ZERO;
     let mut calibrated = true;
-    for (frame, timeline) in frames {
+    for f in frames {
+        let (frame, timeline) = (f.number, f.timeline);
+        let frame_args = || {
+            let mut args = json!({ "frame": frame });
+            if !f.label.is_empty() {
+                args["renderer"] = json!(f.label);
+            }
+            args
+        };
         for h in &timeline.host {
             let (ts, dur) = span(h.start, h.end);
             events.push(json!({
                 "name": h.work.name(), "cat": "host", "ph": "X", "pid": 1, "tid": HOST_TRACK,
-                "ts": ts, "dur": dur, "args": { "frame": frame },
+                "ts": ts, "dur": dur, "args": frame_args(),
             }));
         }
         for g in &timeline.gpu {
             let (ts, dur) = span(g.start, g.end);
-            let mut args = json!({ "frame": frame });
+            let mut args = frame_args();
             if let Some(part) = g.part {
                 args["part"] = json!(part);
             }
@@ -139,7 +160,12 @@ mod tests {
             device: "d".into(),
             other: Value::Null,
         };
-        let trace = timeline_trace(&header, &[(4, timeline)]);
+        let frame = TracedFrame {
+            label: "plain",
+            number: 4,
+            timeline: &timeline,
+        };
+        let trace = timeline_trace(&header, &[frame]);
         let events = trace["traceEvents"].as_array().unwrap();
         let complete: Vec<&Value> = events.iter().filter(|e| e["ph"] == "X").collect();
         assert_eq!(complete.len(), 2);
@@ -149,6 +175,7 @@ mod tests {
         assert_eq!(complete[1]["ts"], 3000.0);
         assert_eq!(complete[1]["dur"], 4000.0);
         assert_eq!(complete[1]["args"]["frame"], 4);
+        assert_eq!(complete[1]["args"]["renderer"], "plain");
         assert!(trace["otherData"]["clock_alignment"]
             .as_str()
             .unwrap()
