@@ -97,6 +97,20 @@ fn quick_bench_covers_every_method_without_nan() {
     }
     let report = std::fs::read_to_string(out.join("report.md")).expect("report.md");
     assert!(report.contains("Machine: "), "the report names the machine");
+    // Where each method's steps go, drawn beside the error figures.
+    assert!(report.contains("### Where the steps go"));
+    let grid: Vec<u32> = results["options"]["error_grid"]
+        .as_array()
+        .expect("error_grid")
+        .iter()
+        .map(|v| v.as_u64().expect("a side") as u32)
+        .collect();
+    for m in Method::all() {
+        let file = format!("steps-{}.png", m.id());
+        assert!(report.contains(&format!("]({file})")), "{file} in the report");
+        let map = image::open(out.join(&file)).expect("a steps map").to_rgb8();
+        assert_eq!(map.dimensions(), (grid[0] + 12, grid[1]), "{file}: the grid and its bar");
+    }
     for heading in [
         "## 1. Error against run time",
         "## 2. Scaling with map size",

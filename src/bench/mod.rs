@@ -60,6 +60,7 @@ mod shard_info;
 mod silhouettes;
 mod slow_down;
 mod stability;
+mod steps_map;
 mod subgroup_steps;
 mod svg;
 mod sweep;
@@ -121,6 +122,7 @@ pub use silhouettes::{
 };
 pub use slow_down::{SlowDown, MAX_SLOW_DOWN};
 pub use stability::{run_stiff_case, stiff_cases, StiffCase};
+pub use steps_map::StepsMap;
 pub use subgroup_steps::{subgroup_steps, TimedSteps};
 pub use sweep::{FieldSource, SweepConfig};
 pub use trace_stats::{ray_direction, trace_stats, Spread, StepStats, TraceStats};

@@ -72,6 +72,7 @@ pub fn render_report(results: &BenchResults) -> (String, Vec<(String, String)>) 
          is the median of the timed full-screen frames.\n"
     );
     error_vs_time(&mut md, results);
+    steps_maps(&mut md, results);
     scaling(&mut md, results);
     matched_scaling(&mut md, results);
     depth_scale(&mut md, results);
@@ -198,6 +199,35 @@ fn error_vs_time(md: &mut String, results: &BenchResults) {
 }
 
 /// Default-budget runs at 30 degrees across map sizes, from the scaling and main sections.
+/// Where each method spends its steps: the heat maps `relief bench` writes beside the report.
+fn steps_maps(md: &mut String, results: &BenchResults) {
+    if results.steps_maps.is_empty() {
+        return;
+    }
+    let _ = writeln!(
+        md,
+        "### Where the steps go
+"
+    );
+    let _ = writeln!(md, "Each method's iterations per ray over the error grid of its first configuration above, at its default budget: black none, white its own most (the scale differs per method; the bar on the right runs from 0 at the bottom to the most at the top).
+");
+    let _ = writeln!(md, "| method | traced at | mean steps | most | map |");
+    let _ = writeln!(md, "|---|---|---|---|---|");
+    for m in &results.steps_maps {
+        let _ = writeln!(
+            md,
+            "| {} | {} | {:.2} | {} | ![{} steps]({}) |",
+            m.method,
+            m.traced,
+            m.mean(),
+            m.most(),
+            m.method,
+            m.file()
+        );
+    }
+    md.push('\n');
+}
+
 fn scaling_runs(results: &BenchResults) -> Vec<&Run> {
     let field = runs(results, Section::Scaling)
         .next()

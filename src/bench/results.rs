@@ -201,6 +201,11 @@ pub struct BenchResults {
     /// relief recorded it.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub sections: Option<super::sections_run::SectionsRun>,
+    /// Each method's steps per ray at its first error-against-time configuration, drawn as
+    /// `steps-<method>.png` beside the report; not kept in results.json (the run's `steps`
+    /// summarise them).
+    #[serde(skip)]
+    pub steps_maps: Vec<super::steps_map::StepsMap>,
 }
 
 #[cfg(test)]

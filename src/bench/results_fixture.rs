@@ -85,5 +85,6 @@ pub(crate) fn results(device: BenchDevice, runs: Vec<Run>) -> BenchResults {
         shard: None,
         machine: None,
         sections: None,
+        steps_maps: Vec::new(),
     }
 }

@@ -11,6 +11,7 @@ use anyhow::Context as _;
 use super::depth_match::depth_budgets;
 use super::median::median;
 use super::results::{GpuMs, MapBuild, Run};
+use super::steps_map::StepsMap;
 use super::subgroup_steps::subgroup_steps;
 use super::sweep::{FieldSource, SweepConfig};
 use super::trace_stats::{ray_direction, trace_stats};
@@ -226,6 +227,9 @@ pub struct Runner {
     maps: HashMap<(String, u32, Method), Option<Arc<MapData>>>,
     /// Every map built so far, with its build time, for [`crate::bench::BenchResults::maps`].
     pub map_builds: Vec<MapBuild>,
+    /// Each method's steps per ray at its first error-against-time configuration with its
+    /// default budget, for [`crate::bench::BenchResults::steps_maps`].
+    pub steps_maps: Vec<StepsMap>,
 }
 
 impl Runner {
@@ -237,6 +241,7 @@ impl Runner {
             fields: HashMap::new(),
             maps: HashMap::new(),
             map_builds: Vec::new(),
+            steps_maps: Vec::new(),
         }
     }
 
@@ -359,6 +364,22 @@ impl Runner {
             self.ctx.info().subgroup_size,
         );
         let traced = trace_on_gpu(&self.ctx, &hf, &trace)?;
+        let first_of_method = !self.steps_maps.iter().any(|m| m.method == job.method.id());
+        let default_budget = job.budget == job.method.info().default_budget;
+        if job.section == Section::ErrorVsTime && default_budget && first_of_method {
+            self.steps_maps.push(StepsMap {
+                method: job.method.id().to_owned(),
+                traced: format!(
+                    "{} {}^2, {} deg, depth scale {}",
+                    job.field.name(),
+                    hf.width(),
+                    job.angle,
+                    job.depth_scale
+                ),
+                grid: [self.cfg.error_grid.0, self.cfg.error_grid.1],
+                steps: traced.steps.iter().map(|s| s[0]).collect(),
+            });
+        }
         let stats = trace_stats(
             &hf,
             &traced.hits,

@@ -450,6 +450,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         shard: plan.info(fingerprint, origins),
         machine: Some(machine.finish()),
         sections: Some(sections_run),
+        steps_maps: runner.steps_maps,
     };
     if let (Some(why), false) = (
         results.machine.as_ref().and_then(|m| m.busy.as_ref()),
@@ -696,6 +697,12 @@ pub(super) fn write_outputs(
     write("report.md", &report)?;
     for (name, svg) in &plots {
         write(name, svg)?;
+    }
+    for map in &results.steps_maps {
+        let path = out.join(map.file());
+        let [w, h] = map.grid;
+        let png = super::cost_map::heat_map_png(&map.steps, w, h)?;
+        std::fs::write(&path, png).with_context(|| format!("writing {}", path.display()))?;
     }
     for strip in results.silhouettes.iter().flat_map(|s| &s.strips) {
         let path = out.join(&strip.file);

@@ -51,16 +51,18 @@ fn ramp(t: f32) -> [u8; 3] {
     [r, g, b].map(|c| (c * 255.0).round() as u8)
 }
 
-/// The largest count `map` shows, the top of its scale (at least 1).
-pub fn scale_top(map: CostMap, counts: &WorkCounts) -> u32 {
-    map.values(counts).iter().copied().max().unwrap_or(0).max(1)
-}
-
 /// `counts` as `map`'s heat map PNG, the colour bar on the right.
 pub fn cost_map_png(map: CostMap, counts: &WorkCounts) -> anyhow::Result<Vec<u8>> {
-    let (w, h) = (counts.width, counts.height);
-    let top = scale_top(map, counts) as f32;
-    let values = map.values(counts);
+    heat_map_png(map.values(counts), counts.width, counts.height)
+}
+
+/// `values` (`w` x `h`, rows top to bottom) as a heat map PNG from 0 (black) to their largest
+/// (white), the colour bar on the right.
+pub fn heat_map_png(values: &[u32], w: u32, h: u32) -> anyhow::Result<Vec<u8>> {
+    if values.len() != (w * h) as usize {
+        anyhow::bail!("a {w}x{h} heat map from {} values", values.len());
+    }
+    let top = values.iter().copied().max().unwrap_or(0).max(1) as f32;
     let out_w = w + BAR;
     let mut rgb = vec![0u8; (out_w * h * 3) as usize];
     for y in 0..h {
@@ -118,8 +120,10 @@ mod tests {
             traced: vec![0, 1, 2, 4, 0, 0, 0, 0, 1, 1, 1, 1],
             steps: vec![0; 12],
         };
-        assert_eq!(scale_top(CostMap::Fragments, &counts), 4);
-        assert_eq!(scale_top(CostMap::Steps, &counts), 1);
+        assert!(
+            heat_map_png(&[1, 2], 3, 1).is_err(),
+            "values and size disagree"
+        );
         let png = cost_map_png(CostMap::Fragments, &counts).unwrap();
         let img = image::load_from_memory(&png).unwrap().to_rgb8();
         assert_eq!(img.dimensions(), (4 + BAR, 3));
