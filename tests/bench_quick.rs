@@ -107,9 +107,16 @@ fn quick_bench_covers_every_method_without_nan() {
         .collect();
     for m in Method::all() {
         let file = format!("steps-{}.png", m.id());
-        assert!(report.contains(&format!("]({file})")), "{file} in the report");
+        assert!(
+            report.contains(&format!("]({file})")),
+            "{file} in the report"
+        );
         let map = image::open(out.join(&file)).expect("a steps map").to_rgb8();
-        assert_eq!(map.dimensions(), (grid[0] + 12, grid[1]), "{file}: the grid and its bar");
+        assert_eq!(
+            map.dimensions(),
+            (grid[0] + 12, grid[1]),
+            "{file}: the grid and its bar"
+        );
     }
     for heading in [
         "## 1. Error against run time",
