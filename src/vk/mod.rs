@@ -42,6 +42,7 @@ mod physical;
 mod pipeline;
 mod pipeline_cache;
 mod query;
+mod query_core;
 mod readback;
 mod recording;
 mod semaphore;

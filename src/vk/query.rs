@@ -8,16 +8,13 @@ use std::time::{Duration, Instant};
 use ash::vk;
 
 use super::context::Context;
-use super::counters::Created;
-use super::deferred::Doomed;
-use super::error::{Named, VkError, VkResult};
+use super::error::{VkError, VkResult};
+use super::query_core::QueryCore;
 use super::recording::Recording;
 
 /// A pool of `capacity` timestamp queries, reset from the host before each use.
 pub struct TimestampPool {
-    ctx: Arc<Context>,
-    raw: vk::QueryPool,
-    capacity: u32,
+    core: QueryCore,
     /// Which queries a recording has written since the last reset: Vulkan allows one write per
     /// reset, so a second is refused.
     written: Vec<AtomicBool>,
@@ -44,17 +41,8 @@ impl TimestampPool {
         let create = vk::QueryPoolCreateInfo::default()
             .query_type(vk::QueryType::TIMESTAMP)
             .query_count(capacity);
-        // SAFETY: valid device and create info.
-        let raw =
-            unsafe { ctx.device().create_query_pool(&create, None) }.named("vkCreateQueryPool")?;
-        ctx.set_name(raw, name);
-        ctx.count(Created::QueryPool);
-        // SAFETY: hostQueryReset is enabled at device creation; the pool is unused.
-        unsafe { ctx.device().reset_query_pool(raw, 0, capacity) };
         Ok(TimestampPool {
-            ctx: ctx.clone(),
-            raw,
-            capacity,
+            core: QueryCore::new(ctx, create, name)?,
             written: (0..capacity).map(|_| AtomicBool::new(false)).collect(),
             mask,
             period_ns: f64::from(info.timestamp_period_ns),
@@ -63,7 +51,7 @@ impl TimestampPool {
 
     /// How many timestamps the pool holds.
     pub fn capacity(&self) -> u32 {
-        self.capacity
+        self.core.capacity
     }
 
     /// Nanoseconds per tick.
@@ -85,12 +73,8 @@ impl TimestampPool {
     /// }
     /// ```
     pub unsafe fn reset(&self) {
-        // SAFETY: hostQueryReset is enabled; the caller's contract keeps the device away.
-        unsafe {
-            self.ctx
-                .device()
-                .reset_query_pool(self.raw, 0, self.capacity)
-        };
+        // SAFETY: the caller's contract.
+        unsafe { self.core.reset() };
         for w in &self.written {
             w.store(false, Ordering::Relaxed);
         }
@@ -104,10 +88,10 @@ impl TimestampPool {
         stage: vk::PipelineStageFlags2,
         index: u32,
     ) -> VkResult<()> {
-        if index >= self.capacity {
+        if index >= self.core.capacity {
             return Err(VkError::Invalid(format!(
                 "timestamp {index} of {}",
-                self.capacity
+                self.core.capacity
             )));
         }
         if self.written[index as usize].swap(true, Ordering::Relaxed) {
@@ -117,9 +101,10 @@ impl TimestampPool {
         }
         // SAFETY: `rec` is recording; the query was reset and not written since (checked above).
         unsafe {
-            self.ctx
+            self.core
+                .ctx
                 .device()
-                .cmd_write_timestamp2(rec.raw(), stage, self.raw, index)
+                .cmd_write_timestamp2(rec.raw(), stage, self.core.raw, index)
         };
         Ok(())
     }
@@ -128,44 +113,9 @@ impl TimestampPool {
     /// waits (at most the GPU timeout) for every submission made so far; timestamps still
     /// missing then were never submitted, which is an error rather than a wait forever.
     pub fn read_ticks(&self, count: u32) -> VkResult<Vec<u64>> {
-        if count > self.capacity {
-            return Err(VkError::Invalid(format!(
-                "{count} timestamps read from a pool of {}",
-                self.capacity
-            )));
-        }
         let mut ticks = vec![0u64; count as usize];
-        if count == 0 {
-            return Ok(ticks);
-        }
-        if !self.try_read(&mut ticks)? {
-            self.ctx.wait_submitted("timestamp queries")?;
-            if !self.try_read(&mut ticks)? {
-                return Err(VkError::Invalid(format!(
-                    "{count} timestamps read before the work writing them was submitted"
-                )));
-            }
-        }
+        self.core.read(&mut ticks, "timestamps")?;
         Ok(ticks.into_iter().map(|t| t & self.mask).collect())
-    }
-
-    /// Reads `ticks.len()` results without waiting; `false` when some are not available yet.
-    fn try_read(&self, ticks: &mut [u64]) -> VkResult<bool> {
-        // SAFETY: `ticks` has room for its length of 64-bit results, and that length is at most
-        // the pool's capacity (checked by the caller).
-        let got = unsafe {
-            self.ctx.device().get_query_pool_results(
-                self.raw,
-                0,
-                ticks,
-                vk::QueryResultFlags::TYPE_64,
-            )
-        };
-        match got {
-            Ok(()) => Ok(true),
-            Err(vk::Result::NOT_READY) => Ok(false),
-            Err(e) => Err(e).named("vkGetQueryPoolResults"),
-        }
     }
 
     /// When the device's clock read `ticks`, on the host's clock, from a calibration taken near
@@ -185,12 +135,6 @@ impl TimestampPool {
     pub fn ticks_to_ms(&self, start: u64, end: u64) -> f64 {
         let delta = end.wrapping_sub(start) & self.mask;
         delta as f64 * self.period_ns * 1e-6
-    }
-}
-
-impl Drop for TimestampPool {
-    fn drop(&mut self) {
-        self.ctx.defer(Doomed::QueryPool(self.raw));
     }
 }
 

@@ -10,9 +10,8 @@ use ash::vk;
 use serde::Serialize;
 
 use super::context::Context;
-use super::counters::Created;
-use super::deferred::Doomed;
-use super::error::{Named, VkError, VkResult};
+use super::error::{VkError, VkResult};
+use super::query_core::QueryCore;
 use super::recording::Recording;
 
 /// What each query counts, in the order Vulkan writes the results (by flag bit).
@@ -50,9 +49,7 @@ impl PipelineCounts {
 
 /// A pool of `capacity` pipeline-statistics queries, reset from the host before each use.
 pub struct StatisticsPool {
-    ctx: Arc<Context>,
-    raw: vk::QueryPool,
-    capacity: u32,
+    core: QueryCore,
     /// Which queries were begun since the last reset (one use per reset).
     begun: Vec<AtomicBool>,
     /// Which begun queries were ended.
@@ -74,18 +71,9 @@ impl StatisticsPool {
             .query_type(vk::QueryType::PIPELINE_STATISTICS)
             .pipeline_statistics(flags)
             .query_count(capacity);
-        // SAFETY: valid device; the feature was enabled at device creation (checked above).
-        let raw =
-            unsafe { ctx.device().create_query_pool(&create, None) }.named("vkCreateQueryPool")?;
-        ctx.set_name(raw, name);
-        ctx.count(Created::QueryPool);
-        // SAFETY: hostQueryReset is enabled at device creation; the pool is unused.
-        unsafe { ctx.device().reset_query_pool(raw, 0, capacity) };
         let flags = || (0..capacity).map(|_| AtomicBool::new(false)).collect();
         Ok(StatisticsPool {
-            ctx: ctx.clone(),
-            raw,
-            capacity,
+            core: QueryCore::new(ctx, create, name)?,
             begun: flags(),
             ended: flags(),
         })
@@ -93,7 +81,7 @@ impl StatisticsPool {
 
     /// How many queries the pool holds.
     pub fn capacity(&self) -> u32 {
-        self.capacity
+        self.core.capacity
     }
 
     /// Resets every query from the host.
@@ -102,12 +90,8 @@ impl StatisticsPool {
     /// No pending submission and no open recording may use the pool, as for
     /// [`TimestampPool::reset`](super::TimestampPool::reset).
     pub unsafe fn reset(&self) {
-        // SAFETY: hostQueryReset is enabled; the caller's contract keeps the device away.
-        unsafe {
-            self.ctx
-                .device()
-                .reset_query_pool(self.raw, 0, self.capacity)
-        };
+        // SAFETY: the caller's contract.
+        unsafe { self.core.reset() };
         for flag in self.begun.iter().chain(&self.ended) {
             flag.store(false, Ordering::Relaxed);
         }
@@ -125,9 +109,9 @@ impl StatisticsPool {
         }
         // SAFETY: `rec` is recording; the query was reset and not used since (checked above).
         unsafe {
-            self.ctx.device().cmd_begin_query(
+            self.core.ctx.device().cmd_begin_query(
                 rec.raw(),
-                self.raw,
+                self.core.raw,
                 index,
                 vk::QueryControlFlags::empty(),
             )
@@ -145,15 +129,20 @@ impl StatisticsPool {
             )));
         }
         // SAFETY: `rec` is recording and began the query (checked above).
-        unsafe { self.ctx.device().cmd_end_query(rec.raw(), self.raw, index) };
+        unsafe {
+            self.core
+                .ctx
+                .device()
+                .cmd_end_query(rec.raw(), self.core.raw, index)
+        };
         Ok(())
     }
 
     fn check(&self, index: u32) -> VkResult<()> {
-        if index >= self.capacity {
+        if index >= self.core.capacity {
             return Err(VkError::Invalid(format!(
                 "statistics query {index} of {}",
-                self.capacity
+                self.core.capacity
             )));
         }
         Ok(())
@@ -163,29 +152,14 @@ impl StatisticsPool {
     /// Waits (at most the GPU timeout) for every submission made so far when they are not
     /// ready yet.
     pub fn read(&self, count: u32) -> VkResult<Vec<PipelineCounts>> {
-        if count > self.capacity {
-            return Err(VkError::Invalid(format!(
-                "{count} statistics queries read from a pool of {}",
-                self.capacity
-            )));
-        }
-        if let Some(i) = (0..count as usize).find(|&i| !self.ended[i].load(Ordering::Relaxed)) {
+        let mut ended = self.ended.iter().take(count as usize);
+        if let Some(i) = ended.position(|e| !e.load(Ordering::Relaxed)) {
             return Err(VkError::Invalid(format!(
                 "statistics query {i} read before it was recorded"
             )));
         }
         let mut values = vec![[0u64; COUNTED.len()]; count as usize];
-        if count == 0 {
-            return Ok(Vec::new());
-        }
-        if !self.try_read(&mut values)? {
-            self.ctx.wait_submitted("statistics queries")?;
-            if !self.try_read(&mut values)? {
-                return Err(VkError::Invalid(
-                    "statistics queries read before the work writing them was submitted".into(),
-                ));
-            }
-        }
+        self.core.read(&mut values, "statistics queries")?;
         Ok(values
             .iter()
             .map(|v| PipelineCounts {
@@ -195,31 +169,5 @@ impl StatisticsPool {
                 compute_invocations: v[3],
             })
             .collect())
-    }
-
-    /// Reads one query's results per element without waiting; `false` when some are not
-    /// available yet.
-    fn try_read(&self, values: &mut [[u64; COUNTED.len()]]) -> VkResult<bool> {
-        // SAFETY: one element per query, each the size of that query's 64-bit results; the
-        // length is at most the pool's capacity (checked by the caller).
-        let got = unsafe {
-            self.ctx.device().get_query_pool_results(
-                self.raw,
-                0,
-                values,
-                vk::QueryResultFlags::TYPE_64,
-            )
-        };
-        match got {
-            Ok(()) => Ok(true),
-            Err(vk::Result::NOT_READY) => Ok(false),
-            Err(e) => Err(e).named("vkGetQueryPoolResults"),
-        }
-    }
-}
-
-impl Drop for StatisticsPool {
-    fn drop(&mut self) {
-        self.ctx.defer(Doomed::QueryPool(self.raw));
     }
 }
