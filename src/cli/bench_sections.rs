@@ -6,7 +6,11 @@
 //! section at its own settings. The `--no-X` and `--X-only` flags apply on top.
 
 use clap::ValueEnum;
-use relief::bench::{SectionsRun, SkippedSection};
+use relief::bench::{
+    plan_jobs, stiff_cases, AoConfig, SectionsRun, ShadingConfig, SkippedSection, SweepConfig,
+    SweepSections,
+};
+use relief::vk::Context;
 
 use super::bench_args::BenchArgs;
 
@@ -127,6 +131,120 @@ impl SectionChoice {
             }
         }
         record
+    }
+}
+
+/// What one `relief bench` measures, from its flags: the sweep's jobs and which other sections
+/// run, with their settings.
+pub(super) fn sections(args: &BenchArgs, cfg: &SweepConfig, ctx: &Context) -> SweepSections {
+    let choice = SectionChoice::of(args);
+    let asked = |s: SectionName| choice.left_out(s).is_none();
+    let only_other = args.shading_only
+        || args.lod_only
+        || args.stability_only
+        || args.scene_shadows_only
+        || args.frame_features_only
+        || args.silhouettes_only
+        || args.frame_costs_only;
+    let jobs = if only_other || !asked(SectionName::Main) {
+        Vec::new()
+    } else {
+        plan_jobs(cfg)
+    };
+    let shading_wanted = (args.shading_only || asked(SectionName::Shading))
+        && !(args.no_shading
+            || args.lod_only
+            || args.stability_only
+            || args.scene_shadows_only
+            || args.frame_features_only
+            || args.silhouettes_only
+            || args.frame_costs_only);
+    let shading = shading_wanted.then(|| {
+        if cfg.quick {
+            ShadingConfig::quick()
+        } else {
+            ShadingConfig::full()
+        }
+    });
+    let largest = if cfg.quick {
+        1024
+    } else {
+        8192.min(ctx.info().max_image_dimension_2d)
+    };
+    let cases = if cfg.stability
+        && (args.stability_only || asked(SectionName::Stability))
+        && !(args.shading_only
+            || args.lod_only
+            || args.scene_shadows_only
+            || args.frame_features_only
+            || args.silhouettes_only
+            || args.frame_costs_only)
+    {
+        stiff_cases(largest, cfg.quick)
+    } else {
+        Vec::new()
+    };
+    let ao = if cfg.quick {
+        AoConfig::quick()
+    } else {
+        AoConfig::full()
+    };
+    let edits_wanted = asked(SectionName::Edits) && !(args.no_edits || only_other);
+    SweepSections {
+        jobs,
+        shadow_stability: shading.is_some() && cfg.stability,
+        shading,
+        cases,
+        ao,
+        lod: (args.lod_only || asked(SectionName::Lod))
+            && !(args.no_lod
+                || args.shading_only
+                || args.stability_only
+                || args.scene_shadows_only
+                || args.frame_features_only
+                || args.silhouettes_only
+                || args.frame_costs_only),
+        edit_sizes: if edits_wanted {
+            edit_sizes(args, cfg)
+        } else {
+            Vec::new()
+        },
+        blending: asked(SectionName::Blending) && !(args.no_blending || only_other),
+        scene_shadows: args.scene_shadows_only
+            || (asked(SectionName::SceneShadows) && !(args.no_scene_shadows || only_other)),
+        frame_features: args.frame_features_only
+            || (asked(SectionName::FrameFeatures) && !(args.no_frame_features || only_other)),
+        silhouettes: args.silhouettes_only
+            || (asked(SectionName::Silhouettes) && !(args.no_silhouettes || only_other)),
+        frame_costs: args.frame_costs_only
+            || (asked(SectionName::FrameCosts) && !(args.no_frame_costs || only_other)),
+    }
+}
+
+/// Which sections `sections` runs and why the others are left out.
+pub(super) fn sections_record(args: &BenchArgs, sections: &SweepSections) -> SectionsRun {
+    SectionChoice::of(args).record(|s| match s {
+        SectionName::Main => !sections.jobs.is_empty(),
+        SectionName::Stability => !sections.cases.is_empty(),
+        SectionName::Shading => sections.shading.is_some(),
+        SectionName::Lod => sections.lod,
+        SectionName::Edits => !sections.edit_sizes.is_empty(),
+        SectionName::Blending => sections.blending,
+        SectionName::SceneShadows => sections.scene_shadows,
+        SectionName::FrameFeatures => sections.frame_features,
+        SectionName::Silhouettes => sections.silhouettes,
+        SectionName::FrameCosts => sections.frame_costs,
+    })
+}
+
+/// The terrain-edit section's field sides: --edit-sizes, else 1024 and 4096 (quick: 256 and 1024).
+fn edit_sizes(args: &BenchArgs, cfg: &SweepConfig) -> Vec<u32> {
+    if !args.edit_sizes.is_empty() {
+        args.edit_sizes.clone()
+    } else if cfg.quick {
+        vec![256, 1024]
+    } else {
+        vec![1024, 4096]
     }
 }
 

@@ -13,6 +13,7 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use super::frame_graph::{frame_graph, FrameParts};
+use super::frame_slot::FrameSlot;
 use super::frame_timeline::{FrameTimeline, HostSpan, HostWork, SubmittedTimeline};
 use super::gbuffer::GBufferChannels;
 use super::height_upload::upload_heights;
@@ -20,9 +21,9 @@ use super::occluders::{plan_occluders, OccluderTargets};
 use super::record_graph::{FrameWork, RecordingParts};
 use super::scene_ao::SceneAo;
 use super::shell_draw::BuiltShell;
-use super::single_frame::{BuiltMap, RenderOptions};
+use super::single_frame::{choose_supersample, BuiltMap, RenderOptions};
 use super::surface_pass::SurfacePass;
-use super::targets::{average_blocks, FrameReadbacks, TargetOptions, Targets};
+use super::targets::{FrameReadbacks, TargetOptions, Targets};
 use super::tonemap::ToneMapPass;
 use super::work_counters::WorkCounts;
 use crate::environment::Background;
@@ -36,7 +37,7 @@ use crate::render::kit::formats::COLOR_FORMAT;
 use crate::render::kit::frame_uniforms::{frame_camera, FrameUniforms, MAX_LIGHTS};
 use crate::render::kit::graph::FrameGraph;
 use crate::render::kit::pass::Pass;
-use crate::render::kit::pass_timer::{per_pass, PassTimer, PassTiming, TimedScope};
+use crate::render::kit::pass_timer::{per_pass, PassTiming, TimedScope};
 use crate::render::kit::render_error::RenderError;
 use crate::render::kit::tone_curves::ToneMapping;
 use crate::render::plan::frame_plan::{HeightKey, Plan};
@@ -45,9 +46,7 @@ use crate::render::shadows::shadow_pass::ShadowMaps;
 use crate::render::shadows::shadow_plan::plan_shadow_maps;
 use crate::render::terrain::layer_paint::LayerPainter;
 use crate::scene::{Camera, Light, Mesh, Scene};
-use crate::vk::{
-    half_floats_to_rgba, Buffer, CommandSlot, Context, Image, Readback, VkError, VkResult,
-};
+use crate::vk::{Buffer, Context, Image, Readback, VkError, VkResult};
 
 /// How many frames may be recorded or running at once.
 pub const FRAMES_IN_FLIGHT: usize = 2;
@@ -87,24 +86,6 @@ pub struct FrameOutput {
     pub timeline: FrameTimeline,
     /// With `RenderOptions::count_work`, the relief fragments traced and their steps per pixel.
     pub work: Option<WorkCounts>,
-}
-
-struct FrameSlot {
-    commands: CommandSlot,
-    timer: PassTimer,
-    readback: Option<Readback>,
-    /// The depth's copy (shadow probes only).
-    depth_readback: Option<Readback>,
-    /// The radiance's copy (`RenderOptions::keep_radiance` only).
-    radiance_readback: Option<Readback>,
-    /// The G-buffer's channels (`RenderOptions::gbuffer` only).
-    gbuffer_readback: Option<Vec<Readback>>,
-    /// The frame submitted from this slot and not yet retired: (index, read back?, draws culled).
-    pending: Option<(u64, bool, usize)>,
-    /// That frame's host spans and clock calibration so far.
-    timeline: Option<SubmittedTimeline>,
-    /// The work counters' copy (`RenderOptions::count_work` only).
-    work_readback: Option<Readback>,
 }
 
 /// Everything a scene needs on the device, kept across frames.
@@ -276,19 +257,7 @@ impl Renderer {
         // surface passes.
         let scopes = (plan.heights.len() + ao.len()) as u32 + ShadowMaps::scopes(&plan) + 3;
         let slots = (0..FRAMES_IN_FLIGHT)
-            .map(|k| {
-                Ok(FrameSlot {
-                    commands: CommandSlot::new(ctx, &format!("frame slot {k}"))?,
-                    timer: PassTimer::new(ctx, scopes, &format!("frame slot {k} timestamps"))?,
-                    readback: None,
-                    depth_readback: None,
-                    radiance_readback: None,
-                    gbuffer_readback: None,
-                    pending: None,
-                    timeline: None,
-                    work_readback: None,
-                })
-            })
+            .map(|k| FrameSlot::new(ctx, k, scopes))
             .collect::<VkResult<Vec<_>>>()?;
         let graph = frame_graph(FrameParts {
             pyramids: heights.iter().any(HeightResources::builds_pyramid),
@@ -410,13 +379,7 @@ impl Renderer {
                 counting,
             )?);
         }
-        for slot in &mut self.slots {
-            slot.readback = None;
-            slot.depth_readback = None;
-            slot.radiance_readback = None;
-            slot.gbuffer_readback = None;
-            slot.work_readback = None;
-        }
+        self.slots.iter_mut().for_each(FrameSlot::forget_readbacks);
         (self.width, self.height) = (width, height);
         Ok(retired)
     }
@@ -492,21 +455,9 @@ impl Renderer {
         unsafe { self.surface.write_uniforms(k, &uniforms)? };
         if request.read_back && self.slots[k].readback.is_none() {
             // Every slot's at once, so frames after the first create nothing.
+            let asked = (self.shadow_probe.is_some(), self.keep_radiance);
             for (j, slot) in self.slots.iter_mut().enumerate() {
-                let name = format!("frame slot {j} readback");
-                slot.readback = Some(self.targets.readback_buffer(&self.ctx, &name)?);
-                if self.shadow_probe.is_some() {
-                    let name = format!("frame slot {j} depth readback");
-                    slot.depth_readback = Some(self.targets.readback_buffer(&self.ctx, &name)?);
-                }
-                if self.keep_radiance {
-                    let name = format!("frame slot {j} radiance readback");
-                    slot.radiance_readback = Some(self.targets.radiance_buffer(&self.ctx, &name)?);
-                }
-                if let Some(g) = &self.targets.gbuffer {
-                    let name = format!("frame slot {j}");
-                    slot.gbuffer_readback = Some(g.readbacks(&self.ctx, &name)?);
-                }
+                slot.make_readbacks(&self.ctx, j, &self.targets, asked)?;
             }
         }
         if let (Some(o), true) = (&self.occluders, self.plan.count_work) {
@@ -626,32 +577,7 @@ impl Renderer {
         let scopes = slot.timer.read()?;
         // SAFETY: the slot's only submission, the one that wrote its timer, was waited for above.
         unsafe { slot.timer.reset() };
-        let rgba = match (&slot.readback, read_back) {
-            (Some(buffer), true) => Some(buffer.bytes()?.to_vec()),
-            _ => None,
-        };
-        let depth = match (&slot.depth_readback, read_back) {
-            (Some(buffer), true) => Some(bytemuck::pod_collect_to_vec(buffer.bytes()?)),
-            _ => None,
-        };
-        let radiance = match (&slot.radiance_readback, read_back) {
-            (Some(buffer), true) => {
-                let scale = self.targets.scale();
-                let texels = half_floats_to_rgba(buffer.bytes()?);
-                Some(average_blocks(&texels, self.width * scale, scale))
-            }
-            _ => None,
-        };
-        let gbuffer = match (&slot.gbuffer_readback, read_back) {
-            (Some(buffers), true) => {
-                let bytes = buffers
-                    .iter()
-                    .map(Readback::bytes)
-                    .collect::<VkResult<Vec<_>>>()?;
-                Some(GBufferChannels::decode(self.width, self.height, &bytes))
-            }
-            _ => None,
-        };
+        let pixels = slot.read_pixels(&self.targets, (self.width, self.height), read_back)?;
         if index == 0 {
             self.note_pyramids(&scopes);
             self.note_ao_maps(&scopes);
@@ -687,13 +613,13 @@ impl Renderer {
             timeline,
             work,
             timings: per_pass(&scopes),
-            rgba,
+            rgba: pixels.rgba,
             width: self.width,
             height: self.height,
             culled_draws,
-            depth,
-            radiance,
-            gbuffer,
+            depth: pixels.depth,
+            radiance: pixels.radiance,
+            gbuffer: pixels.gbuffer,
         }))
     }
 
@@ -747,8 +673,6 @@ impl Renderer {
     }
 }
 
-/// The supersampling factor a frame draws with: `opts.supersample`, checked; 1 for the shadow
-/// probe (which reads one depth per pixel).
 /// The occluder bounds at the size the scene is drawn at (`targets`' depth, supersampling
 /// included), bound through `surface`'s set 3.
 fn occluder_targets(
@@ -761,24 +685,3 @@ fn occluder_targets(
     let size = (desc.width, desc.height);
     OccluderTargets::new(ctx, surface.occluder_layout(), size, counting)
 }
-
-fn choose_supersample(opts: &RenderOptions, max_side: u32, probe: bool) -> Result<u32, VkError> {
-    let k = opts.supersample;
-    if !(1..=MAX_SUPERSAMPLE).contains(&k) {
-        return Err(VkError::Invalid(format!(
-            "--supersample must be 1 to {MAX_SUPERSAMPLE} (samples per pixel along each axis), got {k}"
-        )));
-    }
-    let side = opts.width.max(opts.height).saturating_mul(k);
-    if side > max_side {
-        return Err(VkError::Invalid(format!(
-            "--supersample {k} draws a {}x{} image, larger than this device's {max_side}",
-            opts.width.saturating_mul(k),
-            opts.height.saturating_mul(k)
-        )));
-    }
-    Ok(if probe { 1 } else { k })
-}
-
-/// The largest supersampling factor: 4 x 4 samples per pixel.
-pub const MAX_SUPERSAMPLE: u32 = 4;

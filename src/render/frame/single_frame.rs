@@ -236,3 +236,30 @@ pub fn render(
         cells: renderer.cells().to_vec(),
     })
 }
+
+/// The supersampling factor a frame draws with: `opts.supersample`, checked; 1 for the shadow
+/// probe (which reads one depth per pixel).
+pub(super) fn choose_supersample(
+    opts: &RenderOptions,
+    max_side: u32,
+    probe: bool,
+) -> Result<u32, VkError> {
+    let k = opts.supersample;
+    if !(1..=MAX_SUPERSAMPLE).contains(&k) {
+        return Err(VkError::Invalid(format!(
+            "--supersample must be 1 to {MAX_SUPERSAMPLE} (samples per pixel along each axis), got {k}"
+        )));
+    }
+    let side = opts.width.max(opts.height).saturating_mul(k);
+    if side > max_side {
+        return Err(VkError::Invalid(format!(
+            "--supersample {k} draws a {}x{} image, larger than this device's {max_side}",
+            opts.width.saturating_mul(k),
+            opts.height.saturating_mul(k)
+        )));
+    }
+    Ok(if probe { 1 } else { k })
+}
+
+/// The largest supersampling factor: 4 x 4 samples per pixel.
+pub const MAX_SUPERSAMPLE: u32 = 4;
