@@ -126,6 +126,14 @@ impl Buffer {
         self.inner.raw
     }
 
+    /// The buffer's device address; it must have been made with `SHADER_DEVICE_ADDRESS` usage
+    /// on a device with buffer addresses (one with ray queries).
+    pub(crate) fn device_address(&self) -> u64 {
+        let info = vk::BufferDeviceAddressInfo::default().buffer(self.inner.raw);
+        // SAFETY: valid buffer on this device, bound to memory since creation.
+        unsafe { self.inner.ctx.device().get_buffer_device_address(&info) }
+    }
+
     /// What a descriptor set holds to keep the buffer alive.
     pub(crate) fn keep_alive(&self) -> Arc<dyn Send + Sync> {
         self.inner.clone()

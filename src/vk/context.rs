@@ -46,6 +46,8 @@ pub struct Context {
     debug_device: Option<ext::debug_utils::Device>,
     /// `VK_EXT_calibrated_timestamps`, where the device has it with its own time domain.
     calibration: Option<ext::calibrated_timestamps::Device>,
+    /// `VK_KHR_acceleration_structure`'s functions, where the device traces ray queries.
+    structures: Option<khr::acceleration_structure::Device>,
     queue: Mutex<vk::Queue>,
     queue_family: u32,
     allocator: ManuallyDrop<Mutex<Allocator>>,
@@ -92,7 +94,8 @@ impl DeviceOwned {
             device: device.clone(),
             physical_device: physical,
             debug_settings: AllocatorDebugSettings::default(),
-            buffer_device_address: false,
+            // Acceleration structures are built from and into buffers named by address.
+            buffer_device_address: info.ray_query,
             allocation_sizes: AllocationSizes::default(),
         }) {
             Ok(a) => a,
@@ -248,6 +251,9 @@ impl Context {
         let calibration = info
             .calibrated_timestamps
             .then(|| ext::calibrated_timestamps::Device::new(&parts.instance, &device));
+        let structures = info
+            .ray_query
+            .then(|| khr::acceleration_structure::Device::new(&parts.instance, &device));
         Arc::new(Context {
             parts: ManuallyDrop::new(parts),
             counts,
@@ -256,6 +262,7 @@ impl Context {
             device,
             debug_device,
             calibration,
+            structures,
             queue: Mutex::new(queue),
             queue_family,
             allocator: ManuallyDrop::new(Mutex::new(owned.allocator)),
@@ -339,6 +346,12 @@ impl Context {
     }
 
     /// The window surface of a context made by [`Context::new_presenting`].
+    /// The acceleration-structure functions, where the device traces ray queries (the
+    /// extensions and features are enabled exactly then).
+    pub(crate) fn structures(&self) -> Option<&khr::acceleration_structure::Device> {
+        self.structures.as_ref()
+    }
+
     pub(crate) fn present_surface(&self) -> Option<&WindowSurface> {
         self.parts.surface.as_ref()
     }
@@ -504,7 +517,12 @@ fn create_device(
     let mut v12 = vk::PhysicalDeviceVulkan12Features::default()
         .host_query_reset(true)
         // Retires dropped objects after the submissions that use them (see `deferred`).
-        .timeline_semaphore(true);
+        .timeline_semaphore(true)
+        // Acceleration structures take their inputs by buffer address.
+        .buffer_device_address(info.ray_query);
+    let mut structures =
+        vk::PhysicalDeviceAccelerationStructureFeaturesKHR::default().acceleration_structure(true);
+    let mut ray_query = vk::PhysicalDeviceRayQueryFeaturesKHR::default().ray_query(true);
     let mut v13 = vk::PhysicalDeviceVulkan13Features::default()
         .dynamic_rendering(true)
         .synchronization2(true)
@@ -525,12 +543,23 @@ fn create_device(
     if info.calibrated_timestamps {
         extensions.push(ext::calibrated_timestamps::NAME.as_ptr());
     }
-    let info = vk::DeviceCreateInfo::default()
+    if info.ray_query {
+        extensions.extend([
+            khr::acceleration_structure::NAME.as_ptr(),
+            khr::deferred_host_operations::NAME.as_ptr(),
+            khr::ray_query::NAME.as_ptr(),
+        ]);
+    }
+    let mut create = vk::DeviceCreateInfo::default()
         .queue_create_infos(&queues)
         .enabled_extension_names(&extensions)
         .enabled_features(&features)
         .push_next(&mut v12)
         .push_next(&mut v13);
+    if info.ray_query {
+        create = create.push_next(&mut structures).push_next(&mut ray_query);
+    }
+    let info = create;
     // SAFETY: the create info and everything it points to live until the call returns.
     let device =
         unsafe { parts.instance.create_device(physical, &info, None) }.named("vkCreateDevice")?;

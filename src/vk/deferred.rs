@@ -31,6 +31,11 @@ pub(crate) enum Doomed {
     Semaphore(vk::Semaphore),
     /// With the loader of its extension's functions.
     Swapchain(khr::swapchain::Device, vk::SwapchainKHR),
+    /// With the loader of its extension's functions; its buffer is queued after it.
+    AccelerationStructure(
+        khr::acceleration_structure::Device,
+        vk::AccelerationStructureKHR,
+    ),
 }
 
 /// The timeline semaphore and what waits on it.
@@ -282,6 +287,11 @@ fn destroy(ctx: &Context, doomed: Doomed) {
             // SAFETY: see above; its owner waited for an idle device before handing it over, so
             // no presentation uses it; its images go with it.
             unsafe { loader.destroy_swapchain(raw, None) };
+            None
+        }
+        Doomed::AccelerationStructure(loader, raw) => {
+            // SAFETY: see above; the buffer holding it goes after it.
+            unsafe { loader.destroy_acceleration_structure(raw, None) };
             None
         }
         Doomed::Semaphore(raw) => {

@@ -4,6 +4,7 @@ use std::sync::{Arc, Mutex};
 
 use ash::vk;
 
+use super::acceleration_structure::AccelerationStructure;
 use super::buffer::Buffer;
 use super::context::Context;
 use super::counters::Created;
@@ -102,6 +103,8 @@ pub enum Bind<'a> {
     Texture(u32, &'a ImageView, &'a Sampler),
     /// A storage image view in `GENERAL` layout.
     StorageImage(u32, &'a ImageView),
+    /// A top-level acceleration structure, for ray queries.
+    Structure(u32, &'a AccelerationStructure),
 }
 
 impl Bind<'_> {
@@ -110,6 +113,7 @@ impl Bind<'_> {
             Bind::Uniform(_, b) | Bind::Storage(_, b) => b.keep_alive(),
             Bind::Texture(_, view, sampler) => Arc::new((view.keep_alive(), sampler.keep_alive())),
             Bind::StorageImage(_, view) => view.keep_alive(),
+            Bind::Structure(_, s) => s.keep_alive(),
         }
     }
 
@@ -118,7 +122,8 @@ impl Bind<'_> {
             Bind::Uniform(b, _)
             | Bind::Storage(b, _)
             | Bind::Texture(b, ..)
-            | Bind::StorageImage(b, _) => b,
+            | Bind::StorageImage(b, _)
+            | Bind::Structure(b, _) => b,
         }
     }
 
@@ -128,6 +133,7 @@ impl Bind<'_> {
             Bind::Storage(..) => vk::DescriptorType::STORAGE_BUFFER,
             Bind::Texture(..) => vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
             Bind::StorageImage(..) => vk::DescriptorType::STORAGE_IMAGE,
+            Bind::Structure(..) => vk::DescriptorType::ACCELERATION_STRUCTURE_KHR,
         }
     }
 }
@@ -226,16 +232,23 @@ impl DescriptorPool {
         per_type: u32,
         name: &str,
     ) -> VkResult<DescriptorPool> {
-        let sizes = [
+        let mut types = vec![
             vk::DescriptorType::UNIFORM_BUFFER,
             vk::DescriptorType::STORAGE_BUFFER,
             vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
             vk::DescriptorType::STORAGE_IMAGE,
-        ]
-        .map(|ty| vk::DescriptorPoolSize {
-            ty,
-            descriptor_count: per_type,
-        });
+        ];
+        // A type of an extension the device has not enabled may not be named at all.
+        if ctx.structures().is_some() {
+            types.push(vk::DescriptorType::ACCELERATION_STRUCTURE_KHR);
+        }
+        let sizes: Vec<_> = types
+            .into_iter()
+            .map(|ty| vk::DescriptorPoolSize {
+                ty,
+                descriptor_count: per_type,
+            })
+            .collect();
         let info = vk::DescriptorPoolCreateInfo::default()
             .max_sets(max_sets)
             .pool_sizes(&sizes);
@@ -320,16 +333,32 @@ fn write_set(ctx: &Context, set: vk::DescriptorSet, binds: &[Bind]) {
             _ => vk::DescriptorImageInfo::default(),
         })
         .collect();
+    let structures: Vec<[vk::AccelerationStructureKHR; 1]> = binds
+        .iter()
+        .map(|b| match *b {
+            Bind::Structure(_, s) => [s.raw()],
+            _ => [vk::AccelerationStructureKHR::null()],
+        })
+        .collect();
+    let mut structure_writes: Vec<_> = structures
+        .iter()
+        .map(|s| {
+            vk::WriteDescriptorSetAccelerationStructureKHR::default().acceleration_structures(s)
+        })
+        .collect();
     let writes: Vec<_> = binds
         .iter()
+        .zip(structure_writes.iter_mut())
         .enumerate()
-        .map(|(k, b)| {
+        .map(|(k, (b, structure))| {
             let w = vk::WriteDescriptorSet::default()
                 .dst_set(set)
                 .dst_binding(b.binding())
                 .descriptor_type(b.kind());
             match b {
                 Bind::Uniform(..) | Bind::Storage(..) => w.buffer_info(&buffers[k..k + 1]),
+                // The structure travels in the chained struct; the count is not implied.
+                Bind::Structure(..) => w.descriptor_count(1).push_next(structure),
                 _ => w.image_info(&images[k..k + 1]),
             }
         })

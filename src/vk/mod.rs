@@ -27,6 +27,7 @@
 //! index range), image layouts, and reading a [`Readback`] or a mapped [`Buffer`] before the
 //! submission writing it has finished (the values are then undefined).
 
+mod acceleration_structure;
 mod buffer;
 mod command_slot;
 mod commands;
@@ -51,6 +52,7 @@ mod surface;
 mod swapchain;
 mod transfer;
 
+pub use acceleration_structure::{AccelerationStructure, Geometry, Instance, IDENTITY};
 pub use buffer::Buffer;
 pub use command_slot::{CommandSlot, SubmitSync};
 pub use commands::{memory_barrier, transition_images, whole_color_region, ImageTransition};
