@@ -65,6 +65,7 @@ mod subgroup_steps;
 mod svg;
 mod sweep;
 mod trace_stats;
+mod traced_shadows;
 mod work_units;
 
 pub use ao::{measure_ao, AoConfig, AoRun};
@@ -126,4 +127,5 @@ pub use steps_map::StepsMap;
 pub use subgroup_steps::{subgroup_steps, TimedSteps};
 pub use sweep::{FieldSource, SweepConfig};
 pub use trace_stats::{ray_direction, trace_stats, Spread, StepStats, TraceStats};
+pub use traced_shadows::{traced_shadows, TracedShadows};
 pub use work_units::{work_units, StepLayout, SweepSections, WholeSection, WorkUnit};

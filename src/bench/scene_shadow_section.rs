@@ -127,6 +127,7 @@ pub fn run_scene_shadow_section(
                     shadows,
                     samples_per_side: samples,
                     flat_reference: false,
+                    traced: false,
                 };
                 let run = measure_scene_shadows(ctx, &config)?;
                 let opts = RenderOptions {

@@ -9,6 +9,7 @@ use std::sync::Arc;
 use glam::Vec3;
 use serde::Serialize;
 
+use super::traced_shadows::{traced_shadows, TracedShadows};
 use crate::heightfield::{Address, Heightfield};
 use crate::render::{
     probe_shadows, Pass, RenderError, RenderOptions, ShadowFilter, ShadowOptions, ShadowProbe,
@@ -48,6 +49,8 @@ pub struct SceneShadowConfig {
     pub samples_per_side: u32,
     /// Also trace the reference with relief materials casting as their flat polygons.
     pub flat_reference: bool,
+    /// Also trace the shadows by ray query (the device must have ray queries).
+    pub traced: bool,
 }
 
 impl Default for SceneShadowConfig {
@@ -61,6 +64,7 @@ impl Default for SceneShadowConfig {
             shadows: ShadowOptions::DEFAULT,
             samples_per_side: 6,
             flat_reference: false,
+            traced: false,
         }
     }
 }
@@ -116,6 +120,8 @@ pub struct SceneShadowRun {
     pub own: Vec<f32>,
     /// Pixels where a term was not a number (NaN or infinite), flagged by the shader.
     pub non_finite: usize,
+    /// The same light traced by ray query, against the same reference (only with `traced`).
+    pub traced: Option<TracedShadows>,
 }
 
 /// The pixels whose exact lit-or-shadowed verdict changes when relief casters are taken flat.
@@ -279,6 +285,13 @@ pub fn measure_scene_shadows(
     } else {
         Vec::new()
     };
+    let traced = if config.traced {
+        Some(traced_shadows(
+            ctx, &occluders, &points, &light, samples, &exact, &band,
+        )?)
+    } else {
+        None
+    };
     let flat_caster = (!flat.is_empty()).then(|| measure_agreement(&exact, &flat, &band));
     let caster_difference =
         (!flat.is_empty()).then(|| CasterDifference::measure(&exact, &flat, &relief));
@@ -314,5 +327,6 @@ pub fn measure_scene_shadows(
         non_finite: probe.finite.iter().filter(|&&f| !f).count(),
         maps: probe.maps,
         own: probe.own,
+        traced,
     })
 }

@@ -42,7 +42,12 @@ pub struct ShadowsArgs {
     /// Also trace the reference with relief casting as flat polygons, and compare.
     #[arg(long)]
     flat: bool,
-    /// Write exact.npy, relief.npy (and flat.npy) here: rows x cols of visible fractions, -1 on
+    /// Also trace the light's rays by ray query through the scene's acceleration structures
+    /// (relief prisms resolved by the exact height-field walk), and compare them with the exact
+    /// reference too (the device must have ray queries).
+    #[arg(long)]
+    traced: bool,
+    /// Write exact.npy, relief.npy (and flat.npy, traced.npy) here: rows x cols of visible fractions, -1 on
     /// the background, -2 where the surface faces away from the light; relief_maps.npy and
     /// relief_own.npy hold relief's two terms (shadow maps, the height field's own).
     #[arg(long, value_name = "DIR")]
@@ -93,6 +98,7 @@ pub fn run(args: &ShadowsArgs) -> anyhow::Result<()> {
         },
         samples_per_side: args.samples,
         flat_reference: args.flat,
+        traced: args.traced,
     };
     let ctx = open_device(args.device.as_deref(), args.json)?;
     eprintln!("tracing the exact reference for {width}x{height} pixels ...");
@@ -107,6 +113,9 @@ pub fn run(args: &ShadowsArgs) -> anyhow::Result<()> {
         write_npy_f32(&dir.join("relief_own.npy"), &shape, &run.own)?;
         if !run.flat.is_empty() {
             write_npy_f32(&dir.join("flat.npy"), &shape, &run.flat)?;
+        }
+        if let Some(t) = &run.traced {
+            write_npy_f32(&dir.join("traced.npy"), &shape, &t.visible)?;
         }
     }
     if args.json {
@@ -131,6 +140,23 @@ pub fn run(args: &ShadowsArgs) -> anyhow::Result<()> {
             "{} pixels change verdict with flat casters; relief follows the displaced caster on {:.1}% of them",
             d.pixels,
             100.0 * d.relief_follows_displaced
+        );
+    }
+    if let Some(t) = &run.traced {
+        println!("ray-traced vs exact, band included: {}", t.everywhere);
+        println!("ray-traced vs exact, outside the band: {}", t.outside_band);
+        let s = &t.structures;
+        println!(
+            "ray queries: {} rays, {} prism tests ({} walk steps, {} capped), {:.3} gpu ms; structures: {} triangles, {} prisms, {:.1} KiB, built in {:.3} gpu ms",
+            t.rays,
+            t.prisms_tested,
+            t.walk_steps,
+            t.capped,
+            t.trace_ms,
+            s.triangles,
+            s.prisms,
+            s.structure_bytes as f64 / 1024.0,
+            s.build_ms
         );
     }
     if run.non_finite > 0 {

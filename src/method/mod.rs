@@ -56,6 +56,9 @@ impl Method {
     /// Relief mapping (Policarpo, Oliveira, Comba): linear then binary search; the method
     /// curved silhouettes bend.
     pub const RELIEF: Method = Method(index_of("relief"));
+    /// Maximum-mipmap traversal with the exact bilinear leaf (Tevs, Ihrke, Seidel): the exact
+    /// walk ray queries resolve relief prisms with.
+    pub const MAXMIP: Method = Method(index_of("maxmip"));
 
     /// Every method, in table order.
     pub fn all() -> impl Iterator<Item = Method> {

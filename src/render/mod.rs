@@ -10,7 +10,8 @@
 //! - `shadows`: the lights' shadow maps, displaced casters included;
 //! - `cells`: meshes drawn through their cubic cell complexes;
 //! - `environment`: image-based ambient light (irradiance, prefiltered specular, BRDF table);
-//! - `measure`: traces and timings for the bench and `relief trace`.
+//! - `measure`: traces and timings for the bench and `relief trace`;
+//! - `traced`: the scene in acceleration structures, and rays traced through it by ray query.
 
 mod cells;
 mod compute_pass;
@@ -24,6 +25,7 @@ mod plan;
 mod shader_interface;
 mod shadows;
 mod terrain;
+mod traced;
 
 pub use cells::cells_pass::{BuiltComplex, CellsOptions};
 pub use cells::cells_plan::CellsPlan;
@@ -80,3 +82,6 @@ pub use terrain::blended_pyramid_pass::{
 };
 pub use terrain::elevation_editor::{EditError, EditReport, ElevationEditor};
 pub use terrain::layer_paint::{LayerPainter, PaintError, PaintReport, StagedPaint};
+pub use traced::occlusion_pass::{trace_occlusion, Occlusion, OcclusionRay};
+pub use traced::prism_records::PrismRecord;
+pub use traced::traced_scene::{TracedScene, TracedSceneStats};

@@ -80,6 +80,15 @@ pub enum ShadowReferenceError {
     Heights(#[from] HeightfieldError),
 }
 
+/// One occluder, as [`SceneOccluders::occluders`] lists them.
+#[derive(Debug, Clone, Copy)]
+pub enum Occluder<'a> {
+    /// A triangle blocking from both sides: its world corners.
+    Triangle([Vec3; 3]),
+    /// A relief triangle's solid.
+    Relief(&'a relief_shell::ReliefShell),
+}
+
 /// Every occluder of a scene, ready for exact ray queries.
 #[derive(Debug, Clone)]
 pub struct SceneOccluders {
@@ -144,6 +153,16 @@ impl SceneOccluders {
             .filter(|p| matches!(p, Primitive::Relief(_)))
             .count();
         (self.primitives.len() - relief, relief)
+    }
+
+    /// Every occluder, as this world casts it: relief triangles as their shells, or as their
+    /// polygons in the flat world.
+    pub fn occluders(&self) -> impl Iterator<Item = Occluder<'_>> {
+        self.primitives.iter().map(|p| match (p, self.casting) {
+            (Primitive::Plain(tri), _) => Occluder::Triangle(tri.corners),
+            (Primitive::Relief(shell), ReliefCasting::Flat) => Occluder::Triangle(shell.corners()),
+            (Primitive::Relief(shell), ReliefCasting::Displaced) => Occluder::Relief(shell),
+        })
     }
 
     /// The distance rays start from their point (see the module docs).

@@ -66,6 +66,20 @@ pub struct ReliefShell {
     to_bary: DMat2,
 }
 
+/// A shell's frame as numbers, for a copy of the test elsewhere (the GPU's ray queries).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ShellFrame {
+    /// Rows of the affine map from a world point `(x, y, z, 1)` to `(hu, hv, z)`.
+    pub to_local: [[f64; 4]; 3],
+    /// Columns of the map from a height-uv offset from `anchor_uv` to the barycentric weights of
+    /// corners 1 and 2.
+    pub to_bary: [[f64; 2]; 2],
+    /// Height uv of the first corner.
+    pub anchor_uv: [f64; 2],
+    /// Depth of height 0 below the top plane, in height-uv units.
+    pub depth_scale: f64,
+}
+
 /// Where a world segment lies in one shell's frame: `q(t) = q0 + t dq`, `t` clipped to the prism.
 struct Span {
     q0: DVec3,
@@ -112,6 +126,33 @@ impl ReliefShell {
             to_world,
             to_bary,
         })
+    }
+
+    /// The shell's frame, as [`ShellFrame`] spells it out.
+    pub fn frame(&self) -> ShellFrame {
+        let m = self.to_local.transpose();
+        let shift = self.to_local * self.anchor;
+        let uv = [self.anchor_uv.x, self.anchor_uv.y, 0.0];
+        let row = |i: usize| {
+            let r = m.col(i);
+            [r.x, r.y, r.z, uv[i] - shift[i]]
+        };
+        ShellFrame {
+            to_local: [row(0), row(1), row(2)],
+            to_bary: [self.to_bary.x_axis.into(), self.to_bary.y_axis.into()],
+            anchor_uv: self.anchor_uv.into(),
+            depth_scale: self.depth_scale,
+        }
+    }
+
+    /// The height map the shell's field reads.
+    pub fn heights(&self) -> &Arc<Heightfield> {
+        &self.heights
+    }
+
+    /// How the shell's height map is addressed.
+    pub fn address(&self) -> Address {
+        self.address
     }
 
     /// The triangle's polygon (the top plane), as a flat caster would see it.

@@ -24,6 +24,15 @@ pub enum RenderError {
     /// A Vulkan call failed, or the device lacks something the frame needs.
     #[error(transparent)]
     Vulkan(#[from] VkError),
+    /// The ray-traced path was asked for on a device without ray queries.
+    #[error("{device} has no ray queries (VK_KHR_ray_query and VK_KHR_acceleration_structure); the traced path needs them")]
+    NoRayQueries {
+        /// The device's name.
+        device: String,
+    },
+    /// The ray-traced path cannot take this scene as it is; the message says why.
+    #[error("ray-traced path: {0}")]
+    Traced(String),
     /// A mesh selected by `--cells` cannot be turned into a cell complex.
     #[error(transparent)]
     Cells(#[from] crate::cells::MeshError),

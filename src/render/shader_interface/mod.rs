@@ -80,6 +80,21 @@ glsl_table! {
 }
 
 glsl_table! {
+    /// Set 0 of the ray-query occlusion pass after the frame bindings (`traced_occlusion.comp`),
+    /// as `#define`s.
+    OCCLUSION_BINDINGS {
+        /// The scene's top-level acceleration structure.
+        BINDING_OCCLUSION_SCENE = 4;
+        /// Per relief prism: its frame (`PrismRecord` in src/render/traced/prism_records.rs).
+        BINDING_OCCLUSION_PRISMS = 5;
+        /// Per ray: origin and its first t, direction and its last t.
+        BINDING_OCCLUSION_RAYS = 6;
+        /// Per ray: blocked or not, prisms tested, height-field steps, walks capped.
+        BINDING_OCCLUSION_RESULTS = 7;
+    }
+}
+
+glsl_table! {
     /// Set 0 of the pyramid reductions over images (`pyramid.comp`, `mean_pyramid.comp`), as
     /// `#define`s.
     PYRAMID_BINDINGS {
@@ -312,6 +327,7 @@ pub const GLSL_DEFINES: &[&[(&str, u32)]] = &[
     FRAME_BINDINGS,
     SEARCH_BINDINGS,
     TRACE_BINDINGS,
+    OCCLUSION_BINDINGS,
     PYRAMID_BINDINGS,
     AO_BINDINGS,
     TERRAIN_BINDINGS,

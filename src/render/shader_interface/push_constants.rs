@@ -222,6 +222,14 @@ push_constants! {
 }
 
 push_constants! {
+    /// `traced_occlusion.comp`: one batch of occlusion rays.
+    OcclusionParams {
+        /// x: the rays in the batch.
+        count: [u32; 4] => "uvec4",
+    }
+}
+
+push_constants! {
     /// `brush.comp`: one stroke over the texels of `region`.
     BrushParams {
         /// Centre x, y (texels), radius (texels), strength.
@@ -275,6 +283,7 @@ pub const PUSH_LAYOUTS: &[PushLayout] = &[
     AoSweepParams::LAYOUT,
     PyramidParams::LAYOUT,
     TraceParams::LAYOUT,
+    OcclusionParams::LAYOUT,
     BrushParams::LAYOUT,
     BlendParams::LAYOUT,
 ];

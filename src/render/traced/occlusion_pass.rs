@@ -1,0 +1,173 @@
+//! Occlusion rays through a [`TracedScene`]: one compute dispatch of `traced_occlusion.comp` per
+//! batch, each ray a ray query that ends at the first thing it meets, timed with timestamps and
+//! read back.
+
+use std::sync::Arc;
+
+use ash::vk;
+use glam::Vec3;
+
+use super::traced_scene::TracedScene;
+use crate::method::Method;
+use crate::render::compute_pass::ComputePass;
+use crate::render::kit::render_error::RenderError;
+use crate::render::shader_interface::{
+    OcclusionParams, BINDING_OCCLUSION_PRISMS, BINDING_OCCLUSION_RAYS, BINDING_OCCLUSION_RESULTS,
+    BINDING_OCCLUSION_SCENE, SPEC_BUDGET_EXTENT_LIMIT, SPEC_BUDGET_LEAF_EXACT,
+    SPEC_BUDGET_MAX_STEPS, SPEC_BUDGET_REFINE_STEPS,
+};
+use crate::vk::{
+    Bind, Buffer, Context, DescriptorPool, MemoryLocation, Readback, SpecConstants, TimestampPool,
+};
+
+/// `local_size_x` of traced_occlusion.comp.
+const GROUP: u32 = 64;
+
+/// One segment to test: `origin + t dir` for `t` in `[t_min, t_max]`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct OcclusionRay {
+    /// Where the ray starts.
+    pub origin: Vec3,
+    /// Where the segment begins along it.
+    pub t_min: f32,
+    /// Its direction (any length; `t` is in its units).
+    pub dir: Vec3,
+    /// Where the segment ends.
+    pub t_max: f32,
+}
+
+/// What a batch found.
+#[derive(Debug, Clone, Default)]
+pub struct Occlusion {
+    /// Per ray, in order: whether something lies on the segment.
+    pub blocked: Vec<bool>,
+    /// Relief prisms whose boxes the rays entered and the shader tested.
+    pub prisms_tested: u64,
+    /// Height-field walk iterations over all those tests.
+    pub walk_steps: u64,
+    /// Rays one of whose walks ran out of budget (its verdict is then the walk's best guess).
+    pub capped: usize,
+    /// GPU ms of the dispatch.
+    pub gpu_ms: f64,
+}
+
+/// The most rays one dispatch takes: the workgroup count every device allows in x (65535).
+const MAX_BATCH: usize = 65_535 * GROUP as usize;
+
+/// Tests every ray of `rays` against `scene`, in dispatches of at most [`MAX_BATCH`] rays.
+pub fn trace_occlusion(
+    ctx: &Arc<Context>,
+    scene: &TracedScene,
+    rays: &[OcclusionRay],
+) -> Result<Occlusion, RenderError> {
+    let heights = scene.heights();
+    let mut bindings = heights.layout_bindings();
+    bindings.extend([
+        (
+            BINDING_OCCLUSION_SCENE,
+            vk::DescriptorType::ACCELERATION_STRUCTURE_KHR,
+        ),
+        (BINDING_OCCLUSION_PRISMS, vk::DescriptorType::STORAGE_BUFFER),
+        (BINDING_OCCLUSION_RAYS, vk::DescriptorType::STORAGE_BUFFER),
+        (
+            BINDING_OCCLUSION_RESULTS,
+            vk::DescriptorType::STORAGE_BUFFER,
+        ),
+    ]);
+    let budget = Method::MAXMIP.info().default_budget;
+    let spec = SpecConstants::default()
+        .u32(SPEC_BUDGET_MAX_STEPS, budget.max_steps)
+        .u32(SPEC_BUDGET_REFINE_STEPS, budget.refine_steps)
+        .u32(SPEC_BUDGET_LEAF_EXACT, budget.leaf.spec_value())
+        .u32(SPEC_BUDGET_EXTENT_LIMIT, budget.extent_limit);
+    let push = std::mem::size_of::<OcclusionParams>() as u32;
+    let pass = ComputePass::new(
+        ctx,
+        "traced_occlusion.comp",
+        &bindings,
+        push,
+        &spec,
+        "traced occlusion",
+    )?;
+    let mut all = Occlusion::default();
+    for batch in rays.chunks(MAX_BATCH) {
+        let part = trace_batch(ctx, scene, &pass, batch)?;
+        all.blocked.extend(part.blocked);
+        all.prisms_tested += part.prisms_tested;
+        all.walk_steps += part.walk_steps;
+        all.capped += part.capped;
+        all.gpu_ms += part.gpu_ms;
+    }
+    Ok(all)
+}
+
+/// One dispatch over `rays` (at most [`MAX_BATCH`]).
+fn trace_batch(
+    ctx: &Arc<Context>,
+    scene: &TracedScene,
+    pass: &ComputePass,
+    rays: &[OcclusionRay],
+) -> Result<Occlusion, RenderError> {
+    let count = rays.len() as u32;
+    let packed: Vec<[f32; 8]> = rays
+        .iter()
+        .map(|r| {
+            [
+                r.origin.x, r.origin.y, r.origin.z, r.t_min, r.dir.x, r.dir.y, r.dir.z, r.t_max,
+            ]
+        })
+        .collect();
+    let ray_buffer = Buffer::with_data(
+        ctx,
+        bytemuck::cast_slice(&packed),
+        vk::BufferUsageFlags::STORAGE_BUFFER,
+        "occlusion rays",
+    )?;
+    let bytes = u64::from(count) * 16;
+    let results = Buffer::new(
+        ctx,
+        bytes,
+        vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC,
+        MemoryLocation::GpuOnly,
+        "occlusion results",
+    )?;
+    let results_back = Readback::new(ctx, bytes, "occlusion results readback")?;
+    let pool = DescriptorPool::new(ctx, 1, 4, "traced occlusion sets")?;
+    let mut binds = scene.heights().binds();
+    binds.extend([
+        Bind::Structure(BINDING_OCCLUSION_SCENE, scene.top()),
+        Bind::Storage(BINDING_OCCLUSION_PRISMS, scene.records()),
+        Bind::Storage(BINDING_OCCLUSION_RAYS, &ray_buffer),
+        Bind::Storage(BINDING_OCCLUSION_RESULTS, &results),
+    ]);
+    let set = pool.allocate(pass.layout(), &binds)?;
+    let params = OcclusionParams {
+        count: [count, 0, 0, 0],
+    };
+    let timestamps = TimestampPool::new(ctx, 2, "traced occlusion timestamps")?;
+    let compute = vk::PipelineStageFlags2::COMPUTE_SHADER;
+    ctx.one_shot(|rec| {
+        timestamps.write(rec, compute, 0)?;
+        pass.dispatch(
+            rec,
+            &set,
+            bytemuck::bytes_of(&params),
+            [count.div_ceil(GROUP), 1, 1],
+        )?;
+        timestamps.write(rec, compute, 1)?;
+        results_back.record_copy_from_buffer(
+            rec,
+            &results,
+            (compute, vk::AccessFlags2::SHADER_STORAGE_WRITE),
+        )
+    })?;
+    let ticks = timestamps.read_ticks(2)?;
+    let words: Vec<[u32; 4]> = bytemuck::pod_collect_to_vec(results_back.bytes()?);
+    Ok(Occlusion {
+        blocked: words.iter().map(|w| w[0] != 0).collect(),
+        prisms_tested: words.iter().map(|w| u64::from(w[1])).sum(),
+        walk_steps: words.iter().map(|w| u64::from(w[2])).sum(),
+        capped: words.iter().filter(|w| w[3] != 0).count(),
+        gpu_ms: timestamps.ticks_to_ms(ticks[0], ticks[1]),
+    })
+}

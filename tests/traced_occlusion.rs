@@ -1,0 +1,154 @@
+//! Ray queries against the exact CPU occluders, ray by ray (`relief::render::trace_occlusion`
+//! beside `SceneOccluders::any_hit`): random segments through scenes with relief casters, and
+//! rays through the shared edge of two relief triangles (no crack between neighbouring prisms).
+
+mod common;
+
+use glam::Vec3;
+use relief::render::{trace_occlusion, OcclusionRay, TracedScene};
+use relief::scene::{default_heightfield, shadow_scene, ShadowScene};
+use relief::shadow_reference::{Occluder, SceneOccluders};
+
+use common::rays::Rng;
+
+fn occluders(kind: ShadowScene) -> SceneOccluders {
+    let scene = shadow_scene(kind, 25.0, 0.0);
+    let heights = default_heightfield().quantized_unorm16();
+    SceneOccluders::new(&scene, Some(&heights), kind.address()).expect("occluders")
+}
+
+/// The box around every relief triangle's polygon, widened by a quarter unit.
+fn relief_bounds(occ: &SceneOccluders) -> (Vec3, Vec3) {
+    let corners: Vec<Vec3> = occ
+        .occluders()
+        .filter_map(|o| match o {
+            Occluder::Relief(shell) => Some(shell.corners()),
+            Occluder::Triangle(_) => None,
+        })
+        .flatten()
+        .collect();
+    let lo = corners.iter().copied().reduce(Vec3::min).expect("relief");
+    let hi = corners.iter().copied().reduce(Vec3::max).expect("relief");
+    (lo - 0.25, hi + 0.25)
+}
+
+#[test]
+fn random_segments_meet_what_the_exact_reference_meets() {
+    let Some(ctx) = common::device("random_segments_meet_what_the_exact_reference_meets") else {
+        return;
+    };
+    if !ctx.info().ray_query {
+        assert!(!common::under_ci(), "CI's lavapipe has ray queries");
+        eprintln!("SKIPPED: no ray queries");
+        return;
+    }
+    let mut rng = Rng(7);
+    for kind in [ShadowScene::SlabOverPlane, ShadowScene::BoxOverRelief] {
+        let occ = occluders(kind);
+        let traced = TracedScene::new(&ctx, &occ).expect("structures");
+        // Aimed at points around the relief, from anywhere about the scene, ending short of
+        // their target or past it.
+        let (lo, hi) = relief_bounds(&occ);
+        let rays: Vec<OcclusionRay> = (0..4096)
+            .map(|_| {
+                let mut v = || rng.range(-1.0, 1.0) as f32;
+                let origin = Vec3::new(3.0 * v(), 0.2 + 2.5 * (v() + 1.0), 3.0 * v());
+                let t = Vec3::new(rng.next() as f32, rng.next() as f32, rng.next() as f32);
+                let target = lo + (hi - lo) * t;
+                let dir = (target - origin).normalize_or(Vec3::NEG_Y);
+                OcclusionRay {
+                    origin,
+                    t_min: 0.0,
+                    dir,
+                    t_max: 2.0 * target.distance(origin) * (rng.next() as f32),
+                }
+            })
+            .collect();
+        let gpu = trace_occlusion(&ctx, &traced, &rays).expect("traced");
+        let cpu: Vec<bool> = rays
+            .iter()
+            .map(|r| occ.any_hit(r.origin, r.dir, r.t_max))
+            .collect();
+        let agree = gpu.blocked.iter().zip(&cpu).filter(|(g, c)| g == c).count();
+        let blocked = cpu.iter().filter(|&&b| b).count();
+        eprintln!(
+            "{kind}: {agree} of {} agree; {blocked} blocked; {} prism tests",
+            rays.len(),
+            gpu.prisms_tested
+        );
+        assert!(
+            blocked > 200 && blocked < 3900,
+            "{kind}: a test that means something"
+        );
+        assert!(gpu.prisms_tested > 500, "{kind}: the rays reach the relief");
+        // Only rounding at grazing contacts may part f32 from f64.
+        assert!(agree >= rays.len() - 4, "{kind}: {agree} of {}", rays.len());
+        assert_eq!(gpu.capped, 0);
+    }
+    common::assert_no_validation_errors(&ctx);
+}
+
+#[test]
+fn no_ray_slips_between_two_relief_triangles() {
+    let Some(ctx) = common::device("no_ray_slips_between_two_relief_triangles") else {
+        return;
+    };
+    if !ctx.info().ray_query {
+        assert!(!common::under_ci(), "CI's lavapipe has ray queries");
+        eprintln!("SKIPPED: no ray queries");
+        return;
+    }
+    let occ = occluders(ShadowScene::SlabOverPlane);
+    let shells: Vec<[Vec3; 3]> = occ
+        .occluders()
+        .filter_map(|o| match o {
+            Occluder::Relief(shell) => Some(shell.corners()),
+            Occluder::Triangle(_) => None,
+        })
+        .collect();
+    // The slab's quad: two relief triangles sharing their diagonal.
+    let shared: Vec<Vec3> = shells[0]
+        .iter()
+        .copied()
+        .filter(|c| shells[1].iter().any(|d| d.distance(*c) < 1e-6))
+        .collect();
+    assert_eq!(shared.len(), 2, "the slab's triangles share an edge");
+    let normal = (shells[0][1] - shells[0][0])
+        .cross(shells[0][2] - shells[0][0])
+        .normalize();
+    // Rays from above the slab, down through points of the shared edge, slightly tilted: each
+    // crosses the top plane on the edge (or within rounding of it) and must meet the field.
+    let mut rng = Rng(11);
+    let rays: Vec<OcclusionRay> = (0..2048)
+        .map(|k| {
+            let s = (k as f32 + 0.5) / 2048.0;
+            let on_edge = shared[0].lerp(shared[1], s);
+            let tilt = Vec3::new(
+                rng.range(-0.3, 0.3) as f32,
+                0.0,
+                rng.range(-0.3, 0.3) as f32,
+            );
+            let dir = (-normal + tilt).normalize();
+            OcclusionRay {
+                origin: on_edge - dir * 0.5,
+                t_min: 0.0,
+                dir,
+                t_max: 2.0,
+            }
+        })
+        .collect();
+    let traced = TracedScene::new(&ctx, &occ).expect("structures");
+    let gpu = trace_occlusion(&ctx, &traced, &rays).expect("traced");
+    let cpu = rays
+        .iter()
+        .filter(|r| occ.any_hit(r.origin, r.dir, r.t_max))
+        .count();
+    let through = gpu.blocked.iter().filter(|&&b| !b).count();
+    assert_eq!(
+        cpu,
+        rays.len(),
+        "the reference blocks every ray through the slab"
+    );
+    assert_eq!(through, 0, "{through} rays slipped through the shared edge");
+    common::assert_no_validation_errors(&ctx);
+}
