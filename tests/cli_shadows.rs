@@ -62,3 +62,54 @@ fn bad_shadow_flags_name_the_flag() {
     let out = relief(&["render", "--shadow-filter", "blur", "--out", "/dev/null"]);
     assert_eq!(out.status.code(), Some(2));
 }
+
+#[test]
+fn traced_shadows_report_their_agreement_and_say_when_the_device_cannot() {
+    let dir = common::scratch_dir("cli-traced-shadows");
+    let args = [
+        "shadows",
+        "--scene",
+        "slab-over-plane",
+        "--size",
+        "64x36",
+        "--traced",
+        "--dump",
+        dir.to_str().expect("utf-8"),
+        "--json",
+    ];
+    let out = relief(&args);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    if out.status.code() == Some(77) {
+        eprintln!("SKIPPED: no Vulkan device: {stderr}");
+        return;
+    }
+    if stderr.contains("has no ray queries") {
+        assert!(
+            !common::under_ci(),
+            "CI's lavapipe has ray queries: {stderr}"
+        );
+        eprintln!("SKIPPED: no ray queries: {stderr}");
+        return;
+    }
+    assert!(out.status.success(), "{stderr}");
+    let json: serde_json::Value = serde_json::from_slice(&out.stdout).expect("json");
+    let traced = &json["traced"];
+    assert!(
+        traced["everywhere"]["hard_agreement"].as_f64() >= Some(0.999),
+        "{json}"
+    );
+    assert_eq!(traced["everywhere"]["excluded_band"], 0, "{json}");
+    assert_eq!(
+        traced["structures"]["prisms"], 2,
+        "the slab's two relief triangles"
+    );
+    assert!(traced["prisms_tested"].as_u64() > Some(0), "{json}");
+    let bytes = std::fs::read(dir.join("traced.npy")).expect("traced.npy");
+    assert!(bytes.len() > 64 * 36 * 4);
+    let off = std::process::Command::new(env!("CARGO_BIN_EXE_relief"))
+        .args(args)
+        .env(relief::vk::RAY_QUERIES_ENV, "0")
+        .output()
+        .expect("binary runs");
+    common::cli::assert_clean_failure(&off, &["has no ray queries", "VK_KHR_ray_query"]);
+}

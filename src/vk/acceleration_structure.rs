@@ -120,6 +120,16 @@ impl AccelerationStructure {
     ) -> VkResult<AccelerationStructure> {
         let input_usage = vk::BufferUsageFlags::ACCELERATION_STRUCTURE_BUILD_INPUT_READ_ONLY_KHR
             | vk::BufferUsageFlags::SHADER_DEVICE_ADDRESS;
+        require_ray_queries(ctx, name)?;
+        if let Geometry::Triangles { positions, indices } = geometry {
+            if indices.len() % 3 != 0 || indices.iter().any(|&i| i as usize >= positions.len()) {
+                return Err(VkError::Invalid(format!(
+                    "acceleration structure {name:?}: {} indices over {} positions",
+                    indices.len(),
+                    positions.len()
+                )));
+            }
+        }
         let count = geometry.primitives();
         if count == 0 {
             return Err(VkError::Invalid(format!(
@@ -129,14 +139,6 @@ impl AccelerationStructure {
         // The inputs live until the build below has completed.
         let (data, _inputs) = match geometry {
             Geometry::Triangles { positions, indices } => {
-                if indices.len() % 3 != 0 || indices.iter().any(|&i| i as usize >= positions.len())
-                {
-                    return Err(VkError::Invalid(format!(
-                        "acceleration structure {name:?}: {} indices over {} positions",
-                        indices.len(),
-                        positions.len()
-                    )));
-                }
                 let vertices = Buffer::with_data(
                     ctx,
                     bytemuck::cast_slice(positions),
@@ -195,6 +197,7 @@ impl AccelerationStructure {
         instances: &[Instance],
         name: &str,
     ) -> VkResult<AccelerationStructure> {
+        require_ray_queries(ctx, name)?;
         let records: Vec<InstanceRecord> = instances
             .iter()
             .map(|i| InstanceRecord {
@@ -278,12 +281,7 @@ fn build(
     instanced: Vec<AccelerationStructure>,
     name: &str,
 ) -> VkResult<AccelerationStructure> {
-    let loader = ctx.structures().ok_or_else(|| {
-        VkError::Invalid(format!(
-            "acceleration structure {name:?}: {} has no ray queries",
-            ctx.info().name
-        ))
-    })?;
+    let loader = require_ray_queries(ctx, name)?;
     let count = u32::try_from(count).map_err(|_| {
         VkError::Invalid(format!(
             "acceleration structure {name:?} over {count} primitives"
@@ -369,6 +367,19 @@ fn build(
         .build_ms
         .set(timestamps.ticks_to_ms(ticks[0], ticks[1]));
     Ok(structure)
+}
+
+/// The extension's functions, or why there are none.
+fn require_ray_queries<'c>(
+    ctx: &'c Context,
+    name: &str,
+) -> VkResult<&'c ash::khr::acceleration_structure::Device> {
+    ctx.structures().ok_or_else(|| {
+        VkError::Invalid(format!(
+            "acceleration structure {name:?}: {} has no ray queries",
+            ctx.info().name
+        ))
+    })
 }
 
 /// The alignment the scratch address of a build must have.

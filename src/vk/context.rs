@@ -34,7 +34,13 @@ pub struct ContextOptions {
     /// Pipeline cache data from an earlier run ([`Context::pipeline_cache_data`]); data made by
     /// another device or driver, or corrupt, is ignored with a warning.
     pub pipeline_cache: Option<Vec<u8>>,
+    /// Leave ray queries off even where the device has them, as on a device without them (the
+    /// paths that must do without; `RELIEF_RAY_QUERIES=0` does the same).
+    pub without_ray_queries: bool,
 }
+
+/// The environment variable that, set to 0, leaves ray queries off ([`ContextOptions`]).
+pub const RAY_QUERIES_ENV: &str = "RELIEF_RAY_QUERIES";
 
 /// One Vulkan device, ready to record and submit work.
 pub struct Context {
@@ -210,6 +216,9 @@ impl Context {
             }
         };
         info.calibrated_timestamps &= device_time_domain(&parts, physical);
+        if options.without_ray_queries || std::env::var(RAY_QUERIES_ENV).is_ok_and(|v| v == "0") {
+            info.ray_query = false;
+        }
         let device = match create_device(&parts, physical, &info) {
             Ok(device) => device,
             Err(e) => {

@@ -56,7 +56,7 @@ pub use acceleration_structure::{AccelerationStructure, Geometry, Instance, IDEN
 pub use buffer::Buffer;
 pub use command_slot::{CommandSlot, SubmitSync};
 pub use commands::{memory_barrier, transition_images, whole_color_region, ImageTransition};
-pub use context::{Context, ContextOptions};
+pub use context::{Context, ContextOptions, RAY_QUERIES_ENV};
 pub use counters::{LiveObjects, ObjectCounts};
 pub use descriptors::{Bind, DescriptorLayout, DescriptorPool, DescriptorSet};
 pub use error::{VkError, VkResult};
