@@ -152,3 +152,50 @@ fn no_ray_slips_between_two_relief_triangles() {
     assert_eq!(through, 0, "{through} rays slipped through the shared edge");
     common::assert_no_validation_errors(&ctx);
 }
+
+#[test]
+fn a_segment_that_is_no_segment_is_refused() {
+    let Some(ctx) = common::device("a_segment_that_is_no_segment_is_refused") else {
+        return;
+    };
+    if !ctx.info().ray_query {
+        eprintln!("SKIPPED: no ray queries");
+        return;
+    }
+    let traced = TracedScene::new(&ctx, &occluders(ShadowScene::BoxOverPlane)).expect("built");
+    let good = OcclusionRay {
+        origin: Vec3::new(0.0, 3.0, 0.0),
+        t_min: 0.0,
+        dir: Vec3::NEG_Y,
+        t_max: 10.0,
+    };
+    let blocked = trace_occlusion(&ctx, &traced, &[good]).expect("traced");
+    assert_eq!(
+        blocked.blocked,
+        [true],
+        "the box and the ground lie under the ray"
+    );
+    for bad in [
+        OcclusionRay {
+            t_max: f32::NAN,
+            ..good
+        },
+        OcclusionRay {
+            t_min: 5.0,
+            t_max: 1.0,
+            ..good
+        },
+        OcclusionRay {
+            dir: Vec3::ZERO,
+            ..good
+        },
+        OcclusionRay {
+            origin: Vec3::INFINITY,
+            ..good
+        },
+    ] {
+        let err = trace_occlusion(&ctx, &traced, &[good, bad]).expect_err("refused");
+        assert!(err.to_string().contains("occlusion ray 1"), "{err}");
+    }
+    common::assert_no_validation_errors(&ctx);
+}

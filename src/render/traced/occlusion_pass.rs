@@ -18,6 +18,7 @@ use crate::render::shader_interface::{
 };
 use crate::vk::{
     Bind, Buffer, Context, DescriptorPool, MemoryLocation, Readback, SpecConstants, TimestampPool,
+    VkError,
 };
 
 /// `local_size_x` of traced_occlusion.comp.
@@ -60,6 +61,18 @@ pub fn trace_occlusion(
     scene: &TracedScene,
     rays: &[OcclusionRay],
 ) -> Result<Occlusion, RenderError> {
+    // A ray query's segment must be finite, non-negative and ordered, or the shader's result is
+    // undefined; no layer checks it inside the shader.
+    if let Some((k, r)) = rays.iter().enumerate().find(|(_, r)| {
+        let finite = r.origin.is_finite() && r.dir.is_finite() && r.t_max.is_finite();
+        !(finite && r.t_min >= 0.0 && r.t_min <= r.t_max && r.dir != Vec3::ZERO)
+    }) {
+        return Err(VkError::Invalid(format!(
+            "occlusion ray {k}: origin {}, direction {}, t from {} to {}: a segment needs finite values, a direction and 0 <= t_min <= t_max",
+            r.origin, r.dir, r.t_min, r.t_max
+        ))
+        .into());
+    }
     let heights = scene.heights();
     let mut bindings = heights.layout_bindings();
     bindings.extend([
