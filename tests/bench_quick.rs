@@ -118,6 +118,24 @@ fn quick_bench_covers_every_method_without_nan() {
             "{file}: the grid and its bar"
         );
     }
+    // The scene-shadow section traces its light by ray query beside the maps, where it can.
+    let shadows = &results["scene_shadows"];
+    match shadows["traced"].as_array().map(Vec::as_slice) {
+        Some([_, _, ..]) => {
+            for cell in shadows["traced"].as_array().expect("traced") {
+                assert!(cell["hard_agreement"].as_f64() >= Some(0.999), "{cell}");
+                assert!(cell["rays"].as_u64() > Some(0) && cell["trace_ms"].as_f64() > Some(0.0));
+            }
+            assert_eq!(shadows["traced"][0]["caster"], "displaced");
+            assert!(shadows["traced"][0]["prisms_tested"].as_u64() > Some(0));
+            assert!(report.contains("The same light traced by ray query"));
+        }
+        _ => {
+            let why = shadows["traced_skipped"].as_str().expect("a reason");
+            assert!(!common::under_ci(), "CI's lavapipe has ray queries: {why}");
+            assert!(report.contains("No shadows traced by ray query"));
+        }
+    }
     for heading in [
         "## 1. Error against run time",
         "## 2. Scaling with map size",

@@ -62,6 +62,37 @@ pub struct DefaultFrameCost {
     pub added: f64,
 }
 
+/// One caster's shadows traced by ray query, beside its maps' cells: the same light, probe and
+/// reference rays.
+#[derive(Debug, Clone, Serialize, Deserialize)]
+pub struct TracedShadowCell {
+    /// "displaced" (the relief slab) or "plain" (the box).
+    pub caster: String,
+    /// Share of receiver pixels whose verdict matches the exact one, every pixel counted (the
+    /// band around shadow edges included).
+    pub hard_agreement: f64,
+    /// Mean absolute error of the visible fraction over every receiver pixel.
+    pub mean_abs_error: f64,
+    /// Share of fully lit receiver pixels reported shadowed, band included.
+    pub acne: f64,
+    /// Share of fully occluded receiver pixels reported lit, band included.
+    pub leaks: f64,
+    /// Rays traced: receivers times the light's samples.
+    pub rays: usize,
+    /// GPU ms of one dispatch over them (median of three).
+    pub trace_ms: f64,
+    /// Relief prisms the rays' candidates asked the shader to test.
+    pub prisms_tested: u64,
+    /// Opaque triangles and relief prisms in the structures.
+    pub triangles: usize,
+    /// Relief prisms, one box each.
+    pub prisms: usize,
+    /// Bytes of the acceleration structures.
+    pub structure_bytes: u64,
+    /// GPU ms of their builds.
+    pub build_ms: f64,
+}
+
 /// The whole section.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct SceneShadowSection {
@@ -77,6 +108,13 @@ pub struct SceneShadowSection {
     pub cells: Vec<SceneShadowCell>,
     /// The default scene's cost.
     pub default_frame: DefaultFrameCost,
+    /// Each caster's shadows by ray query (empty in files written before them, or on a device
+    /// without ray queries: then `traced_skipped` says why).
+    #[serde(default)]
+    pub traced: Vec<TracedShadowCell>,
+    /// Why the traced cells are missing, when they are.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub traced_skipped: Option<String>,
 }
 
 /// Median GPU ms of the default scene's steady frames (its frame heights); returns (shadow
@@ -104,10 +142,46 @@ pub fn run_scene_shadow_section(
         ([240, 135], [960, 540], 8, &[512, 1024, 2048], 6)
     };
     let mut cells = Vec::new();
+    let mut traced = Vec::new();
+    let traced_skipped = (!ctx.info().ray_query)
+        .then(|| format!("{} has no ray queries (VK_KHR_ray_query)", ctx.info().name));
     for (caster, kind) in [
         ("displaced", ShadowScene::SlabOverPlane),
         ("plain", ShadowScene::BoxOverPlane),
     ] {
+        if traced_skipped.is_none() {
+            progress(&format!(
+                "scene shadows: {caster} caster, traced by ray query"
+            ));
+            let config = SceneShadowConfig {
+                scene: Some(kind),
+                elevation_deg: ELEVATION_DEG,
+                radius_deg: Some(RADIUS_DEG),
+                width: probe[0],
+                height: probe[1],
+                samples_per_side: samples,
+                traced: true,
+                ..SceneShadowConfig::default()
+            };
+            let run = measure_scene_shadows(ctx, &config)?;
+            if let Some(t) = run.traced {
+                let a = &t.everywhere;
+                traced.push(TracedShadowCell {
+                    caster: caster.to_owned(),
+                    hard_agreement: a.hard_agreement,
+                    mean_abs_error: a.mean_abs_error,
+                    acne: a.acne.share,
+                    leaks: a.leaks.share,
+                    rays: t.rays,
+                    trace_ms: t.trace_ms,
+                    prisms_tested: t.prisms_tested,
+                    triangles: t.structures.triangles,
+                    prisms: t.structures.prisms,
+                    structure_bytes: t.structures.structure_bytes,
+                    build_ms: t.structures.build_ms,
+                });
+            }
+        }
         for &map_size in sizes {
             for filter in ShadowFilter::ALL {
                 progress(&format!(
@@ -187,6 +261,8 @@ pub fn run_scene_shadow_section(
             shadow_maps_ms,
             added: with_ms / without_ms.max(1e-9) - 1.0,
         },
+        traced,
+        traced_skipped,
     })
 }
 
@@ -235,6 +311,50 @@ pub fn report(md: &mut String, s: &SceneShadowSection) {
             100.0 * c.leaks,
             c.shadow_maps_ms,
             c.surface_ms
+        );
+    }
+    traced_report(md, s);
+}
+
+/// The traced cells' table, or why there is none.
+fn traced_report(md: &mut String, s: &SceneShadowSection) {
+    if let Some(why) = &s.traced_skipped {
+        let _ = writeln!(md, "\nNo shadows traced by ray query: {why}.");
+        return;
+    }
+    if s.traced.is_empty() {
+        return;
+    }
+    let _ = writeln!(
+        md,
+        "\nThe same light traced by ray query (docs/ray-traced.md): the \
+         reference's own {} rays per pixel from the same receivers through the scene's \
+         acceleration structures, relief prisms resolved by the exact height-field walk. Every \
+         receiver pixel counts, the band included. GPU ms: one dispatch over every ray, median \
+         of three.\n",
+        s.reference_rays
+    );
+    let _ = writeln!(
+        md,
+        "| caster | agreement, band included | mean abs error | acne | leaks | rays | rays per ms | prism tests | structures | build ms |"
+    );
+    let _ = writeln!(md, "|---|---|---|---|---|---|---|---|---|---|");
+    for c in &s.traced {
+        let _ = writeln!(
+            md,
+            "| {} | {:.3}% | {:.4} | {:.3}% | {:.3}% | {} | {:.0} | {} | {} triangles, {} prisms, {:.1} KiB | {:.3} |",
+            c.caster,
+            100.0 * c.hard_agreement,
+            c.mean_abs_error,
+            100.0 * c.acne,
+            100.0 * c.leaks,
+            c.rays,
+            c.rays as f64 / c.trace_ms.max(1e-9),
+            c.prisms_tested,
+            c.triangles,
+            c.prisms,
+            c.structure_bytes as f64 / 1024.0,
+            c.build_ms
         );
     }
 }

@@ -8,7 +8,7 @@ use std::sync::Arc;
 use glam::Vec3;
 use serde::Serialize;
 
-use crate::render::{trace_occlusion, OcclusionRay, RenderError, TracedScene, TracedSceneStats};
+use crate::render::{time_occlusion, OcclusionRay, RenderError, TracedScene, TracedSceneStats};
 use crate::scene::Light;
 use crate::shadow_reference::{light_samples, measure_agreement, SceneOccluders, ShadowAgreement};
 use crate::vk::Context;
@@ -16,6 +16,9 @@ use crate::vk::Context;
 /// A directional light's rays end here rather than at infinity: far beyond any scene, and a
 /// finite bound for the query.
 const FAR: f32 = 1e30;
+
+/// Dispatches timed per measurement; the time is the median's.
+const TIMED_REPEATS: u32 = 3;
 
 /// What the traced shadows scored and cost.
 #[derive(Debug, Clone, Serialize)]
@@ -34,7 +37,8 @@ pub struct TracedShadows {
     pub walk_steps: u64,
     /// Rays whose height-field walk ran out of budget.
     pub capped: usize,
-    /// GPU ms of the occlusion dispatches (debug builds run with validation).
+    /// GPU ms of one occlusion dispatch over every ray, the median of three (debug builds run
+    /// with validation).
     pub trace_ms: f64,
     /// Per pixel: the traced visible fraction (negative where `exact` is).
     #[serde(skip)]
@@ -78,7 +82,7 @@ pub fn traced_shadows(
         }
         ranges.push((start, rays.len(), samples));
     }
-    let occlusion = trace_occlusion(ctx, &scene, &rays)?;
+    let occlusion = time_occlusion(ctx, &scene, &rays, TIMED_REPEATS)?;
     let visible: Vec<f32> = ranges
         .iter()
         .zip(exact)

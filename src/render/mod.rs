@@ -82,6 +82,6 @@ pub use terrain::blended_pyramid_pass::{
 };
 pub use terrain::elevation_editor::{EditError, EditReport, ElevationEditor};
 pub use terrain::layer_paint::{LayerPainter, PaintError, PaintReport, StagedPaint};
-pub use traced::occlusion_pass::{trace_occlusion, Occlusion, OcclusionRay};
+pub use traced::occlusion_pass::{time_occlusion, trace_occlusion, Occlusion, OcclusionRay};
 pub use traced::prism_records::PrismRecord;
 pub use traced::traced_scene::{TracedScene, TracedSceneStats};

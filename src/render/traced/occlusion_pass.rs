@@ -17,8 +17,8 @@ use crate::render::shader_interface::{
     SPEC_BUDGET_MAX_STEPS, SPEC_BUDGET_REFINE_STEPS,
 };
 use crate::vk::{
-    Bind, Buffer, Context, DescriptorPool, MemoryLocation, Readback, SpecConstants, TimestampPool,
-    VkError,
+    memory_barrier, Bind, Buffer, Context, DescriptorPool, MemoryLocation, Readback, SpecConstants,
+    TimestampPool, VkError,
 };
 
 /// `local_size_x` of traced_occlusion.comp.
@@ -48,18 +48,29 @@ pub struct Occlusion {
     pub walk_steps: u64,
     /// Rays one of whose walks ran out of budget (its verdict is then the walk's best guess).
     pub capped: usize,
-    /// GPU ms of the dispatch.
+    /// GPU ms of the dispatches over all the rays (the median of the timed repeats).
     pub gpu_ms: f64,
 }
 
 /// The most rays one dispatch takes: the workgroup count every device allows in x (65535).
 const MAX_BATCH: usize = 65_535 * GROUP as usize;
 
-/// Tests every ray of `rays` against `scene`, in dispatches of at most [`MAX_BATCH`] rays.
+/// Tests every ray of `rays` against `scene`, in dispatches of at most 65,535 workgroups of 64 rays.
 pub fn trace_occlusion(
     ctx: &Arc<Context>,
     scene: &TracedScene,
     rays: &[OcclusionRay],
+) -> Result<Occlusion, RenderError> {
+    time_occlusion(ctx, scene, rays, 1)
+}
+
+/// [`trace_occlusion`] with each batch dispatched `repeats` times (at least 1) in one submission,
+/// each timed; the time is the median repeat's, for the bench.
+pub fn time_occlusion(
+    ctx: &Arc<Context>,
+    scene: &TracedScene,
+    rays: &[OcclusionRay],
+    repeats: u32,
 ) -> Result<Occlusion, RenderError> {
     // A ray query's segment must be finite, non-negative and ordered, or the shader's result is
     // undefined; no layer checks it inside the shader.
@@ -104,7 +115,7 @@ pub fn trace_occlusion(
     )?;
     let mut all = Occlusion::default();
     for batch in rays.chunks(MAX_BATCH) {
-        let part = trace_batch(ctx, scene, &pass, batch)?;
+        let part = trace_batch(ctx, scene, &pass, batch, repeats.max(1))?;
         all.blocked.extend(part.blocked);
         all.prisms_tested += part.prisms_tested;
         all.walk_steps += part.walk_steps;
@@ -114,12 +125,13 @@ pub fn trace_occlusion(
     Ok(all)
 }
 
-/// One dispatch over `rays` (at most [`MAX_BATCH`]).
+/// `repeats` dispatches over `rays` (at most `MAX_BATCH`), each timed.
 fn trace_batch(
     ctx: &Arc<Context>,
     scene: &TracedScene,
     pass: &ComputePass,
     rays: &[OcclusionRay],
+    repeats: u32,
 ) -> Result<Occlusion, RenderError> {
     let count = rays.len() as u32;
     let packed: Vec<[f32; 8]> = rays
@@ -157,30 +169,42 @@ fn trace_batch(
     let params = OcclusionParams {
         count: [count, 0, 0, 0],
     };
-    let timestamps = TimestampPool::new(ctx, 2, "traced occlusion timestamps")?;
+    let timestamps = TimestampPool::new(ctx, 2 * repeats, "traced occlusion timestamps")?;
     let compute = vk::PipelineStageFlags2::COMPUTE_SHADER;
+    let written = (compute, vk::AccessFlags2::SHADER_STORAGE_WRITE);
     ctx.one_shot(|rec| {
-        timestamps.write(rec, compute, 0)?;
-        pass.dispatch(
-            rec,
-            &set,
-            bytemuck::bytes_of(&params),
-            [count.div_ceil(GROUP), 1, 1],
-        )?;
-        timestamps.write(rec, compute, 1)?;
+        for k in 0..repeats {
+            if k > 0 {
+                // The repeats write the same results: order them as the first.
+                memory_barrier(rec, written, written);
+            }
+            timestamps.write(rec, compute, 2 * k)?;
+            pass.dispatch(
+                rec,
+                &set,
+                bytemuck::bytes_of(&params),
+                [count.div_ceil(GROUP), 1, 1],
+            )?;
+            timestamps.write(rec, compute, 2 * k + 1)?;
+        }
         results_back.record_copy_from_buffer(
             rec,
             &results,
             (compute, vk::AccessFlags2::SHADER_STORAGE_WRITE),
         )
     })?;
-    let ticks = timestamps.read_ticks(2)?;
+    let ticks = timestamps.read_ticks(2 * repeats)?;
+    let mut times: Vec<f64> = ticks
+        .chunks_exact(2)
+        .map(|t| timestamps.ticks_to_ms(t[0], t[1]))
+        .collect();
+    times.sort_by(f64::total_cmp);
     let words: Vec<[u32; 4]> = bytemuck::pod_collect_to_vec(results_back.bytes()?);
     Ok(Occlusion {
         blocked: words.iter().map(|w| w[0] != 0).collect(),
         prisms_tested: words.iter().map(|w| u64::from(w[1])).sum(),
         walk_steps: words.iter().map(|w| u64::from(w[2])).sum(),
         capped: words.iter().filter(|w| w[3] != 0).count(),
-        gpu_ms: timestamps.ticks_to_ms(ticks[0], ticks[1]),
+        gpu_ms: times[times.len() / 2],
     })
 }
