@@ -65,6 +65,7 @@ mod subgroup_steps;
 mod svg;
 mod sweep;
 mod trace_stats;
+mod traced_ao;
 mod traced_shadows;
 mod work_units;
 
@@ -127,5 +128,6 @@ pub use steps_map::StepsMap;
 pub use subgroup_steps::{subgroup_steps, TimedSteps};
 pub use sweep::{FieldSource, SweepConfig};
 pub use trace_stats::{ray_direction, trace_stats, Spread, StepStats, TraceStats};
+pub use traced_ao::{measure_traced_ao, TracedAoConfig, TracedAoRun};
 pub use traced_shadows::{traced_shadows, TracedShadows};
 pub use work_units::{work_units, StepLayout, SweepSections, WholeSection, WorkUnit};

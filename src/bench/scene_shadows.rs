@@ -164,7 +164,7 @@ pub enum SceneShadowError {
 }
 
 /// The scene, its frame height map and address for `config`.
-fn scene_of(config: &SceneShadowConfig) -> (Scene, Heightfield, Address, String) {
+pub(super) fn scene_of(config: &SceneShadowConfig) -> (Scene, Heightfield, Address, String) {
     match config.scene {
         Some(kind) => (
             shadow_scene(kind, config.elevation_deg, config.radius_deg.unwrap_or(0.0)),

@@ -29,6 +29,7 @@ mod lod_args;
 mod logger;
 mod maps;
 mod methods;
+mod occlusion;
 mod pipeline_cache;
 mod reference_args;
 mod render;
@@ -85,6 +86,9 @@ enum Command {
     Methods(methods::MethodsArgs),
     /// Check scene shadows: a frame's visible fraction of the light per pixel against the exact scene reference.
     Shadows(shadows::ShadowsArgs),
+    /// Ambient occlusion from the whole scene by ray query, against a brute-force CPU reference
+    /// on the same rays (needs ray queries).
+    Occlusion(occlusion::OcclusionArgs),
     /// Trace parallel rays on the GPU with one method and measure them against the exact reference.
     Trace(trace::TraceArgs),
     /// Show a scene in a window: orbit or fly, switch methods, shadows, AO and LOD, read GPU times.
@@ -119,6 +123,7 @@ pub fn run() -> ExitCode {
         Command::Maps(args) => maps::run(&args),
         Command::Methods(args) => methods::run(&args),
         Command::Shadows(args) => shadows::run(&args),
+        Command::Occlusion(args) => occlusion::run(&args),
         Command::Trace(args) => trace::run(&args),
         #[cfg(feature = "window")]
         Command::View(args) => view::run(&args),

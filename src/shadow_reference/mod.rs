@@ -20,6 +20,7 @@
 //! rays; `visible_fraction` counts the rays that reach the light.
 
 pub mod agreement;
+pub mod ambient;
 pub mod bvh;
 mod collect;
 pub mod light_samples;
@@ -34,6 +35,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use glam::Vec3;
 
 pub use agreement::{measure_agreement, shadow_edge_band, ShadowAgreement, Tally};
+pub use ambient::{ambient_directions, AmbientRays};
 pub use light_samples::{light_samples, LightSample};
 
 use crate::heightfield::{Address, Heightfield, HeightfieldError};
