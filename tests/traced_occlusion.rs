@@ -5,6 +5,7 @@
 mod common;
 
 use glam::Vec3;
+use relief::heightfield::Heightfield;
 use relief::render::{trace_occlusion, OcclusionRay, TracedScene};
 use relief::scene::{default_heightfield, shadow_scene, ShadowScene};
 use relief::shadow_reference::{Occluder, SceneOccluders};
@@ -34,36 +35,19 @@ fn relief_bounds(occ: &SceneOccluders) -> (Vec3, Vec3) {
 
 #[test]
 fn random_segments_meet_what_the_exact_reference_meets() {
-    let Some(ctx) = common::device("random_segments_meet_what_the_exact_reference_meets") else {
+    let Some(ctx) = common::ray_query_device("random_segments_meet_what_the_exact_reference_meets")
+    else {
         return;
     };
-    if !ctx.info().ray_query {
-        assert!(!common::under_ci(), "CI's lavapipe has ray queries");
-        eprintln!("SKIPPED: no ray queries");
-        return;
-    }
-    let mut rng = Rng(7);
-    for kind in [ShadowScene::SlabOverPlane, ShadowScene::BoxOverRelief] {
+    for (kind, seed) in [
+        (ShadowScene::SlabOverPlane, 7),
+        (ShadowScene::BoxOverRelief, 8),
+    ] {
         let occ = occluders(kind);
         let traced = TracedScene::new(&ctx, &occ).expect("structures");
         // Aimed at points around the relief, from anywhere about the scene, ending short of
         // their target or past it.
-        let (lo, hi) = relief_bounds(&occ);
-        let rays: Vec<OcclusionRay> = (0..4096)
-            .map(|_| {
-                let mut v = || rng.range(-1.0, 1.0) as f32;
-                let origin = Vec3::new(3.0 * v(), 0.2 + 2.5 * (v() + 1.0), 3.0 * v());
-                let t = Vec3::new(rng.next() as f32, rng.next() as f32, rng.next() as f32);
-                let target = lo + (hi - lo) * t;
-                let dir = (target - origin).normalize_or(Vec3::NEG_Y);
-                OcclusionRay {
-                    origin,
-                    t_min: 0.0,
-                    dir,
-                    t_max: 2.0 * target.distance(origin) * (rng.next() as f32),
-                }
-            })
-            .collect();
+        let rays = aimed_rays(&occ, seed);
         let gpu = trace_occlusion(&ctx, &traced, &rays).expect("traced");
         let cpu: Vec<bool> = rays
             .iter()
@@ -88,16 +72,75 @@ fn random_segments_meet_what_the_exact_reference_meets() {
     common::assert_no_validation_errors(&ctx);
 }
 
+/// 4,096 segments aimed at the relief of `occ` from about the scene (seeded).
+fn aimed_rays(occ: &SceneOccluders, seed: u64) -> Vec<OcclusionRay> {
+    let mut rng = Rng(seed);
+    let (lo, hi) = relief_bounds(occ);
+    (0..4096)
+        .map(|_| {
+            let mut v = || rng.range(-1.0, 1.0) as f32;
+            let origin = Vec3::new(3.0 * v(), 0.2 + 2.5 * (v() + 1.0), 3.0 * v());
+            let t = Vec3::new(rng.next() as f32, rng.next() as f32, rng.next() as f32);
+            let target = lo + (hi - lo) * t;
+            let dir = (target - origin).normalize_or(Vec3::NEG_Y);
+            OcclusionRay {
+                origin,
+                t_min: 0.0,
+                dir,
+                t_max: 2.0 * target.distance(origin) * (rng.next() as f32),
+            }
+        })
+        .collect()
+}
+
 #[test]
-fn no_ray_slips_between_two_relief_triangles() {
-    let Some(ctx) = common::device("no_ray_slips_between_two_relief_triangles") else {
+fn an_edit_of_the_heights_is_traced_next_without_touching_a_structure() {
+    let Some(ctx) = common::ray_query_device("an_edit_of_the_heights_is_traced_next") else {
         return;
     };
-    if !ctx.info().ray_query {
-        assert!(!common::under_ci(), "CI's lavapipe has ray queries");
-        eprintln!("SKIPPED: no ray queries");
+    let kind = ShadowScene::SlabOverPlane;
+    let before = occluders(kind);
+    let mut traced = TracedScene::new(&ctx, &before).expect("structures");
+    let stats = traced.stats();
+    // The edit: the bricks' relief inverted, mortar raised and bricks sunk.
+    let field = default_heightfield().quantized_unorm16();
+    let inverted: Vec<f32> = field.data().iter().map(|h| 1.0 - h).collect();
+    let edited = Heightfield::new(field.width(), field.height(), inverted).expect("heights");
+    let scene = shadow_scene(kind, 25.0, 0.0);
+    let after = SceneOccluders::new(&scene, Some(&edited), kind.address()).expect("occluders");
+    let rays = aimed_rays(&before, 5);
+    let old = trace_occlusion(&ctx, &traced, &rays).expect("traced");
+    let ms = traced.set_heights(&ctx, &edited).expect("edited");
+    let new = trace_occlusion(&ctx, &traced, &rays).expect("traced");
+    let cpu: Vec<bool> = rays
+        .iter()
+        .map(|r| after.any_hit(r.origin, r.dir, r.t_max))
+        .collect();
+    let agree = new.blocked.iter().zip(&cpu).filter(|(g, c)| g == c).count();
+    let changed = new
+        .blocked
+        .iter()
+        .zip(&old.blocked)
+        .filter(|(a, b)| a != b)
+        .count();
+    eprintln!(
+        "edit in {ms:.2} ms: {changed} verdicts changed; {agree} of {} agree",
+        rays.len()
+    );
+    assert!(
+        changed > 50,
+        "the edit changes what the rays meet: {changed}"
+    );
+    assert!(agree >= rays.len() - 4, "{agree} of {}", rays.len());
+    assert_eq!(traced.stats(), stats, "no structure was rebuilt");
+    common::assert_no_validation_errors(&ctx);
+}
+
+#[test]
+fn no_ray_slips_between_two_relief_triangles() {
+    let Some(ctx) = common::ray_query_device("no_ray_slips_between_two_relief_triangles") else {
         return;
-    }
+    };
     let occ = occluders(ShadowScene::SlabOverPlane);
     let shells: Vec<[Vec3; 3]> = occ
         .occluders()
@@ -155,13 +198,9 @@ fn no_ray_slips_between_two_relief_triangles() {
 
 #[test]
 fn a_segment_that_is_no_segment_is_refused() {
-    let Some(ctx) = common::device("a_segment_that_is_no_segment_is_refused") else {
+    let Some(ctx) = common::ray_query_device("a_segment_that_is_no_segment_is_refused") else {
         return;
     };
-    if !ctx.info().ray_query {
-        eprintln!("SKIPPED: no ray queries");
-        return;
-    }
     let traced = TracedScene::new(&ctx, &occluders(ShadowScene::BoxOverPlane)).expect("built");
     let good = OcclusionRay {
         origin: Vec3::new(0.0, 3.0, 0.0),

@@ -39,23 +39,10 @@ fn run(ctx: &std::sync::Arc<relief::vk::Context>, config: &SceneShadowConfig) ->
     run
 }
 
-fn ray_queries(test: &str) -> Option<std::sync::Arc<relief::vk::Context>> {
-    let ctx = common::device(test)?;
-    if !ctx.info().ray_query {
-        assert!(
-            !common::under_ci(),
-            "CI's lavapipe has ray queries; {} has none",
-            ctx.info().name
-        );
-        eprintln!("SKIPPED: {} has no ray queries", ctx.info().name);
-        return None;
-    }
-    Some(ctx)
-}
-
 #[test]
 fn traced_hard_shadows_agree_with_the_exact_reference_everywhere() {
-    let Some(ctx) = ray_queries("traced_hard_shadows_agree_with_the_exact_reference") else {
+    let Some(ctx) = common::ray_query_device("traced_hard_shadows_agree_with_the_exact_reference")
+    else {
         return;
     };
     for scene in ShadowScene::ALL {
@@ -88,7 +75,7 @@ fn traced_hard_shadows_agree_with_the_exact_reference_everywhere() {
 
 #[test]
 fn traced_soft_shadows_follow_the_reference_sample_for_sample() {
-    let Some(ctx) = ray_queries("traced_soft_shadows_follow_the_reference") else {
+    let Some(ctx) = common::ray_query_device("traced_soft_shadows_follow_the_reference") else {
         return;
     };
     for scene in [ShadowScene::SlabOverPlane, ShadowScene::BoxOverRelief] {

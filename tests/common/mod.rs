@@ -57,6 +57,22 @@ pub fn device(test: &str) -> Option<Arc<Context>> {
     device_with(test, &ContextOptions::default())
 }
 
+/// [`device`] with ray queries, or `None` (the test says it skipped) on a device without them;
+/// under CI, whose lavapipe has them, their absence fails the test.
+pub fn ray_query_device(test: &str) -> Option<Arc<Context>> {
+    let ctx = device(test)?;
+    if !ctx.info().ray_query {
+        assert!(
+            !under_ci(),
+            "{test}: CI's lavapipe has ray queries; {} has none",
+            ctx.info().name
+        );
+        eprintln!("SKIPPED: {} has no ray queries ({test})", ctx.info().name);
+        return None;
+    }
+    Some(ctx)
+}
+
 /// [`device`] with explicit options.
 pub fn device_with(test: &str, options: &ContextOptions) -> Option<Arc<Context>> {
     match Context::new(options) {

@@ -37,6 +37,7 @@ pub struct TracedScene {
     bottoms: Vec<AccelerationStructure>,
     records: Buffer,
     heights: HeightResources,
+    address: Address,
     stats: TracedSceneStats,
 }
 
@@ -126,16 +127,7 @@ impl TracedScene {
                 Address::Repeat,
             ),
         };
-        let heights = HeightResources::new(
-            ctx,
-            &field,
-            HeightFormat::R16Unorm,
-            address,
-            None,
-            // A traversal reads nothing of the uniforms but the height info, filled in here.
-            bytemuck::Zeroable::zeroed(),
-        )?;
-        ctx.one_shot(|rec| heights.record_pyramid(rec))?;
+        let heights = upload_heights(ctx, &field, address)?;
         let all = || std::iter::once(&top).chain(&bottoms);
         let stats = TracedSceneStats {
             triangles: indices.len() / 3,
@@ -148,8 +140,23 @@ impl TracedScene {
             bottoms,
             records: records_buffer,
             heights,
+            address,
             stats,
         })
+    }
+
+    /// Replaces the relief's height map (an edit, or a map of another size) and returns the host
+    /// milliseconds it took. A prism's box spans its whole depth range and its frame comes from
+    /// its triangle, so neither depends on the heights: no structure is rebuilt or refitted, and
+    /// the next trace reads the new map (and its max pyramid, built here).
+    pub fn set_heights(
+        &mut self,
+        ctx: &Arc<Context>,
+        heights: &Heightfield,
+    ) -> Result<f64, RenderError> {
+        let start = std::time::Instant::now();
+        self.heights = upload_heights(ctx, heights, self.address)?;
+        Ok(start.elapsed().as_secs_f64() * 1e3)
     }
 
     /// What the scene holds and what building it cost.
@@ -173,4 +180,23 @@ impl TracedScene {
     pub fn bottom_levels(&self) -> usize {
         self.bottoms.len()
     }
+}
+
+/// `field` on the GPU, quantized to unorm16 as the reference reads it, with its max pyramid built.
+fn upload_heights(
+    ctx: &Arc<Context>,
+    field: &Heightfield,
+    address: Address,
+) -> Result<HeightResources, RenderError> {
+    let heights = HeightResources::new(
+        ctx,
+        field,
+        HeightFormat::R16Unorm,
+        address,
+        None,
+        // A traversal reads nothing of the uniforms but the height info, filled in here.
+        bytemuck::Zeroable::zeroed(),
+    )?;
+    ctx.one_shot(|rec| heights.record_pyramid(rec))?;
+    Ok(heights)
 }
