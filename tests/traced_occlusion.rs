@@ -238,3 +238,56 @@ fn a_segment_that_is_no_segment_is_refused() {
     }
     common::assert_no_validation_errors(&ctx);
 }
+
+#[test]
+fn stiff_fields_and_depths_meet_what_the_reference_meets() {
+    let Some(ctx) =
+        common::ray_query_device("stiff_fields_and_depths_meet_what_the_reference_meets")
+    else {
+        return;
+    };
+    let kind = ShadowScene::SlabOverPlane;
+    let mut spike = vec![0.0; 64 * 64];
+    spike[31 * 64 + 31] = 1.0;
+    let fields = [
+        ("1x1", Heightfield::new(1, 1, vec![0.5]).expect("1x1"), 1.0),
+        (
+            "spike",
+            Heightfield::new(64, 64, spike).expect("spike"),
+            1.0,
+        ),
+        ("deep", default_heightfield(), 8.0),
+        ("shallow", default_heightfield(), 0.01),
+    ];
+    for (name, field, depth_factor) in fields {
+        let mut scene = shadow_scene(kind, 25.0, 0.0);
+        for m in &mut scene.materials {
+            if let Some(relief) = &mut m.relief {
+                relief.depth_scale *= depth_factor;
+            }
+        }
+        let field = field.quantized_unorm16();
+        let occ = SceneOccluders::new(&scene, Some(&field), kind.address()).expect("occluders");
+        let traced = TracedScene::new(&ctx, &occ).expect("structures");
+        let rays = aimed_rays(&occ, 3);
+        let gpu = trace_occlusion(&ctx, &traced, &rays).expect("traced");
+        let agree = rays
+            .iter()
+            .zip(&gpu.blocked)
+            .filter(|(r, &g)| occ.any_hit(r.origin, r.dir, r.t_max) == g)
+            .count();
+        eprintln!(
+            "{name}: {agree} of {} agree, {} capped, {} prism tests",
+            rays.len(),
+            gpu.capped,
+            gpu.prisms_tested
+        );
+        assert!(agree >= rays.len() - 4, "{name}: {agree} of {}", rays.len());
+        // A walk that runs out of its budget (maxmip's, which grows with the texels a ray
+        // crosses up to its limit) says so; only the deep field's grazing rays may.
+        let allowed = if depth_factor > 1.0 { 4 } else { 0 };
+        assert!(gpu.capped <= allowed, "{name}: {} capped", gpu.capped);
+        assert!(gpu.prisms_tested > 0, "{name}");
+    }
+    common::assert_no_validation_errors(&ctx);
+}
