@@ -146,6 +146,14 @@ fn explain_prints_the_plan() {
         "--explain carries the device block: {}",
         plan["device"]
     );
+    // It says whether the frame traces by ray query, and why not.
+    let rays = &plan["ray_queries"];
+    assert_eq!(rays["available"], plan["device"]["ray_query"], "{rays}");
+    assert_eq!(rays["used_by_frame"], false, "{rays}");
+    assert!(
+        rays["why"].as_str().is_some_and(|w| w.contains("raster")),
+        "{rays}"
+    );
     let shaders: Vec<&str> = plan["pipelines"]
         .as_array()
         .expect("pipelines")

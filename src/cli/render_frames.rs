@@ -301,6 +301,7 @@ pub fn run_frames(
             &created,
         );
         value["device"] = json!(ctx.info());
+        value["ray_queries"] = ray_query_note(ctx);
         value["graph"] = json!(renderer.graph());
         if edited {
             value["edits"] = edits_json(renderer, &drawn.edits);
@@ -642,4 +643,21 @@ mod tests {
             "{quarter}"
         );
     }
+}
+
+/// What `--explain` says of ray queries: the frame draws with rasterisation either way, and
+/// where the device has them, which commands trace with them.
+fn ray_query_note(ctx: &relief::vk::Context) -> serde_json::Value {
+    let available = ctx.info().ray_query;
+    json!({
+        "available": available,
+        "used_by_frame": false,
+        "why": if available {
+            "the frame's shadows come from shadow maps and its surfaces from the raster passes; \
+             `relief shadows --traced` and `relief occlusion` trace by ray query"
+        } else {
+            "the device has no VK_KHR_ray_query and VK_KHR_acceleration_structure (or \
+             RELIEF_RAY_QUERIES=0): the raster paths draw everything"
+        },
+    })
 }
