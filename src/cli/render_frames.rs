@@ -594,6 +594,23 @@ fn methods_drawn(renderer: &Renderer) -> String {
     }
 }
 
+/// What `--explain` says of ray queries: the frame draws with rasterisation either way, and
+/// where the device has them, which commands trace with them.
+fn ray_query_note(ctx: &relief::vk::Context) -> serde_json::Value {
+    let available = ctx.info().ray_query;
+    json!({
+        "available": available,
+        "used_by_frame": false,
+        "why": if available {
+            "the frame's shadows come from shadow maps and its surfaces from the raster passes; \
+             `relief shadows --traced` and `relief occlusion` trace by ray query"
+        } else {
+            "the device has no VK_KHR_ray_query and VK_KHR_acceleration_structure (or \
+             RELIEF_RAY_QUERIES=0): the raster paths draw everything"
+        },
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -643,21 +660,4 @@ mod tests {
             "{quarter}"
         );
     }
-}
-
-/// What `--explain` says of ray queries: the frame draws with rasterisation either way, and
-/// where the device has them, which commands trace with them.
-fn ray_query_note(ctx: &relief::vk::Context) -> serde_json::Value {
-    let available = ctx.info().ray_query;
-    json!({
-        "available": available,
-        "used_by_frame": false,
-        "why": if available {
-            "the frame's shadows come from shadow maps and its surfaces from the raster passes; \
-             `relief shadows --traced` and `relief occlusion` trace by ray query"
-        } else {
-            "the device has no VK_KHR_ray_query and VK_KHR_acceleration_structure (or \
-             RELIEF_RAY_QUERIES=0): the raster paths draw everything"
-        },
-    })
 }
