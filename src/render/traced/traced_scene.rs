@@ -24,9 +24,9 @@ pub struct TracedSceneStats {
     pub triangles: usize,
     /// Relief prisms, one box each.
     pub prisms: usize,
-    /// Bytes of all three structures.
+    /// Bytes of all the structures (the top level and one or two bottom levels).
     pub structure_bytes: u64,
-    /// GPU ms of all three builds.
+    /// GPU ms of all their builds.
     pub build_ms: f64,
 }
 
