@@ -11,6 +11,7 @@ pub(in crate::render) mod frame_timeline;
 pub(in crate::render) mod gbuffer;
 mod height_upload;
 pub(in crate::render) mod material_set;
+mod mesh_draws;
 pub(in crate::render) mod mesh_pipeline;
 pub(in crate::render) mod occluders;
 mod record_graph;

@@ -6,7 +6,7 @@ use std::sync::Arc;
 use glam::Vec3;
 
 use super::draw_bounds::points_bounds;
-use super::surface_pass::mesh_buffers;
+use super::mesh_draws::mesh_buffers;
 use crate::heightfield::Address;
 use crate::scene::{MaterialHeights, Mesh, Scene};
 use crate::shells::{ShellMesh, ShellVertex};

@@ -1,35 +1,35 @@
-//! The surface pass: mesh buffers, set 0 per height map and frame slot (frame uniforms, heights,
-//! the method's map) plus a plain one per slot, set 1 per material, the pipelines the plan lists,
-//! and the draw recording with dynamic rendering: opaque draws first, then blended ones back to
-//! front. Everything here is built once per scene; a frame only rewrites its slot's uniforms.
+//! The surface pass: set 0 per height map and frame slot (frame uniforms, heights, the method's
+//! map) plus a plain one per slot, set 1 per material, the pipelines the plan lists, its draws
+//! (`mesh_draws`: uploaded meshes and shells with their sets), and the draw recording with
+//! dynamic rendering: opaque draws first, then blended ones back to front. Everything here is
+//! built once per scene; a frame only rewrites its slot's uniforms.
 
 use std::sync::Arc;
 
 use ash::vk;
-use glam::{Mat4, Vec3};
+use glam::Vec3;
 
 use super::draw_bounds::{mesh_bounds, world_bounds};
 use super::material_set::MaterialSets;
+use super::mesh_draws::{mesh_draws, MeshDraw};
 use super::mesh_pipeline::{create_pipeline, MeshStages};
-use super::occluders::{occluder_layout, occluder_taps, occludes};
+use super::occluders::{occluder_layout, occluder_taps};
 use super::scene_ao::SceneAo;
 use super::scene_textures::SceneTextures;
-use super::shell_draw::{upload_shell, BuiltShell};
+use super::shell_draw::BuiltShell;
 use super::work_counters::WorkCounterBuffer;
 use crate::render::environment::{stand_in_binds, EnvironmentLight};
 use crate::render::heights::height_resources::HeightResources;
 use crate::render::kit::caster_draws::CasterDraws;
-use crate::render::kit::draw_push::DrawPush;
 use crate::render::kit::formats::scene_extra_formats;
 use crate::render::kit::frame_uniforms::FrameUniforms;
 use crate::render::kit::set_layouts::{material_layout, plain_frame_layout, set0_layout};
-use crate::render::plan::frame_plan::{DrawPlan, DrawRole, PipelineKey, Plan};
+use crate::render::plan::frame_plan::{PipelineKey, Plan};
 use crate::render::shader_interface::{
     BINDING_FRAME, BINDING_HEIGHT_LINEAR, BINDING_HEIGHT_MEAN, BINDING_HEIGHT_POINT,
     BINDING_METHOD_MAP, BINDING_OCCLUDER_BOUNDS, BINDING_WORK_COUNTS, SET_OCCLUDERS,
 };
 use crate::render::shadows::shadow_atlas::ShadowAtlas;
-use crate::render::shadows::shadow_plan::relief_pad;
 use crate::render::shadows::shadow_plan::shadow_filter_max;
 use crate::render::terrain::layer_set::{layer_layout, LayerSets};
 use crate::scene::{Frustum, Mesh, Scene};
@@ -37,35 +37,6 @@ use crate::vk::{
     Bind, Buffer, Context, DescriptorLayout, DescriptorPool, DescriptorSet, ImageView, Pipeline,
     Recording, Sampler, VkError, VkResult,
 };
-
-/// A draw's set 0 per frame slot, its material's set and its layers' set.
-type DrawSets = (Vec<DescriptorSet>, DescriptorSet, Option<DescriptorSet>);
-
-struct MeshDraw {
-    /// The scene mesh it draws.
-    mesh: usize,
-    vertices: Buffer,
-    indices: Buffer,
-    index_count: u32,
-    pipeline: usize,
-    /// Set 0 per frame slot.
-    frame_sets: Vec<DescriptorSet>,
-    material_set: DescriptorSet,
-    /// Set 2 of layered materials.
-    layer_set: Option<DescriptorSet>,
-    push: DrawPush,
-    blend: bool,
-    center: Vec3,
-    /// World-space bounds, to skip the draw when the view cannot see them.
-    bounds: (Vec3, Vec3),
-    /// How far its relief may reach past `bounds`, in world units: a caster's shadow views test
-    /// the bounds grown by it.
-    caster_pad: f32,
-    /// Whether the surface pass shades it (else it only casts).
-    shaded: bool,
-    /// Whether the occluder pass draws it: shaded, opaque, never cut away.
-    occludes: bool,
-}
 
 /// Everything the surface pass needs for one scene.
 pub struct SurfacePass {
@@ -174,77 +145,6 @@ fn layered_materials(scene: &Scene, plan: &Plan) -> Vec<bool> {
     layered
 }
 
-/// The draws `plan` lists, each with its uploaded mesh and its sets: set 0 per frame slot
-/// (`height_sets[k]` for height map `k`, else `plain_sets`), the material's and its layers'; and the
-/// meshes drawn as prism shells.
-fn mesh_draws(
-    ctx: &Arc<Context>,
-    scene: &Scene,
-    plan: &Plan,
-    height_sets: &[Vec<DescriptorSet>],
-    plain_sets: &[DescriptorSet],
-    materials: &MaterialSets,
-    layers: &LayerSets,
-) -> VkResult<(Vec<MeshDraw>, Vec<BuiltShell>)> {
-    let mut draws = Vec::with_capacity(plan.draws.len());
-    let mut shells = Vec::new();
-    // Once for the scene: it reads every vertex.
-    let caster_pad = relief_pad(scene);
-    for d in &plan.draws {
-        let mesh = &scene.meshes[d.mesh];
-        let frame_sets = match d.heights {
-            Some(k) => height_sets[k].clone(),
-            None if !plain_sets.is_empty() => plain_sets.to_vec(),
-            None => return Err(VkError::Invalid("no plain frame set".into())),
-        };
-        let material_set = materials
-            .set(d.material)
-            .ok_or_else(|| VkError::Invalid(format!("material {} has no set", d.material)))?;
-        let layer_set = layers
-            .set(d.material)
-            .filter(|_| plan.pipelines[d.pipeline].layers);
-        let key = &plan.pipelines[d.pipeline];
-        let sets = (frame_sets, material_set, layer_set);
-        let draw = if key.shells {
-            let (draw, built) = MeshDraw::shell(ctx, scene, mesh, d, key, sets)?;
-            // A caster-only draw of the same mesh shares its shell's description.
-            if d.role == DrawRole::Surface {
-                shells.push(built);
-            }
-            draw
-        } else {
-            MeshDraw::new(ctx, mesh, d, key, sets)?
-        };
-        let mut draw = draw.with_caster_pad(caster_pad);
-        draw.occludes = plan.occluders && occludes(scene, d, key);
-        draws.push(draw);
-    }
-    Ok((draws, shells))
-}
-
-/// A draw's vertex buffer (`vertices`, as bytes) and index buffer, named after `name`.
-pub(super) fn mesh_buffers(
-    ctx: &Arc<Context>,
-    vertices: &[u8],
-    indices: &[u32],
-    name: &str,
-) -> VkResult<(Buffer, Buffer)> {
-    Ok((
-        Buffer::with_data(
-            ctx,
-            vertices,
-            vk::BufferUsageFlags::VERTEX_BUFFER,
-            &format!("{name} vertices"),
-        )?,
-        Buffer::with_data(
-            ctx,
-            bytemuck::cast_slice(indices),
-            vk::BufferUsageFlags::INDEX_BUFFER,
-            &format!("{name} indices"),
-        )?,
-    ))
-}
-
 /// The uniforms of the plain set 0, one buffer per frame slot.
 fn plain_uniform_buffers(
     ctx: &Arc<Context>,
@@ -261,80 +161,6 @@ fn plain_uniform_buffers(
             )
         })
         .collect::<VkResult<Vec<_>>>()
-}
-
-impl MeshDraw {
-    /// Uploads `mesh`'s vertices and indices for draw `d` with pipeline `key`.
-    fn new(
-        ctx: &Arc<Context>,
-        mesh: &Mesh,
-        d: &DrawPlan,
-        key: &PipelineKey,
-        (frame_sets, material_set, layer_set): DrawSets,
-    ) -> VkResult<MeshDraw> {
-        let (lo, hi) = mesh_bounds(&mesh.vertices);
-        let (vertices, indices) = mesh_buffers(
-            ctx,
-            bytemuck::cast_slice(&mesh.vertices),
-            &mesh.indices,
-            &mesh.name,
-        )?;
-        Ok(MeshDraw {
-            mesh: d.mesh,
-            vertices,
-            indices,
-            index_count: mesh.indices.len() as u32,
-            pipeline: d.pipeline,
-            frame_sets,
-            material_set,
-            layer_set,
-            push: DrawPush::of(mesh.transform).for_mesh(d.mesh),
-            blend: key.blend,
-            center: mesh.transform.transform_point3((lo + hi) * 0.5),
-            bounds: world_bounds(mesh.transform, lo, hi),
-            caster_pad: 0.0,
-            shaded: d.role == DrawRole::Surface,
-            occludes: false,
-        })
-    }
-
-    /// Uploads `mesh`'s prism shell for draw `d` with pipeline `key` (a `:shells` variant), in
-    /// world space, so the draw's transform is the identity.
-    fn shell(
-        ctx: &Arc<Context>,
-        scene: &Scene,
-        mesh: &Mesh,
-        d: &DrawPlan,
-        key: &PipelineKey,
-        (frame_sets, material_set, layer_set): DrawSets,
-    ) -> VkResult<(MeshDraw, BuiltShell)> {
-        let shell = upload_shell(ctx, scene, mesh, d.material)?;
-        let (lo, hi) = shell.bounds;
-        let draw = MeshDraw {
-            mesh: d.mesh,
-            vertices: shell.vertices,
-            indices: shell.indices,
-            index_count: shell.index_count,
-            pipeline: d.pipeline,
-            frame_sets,
-            material_set,
-            layer_set,
-            push: DrawPush::of(Mat4::IDENTITY).for_mesh(d.mesh),
-            blend: key.blend,
-            center: (lo + hi) * 0.5,
-            bounds: (lo, hi),
-            caster_pad: 0.0,
-            shaded: d.role == DrawRole::Surface,
-            occludes: false,
-        };
-        Ok((draw, shell.built))
-    }
-
-    /// The draw as a caster whose relief reaches `pad` past its bounds.
-    fn with_caster_pad(mut self, pad: f32) -> MeshDraw {
-        self.caster_pad = pad;
-        self
-    }
 }
 
 fn frame_layouts(ctx: &Arc<Context>) -> VkResult<FrameLayouts> {
