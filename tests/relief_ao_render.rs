@@ -4,7 +4,7 @@
 
 mod common;
 
-use relief::render::{render, Pass, RenderOptions, ShadowOptions, ToneMapping};
+use relief::render::{render, Lighting, Pass, RenderOptions, ShadowOptions, ToneMapping};
 use relief::scene::{default_heightfield, default_scene, AoMode, DEFAULT_SCENE_METHOD};
 
 const OPTS: RenderOptions = RenderOptions {
@@ -25,6 +25,7 @@ const OPTS: RenderOptions = RenderOptions {
     occluders: true,
     gbuffer: false,
     count_work: false,
+    lighting: Lighting::Forward,
 };
 
 #[test]

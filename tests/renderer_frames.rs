@@ -6,7 +6,7 @@ mod common;
 
 use relief::method::Method;
 use relief::render::{
-    render, FrameRequest, Pass, RenderOptions, Renderer, ShadowOptions, ToneMapping,
+    render, FrameRequest, Lighting, Pass, RenderOptions, Renderer, ShadowOptions, ToneMapping,
 };
 use relief::scene::{default_heightfield, default_scene};
 
@@ -28,6 +28,7 @@ const OPTS: RenderOptions = RenderOptions {
     occluders: true,
     gbuffer: false,
     count_work: false,
+    lighting: Lighting::Forward,
 };
 
 #[test]

@@ -22,6 +22,8 @@
 #include "punctual.glsl"
 #include "scene_shadows.glsl"
 #include "environment_light.glsl"
+#include "direct_light.glsl"
+#include "octahedral.glsl"
 #ifndef PLAIN_SURFACE
 #include "heightfield.glsl"
 #include "relief_frame.glsl"
@@ -57,6 +59,14 @@ layout(location = 1) out vec4 out_gbuffer_normal;
 layout(location = 2) out uvec4 out_gbuffer_surface;
 layout(location = 3) out vec4 out_gbuffer_material;
 layout(location = 4) out vec4 out_gbuffer_motion;
+// The deferred frame's shading inputs (src/render/lighting/): what the lighting pass needs
+// beyond the G-buffer, written only by deferred variants.
+layout(location = 5) out vec4 out_shading_point;
+layout(location = 6) out uvec4 out_shading_frame;
+layout(location = 7) out vec4 out_shading_self_shadow;
+// 1: the fragment writes its shading inputs and its emission, and the lighting pass
+// (lighting.comp) lights it once the scene is drawn; 0: it is lit here.
+layout(constant_id = SPEC_DEFERRED) const uint DEFERRED = 0u;
 #ifndef PLAIN_SURFACE
 // The written depth is only ever behind the polygon's (see main), so the rasterizer may still
 // reject fragments early against the polygon's depth.
@@ -195,31 +205,31 @@ void shade() {
     float metallic = m.metallic;
 
     vec3 v = -view;
-    vec3 color = ambient_light(base.rgb, roughness, metallic, normal, v, occlusion) + emissive;
+    // The light from above the polygon is answered by the maps from where the ray toward it
+    // leaves the relief's top plane: the hit's depth below that plane, in world units.
+#ifndef PLAIN_SURFACE
+    float lift = z * f.depth_len;
+#else
+    float lift = 0.0;
+#endif
+    vec4 self_shadow = vec4(1.0);
+    DirectSum direct = DirectSum(vec3(0.0), 0.0, 0.0);
+    vec3 color = emissive;
     vec4 probe = vec4(0.0, 0.0, 0.0, 1.0);
-    // The G-buffer's shadow: the direct light arriving, each light weighed by how much of it
-    // the surface would receive unshadowed.
-    float direct_unshadowed = 0.0;
-    float direct_arriving = 0.0;
+    if (DEFERRED == 0u) {
+        color += ambient_light(base.rgb, roughness, metallic, normal, v, occlusion);
+    }
     for (int i = 0; i < min(frame.counts.x, MAX_LIGHTS); ++i) {
         float attenuation;
         vec3 l = light_toward(i, world, attenuation);
         bool facing = dot(normal, l) > 0.0 && attenuation > 0.0;
         bool probed = frame.counts.y == i + 1;
+        if (DEFERRED != 0u && i >= DEFERRED_SELF_SHADOW_LIGHTS) {
+            break;
+        }
         if (!facing && !probed) {
             continue;
         }
-        // The rule that keeps a blocker from darkening twice: the maps answer for the light's
-        // path above the polygon (from where the ray from the hit leaves the relief's top
-        // plane), the height field's own shadows for the path below it; the two multiply.
-        vec3 above = world;
-#ifndef PLAIN_SURFACE
-        float rise = dot(n, l);
-        if (rise > 1e-3) {
-            above = world + l * (z * f.depth_len / rise);
-        }
-#endif
-        float lit_map = scene_shadow(i, above, face, l);
         float lit_self = 1.0;
 #ifndef PLAIN_SURFACE
         if (SHADOW_MODE != 0u && frame.lights[i].color.w > 0.5) {
@@ -244,6 +254,15 @@ void shade() {
 #endif
         }
 #endif
+        if (DEFERRED != 0u) {
+            // The maps are looked up by the lighting pass, once per pixel.
+            self_shadow[i] = lit_self;
+            continue;
+        }
+        // The rule that keeps a blocker from darkening twice: the maps answer for the light's
+        // path above the polygon, the height field's own shadows for the path below it; the
+        // two multiply.
+        float lit_map = scene_shadow(i, map_shadow_point(world, n, l, lift), face, l);
         if (probed) {
             // Alpha 0 flags a term that is not a number, which 8 bits could not show.
             bool finite = !(isnan(lit_map) || isinf(lit_map) || isnan(lit_self) || isinf(lit_self));
@@ -252,13 +271,10 @@ void shade() {
         if (!facing) {
             continue;
         }
-        vec3 radiance = frame.lights[i].color.rgb * (attenuation * lit_map * lit_self);
-        color += shade_ggx(base.rgb, roughness, metallic, normal, v, l, radiance);
-        float weight = dot(frame.lights[i].color.rgb, vec3(0.2126, 0.7152, 0.0722))
-                     * attenuation * max(dot(normal, l), 0.0);
-        direct_unshadowed += weight;
-        direct_arriving += weight * lit_map * lit_self;
+        add_direct_light(direct, i, attenuation, lit_map * lit_self, base.rgb, roughness,
+                         metallic, normal, v, l);
     }
+    color += direct.radiance;
     out_gbuffer_normal = vec4(normal, 1.0);
     uint surface_ids = (draw.extra.y & 0xffffu) | (min(traced_steps, 0xffffu) << 16);
     // The depth and motion of the point the depth buffer holds: the hit, or with the
@@ -275,8 +291,14 @@ void shade() {
     vec4 now = frame.view_proj * vec4(depth_point, 1.0);
     vec4 before = frame.previous_view_proj * vec4(depth_point, 1.0);
     vec2 motion = (now.xy / now.w - before.xy / before.w) * 0.5 * frame.viewport.xy;
-    float lit = direct_unshadowed > 0.0 ? direct_arriving / direct_unshadowed : 1.0;
-    out_gbuffer_motion = vec4(motion, lit, 0.0);
+    out_gbuffer_motion = vec4(motion, direct_lit_share(direct), 0.0);
+    if (DEFERRED != 0u) {
+        // w: 1 + lift, so a cleared texel (0) reads as "nothing deferred here".
+        out_shading_point = vec4(world, 1.0 + lift);
+        out_shading_frame = uvec4(pack_direction(normal), pack_direction(face), pack_direction(n),
+                                  packUnorm2x16(vec2(roughness, metallic)));
+        out_shading_self_shadow = self_shadow;
+    }
     if (frame.counts.y > 0) {
         out_color = probe;
         return;

@@ -15,8 +15,8 @@ use crate::environment::EnvironmentSource;
 use crate::heightfield::{Address, Generator, Heightfield};
 use crate::method::Method;
 use crate::render::{
-    FrameRequest, HeightFormat, Pass, RenderError, RenderOptions, Renderer, ShadowOptions,
-    ToneMapping,
+    FrameRequest, HeightFormat, Lighting, Pass, RenderError, RenderOptions, Renderer,
+    ShadowOptions, ToneMapping,
 };
 use crate::scene::{quad_mesh, Camera, Light, Lod, Material, Relief, Scene};
 use crate::vk::Context;
@@ -256,6 +256,7 @@ pub fn render_interleaved(
         occluders: true,
         gbuffer: false,
         count_work: false,
+        lighting: Lighting::Forward,
     };
     let mut renderers = scenes
         .iter()

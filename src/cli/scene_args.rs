@@ -10,7 +10,7 @@ use relief::environment::{Background, EnvironmentSource};
 use relief::heightfield::{Address, Heightfield, MAX_SIDE};
 use relief::method::Method;
 use relief::render::{
-    HeightFormat, RenderOptions, ToneMap, ToneMapping, MAX_SUPERSAMPLE, SAMPLE_COUNTS,
+    HeightFormat, Lighting, RenderOptions, ToneMap, ToneMapping, MAX_SUPERSAMPLE, SAMPLE_COUNTS,
 };
 use relief::scene::{
     default_heightfield, default_scene, load_gltf_with_report, Scene, SceneOptions,
@@ -33,6 +33,13 @@ use super::usage;
 pub enum Toggle {
     On,
     Off,
+}
+
+/// Where surfaces are lit (`--lighting`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum LightingArg {
+    Forward,
+    Deferred,
 }
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -95,6 +102,16 @@ pub struct SceneArgs {
     /// is the same); off traces every relief fragment (the forward reference).
     #[arg(long, value_enum, value_name = "on|off", default_value = "on")]
     occluders: Toggle,
+    /// Where surfaces are lit: forward lights each fragment as it is drawn (the reference);
+    /// deferred writes shading inputs beside the G-buffer and lights each pixel once after the
+    /// scene is drawn (one sample per pixel: with --msaa 1).
+    #[arg(
+        long,
+        value_enum,
+        value_name = "forward|deferred",
+        default_value = "forward"
+    )]
+    lighting: LightingArg,
     /// Tone mapping from linear radiance to the frame's colours: pbr-neutral (Khronos PBR
     /// Neutral), aces, or none (clamped).
     #[arg(long, value_name = "CURVE", default_value = "pbr-neutral")]
@@ -271,6 +288,10 @@ impl SceneArgs {
             occluders: self.occluders == Toggle::On,
             gbuffer: false,
             count_work: false,
+            lighting: match self.lighting {
+                LightingArg::Forward => Lighting::Forward,
+                LightingArg::Deferred => Lighting::Deferred,
+            },
         }
     }
 

@@ -19,6 +19,7 @@ mod environment;
 mod frame;
 mod heights;
 mod kit;
+mod lighting;
 mod maps;
 mod measure;
 mod plan;
@@ -53,6 +54,7 @@ pub use kit::pass::Pass;
 pub use kit::pass_timer::{PassTiming, Scope, TimedScope};
 pub use kit::render_error::RenderError;
 pub use kit::tone_curves::{ToneMap, ToneMapping};
+pub use lighting::Lighting;
 pub use maps::ao_map_pass::{AoJob, AoMap, AoMapPass, AO_MAP_FORMAT, SWEEP_DIRECTIONS};
 pub use maps::cone_map_pass::{
     build_cone_map_on_gpu, ConeMapPass, MAX_SIDE as CONE_MAP_GPU_MAX_SIDE, RATIO_TOLERANCE,

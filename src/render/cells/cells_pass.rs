@@ -199,7 +199,7 @@ impl CellsPass {
             &sets,
             shadow_filter_max(plan),
             samples,
-            scene_extra_formats(plan.gbuffer),
+            scene_extra_formats(plan.gbuffer, plan.deferred),
         )?;
         let count = plan.cells.len() as u32;
         let pool = DescriptorPool::new(ctx, count, 4 * count, "cells sets")?;

@@ -10,6 +10,7 @@ use super::mesh_pipeline::describe;
 use super::shell_draw::BuiltShell;
 use super::single_frame::BuiltMap;
 use crate::render::cells::cells_pass::BuiltComplex;
+use crate::render::lighting::deferred_refusal;
 use crate::render::plan::frame_plan::Plan;
 use crate::vk::ObjectCounts;
 
@@ -80,8 +81,15 @@ pub fn explain(
             })
         })
         .collect();
+    // Where the frame is lit, and when forward, whether it could have been lit deferred.
+    let lighting = if plan.deferred {
+        json!({"path": "deferred", "deferred_refused": null})
+    } else {
+        json!({"path": "forward", "deferred_refused": deferred_refusal(plan, false)})
+    };
     json!({
         "pipelines": pipelines,
+        "lighting": lighting,
         "maps": maps,
         "heights": heights,
         "ao_maps": ao_maps,

@@ -26,6 +26,9 @@ pub struct FrameParts {
     pub gbuffer: bool,
     /// The depth is read back (the shadow probe).
     pub depth: bool,
+    /// The frame is lit deferred: the surface pass writes the G-buffer and the shading inputs,
+    /// the lighting pass reads them.
+    pub deferred: bool,
 }
 
 /// The graph of the passes `parts` needs.
@@ -35,7 +38,8 @@ pub fn frame_graph(parts: FrameParts) -> Result<FrameGraph, GraphError> {
     let ao_maps = when(parts.ao_maps, R::AoMaps);
     let atlas = when(parts.shadow_maps, R::ShadowAtlas);
     let bounds = when(parts.occluders, R::OccluderBounds);
-    let gbuffer = when(parts.gbuffer, R::GBuffer);
+    let gbuffer = when(parts.gbuffer || parts.deferred, R::GBuffer);
+    let inputs = when(parts.deferred, R::ShadingInputs);
     let list = |items: &[Option<R>]| -> Vec<R> { items.iter().flatten().copied().collect() };
     let mut nodes = Vec::new();
     let mut add = |pass: Pass, rate: PassRate, reads: Vec<R>, writes: Vec<R>| {
@@ -85,8 +89,16 @@ pub fn frame_graph(parts: FrameParts) -> Result<FrameGraph, GraphError> {
         Pass::Surface,
         PassRate::EveryFrame,
         list(&[pyramids, ao_maps, atlas, bounds]),
-        list(&[Some(R::Radiance), Some(R::Depth), gbuffer]),
+        list(&[Some(R::Radiance), Some(R::Depth), gbuffer, inputs]),
     );
+    if parts.deferred {
+        add(
+            Pass::Lighting,
+            PassRate::EveryFrame,
+            list(&[atlas, gbuffer, inputs]),
+            vec![R::Radiance],
+        );
+    }
     if parts.background {
         add(
             Pass::Background,
@@ -101,6 +113,7 @@ pub fn frame_graph(parts: FrameParts) -> Result<FrameGraph, GraphError> {
         vec![R::Radiance],
         vec![R::Frame],
     );
-    let handed_on = list(&[Some(R::Frame), gbuffer, parts.depth.then_some(R::Depth)]);
+    let kept = when(parts.gbuffer, R::GBuffer);
+    let handed_on = list(&[Some(R::Frame), kept, parts.depth.then_some(R::Depth)]);
     FrameGraph::build(nodes, &handed_on)
 }

@@ -71,7 +71,7 @@ impl FrameSlot {
             let name = format!("frame slot {k} radiance readback");
             self.radiance_readback = Some(targets.radiance_buffer(ctx, &name)?);
         }
-        if let Some(g) = &targets.gbuffer {
+        if let Some(g) = targets.gbuffer.as_ref().filter(|g| g.kept()) {
             let name = format!("frame slot {k}");
             self.gbuffer_readback = Some(g.readbacks(ctx, &name)?);
         }

@@ -193,19 +193,35 @@ impl GBufferChannels {
 pub struct GBuffer {
     /// One image per channel, in location order.
     drawn: Vec<Image>,
+    /// Frames read the channels back (else only the deferred frame's lighting pass reads
+    /// them).
+    kept: bool,
     /// With MSAA, the resolve target of each; else empty.
     resolved: Vec<Image>,
 }
 
 impl GBuffer {
-    /// The channels of a `width` x `height` scene drawn with `samples` samples per pixel.
-    pub fn new(ctx: &Arc<Context>, width: u32, height: u32, samples: u32) -> VkResult<GBuffer> {
+    /// The channels of a `width` x `height` scene drawn with `samples` samples per pixel,
+    /// read back by frames when `kept`, read by the lighting pass when `lit` (one sample).
+    pub fn new(
+        ctx: &Arc<Context>,
+        (width, height): (u32, u32),
+        samples: u32,
+        (kept, lit): (bool, bool),
+    ) -> VkResult<GBuffer> {
+        let storage = if lit {
+            vk::ImageUsageFlags::STORAGE
+        } else {
+            vk::ImageUsageFlags::empty()
+        };
         let desc = |format| ImageDesc {
             width,
             height,
             format,
             mip_levels: 1,
-            usage: vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC,
+            usage: vk::ImageUsageFlags::COLOR_ATTACHMENT
+                | vk::ImageUsageFlags::TRANSFER_SRC
+                | storage,
             aspect: vk::ImageAspectFlags::COLOR,
         };
         let drawn = CHANNELS
@@ -229,7 +245,11 @@ impl GBuffer {
         } else {
             Vec::new()
         };
-        Ok(GBuffer { drawn, resolved })
+        Ok(GBuffer {
+            drawn,
+            kept,
+            resolved,
+        })
     }
 
     /// Every image into the colour attachment layout, old contents discarded; the previous
@@ -277,6 +297,17 @@ impl GBuffer {
                 }
             })
             .collect()
+    }
+
+    /// Whether frames read the channels back.
+    pub fn kept(&self) -> bool {
+        self.kept
+    }
+
+    /// The albedo and occlusion channel and the motion and shadow one, as drawn (the lighting
+    /// pass's inputs and output).
+    pub fn material_and_motion(&self) -> (&Image, &Image) {
+        (&self.drawn[2], &self.drawn[3])
     }
 
     /// One read-back buffer per channel, in location order, named after `slot`.

@@ -17,6 +17,7 @@ use crate::render::kit::graph::FrameGraph;
 use crate::render::kit::pass::Pass;
 use crate::render::kit::pass_timer::{PassTimer, Scope};
 use crate::render::kit::tone_curves::ToneMapping;
+use crate::render::lighting::LightingPass;
 use crate::render::plan::frame_plan::Plan;
 use crate::render::shadows::light_views::LightView;
 use crate::render::shadows::shadow_pass::ShadowMaps;
@@ -36,6 +37,8 @@ pub(super) struct RecordingParts<'a> {
     pub background: Option<&'a BackgroundPass>,
     pub targets: &'a Targets,
     pub tone_map: (&'a ToneMapPass, ToneMapping),
+    /// The deferred frame's lighting pass, run as the scene's rendering ends.
+    pub lighting: Option<&'a LightingPass>,
 }
 
 /// What this frame is: its slot, view, shadow views, the passes due at their own rate, and the
@@ -147,7 +150,14 @@ impl RecordingParts<'_> {
                         };
                         let view = (work.eye, &frustum);
                         let culled = self.surface.record_draws(rec, k, view, bounds, behind);
-                        self.targets.end(rec, self.tone_map, work.into)?;
+                        let frame_set = match self.lighting {
+                            Some(_) => Some(self.surface.plain_set(k).ok_or_else(|| {
+                                VkError::Invalid("no plain frame set to light with".into())
+                            })?),
+                            None => None,
+                        };
+                        let lighting = self.lighting.zip(frame_set.as_ref());
+                        self.targets.end(rec, self.tone_map, lighting, work.into)?;
                         culled
                     };
                     culled = if rendering {

@@ -40,6 +40,7 @@ use crate::render::kit::pass::Pass;
 use crate::render::kit::pass_timer::{per_pass, PassTiming, TimedScope};
 use crate::render::kit::render_error::RenderError;
 use crate::render::kit::tone_curves::ToneMapping;
+use crate::render::lighting::{lighting_pass_for, plan_lighting, LightingPass};
 use crate::render::plan::frame_plan::{HeightKey, Plan};
 use crate::render::plan::msaa::MsaaPlan;
 use crate::render::shadows::shadow_pass::ShadowMaps;
@@ -111,6 +112,8 @@ pub struct Renderer {
     background: Option<BackgroundPass>,
     tone_map: ToneMapPass,
     targets: Targets,
+    /// The deferred frame's lighting pass (`RenderOptions::lighting`).
+    lighting: Option<LightingPass>,
     /// The occluder pass's bounds, when some relief surface reads them.
     occluders: Option<OccluderTargets>,
     slots: Vec<FrameSlot>,
@@ -147,6 +150,7 @@ impl Renderer {
         plan.supersample = choose_supersample(opts, ctx.info().max_image_dimension_2d, probe)?;
         plan_occluders(&mut plan, scene, opts.occluders);
         plan.gbuffer = opts.gbuffer;
+        plan_lighting(&mut plan, opts.lighting, opts.shadow_probe.is_some())?;
         if opts.count_work && !ctx.info().fragment_stores {
             return Err(VkError::Unsupported(
                 "counting work per pixel (fragmentStoresAndAtomics)".into(),
@@ -197,7 +201,7 @@ impl Renderer {
                 ctx,
                 e,
                 plan.msaa.samples,
-                scene_extra_formats(plan.gbuffer),
+                scene_extra_formats(plan.gbuffer, plan.deferred),
             )?),
             _ => None,
         };
@@ -248,6 +252,7 @@ impl Renderer {
             TargetOptions::of(&plan, probe, opts.keep_radiance),
             &tone_map,
         )?;
+        let lighting = lighting_pass_for(ctx, &plan, targets.lit_images())?;
         // The counters live beside the bounds, so a counting frame has the bounds' targets even
         // where nothing occludes (then they are cleared and never read).
         let occluders = (plan.occluders || plan.count_work)
@@ -268,6 +273,7 @@ impl Renderer {
             background: background.is_some(),
             gbuffer: plan.gbuffer,
             depth: probe,
+            deferred: plan.deferred,
         })?;
         Ok(Renderer {
             ctx: ctx.clone(),
@@ -288,6 +294,7 @@ impl Renderer {
             background,
             tone_map,
             targets,
+            lighting,
             occluders,
             slots,
             default_camera,
@@ -483,6 +490,7 @@ impl Renderer {
             background: self.background.as_ref(),
             targets: &self.targets,
             tone_map: (&self.tone_map, self.plan.tone_mapping),
+            lighting: self.lighting.as_ref(),
         };
         let slot = &mut self.slots[k];
         fn kept(buffer: &Option<Readback>, read: bool) -> Option<&Readback> {

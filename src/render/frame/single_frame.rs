@@ -14,6 +14,7 @@ use crate::render::kit::gpu_heightfield::HeightFormat;
 use crate::render::kit::pass_timer::PassTiming;
 use crate::render::kit::render_error::RenderError;
 use crate::render::kit::tone_curves::ToneMapping;
+use crate::render::lighting::Lighting;
 use crate::render::plan::frame_plan::{HeightKey, HeightPlan, Plan};
 use crate::render::shadows::shadow_plan::ShadowOptions;
 use crate::scene::Scene;
@@ -72,6 +73,9 @@ pub struct RenderOptions {
     /// counts ([`WorkCounts`](super::work_counters::WorkCounts)); off, the counting is compiled
     /// out. Needs `fragmentStoresAndAtomics`.
     pub count_work: bool,
+    /// Where surfaces are lit: in their fragments as they are drawn (forward, the default), or
+    /// once per pixel by a lighting pass after the scene is drawn (`--lighting deferred`).
+    pub lighting: Lighting,
 }
 
 impl Default for RenderOptions {
@@ -94,6 +98,7 @@ impl Default for RenderOptions {
             occluders: true,
             gbuffer: false,
             count_work: false,
+            lighting: Lighting::Forward,
         }
     }
 }

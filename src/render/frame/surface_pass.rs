@@ -240,8 +240,10 @@ impl SurfacePass {
             None => scene_binds.extend(stand_in_binds(&stand_in)),
         }
         let height_sets = layouts.height_sets(&frame_pool, heights, &scene_binds, slots)?;
-        // The cells pass reads the plain set too.
-        let plain = plan.pipelines.iter().any(|p| p.method.is_none()) || !plan.cells.is_empty();
+        // The cells pass and the lighting pass read the plain set too.
+        let plain = plan.pipelines.iter().any(|p| p.method.is_none())
+            || !plan.cells.is_empty()
+            || plan.deferred;
         let plain_uniforms = if plain {
             plain_uniform_buffers(ctx, uniforms, slots)?
         } else {
@@ -294,10 +296,11 @@ impl SurfacePass {
                     .then(|| {
                         let set0 = set0_of(key);
                         let samples = plan.msaa.samples;
-                        let extra = scene_extra_formats(plan.gbuffer);
+                        let extra = scene_extra_formats(plan.gbuffer, plan.deferred);
                         let occluder_use = (taps, plan.count_work);
                         let stages =
-                            MeshStages::surface(key, shadow_filter, samples, occluder_use, extra);
+                            MeshStages::surface(key, shadow_filter, samples, occluder_use, extra)
+                                .lit_deferred(plan.deferred && !key.blend);
                         let layers = if key.layers {
                             &layer_layout
                         } else {

@@ -12,6 +12,7 @@ use super::tonemap::ToneMapPass;
 use crate::render::kit::formats::HDR_FORMAT;
 use crate::render::kit::formats::{COLOR_FORMAT, DEPTH_FORMAT};
 use crate::render::kit::tone_curves::ToneMapping;
+use crate::render::lighting::{LightingPass, LitImages, ShadingInputs};
 use crate::render::plan::frame_plan::Plan;
 use crate::vk::{
     transition_images, whole_color_region, ColorTarget, Context, DescriptorPool, DescriptorSet,
@@ -56,8 +57,11 @@ pub struct Targets {
     keep_depth: bool,
     /// Supersampling: the radiance and depth are this many times the frame's size per axis.
     scale: u32,
-    /// The G-buffer the surface pass writes beside the radiance, when frames keep it.
+    /// The G-buffer the surface pass writes beside the radiance, when frames keep it or the
+    /// frame is lit deferred.
     pub gbuffer: Option<GBuffer>,
+    /// The deferred frame's shading inputs, drawn after the G-buffer.
+    shading_inputs: Option<ShadingInputs>,
 }
 
 /// How targets are made: samples per pixel, supersampling, and whether the depth is kept.
@@ -73,6 +77,9 @@ pub struct TargetOptions {
     pub keep_radiance: bool,
     /// The surface pass writes the G-buffer, and frames may read it back (no supersampling).
     pub gbuffer: bool,
+    /// The frame is lit deferred: the G-buffer and the shading inputs are drawn, and the
+    /// lighting pass reads them and adds to the radiance (one sample, no supersampling).
+    pub deferred: bool,
 }
 
 impl TargetOptions {
@@ -85,6 +92,7 @@ impl TargetOptions {
             keep_depth,
             keep_radiance,
             gbuffer: plan.gbuffer,
+            deferred: plan.deferred,
         }
     }
 }
@@ -105,6 +113,7 @@ impl Targets {
             keep_depth,
             keep_radiance,
             gbuffer,
+            deferred,
         } = options;
         if tone_map.samples() != samples {
             return Err(VkError::Invalid(format!(
@@ -122,9 +131,23 @@ impl Targets {
                 "the G-buffer channels (--exr-out) are read at the frame's size: leave out --supersample".into(),
             ));
         }
-        let gbuffer = gbuffer
-            .then(|| GBuffer::new(ctx, width, height, samples))
+        if deferred && (samples > 1 || scale > 1) {
+            return Err(VkError::Invalid(
+                "deferred lighting needs single-sample targets at the frame's size".into(),
+            ));
+        }
+        let gbuffer = (gbuffer || deferred)
+            .then(|| GBuffer::new(ctx, (width, height), samples, (gbuffer, deferred)))
             .transpose()?;
+        let shading_inputs = deferred
+            .then(|| ShadingInputs::new(ctx, width, height))
+            .transpose()?;
+        // The lighting pass adds to the radiance in place.
+        let lit = if deferred {
+            vk::ImageUsageFlags::STORAGE
+        } else {
+            vk::ImageUsageFlags::empty()
+        };
         let depth_usage = if keep_depth {
             vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC
         } else {
@@ -150,7 +173,8 @@ impl Targets {
                 HDR_FORMAT,
                 vk::ImageUsageFlags::COLOR_ATTACHMENT
                     | vk::ImageUsageFlags::SAMPLED
-                    | vk::ImageUsageFlags::TRANSFER_SRC,
+                    | vk::ImageUsageFlags::TRANSFER_SRC
+                    | lit,
                 color_aspect,
             ),
             "radiance target",
@@ -189,6 +213,19 @@ impl Targets {
             keep_depth,
             scale,
             gbuffer,
+            shading_inputs,
+        })
+    }
+
+    /// What the deferred frame's lighting pass reads and writes; `None` unless the targets
+    /// were made for it.
+    pub fn lit_images(&self) -> Option<LitImages<'_>> {
+        let (material, motion) = self.gbuffer.as_ref()?.material_and_motion();
+        Some(LitImages {
+            radiance: &self.hdr,
+            material,
+            motion,
+            inputs: self.shading_inputs.as_ref()?,
         })
     }
 
@@ -261,6 +298,9 @@ impl Targets {
         if let Some(g) = &self.gbuffer {
             transitions.extend(g.transitions());
         }
+        if let Some(inputs) = &self.shading_inputs {
+            transitions.extend(inputs.transitions());
+        }
         transition_images(rec, &transitions);
         let radiance = match &self.msaa_hdr {
             Some(msaa) => ColorTarget {
@@ -280,23 +320,33 @@ impl Targets {
         if let Some(g) = &self.gbuffer {
             colors.extend(g.targets());
         }
+        if let Some(inputs) = &self.shading_inputs {
+            colors.extend(inputs.targets());
+        }
         rec.begin_rendering_targets(&colors, Some(&self.depth), self.keep_depth);
     }
 
-    /// Ends the scene's rendering, tone maps the radiance into the frame with `tone_map` and
-    /// `mapping`, and copies what `into` names into its buffers, visible to the host: the frame,
-    /// the depth (targets made to keep their depth), the radiance before tone mapping.
+    /// Ends the scene's rendering, lights it with `lighting` (the pass and the frame slot's
+    /// plain set) when the frame is deferred, tone maps the radiance into the frame with
+    /// `tone_map` and `mapping`, and copies what `into` names into its buffers, visible to the
+    /// host: the frame, the depth (targets made to keep their depth), the radiance before tone
+    /// mapping.
     pub fn end(
         &self,
         rec: &Recording,
         tone_map: (&ToneMapPass, ToneMapping),
+        lighting: Option<(&LightingPass, &DescriptorSet)>,
         into: FrameReadbacks,
     ) -> VkResult<()> {
         rec.end_rendering();
+        if let (Some((pass, frame_set)), Some(images)) = (lighting, self.lit_images()) {
+            pass.record(rec, frame_set, &images)?;
+        }
         if let Some(buffer) = into.depth.filter(|_| self.keep_depth) {
             self.copy_depth(rec, buffer)?;
         }
-        if let (Some(g), Some(buffers)) = (&self.gbuffer, into.gbuffer) {
+        if let (Some(g), Some(buffers)) = (self.gbuffer.as_ref().filter(|g| g.kept()), into.gbuffer)
+        {
             g.copy_out(rec, buffers)?;
         }
         let radiance_layout = match into.radiance {

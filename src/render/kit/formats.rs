@@ -21,10 +21,34 @@ pub const GBUFFER_FORMATS: [vk::Format; 4] = [
     vk::Format::R16G16B16A16_SFLOAT,
 ];
 
-/// The colour formats a scene pipeline draws after the radiance: the G-buffer's when the frame
-/// keeps it, else none.
-pub fn scene_extra_formats(gbuffer: bool) -> &'static [vk::Format] {
-    if gbuffer {
+/// The deferred frame's attachments after the G-buffer's, in location order (5 to 7): the
+/// shaded point and its depth below the relief's top plane; shading normal, polygon plane and
+/// normal (octahedral), roughness and metallic as integer bits; the height field's own shadow
+/// toward the first four lights (`render/lighting` says what each holds).
+pub const SHADING_INPUT_FORMATS: [vk::Format; 3] = [
+    vk::Format::R32G32B32A32_SFLOAT,
+    vk::Format::R32G32B32A32_UINT,
+    vk::Format::R8G8B8A8_UNORM,
+];
+
+/// The G-buffer's formats followed by the shading inputs': a deferred frame's attachments after
+/// the radiance.
+const DEFERRED_FORMATS: [vk::Format; 7] = [
+    GBUFFER_FORMATS[0],
+    GBUFFER_FORMATS[1],
+    GBUFFER_FORMATS[2],
+    GBUFFER_FORMATS[3],
+    SHADING_INPUT_FORMATS[0],
+    SHADING_INPUT_FORMATS[1],
+    SHADING_INPUT_FORMATS[2],
+];
+
+/// The colour formats a scene pipeline draws after the radiance: the G-buffer's and the shading
+/// inputs' in a deferred frame, the G-buffer's when the frame keeps it, else none.
+pub fn scene_extra_formats(gbuffer: bool, deferred: bool) -> &'static [vk::Format] {
+    if deferred {
+        &DEFERRED_FORMATS
+    } else if gbuffer {
         &GBUFFER_FORMATS
     } else {
         &[]

@@ -28,6 +28,8 @@ pub enum FrameResource {
     Radiance,
     /// The G-buffer's channels, drawn beside the radiance.
     GBuffer,
+    /// The deferred frame's shading inputs, drawn beside the G-buffer.
+    ShadingInputs,
     /// The tone-mapped frame: what is presented or read back.
     Frame,
 }
@@ -42,6 +44,7 @@ impl fmt::Display for FrameResource {
             FrameResource::Depth => "depth",
             FrameResource::Radiance => "radiance",
             FrameResource::GBuffer => "g-buffer",
+            FrameResource::ShadingInputs => "shading inputs",
             FrameResource::Frame => "frame",
         })
     }

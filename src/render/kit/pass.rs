@@ -31,6 +31,10 @@ pub enum Pass {
     /// The sky behind the scene, drawn after the opaque surfaces where the depth test leaves
     /// pixels uncovered (inside the surface pass's rendering; its time is part of `Surface`).
     Background,
+    /// The deferred frame's lighting: every pixel the surface pass drew is lit once, from the
+    /// G-buffer and the shading inputs, after the scene's rendering ends (timed within the
+    /// surface pass's scope).
+    Lighting,
     /// Exposure and the tone curve from the linear radiance into the frame (after the surface
     /// pass's rendering ends, timed within its scope).
     ToneMap,
@@ -38,7 +42,7 @@ pub enum Pass {
 
 impl Pass {
     /// Every pass, in recording order.
-    pub const ALL: [Pass; 9] = [
+    pub const ALL: [Pass; 10] = [
         Pass::Pyramid,
         Pass::AmbientOcclusion,
         Pass::ShadowMaps,
@@ -47,6 +51,7 @@ impl Pass {
         Pass::Surface,
         Pass::SelfShadowRays,
         Pass::Background,
+        Pass::Lighting,
         Pass::ToneMap,
     ];
 
@@ -61,6 +66,7 @@ impl Pass {
             Pass::Surface => "surface",
             Pass::SelfShadowRays => "self-shadow rays",
             Pass::Background => "background",
+            Pass::Lighting => "lighting",
             Pass::ToneMap => "tone map",
         }
     }
@@ -69,7 +75,7 @@ impl Pass {
     pub fn timed(self) -> bool {
         !matches!(
             self,
-            Pass::SelfShadowRays | Pass::Background | Pass::ToneMap
+            Pass::SelfShadowRays | Pass::Background | Pass::Lighting | Pass::ToneMap
         )
     }
 }

@@ -41,7 +41,10 @@ pub(in crate::render) fn set0_layout(
     bindings: &[u32],
     name: &str,
 ) -> VkResult<DescriptorLayout> {
-    let stages = vk::ShaderStageFlags::VERTEX | vk::ShaderStageFlags::FRAGMENT;
+    // Compute too: the deferred frame's lighting pass binds the plain set.
+    let stages = vk::ShaderStageFlags::VERTEX
+        | vk::ShaderStageFlags::FRAGMENT
+        | vk::ShaderStageFlags::COMPUTE;
     let all: Vec<_> = bindings
         .iter()
         .chain(&SCENE_BINDINGS)

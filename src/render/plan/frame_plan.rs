@@ -232,6 +232,9 @@ pub struct Plan {
     /// The surface pass writes the G-buffer beside the radiance (set by the renderer from its
     /// options).
     pub gbuffer: bool,
+    /// The surface pass writes shading inputs and the lighting pass lights each pixel once
+    /// after it (set by the renderer from `RenderOptions::lighting`; `SPEC_DEFERRED`).
+    pub deferred: bool,
     /// Relief fragments count their traces and steps per pixel (set by the renderer from its
     /// options; `SPEC_COUNT_WORK`).
     pub count_work: bool,
@@ -272,6 +275,7 @@ impl Plan {
             supersample: 1,
             occluders: false,
             gbuffer: false,
+            deferred: false,
             count_work: false,
         };
         let mut used = vec![false; scene.materials.len()];

@@ -191,6 +191,25 @@ glsl_table! {
 }
 
 glsl_table! {
+    /// Set 1 of the deferred frame's lighting pass (`shaders/passes/lighting.comp`): the
+    /// radiance it adds to and the surface pass's attachments it reads, as storage images.
+    LIGHTING_BINDINGS {
+        /// The radiance (emission written by the surface pass; the light is added).
+        BINDING_LIGHTING_RADIANCE = 0;
+        /// The G-buffer's albedo and ambient occlusion.
+        BINDING_LIGHTING_MATERIAL = 1;
+        /// The G-buffer's motion and shadow share (the share written here).
+        BINDING_LIGHTING_MOTION = 2;
+        /// The shaded point and its depth below the relief's top plane.
+        BINDING_LIGHTING_POINT = 3;
+        /// Shading normal, polygon plane and normal, roughness and metallic.
+        BINDING_LIGHTING_FRAME = 4;
+        /// The height field's own shadow toward the first lights.
+        BINDING_LIGHTING_SELF_SHADOW = 5;
+    }
+}
+
+glsl_table! {
     /// A cell complex's set (`shaders/include/cells_march.glsl`; set 2 of `cells.frag`, set 0 of
     /// `cells_trace.comp`), as `#define`s.
     CELLS_BINDINGS {
@@ -298,6 +317,9 @@ glsl_table! {
         /// 1: relief fragments count themselves and their steps per pixel (`relief render
         /// --count-work`); 0, the default, compiles the counting out.
         SPEC_COUNT_WORK = 32;
+        /// 1: a surface fragment writes its shading inputs and emission, and the lighting pass
+        /// lights it (`RenderOptions::lighting`, deferred); 0 lights it in the fragment.
+        SPEC_DEFERRED = 33;
     }
 }
 
@@ -306,6 +328,9 @@ glsl_table! {
     SIZES {
         /// Punctual lights in the frame's uniform block.
         MAX_LIGHTS = 8;
+        /// Lights whose height-field self-shadow the deferred frame's shading inputs carry (one
+        /// byte each): a deferred frame has at most this many self-shadowing lights.
+        DEFERRED_SELF_SHADOW_LIGHTS = 4;
         /// Shadow-map views in the frame's uniform block (a cascade, a spot's map, a cube face).
         MAX_SHADOW_TILES = 16;
         /// Pyramid levels the map searches' push constants hold offsets for.
@@ -334,6 +359,7 @@ pub const GLSL_DEFINES: &[&[(&str, u32)]] = &[
     MATERIAL_BINDINGS,
     LAYER_BINDINGS,
     OCCLUDER_BINDINGS,
+    LIGHTING_BINDINGS,
     CELLS_BINDINGS,
     ENVIRONMENT_BINDINGS,
     TERRAIN_MODES,
