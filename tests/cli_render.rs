@@ -231,6 +231,51 @@ fn explain_prints_the_plan() {
 }
 
 #[test]
+fn explain_says_where_the_frame_is_lit_and_deferred_needs_one_sample() {
+    if common::device("explain_says_where_the_frame_is_lit").is_none() {
+        return;
+    }
+    let flags = ["--explain", "--msaa", "1", "--lighting", "deferred"];
+    let (plan, _) = render_default("explain-deferred", "64", "48", "qdm", &flags);
+    assert_eq!(plan["lighting"]["path"], "deferred", "{}", plan["lighting"]);
+    let nodes = plan["graph"]["nodes"].as_array().expect("graph nodes");
+    let lighting = nodes
+        .iter()
+        .find(|n| n["pass"] == "lighting")
+        .expect("a lighting node");
+    assert_eq!(
+        lighting["reads"],
+        serde_json::json!(["shadow-atlas", "g-buffer", "shading-inputs"])
+    );
+    // The default look draws 4 samples: forward, and --explain says what deferred would need.
+    let (plan, _) = render_default("explain-forward", "64", "48", "qdm", &["--explain"]);
+    assert_eq!(plan["lighting"]["path"], "forward");
+    let why = plan["lighting"]["deferred_refused"].as_str().unwrap_or("");
+    assert!(why.contains("--msaa 1"), "{}", plan["lighting"]);
+    // Asked for with 4 samples: refused by name, nothing written.
+    let out = common::scratch_dir("deferred-refused").join("frame.png");
+    let run = relief(&[
+        "render",
+        "--width",
+        "64",
+        "--height",
+        "48",
+        "--lighting",
+        "deferred",
+        "--out",
+        out.to_str().expect("utf-8"),
+    ]);
+    let err = String::from_utf8_lossy(&run.stderr);
+    assert!(!run.status.success(), "deferred with 4 samples ran");
+    assert!(
+        err.contains("--lighting deferred") && err.contains("--msaa 1"),
+        "{err}"
+    );
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(!out.exists(), "no frame written");
+}
+
+#[test]
 fn a_frame_sequence_reuses_its_resources_and_reports_steady_statistics() {
     if common::device("frame_sequence_statistics").is_none() {
         return;

@@ -19,7 +19,7 @@ use crate::environment::{Background, EnvironmentSource};
 use crate::heightfield::{Generator, Heightfield};
 use crate::method::Method;
 use crate::render::{
-    FrameTimeline, RenderError, RenderOptions, ShadowFilter, ShadowOptions, ToneMapping,
+    FrameTimeline, Lighting, RenderError, RenderOptions, ShadowFilter, ShadowOptions, ToneMapping,
 };
 use crate::scene::{
     default_heightfield, default_scene, relief_stack_scene, Scene, DEFAULT_SCENE_METHOD,
@@ -88,6 +88,10 @@ pub struct FrameCostSection {
     pub chain: Vec<ChainStep>,
     /// The default look over the plain frame, at the main size (the chain's product).
     pub look_over_plain: f64,
+    /// Deferred lighting against forward, frame for frame at one sample (the lighting pass
+    /// lights one sample per pixel): `ratio` is the deferred frame over the forward one.
+    #[serde(default)]
+    pub deferred: Vec<ChainStep>,
     /// The plain frame over the same without the occluder pass, on the default scene (where
     /// nothing relief draws is hidden, so the pass only costs).
     #[serde(default)]
@@ -151,7 +155,17 @@ fn chain_looks(size: [u32; 2]) -> Vec<(&'static str, RenderOptions)> {
         occluders: false,
         ..plain(size)
     };
+    let deferred = |opts: &RenderOptions| RenderOptions {
+        lighting: Lighting::Deferred,
+        ..opts.clone()
+    };
     vec![
+        ("plain, deferred", deferred(&plain(size))),
+        (
+            "look, 1 sample, no shadow maps, deferred",
+            deferred(&one_sample_no_maps),
+        ),
+        ("look, 1 sample, deferred", deferred(&one_sample)),
         ("plain", plain(size)),
         ("plain, occluders off", forward),
         ("look, 1 sample, no shadow maps", one_sample_no_maps),
@@ -239,6 +253,13 @@ pub fn run_frame_cost_section(
         step(&rows, "PCSS shadow maps", "look, no shadow maps", "look"),
     ];
     let look_over_plain = ms(&rows, "look") / ms(&rows, "plain");
+    let deferred = ["plain", "look, 1 sample, no shadow maps", "look, 1 sample"]
+        .iter()
+        .map(|&frame| {
+            let lit = format!("{frame}, deferred");
+            step(&rows, &format!("deferred lighting, {frame}"), frame, &lit)
+        })
+        .collect();
     let occluder_cost = ms(&rows, "plain") / ms(&rows, "plain, occluders off");
     for size in sizes {
         progress(&format!(
@@ -320,6 +341,7 @@ pub fn run_frame_cost_section(
         rows,
         chain,
         look_over_plain,
+        deferred,
         occluder_cost,
         stacks,
         stack_size,
@@ -385,6 +407,21 @@ pub fn report(md: &mut String, s: &FrameCostSection) {
             "| {} | {} | {} | {:.2}x |",
             c.step, c.from, c.to, c.ratio
         );
+    }
+    if !s.deferred.is_empty() {
+        let _ = writeln!(
+            md,
+            "\nDeferred lighting (`--lighting deferred`: the surface pass writes shading inputs, \
+             a compute pass lights each pixel once) against forward, at one sample:\n"
+        );
+        let _ = writeln!(
+            md,
+            "| forward frame | deferred frame | deferred / forward |"
+        );
+        let _ = writeln!(md, "|---|---|---|");
+        for c in &s.deferred {
+            let _ = writeln!(md, "| {} | {} | {:.2}x |", c.from, c.to, c.ratio);
+        }
     }
     let _ = writeln!(
         md,
