@@ -45,6 +45,19 @@ fn frame_costs_chain_multiplies_out_and_a_still_view_keeps_its_maps() {
         (chain / whole - 1.0).abs() < 1e-9,
         "the chain's steps multiply to {chain}, the look over plain is {whole}"
     );
+    // Deferred lighting frame for frame against forward, at one sample.
+    let deferred = s["deferred"].as_array().expect("deferred");
+    assert_eq!(deferred.len(), 3, "{deferred:?}");
+    for step in deferred {
+        let ratio = number(&step["ratio"]);
+        assert!(ratio > 0.0 && ratio.is_finite(), "{step}");
+        assert!(
+            step["to"]
+                .as_str()
+                .is_some_and(|t| t.ends_with(", deferred")),
+            "{step}"
+        );
+    }
     let stacks = s["stacks"].as_array().expect("stacks");
     assert_eq!(stacks.len(), 2, "the 0.25 and the 1-unit stacks");
     for stack in stacks {
@@ -60,7 +73,7 @@ fn frame_costs_chain_multiplies_out_and_a_still_view_keeps_its_maps() {
     );
     let report = std::fs::read_to_string(out.join("report.md")).expect("report.md");
     assert!(
-        report.contains("## Frame costs"),
-        "report lacks the section"
+        report.contains("## Frame costs") && report.contains("Deferred lighting"),
+        "report lacks the section or its deferred table"
     );
 }
