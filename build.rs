@@ -8,7 +8,7 @@
 //! binds the method map (binding 3); `surface.frag` also once per row with level of detail
 //! (`surface.frag:<id>:lod`, RELIEF_LOD), once per row shading height-blended layers
 //! (`surface.frag:<id>:layers`, TERRAIN_LAYERS, and `:lod:layers` with both) and once plain (no relief), as is
-//! `shadow_caster.frag` and `occluders.frag`; `mesh.vert` also as the shadow pass's (`mesh.vert:shadow`); `passes/pyramid.comp` and
+//! `shadow_caster.frag` and `occluders.frag`; `mesh.vert` also as the shadow pass's (`mesh.vert:shadow`); `lighting.comp` also with ray-traced shadows (`lighting.comp:traced`); `passes/pyramid.comp` and
 //! `passes/mean_pyramid.comp` once per storage format (`pyramid.comp` also for four-channel
 //! terrain layers), `passes/blended_pyramid.comp` and `passes/brush.comp` per height format; every other file under
 //! `passes/` once. A file in
@@ -127,6 +127,12 @@ fn variants(root: &Path) -> Vec<Variant> {
             // Surfaces without relief: no method, no height bindings, early depth testing.
             let defines = vec![("PLAIN_SURFACE".into(), "1".into())];
             out.push(plain(format!("{base}:plain"), defines, None));
+        }
+        if base == "lighting.comp" {
+            // The deferred frame's lighting with every shadow-casting light tested by ray
+            // queries through the scene's acceleration structure.
+            let defines = vec![("TRACED_SHADOWS".into(), "1".into())];
+            out.push(plain(format!("{base}:traced"), defines, None));
         }
         if base == "mesh.vert" || base == "shell.vert" {
             // The shadow pass's: placed by the shadow view the draw renders into.

@@ -276,6 +276,48 @@ fn explain_says_where_the_frame_is_lit_and_deferred_needs_one_sample() {
 }
 
 #[test]
+fn explain_says_the_frame_traces_its_shadows_by_ray_query() {
+    let out = common::scratch_dir("explain-traced").join("frame.png");
+    let Some(run) = common::cli::relief_with_ray_queries(&[
+        "render",
+        "--width",
+        "64",
+        "--height",
+        "48",
+        "--msaa",
+        "1",
+        "--lighting",
+        "deferred",
+        "--traced-shadows",
+        "--explain",
+        "--out",
+        out.to_str().expect("utf-8"),
+    ]) else {
+        return;
+    };
+    let err = String::from_utf8_lossy(&run.stderr);
+    assert!(run.status.success(), "{err}");
+    let plan: serde_json::Value = serde_json::from_slice(&run.stdout).expect("one JSON object");
+    assert_eq!(
+        plan["lighting"]["shadows"], "traced",
+        "{}",
+        plan["lighting"]
+    );
+    assert_eq!(plan["ray_queries"]["used_by_frame"], true);
+    assert!(
+        plan["shadow_maps"].as_array().is_some_and(Vec::is_empty),
+        "no map is built: {}",
+        plan["shadow_maps"]
+    );
+    let skipped = plan["skipped"].as_array().expect("skipped");
+    assert!(
+        skipped.iter().any(|s| s["what"] == "shadow maps"
+            && s["why"].as_str().is_some_and(|w| w.contains("traced"))),
+        "{skipped:?}"
+    );
+}
+
+#[test]
 fn a_frame_sequence_reuses_its_resources_and_reports_steady_statistics() {
     if common::device("frame_sequence_statistics").is_none() {
         return;

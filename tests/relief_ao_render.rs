@@ -26,6 +26,7 @@ const OPTS: RenderOptions = RenderOptions {
     gbuffer: false,
     count_work: false,
     lighting: Lighting::Forward,
+    traced_shadows: false,
 };
 
 #[test]

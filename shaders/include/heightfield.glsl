@@ -2,8 +2,15 @@
 #ifndef HEIGHTFIELD_GLSL
 #define HEIGHTFIELD_GLSL
 
+// The height map's size, mip levels and addressing (x, y, z, w as the frame block's height_info):
+// the frame block's, unless a pass that binds a height map beside another frame names its own
+// (lighting.comp's ray-traced shadows).
+#ifndef HEIGHT_INFO
+#define HEIGHT_INFO frame.height_info
+#endif
+
 vec2 height_size() {
-    return frame.height_info.xy;
+    return HEIGHT_INFO.xy;
 }
 
 // The budget for `ray`: the fixed cap, or (BUDGET_EXTENT_LIMIT set: the accurate methods'
@@ -23,7 +30,7 @@ Budget ray_budget(Ray ray) {
 
 // The texel of a level holding cell `cell` (which may lie outside the map), by the addressing.
 ivec2 address_cell(vec2 cell, vec2 size) {
-    vec2 t = frame.height_info.w > 0.5 ? cell - size * floor(cell / size) : clamp(cell, vec2(0.0), size - 1.0);
+    vec2 t = HEIGHT_INFO.w > 0.5 ? cell - size * floor(cell / size) : clamp(cell, vec2(0.0), size - 1.0);
     return ivec2(t);
 }
 

@@ -10,12 +10,12 @@
 // this leaf level and search the bilinear surface inside the leaf node. A 1x1 map has no level 1
 // and a constant surface, which its single texel bounds.
 int pyramid_leaf() {
-    return min(1, int(frame.height_info.z) - 1);
+    return min(1, int(HEIGHT_INFO.z) - 1);
 }
 
 // Index of the coarsest level (1x1).
 int pyramid_top() {
-    return int(frame.height_info.z) - 1;
+    return int(HEIGHT_INFO.z) - 1;
 }
 
 // Vulkan's mip size rule, computed rather than queried: lavapipe (Mesa 22.3) answers

@@ -118,7 +118,7 @@ bool prism_blocks(PrismRecord p, vec3 origin, vec3 dir, float t0, float t1, inou
     capped = capped || hit.capped;
     // Clamp addressing: a ray that entered the map and leaves it before meeting the field
     // passes beside the object (the silhouette of a clamped map).
-    if (frame.height_info.w < 0.5 && uv_in_map(entry.xy) && !uv_in_map(ray_uv(ray, hit.z))) {
+    if (HEIGHT_INFO.w < 0.5 && uv_in_map(entry.xy) && !uv_in_map(ray_uv(ray, hit.z))) {
         return false;
     }
     t = (hit.z - q0.z) / dq.z;

@@ -24,6 +24,8 @@ layout(set = 0, binding = BINDING_OCCLUSION_RESULTS, std430) writeonly buffer Re
     uvec4 results[];
 };
 
+#include "traced_query.glsl"
+
 // The fields: OcclusionParams in src/render/shader_interface/push_constants.rs.
 layout(push_constant, std430) uniform OcclusionParams {
     OCCLUSION_PARAMS_FIELDS
@@ -36,28 +38,9 @@ void main() {
     }
     vec4 o = rays[2u * k];
     vec4 d = rays[2u * k + 1u];
-    rayQueryEXT query;
-    rayQueryInitializeEXT(query, scene, gl_RayFlagsTerminateOnFirstHitEXT, 0xffu, o.xyz, o.w,
-                          d.xyz, d.w);
     uint tested = 0u;
     uint steps = 0u;
     bool capped = false;
-    while (rayQueryProceedEXT(query)) {
-        if (rayQueryGetIntersectionTypeEXT(query, false)
-            != gl_RayQueryCandidateIntersectionAABBEXT) {
-            continue;
-        }
-        uint prism = uint(rayQueryGetIntersectionInstanceCustomIndexEXT(query, false)
-                          + rayQueryGetIntersectionPrimitiveIndexEXT(query, false));
-        vec3 origin = rayQueryGetIntersectionObjectRayOriginEXT(query, false);
-        vec3 dir = rayQueryGetIntersectionObjectRayDirectionEXT(query, false);
-        tested += 1u;
-        float t;
-        if (prism_blocks(prisms[prism], origin, dir, o.w, d.w, steps, capped, t)) {
-            rayQueryGenerateIntersectionEXT(query, t);
-        }
-    }
-    bool blocked = rayQueryGetIntersectionTypeEXT(query, true)
-                   != gl_RayQueryCommittedIntersectionNoneEXT;
+    bool blocked = segment_blocked(o.xyz, o.w, d.xyz, d.w, tested, steps, capped);
     results[k] = uvec4(blocked ? 1u : 0u, tested, steps, capped ? 1u : 0u);
 }

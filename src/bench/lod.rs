@@ -257,6 +257,7 @@ pub fn render_interleaved(
         gbuffer: false,
         count_work: false,
         lighting: Lighting::Forward,
+        traced_shadows: false,
     };
     let mut renderers = scenes
         .iter()

@@ -301,7 +301,7 @@ pub fn run_frames(
             &created,
         );
         value["device"] = json!(ctx.info());
-        value["ray_queries"] = ray_query_note(ctx);
+        value["ray_queries"] = ray_query_note(ctx, renderer.plan().traced_shadows);
         value["graph"] = json!(renderer.graph());
         if edited {
             value["edits"] = edits_json(renderer, &drawn.edits);
@@ -594,14 +594,17 @@ fn methods_drawn(renderer: &Renderer) -> String {
     }
 }
 
-/// What `--explain` says of ray queries: the frame draws with rasterisation either way, and
-/// where the device has them, which commands trace with them.
-fn ray_query_note(ctx: &relief::vk::Context) -> serde_json::Value {
+/// What `--explain` says of ray queries: whether the frame's shadows are traced with them
+/// (`traced`: `--traced-shadows`), else that it rasterises and which commands trace.
+fn ray_query_note(ctx: &relief::vk::Context, traced: bool) -> serde_json::Value {
     let available = ctx.info().ray_query;
     json!({
         "available": available,
-        "used_by_frame": false,
-        "why": if available {
+        "used_by_frame": traced,
+        "why": if traced {
+            "--traced-shadows: the lighting pass casts every shadow-casting light's rays through \
+             the scene's acceleration structures; the surfaces come from the raster passes"
+        } else if available {
             "the frame's shadows come from shadow maps and its surfaces from the raster passes; \
              `relief shadows --traced` and `relief occlusion` trace by ray query"
         } else {

@@ -112,6 +112,12 @@ pub struct SceneArgs {
         default_value = "forward"
     )]
     lighting: LightingArg,
+    /// Shadows by ray query: every shadow-casting light is tested by rays through the scene's
+    /// acceleration structures (relief prisms walked exactly, the receiver's own included)
+    /// instead of shadow maps; a light with a size gets 16 rays per pixel. Needs --lighting
+    /// deferred and a device with ray queries.
+    #[arg(long)]
+    traced_shadows: bool,
     /// Tone mapping from linear radiance to the frame's colours: pbr-neutral (Khronos PBR
     /// Neutral), aces, or none (clamped).
     #[arg(long, value_name = "CURVE", default_value = "pbr-neutral")]
@@ -292,6 +298,7 @@ impl SceneArgs {
                 LightingArg::Forward => Lighting::Forward,
                 LightingArg::Deferred => Lighting::Deferred,
             },
+            traced_shadows: self.traced_shadows,
         }
     }
 

@@ -83,9 +83,14 @@ pub fn explain(
         .collect();
     // Where the frame is lit, and when forward, whether it could have been lit deferred.
     let lighting = if plan.deferred {
-        json!({"path": "deferred", "deferred_refused": null})
+        let shadows = if plan.traced_shadows {
+            "traced"
+        } else {
+            "maps"
+        };
+        json!({"path": "deferred", "shadows": shadows, "deferred_refused": null})
     } else {
-        json!({"path": "forward", "deferred_refused": deferred_refusal(plan, false)})
+        json!({"path": "forward", "shadows": "maps", "deferred_refused": deferred_refusal(plan, false)})
     };
     json!({
         "pipelines": pipelines,

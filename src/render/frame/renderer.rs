@@ -40,11 +40,14 @@ use crate::render::kit::pass::Pass;
 use crate::render::kit::pass_timer::{per_pass, PassTiming, TimedScope};
 use crate::render::kit::render_error::RenderError;
 use crate::render::kit::tone_curves::ToneMapping;
-use crate::render::lighting::{lighting_pass_for, plan_lighting, LightingPass};
+use crate::render::lighting::{
+    lighting_pass_for, plan_lighting, traced_shadows_for, FrameTracedShadows, LightingPass,
+    TracedShadows, TRACED_SAMPLES_PER_SIDE,
+};
 use crate::render::plan::frame_plan::{HeightKey, Plan};
 use crate::render::plan::msaa::MsaaPlan;
 use crate::render::shadows::shadow_pass::ShadowMaps;
-use crate::render::shadows::shadow_plan::plan_shadow_maps;
+use crate::render::shadows::shadow_plan::{plan_shadow_maps, ShadowOptions};
 use crate::render::terrain::layer_paint::LayerPainter;
 use crate::scene::{Camera, Light, Mesh, Scene};
 use crate::vk::{Buffer, Context, Image, Readback, VkError, VkResult};
@@ -114,6 +117,8 @@ pub struct Renderer {
     targets: Targets,
     /// The deferred frame's lighting pass (`RenderOptions::lighting`).
     lighting: Option<LightingPass>,
+    /// The structures its shadow rays go through (`RenderOptions::traced_shadows`).
+    _traced_shadows: Option<FrameTracedShadows>,
     /// The occluder pass's bounds, when some relief surface reads them.
     occluders: Option<OccluderTargets>,
     slots: Vec<FrameSlot>,
@@ -144,7 +149,21 @@ impl Renderer {
     ) -> Result<Renderer, RenderError> {
         let selection = opts.cells.as_ref().map(|c| &c.selection);
         let mut plan = Plan::derive_with_cells(scene, frame_heights, selection)?;
-        plan_shadow_maps(&mut plan, scene, &opts.shadows);
+        let traced = traced_shadows_for(
+            ctx,
+            scene,
+            frame_heights,
+            (opts.traced_shadows, opts.lighting),
+            (opts.height_format, opts.address),
+        )?;
+        match traced {
+            Some(_) => {
+                plan.traced_shadows = true;
+                plan_shadow_maps(&mut plan, scene, &ShadowOptions::OFF);
+                plan.skip("shadow maps", "ray-traced shadows (--traced-shadows)");
+            }
+            None => plan_shadow_maps(&mut plan, scene, &opts.shadows),
+        }
         let probe = opts.shadow_probe.is_some();
         plan.msaa = MsaaPlan::choose(opts.msaa, ctx.info().max_samples, probe)?;
         plan.supersample = choose_supersample(opts, ctx.info().max_image_dimension_2d, probe)?;
@@ -252,7 +271,16 @@ impl Renderer {
             TargetOptions::of(&plan, probe, opts.keep_radiance),
             &tone_map,
         )?;
-        let lighting = lighting_pass_for(ctx, &plan, targets.lit_images())?;
+        let lighting = lighting_pass_for(
+            ctx,
+            &plan,
+            targets.lit_images(),
+            traced.as_ref().map(|t| TracedShadows {
+                scene: &t.scene,
+                offset: t.offset,
+                samples_per_side: TRACED_SAMPLES_PER_SIDE,
+            }),
+        )?;
         // The counters live beside the bounds, so a counting frame has the bounds' targets even
         // where nothing occludes (then they are cleared and never read).
         let occluders = (plan.occluders || plan.count_work)
@@ -295,6 +323,7 @@ impl Renderer {
             tone_map,
             targets,
             lighting,
+            _traced_shadows: traced,
             occluders,
             slots,
             default_camera,

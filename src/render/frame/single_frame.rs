@@ -76,6 +76,10 @@ pub struct RenderOptions {
     /// Where surfaces are lit: in their fragments as they are drawn (forward, the default), or
     /// once per pixel by a lighting pass after the scene is drawn (`--lighting deferred`).
     pub lighting: Lighting,
+    /// Every shadow-casting light is tested by rays through the scene's acceleration
+    /// structures, the receiver's own relief included, instead of shadow maps and the height
+    /// field's own walk (`--traced-shadows`; needs deferred lighting and ray queries).
+    pub traced_shadows: bool,
 }
 
 impl Default for RenderOptions {
@@ -99,6 +103,7 @@ impl Default for RenderOptions {
             gbuffer: false,
             count_work: false,
             lighting: Lighting::Forward,
+            traced_shadows: false,
         }
     }
 }

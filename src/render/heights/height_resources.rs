@@ -276,6 +276,11 @@ impl HeightResources {
         unsafe { buffer.write(0, bytemuck::bytes_of(&frame)) }
     }
 
+    /// The shaders' `height_info` of this map: width, height, mip levels, 1 for repeat.
+    pub fn shader_info(&self) -> [f32; 4] {
+        self.heights.shader_info()
+    }
+
     /// How many frame slots have uniforms.
     pub fn slots(&self) -> usize {
         self.uniforms.len()

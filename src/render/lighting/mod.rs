@@ -7,10 +7,16 @@
 mod deferred_choice;
 mod lighting_pass;
 mod shading_inputs;
+mod traced_choice;
 
 pub(in crate::render) use deferred_choice::{deferred_refusal, plan_lighting};
-pub(in crate::render) use lighting_pass::{lighting_pass_for, LightingPass, LitImages};
+pub(in crate::render) use lighting_pass::{
+    lighting_pass_for, LightingPass, LitImages, TracedShadows,
+};
 pub(in crate::render) use shading_inputs::ShadingInputs;
+pub(in crate::render) use traced_choice::{
+    traced_shadows_for, FrameTracedShadows, TRACED_SAMPLES_PER_SIDE,
+};
 
 /// Where a frame's surfaces are lit.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]

@@ -235,6 +235,9 @@ pub struct Plan {
     /// The surface pass writes shading inputs and the lighting pass lights each pixel once
     /// after it (set by the renderer from `RenderOptions::lighting`; `SPEC_DEFERRED`).
     pub deferred: bool,
+    /// The lighting pass casts shadow rays by ray query instead of reading shadow maps (set by
+    /// the renderer from `RenderOptions::traced_shadows`).
+    pub traced_shadows: bool,
     /// Relief fragments count their traces and steps per pixel (set by the renderer from its
     /// options; `SPEC_COUNT_WORK`).
     pub count_work: bool,
@@ -276,6 +279,7 @@ impl Plan {
             occluders: false,
             gbuffer: false,
             deferred: false,
+            traced_shadows: false,
             count_work: false,
         };
         let mut used = vec![false; scene.materials.len()];

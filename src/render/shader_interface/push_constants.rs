@@ -230,6 +230,18 @@ push_constants! {
 }
 
 push_constants! {
+    /// `lighting.comp:traced`: the scene's relief height map beside the frame's, and how its
+    /// shadow rays are cast.
+    TracedLightingParams {
+        /// The traced scene's height map: width, height, mip levels, 1 for repeat addressing.
+        height_info: [f32; 4] => "vec4",
+        /// x: how far a shadow ray starts off its receiver, along the ray (world units); y:
+        /// samples per side of the grid over a light with a size (its rays are x^2).
+        rays: [f32; 4] => "vec4",
+    }
+}
+
+push_constants! {
     /// `brush.comp`: one stroke over the texels of `region`.
     BrushParams {
         /// Centre x, y (texels), radius (texels), strength.
@@ -284,6 +296,7 @@ pub const PUSH_LAYOUTS: &[PushLayout] = &[
     PyramidParams::LAYOUT,
     TraceParams::LAYOUT,
     OcclusionParams::LAYOUT,
+    TracedLightingParams::LAYOUT,
     BrushParams::LAYOUT,
     BlendParams::LAYOUT,
 ];

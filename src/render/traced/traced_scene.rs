@@ -164,15 +164,15 @@ impl TracedScene {
         self.stats
     }
 
-    pub(super) fn top(&self) -> &AccelerationStructure {
+    pub(in crate::render) fn top(&self) -> &AccelerationStructure {
         &self.top
     }
 
-    pub(super) fn records(&self) -> &Buffer {
+    pub(in crate::render) fn records(&self) -> &Buffer {
         &self.records
     }
 
-    pub(super) fn heights(&self) -> &HeightResources {
+    pub(in crate::render) fn heights(&self) -> &HeightResources {
         &self.heights
     }
 
