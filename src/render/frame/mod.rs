@@ -5,6 +5,7 @@
 mod draw_bounds;
 pub(in crate::render) mod explain;
 pub(in crate::render) mod frame_graph;
+mod frame_setup;
 mod frame_slot;
 pub(in crate::render) mod frame_stats;
 pub(in crate::render) mod frame_timeline;

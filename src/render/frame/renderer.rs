@@ -13,15 +13,16 @@ use std::sync::Arc;
 use std::time::Instant;
 
 use super::frame_graph::{frame_graph, FrameParts};
+use super::frame_setup::plan_frame;
 use super::frame_slot::FrameSlot;
 use super::frame_timeline::{FrameTimeline, HostSpan, HostWork, SubmittedTimeline};
 use super::gbuffer::GBufferChannels;
 use super::height_upload::upload_heights;
-use super::occluders::{plan_occluders, OccluderTargets};
+use super::occluders::OccluderTargets;
 use super::record_graph::{FrameWork, RecordingParts};
 use super::scene_ao::SceneAo;
 use super::shell_draw::BuiltShell;
-use super::single_frame::{choose_supersample, BuiltMap, RenderOptions};
+use super::single_frame::{BuiltMap, RenderOptions};
 use super::surface_pass::SurfacePass;
 use super::targets::{FrameReadbacks, TargetOptions, Targets};
 use super::tonemap::ToneMapPass;
@@ -34,20 +35,16 @@ use crate::render::environment::{BackgroundPass, EnvironmentLight};
 use crate::render::heights::height_resources::HeightResources;
 use crate::render::kit::formats::scene_extra_formats;
 use crate::render::kit::formats::COLOR_FORMAT;
-use crate::render::kit::frame_uniforms::{frame_camera, FrameUniforms, MAX_LIGHTS};
+use crate::render::kit::frame_uniforms::{frame_camera, FrameUniforms};
 use crate::render::kit::graph::FrameGraph;
 use crate::render::kit::pass::Pass;
 use crate::render::kit::pass_timer::{per_pass, PassTiming, TimedScope};
 use crate::render::kit::render_error::RenderError;
-use crate::render::kit::tone_curves::ToneMapping;
 use crate::render::lighting::{
-    lighting_pass_for, plan_lighting, traced_shadows_for, FrameTracedShadows, LightingPass,
-    TracedShadows, TRACED_SAMPLES_PER_SIDE,
+    lighting_pass_for, FrameTracedShadows, LightingPass, TracedShadows, TRACED_SAMPLES_PER_SIDE,
 };
 use crate::render::plan::frame_plan::{HeightKey, Plan};
-use crate::render::plan::msaa::MsaaPlan;
 use crate::render::shadows::shadow_pass::ShadowMaps;
-use crate::render::shadows::shadow_plan::{plan_shadow_maps, ShadowOptions};
 use crate::render::terrain::layer_paint::LayerPainter;
 use crate::scene::{Camera, Light, Mesh, Scene};
 use crate::vk::{Buffer, Context, Image, Readback, VkError, VkResult};
@@ -147,59 +144,8 @@ impl Renderer {
         frame_heights: Option<&Heightfield>,
         opts: &RenderOptions,
     ) -> Result<Renderer, RenderError> {
-        let selection = opts.cells.as_ref().map(|c| &c.selection);
-        let mut plan = Plan::derive_with_cells(scene, frame_heights, selection)?;
-        let traced = traced_shadows_for(
-            ctx,
-            scene,
-            frame_heights,
-            (opts.traced_shadows, opts.lighting),
-            (opts.height_format, opts.address),
-        )?;
-        match traced {
-            Some(_) => {
-                plan.traced_shadows = true;
-                plan_shadow_maps(&mut plan, scene, &ShadowOptions::OFF);
-                plan.skip("shadow maps", "ray-traced shadows (--traced-shadows)");
-            }
-            None => plan_shadow_maps(&mut plan, scene, &opts.shadows),
-        }
+        let (mut plan, traced) = plan_frame(ctx, scene, frame_heights, opts)?;
         let probe = opts.shadow_probe.is_some();
-        plan.msaa = MsaaPlan::choose(opts.msaa, ctx.info().max_samples, probe)?;
-        plan.supersample = choose_supersample(opts, ctx.info().max_image_dimension_2d, probe)?;
-        plan_occluders(&mut plan, scene, opts.occluders);
-        plan.gbuffer = opts.gbuffer;
-        plan_lighting(&mut plan, opts.lighting, opts.shadow_probe.is_some())?;
-        if opts.count_work && !ctx.info().fragment_stores {
-            return Err(VkError::Unsupported(
-                "counting work per pixel (fragmentStoresAndAtomics)".into(),
-            )
-            .into());
-        }
-        plan.count_work = opts.count_work;
-        // The probe's colours are visibilities, not radiance.
-        plan.tone_mapping = if probe {
-            ToneMapping::NONE
-        } else {
-            opts.tone_mapping
-        };
-        if !plan.tone_mapping.exposure_ev.is_finite() {
-            return Err(VkError::Invalid(format!(
-                "--exposure must be a finite number of stops, got {}",
-                plan.tone_mapping.exposure_ev
-            ))
-            .into());
-        }
-        if let Some(k) = opts
-            .shadow_probe
-            .filter(|&k| k >= plan.lights.len().min(MAX_LIGHTS))
-        {
-            return Err(VkError::Invalid(format!(
-                "shadow probe of light {k}: the frame has {} light(s)",
-                plan.lights.len().min(MAX_LIGHTS)
-            ))
-            .into());
-        }
         let default_camera = frame_camera(scene);
         let aspect = opts.width as f32 / opts.height as f32;
         let uniforms = FrameUniforms::new(&default_camera, &plan.lights, aspect);
