@@ -89,7 +89,8 @@ pub struct FrameCostSection {
     /// The default look over the plain frame, at the main size (the chain's product).
     pub look_over_plain: f64,
     /// Deferred lighting against forward, frame for frame at one sample (the lighting pass
-    /// lights one sample per pixel): `ratio` is the deferred frame over the forward one.
+    /// lights one sample per pixel): `ratio` is the deferred frame over the forward one; and,
+    /// on a device with ray queries, the deferred look with traced shadows over its PCSS maps.
     #[serde(default)]
     pub deferred: Vec<ChainStep>,
     /// The plain frame over the same without the occluder pass, on the default scene (where
@@ -176,6 +177,9 @@ fn chain_looks(size: [u32; 2]) -> Vec<(&'static str, RenderOptions)> {
     ]
 }
 
+/// The row of the deferred look whose shadows are traced by ray query.
+const TRACED_LOOK: &str = "look, 1 sample, deferred, traced shadows";
+
 /// Quads in a stack.
 const STACK_QUADS: usize = 8;
 
@@ -213,7 +217,17 @@ pub fn run_frame_cost_section(
     let scene = default_scene(DEFAULT_SCENE_METHOD);
     let heights = default_heightfield();
     progress("frame costs: the default scene, plain and looks, frames in turn");
-    let looks = chain_looks(main);
+    let mut looks = chain_looks(main);
+    // Where the device has ray queries: the deferred look with its shadows traced, not mapped.
+    if ctx.info().ray_query {
+        let traced = RenderOptions {
+            msaa: 1,
+            lighting: Lighting::Deferred,
+            traced_shadows: true,
+            ..look(main)
+        };
+        looks.push((TRACED_LOOK, traced));
+    }
     let options: Vec<RenderOptions> = looks.iter().map(|(_, o)| o.clone()).collect();
     let timed = time_interleaved(ctx, &scene, Some(&heights), &options, frames)?;
     let mut timelines = Vec::new();
@@ -253,13 +267,23 @@ pub fn run_frame_cost_section(
         step(&rows, "PCSS shadow maps", "look, no shadow maps", "look"),
     ];
     let look_over_plain = ms(&rows, "look") / ms(&rows, "plain");
-    let deferred = ["plain", "look, 1 sample, no shadow maps", "look, 1 sample"]
-        .iter()
-        .map(|&frame| {
-            let lit = format!("{frame}, deferred");
-            step(&rows, &format!("deferred lighting, {frame}"), frame, &lit)
-        })
-        .collect();
+    let mut deferred: Vec<ChainStep> =
+        ["plain", "look, 1 sample, no shadow maps", "look, 1 sample"]
+            .iter()
+            .map(|&frame| {
+                let lit = format!("{frame}, deferred");
+                step(&rows, &format!("deferred lighting, {frame}"), frame, &lit)
+            })
+            .collect();
+    if rows.iter().any(|r| r.frame == TRACED_LOOK) {
+        let maps = "look, 1 sample, deferred";
+        deferred.push(step(
+            &rows,
+            "traced shadows against PCSS maps",
+            maps,
+            TRACED_LOOK,
+        ));
+    }
     let occluder_cost = ms(&rows, "plain") / ms(&rows, "plain, occluders off");
     for size in sizes {
         progress(&format!(
@@ -414,10 +438,7 @@ pub fn report(md: &mut String, s: &FrameCostSection) {
             "\nDeferred lighting (`--lighting deferred`: the surface pass writes shading inputs, \
              a compute pass lights each pixel once) against forward, at one sample:\n"
         );
-        let _ = writeln!(
-            md,
-            "| forward frame | deferred frame | deferred / forward |"
-        );
+        let _ = writeln!(md, "| from | to | ratio (to over from) |");
         let _ = writeln!(md, "|---|---|---|");
         for c in &s.deferred {
             let _ = writeln!(md, "| {} | {} | {:.2}x |", c.from, c.to, c.ratio);
