@@ -97,6 +97,11 @@ pub struct Run {
     pub nan_pixels: usize,
     /// Iterations of the error trace's rays.
     pub steps: StepStats,
+    /// Texel fetches of the error trace's rays (the method's trace: height map, pyramid and
+    /// method map; a gather is one), counted by the shader in an untimed trace. Absent
+    /// (zeros) in files from before fetches were counted.
+    #[serde(default)]
+    pub fetches: StepStats,
     /// Iterations of the timed rays, and what their subgroups paid.
     pub timed_steps: TimedSteps,
 }

@@ -14,11 +14,11 @@ use super::results::{GpuMs, MapBuild, Run};
 use super::steps_map::StepsMap;
 use super::subgroup_steps::subgroup_steps;
 use super::sweep::{FieldSource, SweepConfig};
-use super::trace_stats::{ray_direction, trace_stats};
+use super::trace_stats::{ray_direction, trace_stats, StepStats};
 use crate::heightfield::{build_method_map, Heightfield, LoadOptions, MapData};
 use crate::method::{BenchRole, Budget, Method};
 use crate::render::{
-    build_method_map_with, build_pyramid_on_gpu, time_method, trace_on_gpu, BenchRequest,
+    build_method_map_with, build_pyramid_on_gpu, time_method, trace_counting_fetches, BenchRequest,
     HeightFormat, MapBuilder, TraceRequest,
 };
 use crate::vk::Context;
@@ -363,7 +363,8 @@ impl Runner {
             self.cfg.resolution,
             self.ctx.info().subgroup_size,
         );
-        let traced = trace_on_gpu(&self.ctx, &hf, &trace)?;
+        // Counted, untimed: the counting would weigh on the timed frames.
+        let traced = trace_counting_fetches(&self.ctx, &hf, &trace)?;
         let first_of_method = !self.steps_maps.iter().any(|m| m.method == job.method.id());
         let default_budget = job.budget == job.method.info().default_budget;
         if job.section == Section::ErrorVsTime && default_budget && first_of_method {
@@ -408,6 +409,7 @@ impl Runner {
             capped_rate: stats.capped_rate,
             nan_pixels: stats.nan_pixels,
             steps: stats.steps,
+            fetches: StepStats::of(traced.fetches.iter().map(|f| f[0])),
             timed_steps,
         })
     }
