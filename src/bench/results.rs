@@ -102,6 +102,10 @@ pub struct Run {
     /// (zeros) in files from before fetches were counted.
     #[serde(default)]
     pub fetches: StepStats,
+    /// Compute shader invocations of one timed frame (every frame's dispatches), as the device
+    /// counts them (pipeline statistics); absent where it cannot, and in older files.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub compute_invocations: Option<u64>,
     /// Iterations of the timed rays, and what their subgroups paid.
     pub timed_steps: TimedSteps,
 }

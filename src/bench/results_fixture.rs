@@ -54,6 +54,7 @@ pub(crate) fn run(method: &str, angle: f64, samples: &[f64], error: f64) -> Run 
         steps: Default::default(),
         timed_steps: Default::default(),
         fetches: Default::default(),
+        compute_invocations: None,
     }
 }
 

@@ -410,6 +410,7 @@ impl Runner {
             nan_pixels: stats.nan_pixels,
             steps: stats.steps,
             fetches: StepStats::of(traced.fetches.iter().map(|f| f[0])),
+            compute_invocations: timing.compute_invocations.first().copied(),
             timed_steps,
         })
     }

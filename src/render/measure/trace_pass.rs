@@ -20,7 +20,7 @@ use crate::render::shader_interface::{
 use crate::scene::ShadowMode;
 use crate::vk::{
     memory_barrier, Bind, Buffer, Context, DescriptorPool, MemoryLocation, Readback, Recording,
-    SpecConstants, TimestampPool, VkError, VkResult,
+    SpecConstants, StatisticsPool, TimestampPool, VkError, VkResult,
 };
 
 /// Side of the trace pass's square workgroups (`local_size_x` and `_y` in trace.comp).
@@ -106,6 +106,9 @@ pub struct TraceOutput {
     pub fetches: Vec<[u32; 2]>,
     /// GPU time of each timed dispatch, in order.
     pub frame_ms: Vec<f64>,
+    /// Compute shader invocations of each timed frame, as the device counts them (pipeline
+    /// statistics); empty where it cannot.
+    pub compute_invocations: Vec<u64>,
 }
 
 fn all_stages() -> vk::PipelineStageFlags2 {
@@ -345,6 +348,11 @@ fn trace_with(
     ]);
     let set = pool.allocate(pass.layout(), &binds)?;
     let timestamps = TimestampPool::new(ctx, 2 * frames, "trace timestamps")?;
+    let statistics = match StatisticsPool::new(ctx, frames, "trace counts") {
+        Ok(pool) => Some(pool),
+        Err(VkError::Unsupported(_)) => None,
+        Err(e) => return Err(e),
+    };
     let full = (
         all_stages(),
         vk::AccessFlags2::MEMORY_READ | vk::AccessFlags2::MEMORY_WRITE,
@@ -359,6 +367,9 @@ fn trace_with(
             let timed = frame.checked_sub(warmup);
             if let Some(k) = timed {
                 timestamps.write(rec, all, 2 * k)?;
+                if let Some(stats) = &statistics {
+                    stats.begin(rec, k)?;
+                }
             }
             for d in 0..dispatches {
                 if d > 0 {
@@ -368,6 +379,9 @@ fn trace_with(
                 rec.dispatch([cols.div_ceil(GROUP), rows.div_ceil(GROUP), 1]);
             }
             if let Some(k) = timed {
+                if let Some(stats) = &statistics {
+                    stats.end(rec, k)?;
+                }
                 timestamps.write(rec, all, 2 * k + 1)?;
             }
             memory_barrier(rec, full, full);
@@ -375,6 +389,14 @@ fn trace_with(
         targets.record_readback(rec)
     })?;
     let ticks = timestamps.read_ticks(2 * frames)?;
+    let compute_invocations = match &statistics {
+        Some(stats) => stats
+            .read(frames)?
+            .iter()
+            .map(|c| c.compute_invocations)
+            .collect(),
+        None => Vec::new(),
+    };
     Ok(TraceOutput {
         hits: bytemuck::pod_collect_to_vec(targets.hits_back.bytes()?),
         steps: bytemuck::pod_collect_to_vec(targets.steps_back.bytes()?),
@@ -388,6 +410,7 @@ fn trace_with(
             .chunks_exact(2)
             .map(|t| timestamps.ticks_to_ms(t[0], t[1]))
             .collect(),
+        compute_invocations,
     })
 }
 
