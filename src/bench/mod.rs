@@ -29,6 +29,7 @@ mod blending_report;
 pub mod compare;
 mod cost_curve;
 mod cost_gate;
+mod depth_curve;
 mod depth_match;
 mod edits;
 mod frame_costs;

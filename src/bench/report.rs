@@ -76,6 +76,7 @@ pub fn render_report(results: &BenchResults) -> (String, Vec<(String, String)>) 
     scaling(&mut md, results);
     matched_scaling(&mut md, results);
     depth_scale(&mut md, results);
+    super::depth_curve::report(&mut md, results);
     cone_vs_quadric(&mut md, results);
     maps(&mut md, results);
     stability(&mut md, &results.stability);

@@ -37,6 +37,8 @@ pub enum Section {
     MatchedScaling,
     /// Error and time as the depth scale grows, over [`crate::bench::SweepConfig::depth_scales`].
     DepthScale,
+    /// Every method at its default budget at every depth scale: the cost curve over depth.
+    DepthCurve,
 }
 
 /// POM's largest cap tried at map side `size`: `base` steps at side `smallest`, grown in
@@ -95,6 +97,7 @@ pub fn plan_jobs(cfg: &SweepConfig) -> Vec<Job> {
     let mut jobs = error_vs_time_jobs(cfg, &base);
     jobs.extend(scaling_jobs(cfg, &base, &first));
     jobs.extend(depth_scale_jobs(cfg, &base, &first));
+    jobs.extend(depth_curve_jobs(cfg, &base, &first));
     jobs
 }
 
@@ -213,6 +216,29 @@ fn depth_scale_jobs(cfg: &SweepConfig, base: &JobAt, first: &FieldSource) -> Vec
                 b,
                 STIFF_ANGLE,
                 depth,
+            ));
+        }
+    }
+    jobs
+}
+
+/// The depth-scale cost curve: every method at its default budget on the first field, at the main
+/// size and the middle angle, at every depth scale (the first too, so that the curve does not
+/// depend on which angles section 1 ran).
+fn depth_curve_jobs(cfg: &SweepConfig, base: &JobAt, first: &FieldSource) -> Vec<Job> {
+    let size = cfg.main_size();
+    let mut jobs = Vec::new();
+    for &method in &cfg.methods {
+        for &d in &cfg.depth_scales {
+            let budget = method.info().default_budget;
+            jobs.push(base(
+                Section::DepthCurve,
+                first,
+                size,
+                method,
+                budget,
+                MIDDLE_ANGLE,
+                d,
             ));
         }
     }
