@@ -41,6 +41,7 @@ mod median;
 mod merge;
 mod nan_null;
 mod npy;
+mod objects_curve;
 mod paint_edits;
 mod provenance;
 mod report;

@@ -9,7 +9,7 @@
 use std::sync::Arc;
 
 use ash::vk;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::vk::{memory_barrier, Buffer, Context, MemoryLocation, Readback, Recording, VkResult};
 
@@ -30,7 +30,7 @@ pub struct WorkCounts {
 }
 
 /// A frame's counts summed up.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct WorkSummary {
     /// Relief fragments traced in the frame.
     pub traced_fragments: u64,
