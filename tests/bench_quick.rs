@@ -1,5 +1,6 @@
 //! `relief bench --quick` (the CI sweep) covers every method, writes the report and plots, and
-//! no run anywhere, the stability matrix included, produces a NaN hit.
+//! no run anywhere, the stability matrix included, produces a NaN hit; its cost curves over depth
+//! scale and relief objects on screen keep their points and fit their exponents.
 
 mod common;
 
@@ -47,6 +48,16 @@ fn quick_bench_covers_every_method_without_nan() {
             "{r}"
         );
         assert!(mean >= 1.0 && paid >= mean - 1e-9, "timed steps in {r}");
+        // Where the device counts invocations (lavapipe does), one per ray of the timed grid.
+        if let Some(n) = r["compute_invocations"].as_u64() {
+            let grid = &r["resolution"];
+            let rays = grid[0].as_u64().unwrap() * grid[1].as_u64().unwrap();
+            assert!(
+                n >= rays
+                    && n < rays + 64 * (grid[0].as_u64().unwrap() + grid[1].as_u64().unwrap()),
+                "{r}"
+            );
+        }
         for key in [
             "method",
             "heightfield",
@@ -65,6 +76,10 @@ fn quick_bench_covers_every_method_without_nan() {
             assert!(!r[key].is_null(), "run lacks {key}: {r}");
         }
     }
+    cost_curves(
+        &results,
+        &std::fs::read_to_string(out.join("report.md")).expect("report"),
+    );
     let stability = results["stability"].as_array().expect("stability");
     assert!(
         stability.len() >= 20 * Method::all().count(),
@@ -152,4 +167,64 @@ fn quick_bench_covers_every_method_without_nan() {
             "{plot} has data"
         );
     }
+}
+
+/// The depth-scale curve: every method at every depth scale of the sweep, with its texel fetches
+/// counted, and a fitted exponent per method in the report; the objects-on-screen curve: 1, 4 and
+/// 16 quads, whose traced work grows with them, and its exponent.
+fn cost_curves(results: &serde_json::Value, report: &str) {
+    let runs = results["runs"].as_array().expect("runs");
+    let depths = results["options"]["depth_scales"]
+        .as_array()
+        .expect("depth scales")
+        .len();
+    assert!(depths >= 2, "a curve needs two depths");
+    for m in Method::all() {
+        let points: Vec<&serde_json::Value> = runs
+            .iter()
+            .filter(|r| r["section"] == "depth_curve" && r["method"] == m.id())
+            .collect();
+        assert_eq!(points.len(), depths, "{m}'s depth curve");
+        for p in points {
+            let fetches = p["fetches"]["mean"].as_f64().expect("fetches counted");
+            assert!(fetches >= 1.0, "every ray fetches: {p}");
+        }
+        let section = report
+            .split("## Cost against depth scale")
+            .nth(1)
+            .expect("the depth-curve section");
+        let row = section
+            .lines()
+            .find(|l| l.starts_with(&format!("| {} | ", m.id())))
+            .unwrap_or_else(|| panic!("{m}'s depth-curve row in the report"));
+        assert_eq!(row.matches(" | ").count(), depths + 3, "{row}");
+        let exponents: Vec<&str> = row.trim_end_matches(" |").rsplit(" | ").take(3).collect();
+        for k in exponents {
+            assert!(k.parse::<f64>().is_ok_and(f64::is_finite), "{m}: {row}");
+        }
+    }
+    let objects = results["frame_costs"]["objects"]
+        .as_array()
+        .expect("objects curve");
+    let quads: Vec<u64> = objects
+        .iter()
+        .map(|o| o["quads"].as_u64().unwrap())
+        .collect();
+    assert_eq!(quads, [1, 4, 16]);
+    let traced: Vec<u64> = objects
+        .iter()
+        .map(|o| o["work"]["traced_pixels"].as_u64().unwrap())
+        .collect();
+    assert!(
+        traced[0] > 0 && traced[1] > 3 * traced[0] && traced[2] > 3 * traced[1],
+        "{traced:?}"
+    );
+    assert!(objects
+        .iter()
+        .all(|o| o["work"]["fetches"].as_u64() > o["work"]["steps"].as_u64()));
+    assert!(report.contains("Relief objects on screen"));
+    assert!(
+        report.contains("Time ~ quads^k: **k = "),
+        "the exponent is fitted"
+    );
 }

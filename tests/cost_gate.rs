@@ -1,7 +1,7 @@
 //! The cost gate (`relief bench gate`): this build's counts of work match the baseline kept in
 //! assets/cost-gate.json within its tolerances (the suite fails, naming the method, field and
-//! view, when a change makes a method take more steps); a method made to waste steps on purpose
-//! trips it; two runs count the same; a baseline that cannot be read is a clean error.
+//! view, when a change makes a method take more steps or fetch more texels); a method made to
+//! waste steps on purpose trips it on both; two runs count the same; a baseline that cannot be read is a clean error.
 
 mod common;
 
@@ -36,7 +36,15 @@ fn this_build_does_no_more_work_than_the_baseline() {
 #[test]
 fn a_method_wasting_steps_trips_the_gate_and_is_named() {
     let out = gate(&["--methods", "relief", "--waste", "relief"]);
-    assert_clean_failure(&out, &["cost gate failed", "relief on", "mean steps"]);
+    assert_clean_failure(
+        &out,
+        &[
+            "cost gate failed",
+            "relief on",
+            "mean steps",
+            "mean fetches",
+        ],
+    );
     let err = String::from_utf8_lossy(&out.stderr);
     for field in ["fbm", "bricks", "spikes"] {
         assert!(
@@ -61,6 +69,11 @@ fn two_runs_count_the_same() {
     assert_eq!(a["counts"]["cells"].as_array().map(Vec::len), Some(18));
     assert_eq!(a["counts"]["cells"], b["counts"]["cells"]);
     assert_eq!(a["findings"], Value::Array(Vec::new()));
+    for cell in a["counts"]["cells"].as_array().unwrap() {
+        let (steps, fetches) = (cell["mean_steps"].as_f64(), cell["mean_fetches"].as_f64());
+        // Every step of both fetches at least one texel: the counting is on.
+        assert!(fetches >= steps && steps > Some(0.0), "{cell}");
+    }
 }
 
 #[test]

@@ -2,7 +2,8 @@
 //! relief quads one unit apart (farther than their 0.3 units of relief) filling the view, each
 //! pixel traces eight fragments on the forward path and one where the occluder pass culls, in
 //! either draw order; quads closer than their relief overlap in depth, so there a second trace
-//! stays; and frames that do not count return no counts.
+//! stays; each trace's texel fetches are counted beside its steps, the same in two frames;
+//! and frames that do not count return no counts.
 
 mod common;
 
@@ -82,6 +83,30 @@ fn a_culled_stack_traces_each_pixel_once_and_the_forward_path_eight_times() {
 }
 
 #[test]
+fn texel_fetches_are_counted_per_pixel_and_the_same_in_two_frames() {
+    let Some(ctx) = common::device("work_counters_fetches") else {
+        return;
+    };
+    let hf = Generator::Fbm.generate(64, 64, 7);
+    let first = counts(&ctx, &hf, (1.0, true), true);
+    let again = counts(&ctx, &hf, (1.0, true), true);
+    assert_eq!(first, again, "two frames count the same");
+    let s = first.summary();
+    // Every QDM step reads a pyramid node or, at a leaf, at least one bilinear cell.
+    assert!(s.fetches >= s.steps && s.steps > 0, "{s:?}");
+    for (k, (&steps, &fetches)) in first.steps.iter().zip(&first.fetches).enumerate() {
+        assert!(
+            fetches >= steps,
+            "pixel {k}: {steps} steps, {fetches} fetches"
+        );
+        assert_eq!(fetches > 0, first.traced[k] > 0, "pixel {k}");
+    }
+    let forward = counts(&ctx, &hf, (1.0, true), false).summary();
+    assert!(forward.fetches > 4 * s.fetches, "{forward:?} against {s:?}");
+    common::assert_no_validation_errors(&ctx);
+}
+
+#[test]
 fn frames_that_do_not_count_return_no_counts() {
     let Some(ctx) = common::device("work_counters_off") else {
         return;
@@ -132,6 +157,11 @@ fn relief_render_reports_the_counts_and_draws_cost_maps() {
         .as_f64()
         .expect("a ratio");
     assert!((1.0..1.5).contains(&per_pixel), "{work}");
+    assert!(
+        work["fetches"].as_u64() >= work["steps"].as_u64()
+            && work["fetches_per_traced_pixel"].as_f64() > Some(1.0),
+        "the trace's texel fetches: {work}"
+    );
     for map in ["steps", "fragments"] {
         let path = dir.join(format!("f.cost-{map}.png"));
         let img = image::open(&path).expect("the cost map is a PNG").to_rgb8();

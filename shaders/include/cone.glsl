@@ -27,7 +27,7 @@ bvec2 cone_outside(vec2 cell, vec2 size) {
 
 // Depth of the bound's box top over `cell`.
 float cone_floor(vec2 cell, vec2 size, float s) {
-    return s * (1.0 - texelFetch(method_map, address_cell(cell, size), 0).g);
+    return s * (1.0 - counted_texel(method_map, address_cell(cell, size), 0).g);
 }
 
 // Depths at which the ray leaves `cell` along u and v (never before z); a merged outside cell
@@ -60,7 +60,7 @@ float cone_step(Ray ray, vec2 cell, vec2 size, float z, float floor_z, bool rela
     if (relaxed && any(out_cell)) {
         return 0.0;
     }
-    float c = texelFetch(method_map, address_cell(cell, size), 0).r;
+    float c = counted_texel(method_map, address_cell(cell, size), 0).r;
     vec2 offset = ray_uv(ray, z) - (cell + 0.5) / size;
     offset = mix(offset, vec2(0.0), vec2(out_cell));
     float s = ray.depth_scale;

@@ -9,6 +9,25 @@
 #define HEIGHT_INFO frame.height_info
 #endif
 
+// Texel fetches counted (docs/profiling.md): every read of the height map, its pyramids or the
+// method's map goes through counted_texel or one of the helpers below, which add one to
+// height_fetches per texture instruction (a gather of four corners is one) when the pipeline sets
+// COUNT_FETCHES. Production pipelines leave it 0, and the count is dead code the compiler drops.
+layout(constant_id = SPEC_COUNT_FETCHES) const uint COUNT_FETCHES = 0u;
+uint height_fetches = 0u;
+
+void count_fetch() {
+    if (COUNT_FETCHES != 0u) {
+        height_fetches += 1u;
+    }
+}
+
+// texelFetch, counted.
+vec4 counted_texel(sampler2D map, ivec2 texel, int level) {
+    count_fetch();
+    return texelFetch(map, texel, level);
+}
+
 vec2 height_size() {
     return HEIGHT_INFO.xy;
 }
@@ -40,6 +59,7 @@ ivec2 address_cell(vec2 cell, vec2 size) {
 // sub-texel rounding cannot pick another cell; the point sampler's own addressing (repeat or
 // clamp to edge, as the map's) wraps or clamps, and a gather reads the view's base level.
 vec4 bilinear_corners(vec2 cell) {
+    count_fetch();
     vec4 h = textureGather(height_point, (cell + 1.0) / height_size(), 0);
     // A gather returns (i, j+1), (i+1, j+1), (i+1, j), (i, j).
     return h.wzxy;
@@ -57,11 +77,13 @@ float height_bilinear_exact(vec2 uv) {
 
 // Bilinear height at uv (level 0): the true surface.
 float height_bilinear(vec2 uv) {
+    count_fetch();
     return textureLod(height_linear, uv, 0.0).r;
 }
 
 // Height of the texel containing uv at pyramid level `level` (level 0: the box surface).
 float height_max(vec2 uv, float level) {
+    count_fetch();
     return textureLod(height_point, uv, level).r;
 }
 

@@ -79,7 +79,7 @@ vec2 lod_level_size(int level) {
 float lod_level_depth(vec2 uv, int level, bool mean, float depth_scale) {
     vec2 size = lod_level_size(level);
     ivec2 texel = address_cell(floor(uv * size), size);
-    float h = mean ? texelFetch(height_mean, texel, level).r : texelFetch(height_point, texel, level).r;
+    float h = mean ? counted_texel(height_mean, texel, level).r : counted_texel(height_point, texel, level).r;
     return depth_scale * (1.0 - h);
 }
 

@@ -9,7 +9,8 @@ layout(set = SET_OCCLUDERS, binding = BINDING_OCCLUDER_BOUNDS) uniform sampler2D
 layout(constant_id = SPEC_OCCLUDER_TAPS) const uint OCCLUDER_TAPS = 0u;
 
 // The frame's work counters beside the bounds (src/render/frame/work_counters.rs): per pixel of
-// the targets, the relief fragments that survived the bounds and traced, and their steps.
+// the targets, the relief fragments that survived the bounds and traced, their steps and their
+// traces' texel fetches (heightfield.glsl counts those when the pipeline sets COUNT_FETCHES).
 layout(set = SET_OCCLUDERS, binding = BINDING_WORK_COUNTS, std430) buffer WorkCounts {
     uint work_counts[];
 };
@@ -17,7 +18,7 @@ layout(constant_id = SPEC_COUNT_WORK) const uint COUNT_WORK = 0u;
 
 uint work_index() {
     ivec2 p = ivec2(gl_FragCoord.xy);
-    return 2u * uint(p.y * textureSize(occluder_bounds, 0).x + p.x);
+    return 3u * uint(p.y * textureSize(occluder_bounds, 0).x + p.x);
 }
 
 // Counts this fragment as traced (after the bounds let it through).
@@ -27,10 +28,12 @@ void count_traced_fragment() {
     }
 }
 
-// Adds the trace's steps to this pixel's count.
+// Adds the trace's steps, and the fetches counted so far (the trace's: it is called right after
+// it), to this pixel's counts.
 void count_traced_steps(uint steps) {
     if (COUNT_WORK != 0u) {
         atomicAdd(work_counts[work_index() + 1u], steps);
+        atomicAdd(work_counts[work_index() + 2u], height_fetches);
     }
 }
 

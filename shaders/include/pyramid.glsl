@@ -30,7 +30,7 @@ vec2 level_size(int level) {
 // just past a coarse node's boundary it may still return the node the ray has left.
 float node_depth_cell(vec2 cell, int level, float depth_scale) {
     ivec2 texel = address_cell(cell, level_size(level));
-    return depth_scale * (1.0 - texelFetch(height_point, texel, level).r);
+    return depth_scale * (1.0 - counted_texel(height_point, texel, level).r);
 }
 
 // Per unit of depth, how far the ray moves in uv.

@@ -181,7 +181,7 @@ float shadow_cell_exit(ShadowQuery q, float x, int level) {
 // says why not through the sampler).
 float node_height(vec2 uv, int level) {
     vec2 size = level_size(level);
-    return texelFetch(height_point, address_cell(floor(uv * size), size), level).r;
+    return counted_texel(height_point, address_cell(floor(uv * size), size), level).r;
 }
 
 // The largest rise tangent over [xa, xe] inside bilinear cell `cell`, where the ray's offset in

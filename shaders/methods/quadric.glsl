@@ -47,7 +47,7 @@ float quadric_epsilon(Ray ray, float lambda) {
 }
 
 vec4 quadric_texel(vec2 cell) {
-    return texelFetch(method_map, address_cell(cell, height_size()), 0);
+    return counted_texel(method_map, address_cell(cell, height_size()), 0);
 }
 
 // Algorithm 1 as the paper has it, with bisection for capped rays.

@@ -19,6 +19,9 @@ layout(set = 0, binding = BINDING_TRACE_HITS, std430) writeonly buffer Hits { fl
 layout(set = 0, binding = BINDING_TRACE_STEPS, std430) writeonly buffer Steps { uvec2 steps[]; };
 // Per ray: the light's visible fraction at the hit (1 when SHADOW_MODE is 0).
 layout(set = 0, binding = BINDING_TRACE_VISIBLE, std430) writeonly buffer Visible { float visible[]; };
+// Per ray, with COUNT_FETCHES set (heightfield.glsl): the method's texel fetches, then the shadow
+// walk's. Without it nothing is written, and a one-entry stand-in is bound.
+layout(set = 0, binding = BINDING_TRACE_FETCHES, std430) writeonly buffer Fetches { uvec2 fetches[]; };
 
 // The fields: TraceParams in src/render/shader_interface/push_constants.rs.
 layout(push_constant, std430) uniform TraceParams {
@@ -33,6 +36,7 @@ void main() {
     vec2 origin = (vec2(cell) + 0.5) / vec2(params.grid.xy);
     Ray ray = Ray(origin, params.dir.xyz, params.dir.w);
     Hit hit = METHOD_TRACE(ray, ray_budget(ray));
+    uint method_fetches = height_fetches;
     vec2 uv = ray_uv(ray, hit.z);
     uint k = cell.y * params.grid.x + cell.x;
     hits[8u * k + 0u] = origin.x;
@@ -45,4 +49,7 @@ void main() {
     hits[8u * k + 7u] = hit.z;
     steps[k] = uvec2(hit.steps, hit.capped ? 1u : 0u);
     visible[k] = light_visible(uv, hit.z, params.light.xyz, params.light.w, ray.depth_scale);
+    if (COUNT_FETCHES != 0u) {
+        fetches[k] = uvec2(method_fetches, height_fetches - method_fetches);
+    }
 }

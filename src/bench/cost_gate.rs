@@ -1,17 +1,19 @@
 //! The cost gate: a small fixed sweep whose counts of work do not depend on the device's speed
-//! (iterations per ray, the slowest ray, rays stopped by their cap), compared against a baseline
+//! (iterations and texel fetches per ray, the slowest ray's, rays stopped by their cap), compared against a baseline
 //! kept in the repository. Times move with the machine; these move only when a method's walk
-//! changes, so a change that makes a method take more steps fails the suite and names the
+//! changes, so a change that makes a method take more steps or fetch more fails the suite and names the
 //! method, field and view.
 
 use std::sync::Arc;
 
 use serde::{Deserialize, Serialize};
 
-use super::trace_stats::{ray_direction, trace_stats};
+use super::trace_stats::{ray_direction, trace_stats, StepStats};
 use crate::heightfield::{Address, Generator};
 use crate::method::Method;
-use crate::render::{build_method_map_with, trace_on_gpu, HeightFormat, MapBuilder, TraceRequest};
+use crate::render::{
+    build_method_map_with, trace_counting_fetches, HeightFormat, MapBuilder, TraceRequest,
+};
 use crate::vk::{Context, VkResult};
 
 /// The fields the gate traces: smooth, bricked and sparse spikes (what coarse steps skip).
@@ -26,13 +28,16 @@ pub const GATE_DEPTH_SCALE: f64 = 0.1;
 /// Rays per cell.
 pub const GATE_RAYS: (u32, u32) = (16, 16);
 
-/// How much a count may grow before the gate fails: the mean by 5% (and at least 0.25 steps),
-/// the slowest ray by 10% (and at least 2 steps), capped rays by 2 of the cell's 256.
+/// How much a count may grow before the gate fails: the mean by 5% (and at least 0.25 steps or
+/// 1 fetch), the slowest ray by 10% (and at least 2 steps or 4 fetches), capped rays by 2 of the
+/// cell's 256.
 pub const MEAN_GROWTH: f64 = 0.05;
 const MEAN_SLACK: f64 = 0.25;
 /// See [`MEAN_GROWTH`].
 pub const MAX_GROWTH: f64 = 0.10;
 const MAX_SLACK: u32 = 2;
+const MEAN_FETCH_SLACK: f64 = 1.0;
+const MAX_FETCH_SLACK: u32 = 4;
 const CAPPED_SLACK: u32 = 2;
 
 /// One method on one field from one view.
@@ -50,6 +55,11 @@ pub struct GateCell {
     pub max_steps: u32,
     /// Rays whose method ran out of iterations.
     pub capped: u32,
+    /// Texel fetches per ray (height map, pyramid and method map; a gather is one), mean over
+    /// the cell's rays.
+    pub mean_fetches: f64,
+    /// The most fetches one ray made.
+    pub max_fetches: u32,
 }
 
 /// A gate run: its fixed setup and every cell.
@@ -111,8 +121,9 @@ pub fn measure_gate(
                     map: map.as_ref().map(|m| &m.data),
                     shadow: None,
                 };
-                let out = trace_on_gpu(ctx, &hf, &req)?;
+                let out = trace_counting_fetches(ctx, &hf, &req)?;
                 let stats = trace_stats(&hf, &out.hits, &out.steps, GATE_DEPTH_SCALE, address);
+                let fetches = StepStats::of(out.fetches.iter().map(|f| f[0]));
                 let cell = GateCell {
                     method: method.id().to_owned(),
                     field: field.name().to_owned(),
@@ -120,6 +131,8 @@ pub fn measure_gate(
                     mean_steps: (stats.steps.mean * 1e4).round() / 1e4,
                     max_steps: stats.steps.max,
                     capped: out.steps.iter().filter(|s| s[1] != 0).count() as u32,
+                    mean_fetches: (fetches.mean * 1e4).round() / 1e4,
+                    max_fetches: fetches.max,
                 };
                 progress(&cell);
                 cells.push(cell);
@@ -135,6 +148,23 @@ pub fn measure_gate(
 
 fn key(c: &GateCell) -> (&str, &str, &str) {
     (&c.method, &c.field, &c.view)
+}
+
+/// "mean steps 20.00 -> 40.00 (+100.0%)" when a mean grew beyond [`MEAN_GROWTH`] and `slack`.
+fn mean_grew(what: &str, was: f64, now: f64, slack: f64) -> Option<String> {
+    let limit = (was * (1.0 + MEAN_GROWTH)).max(was + slack);
+    (now > limit).then(|| {
+        format!(
+            "mean {what} {was:.2} -> {now:.2} (+{:.1}%)",
+            100.0 * (now / was.max(1e-9) - 1.0)
+        )
+    })
+}
+
+/// "slowest ray's steps 40 -> 80" when the most grew beyond [`MAX_GROWTH`] and `slack`.
+fn most_grew(what: &str, was: u32, now: u32, slack: u32) -> Option<String> {
+    let limit = ((f64::from(was) * (1.0 + MAX_GROWTH)).floor() as u32).max(was + slack);
+    (now > limit).then(|| format!("slowest ray's {what} {was} -> {now}"))
 }
 
 /// What `run` does worse than `baseline`, over the methods `run` measured. Counts that fell are
@@ -161,23 +191,25 @@ pub fn check_gate(baseline: &GateCounts, run: &GateCounts) -> Vec<GateFinding> {
             continue;
         };
         let mut grew = Vec::new();
-        let mean_limit = (was.mean_steps * (1.0 + MEAN_GROWTH)).max(was.mean_steps + MEAN_SLACK);
-        if now.mean_steps > mean_limit {
-            grew.push(format!(
-                "mean steps {:.2} -> {:.2} (+{:.1}%)",
-                was.mean_steps,
-                now.mean_steps,
-                100.0 * (now.mean_steps / was.mean_steps.max(1e-9) - 1.0)
-            ));
-        }
-        let max_limit = ((f64::from(was.max_steps) * (1.0 + MAX_GROWTH)).floor() as u32)
-            .max(was.max_steps + MAX_SLACK);
-        if now.max_steps > max_limit {
-            grew.push(format!(
-                "slowest ray's steps {} -> {}",
-                was.max_steps, now.max_steps
-            ));
-        }
+        grew.extend(mean_grew(
+            "steps",
+            was.mean_steps,
+            now.mean_steps,
+            MEAN_SLACK,
+        ));
+        grew.extend(most_grew("steps", was.max_steps, now.max_steps, MAX_SLACK));
+        grew.extend(mean_grew(
+            "fetches",
+            was.mean_fetches,
+            now.mean_fetches,
+            MEAN_FETCH_SLACK,
+        ));
+        grew.extend(most_grew(
+            "fetches",
+            was.max_fetches,
+            now.max_fetches,
+            MAX_FETCH_SLACK,
+        ));
         if now.capped > was.capped + CAPPED_SLACK {
             grew.push(format!("capped rays {} -> {}", was.capped, now.capped));
         }
@@ -213,6 +245,8 @@ mod tests {
             mean_steps: mean,
             max_steps: max,
             capped,
+            mean_fetches: 2.0 * mean,
+            max_fetches: 2 * max,
         }
     }
 
@@ -238,6 +272,25 @@ mod tests {
             .contains("mean steps 20.00 -> 40.00 (+100.0%)"));
         assert!(found[0].what.contains("slowest ray's steps 40 -> 80"));
         assert!(found[0].what.contains("capped rays 0 -> 5"));
+        assert!(found[0].what.contains("mean fetches 40.00 -> 80.00"));
+        assert!(found[0].what.contains("slowest ray's fetches 80 -> 160"));
+    }
+
+    #[test]
+    fn fetches_alone_trip_the_gate() {
+        let base = counts(vec![cell("qdm", 8.0, 15, 0)]);
+        let mut fetching = base.clone();
+        fetching.cells[0].mean_fetches = 20.0;
+        fetching.cells[0].max_fetches = 36;
+        let found = check_gate(&base, &fetching);
+        assert_eq!(found.len(), 1, "{found:?}");
+        assert_eq!(
+            found[0].what,
+            "mean fetches 16.00 -> 20.00 (+25.0%); slowest ray's fetches 30 -> 36"
+        );
+        fetching.cells[0].mean_fetches = 16.8;
+        fetching.cells[0].max_fetches = 33;
+        assert!(check_gate(&base, &fetching).is_empty(), "within tolerance");
     }
 
     #[test]

@@ -3,8 +3,8 @@
 //! background, PCSS shadow maps, PBR Neutral) against the plain frame (one sample, flat ambient
 //! light, no tone curve, no shadow maps) as a chain of steps that multiply out; the look at
 //! three sizes; hidden relief (stacks of eight relief quads, one behind the other, against one
-//! quad, in both draw orders); and the shadow-map pass of a still view's steady frames against
-//! the rest of its frame.
+//! quad, in both draw orders); the shadow-map pass of a still view's steady frames against
+//! the rest of its frame; and the cost curve over relief objects on screen (objects_curve.rs).
 
 use std::fmt::Write as _;
 use std::sync::Arc;
@@ -15,6 +15,7 @@ use super::cost_curve::fitted_exponent;
 use super::frame_timing::{
     time_interleaved, time_setups_interleaved, FrameSetup, MapRate, SteadyFrames,
 };
+use super::objects_curve::{run_objects_curve, ObjectsRow};
 use crate::environment::{Background, EnvironmentSource};
 use crate::heightfield::{Generator, Heightfield};
 use crate::method::Method;
@@ -104,6 +105,10 @@ pub struct FrameCostSection {
     /// On the one-quad scene with the default look: the steady frames' shadow-map pass over the
     /// rest of their frame.
     pub still_shadow_share: f64,
+    /// The cost curve over relief quads on screen, plain frame at `stack_size` (absent from
+    /// files written before it).
+    #[serde(default)]
+    pub objects: Vec<ObjectsRow>,
     /// Every renderer's frames as they ran, labelled by what it drew (`relief bench
     /// --timeline`); not kept in results.json.
     #[serde(skip)]
@@ -213,6 +218,11 @@ pub fn run_frame_cost_section(
         ([320, 180], vec![[160, 90], [480, 270]], [240, 135], 3)
     } else {
         ([960, 540], vec![[480, 270], [1920, 1080]], [480, 270], 8)
+    };
+    let quads: &[u32] = if quick {
+        &[1, 4, 16]
+    } else {
+        &[1, 2, 4, 8, 16]
     };
     let scene = default_scene(DEFAULT_SCENE_METHOD);
     let heights = default_heightfield();
@@ -360,6 +370,12 @@ pub fn run_frame_cost_section(
     keep("one quad, look, still view".to_owned(), still);
     let still_shadow_share =
         still.shadow_maps_ms / (still.total_ms - still.shadow_maps_ms).max(1e-9);
+    progress("frame costs: 1 to 16 relief quads on screen, frames in turn");
+    let (objects, timed) =
+        run_objects_curve(ctx, &stack_heights, &plain(stack_size), quads, frames)?;
+    for (r, t) in objects.iter().zip(&timed) {
+        keep(format!("{} relief quads on screen", r.quads), t);
+    }
     Ok(FrameCostSection {
         frames,
         rows,
@@ -370,6 +386,7 @@ pub fn run_frame_cost_section(
         stacks,
         stack_size,
         still_shadow_share,
+        objects,
         timelines,
     })
 }
@@ -483,4 +500,5 @@ pub fn report(md: &mut String, s: &FrameCostSection) {
          costs **{:.1}%** of the rest of the frame.",
         100.0 * s.still_shadow_share
     );
+    super::objects_curve::report(md, &s.objects, s.stack_size);
 }

@@ -76,6 +76,7 @@ pub fn render_report(results: &BenchResults) -> (String, Vec<(String, String)>) 
     scaling(&mut md, results);
     matched_scaling(&mut md, results);
     depth_scale(&mut md, results);
+    super::depth_curve::report(&mut md, results);
     cone_vs_quadric(&mut md, results);
     maps(&mut md, results);
     stability(&mut md, &results.stability);
@@ -175,14 +176,14 @@ fn error_vs_time(md: &mut String, results: &BenchResults) {
         );
         let _ = writeln!(
             md,
-            "| method | budget | error mean | p99 | max | gross | capped | steps | GPU ms |"
+            "| method | budget | error mean | p99 | max | gross | capped | steps | fetches | GPU ms |"
         );
-        let _ = writeln!(md, "|---|---|---|---|---|---|---|---|---|");
+        let _ = writeln!(md, "|---|---|---|---|---|---|---|---|---|---|");
         for (r, front) in group.iter().zip(pareto(&group)) {
             let b = if front { "**" } else { "" };
             let _ = writeln!(
                 md,
-                "| {b}{}{b} | {} | {b}{:.4}{b} | {:.3} | {:.2} | {:.2}% | {:.2}% | {:.1} | {b}{:.3}{b} |",
+                "| {b}{}{b} | {} | {b}{:.4}{b} | {:.3} | {:.2} | {:.2}% | {:.2}% | {:.1} | {:.1} | {b}{:.3}{b} |",
                 r.method,
                 budget_label(r),
                 r.error_texels.mean,
@@ -191,6 +192,7 @@ fn error_vs_time(md: &mut String, results: &BenchResults) {
                 100.0 * r.gross_rate,
                 100.0 * r.capped_rate,
                 r.steps.mean,
+                r.fetches.mean,
                 r.gpu_ms.median
             );
         }

@@ -97,6 +97,15 @@ pub struct Run {
     pub nan_pixels: usize,
     /// Iterations of the error trace's rays.
     pub steps: StepStats,
+    /// Texel fetches of the error trace's rays (the method's trace: height map, pyramid and
+    /// method map; a gather is one), counted by the shader in an untimed trace. Absent
+    /// (zeros) in files from before fetches were counted.
+    #[serde(default)]
+    pub fetches: StepStats,
+    /// Compute shader invocations of one timed frame (every frame's dispatches), as the device
+    /// counts them (pipeline statistics); absent where it cannot, and in older files.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub compute_invocations: Option<u64>,
     /// Iterations of the timed rays, and what their subgroups paid.
     pub timed_steps: TimedSteps,
 }

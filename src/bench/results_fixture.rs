@@ -53,6 +53,8 @@ pub(crate) fn run(method: &str, angle: f64, samples: &[f64], error: f64) -> Run 
         nan_pixels: 0,
         steps: Default::default(),
         timed_steps: Default::default(),
+        fetches: Default::default(),
+        compute_invocations: None,
     }
 }
 

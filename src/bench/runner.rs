@@ -14,11 +14,11 @@ use super::results::{GpuMs, MapBuild, Run};
 use super::steps_map::StepsMap;
 use super::subgroup_steps::subgroup_steps;
 use super::sweep::{FieldSource, SweepConfig};
-use super::trace_stats::{ray_direction, trace_stats};
+use super::trace_stats::{ray_direction, trace_stats, StepStats};
 use crate::heightfield::{build_method_map, Heightfield, LoadOptions, MapData};
 use crate::method::{BenchRole, Budget, Method};
 use crate::render::{
-    build_method_map_with, build_pyramid_on_gpu, time_method, trace_on_gpu, BenchRequest,
+    build_method_map_with, build_pyramid_on_gpu, time_method, trace_counting_fetches, BenchRequest,
     HeightFormat, MapBuilder, TraceRequest,
 };
 use crate::vk::Context;
@@ -37,6 +37,8 @@ pub enum Section {
     MatchedScaling,
     /// Error and time as the depth scale grows, over [`crate::bench::SweepConfig::depth_scales`].
     DepthScale,
+    /// Every method at its default budget at every depth scale: the cost curve over depth.
+    DepthCurve,
 }
 
 /// POM's largest cap tried at map side `size`: `base` steps at side `smallest`, grown in
@@ -95,6 +97,7 @@ pub fn plan_jobs(cfg: &SweepConfig) -> Vec<Job> {
     let mut jobs = error_vs_time_jobs(cfg, &base);
     jobs.extend(scaling_jobs(cfg, &base, &first));
     jobs.extend(depth_scale_jobs(cfg, &base, &first));
+    jobs.extend(depth_curve_jobs(cfg, &base, &first));
     jobs
 }
 
@@ -213,6 +216,29 @@ fn depth_scale_jobs(cfg: &SweepConfig, base: &JobAt, first: &FieldSource) -> Vec
                 b,
                 STIFF_ANGLE,
                 depth,
+            ));
+        }
+    }
+    jobs
+}
+
+/// The depth-scale cost curve: every method at its default budget on the first field, at the main
+/// size and the middle angle, at every depth scale (the first too, so that the curve does not
+/// depend on which angles section 1 ran).
+fn depth_curve_jobs(cfg: &SweepConfig, base: &JobAt, first: &FieldSource) -> Vec<Job> {
+    let size = cfg.main_size();
+    let mut jobs = Vec::new();
+    for &method in &cfg.methods {
+        for &d in &cfg.depth_scales {
+            let budget = method.info().default_budget;
+            jobs.push(base(
+                Section::DepthCurve,
+                first,
+                size,
+                method,
+                budget,
+                MIDDLE_ANGLE,
+                d,
             ));
         }
     }
@@ -363,7 +389,8 @@ impl Runner {
             self.cfg.resolution,
             self.ctx.info().subgroup_size,
         );
-        let traced = trace_on_gpu(&self.ctx, &hf, &trace)?;
+        // Counted, untimed: the counting would weigh on the timed frames.
+        let traced = trace_counting_fetches(&self.ctx, &hf, &trace)?;
         let first_of_method = !self.steps_maps.iter().any(|m| m.method == job.method.id());
         let default_budget = job.budget == job.method.info().default_budget;
         if job.section == Section::ErrorVsTime && default_budget && first_of_method {
@@ -408,6 +435,8 @@ impl Runner {
             capped_rate: stats.capped_rate,
             nan_pixels: stats.nan_pixels,
             steps: stats.steps,
+            fetches: StepStats::of(traced.fetches.iter().map(|f| f[0])),
+            compute_invocations: timing.compute_invocations.first().copied(),
             timed_steps,
         })
     }

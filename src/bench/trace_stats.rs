@@ -43,6 +43,17 @@ pub struct StepStats {
     pub max: u32,
 }
 
+impl StepStats {
+    /// Mean and most of `counts` (0 and 0 for none).
+    pub fn of(counts: impl ExactSizeIterator<Item = u32> + Clone) -> StepStats {
+        let n = counts.len().max(1) as f64;
+        StepStats {
+            mean: counts.clone().map(u64::from).sum::<u64>() as f64 / n,
+            max: counts.max().unwrap_or(0),
+        }
+    }
+}
+
 /// The statistics `relief trace` prints and `relief bench` records.
 #[derive(Debug, Clone, Serialize, Deserialize, PartialEq)]
 pub struct TraceStats {
@@ -108,16 +119,12 @@ pub fn trace_stats(
     let n = rays.len().max(1) as f64;
     let gross = errors.iter().filter(|&&e| e > 1.0).count();
     let capped = steps.iter().filter(|s| s[1] != 0).count();
-    let step_sum: u64 = steps.iter().map(|s| u64::from(s[0])).sum();
     TraceStats {
         rays: rays.len(),
         gross_rate: gross as f64 / n,
         capped_rate: capped as f64 / steps.len().max(1) as f64,
         nan_pixels: nan,
-        steps: StepStats {
-            mean: step_sum as f64 / steps.len().max(1) as f64,
-            max: steps.iter().map(|s| s[0]).max().unwrap_or(0),
-        },
+        steps: StepStats::of(steps.iter().map(|s| s[0])),
         error_texels: Spread::of(errors),
         depth_error_texels: Spread::of(depth_errors),
     }
@@ -171,5 +178,12 @@ mod tests {
             1
         );
         assert_eq!(ray_direction(90.0, 33.0), [0.0, 0.0, 1.0]);
+    }
+
+    #[test]
+    fn step_stats_are_the_mean_and_the_most() {
+        let s = StepStats::of([4u32, 10, 1].into_iter());
+        assert_eq!((s.mean, s.max), (5.0, 10));
+        assert_eq!(StepStats::of(std::iter::empty()), StepStats::default());
     }
 }

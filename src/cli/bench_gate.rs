@@ -78,8 +78,8 @@ pub fn run(args: &GateArgs) -> anyhow::Result<()> {
     let show = |c: &GateCell| {
         if !args.json {
             eprintln!(
-                "  {:<14} {:<8} {:<14} mean {:>8.3}  max {:>5}  capped {:>3}",
-                c.method, c.field, c.view, c.mean_steps, c.max_steps, c.capped
+                "  {:<14} {:<8} {:<14} mean {:>8.3}  max {:>5}  capped {:>3}  fetches {:>8.3}  max {:>5}",
+                c.method, c.field, c.view, c.mean_steps, c.max_steps, c.capped, c.mean_fetches, c.max_fetches
             );
         }
     };

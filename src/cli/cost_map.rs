@@ -119,6 +119,7 @@ mod tests {
             height: 3,
             traced: vec![0, 1, 2, 4, 0, 0, 0, 0, 1, 1, 1, 1],
             steps: vec![0; 12],
+            fetches: vec![0; 12],
         };
         assert!(
             heat_map_png(&[1, 2], 3, 1).is_err(),

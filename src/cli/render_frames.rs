@@ -342,13 +342,15 @@ pub fn run_frames(
     print_table(&stats);
     if let Some(w) = &drawn.work {
         println!(
-            "work (last frame): {} relief fragment(s) traced at {} pixel(s), {:.3} per pixel (at most {} at one), {} steps, {:.2} per traced pixel",
+            "work (last frame): {} relief fragment(s) traced at {} pixel(s), {:.3} per pixel (at most {} at one), {} steps, {:.2} per traced pixel, {} texel fetches, {:.2} per traced pixel",
             w.traced_fragments,
             w.traced_pixels,
             w.fragments_per_traced_pixel,
             w.most_fragments_at_a_pixel,
             w.steps,
-            w.steps_per_traced_pixel
+            w.steps_per_traced_pixel,
+            w.fetches,
+            w.fetches_per_traced_pixel
         );
     }
     report_files(args, files, renderer, &methods, source, &drawn);

@@ -67,8 +67,8 @@ pub use maps::relaxed_cone_map_pass::{build_relaxed_cone_map_on_gpu, RelaxedCone
 pub use measure::bench_pass::{time_method, BenchRequest, BenchTiming};
 pub use measure::timeline_trace::{timeline_trace, TraceHeader, TracedFrame};
 pub use measure::trace_pass::{
-    time_through_pyramid, trace_on_gpu, trace_repeated, trace_through_pyramid, ShadowTrace,
-    TraceOutput, TraceRequest, TRACE_GROUP_SIDE,
+    time_through_pyramid, trace_counting_fetches, trace_on_gpu, trace_repeated,
+    trace_through_pyramid, ShadowTrace, TraceOutput, TraceRequest, TRACE_GROUP_SIDE,
 };
 pub use plan::frame_plan::{
     DrawPlan, DrawRole, HeightKey, HeightPlan, PassPlan, PipelineKey, Plan, PlanError, Skipped,

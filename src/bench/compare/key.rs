@@ -62,6 +62,7 @@ impl CellKey {
             Section::Scaling => "scaling",
             Section::MatchedScaling => "matched_scaling",
             Section::DepthScale => "depth_scale",
+            Section::DepthCurve => "depth_curve",
         }
     }
 }

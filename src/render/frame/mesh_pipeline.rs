@@ -14,10 +14,10 @@ use crate::render::kit::hard_shadow::hard_shadow_texels;
 use crate::render::plan::frame_plan::PipelineKey;
 use crate::render::shader_interface::{
     SPEC_BUDGET_EXTENT_LIMIT, SPEC_BUDGET_LEAF_EXACT, SPEC_BUDGET_MAX_STEPS,
-    SPEC_BUDGET_REFINE_STEPS, SPEC_COUNT_WORK, SPEC_DEFERRED, SPEC_HARD_SHADOW_TEXELS,
-    SPEC_LOD_AVERAGE_BELOW, SPEC_LOD_BIAS, SPEC_LOD_FACTOR, SPEC_LOD_FADE_END, SPEC_LOD_FADE_START,
-    SPEC_OCCLUDER_TAPS, SPEC_SHADOW_FILTER, SPEC_SHADOW_MODE, SPEC_SHADOW_REACH, SPEC_SHADOW_STEPS,
-    SPEC_WRITE_DEPTH,
+    SPEC_BUDGET_REFINE_STEPS, SPEC_COUNT_FETCHES, SPEC_COUNT_WORK, SPEC_DEFERRED,
+    SPEC_HARD_SHADOW_TEXELS, SPEC_LOD_AVERAGE_BELOW, SPEC_LOD_BIAS, SPEC_LOD_FACTOR,
+    SPEC_LOD_FADE_END, SPEC_LOD_FADE_START, SPEC_OCCLUDER_TAPS, SPEC_SHADOW_FILTER,
+    SPEC_SHADOW_MODE, SPEC_SHADOW_REACH, SPEC_SHADOW_STEPS, SPEC_WRITE_DEPTH,
 };
 use crate::render::shadows::shadow_atlas::SHADOW_FORMAT;
 use crate::scene::{Lod, Vertex};
@@ -159,6 +159,7 @@ pub(super) fn create_pipeline(
         .u32(SPEC_OCCLUDER_TAPS, stages.occluder_taps)
         .u32(SPEC_WRITE_DEPTH, u32::from(key.write_depth))
         .u32(SPEC_COUNT_WORK, u32::from(stages.count_work))
+        .u32(SPEC_COUNT_FETCHES, u32::from(stages.count_work))
         .u32(SPEC_DEFERRED, u32::from(stages.deferred));
     if let Some(method) = key.method {
         let budget = method.info().default_budget;

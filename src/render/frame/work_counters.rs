@@ -1,15 +1,15 @@
 //! The frame's work counters (`RenderOptions::count_work`, `relief render --count-work`): per
 //! pixel of the scene's targets, how many relief fragments got past the occluder bounds and
-//! traced, and the steps their traces took, counted by the surface shader with atomics into a
+//! traced, and the steps and texel fetches their traces took, counted by the surface shader with atomics into a
 //! storage buffer beside the bounds (set 3). Pipeline statistics count what the rasteriser
 //! started (llvmpipe: per 4x4 stamp, before any test); these count what the shader paid for, so
 //! a culled frame shows one trace per pixel where the forward path shows one per surface.
-//! Frames that do not count compile the counting out (`SPEC_COUNT_WORK`).
+//! Frames that do not count compile the counting out (`SPEC_COUNT_WORK`, `SPEC_COUNT_FETCHES`).
 
 use std::sync::Arc;
 
 use ash::vk;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::vk::{memory_barrier, Buffer, Context, MemoryLocation, Readback, Recording, VkResult};
 
@@ -24,10 +24,13 @@ pub struct WorkCounts {
     pub traced: Vec<u32>,
     /// Steps those traces took at each pixel, summed.
     pub steps: Vec<u32>,
+    /// Texel fetches of the height map, its pyramid and the method's map those traces made at
+    /// each pixel, summed (a gather of four texels is one).
+    pub fetches: Vec<u32>,
 }
 
 /// A frame's counts summed up.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct WorkSummary {
     /// Relief fragments traced in the frame.
     pub traced_fragments: u64,
@@ -41,20 +44,26 @@ pub struct WorkSummary {
     pub steps: u64,
     /// Steps per traced pixel.
     pub steps_per_traced_pixel: f64,
+    /// Texel fetches of every trace.
+    pub fetches: u64,
+    /// Texel fetches per traced pixel.
+    pub fetches_per_traced_pixel: f64,
 }
 
 impl WorkCounts {
-    /// The counts from the counters' bytes: two native-endian u32 per pixel, traced then steps.
+    /// The counts from the counters' bytes: [`COUNTS_PER_PIXEL`] native-endian u32 per pixel,
+    /// traced, steps, fetches.
     pub fn decode(width: u32, height: u32, bytes: &[u8]) -> WorkCounts {
         let words: Vec<u32> = bytemuck::pod_collect_to_vec(bytes);
         let pixels = (width * height) as usize;
-        let pairs = words.chunks_exact(2).take(pixels);
-        let (traced, steps) = pairs.map(|p| (p[0], p[1])).unzip();
+        let per_pixel: Vec<&[u32]> = words.chunks_exact(COUNTS_PER_PIXEL).take(pixels).collect();
+        let column = |k: usize| per_pixel.iter().map(|p| p[k]).collect();
         WorkCounts {
             width,
             height,
-            traced,
-            steps,
+            traced: column(0),
+            steps: column(1),
+            fetches: column(2),
         }
     }
 
@@ -63,6 +72,7 @@ impl WorkCounts {
         let traced_fragments: u64 = self.traced.iter().map(|&n| u64::from(n)).sum();
         let traced_pixels = self.traced.iter().filter(|&&n| n > 0).count() as u64;
         let steps: u64 = self.steps.iter().map(|&n| u64::from(n)).sum();
+        let fetches: u64 = self.fetches.iter().map(|&n| u64::from(n)).sum();
         let per_pixel = |n: u64| {
             if traced_pixels == 0 {
                 0.0
@@ -77,12 +87,17 @@ impl WorkCounts {
             most_fragments_at_a_pixel: self.traced.iter().copied().max().unwrap_or(0),
             steps,
             steps_per_traced_pixel: per_pixel(steps),
+            fetches,
+            fetches_per_traced_pixel: per_pixel(fetches),
         }
     }
 }
 
-/// The counters on the device: two u32 per pixel of the targets, or one pair (a stand-in the
-/// set can bind) when the frame does not count.
+/// Counters per pixel: traced fragments, steps, fetches (`work_index` in occluders.glsl).
+const COUNTS_PER_PIXEL: usize = 3;
+
+/// The counters on the device: [`COUNTS_PER_PIXEL`] u32 per pixel of the targets, or one
+/// pixel's (a stand-in the set can bind) when the frame does not count.
 pub struct WorkCounterBuffer {
     buffer: Buffer,
     size: (u32, u32),
@@ -96,10 +111,11 @@ impl WorkCounterBuffer {
         (width, height): (u32, u32),
         counting: bool,
     ) -> VkResult<WorkCounterBuffer> {
+        let pixel_bytes = 4 * COUNTS_PER_PIXEL as u64;
         let bytes = if counting {
-            8 * u64::from(width) * u64::from(height)
+            pixel_bytes * u64::from(width) * u64::from(height)
         } else {
-            8
+            pixel_bytes
         };
         let usage = vk::BufferUsageFlags::STORAGE_BUFFER
             | vk::BufferUsageFlags::TRANSFER_SRC
@@ -177,16 +193,19 @@ mod tests {
 
     #[test]
     fn counts_decode_per_pixel_and_sum_over_traced_pixels() {
-        let words: [u32; 8] = [2, 30, 0, 0, 1, 10, 1, 12];
+        let words: [u32; 12] = [2, 30, 70, 0, 0, 0, 1, 10, 25, 1, 12, 31];
         let counts = WorkCounts::decode(2, 2, bytemuck::cast_slice(&words));
         assert_eq!(counts.traced, [2, 0, 1, 1]);
         assert_eq!(counts.steps, [30, 0, 10, 12]);
+        assert_eq!(counts.fetches, [70, 0, 25, 31]);
         let s = counts.summary();
         assert_eq!((s.traced_fragments, s.traced_pixels), (4, 3));
         assert!((s.fragments_per_traced_pixel - 4.0 / 3.0).abs() < 1e-12);
         assert_eq!(s.most_fragments_at_a_pixel, 2);
         assert_eq!(s.steps, 52);
-        let empty = WorkCounts::decode(1, 1, &[0; 8]).summary();
+        assert_eq!(s.fetches, 126);
+        assert!((s.fetches_per_traced_pixel - 42.0).abs() < 1e-12);
+        let empty = WorkCounts::decode(1, 1, &[0; 12]).summary();
         assert_eq!(empty.fragments_per_traced_pixel, 0.0);
     }
 }

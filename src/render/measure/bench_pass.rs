@@ -35,6 +35,9 @@ pub struct BenchTiming {
     pub frame_ms: Vec<f64>,
     /// `(steps, capped)` per ray of the last frame, row by row over `trace.grid`.
     pub steps: Vec<[u32; 2]>,
+    /// Compute shader invocations of each timed frame, as the device counts them; empty where
+    /// it cannot.
+    pub compute_invocations: Vec<u64>,
 }
 
 /// Times `req.frames` frames of `req.trace` over `hf`.
@@ -54,5 +57,6 @@ pub fn time_method(
     Ok(BenchTiming {
         frame_ms: out.frame_ms,
         steps: out.steps,
+        compute_invocations: out.compute_invocations,
     })
 }

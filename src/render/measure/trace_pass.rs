@@ -12,15 +12,15 @@ use crate::render::heights::height_resources::HeightResources;
 use crate::render::kit::gpu_heightfield::HeightFormat;
 use crate::render::kit::hard_shadow::hard_shadow_texels;
 use crate::render::shader_interface::{
-    TraceParams, BINDING_TRACE_HITS, BINDING_TRACE_STEPS, BINDING_TRACE_VISIBLE,
-    SPEC_BUDGET_EXTENT_LIMIT, SPEC_BUDGET_LEAF_EXACT, SPEC_BUDGET_MAX_STEPS,
-    SPEC_BUDGET_REFINE_STEPS, SPEC_HARD_SHADOW_TEXELS, SPEC_SHADOW_MODE, SPEC_SHADOW_REACH,
-    SPEC_SHADOW_STEPS,
+    TraceParams, BINDING_TRACE_FETCHES, BINDING_TRACE_HITS, BINDING_TRACE_STEPS,
+    BINDING_TRACE_VISIBLE, SPEC_BUDGET_EXTENT_LIMIT, SPEC_BUDGET_LEAF_EXACT, SPEC_BUDGET_MAX_STEPS,
+    SPEC_BUDGET_REFINE_STEPS, SPEC_COUNT_FETCHES, SPEC_HARD_SHADOW_TEXELS, SPEC_SHADOW_MODE,
+    SPEC_SHADOW_REACH, SPEC_SHADOW_STEPS,
 };
 use crate::scene::ShadowMode;
 use crate::vk::{
     memory_barrier, Bind, Buffer, Context, DescriptorPool, MemoryLocation, Readback, Recording,
-    SpecConstants, TimestampPool, VkError, VkResult,
+    SpecConstants, StatisticsPool, TimestampPool, VkError, VkResult,
 };
 
 /// Side of the trace pass's square workgroups (`local_size_x` and `_y` in trace.comp).
@@ -101,8 +101,14 @@ pub struct TraceOutput {
     pub steps: Vec<[u32; 2]>,
     /// One per ray, same order: the light's visible fraction at the hit, 0 to 1.
     pub visible: Vec<f32>,
+    /// One per ray, same order, from [`trace_counting_fetches`] only (else empty): the texel
+    /// fetches of the method's trace, and of the shadow walk after it.
+    pub fetches: Vec<[u32; 2]>,
     /// GPU time of each timed dispatch, in order.
     pub frame_ms: Vec<f64>,
+    /// Compute shader invocations of each timed frame, as the device counts them (pipeline
+    /// statistics); empty where it cannot.
+    pub compute_invocations: Vec<u64>,
 }
 
 fn all_stages() -> vk::PipelineStageFlags2 {
@@ -115,16 +121,22 @@ struct TraceTargets {
     hits: Buffer,
     steps: Buffer,
     visible: Buffer,
+    fetches: Buffer,
     hits_back: Readback,
     steps_back: Readback,
     visible_back: Readback,
+    fetches_back: Readback,
 }
 
 impl TraceTargets {
-    fn new(ctx: &Arc<Context>, rays: u64) -> VkResult<TraceTargets> {
+    /// Targets for `rays` rays; the fetch counts' are a one-entry stand-in unless `counting`.
+    fn new(ctx: &Arc<Context>, rays: u64, counting: bool) -> VkResult<TraceTargets> {
         let usage = vk::BufferUsageFlags::STORAGE_BUFFER | vk::BufferUsageFlags::TRANSFER_SRC;
         let gpu = MemoryLocation::GpuOnly;
+        let counted = if counting { rays } else { 1 };
         Ok(TraceTargets {
+            fetches: Buffer::new(ctx, counted * 8, usage, gpu, "trace fetches")?,
+            fetches_back: Readback::new(ctx, counted * 8, "trace fetches readback")?,
             hits: Buffer::new(ctx, rays * 32, usage, gpu, "trace hits")?,
             steps: Buffer::new(ctx, rays * 8, usage, gpu, "trace steps")?,
             visible: Buffer::new(ctx, rays * 4, usage, gpu, "trace visibility")?,
@@ -145,7 +157,9 @@ impl TraceTargets {
         self.steps_back
             .record_copy_from_buffer(rec, &self.steps, written)?;
         self.visible_back
-            .record_copy_from_buffer(rec, &self.visible, written)
+            .record_copy_from_buffer(rec, &self.visible, written)?;
+        self.fetches_back
+            .record_copy_from_buffer(rec, &self.fetches, written)
     }
 }
 
@@ -158,6 +172,16 @@ pub fn trace_on_gpu(
     trace_repeated(ctx, hf, req, 0, 1)
 }
 
+/// [`trace_on_gpu`] with every texel fetch counted ([`TraceOutput::fetches`]). Counting costs
+/// time, so the timed passes never count.
+pub fn trace_counting_fetches(
+    ctx: &Arc<Context>,
+    hf: &Heightfield,
+    req: &TraceRequest,
+) -> VkResult<TraceOutput> {
+    trace_with(ctx, Heights::Field(hf), req, 0, 1, 1, true)
+}
+
 /// Traces `req` `warmup + frames` times in one submission, a full barrier between dispatches,
 /// timing the last `frames`; the output holds the last dispatch's hits, copied to the host after
 /// the closing timestamp.
@@ -168,7 +192,7 @@ pub fn trace_repeated(
     warmup: u32,
     frames: u32,
 ) -> VkResult<TraceOutput> {
-    trace_with(ctx, Heights::Field(hf), req, warmup, frames, 1)
+    trace_with(ctx, Heights::Field(hf), req, warmup, frames, 1, false)
 }
 
 /// [`trace_repeated`] with `dispatches` dispatches per frame (at least 1), each frame's timed
@@ -188,6 +212,7 @@ pub(crate) fn trace_timed(
         warmup,
         frames,
         dispatches.max(1),
+        false,
     )
 }
 
@@ -212,7 +237,15 @@ pub fn time_through_pyramid(
     warmup: u32,
     frames: u32,
 ) -> VkResult<TraceOutput> {
-    trace_with(ctx, Heights::Pyramid(pyramid), req, warmup, frames, 1)
+    trace_with(
+        ctx,
+        Heights::Pyramid(pyramid),
+        req,
+        warmup,
+        frames,
+        1,
+        false,
+    )
 }
 
 /// What a trace reads: a height field (its pyramid built on the GPU) or a pyramid built elsewhere.
@@ -246,10 +279,11 @@ impl Heights<'_> {
     }
 }
 
-/// The trace shader's specialisation for `req`'s budget and shadow, and the light it traces
-/// toward (straight up, unused, without a shadow).
-fn trace_constants(req: &TraceRequest) -> (SpecConstants, [f32; 4]) {
+/// The trace shader's specialisation for `req`'s budget and shadow and whether it counts
+/// fetches, and the light it traces toward (straight up, unused, without a shadow).
+fn trace_constants(req: &TraceRequest, count_fetches: bool) -> (SpecConstants, [f32; 4]) {
     let spec = SpecConstants::default()
+        .u32(SPEC_COUNT_FETCHES, u32::from(count_fetches))
         .u32(SPEC_BUDGET_MAX_STEPS, req.budget.max_steps)
         .u32(SPEC_BUDGET_REFINE_STEPS, req.budget.refine_steps)
         .u32(SPEC_BUDGET_LEAF_EXACT, req.budget.leaf.spec_value())
@@ -273,6 +307,7 @@ fn trace_with(
     warmup: u32,
     frames: u32,
     dispatches: u32,
+    count_fetches: bool,
 ) -> VkResult<TraceOutput> {
     if frames == 0 {
         return Err(VkError::Invalid("a trace of zero frames".into()));
@@ -284,17 +319,18 @@ fn trace_with(
     let count = cols as u64 * rows as u64;
     let key = req.method.shader_key("trace.comp");
     let res = heights.upload(ctx, req)?;
-    let targets = TraceTargets::new(ctx, count)?;
+    let targets = TraceTargets::new(ctx, count, count_fetches)?;
     let mut bindings = res.layout_bindings();
     bindings.extend(
         [
             BINDING_TRACE_HITS,
             BINDING_TRACE_STEPS,
             BINDING_TRACE_VISIBLE,
+            BINDING_TRACE_FETCHES,
         ]
         .map(|b| (b, vk::DescriptorType::STORAGE_BUFFER)),
     );
-    let (spec, light) = trace_constants(req);
+    let (spec, light) = trace_constants(req, count_fetches);
     let params = TraceParams {
         dir: [req.dir[0], req.dir[1], req.dir[2], req.depth_scale],
         grid: [cols, rows, 0, 0],
@@ -302,15 +338,21 @@ fn trace_with(
     };
     let push = std::mem::size_of::<TraceParams>() as u32;
     let pass = ComputePass::new(ctx, &key, &bindings, push, &spec, &key)?;
-    let pool = DescriptorPool::new(ctx, 1, 3, "trace sets")?;
+    let pool = DescriptorPool::new(ctx, 1, 4, "trace sets")?;
     let mut binds = res.binds();
     binds.extend([
         Bind::Storage(BINDING_TRACE_HITS, &targets.hits),
         Bind::Storage(BINDING_TRACE_STEPS, &targets.steps),
         Bind::Storage(BINDING_TRACE_VISIBLE, &targets.visible),
+        Bind::Storage(BINDING_TRACE_FETCHES, &targets.fetches),
     ]);
     let set = pool.allocate(pass.layout(), &binds)?;
     let timestamps = TimestampPool::new(ctx, 2 * frames, "trace timestamps")?;
+    let statistics = match StatisticsPool::new(ctx, frames, "trace counts") {
+        Ok(pool) => Some(pool),
+        Err(VkError::Unsupported(_)) => None,
+        Err(e) => return Err(e),
+    };
     let full = (
         all_stages(),
         vk::AccessFlags2::MEMORY_READ | vk::AccessFlags2::MEMORY_WRITE,
@@ -325,6 +367,9 @@ fn trace_with(
             let timed = frame.checked_sub(warmup);
             if let Some(k) = timed {
                 timestamps.write(rec, all, 2 * k)?;
+                if let Some(stats) = &statistics {
+                    stats.begin(rec, k)?;
+                }
             }
             for d in 0..dispatches {
                 if d > 0 {
@@ -334,6 +379,9 @@ fn trace_with(
                 rec.dispatch([cols.div_ceil(GROUP), rows.div_ceil(GROUP), 1]);
             }
             if let Some(k) = timed {
+                if let Some(stats) = &statistics {
+                    stats.end(rec, k)?;
+                }
                 timestamps.write(rec, all, 2 * k + 1)?;
             }
             memory_barrier(rec, full, full);
@@ -341,14 +389,28 @@ fn trace_with(
         targets.record_readback(rec)
     })?;
     let ticks = timestamps.read_ticks(2 * frames)?;
+    let compute_invocations = match &statistics {
+        Some(stats) => stats
+            .read(frames)?
+            .iter()
+            .map(|c| c.compute_invocations)
+            .collect(),
+        None => Vec::new(),
+    };
     Ok(TraceOutput {
         hits: bytemuck::pod_collect_to_vec(targets.hits_back.bytes()?),
         steps: bytemuck::pod_collect_to_vec(targets.steps_back.bytes()?),
         visible: bytemuck::pod_collect_to_vec(targets.visible_back.bytes()?),
+        fetches: if count_fetches {
+            bytemuck::pod_collect_to_vec(targets.fetches_back.bytes()?)
+        } else {
+            Vec::new()
+        },
         frame_ms: ticks
             .chunks_exact(2)
             .map(|t| timestamps.ticks_to_ms(t[0], t[1]))
             .collect(),
+        compute_invocations,
     })
 }
 
@@ -373,8 +435,13 @@ mod tests {
         let Some(ctx) = device() else {
             return;
         };
-        let targets = TraceTargets::new(&ctx, 64).expect("trace targets");
-        for written in [&targets.hits, &targets.steps, &targets.visible] {
+        let targets = TraceTargets::new(&ctx, 64, true).expect("trace targets");
+        for written in [
+            &targets.hits,
+            &targets.steps,
+            &targets.visible,
+            &targets.fetches,
+        ] {
             assert_eq!(
                 written.location(),
                 MemoryLocation::GpuOnly,
@@ -386,6 +453,7 @@ mod tests {
             &targets.hits_back,
             &targets.steps_back,
             &targets.visible_back,
+            &targets.fetches_back,
         ] {
             assert_eq!(back.buffer().location(), MemoryLocation::GpuToCpu);
         }

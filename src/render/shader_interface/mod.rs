@@ -76,6 +76,9 @@ glsl_table! {
         BINDING_TRACE_STEPS = 5;
         /// Per ray: the light's visible fraction at the hit.
         BINDING_TRACE_VISIBLE = 6;
+        /// Per ray, when the pass counts fetches: the method's texel fetches and the shadow
+        /// walk's after it.
+        BINDING_TRACE_FETCHES = 7;
     }
 }
 
@@ -317,9 +320,12 @@ glsl_table! {
         /// 1: relief fragments count themselves and their steps per pixel (`relief render
         /// --count-work`); 0, the default, compiles the counting out.
         SPEC_COUNT_WORK = 32;
+        /// 1: every height, pyramid and method-map fetch is counted (`heightfield.glsl`); 0,
+        /// the default, compiles the counting out.
+        SPEC_COUNT_FETCHES = 33;
         /// 1: a surface fragment writes its shading inputs and emission, and the lighting pass
         /// lights it (`RenderOptions::lighting`, deferred); 0 lights it in the fragment.
-        SPEC_DEFERRED = 33;
+        SPEC_DEFERRED = 34;
     }
 }
 
