@@ -122,7 +122,11 @@ impl SmallDisk {
             .arg(&dir)
             .status()
             .is_ok_and(|s| s.success());
-        mounted.then_some(SmallDisk(dir))
+        if mounted {
+            Some(SmallDisk(dir))
+        } else {
+            None
+        }
     }
 }
 

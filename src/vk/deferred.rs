@@ -171,10 +171,12 @@ impl Context {
             }
             // Counted as submitted but never made: its fence and timeline value never signal.
             Some(SubmitFault::Hang) => {}
-            // SAFETY: the buffer is fully recorded; the queue is externally synchronised by the
-            // lock, which also keeps timeline values increasing in submission order.
-            None => unsafe { self.device().queue_submit(*queue, &[submit], fence) }
-                .named("vkQueueSubmit")?,
+            None => {
+                // SAFETY: the buffer is fully recorded; the queue is externally synchronised by
+                // the lock, which also keeps timeline values increasing in submission order.
+                unsafe { self.device().queue_submit(*queue, &[submit], fence) }
+                    .named("vkQueueSubmit")?;
+            }
         }
         self.retirement().state().submitted = value;
         drop(queue);
