@@ -150,11 +150,13 @@ impl Scenes {
     }
 
     /// Waits for every frame and destroys what was dropped, at the first size, so that every
-    /// sample sees the same targets.
-    fn settle(&mut self) {
+    /// sample sees the same targets. A frame is drawn first: after a resize the read-back
+    /// buffers are made again by the first frame at the new size, not by the resize.
+    fn settle(&mut self, step: u32) {
         if self.size != SIZES[0] {
             self.resize_to(SIZES[0]);
         }
+        self.draw(step);
         self.plain.finish().expect("finishes");
         self.terrain.finish().expect("finishes");
         self.ctx.wait_idle().expect("idle");
@@ -210,7 +212,7 @@ fn thousands_of_frames_hold_memory_and_objects_flat() {
         }
         scenes.draw(step);
         if step % every == 0 {
-            scenes.settle();
+            scenes.settle(step);
             let s = sample(&ctx, step);
             eprintln!(
                 "step {step:>6} ({:>6.0} s): rss {:>7.1} MiB, {} buffers, {} images, {} sets, {} allocations, {:.1} MiB on the device",
@@ -225,7 +227,7 @@ fn thousands_of_frames_hold_memory_and_objects_flat() {
             samples.push(s);
         }
     }
-    scenes.settle();
+    scenes.settle(steps);
     let dir = common::evidence_dir("soak");
     std::fs::write(dir.join("long_soak.csv"), csv(&samples)).expect("writes the samples");
     for (name, per_step) in growth(&samples, warm_up) {
