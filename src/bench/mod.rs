@@ -48,6 +48,8 @@ mod report;
 mod results;
 mod results_file;
 #[cfg(test)]
+mod results_file_fuzz;
+#[cfg(test)]
 mod results_fixture;
 mod runner;
 mod scene_shadow_section;

@@ -28,6 +28,13 @@ pub enum EnvironmentError {
 /// The largest image read: an 8K x 4K panorama is the largest in common use.
 const MAX_TEXELS: u64 = 8192 * 4096;
 
+/// Texels a file may claim per byte it holds. Run-length encoding (Radiance's "new" RLE, the one
+/// every writer since 1991 uses) spends at least 2 bytes on a run of 127 values of one of a
+/// texel's 4 channels, so no scanline holds more than about 16 texels a byte; past twice that the
+/// header lies, and the decoder would allocate the whole claimed image before finding the data
+/// short. (Only the old RLE's repeat counts could beat it, and no current writer emits them.)
+const TEXELS_PER_BYTE: u64 = 32;
+
 impl Environment {
     /// Reads an equirectangular Radiance `.hdr` image (twice as wide as tall). Texels brighter
     /// than [`MAX_RADIANCE`] are clamped to it; NaN or negative values are refused.
@@ -43,6 +50,7 @@ impl Environment {
             ));
         }
         let file = std::fs::File::open(path).map_err(|e| fail(e.to_string()))?;
+        let bytes = file.metadata().map_err(|e| fail(e.to_string()))?.len();
         let decoder = image::codecs::hdr::HdrDecoder::new(std::io::BufReader::new(file))
             .map_err(|e| fail(format!("not a readable Radiance image: {e}")))?;
         let meta = decoder.metadata();
@@ -50,6 +58,12 @@ impl Environment {
         if u64::from(width) * u64::from(height) > MAX_TEXELS {
             return Err(fail(format!(
                 "is {width}x{height}, larger than the 8192x4096 read"
+            )));
+        }
+        if u64::from(width) * u64::from(height) > TEXELS_PER_BYTE * bytes {
+            return Err(fail(format!(
+                "truncated or corrupt: its header claims {width}x{height} texels, more than \
+                 its {bytes} bytes can hold"
             )));
         }
         let image = image::DynamicImage::from_decoder(decoder)
@@ -141,6 +155,23 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(err.contains("sky.exr") && err.contains(".hdr"), "{err}");
+    }
+
+    #[test]
+    fn a_header_claiming_more_texels_than_the_file_holds_is_refused_before_decoding() {
+        let path = temp("tiny-claims-8k.hdr");
+        std::fs::write(
+            &path,
+            b"#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 4096 +X 8192\n\x02\x02",
+        )
+        .unwrap();
+        let err = Environment::load(&path).unwrap_err().to_string();
+        assert!(
+            err.contains("tiny-claims-8k.hdr")
+                && err.contains("8192x4096")
+                && err.contains("bytes"),
+            "{err}"
+        );
     }
 
     #[test]

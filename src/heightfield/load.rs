@@ -93,6 +93,19 @@ pub struct LoadOptions {
     pub invert: bool,
 }
 
+/// Deflate, PNG's only compression, expands at most 1032 times (a 258-byte match in about two
+/// bits), so the pixels of `file_bytes` of PNG fill at most that many times as many bytes. The
+/// decoder allocates the image its header claims before it reads the data, so without this
+/// bound a 100-byte file claiming 11000 x 11000 RGBA pixels would allocate 480 MB (the `image`
+/// crate's own default refuses only past 512 MiB).
+fn png_limits(file_bytes: usize) -> image::Limits {
+    const DEFLATE_MAX_RATIO: u64 = 1032;
+    let mut limits = image::Limits::default();
+    let most = DEFLATE_MAX_RATIO * file_bytes as u64 + (64 << 10);
+    limits.max_alloc = Some(limits.max_alloc.map_or(most, |cap| cap.min(most)));
+    limits
+}
+
 impl Heightfield {
     /// Loads a PNG height map. Errors name `path`: [`HeightfieldError::Io`] if it cannot be read,
     /// [`HeightfieldError::Decode`] if it is not a valid PNG, and those of [`Heightfield::from_dynamic_image`].
@@ -111,13 +124,13 @@ impl Heightfield {
                 height: 0,
             });
         }
-        let img =
-            image::load_from_memory_with_format(&bytes, ImageFormat::Png).map_err(|error| {
-                HeightfieldError::Decode {
-                    origin: origin.clone(),
-                    error,
-                }
-            })?;
+        let mut reader =
+            image::ImageReader::with_format(std::io::Cursor::new(&bytes), ImageFormat::Png);
+        reader.limits(png_limits(bytes.len()));
+        let img = reader.decode().map_err(|error| HeightfieldError::Decode {
+            origin: origin.clone(),
+            error,
+        })?;
         Self::from_dynamic_image(&img, opts, &origin)
     }
 

@@ -75,6 +75,10 @@ pub(super) fn check_accessors(
     Ok(())
 }
 
+/// Components an accessor without a bufferView (all zeros before sparse substitution) may hold:
+/// 2^20 (8 MiB as f64), a 350,000-vertex position accessor.
+pub(super) const MAX_ZERO_COMPONENTS: usize = 1 << 20;
+
 pub(super) fn component_count(d: Dimensions) -> usize {
     d.multiplicity()
 }
@@ -245,7 +249,9 @@ fn read_raw(
     }
     let layout = Layout::of(ty, acc.dimensions());
     let elem = layout.elem();
-    let mut out = Vec::with_capacity(count.saturating_mul(comps).min(1 << 26));
+    // Reserved only once the data is known to be there: `count` is the file's word, and an
+    // accessor claiming 2^32 elements over a few bytes must not reserve gigabytes first.
+    let mut out = Vec::new();
     match acc.view() {
         Some(view) => {
             let stride = view.stride().unwrap_or(elem);
@@ -263,13 +269,21 @@ fn read_raw(
                 csize,
                 buffers,
             )?;
+            out.reserve_exact(count * comps);
             read_elements(bytes, count, stride, layout, &mut out);
         }
         None => {
+            // Without a view the values are zeros (sparse substitution may follow) that no byte
+            // of the file stands for, so their number is capped outright.
             let total = count
                 .checked_mul(comps)
-                .filter(|&n| n <= 1 << 28)
-                .ok_or_else(|| format!("count {count} is too large"))?;
+                .filter(|&n| n <= MAX_ZERO_COMPONENTS)
+                .ok_or_else(|| {
+                    format!(
+                        "count {count} with no bufferView is more than the \
+                         {MAX_ZERO_COMPONENTS} zero components read"
+                    )
+                })?;
             out.resize(total, 0.0);
         }
     }

@@ -5,6 +5,8 @@
 
 use serde_json::{Map, Value};
 
+use super::gltf_accessor::MAX_ZERO_COMPONENTS;
+
 const GLB_JSON: u32 = 0x4E4F_534A;
 const GLB_BIN: u32 = 0x004E_4942;
 
@@ -277,6 +279,10 @@ fn drop_extension_channels(root: &mut Map<String, Value>) {
 fn zero_fill_accessors(root: &mut Map<String, Value>) -> Result<(), String> {
     let mut needs = Vec::new();
     for (i, acc) in array(root, "accessors").iter().enumerate() {
+        // Not an object: gltf-json refuses it by name; there is nothing to fill in.
+        if !acc.is_object() {
+            continue;
+        }
         if acc.get("bufferView").is_none() && acc.get("byteOffset").is_some() {
             return Err(format!("accessors[{i}]: byteOffset without bufferView"));
         }
@@ -290,13 +296,16 @@ fn zero_fill_accessors(root: &mut Map<String, Value>) -> Result<(), String> {
                 Some("MAT4") => 16,
                 _ => 1,
             };
-            // Enough bytes for any component type; matrices allowing for column padding.
-            let bytes = count.saturating_mul(comps * 4);
-            if bytes > 1 << 28 {
+            // No byte of the file stands for these zeros, so their number is capped outright
+            // (as the accessor reader caps them), else a 100-byte file could ask for gigabytes.
+            if count.saturating_mul(comps) > MAX_ZERO_COMPONENTS as u64 {
                 return Err(format!(
-                    "accessors[{i}]: {count} zero-filled elements is too many"
+                    "accessors[{i}]: {count} zero-filled elements is more than the \
+                     {MAX_ZERO_COMPONENTS} zero components read"
                 ));
             }
+            // Enough bytes for any component type; matrices allowing for column padding.
+            let bytes = count * comps * 4;
             needs.push((i, bytes.max(4) as usize));
         }
     }

@@ -51,6 +51,11 @@ impl Buffer {
             .map_err(|e| e.for_object("buffer", name))?;
         // SAFETY: `raw` was just created on this device.
         let requirements = unsafe { device.get_buffer_memory_requirements(raw) };
+        if let Err(e) = ctx.faults().allocation() {
+            // SAFETY: the buffer has no memory bound and is unused.
+            unsafe { device.destroy_buffer(raw, None) };
+            return Err(e.for_object("buffer", name));
+        }
         let allocation = ctx
             .allocator()
             .lock()

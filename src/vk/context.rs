@@ -14,6 +14,7 @@ use gpu_allocator::{AllocationSizes, AllocatorDebugSettings};
 use super::counters::{Created, LiveObjects, ObjectCounters, ObjectCounts};
 use super::deferred::Retirement;
 use super::error::{Named, VkError, VkResult};
+use super::faults::{FaultPlan, Faults};
 use super::fence::gpu_timeout_from_env;
 use super::instance::{create_instance, InstanceParts, MessageCounts, Validation};
 use super::physical::{choose_physical_device, DeviceInfo};
@@ -37,6 +38,9 @@ pub struct ContextOptions {
     /// Leave ray queries off even where the device has them, as on a device without them (the
     /// paths that must do without; `RELIEF_RAY_QUERIES=0` does the same).
     pub without_ray_queries: bool,
+    /// Faults to feign, for tests of the error paths ([`Faults`]); `None` reads `RELIEF_FAULTS`
+    /// (none when unset).
+    pub faults: Option<Faults>,
 }
 
 /// The environment variable that, set to 0, leaves ray queries off ([`ContextOptions`]).
@@ -68,6 +72,8 @@ pub struct Context {
     /// device or destroy it.
     hung: AtomicBool,
     created: ObjectCounters,
+    /// What [`ContextOptions::faults`] asked to feign.
+    faults: FaultPlan,
 }
 
 /// What the context creates on the device and owns until its `Drop`.
@@ -182,6 +188,10 @@ impl Context {
             Some(t) => t,
             None => gpu_timeout_from_env()?,
         };
+        let faults = match options.faults {
+            Some(f) => f,
+            None => Faults::from_env()?,
+        };
         let counts = Box::<MessageCounts>::default();
         let validation = options.validation.unwrap_or_else(Validation::from_env);
         let _lifecycle = lifecycle();
@@ -236,7 +246,15 @@ impl Context {
                 return Err(e);
             }
         };
-        let ctx = Self::assemble(parts, counts, (physical, info), device, owned, gpu_timeout);
+        let plan = FaultPlan::new(faults);
+        let ctx = Self::assemble(
+            parts,
+            counts,
+            (physical, info),
+            device,
+            owned,
+            (gpu_timeout, plan),
+        );
         ctx.with_pipeline_cache(|raw| ctx.set_name(raw, "pipeline cache"));
         ctx.set_name(ctx.retirement.timeline(), "retirement timeline");
         Ok(ctx)
@@ -248,7 +266,7 @@ impl Context {
         (physical, info): (vk::PhysicalDevice, DeviceInfo),
         device: ash::Device,
         owned: DeviceOwned,
-        gpu_timeout: Duration,
+        (gpu_timeout, faults): (Duration, FaultPlan),
     ) -> Arc<Context> {
         let queue_family = info.queue_family;
         // SAFETY: queue family index and queue 0 were requested at device creation.
@@ -281,6 +299,7 @@ impl Context {
             gpu_timeout,
             hung: AtomicBool::new(false),
             created: ObjectCounters::default(),
+            faults,
         })
     }
 
@@ -388,6 +407,11 @@ impl Context {
     /// How long one submission may take before [`Context::wait_fence`] calls it a hang.
     pub fn gpu_timeout(&self) -> Duration {
         self.gpu_timeout
+    }
+
+    /// The faults this context feigns and its count of operations so far.
+    pub(crate) fn faults(&self) -> &FaultPlan {
+        &self.faults
     }
 
     pub(crate) fn mark_hung(&self) {

@@ -16,6 +16,7 @@ use gpu_allocator::vulkan::Allocation;
 use super::context::Context;
 use super::counters::Created;
 use super::error::{Named, VkError, VkResult};
+use super::faults::SubmitFault;
 
 /// Handles whose owner has gone, waiting for the GPU to finish with them.
 pub(crate) enum Doomed {
@@ -161,9 +162,22 @@ impl Context {
             .wait_dst_stage_mask(&stages)
             .signal_semaphores(&signal_raw)
             .push_next(&mut timeline);
-        // SAFETY: the buffer is fully recorded; the queue is externally synchronised by the lock,
-        // which also keeps timeline values increasing in submission order.
-        unsafe { self.device().queue_submit(*queue, &[submit], fence) }.named("vkQueueSubmit")?;
+        match self.faults().submission() {
+            Some(SubmitFault::LoseDevice) => {
+                return Err(VkError::from_call(
+                    "vkQueueSubmit",
+                    vk::Result::ERROR_DEVICE_LOST,
+                ))
+            }
+            // Counted as submitted but never made: its fence and timeline value never signal.
+            Some(SubmitFault::Hang) => {}
+            None => {
+                // SAFETY: the buffer is fully recorded; the queue is externally synchronised by
+                // the lock, which also keeps timeline values increasing in submission order.
+                unsafe { self.device().queue_submit(*queue, &[submit], fence) }
+                    .named("vkQueueSubmit")?;
+            }
+        }
         self.retirement().state().submitted = value;
         drop(queue);
         self.retire();

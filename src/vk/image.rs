@@ -243,6 +243,10 @@ impl ImageInner {
         let device = self.ctx.device();
         // SAFETY: the image was created on this device.
         let requirements = unsafe { device.get_image_memory_requirements(self.raw) };
+        self.ctx
+            .faults()
+            .allocation()
+            .map_err(|e| e.for_object("image", &self.name))?;
         let allocation = self
             .ctx
             .allocator()
