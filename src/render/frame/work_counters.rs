@@ -51,8 +51,8 @@ pub struct WorkSummary {
 }
 
 impl WorkCounts {
-    /// The counts from the counters' bytes: [`COUNTS_PER_PIXEL`] native-endian u32 per pixel,
-    /// traced, steps, fetches.
+    /// The counts from the counters' bytes: three native-endian u32 per pixel (traced,
+    /// steps, fetches).
     pub fn decode(width: u32, height: u32, bytes: &[u8]) -> WorkCounts {
         let words: Vec<u32> = bytemuck::pod_collect_to_vec(bytes);
         let pixels = (width * height) as usize;
