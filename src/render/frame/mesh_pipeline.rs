@@ -56,6 +56,9 @@ pub(super) struct MeshStages {
     extra_colors: &'static [vk::Format],
     /// `SPEC_DEFERRED`: the fragment writes its shading inputs and the lighting pass lights it.
     deferred: bool,
+    /// The lighting pass traces the shadows, the receiver's own relief included: the height
+    /// field's self-shadow walk is compiled out (`SPEC_SHADOW_MODE` 0).
+    traced_shadows: bool,
 }
 
 impl MeshStages {
@@ -84,12 +87,18 @@ impl MeshStages {
             count_work,
             extra_colors,
             deferred: false,
+            traced_shadows: false,
         }
     }
 
-    /// The same, lit by the deferred frame's lighting pass when `deferred`.
-    pub(super) fn lit_deferred(self, deferred: bool) -> MeshStages {
-        MeshStages { deferred, ..self }
+    /// The same, lit by the deferred frame's lighting pass when `deferred`, which traces the
+    /// shadows when `traced_shadows`.
+    pub(super) fn lit_deferred(self, deferred: bool, traced_shadows: bool) -> MeshStages {
+        MeshStages {
+            deferred,
+            traced_shadows: deferred && traced_shadows,
+            ..self
+        }
     }
 
     /// The occluder pass's: the farthest depth the draw's surface can reach, written as the
@@ -110,6 +119,7 @@ impl MeshStages {
             count_work: false,
             extra_colors: &[],
             deferred: false,
+            traced_shadows: false,
         }
     }
 
@@ -138,6 +148,7 @@ impl MeshStages {
             count_work: false,
             extra_colors: &[],
             deferred: false,
+            traced_shadows: false,
         }
     }
 }
@@ -152,7 +163,14 @@ pub(super) fn create_pipeline(
     let vs = shaders::spirv(stages.vertex).ok_or_else(|| missing(stages.vertex))?;
     let fs = shaders::spirv(&stages.fragment).ok_or_else(|| missing(&stages.fragment))?;
     let mut spec = SpecConstants::default()
-        .u32(SPEC_SHADOW_MODE, key.shadows.mode.shader_value())
+        .u32(
+            SPEC_SHADOW_MODE,
+            if stages.traced_shadows {
+                0
+            } else {
+                key.shadows.mode.shader_value()
+            },
+        )
         .u32(SPEC_SHADOW_STEPS, key.shadows.resolved_steps())
         .f32(SPEC_SHADOW_REACH, key.shadows.horizon_reach)
         .u32(SPEC_SHADOW_FILTER, stages.shadow_filter)

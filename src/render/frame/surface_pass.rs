@@ -300,7 +300,7 @@ impl SurfacePass {
                         let occluder_use = (taps, plan.count_work);
                         let stages =
                             MeshStages::surface(key, shadow_filter, samples, occluder_use, extra)
-                                .lit_deferred(plan.deferred && !key.blend);
+                                .lit_deferred(plan.deferred && !key.blend, plan.traced_shadows);
                         let layers = if key.layers {
                             &layer_layout
                         } else {
