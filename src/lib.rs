@@ -15,6 +15,7 @@ pub mod scene;
 pub mod shaders;
 pub mod shadow_reference;
 pub mod shells;
+pub mod srgb;
 pub mod terrain;
 #[cfg(feature = "window")]
 pub mod view;

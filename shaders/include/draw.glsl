@@ -6,35 +6,18 @@
 
 #include "interface.glsl"
 
-// Mirrors `DrawPush` in src/render/kit/draw_push.rs.
+// The model matrix, its normal matrix and the draw's ids: `DrawPush` in interface.glsl.
 layout(push_constant, std430) uniform Draw {
-    mat4 model;
-    // Columns of the inverse transpose of the model's linear part; normal[0].w is -1 when the
-    // model mirrors (negative determinant), else 1.
-    vec4 normal[3];
-    uvec4 extra;  // x: the shadow view a caster draw renders into (shadow pass only); y: the
-                  // scene mesh index + 1 (the G-buffer's mesh channel)
+    DRAW_FIELDS
 } draw;
 
-// Texture slots; mirrors `TextureSlot` in src/scene/material.rs, plus the height map's uv.
-const int SLOT_BASE_COLOR = 0;
-const int SLOT_METALLIC_ROUGHNESS = 1;
-const int SLOT_NORMAL = 2;
-const int SLOT_OCCLUSION = 3;
-const int SLOT_EMISSIVE = 4;
-const int SLOT_HEIGHT = 5;
+// Texture slots (SLOT_BASE_COLOR ... SLOT_HEIGHT) are in interface.glsl.
 // Not a texture slot: bit 6 of `textures.x` says the relief's AO map is bound (its binding's number).
 const int SLOT_RELIEF_AO = BINDING_MATERIAL_RELIEF_AO;
 
-// Mirrors `MaterialUniform` in src/render/frame/material_set.rs.
+// The material's factors, texture bits and uv transforms: `MaterialUniform` in interface.glsl.
 layout(set = 1, binding = BINDING_MATERIAL_PARAMS, std140) uniform MaterialParams {
-    vec4 base_color;
-    vec4 emissive;     // rgb: emissive factor; w: alpha cutoff (mask mode), -1 otherwise
-    vec4 pbr;          // x: roughness, y: metallic, z: normal scale, w: occlusion strength
-    vec4 relief;       // x: depth scale (uv units of the height map, 0 = none); y: 1 if blended
-    uvec4 textures;    // x: bit k set when slot k has a texture
-    // Per slot, KHR_texture_transform as two rows of a 2x3 matrix; row 0's w: texCoord set.
-    vec4 uv_rows[12];
+    MATERIAL_PARAMS_FIELDS
 } material;
 
 layout(set = 1, binding = BINDING_MATERIAL_BASE_COLOR) uniform sampler2D tex_base_color;

@@ -1,5 +1,6 @@
 // Equirectangular directions, +Y up: u turns around the up axis from +X toward +Z, v runs from
-// straight up (0) to straight down (1). Mirrors src/environment/mod.rs (direction, equirect_uv).
+// straight up (0) to straight down (1): the convention of src/environment/mod.rs (direction,
+// equirect_uv), whose CPU lookups the tests compare with.
 #ifndef EQUIRECT_GLSL
 #define EQUIRECT_GLSL
 

@@ -8,14 +8,10 @@
 #ifndef RELIEF_PRISM_GLSL
 #define RELIEF_PRISM_GLSL
 
+#include "interface.glsl"
 #include "pyramid.glsl"
 
-// One relief triangle's frame; mirrors `PrismRecord` in src/render/traced/prism_records.rs.
-struct PrismRecord {
-    vec4 to_local[3];  // rows of the affine map from world to (height u, height v, depth z)
-    vec4 to_bary;      // columns xy, zw: height uv offset to the weights of corners 1 and 2
-    vec4 anchor;       // xy: height uv of corner 0; z: depth scale (uv units); w: unused
-};
+// One relief triangle's frame is a `PrismRecord` (interface.glsl).
 
 // Barycentric slack on the footprint: two coplanar triangles that share an edge and its uvs trace
 // a ray crossing that edge alike, so counting it in both closes the crack rounding would open.

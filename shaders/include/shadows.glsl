@@ -19,7 +19,7 @@
 #include "interface.glsl"
 #include "pyramid.glsl"
 
-// 0 none, 1 hard, 2 pom-soft, 3 horizon, 4 cone; mirrors `ShadowMode::shader_value`.
+// One of SHADOW_MODE_NONE, _HARD, _POM_SOFT, _HORIZON, _CONE (interface.glsl).
 layout(constant_id = SPEC_SHADOW_MODE) const uint SHADOW_MODE = 0u;
 // Samples (pom-soft, horizon) or the iteration cap of the pyramid walk (cone).
 layout(constant_id = SPEC_SHADOW_STEPS) const uint SHADOW_STEPS = 16u;
@@ -330,24 +330,24 @@ float shadow_hard_bent(ShadowQuery q) {
 // (height space: uv per unit, up per unit of depth; need not be normalised) from the hit at
 // (uv_hit, z_hit), by SHADOW_MODE.
 float light_visible_bent(vec2 uv_hit, float z_hit, vec3 l, float radius, float depth_scale, vec2 bend) {
-    if (SHADOW_MODE == 0u || depth_scale <= 0.0) {
+    if (SHADOW_MODE == SHADOW_MODE_NONE || depth_scale <= 0.0) {
         return 1.0;
     }
     ShadowQuery q = shadow_query(uv_hit, z_hit, l, radius, depth_scale, bend);
     if (q.elevation + q.radius <= atan(horizon_floor(q))) {
         return 0.0;
     }
-    if (SHADOW_MODE == 1u) {
+    if (SHADOW_MODE == SHADOW_MODE_HARD) {
 #if defined(CURVED) || defined(SHELLS)
         return shadow_hard_bent(q);
 #else
         return shadow_hard(q, uv_hit, z_hit, l, depth_scale);
 #endif
     }
-    if (SHADOW_MODE == 2u) {
+    if (SHADOW_MODE == SHADOW_MODE_POM_SOFT) {
         return shadow_pom_soft(q);
     }
-    if (SHADOW_MODE == 3u) {
+    if (SHADOW_MODE == SHADOW_MODE_HORIZON) {
         return shadow_horizon(q);
     }
     return shadow_cone(q);

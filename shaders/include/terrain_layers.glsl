@@ -3,7 +3,7 @@
 // colours, normals and roughness are mixed by the blend mode's shading weights, the same as
 // `terrain::BlendMode::shading_weights`: the splat weights for `alpha`, height times weight,
 // normalised, for `height` and `height-intersect` (the higher layer shows: sand in the cracks
-// between stones). Set 2 mirrors src/render/terrain/layer_set.rs.
+// between stones). Set 2 is bound by src/render/terrain/layer_set.rs.
 #ifndef TERRAIN_LAYERS_GLSL
 #define TERRAIN_LAYERS_GLSL
 
@@ -15,11 +15,9 @@ layout(set = 2, binding = BINDING_LAYER_ALBEDO_HEIGHT) uniform sampler2DArray la
 layout(set = 2, binding = BINDING_LAYER_NORMAL_ROUGHNESS) uniform sampler2DArray layer_normal_roughness;
 // The splat map: channel k weighs layer k; bilinear, clamped.
 layout(set = 2, binding = BINDING_LAYER_WEIGHTS) uniform sampler2D layer_weights;
+// Blend mode, layer count, tiling and height scales: `LayerUniform` in interface.glsl.
 layout(set = 2, binding = BINDING_LAYER_PARAMS, std140) uniform LayerParams {
-    uvec4 info;    // x: mode (0 alpha, 1 height, 2 height-intersect); y: layers; z: bit k, layer k has a
-                   // normal map; w: 1 when vertex colours weigh the layers (they do not tint)
-    vec4 tiling;   // repeats of each layer across the height uv
-    vec4 depth;    // each layer's height scale
+    LAYER_PARAMS_FIELDS
 } layer_params;
 
 struct LayerMix {

@@ -1,7 +1,9 @@
-// The tone curves: exposure, then none (clamped), Khronos PBR Neutral or ACES. They mirror
-// src/render/kit/tone_curves.rs (ToneMap::apply), which the tests compare with.
+// The tone curves: exposure, then none (clamped), Khronos PBR Neutral or ACES. The CPU applies
+// the same curves (ToneMap::apply in src/render/kit/tone_curves.rs), and the tests compare the two.
 #ifndef TONE_CURVES_GLSL
 #define TONE_CURVES_GLSL
+
+#include "interface.glsl"
 
 // Khronos PBR Neutral: colours below the compression start pass unchanged (less a small toe
 // that lifts the darkest values' offset), brighter ones are compressed toward 1 along their hue
@@ -34,9 +36,9 @@ vec3 tone_map(vec3 radiance, float exposure, uint curve) {
     c = mix(c, vec3(65504.0), vec3(isinf(c)));
     c = mix(c, vec3(0.0), vec3(isnan(c)));
     c = max(c, vec3(0.0));
-    if (curve == 1u) {
+    if (curve == TONE_CURVE_PBR_NEUTRAL) {
         c = pbr_neutral(c);
-    } else if (curve == 2u) {
+    } else if (curve == TONE_CURVE_ACES) {
         c = aces(c);
     }
     return clamp(c, 0.0, 1.0);

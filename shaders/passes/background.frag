@@ -4,11 +4,12 @@
 // camera's view-projection, looked up in the environment image.
 
 #include "equirect.glsl"
+#include "interface.glsl"
 
 layout(set = 0, binding = 0) uniform sampler2D environment;
 
-layout(push_constant) uniform BackgroundPush {
-    mat4 inverse_view_proj;
+layout(push_constant, std430) uniform BackgroundPush {
+    BACKGROUND_PUSH_FIELDS
 } bg;
 
 layout(location = 0) in vec2 ndc;

@@ -2,7 +2,8 @@
 #extension GL_GOOGLE_include_directive : require
 // The split sum's second factor: the GGX lobe's directional albedo at (view cosine, roughness),
 // as a scale and a bias on F0 (Schlick's Fresnel, Smith's visibility with k = alpha / 2), by
-// importance sampling. Mirrors environment::reference::brdf_scale_bias.
+// importance sampling. The CPU reference environment::reference::brdf_scale_bias computes the
+// same table, and the tests compare the two.
 layout(local_size_x = 8, local_size_y = 8) in;
 
 #include "interface.glsl"

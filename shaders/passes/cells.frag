@@ -23,13 +23,9 @@ vec2 uv_dy[2];
 #include "scene_shadows.glsl"
 #include "environment_light.glsl"
 
-// Mirrors `CellsUniform` in src/render/cells/cells_pass.rs.
+// The grid: `CellsUniform` in interface.glsl.
 layout(set = 2, binding = BINDING_CELLS_PARAMS, std140) uniform CellsParams {
-    vec4 origin_size;
-    uint n;
-    uint resolution;
-    uint refinements;
-    float samples_per_texel;
+    CELLS_PARAMS_FIELDS
 } cells_params;
 
 #define CELLS_SET 2

@@ -5,7 +5,7 @@
 #define PLAIN_SURFACE
 #include "bindings.glsl"
 
-layout(location = 0) in vec3 in_position;
+layout(location = LOCATION_POSITION) in vec3 in_position;
 
 layout(location = 0) out vec3 out_world;
 

@@ -2,16 +2,12 @@
 // Rays through a cubic cell complex (Apaza and Andujar) on the GPU: one invocation per ray marches it
 // (cells_march.glsl) and writes the hit's t (-1 for a miss) and the samples it took.
 #extension GL_GOOGLE_include_directive : require
+#include "interface.glsl"
 layout(local_size_x = 64) in;
 
-layout(push_constant, std430) uniform Params {
-    // The grid's low corner and its cell side.
-    vec4 origin_size;
-    uint n;
-    uint resolution;
-    uint ray_count;
-    uint refinements;
-    float samples_per_texel;
+// The grid and the batch: `CellsTraceParams` in interface.glsl.
+layout(push_constant, std430) uniform CellsTraceParams {
+    CELLS_TRACE_PARAMS_FIELDS
 } params;
 
 #define CELLS_GRID params

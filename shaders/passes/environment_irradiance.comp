@@ -3,8 +3,8 @@
 // The environment's irradiance map: each texel the cosine-weighted mean radiance around its
 // direction, the sum of L cos(theta) dOmega over every texel of one source level (a level at
 // most 64 texels wide: the cosine lobe is smooth) over the sum of cos(theta) dOmega alone, so a
-// uniform environment comes back exactly. Mirrors environment::reference::irradiance, which the
-// tests compare with.
+// uniform environment comes back exactly. The CPU reference environment::reference::irradiance
+// computes the same, and the tests compare the two.
 layout(local_size_x = 8, local_size_y = 8) in;
 
 #include "interface.glsl"

@@ -4,7 +4,8 @@
 // lobe of the level's roughness around its direction, with the normal and the view along it
 // (the split sum's first factor). GGX importance sampling with filtered lookups: each sample
 // reads the source level whose texels cover the solid angle the sample stands for, so a few
-// hundred samples give a smooth average. Mirrors environment::reference::prefiltered.
+// hundred samples give a smooth average. The CPU reference environment::reference::prefiltered
+// computes the same, and the tests compare the two.
 layout(local_size_x = 8, local_size_y = 8) in;
 
 #include "interface.glsl"

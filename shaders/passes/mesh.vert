@@ -6,12 +6,12 @@
 #include "bindings.glsl"
 #include "draw.glsl"
 
-layout(location = 0) in vec3 in_position;
-layout(location = 1) in vec3 in_normal;
-layout(location = 2) in vec2 in_uv0;
-layout(location = 3) in vec2 in_uv1;
-layout(location = 4) in vec4 in_tangent;  // xyz: tangent, w: bitangent sign
-layout(location = 5) in vec4 in_color;
+layout(location = LOCATION_POSITION) in vec3 in_position;
+layout(location = LOCATION_NORMAL) in vec3 in_normal;
+layout(location = LOCATION_UV0) in vec2 in_uv0;
+layout(location = LOCATION_UV1) in vec2 in_uv1;
+layout(location = LOCATION_TANGENT) in vec4 in_tangent;  // xyz: tangent, w: bitangent sign
+layout(location = LOCATION_COLOR) in vec4 in_color;
 
 layout(location = 0) out vec3 out_world;
 layout(location = 1) out vec3 out_normal;

@@ -232,7 +232,7 @@ void shade() {
         }
         float lit_self = 1.0;
 #ifndef PLAIN_SURFACE
-        if (SHADOW_MODE != 0u && frame.lights[i].color.w > 0.5) {
+        if (SHADOW_MODE != SHADOW_MODE_NONE && frame.lights[i].color.w > 0.5) {
             float radius = light_angular_radius(i, world);
 #ifdef CURVED
             // The light's path hangs from the curved top too, so a shadow ray leaves the shell

@@ -8,15 +8,9 @@
 
 layout(set = 0, binding = 0) uniform sampler2D hdr;
 
-layout(push_constant) uniform ToneMapPush {
-    // 2^EV.
-    float exposure;
-    // 0: none (clamped), 1: Khronos PBR Neutral, 2: ACES (Narkowicz's fit of the RRT and ODT).
-    uint curve;
-    // Supersampling: the radiance is `scale` times the frame's size along each axis.
-    uint scale;
-    // Samples per texel of a multisampled radiance (tonemap_resolve.frag).
-    uint samples;
+// Exposure, curve, supersampling scale and samples: `ToneMapPush` in interface.glsl.
+layout(push_constant, std430) uniform ToneMapPush {
+    TONE_MAP_PUSH_FIELDS
 } tm;
 
 layout(location = 0) out vec4 out_color;

@@ -295,22 +295,6 @@ pub fn render_interleaved(
     Ok(pixels.into_iter().zip(times).collect())
 }
 
-fn srgb_to_linear(c: f64) -> f64 {
-    if c <= 0.04045 {
-        c / 12.92
-    } else {
-        ((c + 0.055) / 1.055).powf(2.4)
-    }
-}
-
-fn linear_to_srgb(c: f64) -> f64 {
-    if c <= 0.003_130_8 {
-        c * 12.92
-    } else {
-        1.055 * c.powf(1.0 / 2.4) - 0.055
-    }
-}
-
 /// `rgba` (sRGB, `w` x `h`) averaged over `k` x `k` blocks in linear light, as a supersampled
 /// pixel would be; alpha is dropped (opaque output).
 pub fn downsample(rgba: &[u8], w: u32, h: u32, k: u32) -> Vec<u8> {
@@ -322,11 +306,11 @@ pub fn downsample(rgba: &[u8], w: u32, h: u32, k: u32) -> Vec<u8> {
             for (dx, dy) in (0..k * k).map(|i| (i % k, i / k)) {
                 let p = (((y * k + dy) * w + x * k + dx) * 4) as usize;
                 for (c, s) in sum.iter_mut().enumerate() {
-                    *s += srgb_to_linear(f64::from(rgba[p + c]) / 255.0);
+                    *s += crate::srgb::decode_f64(f64::from(rgba[p + c]) / 255.0);
                 }
             }
             let n = f64::from(k * k);
-            out.extend(sum.map(|s| (linear_to_srgb(s / n) * 255.0).round() as u8));
+            out.extend(sum.map(|s| (crate::srgb::encode_f64(s / n) * 255.0).round() as u8));
             out.push(255);
         }
     }

@@ -101,12 +101,7 @@ fn encode(
 
 /// The sRGB transfer function, as the GPU applies it when it writes the 8-bit sRGB frame.
 fn encode_srgb(linear: f32) -> f32 {
-    let c = linear.clamp(0.0, 1.0);
-    if c <= 0.003_130_8 {
-        c * 12.92
-    } else {
-        1.055 * c.powf(1.0 / 2.4) - 0.055
-    }
+    relief::srgb::encode(linear.clamp(0.0, 1.0))
 }
 
 fn to_u16(v: f32) -> u16 {

@@ -2,7 +2,8 @@
 
 use glam::Mat4;
 
-/// One vertex as the mesh shader reads it (locations 0..=5). Mirrors `mesh.vert`.
+/// One vertex as the mesh shader reads it: the mesh pass takes each attribute's offset from this
+/// struct and its location from `LOCATION_*` in the shader interface, which `mesh.vert` reads.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 pub struct Vertex {

@@ -6,7 +6,8 @@
 //! (`max(1, floor(n / 2))` per level, down to 1x1), so the levels upload as the mips of one image. With odd
 //! sizes a coarse texel does not line up with whole finer texels; [`covered_range`] then includes every finer
 //! texel it touches, and a finer texel on a shared border feeds both neighbours. That overlap is what keeps the
-//! bound conservative, and the GPU builder (`pyramid.comp`) mirrors the same formula.
+//! bound conservative, and the GPU builder (`pyramid.comp`) computes the same formula,
+//! and the tests compare the two.
 //!
 //! Invariants: `levels[0]` is the height field itself; `levels.len() == mip_level_count(w, h)`; the last level
 //! is 1x1 and holds the global maximum; every level's `data.len() == width * height`, row-major.

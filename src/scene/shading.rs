@@ -43,17 +43,6 @@ impl ShadowMode {
         }
     }
 
-    /// The value of the shader's `SHADOW_MODE` specialization constant (shadows.glsl).
-    pub fn shader_value(self) -> u32 {
-        match self {
-            ShadowMode::None => 0,
-            ShadowMode::Hard => 1,
-            ShadowMode::PomSoft => 2,
-            ShadowMode::Horizon => 3,
-            ShadowMode::Cone => 4,
-        }
-    }
-
     /// Whether the mode shades at all.
     pub fn is_some(self) -> bool {
         self != ShadowMode::None

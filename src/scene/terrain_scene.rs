@@ -95,7 +95,7 @@ pub fn procedural_layers(size: u32) -> Vec<GroundLayer> {
             // Darker in the hollows, so the blend of colours follows the relief.
             let albedo = ImageBuffer::from_fn(size, size, |i, j| {
                 let shade = 0.65 + 0.35 * field.get(i, j);
-                let c = colour.map(|c| (srgb_encode(c * shade) * 255.0).round() as u8);
+                let c = colour.map(|c| (crate::srgb::encode(c * shade) * 255.0).round() as u8);
                 Rgba([c[0], c[1], c[2], 255])
             });
             GroundLayer {
@@ -107,14 +107,6 @@ pub fn procedural_layers(size: u32) -> Vec<GroundLayer> {
             }
         })
         .collect()
-}
-
-fn srgb_encode(c: f32) -> f32 {
-    if c <= 0.003_130_8 {
-        c * 12.92
-    } else {
-        1.055 * c.powf(1.0 / 2.4) - 0.055
-    }
 }
 
 /// The splat map the built-in rules paint over `elevation` for `layers` layers.

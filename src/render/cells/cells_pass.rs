@@ -27,8 +27,9 @@ use crate::render::kit::render_error::RenderError;
 use crate::render::kit::set_layouts::{material_layout, plain_frame_layout};
 use crate::render::plan::frame_plan::Plan;
 use crate::render::shader_interface::{
-    BINDING_CELLS_CELLS, BINDING_CELLS_CORNERS, BINDING_CELLS_GREY, BINDING_CELLS_MAPS,
-    BINDING_CELLS_PARAMS, BINDING_CELLS_SURFACE_TRIANGLES, SPEC_SHADOW_FILTER,
+    CellsUniform, BINDING_CELLS_CELLS, BINDING_CELLS_CORNERS, BINDING_CELLS_GREY,
+    BINDING_CELLS_MAPS, BINDING_CELLS_PARAMS, BINDING_CELLS_SURFACE_TRIANGLES, LOCATION_POSITION,
+    SPEC_SHADOW_FILTER,
 };
 use crate::render::shadows::shadow_plan::shadow_filter_max;
 use crate::scene::Scene;
@@ -105,17 +106,6 @@ pub struct BuiltComplex {
 /// at 512^2 on lavapipe) for no change in the image (mean channel difference to the raster
 /// 0.043 either way).
 const RENDER_REFINEMENTS: u32 = 12;
-
-/// Mirrors `CellsParams` in `cells.frag` (std140).
-#[repr(C)]
-#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
-struct CellsUniform {
-    origin_size: [f32; 4],
-    n: u32,
-    resolution: u32,
-    refinements: u32,
-    samples_per_texel: f32,
-}
 
 impl CellsUniform {
     fn of(packed: &PackedComplex) -> CellsUniform {
@@ -497,7 +487,7 @@ fn create_pipeline(
     let vertex = shaders::spirv("cells.vert").ok_or_else(|| missing("cells.vert"))?;
     let fragment = shaders::spirv("cells.frag").ok_or_else(|| missing("cells.frag"))?;
     let attributes = [vk::VertexInputAttributeDescription {
-        location: 0,
+        location: LOCATION_POSITION,
         binding: 0,
         format: vk::Format::R32G32B32_SFLOAT,
         offset: 0,

@@ -10,22 +10,10 @@ use ash::vk;
 use crate::cells::{MarchSettings, PackedComplex};
 use crate::render::maps::map_search::{warm_up, SearchPipeline, TimedSubmissions, SHADER_WROTE};
 use crate::render::shader_interface::{
-    BINDING_CELLS_CELLS, BINDING_CELLS_GREY, BINDING_CELLS_HITS, BINDING_CELLS_MAPS,
-    BINDING_CELLS_RAYS,
+    CellsTraceParams, BINDING_CELLS_CELLS, BINDING_CELLS_GREY, BINDING_CELLS_HITS,
+    BINDING_CELLS_MAPS, BINDING_CELLS_RAYS,
 };
 use crate::vk::{Bind, Buffer, Context, MemoryLocation, Readback, VkResult};
-
-/// The shader's push constants (`Params` in cells_trace.comp).
-#[repr(C)]
-#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
-struct Params {
-    origin_size: [f32; 4],
-    n: u32,
-    resolution: u32,
-    ray_count: u32,
-    refinements: u32,
-    samples_per_texel: f32,
-}
 
 /// Invocations per workgroup (`local_size_x`).
 const GROUP: u32 = 64;
@@ -104,7 +92,7 @@ pub fn march_cells_on_gpu(
     rays: &[([f64; 3], [f64; 3])],
     settings: MarchSettings,
 ) -> VkResult<CellsTrace> {
-    let push = std::mem::size_of::<Params>() as u32;
+    let push = std::mem::size_of::<CellsTraceParams>() as u32;
     let search = SearchPipeline::new(ctx, "cells_trace.comp", push, 5, "cells trace")?;
     let arrays = ComplexBuffers::upload(ctx, complex, "cells trace")?;
     let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
@@ -135,7 +123,7 @@ pub fn march_cells_on_gpu(
     // SAFETY: every submission that bound the set was a one-shot (warm-ups and timed
     // submissions), and one-shots return only once their work has finished.
     unsafe { search.set.rewrite(&binds) }?;
-    let params = Params {
+    let params = CellsTraceParams {
         origin_size: [
             complex.origin[0],
             complex.origin[1],
@@ -148,7 +136,7 @@ pub fn march_cells_on_gpu(
         refinements: settings.refinements,
         samples_per_texel: settings.samples_per_texel as f32,
     };
-    let idle = Params {
+    let idle = CellsTraceParams {
         ray_count: 0,
         ..params
     };

@@ -11,6 +11,7 @@ use glam::Mat4;
 use super::environment_light::EnvironmentLight;
 use crate::render::kit::formats::DEPTH_FORMAT;
 use crate::render::kit::formats::HDR_FORMAT;
+use crate::render::shader_interface::BackgroundPush;
 use crate::shaders;
 use crate::vk::{
     graphics_pipeline, Context, DescriptorLayout, DescriptorPool, DescriptorSet, GraphicsDesc,
@@ -63,7 +64,7 @@ impl BackgroundPass {
             depth_format: DEPTH_FORMAT,
             cull: vk::CullModeFlags::NONE,
             set_layouts: &[&layout],
-            push_bytes: std::mem::size_of::<Mat4>() as u32,
+            push_bytes: std::mem::size_of::<BackgroundPush>() as u32,
             blend: false,
             samples,
         };
@@ -77,9 +78,11 @@ impl BackgroundPass {
 
     /// Draws the background seen through `view_proj`; the scene's rendering must have begun.
     pub fn record(&self, rec: &Recording, view_proj: Mat4) -> VkResult<()> {
-        let inverse = view_proj.inverse().to_cols_array();
+        let push = BackgroundPush {
+            inverse_view_proj: view_proj.inverse().to_cols_array_2d(),
+        };
         self.pipeline.bind(rec, Some(&self.set));
-        self.pipeline.push(rec, bytemuck::cast_slice(&inverse))?;
+        self.pipeline.push(rec, bytemuck::bytes_of(&push))?;
         rec.draw(3);
         Ok(())
     }

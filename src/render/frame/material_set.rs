@@ -1,6 +1,6 @@
 //! Set 1 of the surface pass: per material, its parameter block, its five textures and the AO map
-//! of its relief (the white texture fills empty slots). Mirrors `MaterialParams` in
-//! `shaders/include/draw.glsl`.
+//! of its relief (the white texture fills empty slots). The block's layout is `MaterialUniform` in
+//! `shader_interface`, which `shaders/include/draw.glsl` reads too.
 
 use std::sync::Arc;
 
@@ -8,28 +8,27 @@ use ash::vk;
 
 use super::scene_textures::SceneTextures;
 use crate::render::kit::set_layouts::{RELIEF_AO_SLOT, TEXTURE_BINDINGS};
-use crate::render::shader_interface::BINDING_MATERIAL_PARAMS;
+use crate::render::shader_interface::{
+    MaterialUniform, BINDING_MATERIAL_PARAMS, SLOT_BASE_COLOR, SLOT_EMISSIVE, SLOT_HEIGHT,
+    SLOT_METALLIC_ROUGHNESS, SLOT_NORMAL, SLOT_OCCLUSION,
+};
 use crate::scene::{AlphaMode, HeightSource, Material, SceneImage, TextureSlot, UvTransform};
 use crate::vk::{
     Bind, Buffer, Context, DescriptorLayout, DescriptorPool, DescriptorSet, ImageView, Sampler,
     VkResult,
 };
 
-/// The material parameter block.
-#[repr(C)]
-#[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
-pub struct MaterialUniform {
-    pub base_color: [f32; 4],
-    pub emissive: [f32; 4],
-    pub pbr: [f32; 4],
-    pub relief: [f32; 4],
-    pub textures: [u32; 4],
-    pub uv_rows: [[f32; 4]; 12],
+/// The shaders' index of a texture slot: its bit in `textures.x` and its pair of `uv_rows`.
+fn slot_index(slot: TextureSlot) -> usize {
+    (match slot {
+        TextureSlot::BaseColor => SLOT_BASE_COLOR,
+        TextureSlot::MetallicRoughness => SLOT_METALLIC_ROUGHNESS,
+        TextureSlot::Normal => SLOT_NORMAL,
+        TextureSlot::Occlusion => SLOT_OCCLUSION,
+        TextureSlot::Emissive => SLOT_EMISSIVE,
+    }) as usize
 }
-const _: () = assert!(std::mem::size_of::<MaterialUniform>() == 272);
 
-/// Index of the height map's uv transform after the five texture slots.
-const HEIGHT_SLOT: usize = 5;
 fn uv_rows(transform: &UvTransform, tex_coord: u32) -> [[f32; 4]; 2] {
     let [r0, r1] = transform.rows();
     [
@@ -43,8 +42,9 @@ impl MaterialUniform {
         let identity = uv_rows(&UvTransform::default(), 0);
         let mut rows = [[0.0; 4]; 12];
         let mut textures = 0u32;
-        for (k, slot) in TextureSlot::ALL.iter().enumerate() {
-            let pair = match material.texture(*slot) {
+        for slot in TextureSlot::ALL {
+            let k = slot_index(slot);
+            let pair = match material.texture(slot) {
                 Some(t) => {
                     textures |= 1 << k;
                     uv_rows(&t.transform, t.tex_coord)
@@ -60,8 +60,8 @@ impl MaterialUniform {
             }
             _ => identity,
         };
-        rows[2 * HEIGHT_SLOT] = height[0];
-        rows[2 * HEIGHT_SLOT + 1] = height[1];
+        rows[2 * SLOT_HEIGHT as usize] = height[0];
+        rows[2 * SLOT_HEIGHT as usize + 1] = height[1];
         let cutoff = match material.alpha_mode {
             AlphaMode::Mask { cutoff } => cutoff,
             _ => -1.0,

@@ -11,8 +11,11 @@ use crate::render::kit::draw_push::DrawPush;
 use crate::render::kit::formats::DEPTH_FORMAT;
 use crate::render::kit::formats::HDR_FORMAT;
 use crate::render::kit::hard_shadow::hard_shadow_texels;
+use crate::render::kit::shadow_mode_value::shadow_mode_value;
 use crate::render::plan::frame_plan::PipelineKey;
 use crate::render::shader_interface::{
+    LOCATION_COLOR, LOCATION_CORNER_NORMAL, LOCATION_CORNER_UV, LOCATION_NORMAL, LOCATION_POSITION,
+    LOCATION_PRISM, LOCATION_TANGENT, LOCATION_TOP, LOCATION_UV0, LOCATION_UV1, SHADOW_MODE_NONE,
     SPEC_BUDGET_EXTENT_LIMIT, SPEC_BUDGET_LEAF_EXACT, SPEC_BUDGET_MAX_STEPS,
     SPEC_BUDGET_REFINE_STEPS, SPEC_COUNT_FETCHES, SPEC_COUNT_WORK, SPEC_DEFERRED,
     SPEC_HARD_SHADOW_TEXELS, SPEC_LOD_AVERAGE_BELOW, SPEC_LOD_BIAS, SPEC_LOD_FACTOR,
@@ -166,9 +169,9 @@ pub(super) fn create_pipeline(
         .u32(
             SPEC_SHADOW_MODE,
             if stages.traced_shadows {
-                0
+                SHADOW_MODE_NONE
             } else {
-                key.shadows.mode.shader_value()
+                shadow_mode_value(key.shadows.mode)
             },
         )
         .u32(SPEC_SHADOW_STEPS, key.shadows.resolved_steps())
@@ -226,37 +229,54 @@ pub(super) fn create_pipeline(
 }
 
 /// The vertex attributes and stride of a mesh's [`Vertex`], or of a shell's [`ShellVertex`]:
-/// the same six first, then the prism's coordinates at the corner and the prism's ten vec4s.
+/// the same six first, then the prism's coordinates at the corner and the prism's three vec4
+/// arrays. Offsets come from the Rust structs, locations from `shader_interface`.
 fn vertex_layout(shells: bool) -> (Vec<vk::VertexInputAttributeDescription>, u32) {
+    use std::mem::offset_of;
     const RGB: vk::Format = vk::Format::R32G32B32_SFLOAT;
     const RG: vk::Format = vk::Format::R32G32_SFLOAT;
     const RGBA: vk::Format = vk::Format::R32G32B32A32_SFLOAT;
-    let mut attributes = vec![
-        (RGB, 0),
-        (RGB, 12),
-        (RG, 24),
-        (RG, 32),
-        (RGBA, 40),
-        (RGBA, 56),
-    ];
+    let attribute =
+        |location: u32, format: vk::Format, offset: usize| vk::VertexInputAttributeDescription {
+            location,
+            binding: 0,
+            format,
+            offset: offset as u32,
+        };
+    let mut attributes = if shells {
+        vec![
+            attribute(LOCATION_POSITION, RGB, offset_of!(ShellVertex, position)),
+            attribute(LOCATION_NORMAL, RGB, offset_of!(ShellVertex, normal)),
+            attribute(LOCATION_UV0, RG, offset_of!(ShellVertex, uv)),
+            attribute(LOCATION_UV1, RG, offset_of!(ShellVertex, uv1)),
+            attribute(LOCATION_TANGENT, RGBA, offset_of!(ShellVertex, tangent)),
+            attribute(LOCATION_COLOR, RGBA, offset_of!(ShellVertex, color)),
+            attribute(LOCATION_PRISM, RGBA, offset_of!(ShellVertex, prism)),
+        ]
+    } else {
+        vec![
+            attribute(LOCATION_POSITION, RGB, offset_of!(Vertex, position)),
+            attribute(LOCATION_NORMAL, RGB, offset_of!(Vertex, normal)),
+            attribute(LOCATION_UV0, RG, offset_of!(Vertex, uv)),
+            attribute(LOCATION_UV1, RG, offset_of!(Vertex, uv1)),
+            attribute(LOCATION_TANGENT, RGBA, offset_of!(Vertex, tangent)),
+            attribute(LOCATION_COLOR, RGBA, offset_of!(Vertex, color)),
+        ]
+    };
     let stride = if shells {
-        attributes.extend((0..10).map(|k| (RGBA, 72 + 16 * k)));
+        let arrays = [
+            (LOCATION_TOP, offset_of!(ShellVertex, top)),
+            (LOCATION_CORNER_NORMAL, offset_of!(ShellVertex, normals)),
+            (LOCATION_CORNER_UV, offset_of!(ShellVertex, uvs)),
+        ];
+        for (location, offset) in arrays {
+            attributes
+                .extend((0..3).map(|k| attribute(location + k, RGBA, offset + 16 * k as usize)));
+        }
         std::mem::size_of::<ShellVertex>()
     } else {
         std::mem::size_of::<Vertex>()
     };
-    let attributes = attributes
-        .into_iter()
-        .enumerate()
-        .map(
-            |(location, (format, offset))| vk::VertexInputAttributeDescription {
-                location: location as u32,
-                binding: 0,
-                format,
-                offset,
-            },
-        )
-        .collect();
     (attributes, stride as u32)
 }
 

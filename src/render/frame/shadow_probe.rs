@@ -54,12 +54,7 @@ impl ShadowProbe {
 
 /// sRGB-encoded byte to linear.
 fn srgb_to_linear(v: u8) -> f32 {
-    let c = f32::from(v) / 255.0;
-    if c <= 0.04045 {
-        c / 12.92
-    } else {
-        ((c + 0.055) / 1.055).powf(2.4)
-    }
+    crate::srgb::decode(f32::from(v) / 255.0)
 }
 
 /// Renders `scene` from `camera` (its own when `None`) with light `light` probed, and reads the

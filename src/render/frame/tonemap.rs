@@ -7,20 +7,12 @@ use std::sync::Arc;
 use ash::vk;
 
 use crate::render::kit::tone_curves::ToneMapping;
+use crate::render::shader_interface::ToneMapPush;
 use crate::shaders;
 use crate::vk::{
     graphics_pipeline, Bind, Context, DescriptorLayout, DescriptorPool, DescriptorSet,
     GraphicsDesc, ImageView, Pipeline, Recording, Sampler, SpecConstants, VkError, VkResult,
 };
-
-#[repr(C)]
-#[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
-struct ToneMapPush {
-    exposure: f32,
-    curve: u32,
-    scale: u32,
-    samples: u32,
-}
 
 /// The full-frame pass: its pipeline, set layout and sampler; each target set owns its set.
 pub struct ToneMapPass {

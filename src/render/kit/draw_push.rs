@@ -2,20 +2,7 @@
 
 use glam::{Mat3, Mat4, Vec3};
 
-/// What a draw pushes; mirrors `Draw` in `shaders/include/draw.glsl`. The normal matrix is
-/// made once per object here rather than per vertex in the shader. 128 bytes, the least every
-/// device allows.
-#[repr(C)]
-#[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
-pub(in crate::render) struct DrawPush {
-    model: [[f32; 4]; 4],
-    /// Columns of the inverse transpose of the model's 3x3; `normal[0][3]` is the mirror sign.
-    normal: [[f32; 4]; 3],
-    /// x: the shadow view a caster draw renders into (shadow pass only); y: the scene mesh
-    /// index + 1, which the G-buffer records; z, w: unused.
-    extra: [u32; 4],
-}
-const _: () = assert!(std::mem::size_of::<DrawPush>() == 128);
+pub(in crate::render) use crate::render::shader_interface::DrawPush;
 
 impl DrawPush {
     pub(in crate::render) fn of(model: Mat4) -> DrawPush {

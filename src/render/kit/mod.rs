@@ -15,5 +15,6 @@ pub(in crate::render) mod pass;
 pub(in crate::render) mod pass_timer;
 pub(in crate::render) mod render_error;
 pub(in crate::render) mod set_layouts;
+pub(in crate::render) mod shadow_mode_value;
 pub(in crate::render) mod texture_mips;
 pub(in crate::render) mod tone_curves;

@@ -8,7 +8,7 @@ pub fn mip_chain(width: u32, height: u32, rgba: &[u8], srgb: bool) -> Vec<Vec<u8
         .map(|v| {
             let c = f32::from(v) / 255.0;
             if srgb {
-                srgb_to_linear(c)
+                crate::srgb::decode(c)
             } else {
                 c
             }
@@ -39,7 +39,11 @@ pub fn mip_chain(width: u32, height: u32, rgba: &[u8], srgb: bool) -> Vec<Vec<u8
                         }
                     }
                     let mean = sum * 0.25;
-                    let encoded = if linear { linear_to_srgb(mean) } else { mean };
+                    let encoded = if linear {
+                        crate::srgb::encode(mean)
+                    } else {
+                        mean
+                    };
                     next[(y * nw + x) * 4 + c] = (encoded * 255.0 + 0.5).clamp(0.0, 255.0) as u8;
                 }
             }
@@ -48,22 +52,6 @@ pub fn mip_chain(width: u32, height: u32, rgba: &[u8], srgb: bool) -> Vec<Vec<u8
         (w, h) = (nw, nh);
     }
     levels
-}
-
-fn srgb_to_linear(c: f32) -> f32 {
-    if c <= 0.04045 {
-        c / 12.92
-    } else {
-        ((c + 0.055) / 1.055).powf(2.4)
-    }
-}
-
-fn linear_to_srgb(c: f32) -> f32 {
-    if c <= 0.0031308 {
-        c * 12.92
-    } else {
-        1.055 * c.powf(1.0 / 2.4) - 0.055
-    }
 }
 
 #[cfg(test)]

@@ -7,6 +7,8 @@ use std::str::FromStr;
 
 use serde::Serialize;
 
+use crate::render::shader_interface::{TONE_CURVE_ACES, TONE_CURVE_NONE, TONE_CURVE_PBR_NEUTRAL};
+
 /// The largest finite half float: the radiance target holds nothing brighter.
 const HALF_MAX: f32 = 65504.0;
 
@@ -28,9 +30,9 @@ impl ToneMap {
     /// The curve's value in the shaders' `curve` field.
     pub(in crate::render) fn shader_value(self) -> u32 {
         match self {
-            ToneMap::None => 0,
-            ToneMap::PbrNeutral => 1,
-            ToneMap::Aces => 2,
+            ToneMap::None => TONE_CURVE_NONE,
+            ToneMap::PbrNeutral => TONE_CURVE_PBR_NEUTRAL,
+            ToneMap::Aces => TONE_CURVE_ACES,
         }
     }
 

@@ -11,6 +11,7 @@ use crate::render::compute_pass::ComputePass;
 use crate::render::heights::height_resources::HeightResources;
 use crate::render::kit::gpu_heightfield::HeightFormat;
 use crate::render::kit::hard_shadow::hard_shadow_texels;
+use crate::render::kit::shadow_mode_value::shadow_mode_value;
 use crate::render::shader_interface::{
     TraceParams, BINDING_TRACE_FETCHES, BINDING_TRACE_HITS, BINDING_TRACE_STEPS,
     BINDING_TRACE_VISIBLE, SPEC_BUDGET_EXTENT_LIMIT, SPEC_BUDGET_LEAF_EXACT, SPEC_BUDGET_MAX_STEPS,
@@ -291,7 +292,7 @@ fn trace_constants(req: &TraceRequest, count_fetches: bool) -> (SpecConstants, [
     match req.shadow {
         None => (spec, [0.0, 0.0, 1.0, 0.0]),
         Some(s) => (
-            spec.u32(SPEC_SHADOW_MODE, s.mode.shader_value())
+            spec.u32(SPEC_SHADOW_MODE, shadow_mode_value(s.mode))
                 .u32(SPEC_SHADOW_STEPS, s.steps)
                 .f32(SPEC_SHADOW_REACH, s.horizon_reach)
                 .f32(SPEC_HARD_SHADOW_TEXELS, hard_shadow_texels(req.method)),

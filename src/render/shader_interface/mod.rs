@@ -1,8 +1,8 @@
 //! What the Rust side and the shaders must agree on — descriptor bindings, specialization-constant
-//! ids, array sizes, mode values and push-constant layouts — written once, here. build.rs compiles
-//! this module as one of its own and writes every table below, and each layout of
-//! `push_constants`, into the GLSL header "interface.glsl", which the shaders include; so the
-//! module uses nothing outside itself but `bytemuck`.
+//! ids, array sizes, mode values, texture slots, and the layouts of push constants, uniform blocks
+//! and storage records — written once, here. build.rs compiles this module as one of its own and
+//! writes every table below and every layout into the GLSL header "interface.glsl", which the
+//! shaders include; so the module uses nothing outside itself but `bytemuck`.
 
 /// Declares each constant as a `u32` and lists it by name in `$table`, for build.rs's header.
 macro_rules! glsl_table {
@@ -15,8 +15,15 @@ macro_rules! glsl_table {
     };
 }
 
+#[macro_use]
+mod shader_layout;
 mod push_constants;
+mod storage_records;
+mod uniform_blocks;
 pub use push_constants::*;
+pub use shader_layout::{LayoutForm, LayoutRules, ShaderField, ShaderLayout};
+pub use storage_records::*;
+pub use uniform_blocks::*;
 
 glsl_table! {
     /// Set 0 of the passes that trace (surface and trace, `shaders/include/bindings.glsl`,
@@ -88,7 +95,7 @@ glsl_table! {
     OCCLUSION_BINDINGS {
         /// The scene's top-level acceleration structure.
         BINDING_OCCLUSION_SCENE = 4;
-        /// Per relief prism: its frame (`PrismRecord` in src/render/traced/prism_records.rs).
+        /// Per relief prism: its frame (`PrismRecord`).
         BINDING_OCCLUSION_PRISMS = 5;
         /// Per ray: origin and its first t, direction and its last t.
         BINDING_OCCLUSION_RAYS = 6;
@@ -280,6 +287,65 @@ glsl_table! {
 }
 
 glsl_table! {
+    /// Vertex input locations of the mesh and shell passes (`mesh.vert`, `shell.vert`,
+    /// `cells.vert`): a mesh `Vertex`'s six attributes, then a shell
+    /// vertex's prism (`ShellVertex`), its vec4 arrays taking one location per element.
+    VERTEX_LOCATIONS {
+        LOCATION_POSITION = 0;
+        LOCATION_NORMAL = 1;
+        LOCATION_UV0 = 2;
+        LOCATION_UV1 = 3;
+        LOCATION_TANGENT = 4;
+        LOCATION_COLOR = 5;
+        LOCATION_PRISM = 6;
+        /// Three locations.
+        LOCATION_TOP = 7;
+        /// Three locations.
+        LOCATION_CORNER_NORMAL = 10;
+        /// Three locations.
+        LOCATION_CORNER_UV = 13;
+    }
+}
+
+glsl_table! {
+    /// The height field's self-shadow modes, the value of `SPEC_SHADOW_MODE`
+    /// (`shaders/include/shadows.glsl`; `ShadowMode` in the scene).
+    SHADOW_MODES {
+        SHADOW_MODE_NONE = 0;
+        SHADOW_MODE_HARD = 1;
+        SHADOW_MODE_POM_SOFT = 2;
+        SHADOW_MODE_HORIZON = 3;
+        SHADOW_MODE_CONE = 4;
+    }
+}
+
+glsl_table! {
+    /// The tone curves, `ToneMapPush::curve` (`shaders/include/tone_curves.glsl`; `ToneMap`).
+    TONE_CURVES {
+        /// Clamped to [0, 1].
+        TONE_CURVE_NONE = 0;
+        /// Khronos PBR Neutral.
+        TONE_CURVE_PBR_NEUTRAL = 1;
+        /// ACES, Narkowicz's fit.
+        TONE_CURVE_ACES = 2;
+    }
+}
+
+glsl_table! {
+    /// A material's texture slots: bit k of `MaterialUniform::textures.x` and rows 2k, 2k + 1
+    /// of its `uv_rows` (`shaders/include/draw.glsl`; `TextureSlot` in the scene).
+    TEXTURE_SLOTS {
+        SLOT_BASE_COLOR = 0;
+        SLOT_METALLIC_ROUGHNESS = 1;
+        SLOT_NORMAL = 2;
+        SLOT_OCCLUSION = 3;
+        SLOT_EMISSIVE = 4;
+        /// Not a texture of the material's own: the uv transform of its height map.
+        SLOT_HEIGHT = 5;
+    }
+}
+
+glsl_table! {
     /// Specialization-constant ids, as `#define`s. The trace and surface passes share the budget
     /// and shadow ids; the level-of-detail ids start at 20 to keep clear of them.
     SPEC_IDS {
@@ -352,6 +418,11 @@ glsl_table! {
     }
 }
 
+/// Every layout shared with the shaders: the storage records and uniform blocks (structs first,
+/// so that the header declares a struct before a block holds it), then the push constants.
+#[allow(dead_code)] // Read by build.rs.
+pub const SHADER_LAYOUTS: &[&[ShaderLayout]] = &[RECORD_LAYOUTS, UNIFORM_LAYOUTS, PUSH_LAYOUTS];
+
 /// The tables written as `#define NAME value`, for layout qualifiers and array sizes.
 #[allow(dead_code)] // Read by build.rs.
 pub const GLSL_DEFINES: &[&[(&str, u32)]] = &[
@@ -370,6 +441,10 @@ pub const GLSL_DEFINES: &[&[(&str, u32)]] = &[
     ENVIRONMENT_BINDINGS,
     TERRAIN_MODES,
     SHADOW_FILTERS,
+    SHADOW_MODES,
+    TONE_CURVES,
+    TEXTURE_SLOTS,
+    VERTEX_LOCATIONS,
     MODES,
     SPEC_IDS,
     SIZES,

@@ -1,71 +1,15 @@
-//! The push-constant layouts shared by Rust and GLSL: each a `#[repr(C)]` struct declared with
-//! its fields' GLSL types, which build.rs writes into "interface.glsl" as the body of a define
-//! and checks against std430.
+//! The push-constant blocks shared by Rust and GLSL (std430), declared with their fields' GLSL
+//! types: build.rs writes each into "interface.glsl" as the define `<NAME>_FIELDS`.
 
-use super::MAX_LEVELS;
-
-/// One push-constant field: its GLSL type, its array length (the header's name for it and the
-/// value), and its offset in the Rust struct.
-#[allow(dead_code)] // Read by build.rs, which writes and checks the GLSL side.
-pub struct PushField {
-    pub name: &'static str,
-    pub glsl: &'static str,
-    pub array: Option<(&'static str, usize)>,
-    pub offset: usize,
-}
-
-/// A push-constant struct as the header declares it: the shaders write
-/// `layout(push_constant, std430) uniform Params { <NAME>_FIELDS } params;`.
-#[allow(dead_code)] // Read by build.rs, which writes and checks the GLSL side.
-pub struct PushLayout {
-    /// The Rust struct's name, CamelCase; the header's define is its UPPER_SNAKE form.
-    pub name: &'static str,
-    pub fields: &'static [PushField],
-    pub size: usize,
-}
-
-/// Declares a `#[repr(C)]` push-constant struct with each field's GLSL type, and its
-/// [`PushLayout`] as `LAYOUT`.
-macro_rules! push_constants {
-    (
-        $(#[$doc:meta])*
-        $name:ident {
-            $($(#[$fdoc:meta])* $field:ident: $ty:ty => $glsl:literal $([$len:ident])?,)*
-        }
-    ) => {
-        $(#[$doc])*
-        #[repr(C)]
-        #[derive(Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
-        pub struct $name {
-            $($(#[$fdoc])* pub $field: $ty,)*
-        }
-
-        impl $name {
-            // Read by build.rs and the tests; the library uses the struct.
-            #[allow(dead_code)]
-            pub const LAYOUT: PushLayout = PushLayout {
-                name: stringify!($name),
-                fields: &[$(PushField {
-                    name: stringify!($field),
-                    glsl: $glsl,
-                    array: push_constants!(@len $($len)?),
-                    offset: std::mem::offset_of!($name, $field),
-                }),*],
-                size: std::mem::size_of::<$name>(),
-            };
-        }
-    };
-    (@len) => { None };
-    (@len $len:ident) => { Some((stringify!($len), $len as usize)) };
-}
+use super::{ShaderLayout, MAX_LEVELS};
 
 // Level offsets are spelled `[u32; 15]`: with `MAX_LEVELS` there, rustc 1.95 hit an internal
 // error ("broken MIR") when a closure captured a copy of the struct. The layout check below
 // catches a `MAX_LEVELS` that no longer matches.
 
-push_constants! {
+shader_layout! {
     /// `cone_map.comp`: a pyramid level or the conservative cone search of rows.
-    ConeMapParams {
+    block std430 ConeMapParams {
         /// `MODE_REDUCE` or `MODE_SEARCH`.
         mode: u32 => "uint",
         /// Level 0 size in texels.
@@ -86,9 +30,9 @@ push_constants! {
     }
 }
 
-push_constants! {
+shader_layout! {
     /// `quadric_map.comp`: a pyramid level or the quadric fit of rows.
-    QuadricMapParams {
+    block std430 QuadricMapParams {
         /// `MODE_REDUCE` or `MODE_SEARCH`.
         mode: u32 => "uint",
         /// Level 0 size in texels.
@@ -107,9 +51,9 @@ push_constants! {
     }
 }
 
-push_constants! {
+shader_layout! {
     /// The relaxed cone map's kernels (`shaders/include/relaxed_cone.glsl`).
-    RelaxedConeParams {
+    block std430 RelaxedConeParams {
         width: u32 => "uint",
         height: u32 => "uint",
         /// 1 for Repeat, 0 for Clamp.
@@ -129,9 +73,9 @@ push_constants! {
     }
 }
 
-push_constants! {
+shader_layout! {
     /// `ao_horizon.comp`: the horizon-sampled AO of the texels `origin <= t < end`.
-    AoHorizonParams {
+    block std430 AoHorizonParams {
         size: [i32; 2] => "ivec2",
         /// 1 for repeat, 0 for clamp.
         repeat_address: u32 => "uint",
@@ -155,9 +99,9 @@ push_constants! {
     }
 }
 
-push_constants! {
+shader_layout! {
     /// `ao_sweep.comp`: one azimuth's walk, or the whole map for the unpack and resolve modes.
-    AoSweepParams {
+    block std430 AoSweepParams {
         size: [i32; 2] => "ivec2",
         /// The lattice step of the walk; the horizon looks the other way.
         walk: [i32; 2] => "ivec2",
@@ -196,9 +140,9 @@ push_constants! {
     }
 }
 
-push_constants! {
+shader_layout! {
     /// `pyramid.comp`: one level of the conservative max pyramid, over `region`.
-    PyramidParams {
+    block std430 PyramidParams {
         /// x: 1 when building level 1 from the map (each range widened by a texel, so the node
         /// bounds the bilinear surface); y: 1 to wrap the widened range around the map (repeat
         /// addressing), 0 to clamp it.
@@ -209,9 +153,9 @@ push_constants! {
     }
 }
 
-push_constants! {
+shader_layout! {
     /// `trace.comp`: one sweep of parallel rays.
-    TraceParams {
+    block std430 TraceParams {
         /// xyz: the ray direction (dz > 0); w: the depth scale.
         dir: [f32; 4] => "vec4",
         /// x: columns, y: rows.
@@ -221,18 +165,18 @@ push_constants! {
     }
 }
 
-push_constants! {
+shader_layout! {
     /// `traced_occlusion.comp`: one batch of occlusion rays.
-    OcclusionParams {
+    block std430 OcclusionParams {
         /// x: the rays in the batch.
         count: [u32; 4] => "uvec4",
     }
 }
 
-push_constants! {
+shader_layout! {
     /// `lighting.comp:traced`: the scene's relief height map beside the frame's, and how its
     /// shadow rays are cast.
-    TracedLightingParams {
+    block std430 TracedLightingParams {
         /// The traced scene's height map: width, height, mip levels, 1 for repeat addressing.
         height_info: [f32; 4] => "vec4",
         /// x: how far a shadow ray starts off its receiver, along the ray (world units); y:
@@ -241,9 +185,9 @@ push_constants! {
     }
 }
 
-push_constants! {
+shader_layout! {
     /// `brush.comp`: one stroke over the texels of `region`.
-    BrushParams {
+    block std430 BrushParams {
         /// Centre x, y (texels), radius (texels), strength.
         stroke: [f32; 4] => "vec4",
         /// x: the flatten target; y: the kind (`BRUSH_*`, as a float).
@@ -253,9 +197,9 @@ push_constants! {
     }
 }
 
-push_constants! {
+shader_layout! {
     /// `blended_pyramid.comp`: one level of the blended pyramid over `region`.
-    BlendParams {
+    block std430 BlendParams {
         /// x: the blend mode (`BLEND_*`); y: the level; z: 1 when the output stores 16-bit unorm,
         /// so that bounds round up to the next step.
         flags: [u32; 4] => "uvec4",
@@ -265,9 +209,9 @@ push_constants! {
     }
 }
 
-push_constants! {
+shader_layout! {
     /// The environment kernels: one image level written from the source environment.
-    EnvironmentParams {
+    block std430 EnvironmentParams {
         /// The level written, in texels.
         out_width: u32 => "uint",
         out_height: u32 => "uint",
@@ -284,9 +228,69 @@ push_constants! {
     }
 }
 
+shader_layout! {
+    /// What every mesh draw pushes (`shaders/include/draw.glsl`): the model matrix, its normal
+    /// matrix (made once per object on the CPU rather than per vertex) and the draw's ids. 128
+    /// bytes, the least every device allows.
+    #[derive(Debug)]
+    block std430 DrawPush as Draw {
+        /// Object to world, column-major.
+        model: [[f32; 4]; 4] => "mat4",
+        /// Columns of the inverse transpose of the model's 3x3; `normal[0].w` is -1 when the
+        /// model flips handedness (negative determinant), else 1.
+        normal: [[f32; 4]; 3] => "vec4" [3],
+        /// x: the shadow view a caster draw renders into (shadow pass only); y: the scene mesh
+        /// index + 1, which the G-buffer records; z, w: unused.
+        extra: [u32; 4] => "uvec4",
+    }
+}
+
+shader_layout! {
+    /// The tone-mapping pass (`tonemap.frag`, `tonemap_resolve.frag`).
+    block std430 ToneMapPush {
+        /// 2^EV.
+        exposure: f32 => "float",
+        /// `TONE_CURVE_*`.
+        curve: u32 => "uint",
+        /// Supersampling: the radiance is `scale` times the frame's size along each axis.
+        scale: u32 => "uint",
+        /// Samples per texel of a multisampled radiance (`tonemap_resolve.frag`).
+        samples: u32 => "uint",
+    }
+}
+
+shader_layout! {
+    /// The environment drawn behind the scene (`background.frag`).
+    block std430 BackgroundPush {
+        /// Clip space back to world space, column-major.
+        inverse_view_proj: [[f32; 4]; 4] => "mat4",
+    }
+}
+
+shader_layout! {
+    /// `cells_trace.comp`: a batch of rays marched through a cell complex.
+    block std430 CellsTraceParams {
+        /// The grid's low corner (xyz) and its cell side (w).
+        origin_size: [f32; 4] => "vec4",
+        /// Cells along each axis.
+        n: u32 => "uint",
+        /// Height texels along a cell face.
+        resolution: u32 => "uint",
+        ray_count: u32 => "uint",
+        /// Halvings of the step once a ray is inside.
+        refinements: u32 => "uint",
+        /// March samples per height texel.
+        samples_per_texel: f32 => "float",
+    }
+}
+
 /// Every push-constant layout above, for build.rs's header.
 #[allow(dead_code)] // Read by build.rs.
-pub const PUSH_LAYOUTS: &[PushLayout] = &[
+pub const PUSH_LAYOUTS: &[ShaderLayout] = &[
+    DrawPush::LAYOUT,
+    ToneMapPush::LAYOUT,
+    BackgroundPush::LAYOUT,
+    CellsTraceParams::LAYOUT,
     EnvironmentParams::LAYOUT,
     ConeMapParams::LAYOUT,
     QuadricMapParams::LAYOUT,

@@ -18,8 +18,8 @@ use image::{imageops::FilterType, DynamicImage, RgbaImage};
 use crate::heightfield::Channel;
 use crate::render::kit::texture_mips::mip_chain;
 use crate::render::shader_interface::{
-    BINDING_LAYER_ALBEDO_HEIGHT, BINDING_LAYER_NORMAL_ROUGHNESS, BINDING_LAYER_PARAMS,
-    BINDING_LAYER_WEIGHTS,
+    LayerUniform, BINDING_LAYER_ALBEDO_HEIGHT, BINDING_LAYER_NORMAL_ROUGHNESS,
+    BINDING_LAYER_PARAMS, BINDING_LAYER_WEIGHTS,
 };
 use crate::scene::{
     LayerWeights, Layers, LayersError, Material, MaterialLayer, SceneImage, TextureRef,
@@ -29,17 +29,6 @@ use crate::vk::{
     upload_layers, upload_mips, Bind, Buffer, Context, DescriptorLayout, DescriptorPool,
     DescriptorSet, Image, ImageDesc, Sampler, VkError, VkResult,
 };
-
-/// Mirrors `LayerParams` in `terrain_layers.glsl`.
-#[repr(C)]
-#[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
-struct LayerUniform {
-    /// x: blend mode (0 alpha, 1 height, 2 height-intersect); y: layer count; z: bit k set when
-    /// layer k has a normal map; w: 1 when vertex colours weigh the layers (so do not tint).
-    info: [u32; 4],
-    tiling: [f32; 4],
-    depth: [f32; 4],
-}
 
 /// The layout of set 2.
 pub fn layer_layout(ctx: &Arc<Context>) -> VkResult<DescriptorLayout> {

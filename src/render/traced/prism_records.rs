@@ -1,21 +1,8 @@
-//! The GPU's copy of a relief triangle's frame: one record per prism, as
-//! `shaders/include/relief_prism.glsl` reads it.
+//! The GPU's copy of a relief triangle's frame: one record per prism, made from the CPU
+//! reference's frame (the record's layout is in `shader_interface`).
 
-use bytemuck::{Pod, Zeroable};
-
+pub use crate::render::shader_interface::PrismRecord;
 use crate::shadow_reference::relief_shell::ShellFrame;
-
-/// One relief prism, 80 bytes, std430.
-#[repr(C)]
-#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
-pub struct PrismRecord {
-    /// Rows of the affine map from a world point to (height u, height v, depth).
-    pub to_local: [[f32; 4]; 3],
-    /// Columns of the map from a height-uv offset to the weights of corners 1 and 2.
-    pub to_bary: [f32; 4],
-    /// xy: height uv of corner 0; z: the depth scale; w: unused.
-    pub anchor: [f32; 4],
-}
 
 impl From<&ShellFrame> for PrismRecord {
     fn from(f: &ShellFrame) -> Self {
@@ -35,15 +22,5 @@ impl From<&ShellFrame> for PrismRecord {
                 0.0,
             ],
         }
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn a_record_is_the_shaders_eighty_bytes() {
-        assert_eq!(std::mem::size_of::<PrismRecord>(), 80);
     }
 }
