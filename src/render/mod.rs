@@ -34,7 +34,6 @@ pub use cells::cells_trace_pass::{march_cells_on_gpu, CellsTrace};
 pub use environment::{BakedEnvironment, EnvironmentLight, EnvironmentPlan};
 pub use frame::explain::explain;
 pub use frame::frame_stats::{sequence_stats, PassStats, SequenceStats};
-pub use frame::frame_timeline::{ClockAlignment, FrameTimeline, GpuSpan, HostSpan, HostWork};
 pub use frame::gbuffer::GBufferChannels;
 pub use frame::mesh_pipeline::describe as describe_pipeline;
 pub use frame::renderer::{FrameOutput, FrameRequest, Renderer, FRAMES_IN_FLIGHT};
@@ -45,6 +44,7 @@ pub use frame::work_counters::{WorkCounts, WorkSummary};
 pub use heights::height_resources::{HeightResources, HeightUpload};
 pub use heights::method_map::GpuMethodMap;
 pub use kit::formats::{COLOR_FORMAT, DEPTH_FORMAT, GBUFFER_FORMATS, HDR_FORMAT};
+pub use kit::frame_timeline::{ClockAlignment, FrameTimeline, GpuSpan, HostSpan, HostWork};
 pub use kit::frame_uniforms::{
     frame_camera, FrameUniforms, LightUniform, ShadowTileUniform, MAX_LIGHTS, MAX_SHADOW_TILES,
 };

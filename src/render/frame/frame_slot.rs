@@ -4,9 +4,9 @@
 
 use std::sync::Arc;
 
-use super::frame_timeline::SubmittedTimeline;
 use super::gbuffer::GBufferChannels;
 use super::targets::{average_blocks, Targets};
+use crate::render::kit::frame_timeline::SubmittedTimeline;
 use crate::render::kit::pass_timer::PassTimer;
 use crate::vk::{half_floats_to_rgba, CommandSlot, Context, Readback, VkResult};
 

@@ -8,7 +8,6 @@ pub(in crate::render) mod frame_graph;
 mod frame_setup;
 mod frame_slot;
 pub(in crate::render) mod frame_stats;
-pub(in crate::render) mod frame_timeline;
 pub(in crate::render) mod gbuffer;
 mod height_upload;
 pub(in crate::render) mod material_set;

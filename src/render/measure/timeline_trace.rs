@@ -6,7 +6,7 @@ use std::time::{Duration, Instant};
 
 use serde_json::{json, Value};
 
-use crate::render::frame::frame_timeline::{ClockAlignment, FrameTimeline};
+use crate::render::kit::frame_timeline::{ClockAlignment, FrameTimeline};
 
 /// The host's track.
 const HOST_TRACK: u32 = 1;
@@ -133,7 +133,7 @@ fn metadata(name: &str, tid: u32, value: &str) -> Value {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::render::frame::frame_timeline::{GpuSpan, HostSpan, HostWork};
+    use crate::render::kit::frame_timeline::{GpuSpan, HostSpan, HostWork};
     use crate::render::kit::pass::Pass;
 
     #[test]

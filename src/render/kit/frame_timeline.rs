@@ -90,7 +90,7 @@ pub struct FrameTimeline {
 
 /// What a frame's submission noted for its timeline.
 #[derive(Debug, Clone)]
-pub(super) struct SubmittedTimeline {
+pub(in crate::render) struct SubmittedTimeline {
     /// The host's spans so far (recording and submission).
     pub host: Vec<HostSpan>,
     /// The calibration taken as the frame went out, if the device has one.
