@@ -27,18 +27,13 @@ fn main() -> anyhow::Result<()> {
     };
 
     let ctx = Context::new(&ContextOptions::default())?;
-    let opts = RenderOptions {
-        width,
-        height,
-        ..RenderOptions::default()
-    };
+    let opts = RenderOptions::default()
+        .with_width(width)
+        .with_height(height);
     // Building the renderer uploads the meshes and builds every map the scene's methods read;
     // each frame after that only records and submits.
     let mut renderer = Renderer::new(&ctx, &scene, Some(&heights), &opts)?;
-    let request = FrameRequest {
-        camera: renderer.default_camera(),
-        read_back: true,
-    };
+    let request = FrameRequest::new(renderer.default_camera());
     // `draw` waits for its own frame: the simplest call for one image (`submit` overlaps frames).
     let frame = renderer.draw(&request)?;
     // sRGB RGBA8, rows top to bottom: what a PNG holds, byte for byte.

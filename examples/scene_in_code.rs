@@ -53,17 +53,12 @@ fn main() -> anyhow::Result<()> {
     };
 
     let ctx = Context::new(&ContextOptions::default())?;
-    let opts = RenderOptions {
-        width,
-        height,
-        ..RenderOptions::default()
-    };
+    let opts = RenderOptions::default()
+        .with_width(width)
+        .with_height(height);
     // The frame's height map displaces every material whose relief reads it (`Relief::new`'s).
     let mut renderer = Renderer::new(&ctx, &scene, Some(&heights), &opts)?;
-    let frame = renderer.draw(&FrameRequest {
-        camera: renderer.default_camera(),
-        read_back: true,
-    })?;
+    let frame = renderer.draw(&FrameRequest::new(renderer.default_camera()))?;
     // sRGB RGBA8, rows top to bottom: what a PNG holds, byte for byte.
     let rgba = frame.rgba.context("the frame was asked to be read back")?;
     let png = image::RgbaImage::from_raw(frame.width, frame.height, rgba).context("frame size")?;

@@ -23,11 +23,7 @@ fn main() -> anyhow::Result<()> {
         scene: default_scene(DEFAULT_SCENE_METHOD),
         heights: Some(default_heightfield()),
         // The window's first size; the renderer follows the window when it is resized.
-        options: RenderOptions {
-            width: 640,
-            height: 360,
-            ..RenderOptions::default()
-        },
+        options: RenderOptions::default().with_width(640).with_height(360),
         context: ContextOptions::default(),
         // A counted run should not wait on the display's refresh; an open-ended one should.
         present: if frames.is_some() {

@@ -3,6 +3,10 @@
 #![warn(missing_docs)]
 #![deny(clippy::undocumented_unsafe_blocks)]
 
+#[macro_use]
+mod setters;
+
+#[cfg(feature = "bench")]
 pub mod bench;
 pub mod cells;
 pub mod displaced_reference;

@@ -138,12 +138,10 @@ fn scene(mesh: Mesh, eye: Vec3) -> Scene {
 }
 
 fn draw(ctx: &Arc<relief::vk::Context>, scene: &Scene, cells: bool) -> Frame {
-    let opts = RenderOptions {
-        width: WIDTH,
-        height: HEIGHT,
-        cells: cells.then(|| CellsOptions::new(MeshSelection::All)),
-        ..RenderOptions::default()
-    };
+    let opts = RenderOptions::default()
+        .with_width(WIDTH)
+        .with_height(HEIGHT)
+        .with_cells(cells.then(|| CellsOptions::new(MeshSelection::All)));
     render(ctx, scene, None, &opts).expect("renders")
 }
 

@@ -125,12 +125,10 @@ fn scene(mesh: Mesh, eye: Vec3) -> Scene {
 }
 
 fn draw(ctx: &Arc<relief::vk::Context>, scene: &Scene, cells: bool) -> Frame {
-    let opts = RenderOptions {
-        width: 192,
-        height: 144,
-        cells: cells.then(|| CellsOptions::new(MeshSelection::All)),
-        ..RenderOptions::default()
-    };
+    let opts = RenderOptions::default()
+        .with_width(192)
+        .with_height(144)
+        .with_cells(cells.then(|| CellsOptions::new(MeshSelection::All)));
     render(ctx, scene, None, &opts).expect("renders")
 }
 
@@ -216,9 +214,8 @@ fn an_open_mesh_or_an_unknown_name_is_refused_in_one_line() {
     // A triangle off the equator (the poles' triangles are degenerate and dropped anyway).
     let middle = open.indices.len() / 2 / 3 * 3;
     open.indices.drain(middle..middle + 3);
-    let opts = |selection: &str| RenderOptions {
-        cells: Some(CellsOptions::new(selection.parse().unwrap())),
-        ..RenderOptions::default()
+    let opts = |selection: &str| {
+        RenderOptions::default().with_cells(Some(CellsOptions::new(selection.parse().unwrap())))
     };
     let err = render(
         &ctx,

@@ -101,12 +101,10 @@ fn scene() -> Scene {
 }
 
 fn draw(ctx: &Arc<relief::vk::Context>, scene: &Scene, cells: Option<&str>) -> Vec<u8> {
-    let opts = RenderOptions {
-        width: WIDTH,
-        height: HEIGHT,
-        cells: cells.map(|name| CellsOptions::new(MeshSelection::Named(name.into()))),
-        ..RenderOptions::default()
-    };
+    let opts = RenderOptions::default()
+        .with_width(WIDTH)
+        .with_height(HEIGHT)
+        .with_cells(cells.map(|name| CellsOptions::new(MeshSelection::Named(name.into()))));
     let frame = render(ctx, scene, None, &opts).expect("renders");
     common::assert_no_validation_errors(ctx);
     frame.rgba

@@ -30,14 +30,8 @@ fn both(
     heights: &Heightfield,
     opts: &RenderOptions,
 ) -> (Vec<u8>, Vec<u8>) {
-    let forward = RenderOptions {
-        lighting: Lighting::Forward,
-        ..opts.clone()
-    };
-    let deferred = RenderOptions {
-        lighting: Lighting::Deferred,
-        ..opts.clone()
-    };
+    let forward = opts.clone().with_lighting(Lighting::Forward);
+    let deferred = opts.clone().with_lighting(Lighting::Deferred);
     let a = render(ctx, scene, Some(heights), &forward).expect("renders forward");
     let b = render(ctx, scene, Some(heights), &deferred).expect("renders deferred");
     assert!(
@@ -85,10 +79,7 @@ fn assert_alike(what: &str, (forward, deferred): (Vec<u8>, Vec<u8>)) -> u8 {
 }
 
 fn look(width: u32, height: u32) -> RenderOptions {
-    RenderOptions {
-        msaa: 1,
-        ..RenderOptions::finished(width, height)
-    }
+    RenderOptions::finished(width, height).with_msaa(1)
 }
 
 #[test]
@@ -106,12 +97,10 @@ fn the_finished_look_at_one_sample_is_the_forward_one() {
         "default scene, sky light, PCSS maps, PBR Neutral",
         both(&ctx, &scene, &heights, &look(240, 135)),
     );
-    let flat = RenderOptions {
-        msaa: 1,
-        width: 240,
-        height: 135,
-        ..RenderOptions::default()
-    };
+    let flat = RenderOptions::default()
+        .with_msaa(1)
+        .with_width(240)
+        .with_height(135);
     assert_alike(
         "default scene, flat ambient light",
         both(&ctx, &scene, &heights, &flat),
@@ -160,19 +149,13 @@ fn the_gbuffer_shadow_share_is_the_forward_one() {
     };
     let heights = default_heightfield();
     let scene = default_scene(DEFAULT_SCENE_METHOD);
-    let opts = RenderOptions {
-        gbuffer: true,
-        ..look(160, 90)
-    };
+    let opts = look(160, 90).with_gbuffer(true);
     let forward = render(&ctx, &scene, Some(&heights), &opts).expect("forward");
     let deferred = render(
         &ctx,
         &scene,
         Some(&heights),
-        &RenderOptions {
-            lighting: Lighting::Deferred,
-            ..opts
-        },
+        &opts.with_lighting(Lighting::Deferred),
     )
     .expect("deferred");
     let (f, d) = (
@@ -204,10 +187,7 @@ fn the_lighting_pass_is_in_the_graph_only_when_deferred() {
     let heights = default_heightfield();
     let scene = default_scene(DEFAULT_SCENE_METHOD);
     let lit = |lighting| {
-        let opts = RenderOptions {
-            lighting,
-            ..look(64, 36)
-        };
+        let opts = look(64, 36).with_lighting(lighting);
         let r = Renderer::new(&ctx, &scene, Some(&heights), &opts).expect("renderer");
         let has_lighting = r.graph().passes().any(|p| p == Pass::Lighting);
         has_lighting
@@ -225,10 +205,7 @@ fn frames_it_cannot_light_are_refused_with_the_reason() {
     let heights = default_heightfield();
     let scene = default_scene(DEFAULT_SCENE_METHOD);
     let refused = |opts: RenderOptions| {
-        let opts = RenderOptions {
-            lighting: Lighting::Deferred,
-            ..opts
-        };
+        let opts = opts.with_lighting(Lighting::Deferred);
         match Renderer::new(&ctx, &scene, Some(&heights), &opts) {
             Ok(_) => panic!("a deferred frame that cannot be lit deferred was built"),
             Err(e) => e.to_string(),
@@ -236,15 +213,9 @@ fn frames_it_cannot_light_are_refused_with_the_reason() {
     };
     let msaa = refused(RenderOptions::finished(64, 36));
     assert!(msaa.contains("--msaa 1"), "{msaa}");
-    let supersampled = refused(RenderOptions {
-        supersample: 2,
-        ..look(64, 36)
-    });
+    let supersampled = refused(look(64, 36).with_supersample(2));
     assert!(supersampled.contains("--supersample"), "{supersampled}");
-    let probed = refused(RenderOptions {
-        shadow_probe: Some(0),
-        ..RenderOptions::default()
-    });
+    let probed = refused(RenderOptions::default().with_shadow_probe(Some(0)));
     assert!(probed.contains("shadow probe"), "{probed}");
     let mut many = scene.clone();
     for k in 0..4 {
@@ -254,10 +225,7 @@ fn frames_it_cannot_light_are_refused_with_the_reason() {
             ..Light::default_light()
         });
     }
-    let opts = RenderOptions {
-        lighting: Lighting::Deferred,
-        ..look(64, 36)
-    };
+    let opts = look(64, 36).with_lighting(Lighting::Deferred);
     let lights = match Renderer::new(&ctx, &many, Some(&heights), &opts) {
         Ok(_) => panic!("five self-shadowing lights lit deferred"),
         Err(e) => e.to_string(),

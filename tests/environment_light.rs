@@ -110,13 +110,11 @@ fn maps_match_brute_force_integration_of_the_same_image() {
 
 /// Options for a `width` x `height` frame lit by `env`, its radiance read back.
 fn lit_by(env: Environment, width: u32, height: u32) -> RenderOptions {
-    RenderOptions {
-        width,
-        height,
-        keep_radiance: true,
-        environment: EnvironmentSource::Image(env),
-        ..RenderOptions::default()
-    }
+    RenderOptions::default()
+        .with_width(width)
+        .with_height(height)
+        .with_keep_radiance(true)
+        .with_environment(EnvironmentSource::Image(env))
 }
 
 /// Two white spheres (diffuse, roughness 1; dielectric, roughness 0.4) and a black light.

@@ -50,12 +50,10 @@ fn a_plain_scene_builds_no_map_pass_and_the_g_buffer_is_a_write_of_the_surface()
         materials: vec![Material::default()],
         ..Scene::default()
     };
-    let opts = RenderOptions {
-        width: 32,
-        height: 32,
-        gbuffer: true,
-        ..RenderOptions::default()
-    };
+    let opts = RenderOptions::default()
+        .with_width(32)
+        .with_height(32)
+        .with_gbuffer(true);
     let renderer = Renderer::new(&ctx, &scene, None, &opts).expect("renderer");
     assert_eq!(passes(&renderer), [Pass::Surface, Pass::ToneMap]);
     let surface = &renderer.graph().nodes[0];

@@ -46,13 +46,11 @@ fn quad_scene(relief: bool) -> Scene {
 }
 
 fn options(msaa: u32) -> RenderOptions {
-    RenderOptions {
-        width: 96,
-        height: 64,
-        msaa,
-        gbuffer: true,
-        ..RenderOptions::default()
-    }
+    RenderOptions::default()
+        .with_width(96)
+        .with_height(64)
+        .with_msaa(msaa)
+        .with_gbuffer(true)
 }
 
 fn channels(
@@ -218,10 +216,7 @@ fn msaa_keeps_interior_pixels_and_the_image_is_unchanged() {
         "{interior} interior and {edges} edge pixels: the view does not frame the quad"
     );
     for look in [options(1), options(4)] {
-        let without = RenderOptions {
-            gbuffer: false,
-            ..look.clone()
-        };
+        let without = look.clone().with_gbuffer(false);
         let with = render(&ctx, &scene, Some(&heights), &look).expect("renders");
         let plain = render(&ctx, &scene, Some(&heights), &without).expect("renders");
         assert!(

@@ -17,11 +17,9 @@ use relief::scene::{load_gltf, Camera, Light, Projection, Scene, SceneOptions};
 use relief::vk::Context;
 
 fn options(width: u32, height: u32) -> RenderOptions {
-    RenderOptions {
-        width,
-        height,
-        ..RenderOptions::default()
-    }
+    RenderOptions::default()
+        .with_width(width)
+        .with_height(height)
 }
 
 fn load(path: &Path) -> Scene {
@@ -156,10 +154,7 @@ fn flight_helmet_under_the_sky_and_a_studio_matches_golden_images() {
             EnvironmentSource::Image(studio()),
         ),
     ] {
-        let opts = RenderOptions {
-            environment,
-            ..RenderOptions::finished(128, 128)
-        };
+        let opts = RenderOptions::finished(128, 128).with_environment(environment);
         let frame = render(&ctx, &scene, None, &opts).expect("renders");
         common::assert_no_validation_errors(&ctx);
         common::golden::check_golden(name, 128, 128, &frame.rgba);

@@ -16,11 +16,9 @@ fn default_scene_matches_golden() {
     let Some(ctx) = common::device("default_scene_matches_golden") else {
         return;
     };
-    let opts = RenderOptions {
-        width: WIDTH,
-        height: HEIGHT,
-        ..RenderOptions::default()
-    };
+    let opts = RenderOptions::default()
+        .with_width(WIDTH)
+        .with_height(HEIGHT);
     let frame = render(
         &ctx,
         &default_scene(DEFAULT_SCENE_METHOD),
@@ -56,11 +54,9 @@ fn relief_changes_the_image() {
     let Some(ctx) = common::device("relief_changes_the_image") else {
         return;
     };
-    let opts = RenderOptions {
-        width: WIDTH,
-        height: HEIGHT,
-        ..RenderOptions::default()
-    };
+    let opts = RenderOptions::default()
+        .with_width(WIDTH)
+        .with_height(HEIGHT);
     let hf = default_heightfield();
     let relief = render(&ctx, &default_scene(Method::POM), Some(&hf), &opts).expect("renders");
     let mut flat_scene = default_scene(Method::POM);
@@ -84,11 +80,7 @@ fn every_method_renders_the_default_scene() {
     let Some(ctx) = common::device("every_method_renders_the_default_scene") else {
         return;
     };
-    let opts = RenderOptions {
-        width: 96,
-        height: 54,
-        ..RenderOptions::default()
-    };
+    let opts = RenderOptions::default().with_width(96).with_height(54);
     let hf = default_heightfield();
     let pom = render(&ctx, &default_scene(Method::POM), Some(&hf), &opts).expect("renders");
     for method in Method::all() {

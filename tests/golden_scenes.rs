@@ -185,11 +185,9 @@ fn material_showcase_matches_golden() {
     let Some(ctx) = common::device("material_showcase_matches_golden") else {
         return;
     };
-    let opts = RenderOptions {
-        width: WIDTH,
-        height: HEIGHT,
-        ..RenderOptions::default()
-    };
+    let opts = RenderOptions::default()
+        .with_width(WIDTH)
+        .with_height(HEIGHT);
     let frame = render(&ctx, &materials_scene(), None, &opts).expect("renders");
     // No relief anywhere: one plain variant per (sidedness, blending), no heights, no maps.
     assert!(frame.plan.heights.is_empty());
@@ -259,11 +257,9 @@ fn displaced_gltf_matches_golden() {
     let scene = load_gltf(&path, &SceneOptions::default()).expect("loads");
     assert!(scene.camera.is_some(), "the file's camera");
     assert_eq!(scene.lights.len(), 1, "the file's point light");
-    let opts = RenderOptions {
-        width: WIDTH,
-        height: HEIGHT,
-        ..RenderOptions::default()
-    };
+    let opts = RenderOptions::default()
+        .with_width(WIDTH)
+        .with_height(HEIGHT);
     let frame = render(&ctx, &scene, None, &opts).expect("renders");
     let plan = &frame.plan;
     assert_eq!(plan.pipelines.len(), 1, "{:?}", plan.pipelines);

@@ -74,11 +74,9 @@ impl Scenes {
         editor: &TerrainEditor,
         (width, height): (u32, u32),
     ) -> (Renderer, Renderer) {
-        let opts = RenderOptions {
-            width,
-            height,
-            ..RenderOptions::default()
-        };
+        let opts = RenderOptions::default()
+            .with_width(width)
+            .with_height(height);
         let qdm: Method = "qdm".parse().expect("qdm");
         let plain = Renderer::new(ctx, &default_scene(qdm), Some(hf), &opts).expect("prepares");
         let t = small_terrain();
@@ -139,12 +137,10 @@ impl Scenes {
 
     fn draw(&mut self, step: u32) {
         for r in [&mut self.plain, &mut self.terrain] {
-            let request = FrameRequest {
-                camera: r
-                    .default_camera()
+            let request = FrameRequest::new(
+                r.default_camera()
                     .orbited(glam::Vec3::ZERO, (0.9 * step as f32).to_radians()),
-                read_back: true,
-            };
+            );
             r.submit(&request).expect("submits");
         }
     }

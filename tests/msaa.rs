@@ -78,13 +78,11 @@ fn draw_with(
     msaa: u32,
     supersample: u32,
 ) -> Vec<u8> {
-    let opts = RenderOptions {
-        width,
-        height,
-        msaa,
-        supersample,
-        ..RenderOptions::default()
-    };
+    let opts = RenderOptions::default()
+        .with_width(width)
+        .with_height(height)
+        .with_msaa(msaa)
+        .with_supersample(supersample);
     let frame = render(ctx, scene, heights, &opts).expect("renders");
     common::assert_no_validation_errors(ctx);
     assert_eq!(frame.plan.msaa.samples, msaa.min(ctx.info().max_samples));
@@ -221,12 +219,10 @@ fn relief_cells_and_shadow_maps_draw_multisampled_without_validation_errors() {
         light.casts_shadows = true;
     }
     let heights = default_heightfield();
-    let opts = RenderOptions {
-        width: 160,
-        height: 90,
-        msaa: 8,
-        ..RenderOptions::default()
-    };
+    let opts = RenderOptions::default()
+        .with_width(160)
+        .with_height(90)
+        .with_msaa(8);
     let frame = render(&ctx, &scene, Some(&heights), &opts).expect("renders");
     common::assert_no_validation_errors(&ctx);
     let msaa = &frame.plan.msaa;

@@ -19,12 +19,10 @@ use relief::scene::{
 use relief::vk::Context;
 
 fn options(msaa: u32) -> RenderOptions {
-    RenderOptions {
-        width: 192,
-        height: 108,
-        msaa,
-        ..RenderOptions::default()
-    }
+    RenderOptions::default()
+        .with_width(192)
+        .with_height(108)
+        .with_msaa(msaa)
 }
 
 /// The frame with and without the occluder pass.
@@ -35,10 +33,7 @@ fn both(
     opts: &RenderOptions,
 ) -> (Vec<u8>, Vec<u8>) {
     let culled = render(ctx, scene, Some(heights), opts).expect("renders with occluders");
-    let forward = RenderOptions {
-        occluders: false,
-        ..opts.clone()
-    };
+    let forward = opts.clone().with_occluders(false);
     let traced = render(ctx, scene, Some(heights), &forward).expect("renders without");
     (culled.rgba, traced.rgba)
 }
@@ -172,10 +167,7 @@ fn the_default_look_and_clamped_maps_keep_their_image() {
     let scene = default_scene(Method::QDM);
     let look = RenderOptions::finished(192, 108);
     assert_same("default look", both(&ctx, &scene, &heights, &look));
-    let clamped = RenderOptions {
-        address: Address::Clamp,
-        ..options(1)
-    };
+    let clamped = options(1).with_address(Address::Clamp);
     assert_same(
         "clamp-addressed map",
         both(&ctx, &scene, &heights, &clamped),
@@ -190,10 +182,7 @@ fn the_plan_runs_the_pass_only_where_it_can_skip_a_trace() {
     };
     let heights = default_heightfield();
     let plans = |scene: &Scene, on: bool| {
-        let opts = RenderOptions {
-            occluders: on,
-            ..options(1)
-        };
+        let opts = options(1).with_occluders(on);
         let renderer = Renderer::new(&ctx, scene, Some(&heights), &opts).expect("prepares");
         let plan = renderer.plan().clone();
         let runs = plan.passes.iter().any(|p| p.pass == Pass::Occluders);

@@ -9,10 +9,7 @@ use relief::render::PyramidPass;
 use relief::vk::{check_pipeline_cache_header, CacheIdentity, Context, ContextOptions};
 
 fn with_cache(test: &str, bytes: Option<Vec<u8>>) -> Option<Arc<Context>> {
-    let options = ContextOptions {
-        pipeline_cache: bytes,
-        ..ContextOptions::default()
-    };
+    let options = ContextOptions::default().with_pipeline_cache(bytes);
     common::device_with(test, &options)
 }
 

@@ -113,11 +113,9 @@ fn prism_shells_leave_no_holes_where_prisms_meet() {
             if let Some(relief) = shelled.materials[0].relief.as_mut() {
                 relief.method = Method::RELIEF;
             }
-            let opts = RenderOptions {
-                width,
-                height,
-                ..RenderOptions::default()
-            };
+            let opts = RenderOptions::default()
+                .with_width(width)
+                .with_height(height);
             let reference = displaced(&shelled, &heights, 1.0);
             let truth = coverage(&render(&ctx, &reference, None, &opts).expect("renders").rgba);
             if let Some(relief) = shelled.materials[0].relief.as_mut() {

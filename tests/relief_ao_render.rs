@@ -4,30 +4,13 @@
 
 mod common;
 
-use relief::render::{render, Lighting, Pass, RenderOptions, ShadowOptions, ToneMapping};
+use relief::render::{render, Pass, RenderOptions};
 use relief::scene::{default_heightfield, default_scene, AoMode, DEFAULT_SCENE_METHOD};
 
-const OPTS: RenderOptions = RenderOptions {
-    width: 160,
-    height: 90,
-    height_format: relief::render::HeightFormat::R16Unorm,
-    address: relief::heightfield::Address::Repeat,
-    cells: None,
-    paintable_layers: false,
-    shadows: ShadowOptions::DEFAULT,
-    shadow_probe: None,
-    msaa: 1,
-    tone_mapping: ToneMapping::NONE,
-    keep_radiance: false,
-    environment: relief::environment::EnvironmentSource::Flat,
-    background: relief::environment::Background::Colour,
-    supersample: 1,
-    occluders: true,
-    gbuffer: false,
-    count_work: false,
-    lighting: Lighting::Forward,
-    traced_shadows: false,
-};
+/// The bench's plain frame, small.
+fn opts() -> RenderOptions {
+    RenderOptions::default().with_size(160, 90)
+}
 
 #[test]
 fn ao_only_darkens_and_shows_in_the_mortar() {
@@ -44,8 +27,8 @@ fn ao_only_darkens_and_shows_in_the_mortar() {
     {
         relief.ao = AoMode::None;
     }
-    let lit = render(&ctx, &with_ao, Some(&hf), &OPTS).expect("renders with AO");
-    let plain = render(&ctx, &without_ao, Some(&hf), &OPTS).expect("renders without AO");
+    let lit = render(&ctx, &with_ao, Some(&hf), &opts()).expect("renders with AO");
+    let plain = render(&ctx, &without_ao, Some(&hf), &opts()).expect("renders without AO");
     assert!(lit
         .plan
         .passes

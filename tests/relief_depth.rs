@@ -49,12 +49,10 @@ fn scene(write_depth: bool) -> Scene {
 
 fn gbuffer(ctx: &std::sync::Arc<relief::vk::Context>, write_depth: bool) -> GBufferChannels {
     let heights = Generator::Bricks.generate(128, 128, 7).quantized_unorm16();
-    let opts = RenderOptions {
-        width: 96,
-        height: 64,
-        gbuffer: true,
-        ..RenderOptions::default()
-    };
+    let opts = RenderOptions::default()
+        .with_width(96)
+        .with_height(64)
+        .with_gbuffer(true);
     let frame = render(ctx, &scene(write_depth), Some(&heights), &opts).expect("renders");
     frame.gbuffer.expect("G-buffer")
 }

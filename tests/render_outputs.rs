@@ -25,13 +25,11 @@ const WIDTH: u32 = 96;
 const HEIGHT: u32 = 64;
 
 fn options(msaa: u32) -> RenderOptions {
-    RenderOptions {
-        width: WIDTH,
-        height: HEIGHT,
-        msaa,
-        gbuffer: true,
-        ..RenderOptions::default()
-    }
+    RenderOptions::default()
+        .with_width(WIDTH)
+        .with_height(HEIGHT)
+        .with_msaa(msaa)
+        .with_gbuffer(true)
 }
 
 fn gbuffer(ctx: &Arc<Context>, scene: &Scene, opts: &RenderOptions) -> GBufferChannels {
@@ -278,10 +276,7 @@ fn motion_is_the_screen_shift_of_a_known_camera_move() {
     };
     let mut renderer = Renderer::new(&ctx, &scene, None, &options(1)).expect("renderer");
     let first = renderer
-        .draw(&FrameRequest {
-            camera: at(0.0),
-            read_back: true,
-        })
+        .draw(&FrameRequest::new(at(0.0)))
         .expect("first frame");
     let still = first.gbuffer.expect("G-buffer");
     assert!(
@@ -289,10 +284,7 @@ fn motion_is_the_screen_shift_of_a_known_camera_move() {
         "a first frame has no motion"
     );
     let second = renderer
-        .draw(&FrameRequest {
-            camera: at(step),
-            read_back: true,
-        })
+        .draw(&FrameRequest::new(at(step)))
         .expect("second frame");
     let g = second.gbuffer.expect("G-buffer");
     // Pinhole: a point at depth d shifts by step * f / d pixels, f the focal length in pixels;
@@ -310,10 +302,7 @@ fn motion_is_the_screen_shift_of_a_known_camera_move() {
     // Measured from a given camera instead of the last frame's: from the first frame's again.
     renderer.set_motion_origin(at(-step));
     let third = renderer
-        .draw(&FrameRequest {
-            camera: at(step),
-            read_back: true,
-        })
+        .draw(&FrameRequest::new(at(step)))
         .expect("third frame");
     let doubled = third.gbuffer.expect("G-buffer");
     assert!(
@@ -355,11 +344,7 @@ fn steps_and_hits_are_the_trace_passes_for_the_same_rays() {
         camera: Some(camera),
         ..Scene::default()
     };
-    let opts = RenderOptions {
-        width: 64,
-        height: 64,
-        ..options(1)
-    };
+    let opts = options(1).with_width(64).with_height(64);
     let frame = render(&ctx, &scene, Some(&heights), &opts).expect("renders");
     let g = frame.gbuffer.expect("G-buffer");
     // The view ray in height space: u along +x, v along +z, down along -y.

@@ -5,32 +5,13 @@
 mod common;
 
 use relief::method::Method;
-use relief::render::{
-    render, FrameRequest, Lighting, Pass, RenderOptions, Renderer, ShadowOptions, ToneMapping,
-};
+use relief::render::{render, FrameRequest, Pass, RenderOptions, Renderer};
 use relief::scene::{default_heightfield, default_scene};
 
-const OPTS: RenderOptions = RenderOptions {
-    width: 96,
-    height: 54,
-    height_format: relief::render::HeightFormat::R16Unorm,
-    address: relief::heightfield::Address::Repeat,
-    cells: None,
-    paintable_layers: false,
-    shadows: ShadowOptions::DEFAULT,
-    shadow_probe: None,
-    msaa: 1,
-    tone_mapping: ToneMapping::NONE,
-    keep_radiance: false,
-    environment: relief::environment::EnvironmentSource::Flat,
-    background: relief::environment::Background::Colour,
-    supersample: 1,
-    occluders: true,
-    gbuffer: false,
-    count_work: false,
-    lighting: Lighting::Forward,
-    traced_shadows: false,
-};
+/// The bench's plain frame, small.
+fn opts() -> RenderOptions {
+    RenderOptions::default().with_size(96, 54)
+}
 
 #[test]
 fn frames_reuse_every_resource_and_build_the_pyramid_once() {
@@ -40,17 +21,15 @@ fn frames_reuse_every_resource_and_build_the_pyramid_once() {
     let qdm: Method = "qdm".parse().expect("qdm");
     let scene = default_scene(qdm);
     let hf = default_heightfield();
-    let mut renderer = Renderer::new(&ctx, &scene, Some(&hf), &OPTS).expect("prepares");
+    let mut renderer = Renderer::new(&ctx, &scene, Some(&hf), &opts()).expect("prepares");
     let center = glam::Vec3::ZERO;
     let start = renderer.default_camera();
     let frames = 8u32;
     let mut outputs = Vec::new();
     let mut after_first = None;
     for k in 0..frames {
-        let request = FrameRequest {
-            camera: start.orbited(center, (45.0 * k as f32).to_radians()),
-            read_back: k % 2 == 0,
-        };
+        let request = FrameRequest::new(start.orbited(center, (45.0 * k as f32).to_radians()))
+            .with_read_back(k % 2 == 0);
         outputs.extend(renderer.submit(&request).expect("submits"));
         after_first.get_or_insert_with(|| ctx.created());
     }
@@ -107,17 +86,14 @@ fn a_frame_of_the_renderer_equals_the_one_shot_render_of_its_view() {
     let mut plain = default_scene(Method::POM);
     plain.materials.iter_mut().for_each(|m| m.relief = None);
     for (name, scene) in [("relief", relief), ("plain", plain)] {
-        let one_shot = render(&ctx, &scene, Some(&hf), &OPTS).expect("renders");
-        let mut renderer = Renderer::new(&ctx, &scene, Some(&hf), &OPTS).expect("prepares");
+        let one_shot = render(&ctx, &scene, Some(&hf), &opts()).expect("renders");
+        let mut renderer = Renderer::new(&ctx, &scene, Some(&hf), &opts()).expect("prepares");
         let camera = renderer.default_camera();
         let away = camera.orbited(glam::Vec3::ZERO, 1.0);
         let mut frames = Vec::new();
         // Another view in between: a stale uniform or descriptor slot would show in frame 3.
         for cam in [camera, away, camera] {
-            let request = FrameRequest {
-                camera: cam,
-                read_back: true,
-            };
+            let request = FrameRequest::new(cam);
             frames.extend(renderer.submit(&request).expect("submits"));
         }
         frames.extend(renderer.finish().expect("finishes"));

@@ -25,11 +25,7 @@ fn one_material_scene(method: Method, light: Option<Light>) -> Scene {
 fn render_counted(scene: &Scene) -> Option<(Plan, ObjectCounts)> {
     let ctx = common::device("scene_plan")?;
     let hf = Generator::Fbm.generate(64, 64, 3);
-    let opts = RenderOptions {
-        width: 64,
-        height: 48,
-        ..RenderOptions::default()
-    };
+    let opts = RenderOptions::default().with_width(64).with_height(48);
     let before = ctx.created();
     let frame = render(&ctx, scene, Some(&hf), &opts).expect("renders");
     let created = ctx.created() - before;

@@ -150,10 +150,7 @@ fn soft_shadows_match_the_exact_visible_fraction() {
         width: SIZE.0,
         height: SIZE.1,
         samples_per_side: 5,
-        shadows: ShadowOptions {
-            filter: Some(filter),
-            ..ShadowOptions::DEFAULT
-        },
+        shadows: ShadowOptions::DEFAULT.with_filter(Some(filter)),
         ..SceneShadowConfig::default()
     };
     let pcss = run(

@@ -9,11 +9,7 @@ use relief::render::{FrameOutput, FrameRequest, Pass, RenderOptions, Renderer};
 use relief::scene::{default_heightfield, default_scene, Camera, Scene};
 
 fn opts() -> RenderOptions {
-    RenderOptions {
-        width: 96,
-        height: 54,
-        ..RenderOptions::default()
-    }
+    RenderOptions::default().with_width(96).with_height(54)
 }
 
 fn scene() -> Scene {
@@ -28,12 +24,7 @@ fn renders_maps(frame: &FrameOutput) -> bool {
 fn fresh_image(ctx: &std::sync::Arc<relief::vk::Context>, camera: Camera) -> Vec<u8> {
     let hf = default_heightfield();
     let mut renderer = Renderer::new(ctx, &scene(), Some(&hf), &opts()).expect("prepares");
-    let frame = renderer
-        .draw(&FrameRequest {
-            camera,
-            read_back: true,
-        })
-        .expect("draws");
+    let frame = renderer.draw(&FrameRequest::new(camera)).expect("draws");
     assert!(renders_maps(&frame), "a first frame renders its maps");
     frame.rgba.expect("read back")
 }
@@ -41,10 +32,7 @@ fn fresh_image(ctx: &std::sync::Arc<relief::vk::Context>, camera: Camera) -> Vec
 fn draw_all(renderer: &mut Renderer, cameras: &[Camera]) -> Vec<FrameOutput> {
     let mut frames = Vec::new();
     for &camera in cameras {
-        let request = FrameRequest {
-            camera,
-            read_back: true,
-        };
+        let request = FrameRequest::new(camera);
         frames.extend(renderer.submit(&request).expect("submits"));
     }
     frames.extend(renderer.finish().expect("finishes"));

@@ -148,16 +148,14 @@ fn curved_and_shell_self_shadows_follow_the_curved_surface() {
         s
     };
     let draw_with_maps = |scene: &Scene, heights: Option<&Heightfield>| {
-        let opts = RenderOptions {
-            width: WIDTH,
-            height: HEIGHT,
-            shadows: ShadowOptions {
-                map_size: 2048,
-                filter: Some(ShadowFilter::Hard),
-                ..ShadowOptions::DEFAULT
-            },
-            ..RenderOptions::default()
-        };
+        let opts = RenderOptions::default()
+            .with_width(WIDTH)
+            .with_height(HEIGHT)
+            .with_shadows(
+                ShadowOptions::DEFAULT
+                    .with_map_size(2048)
+                    .with_filter(Some(ShadowFilter::Hard)),
+            );
         let frame = render(&ctx, scene, heights, &opts).expect("renders");
         common::assert_no_validation_errors(&ctx);
         frame.rgba

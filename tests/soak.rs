@@ -32,11 +32,9 @@ fn soak(ctx: &std::sync::Arc<Context>, leak: bool) -> Vec<Sample> {
     let qdm: Method = "qdm".parse().expect("qdm");
     let scene = default_scene(qdm);
     let hf = default_heightfield();
-    let opts = RenderOptions {
-        width: WIDTH,
-        height: HEIGHT,
-        ..RenderOptions::default()
-    };
+    let opts = RenderOptions::default()
+        .with_width(WIDTH)
+        .with_height(HEIGHT);
     let mut renderer = Renderer::new(ctx, &scene, Some(&hf), &opts).expect("prepares");
     if leak {
         renderer.leak_a_buffer_every_frame_for_tests();
@@ -45,10 +43,8 @@ fn soak(ctx: &std::sync::Arc<Context>, leak: bool) -> Vec<Sample> {
     let mut samples = Vec::new();
     let mut retired = 0u32;
     for k in 0..FRAMES {
-        let request = FrameRequest {
-            camera: start.orbited(glam::Vec3::ZERO, (1.5 * k as f32).to_radians()),
-            read_back: true,
-        };
+        let request =
+            FrameRequest::new(start.orbited(glam::Vec3::ZERO, (1.5 * k as f32).to_radians()));
         let frame = renderer.submit(&request).expect("submits");
         retired += u32::from(frame.is_some());
         if retired > 0 && retired % EVERY == 0 && frame.is_some() {

@@ -237,18 +237,13 @@ fn a_terrain_painted_between_frames_draws_what_the_painted_terrain_draws() {
     let elevation = Generator::Fbm.generate(64, 64, 3);
     let splat = rules_splat(&elevation, 4, &opts).unwrap();
     let scene = terrain_scene(&elevation, procedural_layers(64), &splat, &opts);
-    let render_opts = RenderOptions {
-        width: 160,
-        height: 96,
-        paintable_layers: true,
-        ..RenderOptions::default()
-    };
+    let render_opts = RenderOptions::default()
+        .with_width(160)
+        .with_height(96)
+        .with_paintable_layers(true);
     let mut renderer = Renderer::new(&ctx, &scene, None, &render_opts).expect("prepares");
     let camera = renderer.default_camera();
-    let request = FrameRequest {
-        camera,
-        read_back: true,
-    };
+    let request = FrameRequest::new(camera);
     let mut frames: Vec<_> = renderer.submit(&request).unwrap().into_iter().collect();
     let strokes = [
         Stroke {

@@ -65,19 +65,10 @@ fn tiles_out_of_view_are_skipped_without_changing_the_image() {
         100.0,
     );
     let draw = |meshes: Vec<Mesh>| {
-        let opts = RenderOptions {
-            width: 160,
-            height: 96,
-            ..RenderOptions::default()
-        };
+        let opts = RenderOptions::default().with_width(160).with_height(96);
         let mut renderer =
             Renderer::new(&ctx, &scene(meshes, camera), None, &opts).expect("renderer");
-        renderer
-            .draw(&FrameRequest {
-                camera,
-                read_back: true,
-            })
-            .expect("frame")
+        renderer.draw(&FrameRequest::new(camera)).expect("frame")
     };
     let tiled = draw(tiles.clone());
     let whole = draw(vec![merged(&tiles)]);

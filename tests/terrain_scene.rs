@@ -25,11 +25,9 @@ fn elevation() -> Heightfield {
 }
 
 fn options() -> RenderOptions {
-    RenderOptions {
-        width: WIDTH,
-        height: HEIGHT,
-        ..RenderOptions::default()
-    }
+    RenderOptions::default()
+        .with_width(WIDTH)
+        .with_height(HEIGHT)
 }
 
 #[test]
@@ -101,10 +99,7 @@ fn one_hot_layers_render_as_that_layer_alone() {
     // The comparison is of the layers' shading, so it runs without shadow maps: with them the two
     // renders also differ at a few shadow-edge pixels (p99 21 against 16), which this test does
     // not set out to judge.
-    let opts = RenderOptions {
-        shadows: ShadowOptions::OFF,
-        ..options()
-    };
+    let opts = options().with_shadows(ShadowOptions::OFF);
     let a = render(&ctx, &layered, None, &opts).expect("renders layered");
     let b = render(&ctx, &single, None, &opts).expect("renders single");
     assert!(a.plan.pipelines[0].layers && !b.plan.pipelines[0].layers);

@@ -30,11 +30,7 @@ fn the_types_an_engine_shares_are_send_and_sync() {
 }
 
 fn options() -> RenderOptions {
-    RenderOptions {
-        width: 64,
-        height: 36,
-        ..RenderOptions::default()
-    }
+    RenderOptions::default().with_width(64).with_height(36)
 }
 
 /// `frames` frames of the default scene from one renderer, the last read back.
@@ -45,10 +41,7 @@ fn draw(ctx: &Arc<Context>, frames: u32) -> Vec<u8> {
     let camera = renderer.default_camera();
     let mut last = Vec::new();
     for k in 0..frames {
-        let request = FrameRequest {
-            camera,
-            read_back: k + 1 == frames,
-        };
+        let request = FrameRequest::new(camera).with_read_back(k + 1 == frames);
         let out = renderer.draw(&request).expect("draws");
         if let Some(rgba) = out.rgba {
             last = rgba;
@@ -102,11 +95,8 @@ fn a_renderer_dropped_while_another_submits_takes_nothing_with_it() {
             let mut r = Renderer::new(&ctx, &scene, Some(&default_heightfield()), &options())
                 .expect("prepares");
             let camera = r.default_camera();
-            r.submit(&FrameRequest {
-                camera,
-                read_back: false,
-            })
-            .expect("submits");
+            r.submit(&FrameRequest::new(camera).with_read_back(false))
+                .expect("submits");
             drop(r);
         }
         worker.join().expect("the drawing thread panicked")

@@ -48,12 +48,10 @@ fn scene(light: f32) -> Scene {
 }
 
 fn draw(ctx: &Arc<relief::vk::Context>, scene: &Scene, tone_mapping: ToneMapping) -> Vec<u8> {
-    let opts = RenderOptions {
-        width: WIDTH,
-        height: HEIGHT,
-        tone_mapping,
-        ..RenderOptions::default()
-    };
+    let opts = RenderOptions::default()
+        .with_width(WIDTH)
+        .with_height(HEIGHT)
+        .with_tone_mapping(tone_mapping);
     let frame = render(ctx, scene, None, &opts).expect("renders");
     common::assert_no_validation_errors(ctx);
     assert_eq!(frame.plan.tone_mapping, tone_mapping);
@@ -139,15 +137,13 @@ fn a_non_finite_exposure_is_refused() {
     let Some(ctx) = common::device("a_non_finite_exposure_is_refused") else {
         return;
     };
-    let opts = RenderOptions {
-        width: 8,
-        height: 8,
-        tone_mapping: ToneMapping {
+    let opts = RenderOptions::default()
+        .with_width(8)
+        .with_height(8)
+        .with_tone_mapping(ToneMapping {
             curve: ToneMap::PbrNeutral,
             exposure_ev: f32::NAN,
-        },
-        ..RenderOptions::default()
-    };
+        });
     let Err(err) = render(&ctx, &scene(3.0), None, &opts) else {
         panic!("a NaN exposure renders");
     };

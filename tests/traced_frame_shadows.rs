@@ -15,15 +15,13 @@ use relief::scene::{
 use relief::shadow_reference::SceneOccluders;
 
 fn traced(width: u32, height: u32) -> RenderOptions {
-    RenderOptions {
-        width,
-        height,
-        msaa: 1,
-        gbuffer: true,
-        lighting: Lighting::Deferred,
-        traced_shadows: true,
-        ..RenderOptions::default()
-    }
+    RenderOptions::default()
+        .with_width(width)
+        .with_height(height)
+        .with_msaa(1)
+        .with_gbuffer(true)
+        .with_lighting(Lighting::Deferred)
+        .with_traced_shadows(true)
 }
 
 /// Per pixel lit by `light` (facing it, so its G-buffer share is that light's visibility): the
@@ -143,10 +141,7 @@ fn traced_shadows_need_the_deferred_frame() {
         return;
     };
     let scene = default_scene(DEFAULT_SCENE_METHOD);
-    let opts = RenderOptions {
-        lighting: Lighting::Forward,
-        ..traced(64, 36)
-    };
+    let opts = traced(64, 36).with_lighting(Lighting::Forward);
     let err = match render(&ctx, &scene, Some(&default_heightfield()), &opts) {
         Ok(_) => panic!("traced shadows lit forward"),
         Err(e) => e.to_string(),

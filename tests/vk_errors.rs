@@ -10,10 +10,7 @@ use relief::vk::{raw as vk, Buffer, ContextOptions, MemoryLocation, VkError};
 
 #[test]
 fn fence_wait_past_the_timeout_is_a_hang_error() {
-    let options = ContextOptions {
-        gpu_timeout: Some(Duration::from_millis(20)),
-        ..ContextOptions::default()
-    };
+    let options = ContextOptions::default().with_gpu_timeout(Some(Duration::from_millis(20)));
     let Some(ctx) = common::device_with("fence_wait_past_the_timeout_is_a_hang_error", &options)
     else {
         return;

@@ -17,20 +17,14 @@ use relief::vk::{Context, ContextOptions, Faults, LiveObjects};
 const FRAMES: u32 = 12;
 
 fn context(test: &str, faults: Faults, timeout: Option<Duration>) -> Option<Arc<Context>> {
-    let options = ContextOptions {
-        faults: Some(faults),
-        gpu_timeout: timeout,
-        ..ContextOptions::default()
-    };
+    let options = ContextOptions::default()
+        .with_faults(Some(faults))
+        .with_gpu_timeout(timeout);
     common::device_with(test, &options)
 }
 
 fn options() -> RenderOptions {
-    RenderOptions {
-        width: 96,
-        height: 54,
-        ..RenderOptions::default()
-    }
+    RenderOptions::default().with_width(96).with_height(54)
 }
 
 /// Prepares the default scene and draws [`FRAMES`] orbiting frames; the first error, as text.
@@ -42,10 +36,8 @@ fn draw(ctx: &Arc<Context>) -> Result<(), String> {
         Renderer::new(ctx, &scene, Some(&hf), &options()).map_err(|e| format!("{e:#}"))?;
     let start = renderer.default_camera();
     for k in 0..FRAMES {
-        let request = FrameRequest {
-            camera: start.orbited(glam::Vec3::ZERO, (10.0 * k as f32).to_radians()),
-            read_back: true,
-        };
+        let request =
+            FrameRequest::new(start.orbited(glam::Vec3::ZERO, (10.0 * k as f32).to_radians()));
         renderer.submit(&request).map_err(|e| format!("{e:#}"))?;
     }
     renderer.finish().map_err(|e| format!("{e:#}"))?;

@@ -104,10 +104,7 @@ fn bad_geometry_is_refused_by_name() {
 
 #[test]
 fn without_ray_queries_the_traced_path_says_why() {
-    let options = ContextOptions {
-        without_ray_queries: true,
-        ..ContextOptions::default()
-    };
+    let options = ContextOptions::default().with_without_ray_queries(true);
     let Some(ctx) = common::device_with("without_ray_queries_the_traced_path_says_why", &options)
     else {
         return;

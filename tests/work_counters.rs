@@ -23,21 +23,17 @@ fn counts(
     occluders: bool,
 ) -> WorkCounts {
     let scene = relief_stack_scene(8, spacing, nearest_first, Method::QDM);
-    let opts = RenderOptions {
-        width: SIZE.0,
-        height: SIZE.1,
-        msaa: 1,
-        tone_mapping: ToneMapping::NONE,
-        shadows: ShadowOptions::OFF,
-        occluders,
-        count_work: true,
-        ..RenderOptions::default()
-    };
+    let opts = RenderOptions::default()
+        .with_width(SIZE.0)
+        .with_height(SIZE.1)
+        .with_msaa(1)
+        .with_tone_mapping(ToneMapping::NONE)
+        .with_shadows(ShadowOptions::OFF)
+        .with_occluders(occluders)
+        .with_count_work(true);
     let mut renderer = Renderer::new(ctx, &scene, Some(hf), &opts).expect("renderer");
-    let request = FrameRequest {
-        camera: scene.camera.expect("the stack has a camera"),
-        read_back: false,
-    };
+    let request =
+        FrameRequest::new(scene.camera.expect("the stack has a camera")).with_read_back(false);
     let frame = renderer.draw(&request).expect("frame");
     frame.work.expect("a counting frame returns its counts")
 }
@@ -113,17 +109,12 @@ fn frames_that_do_not_count_return_no_counts() {
     };
     let hf = Generator::Fbm.generate(64, 64, 7);
     let scene = relief_stack_scene(2, 1.0, true, Method::QDM);
-    let opts = RenderOptions {
-        width: 32,
-        height: 18,
-        shadows: ShadowOptions::OFF,
-        ..RenderOptions::default()
-    };
+    let opts = RenderOptions::default()
+        .with_width(32)
+        .with_height(18)
+        .with_shadows(ShadowOptions::OFF);
     let mut renderer = Renderer::new(&ctx, &scene, Some(&hf), &opts).expect("renderer");
-    let request = FrameRequest {
-        camera: scene.camera.expect("camera"),
-        read_back: false,
-    };
+    let request = FrameRequest::new(scene.camera.expect("camera")).with_read_back(false);
     assert!(renderer.draw(&request).expect("frame").work.is_none());
     common::assert_no_validation_errors(&ctx);
 }

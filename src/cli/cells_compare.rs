@@ -90,15 +90,10 @@ pub fn compare(
     (width, height): (u32, u32),
     out: &Path,
 ) -> anyhow::Result<RenderComparison> {
-    let raster_opts = RenderOptions {
-        width,
-        height,
-        ..RenderOptions::default()
-    };
-    let cells_opts = RenderOptions {
-        cells: Some(cells),
-        ..raster_opts.clone()
-    };
+    let raster_opts = RenderOptions::default()
+        .with_width(width)
+        .with_height(height);
+    let cells_opts = raster_opts.clone().with_cells(Some(cells));
     eprintln!("rendering the mesh rasterised and through its cells at {width}x{height}...");
     let (raster, raster_ms) = draw(ctx, scene, &raster_opts, Pass::Surface)?;
     let (through_cells, cells_ms) = draw(ctx, scene, &cells_opts, Pass::Cells)?;
@@ -147,17 +142,11 @@ fn draw(
 ) -> anyhow::Result<(Vec<u8>, f64)> {
     let mut renderer = Renderer::new(ctx, scene, None, opts)?;
     let camera = renderer.default_camera();
-    let first = renderer.draw(&FrameRequest {
-        camera,
-        read_back: true,
-    })?;
+    let first = renderer.draw(&FrameRequest::new(camera))?;
     let rgba = first.rgba.context("the frame was not read back")?;
     let mut times = Vec::with_capacity(TIMED_FRAMES);
     for _ in 0..TIMED_FRAMES {
-        let frame = renderer.draw(&FrameRequest {
-            camera,
-            read_back: false,
-        })?;
+        let frame = renderer.draw(&FrameRequest::new(camera).with_read_back(false))?;
         let ms: f64 = frame
             .timings
             .iter()
@@ -172,12 +161,10 @@ fn draw(
 /// The cells options of `relief cells`'s arguments for every mesh of the scene: the grid it built and
 /// measured, chosen by the overlap ratio alone (the paper's rule).
 pub fn options(resolution: u32, overlap: f64, max_grid: u32, grid: Option<u32>) -> CellsOptions {
-    CellsOptions {
-        selection: MeshSelection::All,
-        resolution,
-        overlap,
-        texels_per_edge: 0.0,
-        max_grid,
-        grid,
-    }
+    CellsOptions::new(MeshSelection::All)
+        .with_resolution(resolution)
+        .with_overlap(overlap)
+        .with_texels_per_edge(0.0)
+        .with_max_grid(max_grid)
+        .with_grid(grid)
 }

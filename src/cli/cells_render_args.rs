@@ -66,13 +66,13 @@ impl CellsRenderArgs {
 
     /// The options, `None` without --cells.
     pub fn options(&self) -> Option<CellsOptions> {
-        self.cells.clone().map(|selection| CellsOptions {
-            selection,
-            resolution: self.cells_resolution,
-            overlap: self.cells_overlap,
-            texels_per_edge: self.cells_texels_per_edge,
-            max_grid: self.cells_max_grid,
-            grid: self.cells_grid,
+        self.cells.clone().map(|selection| {
+            CellsOptions::new(selection)
+                .with_resolution(self.cells_resolution)
+                .with_overlap(self.cells_overlap)
+                .with_texels_per_edge(self.cells_texels_per_edge)
+                .with_max_grid(self.cells_max_grid)
+                .with_grid(self.cells_grid)
         })
     }
 }

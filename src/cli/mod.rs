@@ -179,10 +179,7 @@ fn exit_code(err: &anyhow::Error) -> u8 {
 
 /// Creates the device context for `--device`, printing which device was chosen to stderr.
 pub fn open_device(filter: Option<&str>, quiet: bool) -> anyhow::Result<std::sync::Arc<Context>> {
-    let options = ContextOptions {
-        device_filter: filter.map(str::to_owned),
-        ..ContextOptions::default()
-    };
+    let options = ContextOptions::default().with_device_filter(filter.map(str::to_owned));
     let ctx = Context::new(&options)?;
     if !quiet {
         eprintln!("device: {}", ctx.describe());

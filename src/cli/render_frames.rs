@@ -230,10 +230,7 @@ fn draw_all(
         if !wanted(k) && k >= lists {
             continue;
         }
-        let request = FrameRequest {
-            camera: path.at(k, frames),
-            read_back: read_back && wanted(k),
-        };
+        let request = FrameRequest::new(path.at(k, frames)).with_read_back(read_back && wanted(k));
         // Motion is measured from the sequence's previous frame, drawn or not.
         renderer.set_motion_origin(path.at(k.saturating_sub(1), frames));
         submitted.push(k);

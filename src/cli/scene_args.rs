@@ -270,36 +270,35 @@ impl SceneArgs {
 
     /// The render options at `width` x `height` (the flags' size, or a window's).
     pub fn render_options(&self, width: u32, height: u32) -> RenderOptions {
-        RenderOptions {
-            width,
-            height,
-            height_format: match self.height_format {
+        RenderOptions::default()
+            .with_width(width)
+            .with_height(height)
+            .with_height_format(match self.height_format {
                 FormatArg::R16 => HeightFormat::R16Unorm,
                 FormatArg::R32f => HeightFormat::R32Float,
-            },
-            address: self.address,
-            cells: self.cells.options(),
-            paintable_layers: false,
-            shadows: self.shadow_maps.options(),
-            shadow_probe: None,
-            msaa: self.msaa,
-            tone_mapping: ToneMapping {
+            })
+            .with_address(self.address)
+            .with_cells(self.cells.options())
+            .with_paintable_layers(false)
+            .with_shadows(self.shadow_maps.options())
+            .with_shadow_probe(None)
+            .with_msaa(self.msaa)
+            .with_tone_mapping(ToneMapping {
                 curve: self.tonemap,
                 exposure_ev: self.exposure,
-            },
-            keep_radiance: false,
-            environment: self.environment.clone(),
-            background: self.background,
-            supersample: self.supersample,
-            occluders: self.occluders == Toggle::On,
-            gbuffer: false,
-            count_work: false,
-            lighting: match self.lighting {
+            })
+            .with_keep_radiance(false)
+            .with_environment(self.environment.clone())
+            .with_background(self.background)
+            .with_supersample(self.supersample)
+            .with_occluders(self.occluders == Toggle::On)
+            .with_gbuffer(false)
+            .with_count_work(false)
+            .with_lighting(match self.lighting {
                 LightingArg::Forward => Lighting::Forward,
                 LightingArg::Deferred => Lighting::Deferred,
-            },
-            traced_shadows: self.traced_shadows,
-        }
+            })
+            .with_traced_shadows(self.traced_shadows)
     }
 
     /// Whether the scene is drawn larger and averaged down (`--supersample` above 1).

@@ -75,15 +75,14 @@ impl ShadowMapArgs {
     /// The renderer's shadow options (the defaults for lights the scene adds itself).
     pub fn options(&self) -> ShadowOptions {
         let defaults = ShadowOptions::DEFAULT;
-        ShadowOptions {
-            enabled: matches!(self.shadow_maps, OnOff::On),
-            map_size: self.shadow_map_size.unwrap_or(defaults.map_size),
-            cascades: self.shadow_cascades.unwrap_or(defaults.cascades),
-            filter: self.shadow_filter.map(|f| match f {
+        ShadowOptions::default()
+            .with_enabled(matches!(self.shadow_maps, OnOff::On))
+            .with_map_size(self.shadow_map_size.unwrap_or(defaults.map_size))
+            .with_cascades(self.shadow_cascades.unwrap_or(defaults.cascades))
+            .with_filter(self.shadow_filter.map(|f| match f {
                 FilterArg::Hard => ShadowFilter::Hard,
                 FilterArg::Pcf => ShadowFilter::Pcf,
                 FilterArg::Pcss => ShadowFilter::Pcss,
-            }),
-        }
+            }))
     }
 }

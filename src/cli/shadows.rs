@@ -90,12 +90,10 @@ pub fn run(args: &ShadowsArgs) -> anyhow::Result<()> {
         radius_deg: args.light_radius,
         width,
         height,
-        shadows: ShadowOptions {
-            map_size: args.shadow_map_size,
-            cascades: args.shadow_cascades,
-            filter: args.shadow_filter,
-            ..ShadowOptions::DEFAULT
-        },
+        shadows: ShadowOptions::DEFAULT
+            .with_map_size(args.shadow_map_size)
+            .with_cascades(args.shadow_cascades)
+            .with_filter(args.shadow_filter),
         samples_per_side: args.samples,
         flat_reference: args.flat,
         traced: args.traced,

@@ -54,10 +54,7 @@ pub fn run(args: &ViewArgs) -> anyhow::Result<()> {
         options: args
             .scene
             .render_options(args.scene.width, args.scene.height),
-        context: ContextOptions {
-            device_filter: args.scene.device.clone(),
-            ..ContextOptions::default()
-        },
+        context: ContextOptions::default().with_device_filter(args.scene.device.clone()),
         present: if args.no_vsync {
             PresentMode::Unpaced
         } else {

@@ -10,7 +10,9 @@
 //! - `shadows`: the lights' shadow maps, displaced casters included;
 //! - `cells`: meshes drawn through their cubic cell complexes;
 //! - `environment`: image-based ambient light (irradiance, prefiltered specular, BRDF table);
-//! - `measure`: traces and timings for the bench and `relief trace`;
+//! - `measure`: traces and timings for the bench and `relief trace` (feature `bench`, as are the
+//!   other measuring hooks re-exported here: `time_on_gpu`, `time_occlusion`,
+//!   `march_cells_on_gpu`);
 //! - `traced`: the scene in acceleration structures, and rays traced through it by ray query.
 
 mod cells;
@@ -21,6 +23,7 @@ mod heights;
 mod kit;
 mod lighting;
 mod maps;
+#[cfg(feature = "bench")]
 mod measure;
 mod plan;
 mod shader_interface;
@@ -30,6 +33,7 @@ mod traced;
 
 pub use cells::cells_pass::{BuiltComplex, CellsOptions};
 pub use cells::cells_plan::CellsPlan;
+#[cfg(feature = "bench")]
 pub use cells::cells_trace_pass::{march_cells_on_gpu, CellsTrace};
 pub use environment::{BakedEnvironment, EnvironmentLight, EnvironmentPlan};
 pub use frame::explain::explain;
@@ -64,8 +68,11 @@ pub use maps::mean_pyramid_pass::{build_mean_pyramid_on_gpu, MeanPyramid};
 pub use maps::pyramid_pass::{build_pyramid_on_gpu, PyramidJob, PyramidPass};
 pub use maps::quadric_map_pass::{build_quadric_map_on_gpu, QuadricMapPass};
 pub use maps::relaxed_cone_map_pass::{build_relaxed_cone_map_on_gpu, RelaxedConeMapPass};
+#[cfg(feature = "bench")]
 pub use measure::bench_pass::{time_method, BenchRequest, BenchTiming};
+#[cfg(feature = "bench")]
 pub use measure::timeline_trace::{timeline_trace, TraceHeader, TracedFrame};
+#[cfg(feature = "bench")]
 pub use measure::trace_pass::{
     time_through_pyramid, trace_counting_fetches, trace_on_gpu, trace_repeated,
     trace_through_pyramid, ShadowTrace, TraceOutput, TraceRequest, TRACE_GROUP_SIDE,
@@ -79,11 +86,13 @@ pub use shadows::shadow_plan::{
     ShadowFilter, ShadowMapKind, ShadowMapPlan, ShadowOptions, DEFAULT_SHADOW_CASCADES,
     DEFAULT_SHADOW_MAP_SIZE,
 };
-pub use terrain::blended_pyramid_pass::{
-    build_blended_pyramid_on_gpu, time_on_gpu, BlendedPyramid,
-};
+#[cfg(feature = "bench")]
+pub use terrain::blended_pyramid_pass::time_on_gpu;
+pub use terrain::blended_pyramid_pass::{build_blended_pyramid_on_gpu, BlendedPyramid};
 pub use terrain::elevation_editor::{EditError, EditReport, ElevationEditor};
 pub use terrain::layer_paint::{LayerPainter, PaintError, PaintReport, StagedPaint};
-pub use traced::occlusion_pass::{time_occlusion, trace_occlusion, Occlusion, OcclusionRay};
+#[cfg(feature = "bench")]
+pub use traced::occlusion_pass::time_occlusion;
+pub use traced::occlusion_pass::{trace_occlusion, Occlusion, OcclusionRay};
 pub use traced::prism_records::PrismRecord;
 pub use traced::traced_scene::{TracedScene, TracedSceneStats};

@@ -22,8 +22,10 @@ use super::pipeline_cache::{CacheIdentity, PipelineCache};
 use super::query::ClockPair;
 use super::surface::{surface_extensions, WindowHandles, WindowSurface};
 
-/// What the caller wants from [`Context::new`].
+/// What the caller wants from [`Context::new`]: `ContextOptions::default()` and the `with_*`
+/// setters.
 #[derive(Debug, Clone, Default)]
+#[non_exhaustive]
 pub struct ContextOptions {
     /// Case-insensitive substring of the device name to pick (`--device`).
     pub device_filter: Option<String>,
@@ -42,6 +44,15 @@ pub struct ContextOptions {
     /// (none when unset).
     pub faults: Option<Faults>,
 }
+
+with_setters!(ContextOptions {
+    with_device_filter => device_filter: Option<String>,
+    with_validation => validation: Option<Validation>,
+    with_gpu_timeout => gpu_timeout: Option<Duration>,
+    with_pipeline_cache => pipeline_cache: Option<Vec<u8>>,
+    with_without_ray_queries => without_ray_queries: bool,
+    with_faults => faults: Option<Faults>,
+});
 
 /// The environment variable that, set to 0, leaves ray queries off ([`ContextOptions`]).
 pub const RAY_QUERIES_ENV: &str = "RELIEF_RAY_QUERIES";

@@ -42,11 +42,9 @@ pub fn draw(
     scene: &Scene,
     heights: Option<&Heightfield>,
 ) -> Vec<u8> {
-    let opts = RenderOptions {
-        width: WIDTH,
-        height: HEIGHT,
-        ..RenderOptions::default()
-    };
+    let opts = RenderOptions::default()
+        .with_width(WIDTH)
+        .with_height(HEIGHT);
     let frame = render(ctx, scene, heights, &opts).expect("renders");
     super::assert_no_validation_errors(ctx);
     frame.rgba

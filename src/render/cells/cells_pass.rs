@@ -13,7 +13,7 @@ use glam::{Mat4, Vec3};
 use serde::Serialize;
 
 use super::cells_plan::CellsPlan;
-use super::cells_trace_pass::ComplexBuffers;
+use super::complex_buffers::ComplexBuffers;
 use crate::cells::{
     choose_grid_within, fixed_grid, surface_triangle_maps, texel_size, CellGrid, CellMaps,
     ClosedMesh, Colour, Face, GridStop, MarchSettings, MeshSelection, PackedComplex, SceneMesh,
@@ -39,8 +39,10 @@ use crate::vk::{
     GraphicsDesc, Pipeline, Recording, SpecConstants, VkError, VkResult,
 };
 
-/// How meshes become cell complexes (`relief render --cells`).
+/// How meshes become cell complexes (`relief render --cells`). Built from
+/// [`CellsOptions::new`] and the `with_*` setters.
 #[derive(Debug, Clone, PartialEq)]
+#[non_exhaustive]
 pub struct CellsOptions {
     /// Which meshes: all (one complex per mesh name) or those of one name.
     pub selection: MeshSelection,
@@ -56,6 +58,15 @@ pub struct CellsOptions {
     /// A fixed grid (cells a side) instead of the doubling.
     pub grid: Option<u32>,
 }
+
+with_setters!(CellsOptions {
+    with_selection => selection: MeshSelection,
+    with_resolution => resolution: u32,
+    with_overlap => overlap: f64,
+    with_texels_per_edge => texels_per_edge: f64,
+    with_max_grid => max_grid: u32,
+    with_grid => grid: Option<u32>,
+});
 
 impl CellsOptions {
     /// Every mesh named `selection`, with the defaults of `relief cells`.

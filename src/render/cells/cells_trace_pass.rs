@@ -7,12 +7,10 @@ use std::sync::Arc;
 
 use ash::vk;
 
+use super::complex_buffers::ComplexBuffers;
 use crate::cells::{MarchSettings, PackedComplex};
 use crate::render::maps::map_search::{warm_up, SearchPipeline, TimedSubmissions, SHADER_WROTE};
-use crate::render::shader_interface::{
-    CellsTraceParams, BINDING_CELLS_CELLS, BINDING_CELLS_GREY, BINDING_CELLS_HITS,
-    BINDING_CELLS_MAPS, BINDING_CELLS_RAYS,
-};
+use crate::render::shader_interface::{CellsTraceParams, BINDING_CELLS_HITS, BINDING_CELLS_RAYS};
 use crate::vk::{Bind, Buffer, Context, MemoryLocation, Readback, VkResult};
 
 /// Invocations per workgroup (`local_size_x`).
@@ -33,56 +31,6 @@ pub struct CellsTrace {
     pub hits: Vec<Option<(f64, u32)>>,
     /// GPU time of the march, ms.
     pub gpu_ms: f64,
-}
-
-/// A complex's arrays on the device (bindings 0-2 of `cells_march.glsl`).
-pub(in crate::render) struct ComplexBuffers {
-    cells: Buffer,
-    grey: Buffer,
-    maps: Buffer,
-}
-
-impl ComplexBuffers {
-    /// Uploads `complex`'s arrays; `name` labels them.
-    pub(in crate::render) fn upload(
-        ctx: &Arc<Context>,
-        complex: &PackedComplex,
-        name: &str,
-    ) -> VkResult<ComplexBuffers> {
-        let storage = vk::BufferUsageFlags::STORAGE_BUFFER;
-        let upload = |bytes: &[u8], what: &str| {
-            Buffer::with_data(
-                ctx,
-                &Self::nonempty(bytes),
-                storage,
-                &format!("{name} {what}"),
-            )
-        };
-        Ok(ComplexBuffers {
-            cells: upload(bytemuck::cast_slice(&complex.cells), "cells")?,
-            grey: upload(bytemuck::cast_slice(&complex.grey), "grey cells")?,
-            maps: upload(bytemuck::cast_slice(&complex.maps), "cell maps")?,
-        })
-    }
-
-    /// Their bindings, 0 to 2.
-    pub(in crate::render) fn binds(&self) -> [Bind<'_>; 3] {
-        [
-            Bind::Storage(BINDING_CELLS_CELLS, &self.cells),
-            Bind::Storage(BINDING_CELLS_GREY, &self.grey),
-            Bind::Storage(BINDING_CELLS_MAPS, &self.maps),
-        ]
-    }
-
-    /// `bytes`, or one 64-byte record where there are none: storage buffers may not be empty (a
-    /// complex with no grey cell still binds one record).
-    pub(in crate::render) fn nonempty(bytes: &[u8]) -> Vec<u8> {
-        if bytes.is_empty() {
-            vec![0u8; 64]
-        } else {
-            bytes.to_vec()
-        }
-    }
 }
 
 /// Marches `rays` (origin, direction) through `complex` on the GPU.

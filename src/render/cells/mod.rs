@@ -2,4 +2,6 @@
 
 pub(in crate::render) mod cells_pass;
 pub(in crate::render) mod cells_plan;
+#[cfg(feature = "bench")]
 pub(in crate::render) mod cells_trace_pass;
+pub(in crate::render) mod complex_buffers;

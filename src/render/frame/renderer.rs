@@ -52,14 +52,30 @@ use crate::vk::{Buffer, Context, Image, Readback, VkError, VkResult};
 /// How many frames may be recorded or running at once.
 pub const FRAMES_IN_FLIGHT: usize = 2;
 
-/// What one frame draws.
+/// What one frame draws: [`FrameRequest::new`] and the `with_*` setters.
 #[derive(Debug, Clone)]
+#[non_exhaustive]
 pub struct FrameRequest {
     /// The view; the image's aspect ratio comes from the renderer's size.
     pub camera: Camera,
     /// Copy the colour image back to the host (for writing it out).
     pub read_back: bool,
 }
+
+impl FrameRequest {
+    /// A frame seen through `camera`, read back.
+    pub fn new(camera: Camera) -> FrameRequest {
+        FrameRequest {
+            camera,
+            read_back: true,
+        }
+    }
+}
+
+with_setters!(FrameRequest {
+    with_camera => camera: Camera,
+    with_read_back => read_back: bool,
+});
 
 /// A finished frame: its GPU time per pass and, when asked for, its pixels.
 #[derive(Debug, Clone)]

@@ -20,8 +20,10 @@ use crate::render::shadows::shadow_plan::ShadowOptions;
 use crate::scene::Scene;
 use crate::vk::{Context, VkError};
 
-/// What to render.
+/// What to render. Built from [`RenderOptions::default`] or [`RenderOptions::finished`] and
+/// the `with_*` setters; new options may be added without a breaking change.
 #[derive(Debug, Clone)]
+#[non_exhaustive]
 pub struct RenderOptions {
     /// Image width in pixels.
     pub width: u32,
@@ -108,7 +110,35 @@ impl Default for RenderOptions {
     }
 }
 
+with_setters!(RenderOptions {
+    with_width => width: u32,
+    with_height => height: u32,
+    with_height_format => height_format: HeightFormat,
+    with_address => address: Address,
+    with_cells => cells: Option<CellsOptions>,
+    with_paintable_layers => paintable_layers: bool,
+    with_shadows => shadows: ShadowOptions,
+    with_shadow_probe => shadow_probe: Option<usize>,
+    with_msaa => msaa: u32,
+    with_tone_mapping => tone_mapping: ToneMapping,
+    with_keep_radiance => keep_radiance: bool,
+    with_environment => environment: EnvironmentSource,
+    with_supersample => supersample: u32,
+    with_background => background: Background,
+    with_occluders => occluders: bool,
+    with_gbuffer => gbuffer: bool,
+    with_count_work => count_work: bool,
+    with_lighting => lighting: Lighting,
+    with_traced_shadows => traced_shadows: bool,
+});
+
 impl RenderOptions {
+    /// The same options at `width` x `height`.
+    #[must_use]
+    pub fn with_size(self, width: u32, height: u32) -> RenderOptions {
+        self.with_width(width).with_height(height)
+    }
+
     /// The look `relief render` draws by default at `width` x `height`: 4x MSAA, PBR Neutral
     /// tone mapping, the built-in sky lighting the scene and shown behind it. The plain
     /// [`RenderOptions::default`] is the frame the bench times (one sample, flat ambient light,

@@ -79,7 +79,9 @@ impl FromStr for ShadowFilter {
 }
 
 /// The renderer's shadow-map settings; a light's `extras.relief` overrides size and cascades.
+/// Built from [`ShadowOptions::DEFAULT`] (or `default()`) and the `with_*` setters.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[non_exhaustive]
 pub struct ShadowOptions {
     /// Build shadow maps at all (`--shadow-maps off` turns them off, for timing the surface alone).
     pub enabled: bool,
@@ -91,6 +93,13 @@ pub struct ShadowOptions {
     /// for a point-like one.
     pub filter: Option<ShadowFilter>,
 }
+
+with_setters!(ShadowOptions {
+    with_enabled => enabled: bool,
+    with_map_size => map_size: u32,
+    with_cascades => cascades: u32,
+    with_filter => filter: Option<ShadowFilter>,
+});
 
 /// Default texels per side: on lavapipe a 1024 map of the default scene costs a fraction of its
 /// frame (`relief bench --scene-shadows`), and its texels are finer than the slab's bricks.
