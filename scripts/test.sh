@@ -28,4 +28,7 @@ if (($# == 0)); then
     cargo test --doc
     cargo build --lib --no-default-features
     RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --lib
+    # The crate as it would be published: packaged, then built from the package alone (what a
+    # dependent compiles). --allow-dirty lets a working tree with uncommitted edits run it.
+    cargo package --allow-dirty --quiet
 fi
