@@ -68,13 +68,18 @@ fn wrapped_grid(rows: u32, columns: u32) -> Vec<[u32; 3]> {
 
 /// A ring of radius 1 around z whose tube's radius swells and thins as cos(3v + 2u).
 fn wavy_torus() -> Mesh {
+    wavy_torus_with(0.3, 3.0, 2.0)
+}
+
+/// A ring of radius 1 around z whose tube's radius varies by `amplitude` as cos(a v + b u).
+fn wavy_torus_with(amplitude: f32, a: f32, b: f32) -> Mesh {
     let (around, tube) = (100, 50);
     let mut positions = Vec::new();
     for i in 0..around {
         let u = TAU * i as f32 / around as f32;
         for j in 0..tube {
             let v = TAU * j as f32 / tube as f32;
-            let r = 0.35 * (1.0 + 0.3 * (3.0 * v + 2.0 * u).cos());
+            let r = 0.35 * (1.0 + amplitude * (a * v + b * u).cos());
             let q = 1.0 + r * v.cos();
             positions.push(Vec3::new(q * u.cos(), q * u.sin(), r * v.sin()));
         }
@@ -84,13 +89,18 @@ fn wavy_torus() -> Mesh {
 
 /// A lat-long sphere of radius about 1 with bumps, its poles single vertices.
 fn bumpy_lat_long_sphere() -> Mesh {
+    bumpy_lat_long_sphere_with(0.08, 5.0, 4.0)
+}
+
+/// A lat-long sphere whose radius is 1 + amplitude sin(a theta) cos(b phi).
+fn bumpy_lat_long_sphere_with(amplitude: f32, a: f32, b: f32) -> Mesh {
     let (rings, segments) = (48u32, 96u32);
     let mut positions = vec![Vec3::Z];
     for i in 1..rings {
         let theta = PI * i as f32 / rings as f32;
         for j in 0..segments {
             let phi = TAU * j as f32 / segments as f32;
-            let r = 1.0 + 0.08 * (5.0 * theta).sin() * (4.0 * phi).cos();
+            let r = 1.0 + amplitude * (a * theta).sin() * (b * phi).cos();
             positions.push(
                 r * Vec3::new(
                     theta.sin() * phi.cos(),
@@ -230,4 +240,79 @@ fn a_bumpy_lat_long_sphere_through_its_cells_has_no_wrong_interior_pixels() {
         bumpy_lat_long_sphere(),
         Vec3::new(1.2, 1.8, 2.6),
     );
+}
+
+/// The family of shapes the interior check must hold on: spheres with several modulation
+/// frequencies and amplitudes and tori with several tube variations, each seen from four sides.
+/// Not yet within [`MAX_BAD_SHARE`]: the high frequencies miss it (pole fans whose normals turn
+/// within a map texel, sheets closer than a texel seen at grazing angles), so it runs by hand
+/// (`cargo test --test cells_interior -- --ignored --nocapture`) and prints every shape's share,
+/// worst last; docs/cells.md keeps the figures.
+#[test]
+#[ignore = "the family's worst shapes are beyond 0.2% (docs/cells.md)"]
+fn a_family_of_shapes_through_their_cells_has_no_wrong_interior_pixels() {
+    let views = [
+        Vec3::new(-2.0, 2.0, 2.0),
+        Vec3::new(1.2, 1.8, 2.6),
+        Vec3::new(0.3, -2.9, 0.8),
+        Vec3::new(2.5, 0.4, -1.6),
+    ];
+    let spheres = [
+        (0.04, 5.0, 4.0),
+        (0.08, 5.0, 4.0),
+        (0.15, 5.0, 4.0),
+        (0.12, 3.0, 2.0),
+        (0.08, 9.0, 7.0),
+        (0.05, 12.0, 10.0),
+    ];
+    let tori = [
+        (0.15, 3.0, 2.0),
+        (0.3, 3.0, 2.0),
+        (0.45, 3.0, 2.0),
+        (0.2, 7.0, 1.0),
+        (0.3, 5.0, 3.0),
+    ];
+    let mut shares = Vec::new();
+    for (k, eye) in views.iter().enumerate() {
+        for &(amplitude, a, b) in &spheres {
+            let name = format!("sphere {amplitude} sin({a} theta) cos({b} phi), view {k}");
+            let mesh = bumpy_lat_long_sphere_with(amplitude, a, b);
+            shares.extend(bad_share(&name, mesh, *eye).map(|s| (s, name)));
+        }
+        for &(amplitude, a, b) in &tori {
+            let name = format!("torus {amplitude} cos({a} v + {b} u), view {k}");
+            let mesh = wavy_torus_with(amplitude, a, b);
+            shares.extend(bad_share(&name, mesh, 1.3 * *eye).map(|s| (s, name)));
+        }
+    }
+    shares.sort_by(|a, b| a.0.total_cmp(&b.0));
+    for (share, name) in shares.iter().rev().take(5) {
+        eprintln!("worst: {name}: {:.3}%", 100.0 * share);
+    }
+    let Some((worst, name)) = shares.last() else {
+        return;
+    };
+    assert!(
+        *worst <= MAX_BAD_SHARE,
+        "worst of the family: {name}, {:.3}% of interior pixels wrong",
+        100.0 * worst
+    );
+}
+
+/// The share of `mesh`'s interior pixels seen from `eye` that its cells draw wrong, printed;
+/// `None` without a device.
+fn bad_share(name: &str, mesh: Mesh, eye: Vec3) -> Option<f64> {
+    let ctx = common::device(name)?;
+    let scene = scene(mesh, eye);
+    let raster = draw(&ctx, &scene, false);
+    let cells = draw(&ctx, &scene, true);
+    let (interior, bad) = interior_differences(&cells.rgba, &raster.rgba);
+    let wrong = bad.iter().filter(|&&b| b).count();
+    let share = wrong as f64 / interior.max(1) as f64;
+    eprintln!(
+        "{name}: {wrong} of {interior} interior pixels ({:.3}%)",
+        100.0 * share
+    );
+    common::assert_no_validation_errors(&ctx);
+    Some(share)
 }
