@@ -31,4 +31,8 @@ if (($# == 0)); then
     # The crate as it would be published: packaged, then built from the package alone (what a
     # dependent compiles). --allow-dirty lets a working tree with uncommitted edits run it.
     cargo package --allow-dirty --quiet
+    # The package's build shares this target folder and relief's artifact names, and leaves its
+    # fingerprints behind: without this, the next `cargo build` here would take the package's
+    # binary for an up-to-date build of the working tree.
+    cargo clean --package relief --quiet
 fi

@@ -226,7 +226,7 @@ fn thousands_of_frames_hold_memory_and_objects_flat() {
     scenes.settle(steps);
     let dir = common::evidence_dir("soak");
     std::fs::write(dir.join("long_soak.csv"), csv(&samples)).expect("writes the samples");
-    for (name, per_step) in growth(&samples, warm_up) {
+    for (name, per_step) in growth(&samples, warm_up).unwrap_or_default() {
         eprintln!("after {warm_up} warm-up steps: {name} {per_step:+.3} a step");
     }
     let limits = Limits {

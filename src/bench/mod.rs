@@ -63,6 +63,7 @@ mod shard;
 mod shard_info;
 mod silhouettes;
 mod slow_down;
+pub mod soak;
 mod stability;
 mod steps_map;
 mod subgroup_steps;

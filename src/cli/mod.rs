@@ -39,6 +39,7 @@ mod scene_args;
 mod shading_args;
 mod shadow_map_args;
 mod shadows;
+mod soak;
 mod terrain_args;
 mod terrain_edits;
 mod trace;
@@ -86,6 +87,8 @@ enum Command {
     Methods(methods::MethodsArgs),
     /// Check scene shadows: a frame's visible fraction of the light per pixel against the exact scene reference.
     Shadows(shadows::ShadowsArgs),
+    /// Draw a scene's frames for a long time and fail if memory or live Vulkan objects grow.
+    Soak(soak::SoakArgs),
     /// Ambient occlusion from the whole scene by ray query, against a brute-force CPU reference
     /// on the same rays (needs ray queries).
     Occlusion(occlusion::OcclusionArgs),
@@ -123,6 +126,7 @@ pub fn run() -> ExitCode {
         Command::Maps(args) => maps::run(&args),
         Command::Methods(args) => methods::run(&args),
         Command::Shadows(args) => shadows::run(&args),
+        Command::Soak(args) => soak::run(&args),
         Command::Occlusion(args) => occlusion::run(&args),
         Command::Trace(args) => trace::run(&args),
         #[cfg(feature = "window")]
