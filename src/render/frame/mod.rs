@@ -22,6 +22,7 @@ pub(in crate::render) mod shadow_probe;
 pub(in crate::render) mod shell_draw;
 pub(in crate::render) mod single_frame;
 pub(in crate::render) mod surface_pass;
+mod surface_pipelines;
 pub(in crate::render) mod targets;
 mod terrain_paint;
 pub(in crate::render) mod tonemap;
