@@ -18,7 +18,8 @@ use crate::render::shader_interface::{
 };
 use crate::vk::{
     half_floats_to_rgba, read_mip, transition_images, upload_mips, Bind, Context, DescriptorPool,
-    Image, ImageDesc, ImageTransition, ImageView, Recording, Sampler, TimestampPool, VkResult,
+    DescriptorSet, Image, ImageDesc, ImageTransition, ImageView, Recording, Sampler, TimestampPool,
+    VkResult,
 };
 
 const GROUP: u32 = 8;
@@ -64,39 +65,8 @@ impl EnvironmentLight {
         plan.background = keep_source;
         let started = Instant::now();
         let source = upload_source(ctx, env, &plan)?;
-        let storage = vk::ImageUsageFlags::STORAGE
-            | vk::ImageUsageFlags::SAMPLED
-            | vk::ImageUsageFlags::TRANSFER_SRC;
-        let map = |size: [u32; 2], levels: u32, name: &str| {
-            let desc = ImageDesc {
-                width: size[0],
-                height: size[1],
-                format: MAP_FORMAT,
-                mip_levels: levels,
-                usage: storage,
-                aspect: vk::ImageAspectFlags::COLOR,
-            };
-            Image::new(ctx, desc, name)
-        };
-        let irradiance = map(plan.irradiance_size, 1, "environment irradiance")?;
-        let specular = map(
-            plan.specular_size,
-            plan.specular_levels,
-            "environment specular",
-        )?;
-        let brdf = map(plan.brdf_size, 1, "environment BRDF table")?;
-        let equirect_sampler = Sampler::from_info(
-            ctx,
-            &vk::SamplerCreateInfo::default()
-                .mag_filter(vk::Filter::LINEAR)
-                .min_filter(vk::Filter::LINEAR)
-                .mipmap_mode(vk::SamplerMipmapMode::LINEAR)
-                .address_mode_u(vk::SamplerAddressMode::REPEAT)
-                .address_mode_v(vk::SamplerAddressMode::CLAMP_TO_EDGE)
-                .address_mode_w(vk::SamplerAddressMode::CLAMP_TO_EDGE)
-                .max_lod(vk::LOD_CLAMP_NONE),
-            "environment sampler",
-        )?;
+        let maps = Maps::new(ctx, &plan)?;
+        let equirect_sampler = equirect_sampler(ctx)?;
         let table_sampler = Sampler::new(
             ctx,
             vk::Filter::LINEAR,
@@ -104,97 +74,23 @@ impl EnvironmentLight {
             "BRDF table sampler",
         )?;
         let kernels = Kernels::new(ctx)?;
-        let outputs = Outputs {
-            irradiance: irradiance.level_view(0)?,
-            specular: (0..plan.specular_levels)
-                .map(|l| specular.level_view(l))
-                .collect::<VkResult<Vec<_>>>()?,
-            brdf: brdf.level_view(0)?,
-        };
-        let sets = plan.specular_levels + 2;
-        let pool = DescriptorPool::new(ctx, sets, 2 * sets, "environment sets")?;
+        let outputs = Outputs::new(&maps, &plan)?;
         let read = Bind::Texture(BINDING_ENV_SOURCE, source.view(), &equirect_sampler);
-        let write = |view| Bind::StorageImage(BINDING_ENV_OUT, view);
-        let irradiance_set = pool.allocate(
-            kernels.irradiance.layout(),
-            &[read, write(&outputs.irradiance)],
-        )?;
-        let specular_sets = outputs
-            .specular
-            .iter()
-            .map(|v| pool.allocate(kernels.prefilter.layout(), &[read, write(v)]))
-            .collect::<VkResult<Vec<_>>>()?;
-        let brdf_set = pool.allocate(kernels.brdf.layout(), &[write(&outputs.brdf)])?;
-        let images = [&irradiance, &specular, &brdf];
+        let sets = KernelSets::new(ctx, &plan, &kernels, read, &outputs)?;
         // Without timestamps on the queue the build is simply not timed on the GPU.
         let timer = TimestampPool::new(ctx, 2, "environment build timestamps").ok();
-        ctx.one_shot(|rec| {
-            if let Some(t) = &timer {
-                t.write(rec, vk::PipelineStageFlags2::ALL_COMMANDS, 0)?;
-            }
-            transition(
-                rec,
-                &images,
-                vk::ImageLayout::UNDEFINED,
-                vk::ImageLayout::GENERAL,
-            );
-            let (iw, ih) = source_level_size(&plan);
-            let irradiance_level = levels_to(plan.uploaded_size[0], IRRADIANCE_SOURCE_WIDTH);
-            let base = EnvironmentParams {
-                out_width: plan.irradiance_size[0],
-                out_height: plan.irradiance_size[1],
-                source_level: irradiance_level,
-                source_width: iw,
-                source_height: ih,
-                samples: 0,
-                roughness: 0.0,
-                base_lod: 0.0,
-            };
-            dispatch(rec, &kernels.irradiance, &irradiance_set, base)?;
-            let last = (plan.specular_levels - 1) as f32;
-            for (level, set) in specular_sets.iter().enumerate() {
-                let (w, h) = specular.level_extent(level as u32);
-                let params = EnvironmentParams {
-                    out_width: w,
-                    out_height: h,
-                    source_level: 0,
-                    source_width: plan.uploaded_size[0],
-                    source_height: plan.uploaded_size[1],
-                    samples: PREFILTER_SAMPLES,
-                    roughness: level as f32 / last,
-                    base_lod: (plan.uploaded_size[0] as f32 / w as f32).log2().max(0.0),
-                };
-                dispatch(rec, &kernels.prefilter, set, params)?;
-            }
-            let params = EnvironmentParams {
-                out_width: plan.brdf_size[0],
-                out_height: plan.brdf_size[1],
-                samples: BRDF_SAMPLES,
-                ..base
-            };
-            dispatch(rec, &kernels.brdf, &brdf_set, params)?;
-            if let Some(t) = &timer {
-                t.write(rec, vk::PipelineStageFlags2::COMPUTE_SHADER, 1)?;
-            }
-            transition(
-                rec,
-                &images,
-                vk::ImageLayout::GENERAL,
-                vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-            );
-            Ok(())
-        })?;
-        let build_gpu_ms = match &timer {
-            Some(t) => {
-                let ticks = t.read_ticks(2)?;
-                Some(t.ticks_to_ms(ticks[0], ticks[1]))
-            }
-            None => None,
+        let build = MapBuild {
+            plan: &plan,
+            kernels: &kernels,
+            sets: &sets,
+            maps: &maps,
         };
+        ctx.one_shot(|rec| build.record(rec, timer.as_ref()))?;
+        let build_gpu_ms = gpu_ms(timer.as_ref())?;
         Ok(EnvironmentLight {
-            irradiance,
-            specular,
-            brdf,
+            irradiance: maps.irradiance,
+            specular: maps.specular,
+            brdf: maps.brdf,
             equirect_sampler,
             table_sampler,
             plan,
@@ -323,10 +219,210 @@ struct Outputs {
     brdf: ImageView,
 }
 
+impl Outputs {
+    /// The storage views of every level the kernels write into `maps`.
+    fn new(maps: &Maps, plan: &EnvironmentPlan) -> VkResult<Outputs> {
+        Ok(Outputs {
+            irradiance: maps.irradiance.level_view(0)?,
+            specular: (0..plan.specular_levels)
+                .map(|l| maps.specular.level_view(l))
+                .collect::<VkResult<Vec<_>>>()?,
+            brdf: maps.brdf.level_view(0)?,
+        })
+    }
+}
+
+/// The three maps the kernels write.
+struct Maps {
+    irradiance: Image,
+    specular: Image,
+    brdf: Image,
+}
+
+impl Maps {
+    /// The maps at the plan's sizes, not yet written.
+    fn new(ctx: &Arc<Context>, plan: &EnvironmentPlan) -> VkResult<Maps> {
+        Ok(Maps {
+            irradiance: storage_map(ctx, plan.irradiance_size, 1, "environment irradiance")?,
+            specular: storage_map(
+                ctx,
+                plan.specular_size,
+                plan.specular_levels,
+                "environment specular",
+            )?,
+            brdf: storage_map(ctx, plan.brdf_size, 1, "environment BRDF table")?,
+        })
+    }
+
+    /// All three, for the layout transitions.
+    fn all(&self) -> [&Image; 3] {
+        [&self.irradiance, &self.specular, &self.brdf]
+    }
+}
+
+/// A map image of `size` with `levels` mip levels the kernels write and the passes sample.
+fn storage_map(ctx: &Arc<Context>, size: [u32; 2], levels: u32, name: &str) -> VkResult<Image> {
+    let desc = ImageDesc {
+        width: size[0],
+        height: size[1],
+        format: MAP_FORMAT,
+        mip_levels: levels,
+        usage: vk::ImageUsageFlags::STORAGE
+            | vk::ImageUsageFlags::SAMPLED
+            | vk::ImageUsageFlags::TRANSFER_SRC,
+        aspect: vk::ImageAspectFlags::COLOR,
+    };
+    Image::new(ctx, desc, name)
+}
+
+/// The sampler of the equirectangular maps: linear, repeating around the up axis, clamped at
+/// the poles, over every mip level.
+fn equirect_sampler(ctx: &Arc<Context>) -> VkResult<Sampler> {
+    Sampler::from_info(
+        ctx,
+        &vk::SamplerCreateInfo::default()
+            .mag_filter(vk::Filter::LINEAR)
+            .min_filter(vk::Filter::LINEAR)
+            .mipmap_mode(vk::SamplerMipmapMode::LINEAR)
+            .address_mode_u(vk::SamplerAddressMode::REPEAT)
+            .address_mode_v(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+            .address_mode_w(vk::SamplerAddressMode::CLAMP_TO_EDGE)
+            .max_lod(vk::LOD_CLAMP_NONE),
+        "environment sampler",
+    )
+}
+
+/// The kernels' descriptor sets, with the pool they come from.
+struct KernelSets {
+    irradiance: DescriptorSet,
+    /// One per prefiltered level.
+    specular: Vec<DescriptorSet>,
+    brdf: DescriptorSet,
+    _pool: DescriptorPool,
+}
+
+impl KernelSets {
+    /// The sets of each kernel: the source (`read`) and the level it writes of `outputs`.
+    fn new(
+        ctx: &Arc<Context>,
+        plan: &EnvironmentPlan,
+        kernels: &Kernels,
+        read: Bind,
+        outputs: &Outputs,
+    ) -> VkResult<KernelSets> {
+        let sets = plan.specular_levels + 2;
+        let pool = DescriptorPool::new(ctx, sets, 2 * sets, "environment sets")?;
+        let write = |view| Bind::StorageImage(BINDING_ENV_OUT, view);
+        let irradiance = pool.allocate(
+            kernels.irradiance.layout(),
+            &[read, write(&outputs.irradiance)],
+        )?;
+        let specular = outputs
+            .specular
+            .iter()
+            .map(|v| pool.allocate(kernels.prefilter.layout(), &[read, write(v)]))
+            .collect::<VkResult<Vec<_>>>()?;
+        let brdf = pool.allocate(kernels.brdf.layout(), &[write(&outputs.brdf)])?;
+        Ok(KernelSets {
+            irradiance,
+            specular,
+            brdf,
+            _pool: pool,
+        })
+    }
+}
+
+/// What one recording of the build reads.
+struct MapBuild<'a> {
+    plan: &'a EnvironmentPlan,
+    kernels: &'a Kernels,
+    sets: &'a KernelSets,
+    maps: &'a Maps,
+}
+
+impl MapBuild<'_> {
+    /// Records the whole build: the maps made writable, the three kernels, the maps made
+    /// readable, timed by `timer` when there is one.
+    fn record(&self, rec: &Recording, timer: Option<&TimestampPool>) -> VkResult<()> {
+        if let Some(t) = timer {
+            t.write(rec, vk::PipelineStageFlags2::ALL_COMMANDS, 0)?;
+        }
+        let images = self.maps.all();
+        transition(
+            rec,
+            &images,
+            vk::ImageLayout::UNDEFINED,
+            vk::ImageLayout::GENERAL,
+        );
+        self.dispatch_kernels(rec)?;
+        if let Some(t) = timer {
+            t.write(rec, vk::PipelineStageFlags2::COMPUTE_SHADER, 1)?;
+        }
+        transition(
+            rec,
+            &images,
+            vk::ImageLayout::GENERAL,
+            vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
+        );
+        Ok(())
+    }
+
+    /// Records the irradiance kernel, the prefilter kernel once per level, then the BRDF table.
+    fn dispatch_kernels(&self, rec: &Recording) -> VkResult<()> {
+        let plan = self.plan;
+        let (iw, ih) = source_level_size(plan);
+        let irradiance_level = levels_to(plan.uploaded_size[0], IRRADIANCE_SOURCE_WIDTH);
+        let base = EnvironmentParams {
+            out_width: plan.irradiance_size[0],
+            out_height: plan.irradiance_size[1],
+            source_level: irradiance_level,
+            source_width: iw,
+            source_height: ih,
+            samples: 0,
+            roughness: 0.0,
+            base_lod: 0.0,
+        };
+        dispatch(rec, &self.kernels.irradiance, &self.sets.irradiance, base)?;
+        let last = (plan.specular_levels - 1) as f32;
+        for (level, set) in self.sets.specular.iter().enumerate() {
+            let (w, h) = self.maps.specular.level_extent(level as u32);
+            let params = EnvironmentParams {
+                out_width: w,
+                out_height: h,
+                source_level: 0,
+                source_width: plan.uploaded_size[0],
+                source_height: plan.uploaded_size[1],
+                samples: PREFILTER_SAMPLES,
+                roughness: level as f32 / last,
+                base_lod: (plan.uploaded_size[0] as f32 / w as f32).log2().max(0.0),
+            };
+            dispatch(rec, &self.kernels.prefilter, set, params)?;
+        }
+        let params = EnvironmentParams {
+            out_width: plan.brdf_size[0],
+            out_height: plan.brdf_size[1],
+            samples: BRDF_SAMPLES,
+            ..base
+        };
+        dispatch(rec, &self.kernels.brdf, &self.sets.brdf, params)
+    }
+}
+
+/// The GPU time between `timer`'s two stamps, in ms; `None` without a timer.
+fn gpu_ms(timer: Option<&TimestampPool>) -> VkResult<Option<f64>> {
+    match timer {
+        Some(t) => {
+            let ticks = t.read_ticks(2)?;
+            Ok(Some(t.ticks_to_ms(ticks[0], ticks[1])))
+        }
+        None => Ok(None),
+    }
+}
+
 fn dispatch(
     rec: &Recording,
     pass: &ComputePass,
-    set: &crate::vk::DescriptorSet,
+    set: &DescriptorSet,
     params: EnvironmentParams,
 ) -> VkResult<()> {
     let groups = [
