@@ -4,6 +4,7 @@
 
 mod draw_bounds;
 pub(in crate::render) mod explain;
+mod frame_environment;
 pub(in crate::render) mod frame_graph;
 mod frame_setup;
 mod frame_slot;
