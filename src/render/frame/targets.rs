@@ -97,6 +97,108 @@ impl TargetOptions {
     }
 }
 
+impl TargetOptions {
+    /// Fails where the options cannot be had together, or `tone_map` reads another sample
+    /// count.
+    fn check(&self, tone_map: &ToneMapPass) -> VkResult<()> {
+        let (samples, scale) = (self.samples, self.scale);
+        if tone_map.samples() != samples {
+            return Err(VkError::Invalid(format!(
+                "a tone-mapping pass for {} samples on {samples}-sample targets",
+                tone_map.samples()
+            )));
+        }
+        if self.keep_depth && (samples > 1 || scale > 1) {
+            return Err(VkError::Invalid(
+                "a depth read back needs single-sample targets".into(),
+            ));
+        }
+        if self.gbuffer && scale > 1 {
+            return Err(VkError::Invalid(
+                "the G-buffer channels (--exr-out) are read at the frame's size: leave out --supersample".into(),
+            ));
+        }
+        if self.deferred && (samples > 1 || scale > 1) {
+            return Err(VkError::Invalid(
+                "deferred lighting needs single-sample targets at the frame's size".into(),
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// A single-level target image of `size`.
+fn target_desc(
+    size: (u32, u32),
+    format: vk::Format,
+    usage: vk::ImageUsageFlags,
+    aspect: vk::ImageAspectFlags,
+) -> ImageDesc {
+    ImageDesc {
+        width: size.0,
+        height: size.1,
+        format,
+        mip_levels: 1,
+        usage,
+        aspect,
+    }
+}
+
+/// The radiance target of the scene's `size`, and with MSAA (`samples` > 1) the multisampled
+/// one the passes draw into; a `deferred` frame's lighting pass writes the radiance as storage.
+fn radiance_targets(
+    ctx: &Arc<Context>,
+    size: (u32, u32),
+    samples: u32,
+    deferred: bool,
+) -> VkResult<(Image, Option<Image>)> {
+    // The lighting pass adds to the radiance in place.
+    let lit = if deferred {
+        vk::ImageUsageFlags::STORAGE
+    } else {
+        vk::ImageUsageFlags::empty()
+    };
+    let color_aspect = vk::ImageAspectFlags::COLOR;
+    let hdr = Image::new(
+        ctx,
+        target_desc(
+            size,
+            HDR_FORMAT,
+            vk::ImageUsageFlags::COLOR_ATTACHMENT
+                | vk::ImageUsageFlags::SAMPLED
+                | vk::ImageUsageFlags::TRANSFER_SRC
+                | lit,
+            color_aspect,
+        ),
+        "radiance target",
+    )?;
+    let msaa_hdr = (samples > 1)
+        .then(|| {
+            let usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED;
+            let d = target_desc(size, HDR_FORMAT, usage, color_aspect);
+            Image::new_multisampled(ctx, d, samples, "multisampled radiance target")
+        })
+        .transpose()?;
+    Ok((hdr, msaa_hdr))
+}
+
+/// The depth target of the scene's `size` with `samples` per pixel, which can be copied out
+/// when `keep_depth`.
+fn depth_target(
+    ctx: &Arc<Context>,
+    size: (u32, u32),
+    samples: u32,
+    keep_depth: bool,
+) -> VkResult<Image> {
+    let usage = if keep_depth {
+        vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC
+    } else {
+        vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT
+    };
+    let desc = target_desc(size, DEPTH_FORMAT, usage, vk::ImageAspectFlags::DEPTH);
+    Image::new_multisampled(ctx, desc, samples, "depth target")
+}
+
 impl Targets {
     /// Creates the targets of a `width` x `height` frame as `options` say, tone mapped by
     /// `tone_map`.
@@ -107,6 +209,7 @@ impl Targets {
         options: TargetOptions,
         tone_map: &ToneMapPass,
     ) -> VkResult<Targets> {
+        options.check(tone_map)?;
         let TargetOptions {
             samples,
             scale,
@@ -115,96 +218,29 @@ impl Targets {
             gbuffer,
             deferred,
         } = options;
-        if tone_map.samples() != samples {
-            return Err(VkError::Invalid(format!(
-                "a tone-mapping pass for {} samples on {samples}-sample targets",
-                tone_map.samples()
-            )));
-        }
-        if keep_depth && (samples > 1 || scale > 1) {
-            return Err(VkError::Invalid(
-                "a depth read back needs single-sample targets".into(),
-            ));
-        }
-        if gbuffer && scale > 1 {
-            return Err(VkError::Invalid(
-                "the G-buffer channels (--exr-out) are read at the frame's size: leave out --supersample".into(),
-            ));
-        }
-        if deferred && (samples > 1 || scale > 1) {
-            return Err(VkError::Invalid(
-                "deferred lighting needs single-sample targets at the frame's size".into(),
-            ));
-        }
         let gbuffer = (gbuffer || deferred)
             .then(|| GBuffer::new(ctx, (width, height), samples, (gbuffer, deferred)))
             .transpose()?;
         let shading_inputs = deferred
             .then(|| ShadingInputs::new(ctx, width, height))
             .transpose()?;
-        // The lighting pass adds to the radiance in place.
-        let lit = if deferred {
-            vk::ImageUsageFlags::STORAGE
-        } else {
-            vk::ImageUsageFlags::empty()
-        };
-        let depth_usage = if keep_depth {
-            vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC
-        } else {
-            vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT
-        };
-        let scene_desc = |format, usage, aspect| ImageDesc {
-            width: width * scale,
-            height: height * scale,
-            format,
-            mip_levels: 1,
-            usage,
-            aspect,
-        };
-        let desc = |format, usage, aspect| ImageDesc {
-            width,
-            height,
-            ..scene_desc(format, usage, aspect)
-        };
-        let color_aspect = vk::ImageAspectFlags::COLOR;
-        let hdr = Image::new(
-            ctx,
-            scene_desc(
-                HDR_FORMAT,
-                vk::ImageUsageFlags::COLOR_ATTACHMENT
-                    | vk::ImageUsageFlags::SAMPLED
-                    | vk::ImageUsageFlags::TRANSFER_SRC
-                    | lit,
-                color_aspect,
-            ),
-            "radiance target",
-        )?;
-        let msaa_hdr = (samples > 1)
-            .then(|| {
-                let usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED;
-                let d = scene_desc(HDR_FORMAT, usage, color_aspect);
-                Image::new_multisampled(ctx, d, samples, "multisampled radiance target")
-            })
-            .transpose()?;
+        let scene_size = (width * scale, height * scale);
+        let (hdr, msaa_hdr) = radiance_targets(ctx, scene_size, samples, deferred)?;
         let pool = DescriptorPool::new(ctx, 1, 1, "tone map set")?;
         let radiance = msaa_hdr.as_ref().unwrap_or(&hdr);
         let tone_map_set = tone_map.set_for(&pool, radiance.view())?;
         Ok(Targets {
             color: Image::new(
                 ctx,
-                desc(
+                target_desc(
+                    (width, height),
                     COLOR_FORMAT,
                     vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC,
-                    color_aspect,
+                    vk::ImageAspectFlags::COLOR,
                 ),
                 "colour target",
             )?,
-            depth: Image::new_multisampled(
-                ctx,
-                scene_desc(DEPTH_FORMAT, depth_usage, vk::ImageAspectFlags::DEPTH),
-                samples,
-                "depth target",
-            )?,
+            depth: depth_target(ctx, scene_size, samples, keep_depth)?,
             hdr,
             msaa_hdr,
             resolve_radiance: keep_radiance,
