@@ -33,6 +33,7 @@ mod depth_curve;
 mod depth_match;
 mod edits;
 mod frame_costs;
+mod frame_costs_report;
 mod frame_features;
 mod frame_timing;
 mod lod;
