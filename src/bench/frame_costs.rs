@@ -12,9 +12,8 @@ use std::sync::Arc;
 use serde::{Deserialize, Serialize};
 
 use super::frame_costs_report::{write_chains, write_resolution_curves, write_rows, write_stacks};
-use super::frame_timing::{
-    time_interleaved, time_setups_interleaved, FrameSetup, MapRate, SteadyFrames,
-};
+use super::frame_costs_timing::SectionRun;
+use super::frame_timing::SteadyFrames;
 use super::objects_curve::{run_objects_curve, ObjectsRow};
 use crate::environment::{Background, EnvironmentSource};
 use crate::heightfield::{Generator, Heightfield};
@@ -115,7 +114,7 @@ pub struct FrameCostSection {
 }
 
 /// The plain frame: one sample, flat ambient light, no tone curve, no shadow maps.
-fn plain(size: [u32; 2]) -> RenderOptions {
+pub(super) fn plain(size: [u32; 2]) -> RenderOptions {
     RenderOptions {
         width: size[0],
         height: size[1],
@@ -129,7 +128,7 @@ fn plain(size: [u32; 2]) -> RenderOptions {
 }
 
 /// `relief render`'s default look.
-fn look(size: [u32; 2]) -> RenderOptions {
+pub(super) fn look(size: [u32; 2]) -> RenderOptions {
     RenderOptions::finished(size[0], size[1])
 }
 
@@ -185,7 +184,7 @@ fn chain_looks(size: [u32; 2]) -> Vec<(&'static str, RenderOptions)> {
 const TRACED_LOOK: &str = "look, 1 sample, deferred, traced shadows";
 
 /// Quads in a stack.
-const STACK_QUADS: usize = 8;
+pub(super) const STACK_QUADS: usize = 8;
 
 /// One 256^2 bumpy field for every quad of the stacks.
 fn stack_heights() -> Heightfield {
@@ -193,11 +192,11 @@ fn stack_heights() -> Heightfield {
 }
 
 /// The bench's stack: QDM quads.
-fn stack_scene(quads: usize, spacing: f32, nearest_first: bool) -> Scene {
+pub(super) fn stack_scene(quads: usize, spacing: f32, nearest_first: bool) -> Scene {
     relief_stack_scene(quads, spacing, nearest_first, Method::QDM)
 }
 
-fn row(frame: &str, opts: &RenderOptions, t: &SteadyFrames) -> FrameCostRow {
+pub(super) fn row(frame: &str, opts: &RenderOptions, t: &SteadyFrames) -> FrameCostRow {
     FrameCostRow {
         frame: frame.to_owned(),
         size: [opts.width, opts.height],
@@ -404,129 +403,6 @@ fn deferred_steps(rows: &[FrameCostRow], main: [u32; 2]) -> Vec<ChainStep> {
         ));
     }
     deferred
-}
-
-/// What every timing of a run shares, and the timelines it keeps.
-struct SectionRun<'a> {
-    ctx: &'a Arc<Context>,
-    frames: u32,
-    timelines: Vec<(String, Vec<FrameTimeline>)>,
-}
-
-impl SectionRun<'_> {
-    /// Keeps `t`'s frames' timelines under `label`.
-    fn keep(&mut self, label: String, t: &SteadyFrames) {
-        self.timelines.push((label, t.timelines.clone()));
-    }
-
-    /// A row per look of `scene`, timed in turn.
-    fn time_looks(
-        &mut self,
-        scene: &Scene,
-        heights: &Heightfield,
-        looks: &[(&str, RenderOptions)],
-    ) -> Result<Vec<FrameCostRow>, RenderError> {
-        let options: Vec<RenderOptions> = looks.iter().map(|(_, o)| o.clone()).collect();
-        let timed = time_interleaved(self.ctx, scene, Some(heights), &options, self.frames)?;
-        let rows: Vec<FrameCostRow> = looks
-            .iter()
-            .zip(&timed)
-            .map(|((name, opts), t)| row(name, opts, t))
-            .collect();
-        for (r, t) in rows.iter().zip(&timed) {
-            self.keep(format!("{} {}x{}", r.frame, r.size[0], r.size[1]), t);
-        }
-        Ok(rows)
-    }
-
-    /// The rows of the plain frame and the look of `scene` at `size`, timed in turn.
-    fn time_plain_and_look(
-        &mut self,
-        scene: &Scene,
-        heights: &Heightfield,
-        size: [u32; 2],
-    ) -> Result<[FrameCostRow; 2], RenderError> {
-        let options = [plain(size), look(size)];
-        let timed = time_interleaved(self.ctx, scene, Some(heights), &options, self.frames)?;
-        self.keep(format!("plain {}x{}", size[0], size[1]), &timed[0]);
-        self.keep(format!("look {}x{}", size[0], size[1]), &timed[1]);
-        Ok([
-            row("plain", &options[0], &timed[0]),
-            row("look", &options[1], &timed[1]),
-        ])
-    }
-
-    /// One quad against eight `spacing` apart in both orders, with and without the occluder
-    /// pass, plain frame at `size`.
-    fn time_stack(
-        &mut self,
-        heights: &Heightfield,
-        size: [u32; 2],
-        spacing: f32,
-    ) -> Result<StackRow, RenderError> {
-        let culled = plain(size);
-        let forward = RenderOptions {
-            occluders: false,
-            ..plain(size)
-        };
-        let scenes = [
-            stack_scene(1, spacing, true),
-            stack_scene(STACK_QUADS, spacing, true),
-            stack_scene(STACK_QUADS, spacing, false),
-        ];
-        let setups: Vec<FrameSetup> = [&culled, &forward]
-            .into_iter()
-            .flat_map(|opts| {
-                scenes.iter().map(move |scene| FrameSetup {
-                    scene,
-                    heights: Some(heights),
-                    opts,
-                })
-            })
-            .collect();
-        let timed = time_setups_interleaved(self.ctx, &setups, self.frames, MapRate::AsNeeded)?;
-        let kinds = ["one quad", "eight, nearest first", "eight, farthest first"];
-        for (k, t) in timed.iter().enumerate() {
-            let path = if k < 3 { "occluders" } else { "forward" };
-            self.keep(
-                format!("stack {spacing} apart: {}, {path}", kinds[k % 3]),
-                t,
-            );
-        }
-        Ok(StackRow {
-            spacing,
-            one_ms: timed[0].total_ms,
-            nearest_first_ms: timed[1].total_ms,
-            farthest_first_ms: timed[2].total_ms,
-            forward: Some([timed[3].total_ms, timed[4].total_ms, timed[5].total_ms]),
-            occluders_ms: [
-                timed[0].occluders_ms,
-                timed[1].occluders_ms,
-                timed[2].occluders_ms,
-            ],
-        })
-    }
-
-    /// On the one-quad scene with the look at `size`: the steady frames' shadow-map pass over
-    /// the rest of their frame.
-    fn still_shadow_share(
-        &mut self,
-        heights: &Heightfield,
-        size: [u32; 2],
-    ) -> Result<f64, RenderError> {
-        let one_quad = stack_scene(1, 1.0, true);
-        let look_opts = look(size);
-        let t = time_interleaved(
-            self.ctx,
-            &one_quad,
-            Some(heights),
-            std::slice::from_ref(&look_opts),
-            self.frames,
-        )?;
-        let still = &t[0];
-        self.keep("one quad, look, still view".to_owned(), still);
-        Ok(still.shadow_maps_ms / (still.total_ms - still.shadow_maps_ms).max(1e-9))
-    }
 }
 
 /// The section's tables in `report.md`.

@@ -34,6 +34,7 @@ mod depth_match;
 mod edits;
 mod frame_costs;
 mod frame_costs_report;
+mod frame_costs_timing;
 mod frame_features;
 mod frame_timing;
 mod lod;
