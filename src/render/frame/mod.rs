@@ -24,6 +24,7 @@ pub(in crate::render) mod shell_draw;
 pub(in crate::render) mod single_frame;
 pub(in crate::render) mod surface_pass;
 mod surface_pipelines;
+mod target_images;
 pub(in crate::render) mod targets;
 mod terrain_paint;
 pub(in crate::render) mod tonemap;

@@ -8,15 +8,15 @@ use std::sync::Arc;
 use ash::vk;
 
 use super::gbuffer::GBuffer;
+use super::target_images::{depth_target, radiance_targets, target_desc};
 use super::tonemap::ToneMapPass;
-use crate::render::kit::formats::HDR_FORMAT;
-use crate::render::kit::formats::{COLOR_FORMAT, DEPTH_FORMAT};
+use crate::render::kit::formats::COLOR_FORMAT;
 use crate::render::kit::tone_curves::ToneMapping;
 use crate::render::lighting::{LightingPass, LitImages, ShadingInputs};
 use crate::render::plan::frame_plan::Plan;
 use crate::vk::{
     transition_images, whole_color_region, ColorTarget, Context, DescriptorPool, DescriptorSet,
-    Image, ImageDesc, ImageTransition, Readback, Recording, VkError, VkResult,
+    Image, ImageTransition, Readback, Recording, VkResult,
 };
 
 /// Background colour (linear).
@@ -95,108 +95,6 @@ impl TargetOptions {
             deferred: plan.deferred,
         }
     }
-}
-
-impl TargetOptions {
-    /// Fails where the options cannot be had together, or `tone_map` reads another sample
-    /// count.
-    fn check(&self, tone_map: &ToneMapPass) -> VkResult<()> {
-        let (samples, scale) = (self.samples, self.scale);
-        if tone_map.samples() != samples {
-            return Err(VkError::Invalid(format!(
-                "a tone-mapping pass for {} samples on {samples}-sample targets",
-                tone_map.samples()
-            )));
-        }
-        if self.keep_depth && (samples > 1 || scale > 1) {
-            return Err(VkError::Invalid(
-                "a depth read back needs single-sample targets".into(),
-            ));
-        }
-        if self.gbuffer && scale > 1 {
-            return Err(VkError::Invalid(
-                "the G-buffer channels (--exr-out) are read at the frame's size: leave out --supersample".into(),
-            ));
-        }
-        if self.deferred && (samples > 1 || scale > 1) {
-            return Err(VkError::Invalid(
-                "deferred lighting needs single-sample targets at the frame's size".into(),
-            ));
-        }
-        Ok(())
-    }
-}
-
-/// A single-level target image of `size`.
-fn target_desc(
-    size: (u32, u32),
-    format: vk::Format,
-    usage: vk::ImageUsageFlags,
-    aspect: vk::ImageAspectFlags,
-) -> ImageDesc {
-    ImageDesc {
-        width: size.0,
-        height: size.1,
-        format,
-        mip_levels: 1,
-        usage,
-        aspect,
-    }
-}
-
-/// The radiance target of the scene's `size`, and with MSAA (`samples` > 1) the multisampled
-/// one the passes draw into; a `deferred` frame's lighting pass writes the radiance as storage.
-fn radiance_targets(
-    ctx: &Arc<Context>,
-    size: (u32, u32),
-    samples: u32,
-    deferred: bool,
-) -> VkResult<(Image, Option<Image>)> {
-    // The lighting pass adds to the radiance in place.
-    let lit = if deferred {
-        vk::ImageUsageFlags::STORAGE
-    } else {
-        vk::ImageUsageFlags::empty()
-    };
-    let color_aspect = vk::ImageAspectFlags::COLOR;
-    let hdr = Image::new(
-        ctx,
-        target_desc(
-            size,
-            HDR_FORMAT,
-            vk::ImageUsageFlags::COLOR_ATTACHMENT
-                | vk::ImageUsageFlags::SAMPLED
-                | vk::ImageUsageFlags::TRANSFER_SRC
-                | lit,
-            color_aspect,
-        ),
-        "radiance target",
-    )?;
-    let msaa_hdr = (samples > 1)
-        .then(|| {
-            let usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED;
-            let d = target_desc(size, HDR_FORMAT, usage, color_aspect);
-            Image::new_multisampled(ctx, d, samples, "multisampled radiance target")
-        })
-        .transpose()?;
-    Ok((hdr, msaa_hdr))
-}
-
-/// The depth target of the scene's `size` with `samples` per pixel, which can be copied out
-/// when `keep_depth`.
-fn depth_target(
-    ctx: &Arc<Context>,
-    size: (u32, u32),
-    samples: u32,
-    keep_depth: bool,
-) -> VkResult<Image> {
-    let usage = if keep_depth {
-        vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC
-    } else {
-        vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT
-    };
-    let desc = target_desc(size, DEPTH_FORMAT, usage, vk::ImageAspectFlags::DEPTH);
-    Image::new_multisampled(ctx, desc, samples, "depth target")
 }
 
 impl Targets {
