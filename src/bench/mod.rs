@@ -33,6 +33,8 @@ mod depth_curve;
 mod depth_match;
 mod edits;
 mod frame_costs;
+mod frame_costs_report;
+mod frame_costs_timing;
 mod frame_features;
 mod frame_timing;
 mod lod;

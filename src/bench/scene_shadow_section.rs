@@ -130,17 +130,47 @@ fn time_frames(
     Ok((t.shadow_maps_ms, t.surface_ms, t.total_ms))
 }
 
+/// The sizes and counts a run takes: smaller and fewer when quick.
+#[derive(Clone, Copy)]
+struct SectionSizes {
+    /// Probe image size (error).
+    probe: [u32; 2],
+    /// Timing image size.
+    timing: [u32; 2],
+    /// Frames timed per cell.
+    frames: u32,
+    /// The map sizes measured.
+    sizes: &'static [u32],
+    /// Exact reference rays per side of a pixel.
+    samples: u32,
+}
+
+impl SectionSizes {
+    /// The sizes of a run, `quick` or not.
+    fn of(quick: bool) -> SectionSizes {
+        let (probe, timing, frames, sizes, samples): ([u32; 2], [u32; 2], u32, &[u32], u32) =
+            if quick {
+                ([120, 68], [480, 270], 3, &[512, 1024], 4)
+            } else {
+                ([240, 135], [960, 540], 8, &[512, 1024, 2048], 6)
+            };
+        SectionSizes {
+            probe,
+            timing,
+            frames,
+            sizes,
+            samples,
+        }
+    }
+}
+
 /// Runs the section; `quick` measures fewer sizes on smaller images.
 pub fn run_scene_shadow_section(
     ctx: &Arc<Context>,
     quick: bool,
     mut progress: impl FnMut(&str),
 ) -> Result<SceneShadowSection, SceneShadowError> {
-    let (probe, timing, frames, sizes, samples): ([u32; 2], [u32; 2], u32, &[u32], u32) = if quick {
-        ([120, 68], [480, 270], 3, &[512, 1024], 4)
-    } else {
-        ([240, 135], [960, 540], 8, &[512, 1024, 2048], 6)
-    };
+    let run = SectionSizes::of(quick);
     let mut cells = Vec::new();
     let mut traced = Vec::new();
     let traced_skipped = (!ctx.info().ray_query)
@@ -153,84 +183,126 @@ pub fn run_scene_shadow_section(
             progress(&format!(
                 "scene shadows: {caster} caster, traced by ray query"
             ));
-            let config = SceneShadowConfig {
-                scene: Some(kind),
-                elevation_deg: ELEVATION_DEG,
-                radius_deg: Some(RADIUS_DEG),
-                width: probe[0],
-                height: probe[1],
-                samples_per_side: samples,
-                traced: true,
-                ..SceneShadowConfig::default()
-            };
-            let run = measure_scene_shadows(ctx, &config)?;
-            if let Some(t) = run.traced {
-                let a = &t.everywhere;
-                traced.push(TracedShadowCell {
-                    caster: caster.to_owned(),
-                    hard_agreement: a.hard_agreement,
-                    mean_abs_error: a.mean_abs_error,
-                    acne: a.acne.share,
-                    leaks: a.leaks.share,
-                    rays: t.rays,
-                    trace_ms: t.trace_ms,
-                    prisms_tested: t.prisms_tested,
-                    triangles: t.structures.triangles,
-                    prisms: t.structures.prisms,
-                    structure_bytes: t.structures.structure_bytes,
-                    build_ms: t.structures.build_ms,
-                });
-            }
+            traced.extend(traced_cell(ctx, &run, caster, kind)?);
         }
-        for &map_size in sizes {
+        for &map_size in run.sizes {
             for filter in ShadowFilter::ALL {
                 progress(&format!(
                     "scene shadows: {caster} caster, {map_size}^2, {filter}"
                 ));
-                let shadows = ShadowOptions {
-                    map_size,
-                    filter: Some(filter),
-                    ..ShadowOptions::DEFAULT
-                };
-                let config = SceneShadowConfig {
-                    scene: Some(kind),
-                    elevation_deg: ELEVATION_DEG,
-                    radius_deg: Some(RADIUS_DEG),
-                    width: probe[0],
-                    height: probe[1],
-                    shadows,
-                    samples_per_side: samples,
-                    flat_reference: false,
-                    traced: false,
-                };
-                let run = measure_scene_shadows(ctx, &config)?;
-                let opts = RenderOptions {
-                    width: timing[0],
-                    height: timing[1],
-                    address: kind.address(),
-                    shadows,
-                    ..RenderOptions::default()
-                };
-                let scene = shadow_scene(kind, ELEVATION_DEG, RADIUS_DEG);
-                // Every frame renders its maps, as under a moving camera: their cost is the cell's.
-                let (maps_ms, surface_ms, _) =
-                    time_frames(ctx, &scene, &opts, frames, MapRate::EveryFrame)?;
-                let a = &run.agreement;
-                cells.push(SceneShadowCell {
-                    caster: caster.to_owned(),
-                    map_size,
-                    filter,
-                    hard_agreement: a.hard_agreement,
-                    mean_abs_error: run.everywhere.mean_abs_error,
-                    acne: a.acne.share,
-                    leaks: a.leaks.share,
-                    shadow_maps_ms: maps_ms,
-                    surface_ms,
-                });
+                cells.push(map_cell(ctx, &run, (caster, kind), (map_size, filter))?);
             }
         }
     }
     progress("scene shadows: the default scene's frame");
+    let default_frame = default_frame_cost(ctx, run.timing, run.frames)?;
+    Ok(SceneShadowSection {
+        probe: run.probe,
+        timing: run.timing,
+        frames: run.frames,
+        reference_rays: run.samples * run.samples,
+        cells,
+        default_frame,
+        traced,
+        traced_skipped,
+    })
+}
+
+/// The shadows of `kind`'s scene traced by ray query against the exact reference, as
+/// `caster`'s cell (none when the measurement traced nothing).
+fn traced_cell(
+    ctx: &Arc<Context>,
+    run: &SectionSizes,
+    caster: &str,
+    kind: ShadowScene,
+) -> Result<Option<TracedShadowCell>, SceneShadowError> {
+    let config = SceneShadowConfig {
+        scene: Some(kind),
+        elevation_deg: ELEVATION_DEG,
+        radius_deg: Some(RADIUS_DEG),
+        width: run.probe[0],
+        height: run.probe[1],
+        samples_per_side: run.samples,
+        traced: true,
+        ..SceneShadowConfig::default()
+    };
+    let measured = measure_scene_shadows(ctx, &config)?;
+    Ok(measured.traced.map(|t| {
+        let a = &t.everywhere;
+        TracedShadowCell {
+            caster: caster.to_owned(),
+            hard_agreement: a.hard_agreement,
+            mean_abs_error: a.mean_abs_error,
+            acne: a.acne.share,
+            leaks: a.leaks.share,
+            rays: t.rays,
+            trace_ms: t.trace_ms,
+            prisms_tested: t.prisms_tested,
+            triangles: t.structures.triangles,
+            prisms: t.structures.prisms,
+            structure_bytes: t.structures.structure_bytes,
+            build_ms: t.structures.build_ms,
+        }
+    }))
+}
+
+/// The cell of `caster`'s scene (`kind`) with maps of `map_size` filtered by `filter`: their
+/// error against the exact reference at the probe size, and their GPU time at the timing size.
+fn map_cell(
+    ctx: &Arc<Context>,
+    run: &SectionSizes,
+    (caster, kind): (&str, ShadowScene),
+    (map_size, filter): (u32, ShadowFilter),
+) -> Result<SceneShadowCell, SceneShadowError> {
+    let shadows = ShadowOptions {
+        map_size,
+        filter: Some(filter),
+        ..ShadowOptions::DEFAULT
+    };
+    let config = SceneShadowConfig {
+        scene: Some(kind),
+        elevation_deg: ELEVATION_DEG,
+        radius_deg: Some(RADIUS_DEG),
+        width: run.probe[0],
+        height: run.probe[1],
+        shadows,
+        samples_per_side: run.samples,
+        flat_reference: false,
+        traced: false,
+    };
+    let measured = measure_scene_shadows(ctx, &config)?;
+    let opts = RenderOptions {
+        width: run.timing[0],
+        height: run.timing[1],
+        address: kind.address(),
+        shadows,
+        ..RenderOptions::default()
+    };
+    let scene = shadow_scene(kind, ELEVATION_DEG, RADIUS_DEG);
+    // Every frame renders its maps, as under a moving camera: their cost is the cell's.
+    let (maps_ms, surface_ms, _) =
+        time_frames(ctx, &scene, &opts, run.frames, MapRate::EveryFrame)?;
+    let a = &measured.agreement;
+    Ok(SceneShadowCell {
+        caster: caster.to_owned(),
+        map_size,
+        filter,
+        hard_agreement: a.hard_agreement,
+        mean_abs_error: measured.everywhere.mean_abs_error,
+        acne: a.acne.share,
+        leaks: a.leaks.share,
+        shadow_maps_ms: maps_ms,
+        surface_ms,
+    })
+}
+
+/// The default scene's frame at `timing` without maps, with them under a still camera, and
+/// with them rendered every frame.
+fn default_frame_cost(
+    ctx: &Arc<Context>,
+    timing: [u32; 2],
+    frames: u32,
+) -> Result<DefaultFrameCost, SceneShadowError> {
     let scene = default_scene(DEFAULT_SCENE_METHOD);
     let opts = |shadows| RenderOptions {
         width: timing[0],
@@ -248,21 +320,12 @@ pub fn run_scene_shadow_section(
         frames,
         MapRate::EveryFrame,
     )?;
-    Ok(SceneShadowSection {
-        probe,
-        timing,
-        frames,
-        reference_rays: samples * samples,
-        cells,
-        default_frame: DefaultFrameCost {
-            without_ms,
-            with_ms,
-            moving_ms,
-            shadow_maps_ms,
-            added: with_ms / without_ms.max(1e-9) - 1.0,
-        },
-        traced,
-        traced_skipped,
+    Ok(DefaultFrameCost {
+        without_ms,
+        with_ms,
+        moving_ms,
+        shadow_maps_ms,
+        added: with_ms / without_ms.max(1e-9) - 1.0,
     })
 }
 

@@ -15,7 +15,8 @@ use crate::render::{
     probe_shadows, Pass, RenderError, RenderOptions, ShadowFilter, ShadowOptions, ShadowProbe,
 };
 use crate::scene::{
-    default_heightfield, default_scene, shadow_scene, Scene, ShadowScene, DEFAULT_SCENE_METHOD,
+    default_heightfield, default_scene, shadow_scene, Light, Scene, ShadowScene,
+    DEFAULT_SCENE_METHOD,
 };
 use crate::shadow_reference::{
     measure_agreement, shadow_edge_band, SceneOccluders, ShadowAgreement,
@@ -244,25 +245,10 @@ pub fn measure_scene_shadows(
         .camera
         .unwrap_or_else(|| crate::render::frame_camera(&scene));
     let eye = camera.eye();
-    // A point read back from the depth lies a rounding error off its surface, maybe behind it,
-    // where the surface itself would block every ray: each moves toward the eye by 1e-4 of its
-    // distance (ten times the depth buffer's error here), onto the side the pixel sees. Faces
-    // turned from the light are no receivers.
-    let points: Vec<Option<Vec3>> = probe
-        .world
-        .iter()
-        .zip(&probe.facing)
-        .map(|(p, &facing)| p.filter(|_| facing).map(|p| p + (eye - p) * RECEIVER_NUDGE))
-        .collect();
+    let points = receiver_points(&probe, eye);
     let mut exact = occluders.visible_fractions(&points, &light, samples);
     let mut relief = relief;
-    // Faces turned away are no receivers: both verdicts are trivially 0 there.
-    for k in 0..exact.len() {
-        if probe.world[k].is_some() && !probe.facing[k] {
-            exact[k] = TURNED_AWAY;
-            relief[k] = TURNED_AWAY;
-        }
-    }
+    mark_turned_away(&probe, &mut exact, &mut relief);
     let yfov = match camera.projection {
         crate::scene::Projection::Perspective { yfov, .. } => yfov,
         crate::scene::Projection::Orthographic { .. } => 1.0,
@@ -272,16 +258,9 @@ pub fn measure_scene_shadows(
     let band = shadow_edge_band(&exact, probe.width as usize, probe.height as usize, &radii);
     let agreement = measure_agreement(&exact, &relief, &band);
     let everywhere = measure_agreement(&exact, &relief, &[]);
-    let maps: Vec<f32> = relief
-        .iter()
-        .zip(&probe.maps)
-        .map(|(&r, &m)| if r < 0.0 { r } else { m })
-        .collect();
-    let map_term = measure_agreement(&exact, &maps, &band);
+    let map_term = measure_agreement(&exact, &map_term_alone(&relief, &probe), &band);
     let flat = if config.flat_reference {
-        let flat =
-            SceneOccluders::flat(&scene).map_err(|e| SceneShadowError::Reference(e.to_string()))?;
-        flat.visible_fractions(&points, &light, samples)
+        flat_reference(&scene, &points, &light, samples)?
     } else {
         Vec::new()
     };
@@ -295,14 +274,7 @@ pub fn measure_scene_shadows(
     let flat_caster = (!flat.is_empty()).then(|| measure_agreement(&exact, &flat, &band));
     let caster_difference =
         (!flat.is_empty()).then(|| CasterDifference::measure(&exact, &flat, &relief));
-    let ms = |pass: Pass| {
-        probe
-            .timings
-            .iter()
-            .filter(|t| t.pass == pass)
-            .map(|t| t.gpu_ms)
-            .sum::<f64>()
-    };
+    let ms = |pass: Pass| pass_ms(&probe, pass);
     let map = light.shadow_map_size.unwrap_or(config.shadows.map_size);
     Ok(SceneShadowRun {
         scene: name,
@@ -329,4 +301,59 @@ pub fn measure_scene_shadows(
         own: probe.own,
         traced,
     })
+}
+
+/// The probe's receivers, as the reference traces them: a point read back from the depth lies a
+/// rounding error off its surface, maybe behind it, where the surface itself would block every
+/// ray, so each moves toward `eye` by 1e-4 of its distance (ten times the depth buffer's error
+/// here), onto the side the pixel sees. Faces turned from the light are no receivers (`None`).
+fn receiver_points(probe: &ShadowProbe, eye: Vec3) -> Vec<Option<Vec3>> {
+    probe
+        .world
+        .iter()
+        .zip(&probe.facing)
+        .map(|(p, &facing)| p.filter(|_| facing).map(|p| p + (eye - p) * RECEIVER_NUDGE))
+        .collect()
+}
+
+/// Marks the pixels whose faces turn away from the light in both `exact` and `relief`: they are
+/// no receivers, and both verdicts are trivially 0 there.
+fn mark_turned_away(probe: &ShadowProbe, exact: &mut [f32], relief: &mut [f32]) {
+    for k in 0..exact.len() {
+        if probe.world[k].is_some() && !probe.facing[k] {
+            exact[k] = TURNED_AWAY;
+            relief[k] = TURNED_AWAY;
+        }
+    }
+}
+
+/// Relief's shadow-map term alone per pixel, where `relief` has a receiver (its marks elsewhere).
+fn map_term_alone(relief: &[f32], probe: &ShadowProbe) -> Vec<f32> {
+    relief
+        .iter()
+        .zip(&probe.maps)
+        .map(|(&r, &m)| if r < 0.0 { r } else { m })
+        .collect()
+}
+
+/// The exact reference at `points` with relief casters taken as their flat polygons.
+fn flat_reference(
+    scene: &Scene,
+    points: &[Option<Vec3>],
+    light: &Light,
+    samples: u32,
+) -> Result<Vec<f32>, SceneShadowError> {
+    let flat =
+        SceneOccluders::flat(scene).map_err(|e| SceneShadowError::Reference(e.to_string()))?;
+    Ok(flat.visible_fractions(points, light, samples))
+}
+
+/// The probe frame's GPU ms in `pass`.
+fn pass_ms(probe: &ShadowProbe, pass: Pass) -> f64 {
+    probe
+        .timings
+        .iter()
+        .filter(|t| t.pass == pass)
+        .map(|t| t.gpu_ms)
+        .sum::<f64>()
 }

@@ -10,10 +10,10 @@ use serde::Serialize;
 
 use super::scene_shadows::{scene_of, SceneShadowConfig, SceneShadowError};
 use crate::render::{
-    frame_camera, render, time_occlusion, OcclusionRay, RenderError, RenderOptions, ShadowOptions,
-    TracedScene, TracedSceneStats,
+    frame_camera, render, time_occlusion, GBufferChannels, OcclusionRay, RenderError,
+    RenderOptions, ShadowOptions, TracedScene, TracedSceneStats,
 };
-use crate::scene::ShadowScene;
+use crate::scene::{Camera, ShadowScene};
 use crate::shadow_reference::{SceneOccluders, NO_RECEIVER};
 use crate::vk::Context;
 
@@ -114,55 +114,15 @@ pub fn measure_traced_ao(
         .gbuffer
         .ok_or_else(|| SceneShadowError::Reference("the frame wrote no G-buffer".into()))?;
     let camera = scene.camera.unwrap_or_else(|| frame_camera(&scene));
-    let eye = camera.eye();
-    let receivers: Vec<Option<(Vec3, Vec3)>> = gbuffer
-        .positions(&camera)
-        .iter()
-        .zip(&gbuffer.normal)
-        .zip(&gbuffer.coverage)
-        .map(|((&p, &n), &c)| {
-            let (p, n) = (Vec3::from(p), Vec3::from(n));
-            let usable = c >= 1.0 && p.is_finite() && n.length_squared() > 0.5;
-            usable.then(|| (p + (eye - p) * RECEIVER_NUDGE, n))
-        })
-        .collect();
+    let receivers = gbuffer_receivers(&gbuffer, &camera);
     let occluders = SceneOccluders::new(&scene, Some(&heights.quantized_unorm16()), address)
         .map_err(|e| SceneShadowError::Reference(e.to_string()))?;
     let exact = occluders.ambient_visibilities(&receivers, config.samples_per_side, config.radius);
     // The same rays, on the GPU.
-    let mut rays = Vec::new();
-    let mut ranges = Vec::with_capacity(receivers.len());
-    for r in &receivers {
-        let start = rays.len();
-        let mut count = 0;
-        if let Some((p, n)) = *r {
-            let set = occluders.ambient_rays(p, n, config.samples_per_side, config.radius);
-            count = set.directions.len();
-            if set.reach > 0.0 {
-                rays.extend(set.directions.iter().map(|&d| OcclusionRay {
-                    origin: set.receiver + d * set.epsilon,
-                    t_min: 0.0,
-                    dir: d,
-                    t_max: set.reach,
-                }));
-            }
-        }
-        ranges.push((start, rays.len(), count));
-    }
+    let (rays, ranges) = gpu_rays(&occluders, &receivers, config);
     let traced_scene = TracedScene::new(ctx, &occluders)?;
     let occlusion = time_occlusion(ctx, &traced_scene, &rays, 3)?;
-    let traced: Vec<f32> = ranges
-        .iter()
-        .zip(&receivers)
-        .map(|(&(start, end, count), r)| match (r, count) {
-            (None, _) => NO_RECEIVER,
-            (Some(_), 0) => 1.0,
-            (Some(_), _) => {
-                let blocked = occlusion.blocked[start..end].iter().filter(|&&b| b).count();
-                (count - blocked) as f32 / count as f32
-            }
-        })
-        .collect();
+    let traced = traced_shares(&ranges, &receivers, &occlusion.blocked);
     let pairs: Vec<(f32, f32)> = exact
         .iter()
         .zip(&traced)
@@ -189,4 +149,72 @@ pub fn measure_traced_ao(
         exact,
         traced,
     })
+}
+
+/// Each pixel's receiver in `gbuffer` seen by `camera`: its point, nudged toward the eye as the
+/// scene-shadow probe's are, and its shading normal; `None` where the pixel is not wholly
+/// covered or has no usable point or normal.
+fn gbuffer_receivers(gbuffer: &GBufferChannels, camera: &Camera) -> Vec<Option<(Vec3, Vec3)>> {
+    let eye = camera.eye();
+    gbuffer
+        .positions(camera)
+        .iter()
+        .zip(&gbuffer.normal)
+        .zip(&gbuffer.coverage)
+        .map(|((&p, &n), &c)| {
+            let (p, n) = (Vec3::from(p), Vec3::from(n));
+            let usable = c >= 1.0 && p.is_finite() && n.length_squared() > 0.5;
+            usable.then(|| (p + (eye - p) * RECEIVER_NUDGE, n))
+        })
+        .collect()
+}
+
+/// The reference's ambient rays of every receiver as GPU rays, and per receiver the range of
+/// them it sent (start, end) with its ray count (rays of no reach are counted but not sent).
+fn gpu_rays(
+    occluders: &SceneOccluders,
+    receivers: &[Option<(Vec3, Vec3)>],
+    config: &TracedAoConfig,
+) -> (Vec<OcclusionRay>, Vec<(usize, usize, usize)>) {
+    let mut rays = Vec::new();
+    let mut ranges = Vec::with_capacity(receivers.len());
+    for r in receivers {
+        let start = rays.len();
+        let mut count = 0;
+        if let Some((p, n)) = *r {
+            let set = occluders.ambient_rays(p, n, config.samples_per_side, config.radius);
+            count = set.directions.len();
+            if set.reach > 0.0 {
+                rays.extend(set.directions.iter().map(|&d| OcclusionRay {
+                    origin: set.receiver + d * set.epsilon,
+                    t_min: 0.0,
+                    dir: d,
+                    t_max: set.reach,
+                }));
+            }
+        }
+        ranges.push((start, rays.len(), count));
+    }
+    (rays, ranges)
+}
+
+/// Each receiver's unblocked share from the GPU's `blocked` verdicts over its `ranges`
+/// (`NO_RECEIVER` where there is none, 1 where it sent no ray).
+fn traced_shares(
+    ranges: &[(usize, usize, usize)],
+    receivers: &[Option<(Vec3, Vec3)>],
+    blocked: &[bool],
+) -> Vec<f32> {
+    ranges
+        .iter()
+        .zip(receivers)
+        .map(|(&(start, end, count), r)| match (r, count) {
+            (None, _) => NO_RECEIVER,
+            (Some(_), 0) => 1.0,
+            (Some(_), _) => {
+                let blocked = blocked[start..end].iter().filter(|&&b| b).count();
+                (count - blocked) as f32 / count as f32
+            }
+        })
+        .collect()
 }

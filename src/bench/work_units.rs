@@ -133,6 +133,22 @@ pub struct WorkUnit {
 /// tree baseline's error at that view (`depth_match::settled`), so they must see its runs.
 pub fn work_units(cfg: &SweepConfig, sections: &SweepSections) -> Vec<WorkUnit> {
     let layout = StepLayout::new(cfg, sections);
+    let mut units = job_units(cfg, sections, &layout);
+    for (c, case) in sections.cases.iter().enumerate() {
+        for (m, &method) in cfg.methods.iter().enumerate() {
+            units.push(single(layout.cell(c, m), stiff_cost(case, method)));
+        }
+    }
+    if let Some(shading) = &sections.shading {
+        units.extend(shading_units(cfg, sections, shading, &layout));
+    }
+    units.extend(whole_section_units(cfg, sections, &layout));
+    units
+}
+
+/// The units of the sweep's jobs: one per job, except that the jobs of one view of the
+/// depth-scale section share one.
+fn job_units(cfg: &SweepConfig, sections: &SweepSections, layout: &StepLayout) -> Vec<WorkUnit> {
     let mut units = Vec::new();
     let mut views: HashMap<String, usize> = HashMap::new();
     for (j, job) in sections.jobs.iter().enumerate() {
@@ -163,30 +179,40 @@ pub fn work_units(cfg: &SweepConfig, sections: &SweepSections) -> Vec<WorkUnit> 
             cost: UnitCost { cost, setups },
         });
     }
-    for (c, case) in sections.cases.iter().enumerate() {
-        for (m, &method) in cfg.methods.iter().enumerate() {
-            units.push(single(layout.cell(c, m), stiff_cost(case, method)));
-        }
-    }
-    if let Some(shading) = &sections.shading {
-        // --quick's shadows take about 1.5 s a field, its AO about 1 s; the full settings grow
-        // with lights times rays times reference samples, and the AO with its timed maps.
-        let work = |s: &ShadingConfig| {
-            (s.elevations.len() * s.radii.len() * (s.modes.len() + 1)) as f64
-                * f64::from(s.error_grid.0 * s.error_grid.1)
-                * s.reference_samples as f64
-        };
-        let shadows = 1.5 * work(shading) / work(&ShadingConfig::quick());
-        let ao = if sections.ao.time_main_size {
-            30.0
-        } else {
-            1.0
-        };
-        for f in 0..cfg.fields.len() {
-            units.push(single(layout.shadows(f), shadows));
-            units.push(single(layout.ao(f), ao));
-        }
-    }
+    units
+}
+
+/// Each field's shadows and AO units of the shading section run with `shading`.
+fn shading_units(
+    cfg: &SweepConfig,
+    sections: &SweepSections,
+    shading: &ShadingConfig,
+    layout: &StepLayout,
+) -> Vec<WorkUnit> {
+    // --quick's shadows take about 1.5 s a field, its AO about 1 s; the full settings grow
+    // with lights times rays times reference samples, and the AO with its timed maps.
+    let work = |s: &ShadingConfig| {
+        (s.elevations.len() * s.radii.len() * (s.modes.len() + 1)) as f64
+            * f64::from(s.error_grid.0 * s.error_grid.1)
+            * s.reference_samples as f64
+    };
+    let shadows = 1.5 * work(shading) / work(&ShadingConfig::quick());
+    let ao = if sections.ao.time_main_size {
+        30.0
+    } else {
+        1.0
+    };
+    (0..cfg.fields.len())
+        .flat_map(|f| [single(layout.shadows(f), shadows), single(layout.ao(f), ao)])
+        .collect()
+}
+
+/// The units of the sections that run whole, those that run, in step order.
+fn whole_section_units(
+    cfg: &SweepConfig,
+    sections: &SweepSections,
+    layout: &StepLayout,
+) -> Vec<WorkUnit> {
     // Measured with --quick on lavapipe (two cores); the full sections run much larger settings.
     let whole = |quick_s: f64, full_s: f64| if cfg.quick { quick_s } else { full_s };
     let edit_texels: f64 = sections
@@ -229,12 +255,11 @@ pub fn work_units(cfg: &SweepConfig, sections: &SweepSections) -> Vec<WorkUnit> 
             whole(4.0, 90.0),
         ),
     ];
-    for (section, runs, cost) in sections_whole {
-        if runs {
-            units.push(single(layout.whole(section), cost));
-        }
-    }
-    units
+    sections_whole
+        .into_iter()
+        .filter(|&(_, runs, _)| runs)
+        .map(|(section, _, cost)| single(layout.whole(section), cost))
+        .collect()
 }
 
 fn single(step: u32, cost: f64) -> WorkUnit {

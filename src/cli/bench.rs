@@ -13,9 +13,9 @@ use relief::bench::{
     run_paint_section, run_scene_shadow_section, run_silhouette_section, run_stiff_case,
     utc_now_rfc3339, AoRun, BenchResults, BlendingConfig, BlendingSection, EditCost, FieldSource,
     FrameCostSection, FrameFeatureSection, LodConfig, LodSection, MachineAtStart, PaintCost,
-    ReliefBuild, Runner, SceneShadowSection, ShadowRun, ShadowStabilityCell, SilhouetteSection,
-    StabilityCell, StepOrigins, StiffCase, SweepConfig, SweepSections, WholeSection,
-    SCHEMA_VERSION,
+    ReliefBuild, Runner, SceneShadowSection, SectionsRun, ShadowRun, ShadowStabilityCell,
+    SilhouetteSection, StabilityCell, StepOrigins, StiffCase, SweepConfig, SweepSections,
+    WholeSection, SCHEMA_VERSION,
 };
 
 /// The brush radius of the terrain-edit section, in texels (the stroke).
@@ -262,17 +262,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     let Some(out) = &args.out else {
         anyhow::bail!("relief bench needs --out DIR");
     };
-    if let Some(path) = &args.timeline {
-        if !path
-            .extension()
-            .is_some_and(|e| e.eq_ignore_ascii_case("json"))
-        {
-            return Err(super::usage(format!(
-                "--timeline writes trace-event JSON; {} does not end in .json",
-                path.display()
-            )));
-        }
-    }
+    check_timeline_path(args)?;
     let cfg = config(args)?;
     // Read before any measuring, so that a bad file fails the run at once.
     let extra_mesh = silhouette_mesh(args.silhouette_mesh.as_deref())?;
@@ -285,17 +275,8 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         ));
     }
     let sections_run = sections_record(args, &sections);
-    if !args.json && !sections_run.skipped.is_empty() {
-        eprintln!("relief bench: {}", sections_run.line());
-    }
     let plan = StepPlan::new(args.shard, &cfg, &sections);
-    if let (Some(shard), Some((mine, all, load, most)), false) =
-        (args.shard, plan.estimate, args.json)
-    {
-        eprintln!(
-            "shard {shard}: {mine} of {all} units, an estimated {load:.0} s on lavapipe (the largest shard {most:.0} s)"
-        );
-    }
+    announce_run(args, &sections_run, &plan);
     let bar = progress(progress_steps(&sections, &cfg, &plan), args.json);
     let mut origins = StepOrigins::default();
     let mut runner = Runner::new(ctx.clone(), cfg.clone());
@@ -318,10 +299,7 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
     let lod = lod_config(args, &cfg);
     let blending = blending_config(args, &cfg);
     let fingerprint = bench_shard::fingerprint(&cfg, &sections, &lod, &blending);
-    // A path need not be UTF-8; the record shows such a word lossily rather than failing.
-    let argv: Vec<String> = std::env::args_os()
-        .map(|a| a.to_string_lossy().into_owned())
-        .collect();
+    let argv = command_words();
     let results = BenchResults {
         schema_version: SCHEMA_VERSION,
         relief: ReliefBuild::current(),
@@ -359,6 +337,45 @@ pub fn run(args: &BenchArgs) -> anyhow::Result<()> {
         write_bench_timeline(path, &ctx, costs)?;
     }
     write_outputs(out, &results, args.json)
+}
+
+/// Fails unless `--timeline`, when given, names a `.json` file.
+fn check_timeline_path(args: &BenchArgs) -> anyhow::Result<()> {
+    if let Some(path) = &args.timeline {
+        if !path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("json"))
+        {
+            return Err(super::usage(format!(
+                "--timeline writes trace-event JSON; {} does not end in .json",
+                path.display()
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// Says on stderr, unless the run prints JSON, which sections it leaves out and what share of
+/// the work its shard takes.
+fn announce_run(args: &BenchArgs, sections_run: &SectionsRun, plan: &StepPlan) {
+    if !args.json && !sections_run.skipped.is_empty() {
+        eprintln!("relief bench: {}", sections_run.line());
+    }
+    if let (Some(shard), Some((mine, all, load, most)), false) =
+        (args.shard, plan.estimate, args.json)
+    {
+        eprintln!(
+            "shard {shard}: {mine} of {all} units, an estimated {load:.0} s on lavapipe (the largest shard {most:.0} s)"
+        );
+    }
+}
+
+/// The command line's words, for the record: a path need not be UTF-8, and the record shows
+/// such a word lossily rather than failing.
+fn command_words() -> Vec<String> {
+    std::env::args_os()
+        .map(|a| a.to_string_lossy().into_owned())
+        .collect()
 }
 
 /// Writes the frame-cost section's frames to `path` as trace-event JSON.

@@ -172,11 +172,7 @@ fn draw_all(
     mut edits: Option<&mut TerrainEdits>,
 ) -> anyhow::Result<Drawn> {
     let lists = edits.as_ref().map_or(0, |e| e.frames_needed() - 1);
-    let frames = args.frames.frames.max(lists + 1);
-    let kept = match args.frames.frame_range {
-        Some(range) => range.within(frames)?,
-        None => 0..frames,
-    };
+    let (frames, kept) = sequence_frames(args, lists)?;
     // Frames whose files --resume finds written are not drawn, unless a later frame's strokes
     // need them drawn first (then they are drawn unread).
     let written: Vec<bool> = kept
@@ -259,6 +255,17 @@ fn draw_all(
         created_after_first: ctx.created() - after_first,
         alive: [alive_after_first, ctx.alive()],
     })
+}
+
+/// The frames in the sequence (at least one more than the edits' `lists` of strokes) and the
+/// 0-based frames of it to draw and keep.
+fn sequence_frames(args: &RenderArgs, lists: u32) -> anyhow::Result<(u32, std::ops::Range<u32>)> {
+    let frames = args.frames.frames.max(lists + 1);
+    let kept = match args.frames.frame_range {
+        Some(range) => range.within(frames)?,
+        None => 0..frames,
+    };
+    Ok((frames, kept))
 }
 
 /// Draws the frames `args` asks for and reports them.
@@ -465,6 +472,8 @@ fn print_table(stats: &SequenceStats) {
     }
 }
 
+/// Reports on stderr what the sequence `d` wrote, what stayed alive, the cells built, each
+/// frame's edits, and the objects created after the first frame.
 fn report_files(
     args: &RenderArgs,
     files: &FileArgs,
@@ -474,44 +483,10 @@ fn report_files(
     d: &Drawn,
 ) {
     let (w, h) = renderer.size();
-    let frames = d.frames;
-    let (first, last) = (d.kept.start, d.kept.end - 1);
-    let mut what = if args.frames.no_write {
-        format!("drew {} frame(s), wrote none (--no-write)", d.kept.len())
-    } else if frames == 1 {
-        format!("wrote {}", files.out.display())
-    } else {
-        format!(
-            "wrote {} .. {}",
-            frame_path(&files.out, first, frames).display(),
-            frame_path(&files.out, last, frames).display()
-        )
-    };
-    if d.skipped > 0 {
-        what = format!(
-            "{what}: {} frame(s) drawn, {} already written (--resume)",
-            d.kept.len() as u32 - d.skipped,
-            d.skipped
-        );
-    }
+    let what = what_was_written(args, files, d);
     eprintln!("{what} ({w}x{h}, relief: {methods}, heights: {source})");
     if d.kept.len() > 1 {
-        let [first, last] = &d.alive;
-        let mib = |b: u64| b as f64 / f64::from(1u32 << 20);
-        eprintln!(
-            "alive after the first frame / the last: {} / {} buffers, {} / {} images, {} / {} \
-             descriptor sets, {} / {} pipelines, {:.1} / {:.1} MiB of device memory",
-            first.buffers,
-            last.buffers,
-            first.images,
-            last.images,
-            first.descriptor_sets,
-            last.descriptor_sets,
-            first.pipelines,
-            last.pipelines,
-            mib(first.allocated_bytes),
-            mib(last.allocated_bytes)
-        );
+        print_alive(&d.alive);
     }
     for c in renderer.cells() {
         eprintln!(
@@ -527,43 +502,9 @@ fn report_files(
         );
     }
     for e in &d.edits {
-        let painted = e.paint.as_ref().map_or(0, |p| p.strokes);
-        let mut parts = Vec::new();
-        if e.strokes > painted {
-            parts.push(format!(
-                "{} elevation stroke(s) over {} texels rebuilt {} of {} tiles in {:.1} ms (+{:.1} ms uploading them)",
-                e.strokes - painted,
-                e.texels,
-                e.tiles_rebuilt.len(),
-                e.tiles_total,
-                e.rebuild_ms,
-                e.upload_ms
-            ));
-        }
-        let rebuilt = |p: &relief::render::PaintReport| {
-            format!(
-                "{} splat texels re-blended {} texels of the field ({} with the pyramid levels above) and {} AO texels in {:.2} ms on the gpu",
-                p.splat_texels,
-                p.blended_texels.first().copied().unwrap_or(0),
-                p.blended_texels.iter().sum::<u64>(),
-                p.ao_texels,
-                p.gpu_ms
-            )
-        };
-        if let Some(r) = &e.reweighed {
-            parts.push(format!(
-                "the rules weighing the moved ground over {}",
-                rebuilt(r)
-            ));
-        }
-        match &e.paint {
-            Some(p) => parts.push(format!("{} paint stroke(s) over {}", p.strokes, rebuilt(p))),
-            None if e.reweighed.is_none() => parts.push("the layered maps were kept".into()),
-            None => {}
-        }
-        eprintln!("frame {}: {}", e.frame, parts.join("; "));
+        eprintln!("frame {}: {}", e.frame, edit_parts(e).join("; "));
     }
-    if frames > 1 {
+    if d.frames > 1 {
         let same = d.created_after_first == ObjectCounts::default();
         eprintln!(
             "objects created after the first frame: {}",
@@ -574,6 +515,89 @@ fn report_files(
             }
         );
     }
+}
+
+/// What the sequence `d` wrote (or drew unwritten), and what `--resume` found written.
+fn what_was_written(args: &RenderArgs, files: &FileArgs, d: &Drawn) -> String {
+    let frames = d.frames;
+    let (first, last) = (d.kept.start, d.kept.end - 1);
+    let what = if args.frames.no_write {
+        format!("drew {} frame(s), wrote none (--no-write)", d.kept.len())
+    } else if frames == 1 {
+        format!("wrote {}", files.out.display())
+    } else {
+        format!(
+            "wrote {} .. {}",
+            frame_path(&files.out, first, frames).display(),
+            frame_path(&files.out, last, frames).display()
+        )
+    };
+    if d.skipped > 0 {
+        return format!(
+            "{what}: {} frame(s) drawn, {} already written (--resume)",
+            d.kept.len() as u32 - d.skipped,
+            d.skipped
+        );
+    }
+    what
+}
+
+/// Prints the objects alive after the first frame and after the last.
+fn print_alive([first, last]: &[LiveObjects; 2]) {
+    let mib = |b: u64| b as f64 / f64::from(1u32 << 20);
+    eprintln!(
+        "alive after the first frame / the last: {} / {} buffers, {} / {} images, {} / {} \
+         descriptor sets, {} / {} pipelines, {:.1} / {:.1} MiB of device memory",
+        first.buffers,
+        last.buffers,
+        first.images,
+        last.images,
+        first.descriptor_sets,
+        last.descriptor_sets,
+        first.pipelines,
+        last.pipelines,
+        mib(first.allocated_bytes),
+        mib(last.allocated_bytes)
+    );
+}
+
+/// What one frame's strokes did: the elevation strokes' rebuild, the reweighing and the paint.
+fn edit_parts(e: &EditRecord) -> Vec<String> {
+    let painted = e.paint.as_ref().map_or(0, |p| p.strokes);
+    let mut parts = Vec::new();
+    if e.strokes > painted {
+        parts.push(format!(
+            "{} elevation stroke(s) over {} texels rebuilt {} of {} tiles in {:.1} ms (+{:.1} ms uploading them)",
+            e.strokes - painted,
+            e.texels,
+            e.tiles_rebuilt.len(),
+            e.tiles_total,
+            e.rebuild_ms,
+            e.upload_ms
+        ));
+    }
+    let rebuilt = |p: &relief::render::PaintReport| {
+        format!(
+            "{} splat texels re-blended {} texels of the field ({} with the pyramid levels above) and {} AO texels in {:.2} ms on the gpu",
+            p.splat_texels,
+            p.blended_texels.first().copied().unwrap_or(0),
+            p.blended_texels.iter().sum::<u64>(),
+            p.ao_texels,
+            p.gpu_ms
+        )
+    };
+    if let Some(r) = &e.reweighed {
+        parts.push(format!(
+            "the rules weighing the moved ground over {}",
+            rebuilt(r)
+        ));
+    }
+    match &e.paint {
+        Some(p) => parts.push(format!("{} paint stroke(s) over {}", p.strokes, rebuilt(p))),
+        None if e.reweighed.is_none() => parts.push("the layered maps were kept".into()),
+        None => {}
+    }
+    parts
 }
 
 /// The relief methods the renderer draws with, or "none".

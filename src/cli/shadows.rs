@@ -2,10 +2,10 @@
 //! visible fraction of the light there), traces the exact scene reference for the same points,
 //! prints the agreement, and writes both as `.npy` dumps.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use clap::Args;
-use relief::bench::{measure_scene_shadows, write_npy_f32, SceneShadowConfig};
+use relief::bench::{measure_scene_shadows, write_npy_f32, SceneShadowConfig, SceneShadowRun};
 use relief::render::{ShadowFilter, ShadowOptions};
 use relief::scene::{ShadowScene, SHADOW_CASCADES, SHADOW_MAP_SIZES};
 
@@ -62,6 +62,28 @@ pub struct ShadowsArgs {
 
 pub fn run(args: &ShadowsArgs) -> anyhow::Result<()> {
     let (width, height) = parse_size("--size", &args.size)?;
+    check_ranges(args)?;
+    let config = config_of(args, width, height)?;
+    let ctx = open_device(args.device.as_deref(), args.json)?;
+    eprintln!("tracing the exact reference for {width}x{height} pixels ...");
+    let run = measure_scene_shadows(&ctx, &config)?;
+    check_validation(&ctx)?;
+    if let Some(dir) = &args.dump {
+        write_dumps(dir, [height as usize, width as usize], &run)?;
+    }
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&run)?);
+        return Ok(());
+    }
+    print_run(&run);
+    if let Some(dir) = &args.dump {
+        println!("wrote {}/exact.npy and relief.npy", dir.display());
+    }
+    Ok(())
+}
+
+/// Fails on the first option outside its range.
+fn check_ranges(args: &ShadowsArgs) -> anyhow::Result<()> {
     if !SHADOW_MAP_SIZES.contains(&args.shadow_map_size) {
         anyhow::bail!("--shadow-map-size must be in 16..=8192");
     }
@@ -80,11 +102,16 @@ pub fn run(args: &ShadowsArgs) -> anyhow::Result<()> {
     {
         anyhow::bail!("--light-radius must be in 0..=45 degrees");
     }
+    Ok(())
+}
+
+/// The measurement `args` ask for, of a `width` x `height` probe.
+fn config_of(args: &ShadowsArgs, width: u32, height: u32) -> anyhow::Result<SceneShadowConfig> {
     let scene = match args.scene.as_str() {
         "default" => None,
         other => Some(other.parse::<ShadowScene>().map_err(anyhow::Error::msg)?),
     };
-    let config = SceneShadowConfig {
+    Ok(SceneShadowConfig {
         scene,
         elevation_deg: args.elevation,
         radius_deg: args.light_radius,
@@ -97,29 +124,27 @@ pub fn run(args: &ShadowsArgs) -> anyhow::Result<()> {
         samples_per_side: args.samples,
         flat_reference: args.flat,
         traced: args.traced,
-    };
-    let ctx = open_device(args.device.as_deref(), args.json)?;
-    eprintln!("tracing the exact reference for {width}x{height} pixels ...");
-    let run = measure_scene_shadows(&ctx, &config)?;
-    check_validation(&ctx)?;
-    if let Some(dir) = &args.dump {
-        std::fs::create_dir_all(dir)?;
-        let shape = [height as usize, width as usize];
-        write_npy_f32(&dir.join("exact.npy"), &shape, &run.exact)?;
-        write_npy_f32(&dir.join("relief.npy"), &shape, &run.relief)?;
-        write_npy_f32(&dir.join("relief_maps.npy"), &shape, &run.maps)?;
-        write_npy_f32(&dir.join("relief_own.npy"), &shape, &run.own)?;
-        if !run.flat.is_empty() {
-            write_npy_f32(&dir.join("flat.npy"), &shape, &run.flat)?;
-        }
-        if let Some(t) = &run.traced {
-            write_npy_f32(&dir.join("traced.npy"), &shape, &t.visible)?;
-        }
+    })
+}
+
+/// Writes `run`'s per-pixel dumps of `shape` (rows, columns) into `dir`.
+fn write_dumps(dir: &Path, shape: [usize; 2], run: &SceneShadowRun) -> anyhow::Result<()> {
+    std::fs::create_dir_all(dir)?;
+    write_npy_f32(&dir.join("exact.npy"), &shape, &run.exact)?;
+    write_npy_f32(&dir.join("relief.npy"), &shape, &run.relief)?;
+    write_npy_f32(&dir.join("relief_maps.npy"), &shape, &run.maps)?;
+    write_npy_f32(&dir.join("relief_own.npy"), &shape, &run.own)?;
+    if !run.flat.is_empty() {
+        write_npy_f32(&dir.join("flat.npy"), &shape, &run.flat)?;
     }
-    if args.json {
-        println!("{}", serde_json::to_string_pretty(&run)?);
-        return Ok(());
+    if let Some(t) = &run.traced {
+        write_npy_f32(&dir.join("traced.npy"), &shape, &t.visible)?;
     }
+    Ok(())
+}
+
+/// Prints what `run` found, as text.
+fn print_run(run: &SceneShadowRun) {
     println!(
         "scene {}: map {}^2 x {} cascade(s), {} filter, light radius {:.2} deg",
         run.scene, run.map_size, run.cascades, run.filter, run.light_radius_deg
@@ -167,8 +192,4 @@ pub fn run(args: &ShadowsArgs) -> anyhow::Result<()> {
         "gpu ms: shadow maps {:.3}, surface {:.3}",
         run.shadow_maps_ms, run.surface_ms
     );
-    if let Some(dir) = &args.dump {
-        println!("wrote {}/exact.npy and relief.npy", dir.display());
-    }
-    Ok(())
 }

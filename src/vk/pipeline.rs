@@ -290,58 +290,20 @@ pub fn graphics_pipeline(
             .name(c"main")
             .specialization_info(&spec),
     ];
-    let bindings = [vk::VertexInputBindingDescription {
-        binding: 0,
-        stride: desc.vertex_stride,
-        input_rate: vk::VertexInputRate::VERTEX,
-    }];
-    // A stride of 0 means the vertex shader makes its own vertices (full-screen passes).
-    let bindings: &[_] = if desc.vertex_stride == 0 {
-        &[]
-    } else {
-        &bindings
-    };
+    let bindings = vertex_bindings(desc.vertex_stride);
     let vertex_input = vk::PipelineVertexInputStateCreateInfo::default()
-        .vertex_binding_descriptions(bindings)
+        .vertex_binding_descriptions(&bindings)
         .vertex_attribute_descriptions(desc.attributes);
     let assembly = vk::PipelineInputAssemblyStateCreateInfo::default()
         .topology(vk::PrimitiveTopology::TRIANGLE_LIST);
     let viewport = vk::PipelineViewportStateCreateInfo::default()
         .viewport_count(1)
         .scissor_count(1);
-    let raster = vk::PipelineRasterizationStateCreateInfo::default()
-        .polygon_mode(vk::PolygonMode::FILL)
-        .cull_mode(desc.cull)
-        // Counter-clockwise as in glTF: the projection's y flip and Vulkan's y-down framebuffer
-        // cancel, so winding seen on screen is unchanged.
-        .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
-        .line_width(1.0);
+    let raster = raster_state(desc.cull);
     let multisample = vk::PipelineMultisampleStateCreateInfo::default()
         .rasterization_samples(vk::SampleCountFlags::from_raw(desc.samples.max(1)));
-    let has_depth = desc.depth_format != vk::Format::UNDEFINED;
-    let depth = vk::PipelineDepthStencilStateCreateInfo::default()
-        .depth_test_enable(has_depth)
-        .depth_write_enable(has_depth && !desc.blend)
-        .depth_compare_op(vk::CompareOp::LESS_OR_EQUAL);
-    let mut blend_attachments = vec![vk::PipelineColorBlendAttachmentState::default()
-        .blend_enable(desc.blend)
-        .src_color_blend_factor(vk::BlendFactor::SRC_ALPHA)
-        .dst_color_blend_factor(vk::BlendFactor::ONE_MINUS_SRC_ALPHA)
-        .color_blend_op(vk::BlendOp::ADD)
-        .src_alpha_blend_factor(vk::BlendFactor::ONE)
-        .dst_alpha_blend_factor(vk::BlendFactor::ONE_MINUS_SRC_ALPHA)
-        .alpha_blend_op(vk::BlendOp::ADD)
-        .color_write_mask(vk::ColorComponentFlags::RGBA)];
-    let extra_mask = if desc.writes_extra {
-        vk::ColorComponentFlags::RGBA
-    } else {
-        vk::ColorComponentFlags::empty()
-    };
-    blend_attachments.extend(
-        desc.extra_colors
-            .iter()
-            .map(|_| vk::PipelineColorBlendAttachmentState::default().color_write_mask(extra_mask)),
-    );
+    let depth = depth_state(desc);
+    let blend_attachments = blend_attachments(desc);
     let blend = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend_attachments);
     let dynamic_states = [vk::DynamicState::VIEWPORT, vk::DynamicState::SCISSOR];
     let dynamic = vk::PipelineDynamicStateCreateInfo::default().dynamic_states(&dynamic_states);
@@ -373,4 +335,62 @@ pub fn graphics_pipeline(
         vk::PipelineBindPoint::GRAPHICS,
         name,
     )
+}
+
+/// The vertex buffer binding 0 of `stride` bytes per vertex; none for a stride of 0, whose
+/// vertex shader makes its own vertices (full-screen passes).
+fn vertex_bindings(stride: u32) -> Vec<vk::VertexInputBindingDescription> {
+    if stride == 0 {
+        return Vec::new();
+    }
+    vec![vk::VertexInputBindingDescription {
+        binding: 0,
+        stride,
+        input_rate: vk::VertexInputRate::VERTEX,
+    }]
+}
+
+/// Filled triangles with `cull` faces culled.
+fn raster_state(cull: vk::CullModeFlags) -> vk::PipelineRasterizationStateCreateInfo<'static> {
+    vk::PipelineRasterizationStateCreateInfo::default()
+        .polygon_mode(vk::PolygonMode::FILL)
+        .cull_mode(cull)
+        // Counter-clockwise as in glTF: the projection's y flip and Vulkan's y-down framebuffer
+        // cancel, so winding seen on screen is unchanged.
+        .front_face(vk::FrontFace::COUNTER_CLOCKWISE)
+        .line_width(1.0)
+}
+
+/// The depth test where `desc` has a depth attachment, written unless it blends.
+fn depth_state(desc: &GraphicsDesc) -> vk::PipelineDepthStencilStateCreateInfo<'static> {
+    let has_depth = desc.depth_format != vk::Format::UNDEFINED;
+    vk::PipelineDepthStencilStateCreateInfo::default()
+        .depth_test_enable(has_depth)
+        .depth_write_enable(has_depth && !desc.blend)
+        .depth_compare_op(vk::CompareOp::LESS_OR_EQUAL)
+}
+
+/// The first colour attachment's blend (alpha over the target when `desc.blend`), then the
+/// extra attachments, never blended and written only when `desc.writes_extra`.
+fn blend_attachments(desc: &GraphicsDesc) -> Vec<vk::PipelineColorBlendAttachmentState> {
+    let mut attachments = vec![vk::PipelineColorBlendAttachmentState::default()
+        .blend_enable(desc.blend)
+        .src_color_blend_factor(vk::BlendFactor::SRC_ALPHA)
+        .dst_color_blend_factor(vk::BlendFactor::ONE_MINUS_SRC_ALPHA)
+        .color_blend_op(vk::BlendOp::ADD)
+        .src_alpha_blend_factor(vk::BlendFactor::ONE)
+        .dst_alpha_blend_factor(vk::BlendFactor::ONE_MINUS_SRC_ALPHA)
+        .alpha_blend_op(vk::BlendOp::ADD)
+        .color_write_mask(vk::ColorComponentFlags::RGBA)];
+    let extra_mask = if desc.writes_extra {
+        vk::ColorComponentFlags::RGBA
+    } else {
+        vk::ColorComponentFlags::empty()
+    };
+    attachments.extend(
+        desc.extra_colors
+            .iter()
+            .map(|_| vk::PipelineColorBlendAttachmentState::default().color_write_mask(extra_mask)),
+    );
+    attachments
 }

@@ -1,28 +1,21 @@
-//! The environment maps on the GPU and the kernels that build them: the source image (uploaded
-//! with its mip chain, then dropped), the irradiance map, the prefiltered specular levels and the
-//! BRDF table, all built in one submission when the renderer is made.
+//! The environment maps on the GPU: the source image (uploaded with its mip chain, then dropped
+//! unless the background shows it), the irradiance map, the prefiltered specular levels and the
+//! BRDF table, all built in one submission when the renderer is made (`environment_kernels`).
 
 use std::sync::Arc;
 use std::time::Instant;
 
 use ash::vk;
 
-use super::environment_plan::{
-    EnvironmentPlan, BRDF_SAMPLES, IRRADIANCE_SOURCE_WIDTH, PREFILTER_SAMPLES,
-};
+use super::environment_kernels::{build_maps, equirect_sampler, upload_source, Maps};
+use super::environment_plan::EnvironmentPlan;
 use crate::environment::Environment;
-use crate::render::compute_pass::ComputePass;
 use crate::render::shader_interface::{
-    EnvironmentParams, BINDING_ENV_BRDF, BINDING_ENV_IRRADIANCE, BINDING_ENV_OUT,
-    BINDING_ENV_SOURCE, BINDING_ENV_SPECULAR,
+    BINDING_ENV_BRDF, BINDING_ENV_IRRADIANCE, BINDING_ENV_SOURCE, BINDING_ENV_SPECULAR,
 };
 use crate::vk::{
-    half_floats_to_rgba, read_mip, transition_images, upload_mips, Bind, Context, DescriptorPool,
-    Image, ImageDesc, ImageTransition, ImageView, Recording, Sampler, TimestampPool, VkResult,
+    half_floats_to_rgba, read_mip, Bind, Context, Image, ImageView, Sampler, VkResult,
 };
-
-const GROUP: u32 = 8;
-const MAP_FORMAT: vk::Format = vk::Format::R16G16B16A16_SFLOAT;
 
 /// An environment's light on the GPU, ready for the drawing passes.
 pub struct EnvironmentLight {
@@ -64,137 +57,20 @@ impl EnvironmentLight {
         plan.background = keep_source;
         let started = Instant::now();
         let source = upload_source(ctx, env, &plan)?;
-        let storage = vk::ImageUsageFlags::STORAGE
-            | vk::ImageUsageFlags::SAMPLED
-            | vk::ImageUsageFlags::TRANSFER_SRC;
-        let map = |size: [u32; 2], levels: u32, name: &str| {
-            let desc = ImageDesc {
-                width: size[0],
-                height: size[1],
-                format: MAP_FORMAT,
-                mip_levels: levels,
-                usage: storage,
-                aspect: vk::ImageAspectFlags::COLOR,
-            };
-            Image::new(ctx, desc, name)
-        };
-        let irradiance = map(plan.irradiance_size, 1, "environment irradiance")?;
-        let specular = map(
-            plan.specular_size,
-            plan.specular_levels,
-            "environment specular",
-        )?;
-        let brdf = map(plan.brdf_size, 1, "environment BRDF table")?;
-        let equirect_sampler = Sampler::from_info(
-            ctx,
-            &vk::SamplerCreateInfo::default()
-                .mag_filter(vk::Filter::LINEAR)
-                .min_filter(vk::Filter::LINEAR)
-                .mipmap_mode(vk::SamplerMipmapMode::LINEAR)
-                .address_mode_u(vk::SamplerAddressMode::REPEAT)
-                .address_mode_v(vk::SamplerAddressMode::CLAMP_TO_EDGE)
-                .address_mode_w(vk::SamplerAddressMode::CLAMP_TO_EDGE)
-                .max_lod(vk::LOD_CLAMP_NONE),
-            "environment sampler",
-        )?;
+        let maps = Maps::new(ctx, &plan)?;
+        let equirect_sampler = equirect_sampler(ctx)?;
         let table_sampler = Sampler::new(
             ctx,
             vk::Filter::LINEAR,
             vk::SamplerAddressMode::CLAMP_TO_EDGE,
             "BRDF table sampler",
         )?;
-        let kernels = Kernels::new(ctx)?;
-        let outputs = Outputs {
-            irradiance: irradiance.level_view(0)?,
-            specular: (0..plan.specular_levels)
-                .map(|l| specular.level_view(l))
-                .collect::<VkResult<Vec<_>>>()?,
-            brdf: brdf.level_view(0)?,
-        };
-        let sets = plan.specular_levels + 2;
-        let pool = DescriptorPool::new(ctx, sets, 2 * sets, "environment sets")?;
         let read = Bind::Texture(BINDING_ENV_SOURCE, source.view(), &equirect_sampler);
-        let write = |view| Bind::StorageImage(BINDING_ENV_OUT, view);
-        let irradiance_set = pool.allocate(
-            kernels.irradiance.layout(),
-            &[read, write(&outputs.irradiance)],
-        )?;
-        let specular_sets = outputs
-            .specular
-            .iter()
-            .map(|v| pool.allocate(kernels.prefilter.layout(), &[read, write(v)]))
-            .collect::<VkResult<Vec<_>>>()?;
-        let brdf_set = pool.allocate(kernels.brdf.layout(), &[write(&outputs.brdf)])?;
-        let images = [&irradiance, &specular, &brdf];
-        // Without timestamps on the queue the build is simply not timed on the GPU.
-        let timer = TimestampPool::new(ctx, 2, "environment build timestamps").ok();
-        ctx.one_shot(|rec| {
-            if let Some(t) = &timer {
-                t.write(rec, vk::PipelineStageFlags2::ALL_COMMANDS, 0)?;
-            }
-            transition(
-                rec,
-                &images,
-                vk::ImageLayout::UNDEFINED,
-                vk::ImageLayout::GENERAL,
-            );
-            let (iw, ih) = source_level_size(&plan);
-            let irradiance_level = levels_to(plan.uploaded_size[0], IRRADIANCE_SOURCE_WIDTH);
-            let base = EnvironmentParams {
-                out_width: plan.irradiance_size[0],
-                out_height: plan.irradiance_size[1],
-                source_level: irradiance_level,
-                source_width: iw,
-                source_height: ih,
-                samples: 0,
-                roughness: 0.0,
-                base_lod: 0.0,
-            };
-            dispatch(rec, &kernels.irradiance, &irradiance_set, base)?;
-            let last = (plan.specular_levels - 1) as f32;
-            for (level, set) in specular_sets.iter().enumerate() {
-                let (w, h) = specular.level_extent(level as u32);
-                let params = EnvironmentParams {
-                    out_width: w,
-                    out_height: h,
-                    source_level: 0,
-                    source_width: plan.uploaded_size[0],
-                    source_height: plan.uploaded_size[1],
-                    samples: PREFILTER_SAMPLES,
-                    roughness: level as f32 / last,
-                    base_lod: (plan.uploaded_size[0] as f32 / w as f32).log2().max(0.0),
-                };
-                dispatch(rec, &kernels.prefilter, set, params)?;
-            }
-            let params = EnvironmentParams {
-                out_width: plan.brdf_size[0],
-                out_height: plan.brdf_size[1],
-                samples: BRDF_SAMPLES,
-                ..base
-            };
-            dispatch(rec, &kernels.brdf, &brdf_set, params)?;
-            if let Some(t) = &timer {
-                t.write(rec, vk::PipelineStageFlags2::COMPUTE_SHADER, 1)?;
-            }
-            transition(
-                rec,
-                &images,
-                vk::ImageLayout::GENERAL,
-                vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-            );
-            Ok(())
-        })?;
-        let build_gpu_ms = match &timer {
-            Some(t) => {
-                let ticks = t.read_ticks(2)?;
-                Some(t.ticks_to_ms(ticks[0], ticks[1]))
-            }
-            None => None,
-        };
+        let build_gpu_ms = build_maps(ctx, &plan, &maps, read)?;
         Ok(EnvironmentLight {
-            irradiance,
-            specular,
-            brdf,
+            irradiance: maps.irradiance,
+            specular: maps.specular,
+            brdf: maps.brdf,
             equirect_sampler,
             table_sampler,
             plan,
@@ -280,141 +156,4 @@ pub(in crate::render) fn stand_in_binds<'a>(stand_in: &'a (ImageView, Sampler)) 
         BINDING_ENV_BRDF,
     ]
     .map(|b| Bind::Texture(b, &stand_in.0, &stand_in.1))
-}
-
-struct Kernels {
-    irradiance: ComputePass,
-    prefilter: ComputePass,
-    brdf: ComputePass,
-}
-
-impl Kernels {
-    fn new(ctx: &Arc<Context>) -> VkResult<Kernels> {
-        let push = std::mem::size_of::<EnvironmentParams>() as u32;
-        let source = (
-            BINDING_ENV_SOURCE,
-            vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
-        );
-        let out = (BINDING_ENV_OUT, vk::DescriptorType::STORAGE_IMAGE);
-        Ok(Kernels {
-            irradiance: ComputePass::plain(
-                ctx,
-                "environment_irradiance.comp",
-                &[source, out],
-                push,
-                "environment irradiance",
-            )?,
-            prefilter: ComputePass::plain(
-                ctx,
-                "environment_prefilter.comp",
-                &[source, out],
-                push,
-                "environment prefilter",
-            )?,
-            brdf: ComputePass::plain(ctx, "brdf_table.comp", &[out], push, "BRDF table")?,
-        })
-    }
-}
-
-/// The per-level storage views the kernels write.
-struct Outputs {
-    irradiance: ImageView,
-    specular: Vec<ImageView>,
-    brdf: ImageView,
-}
-
-fn dispatch(
-    rec: &Recording,
-    pass: &ComputePass,
-    set: &crate::vk::DescriptorSet,
-    params: EnvironmentParams,
-) -> VkResult<()> {
-    let groups = [
-        params.out_width.div_ceil(GROUP),
-        params.out_height.div_ceil(GROUP),
-        1,
-    ];
-    pass.dispatch(rec, set, bytemuck::bytes_of(&params), groups)
-}
-
-fn transition(rec: &Recording, images: &[&Image], old: vk::ImageLayout, new: vk::ImageLayout) {
-    let all: Vec<ImageTransition> = images
-        .iter()
-        .map(|&image| ImageTransition {
-            image,
-            aspect: vk::ImageAspectFlags::COLOR,
-            base_mip: 0,
-            mip_count: image.desc().mip_levels,
-            old,
-            new,
-            src: (
-                vk::PipelineStageFlags2::COMPUTE_SHADER,
-                vk::AccessFlags2::SHADER_WRITE,
-            ),
-            dst: (
-                vk::PipelineStageFlags2::ALL_COMMANDS,
-                vk::AccessFlags2::SHADER_READ,
-            ),
-        })
-        .collect();
-    transition_images(rec, &all);
-}
-
-/// Halvings from `width` until it is at most `target`.
-fn levels_to(mut width: u32, target: u32) -> u32 {
-    let mut levels = 0;
-    while width > target {
-        width = (width / 2).max(1);
-        levels += 1;
-    }
-    levels
-}
-
-/// The size of the uploaded level the irradiance kernel sums.
-fn source_level_size(plan: &EnvironmentPlan) -> (u32, u32) {
-    let k = levels_to(plan.uploaded_size[0], IRRADIANCE_SOURCE_WIDTH);
-    (
-        (plan.uploaded_size[0] >> k).max(1),
-        (plan.uploaded_size[1] >> k).max(1),
-    )
-}
-
-/// The environment as an RGBA32F image with its whole mip chain, box-filtered down to the
-/// plan's uploaded size first.
-fn upload_source(ctx: &Arc<Context>, env: &Environment, plan: &EnvironmentPlan) -> VkResult<Image> {
-    let mut level = env.clone();
-    while level.width > plan.uploaded_size[0] {
-        level = level.halved();
-    }
-    let mut levels = vec![level];
-    while levels.last().is_some_and(|l| l.width > 1 || l.height > 1) {
-        let next = levels.last().map(Environment::halved);
-        levels.extend(next);
-    }
-    let bytes: Vec<Vec<f32>> = levels
-        .iter()
-        .map(|l| {
-            l.texels
-                .iter()
-                .flat_map(|t| [t[0], t[1], t[2], 1.0])
-                .collect()
-        })
-        .collect();
-    let desc = ImageDesc {
-        width: plan.uploaded_size[0],
-        height: plan.uploaded_size[1],
-        format: vk::Format::R32G32B32A32_SFLOAT,
-        mip_levels: levels.len() as u32,
-        usage: vk::ImageUsageFlags::SAMPLED | vk::ImageUsageFlags::TRANSFER_DST,
-        aspect: vk::ImageAspectFlags::COLOR,
-    };
-    let image = Image::new(ctx, desc, &format!("environment {}", env.name))?;
-    let slices: Vec<&[u8]> = bytes.iter().map(|b| bytemuck::cast_slice(b)).collect();
-    upload_mips(
-        ctx,
-        &image,
-        &slices,
-        vk::ImageLayout::SHADER_READ_ONLY_OPTIMAL,
-    )?;
-    Ok(image)
 }

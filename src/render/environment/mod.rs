@@ -3,6 +3,7 @@
 //! and read by every drawing pass (`shaders/include/environment_light.glsl`).
 
 mod background_pass;
+mod environment_kernels;
 mod environment_light;
 mod environment_plan;
 

@@ -4,6 +4,7 @@
 
 mod draw_bounds;
 pub(in crate::render) mod explain;
+mod frame_environment;
 pub(in crate::render) mod frame_graph;
 mod frame_setup;
 mod frame_slot;
@@ -22,6 +23,8 @@ pub(in crate::render) mod shadow_probe;
 pub(in crate::render) mod shell_draw;
 pub(in crate::render) mod single_frame;
 pub(in crate::render) mod surface_pass;
+mod surface_pipelines;
+mod target_images;
 pub(in crate::render) mod targets;
 mod terrain_paint;
 pub(in crate::render) mod tonemap;

@@ -12,6 +12,7 @@
 use std::sync::Arc;
 use std::time::Instant;
 
+use super::frame_environment::{environment_passes, note_environment};
 use super::frame_graph::{frame_graph, FrameParts};
 use super::frame_setup::plan_frame;
 use super::frame_slot::FrameSlot;
@@ -26,13 +27,11 @@ use super::surface_pass::SurfacePass;
 use super::targets::{FrameReadbacks, TargetOptions, Targets};
 use super::tonemap::ToneMapPass;
 use super::work_counters::WorkCounts;
-use crate::environment::Background;
 use crate::heightfield::Heightfield;
 use crate::method::MapKind;
 use crate::render::cells::cells_pass::{BuiltComplex, CellsPass};
 use crate::render::environment::{BackgroundPass, EnvironmentLight};
 use crate::render::heights::height_resources::HeightResources;
-use crate::render::kit::formats::scene_extra_formats;
 use crate::render::kit::formats::COLOR_FORMAT;
 use crate::render::kit::frame_timeline::{FrameTimeline, HostSpan, HostWork, SubmittedTimeline};
 use crate::render::kit::frame_uniforms::{frame_camera, FrameUniforms};
@@ -44,6 +43,7 @@ use crate::render::lighting::{
     lighting_pass_for, FrameTracedShadows, LightingPass, TracedShadows, TRACED_SAMPLES_PER_SIDE,
 };
 use crate::render::plan::frame_plan::{HeightKey, Plan};
+use crate::render::shadows::light_views::LightView;
 use crate::render::shadows::shadow_pass::ShadowMaps;
 use crate::render::terrain::layer_paint::LayerPainter;
 use crate::scene::{Camera, Light, Mesh, Scene};
@@ -171,48 +171,9 @@ impl Renderer {
         let upload_ms = started.elapsed().as_secs_f64() * 1e3;
         let ao = SceneAo::new(ctx, &plan, &heights)?;
         let shadows = ShadowMaps::new(ctx, scene, &plan)?;
-        // The probe's colours are visibilities: no ambient light to build.
-        let behind = opts.background == Background::Environment;
-        let environment = match opts.environment.load()? {
-            Some(env) if !probe => Some(EnvironmentLight::build(ctx, &env, behind)?),
-            _ => None,
-        };
-        let background = match &environment {
-            Some(e) if behind => Some(BackgroundPass::new(
-                ctx,
-                e,
-                plan.msaa.samples,
-                scene_extra_formats(plan.gbuffer, plan.deferred),
-            )?),
-            _ => None,
-        };
-        if environment.is_none() && !probe {
-            plan.skip(
-                "environment maps",
-                "flat ambient light (--environment none, the library's default)",
-            );
-        }
-        if behind && background.is_none() {
-            plan.skip(
-                "background: environment",
-                "the frame has no environment (--environment none, or a shadow probe)",
-            );
-        }
+        let (environment, background) = environment_passes(ctx, opts, &mut plan, probe)?;
         let mut maps = maps;
-        if let Some(e) = &environment {
-            plan.environment = Some(e.plan().clone());
-            let (ms, on) = match e.build_gpu_ms() {
-                Some(ms) => (ms, "gpu"),
-                None => (e.build_ms(), "cpu"),
-            };
-            maps.push(BuiltMap {
-                kind: "environment maps",
-                source: e.plan().name.clone(),
-                size: e.plan().specular_size,
-                ms,
-                on,
-            });
-        }
+        note_environment(&mut plan, &mut maps, environment.as_ref());
         let surface = SurfacePass::new(
             ctx,
             scene,
@@ -233,27 +194,13 @@ impl Renderer {
             TargetOptions::of(&plan, probe, opts.keep_radiance),
             &tone_map,
         )?;
-        let lighting = lighting_pass_for(
-            ctx,
-            &plan,
-            targets.lit_images(),
-            traced.as_ref().map(|t| TracedShadows {
-                scene: &t.scene,
-                offset: t.offset,
-                samples_per_side: TRACED_SAMPLES_PER_SIDE,
-            }),
-        )?;
+        let lighting = traced_lighting(ctx, &plan, &targets, traced.as_ref())?;
         // The counters live beside the bounds, so a counting frame has the bounds' targets even
         // where nothing occludes (then they are cleared and never read).
         let occluders = (plan.occluders || plan.count_work)
             .then(|| occluder_targets(ctx, &surface, &targets, plan.count_work))
             .transpose()?;
-        // One scope per pyramid build, AO map and shadow map, plus the occluder, cells and
-        // surface passes.
-        let scopes = (plan.heights.len() + ao.len()) as u32 + ShadowMaps::scopes(&plan) + 3;
-        let slots = (0..FRAMES_IN_FLIGHT)
-            .map(|k| FrameSlot::new(ctx, k, scopes))
-            .collect::<VkResult<Vec<_>>>()?;
+        let slots = frame_slots(ctx, &plan, &ao)?;
         let graph = frame_graph(FrameParts {
             pyramids: heights.iter().any(HeightResources::builds_pyramid),
             ao_maps: ao.len() > 0,
@@ -427,36 +374,13 @@ impl Renderer {
         let retired = self.retire(k)?;
         let started = Instant::now();
         let aspect = self.width as f32 / self.height as f32;
-        let mut uniforms = FrameUniforms::new(&request.camera, &self.lights, aspect);
-        let origin = self.motion_origin.replace(request.camera);
-        uniforms.previous_view_proj = origin
-            .unwrap_or(request.camera)
-            .view_projection(aspect)
-            .to_cols_array_2d();
-        uniforms.viewport = [self.width as f32, self.height as f32, 0.0, 0.0];
-        uniforms.counts[1] = self.shadow_probe.map_or(0, |k| k as i32 + 1);
-        if let Some(e) = &self.environment {
-            uniforms.counts[2] = 1;
-            uniforms.ambient[3] = e.last_specular_level();
-        }
+        let mut uniforms = self.frame_uniforms(&request.camera, aspect);
         let views = self
             .shadows
             .write_views(&mut uniforms, &self.plan, &request.camera, aspect);
-        // The slot's last submission is the only one binding its uniforms; retiring it waited
-        // for it, and an idle slot's wait returns at once.
-        self.slots[k].commands.wait()?;
-        for h in &mut self.heights {
-            // SAFETY: slot k's submissions have finished (waited for above).
-            unsafe { h.write_uniforms(k, uniforms)? };
-        }
-        // SAFETY: as above.
-        unsafe { self.surface.write_uniforms(k, &uniforms)? };
+        self.write_slot_uniforms(k, uniforms)?;
         if request.read_back && self.slots[k].readback.is_none() {
-            // Every slot's at once, so frames after the first create nothing.
-            let asked = (self.shadow_probe.is_some(), self.keep_radiance);
-            for (j, slot) in self.slots.iter_mut().enumerate() {
-                slot.make_readbacks(&self.ctx, j, &self.targets, asked)?;
-            }
+            self.make_readbacks()?;
         }
         if let (Some(o), true) = (&self.occluders, self.plan.count_work) {
             // Every slot's at once, as the other read-backs, so later frames create nothing.
@@ -467,8 +391,73 @@ impl Renderer {
                 }
             }
         }
-        let build_pyramids = !self.pyramids_built;
         let render_maps = self.shadows.needs_render(&views);
+        let frame = self.record_frame(k, request, &views, render_maps)?;
+        let timeline = self.submitted_timeline(started, &frame);
+        let slot = &mut self.slots[k];
+        slot.timeline = Some(timeline);
+        slot.pending = Some((self.submitted, request.read_back, frame.culled));
+        self.pyramids_built = true;
+        if render_maps {
+            self.shadows.mark_rendered(&views);
+        }
+        self.submitted += 1;
+        Ok(retired)
+    }
+
+    /// The uniforms of a frame seen by `camera`, its motion measured from the motion origin
+    /// (which `camera` becomes for the next frame).
+    fn frame_uniforms(&mut self, camera: &Camera, aspect: f32) -> FrameUniforms {
+        let mut uniforms = FrameUniforms::new(camera, &self.lights, aspect);
+        let origin = self.motion_origin.replace(*camera);
+        uniforms.previous_view_proj = origin
+            .unwrap_or(*camera)
+            .view_projection(aspect)
+            .to_cols_array_2d();
+        uniforms.viewport = [self.width as f32, self.height as f32, 0.0, 0.0];
+        uniforms.counts[1] = self.shadow_probe.map_or(0, |k| k as i32 + 1);
+        if let Some(e) = &self.environment {
+            uniforms.counts[2] = 1;
+            uniforms.ambient[3] = e.last_specular_level();
+        }
+        uniforms
+    }
+
+    /// Writes `uniforms` into slot `k`'s buffers (the height maps' and the plain set's), once
+    /// the slot's last submission has finished.
+    fn write_slot_uniforms(&mut self, k: usize, uniforms: FrameUniforms) -> VkResult<()> {
+        // The slot's last submission is the only one binding its uniforms; retiring it waited
+        // for it, and an idle slot's wait returns at once.
+        self.slots[k].commands.wait()?;
+        for h in &mut self.heights {
+            // SAFETY: slot k's submissions have finished (waited for above).
+            unsafe { h.write_uniforms(k, uniforms)? };
+        }
+        // SAFETY: as above.
+        unsafe { self.surface.write_uniforms(k, &uniforms) }
+    }
+
+    /// Makes every slot's read-backs at once, so frames after the first create nothing.
+    fn make_readbacks(&mut self) -> VkResult<()> {
+        let asked = (self.shadow_probe.is_some(), self.keep_radiance);
+        for (j, slot) in self.slots.iter_mut().enumerate() {
+            slot.make_readbacks(&self.ctx, j, &self.targets, asked)?;
+        }
+        Ok(())
+    }
+
+    /// Records the frame `request` asks for into slot `k` and submits it; `views` are the
+    /// shadow maps' views, rendered when `render_maps`. Returns what the frame culled and when
+    /// it was recorded and submitted.
+    fn record_frame(
+        &mut self,
+        k: usize,
+        request: &FrameRequest,
+        views: &[LightView],
+        render_maps: bool,
+    ) -> VkResult<RecordedFrame> {
+        let aspect = self.width as f32 / self.height as f32;
+        let build_pyramids = !self.pyramids_built;
         let parts = RecordingParts {
             graph: &self.graph,
             plan: &self.plan,
@@ -492,7 +481,7 @@ impl Renderer {
             slot: k,
             eye: request.camera.eye(),
             view_proj: request.camera.view_projection(aspect),
-            views: &views,
+            views,
             build_maps: build_pyramids,
             render_shadow_maps: render_maps,
             work: slot.work_readback.as_ref(),
@@ -511,31 +500,33 @@ impl Renderer {
             recorded = Some((start, Instant::now()));
             culled
         })?;
-        let submitted = Instant::now();
+        Ok(RecordedFrame {
+            culled,
+            recorded,
+            submitted: Instant::now(),
+        })
+    }
+
+    /// The host's part of a frame whose submission began at `started`: the submission, and
+    /// the recording within it.
+    fn submitted_timeline(&self, started: Instant, frame: &RecordedFrame) -> SubmittedTimeline {
         let mut host = vec![HostSpan {
             work: HostWork::Submit,
             start: started,
-            end: submitted,
+            end: frame.submitted,
         }];
-        if let Some((start, end)) = recorded {
+        if let Some((start, end)) = frame.recorded {
             host.push(HostSpan {
                 work: HostWork::Record,
                 start,
                 end,
             });
         }
-        slot.timeline = Some(SubmittedTimeline {
+        SubmittedTimeline {
             host,
             calibration: self.ctx.calibrate(),
-            submitted,
-        });
-        slot.pending = Some((self.submitted, request.read_back, culled));
-        self.pyramids_built = true;
-        if render_maps {
-            self.shadows.mark_rendered(&views);
+            submitted: frame.submitted,
         }
-        self.submitted += 1;
-        Ok(retired)
     }
 
     /// Test-only, never for real use: from now on the renderer makes a frame-sized buffer at
@@ -670,6 +661,42 @@ impl Renderer {
             });
         }
     }
+}
+
+/// A frame just submitted: the draws it culled, when it was recorded and when submitted.
+struct RecordedFrame {
+    culled: usize,
+    recorded: Option<(Instant, Instant)>,
+    submitted: Instant,
+}
+
+/// One frame slot per frame in flight, each with timer scopes for a pyramid build per height
+/// map, an AO map, each shadow map, and the occluder, cells and surface passes.
+fn frame_slots(ctx: &Arc<Context>, plan: &Plan, ao: &SceneAo) -> VkResult<Vec<FrameSlot>> {
+    let scopes = (plan.heights.len() + ao.len()) as u32 + ShadowMaps::scopes(plan) + 3;
+    (0..FRAMES_IN_FLIGHT)
+        .map(|k| FrameSlot::new(ctx, k, scopes))
+        .collect()
+}
+
+/// The lighting pass `plan` asks for, over `targets`' lit images, its shadows traced through
+/// `traced` when the frame traces them.
+fn traced_lighting(
+    ctx: &Arc<Context>,
+    plan: &Plan,
+    targets: &Targets,
+    traced: Option<&FrameTracedShadows>,
+) -> VkResult<Option<LightingPass>> {
+    lighting_pass_for(
+        ctx,
+        plan,
+        targets.lit_images(),
+        traced.map(|t| TracedShadows {
+            scene: &t.scene,
+            offset: t.offset,
+            samples_per_side: TRACED_SAMPLES_PER_SIDE,
+        }),
+    )
 }
 
 /// The occluder bounds at the size the scene is drawn at (`targets`' depth, supersampling

@@ -12,16 +12,17 @@ use glam::Vec3;
 use super::draw_bounds::{mesh_bounds, world_bounds};
 use super::material_set::MaterialSets;
 use super::mesh_draws::{mesh_draws, MeshDraw};
-use super::mesh_pipeline::{create_pipeline, MeshStages};
-use super::occluders::{occluder_layout, occluder_taps};
+use super::occluders::occluder_layout;
 use super::scene_ao::SceneAo;
 use super::scene_textures::SceneTextures;
 use super::shell_draw::BuiltShell;
+use super::surface_pipelines::{
+    caster_pipelines, occluder_pipelines, surface_pipelines, PipelineLayouts,
+};
 use super::work_counters::WorkCounterBuffer;
 use crate::render::environment::{stand_in_binds, EnvironmentLight};
 use crate::render::heights::height_resources::HeightResources;
 use crate::render::kit::caster_draws::CasterDraws;
-use crate::render::kit::formats::scene_extra_formats;
 use crate::render::kit::frame_uniforms::FrameUniforms;
 use crate::render::kit::set_layouts::{material_layout, plain_frame_layout, set0_layout};
 use crate::render::plan::frame_plan::{PipelineKey, Plan};
@@ -30,7 +31,6 @@ use crate::render::shader_interface::{
     BINDING_METHOD_MAP, BINDING_OCCLUDER_BOUNDS, BINDING_WORK_COUNTS, SET_OCCLUDERS,
 };
 use crate::render::shadows::shadow_atlas::ShadowAtlas;
-use crate::render::shadows::shadow_plan::shadow_filter_max;
 use crate::render::terrain::layer_set::{layer_layout, LayerSets};
 use crate::scene::{Frustum, Mesh, Scene};
 use crate::vk::{
@@ -70,7 +70,7 @@ pub struct SurfacePass {
 
 /// The set 0 layouts: plain (uniforms only), heights, heights with a method map, heights with
 /// the averaged pyramid (LOD variants of pyramid methods, binding 4).
-struct FrameLayouts {
+pub(super) struct FrameLayouts {
     plain: DescriptorLayout,
     heights: DescriptorLayout,
     heights_and_map: DescriptorLayout,
@@ -86,6 +86,17 @@ impl FrameLayouts {
             &self.heights_and_map
         } else {
             &self.heights
+        }
+    }
+
+    /// The set 0 layout of pipeline `key`: plain without a method, else the heights with what
+    /// its method reads.
+    pub(super) fn for_key(&self, key: &PipelineKey) -> &DescriptorLayout {
+        match key.method {
+            None => &self.plain,
+            Some(_) if key.binds_mean_pyramid() => &self.heights_and_mean,
+            Some(m) if m.info().method_map().is_some() => &self.heights_and_map,
+            Some(_) => &self.heights,
         }
     }
 
@@ -163,6 +174,111 @@ fn plain_uniform_buffers(
         .collect::<VkResult<Vec<_>>>()
 }
 
+/// Fails unless every height map has uniforms for exactly `slots` frame slots.
+fn check_height_slots(heights: &[HeightResources], slots: usize) -> VkResult<()> {
+    match heights.iter().find(|h| h.slots() != slots) {
+        Some(h) => Err(VkError::Invalid(format!(
+            "height uniforms for {} frame slots, the pass has {slots}",
+            h.slots()
+        ))),
+        None => Ok(()),
+    }
+}
+
+/// The sets of the materials `plan` draws, each relief material with the AO map it reads.
+fn material_sets(
+    ctx: &Arc<Context>,
+    scene: &Scene,
+    plan: &Plan,
+    ao: &SceneAo,
+    layout: &DescriptorLayout,
+    textures: &mut SceneTextures,
+) -> VkResult<MaterialSets> {
+    let (drawn, relief_ao) = drawn_materials(scene, plan, ao);
+    MaterialSets::new(
+        ctx,
+        layout,
+        &scene.materials,
+        &scene.images,
+        &drawn,
+        &relief_ao,
+        textures,
+    )
+}
+
+/// The binds every set 0 ends with: the shadow atlas and the environment maps. Draws bind them
+/// whether or not the frame has them; without them they bind `stand_in` (the white texture),
+/// which no shader then reads.
+fn scene_binds<'a>(
+    stand_in: &'a (ImageView, Sampler),
+    atlas: &'a ShadowAtlas,
+    environment: Option<&'a EnvironmentLight>,
+) -> Vec<Bind<'a>> {
+    let mut binds = vec![atlas.bind(stand_in)];
+    match environment {
+        Some(e) => binds.extend(e.binds()),
+        None => binds.extend(stand_in_binds(stand_in)),
+    }
+    binds
+}
+
+/// What the plain set 0 is built from.
+struct PlainSetInputs<'a> {
+    uniforms: &'a FrameUniforms,
+    slots: usize,
+    pool: &'a DescriptorPool,
+    layout: &'a DescriptorLayout,
+    scene_binds: &'a [Bind<'a>],
+}
+
+/// The plain set 0's uniform buffers and sets, one per frame slot; none when nothing of `plan`
+/// reads it (the cells pass and the lighting pass do, besides draws without a method).
+fn plain_frame_sets(
+    ctx: &Arc<Context>,
+    plan: &Plan,
+    inputs: &PlainSetInputs,
+) -> VkResult<(Vec<Buffer>, Vec<DescriptorSet>)> {
+    let plain = plan.pipelines.iter().any(|p| p.method.is_none())
+        || !plan.cells.is_empty()
+        || plan.deferred;
+    let plain_uniforms = if plain {
+        plain_uniform_buffers(ctx, inputs.uniforms, inputs.slots)?
+    } else {
+        Vec::new()
+    };
+    let plain_sets = plain_uniforms
+        .iter()
+        .map(|b| {
+            let mut binds = vec![Bind::Uniform(BINDING_FRAME, b)];
+            binds.extend_from_slice(inputs.scene_binds);
+            inputs.pool.allocate(inputs.layout, &binds)
+        })
+        .collect::<VkResult<Vec<_>>>()?;
+    Ok((plain_uniforms, plain_sets))
+}
+
+/// Without the occluder pass, the set 3 that relief variants bind (over `stand_in`, which they
+/// never read) and its pool; `None` with the occluder pass or without relief variants.
+fn no_occluder_set(
+    ctx: &Arc<Context>,
+    plan: &Plan,
+    occluder_layout: &DescriptorLayout,
+    stand_in: &(ImageView, Sampler),
+) -> VkResult<Option<(DescriptorSet, DescriptorPool)>> {
+    (!plan.occluders && plan.pipelines.iter().any(|k| k.method.is_some()))
+        .then(|| -> VkResult<_> {
+            let pool = DescriptorPool::new(ctx, 1, 1, "no occluder bounds set")?;
+            let counters = WorkCounterBuffer::new(ctx, (1, 1), false)?;
+            let binds = [
+                Bind::Texture(BINDING_OCCLUDER_BOUNDS, &stand_in.0, &stand_in.1),
+                Bind::Storage(BINDING_WORK_COUNTS, counters.buffer()),
+            ];
+            Ok((pool.allocate(occluder_layout, &binds)?, pool))
+        })
+        .transpose()
+}
+
+/// The set 0 layouts, created.
 fn frame_layouts(ctx: &Arc<Context>) -> VkResult<FrameLayouts> {
     let heights = [BINDING_FRAME, BINDING_HEIGHT_POINT, BINDING_HEIGHT_LINEAR];
     let with = |extra| {
@@ -202,25 +318,11 @@ impl SurfacePass {
         uniforms: &FrameUniforms,
         slots: usize,
     ) -> VkResult<SurfacePass> {
-        if let Some(h) = heights.iter().find(|h| h.slots() != slots) {
-            return Err(VkError::Invalid(format!(
-                "height uniforms for {} frame slots, the pass has {slots}",
-                h.slots()
-            )));
-        }
+        check_height_slots(heights, slots)?;
         let layouts = frame_layouts(ctx)?;
         let material_layout = material_layout(ctx)?;
-        let (drawn, relief_ao) = drawn_materials(scene, plan, ao);
         let mut textures = SceneTextures::new(ctx)?;
-        let materials = MaterialSets::new(
-            ctx,
-            &material_layout,
-            &scene.materials,
-            &scene.images,
-            &drawn,
-            &relief_ao,
-            &mut textures,
-        )?;
+        let materials = material_sets(ctx, scene, plan, ao, &material_layout, &mut textures)?;
         let layer_layout = layer_layout(ctx)?;
         let layers = LayerSets::new(
             ctx,
@@ -231,107 +333,31 @@ impl SurfacePass {
         )?;
         let sets = (heights.len() as u32 + 1) * slots as u32;
         let frame_pool = DescriptorPool::new(ctx, sets, 8 * sets, "frame sets")?;
-        // Draws bind the atlas and the environment maps whether or not the frame has them;
-        // without them they bind the white texture, which no shader then reads.
         let stand_in = textures.white()?;
-        let mut scene_binds = vec![atlas.bind(&stand_in)];
-        match environment {
-            Some(e) => scene_binds.extend(e.binds()),
-            None => scene_binds.extend(stand_in_binds(&stand_in)),
-        }
+        let scene_binds = scene_binds(&stand_in, atlas, environment);
         let height_sets = layouts.height_sets(&frame_pool, heights, &scene_binds, slots)?;
-        // The cells pass and the lighting pass read the plain set too.
-        let plain = plan.pipelines.iter().any(|p| p.method.is_none())
-            || !plan.cells.is_empty()
-            || plan.deferred;
-        let plain_uniforms = if plain {
-            plain_uniform_buffers(ctx, uniforms, slots)?
-        } else {
-            Vec::new()
+        let plain = PlainSetInputs {
+            uniforms,
+            slots,
+            pool: &frame_pool,
+            layout: &layouts.plain,
+            scene_binds: &scene_binds,
         };
-        let plain_sets = plain_uniforms
-            .iter()
-            .map(|b| {
-                let mut binds = vec![Bind::Uniform(BINDING_FRAME, b)];
-                binds.extend_from_slice(&scene_binds);
-                frame_pool.allocate(&layouts.plain, &binds)
-            })
-            .collect::<VkResult<Vec<_>>>()?;
-        let set0_of = |key: &PipelineKey| match key.method {
-            None => &layouts.plain,
-            Some(_) if key.binds_mean_pyramid() => &layouts.heights_and_mean,
-            Some(m) if m.info().method_map().is_some() => &layouts.heights_and_map,
-            Some(_) => &layouts.heights,
-        };
-        let shadow_filter = shadow_filter_max(plan);
+        let (plain_uniforms, plain_sets) = plain_frame_sets(ctx, plan, &plain)?;
         let occluder_layout = occluder_layout(ctx)?;
         // Set 2 of relief variants without layers: nothing, so set 3 can follow it.
         let no_layers =
             DescriptorLayout::new(ctx, &[], vk::ShaderStageFlags::FRAGMENT, "no layers layout")?;
-        let taps = if plan.occluders {
-            occluder_taps(plan.msaa.samples)
-        } else {
-            0
+        let no_occluders = no_occluder_set(ctx, plan, &occluder_layout, &stand_in)?;
+        let pipeline_layouts = PipelineLayouts {
+            frame: &layouts,
+            material: &material_layout,
+            layers: &layer_layout,
+            no_layers: &no_layers,
+            occluders: &occluder_layout,
         };
-        let no_occluders = (!plan.occluders && plan.pipelines.iter().any(|k| k.method.is_some()))
-            .then(|| -> VkResult<_> {
-                let pool = DescriptorPool::new(ctx, 1, 1, "no occluder bounds set")?;
-                let counters = WorkCounterBuffer::new(ctx, (1, 1), false)?;
-                let binds = [
-                    Bind::Texture(BINDING_OCCLUDER_BOUNDS, &stand_in.0, &stand_in.1),
-                    Bind::Storage(BINDING_WORK_COUNTS, counters.buffer()),
-                ];
-                Ok((pool.allocate(&occluder_layout, &binds)?, pool))
-            })
-            .transpose()?;
-        let mut shading = vec![false; plan.pipelines.len()];
-        plan.surface_draws()
-            .for_each(|d| shading[d.pipeline] = true);
-        let pipelines = plan
-            .pipelines
-            .iter()
-            .zip(&shading)
-            .map(|(key, &shaded)| {
-                shaded
-                    .then(|| {
-                        let set0 = set0_of(key);
-                        let samples = plan.msaa.samples;
-                        let extra = scene_extra_formats(plan.gbuffer, plan.deferred);
-                        let occluder_use = (taps, plan.count_work);
-                        let stages =
-                            MeshStages::surface(key, shadow_filter, samples, occluder_use, extra)
-                                .lit_deferred(plan.deferred && !key.blend, plan.traced_shadows);
-                        let layers = if key.layers {
-                            &layer_layout
-                        } else {
-                            &no_layers
-                        };
-                        if key.method.is_some() {
-                            let sets = [set0, &material_layout, layers, &occluder_layout];
-                            create_pipeline(ctx, key, &stages, &sets)
-                        } else if key.layers {
-                            let sets = [set0, &material_layout, &layer_layout];
-                            create_pipeline(ctx, key, &stages, &sets)
-                        } else {
-                            create_pipeline(ctx, key, &stages, &[set0, &material_layout])
-                        }
-                    })
-                    .transpose()
-            })
-            .collect::<VkResult<Vec<_>>>()?;
-        let casting = caster_pipelines_needed(plan);
-        let casters = plan
-            .pipelines
-            .iter()
-            .zip(&casting)
-            .map(|(key, &cast)| {
-                cast.then(|| {
-                    let stages = MeshStages::caster(key);
-                    create_pipeline(ctx, key, &stages, &[set0_of(key), &material_layout])
-                })
-                .transpose()
-            })
-            .collect::<VkResult<Vec<_>>>()?;
+        let pipelines = surface_pipelines(ctx, plan, &pipeline_layouts)?;
+        let casters = caster_pipelines(ctx, plan, &pipeline_layouts)?;
         let (draws, shells) = mesh_draws(
             ctx,
             scene,
@@ -341,24 +367,7 @@ impl SurfacePass {
             &materials,
             &layers,
         )?;
-        let mut occluding = vec![false; plan.pipelines.len()];
-        draws
-            .iter()
-            .filter(|d| d.occludes)
-            .for_each(|d| occluding[d.pipeline] = true);
-        let occluders = plan
-            .pipelines
-            .iter()
-            .zip(&occluding)
-            .map(|(key, &occludes)| {
-                occludes
-                    .then(|| {
-                        let stages = MeshStages::occluder(key);
-                        create_pipeline(ctx, key, &stages, &[set0_of(key), &material_layout])
-                    })
-                    .transpose()
-            })
-            .collect::<VkResult<Vec<_>>>()?;
+        let occluders = occluder_pipelines(ctx, plan, &pipeline_layouts, &draws)?;
         Ok(SurfacePass {
             pipelines,
             draws,
@@ -568,17 +577,6 @@ impl SurfacePass {
 /// The squared distance from `eye` to the nearest point of the box `bounds` (0 inside it).
 fn nearest_distance_squared(bounds: (Vec3, Vec3), eye: Vec3) -> f32 {
     eye.clamp(bounds.0, bounds.1).distance_squared(eye)
-}
-
-/// By plan pipeline: whether some shadow map has a draw of it among its casters.
-fn caster_pipelines_needed(plan: &Plan) -> Vec<bool> {
-    let mut needed = vec![false; plan.pipelines.len()];
-    for map in &plan.shadow_maps {
-        for &k in &map.casters {
-            needed[plan.draws[k].pipeline] = true;
-        }
-    }
-    needed
 }
 
 impl CasterDraws for SurfacePass {

@@ -8,15 +8,15 @@ use std::sync::Arc;
 use ash::vk;
 
 use super::gbuffer::GBuffer;
+use super::target_images::{depth_target, radiance_targets, target_desc};
 use super::tonemap::ToneMapPass;
-use crate::render::kit::formats::HDR_FORMAT;
-use crate::render::kit::formats::{COLOR_FORMAT, DEPTH_FORMAT};
+use crate::render::kit::formats::COLOR_FORMAT;
 use crate::render::kit::tone_curves::ToneMapping;
 use crate::render::lighting::{LightingPass, LitImages, ShadingInputs};
 use crate::render::plan::frame_plan::Plan;
 use crate::vk::{
     transition_images, whole_color_region, ColorTarget, Context, DescriptorPool, DescriptorSet,
-    Image, ImageDesc, ImageTransition, Readback, Recording, VkError, VkResult,
+    Image, ImageTransition, Readback, Recording, VkResult,
 };
 
 /// Background colour (linear).
@@ -107,6 +107,7 @@ impl Targets {
         options: TargetOptions,
         tone_map: &ToneMapPass,
     ) -> VkResult<Targets> {
+        options.check(tone_map)?;
         let TargetOptions {
             samples,
             scale,
@@ -115,96 +116,29 @@ impl Targets {
             gbuffer,
             deferred,
         } = options;
-        if tone_map.samples() != samples {
-            return Err(VkError::Invalid(format!(
-                "a tone-mapping pass for {} samples on {samples}-sample targets",
-                tone_map.samples()
-            )));
-        }
-        if keep_depth && (samples > 1 || scale > 1) {
-            return Err(VkError::Invalid(
-                "a depth read back needs single-sample targets".into(),
-            ));
-        }
-        if gbuffer && scale > 1 {
-            return Err(VkError::Invalid(
-                "the G-buffer channels (--exr-out) are read at the frame's size: leave out --supersample".into(),
-            ));
-        }
-        if deferred && (samples > 1 || scale > 1) {
-            return Err(VkError::Invalid(
-                "deferred lighting needs single-sample targets at the frame's size".into(),
-            ));
-        }
         let gbuffer = (gbuffer || deferred)
             .then(|| GBuffer::new(ctx, (width, height), samples, (gbuffer, deferred)))
             .transpose()?;
         let shading_inputs = deferred
             .then(|| ShadingInputs::new(ctx, width, height))
             .transpose()?;
-        // The lighting pass adds to the radiance in place.
-        let lit = if deferred {
-            vk::ImageUsageFlags::STORAGE
-        } else {
-            vk::ImageUsageFlags::empty()
-        };
-        let depth_usage = if keep_depth {
-            vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC
-        } else {
-            vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT
-        };
-        let scene_desc = |format, usage, aspect| ImageDesc {
-            width: width * scale,
-            height: height * scale,
-            format,
-            mip_levels: 1,
-            usage,
-            aspect,
-        };
-        let desc = |format, usage, aspect| ImageDesc {
-            width,
-            height,
-            ..scene_desc(format, usage, aspect)
-        };
-        let color_aspect = vk::ImageAspectFlags::COLOR;
-        let hdr = Image::new(
-            ctx,
-            scene_desc(
-                HDR_FORMAT,
-                vk::ImageUsageFlags::COLOR_ATTACHMENT
-                    | vk::ImageUsageFlags::SAMPLED
-                    | vk::ImageUsageFlags::TRANSFER_SRC
-                    | lit,
-                color_aspect,
-            ),
-            "radiance target",
-        )?;
-        let msaa_hdr = (samples > 1)
-            .then(|| {
-                let usage = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::SAMPLED;
-                let d = scene_desc(HDR_FORMAT, usage, color_aspect);
-                Image::new_multisampled(ctx, d, samples, "multisampled radiance target")
-            })
-            .transpose()?;
+        let scene_size = (width * scale, height * scale);
+        let (hdr, msaa_hdr) = radiance_targets(ctx, scene_size, samples, deferred)?;
         let pool = DescriptorPool::new(ctx, 1, 1, "tone map set")?;
         let radiance = msaa_hdr.as_ref().unwrap_or(&hdr);
         let tone_map_set = tone_map.set_for(&pool, radiance.view())?;
         Ok(Targets {
             color: Image::new(
                 ctx,
-                desc(
+                target_desc(
+                    (width, height),
                     COLOR_FORMAT,
                     vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC,
-                    color_aspect,
+                    vk::ImageAspectFlags::COLOR,
                 ),
                 "colour target",
             )?,
-            depth: Image::new_multisampled(
-                ctx,
-                scene_desc(DEPTH_FORMAT, depth_usage, vk::ImageAspectFlags::DEPTH),
-                samples,
-                "depth target",
-            )?,
+            depth: depth_target(ctx, scene_size, samples, keep_depth)?,
             hdr,
             msaa_hdr,
             resolve_radiance: keep_radiance,

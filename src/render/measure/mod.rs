@@ -4,3 +4,4 @@
 pub(in crate::render) mod bench_pass;
 pub(in crate::render) mod timeline_trace;
 pub(in crate::render) mod trace_pass;
+mod trace_sweeps;

@@ -5,6 +5,7 @@ use std::sync::Arc;
 
 use ash::vk;
 
+use super::trace_sweeps::{SweepTimers, TimedSweeps};
 use crate::heightfield::{Address, Heightfield, MapData, MaxPyramid};
 use crate::method::{Budget, Method};
 use crate::render::compute_pass::ComputePass;
@@ -20,13 +21,12 @@ use crate::render::shader_interface::{
 };
 use crate::scene::ShadowMode;
 use crate::vk::{
-    memory_barrier, Bind, Buffer, Context, DescriptorPool, MemoryLocation, Readback, Recording,
-    SpecConstants, StatisticsPool, TimestampPool, VkError, VkResult,
+    Bind, Buffer, Context, DescriptorPool, DescriptorSet, MemoryLocation, Readback, Recording,
+    SpecConstants, VkError, VkResult,
 };
 
 /// Side of the trace pass's square workgroups (`local_size_x` and `_y` in trace.comp).
 pub const TRACE_GROUP_SIDE: u32 = 8;
-const GROUP: u32 = TRACE_GROUP_SIDE;
 
 /// One sweep of parallel rays.
 #[derive(Debug, Clone, Copy)]
@@ -110,10 +110,6 @@ pub struct TraceOutput {
     /// Compute shader invocations of each timed frame, as the device counts them (pipeline
     /// statistics); empty where it cannot.
     pub compute_invocations: Vec<u64>,
-}
-
-fn all_stages() -> vk::PipelineStageFlags2 {
-    vk::PipelineStageFlags2::ALL_COMMANDS
 }
 
 /// Where the timed dispatches write (device-local, so the timing has no bus writes in it) and the
@@ -301,6 +297,9 @@ fn trace_constants(req: &TraceRequest, count_fetches: bool) -> (SpecConstants, [
     }
 }
 
+/// Traces `req`'s rays through `heights`: `warmup + frames` sweeps of `dispatches` dispatches
+/// each in one submission, the last `frames` timed, with the fetches counted when
+/// `count_fetches`.
 fn trace_with(
     ctx: &Arc<Context>,
     heights: Heights,
@@ -318,9 +317,55 @@ fn trace_with(
         return Err(VkError::Invalid(format!("ray grid {cols}x{rows}")));
     }
     let count = cols as u64 * rows as u64;
-    let key = req.method.shader_key("trace.comp");
     let res = heights.upload(ctx, req)?;
     let targets = TraceTargets::new(ctx, count, count_fetches)?;
+    let (spec, light) = trace_constants(req, count_fetches);
+    let params = TraceParams {
+        dir: [req.dir[0], req.dir[1], req.dir[2], req.depth_scale],
+        grid: [cols, rows, 0, 0],
+        light,
+    };
+    let pass = trace_kernel(ctx, req, &res, &spec)?;
+    let pool = DescriptorPool::new(ctx, 1, 4, "trace sets")?;
+    let set = trace_set(&pool, &pass, &res, &targets)?;
+    let timers = SweepTimers::new(ctx, frames)?;
+    let sweep = TimedSweeps {
+        pass: &pass,
+        set: &set,
+        params,
+        timers: &timers,
+        counts: (warmup, frames, dispatches),
+    };
+    ctx.one_shot(|rec| {
+        res.record_pyramid(rec)?;
+        sweep.record(rec)?;
+        targets.record_readback(rec)
+    })?;
+    let frame_ms = timers.frame_ms(frames)?;
+    let compute_invocations = timers.compute_invocations(frames)?;
+    Ok(TraceOutput {
+        hits: bytemuck::pod_collect_to_vec(targets.hits_back.bytes()?),
+        steps: bytemuck::pod_collect_to_vec(targets.steps_back.bytes()?),
+        visible: bytemuck::pod_collect_to_vec(targets.visible_back.bytes()?),
+        fetches: if count_fetches {
+            bytemuck::pod_collect_to_vec(targets.fetches_back.bytes()?)
+        } else {
+            Vec::new()
+        },
+        frame_ms,
+        compute_invocations,
+    })
+}
+
+/// The trace kernel of `req`'s method, specialised by `spec`, over `res`'s bindings and the
+/// trace's four storage buffers.
+fn trace_kernel(
+    ctx: &Arc<Context>,
+    req: &TraceRequest,
+    res: &HeightResources,
+    spec: &SpecConstants,
+) -> VkResult<ComputePass> {
+    let key = req.method.shader_key("trace.comp");
     let mut bindings = res.layout_bindings();
     bindings.extend(
         [
@@ -331,15 +376,17 @@ fn trace_with(
         ]
         .map(|b| (b, vk::DescriptorType::STORAGE_BUFFER)),
     );
-    let (spec, light) = trace_constants(req, count_fetches);
-    let params = TraceParams {
-        dir: [req.dir[0], req.dir[1], req.dir[2], req.depth_scale],
-        grid: [cols, rows, 0, 0],
-        light,
-    };
     let push = std::mem::size_of::<TraceParams>() as u32;
-    let pass = ComputePass::new(ctx, &key, &bindings, push, &spec, &key)?;
-    let pool = DescriptorPool::new(ctx, 1, 4, "trace sets")?;
+    ComputePass::new(ctx, &key, &bindings, push, spec, &key)
+}
+
+/// The kernel's set: `res`'s heights and `targets`' buffers.
+fn trace_set(
+    pool: &DescriptorPool,
+    pass: &ComputePass,
+    res: &HeightResources,
+    targets: &TraceTargets,
+) -> VkResult<DescriptorSet> {
     let mut binds = res.binds();
     binds.extend([
         Bind::Storage(BINDING_TRACE_HITS, &targets.hits),
@@ -347,72 +394,7 @@ fn trace_with(
         Bind::Storage(BINDING_TRACE_VISIBLE, &targets.visible),
         Bind::Storage(BINDING_TRACE_FETCHES, &targets.fetches),
     ]);
-    let set = pool.allocate(pass.layout(), &binds)?;
-    let timestamps = TimestampPool::new(ctx, 2 * frames, "trace timestamps")?;
-    let statistics = match StatisticsPool::new(ctx, frames, "trace counts") {
-        Ok(pool) => Some(pool),
-        Err(VkError::Unsupported(_)) => None,
-        Err(e) => return Err(e),
-    };
-    let full = (
-        all_stages(),
-        vk::AccessFlags2::MEMORY_READ | vk::AccessFlags2::MEMORY_WRITE,
-    );
-    let all = vk::PipelineStageFlags2::ALL_COMMANDS;
-    ctx.one_shot(|rec| {
-        res.record_pyramid(rec)?;
-        let pipeline = pass.pipeline();
-        pipeline.bind(rec, Some(&set));
-        pipeline.push(rec, bytemuck::bytes_of(&params))?;
-        for frame in 0..warmup + frames {
-            let timed = frame.checked_sub(warmup);
-            if let Some(k) = timed {
-                timestamps.write(rec, all, 2 * k)?;
-                if let Some(stats) = &statistics {
-                    stats.begin(rec, k)?;
-                }
-            }
-            for d in 0..dispatches {
-                if d > 0 {
-                    // The repeats write the same buffers: order them as the frames are.
-                    memory_barrier(rec, full, full);
-                }
-                rec.dispatch([cols.div_ceil(GROUP), rows.div_ceil(GROUP), 1]);
-            }
-            if let Some(k) = timed {
-                if let Some(stats) = &statistics {
-                    stats.end(rec, k)?;
-                }
-                timestamps.write(rec, all, 2 * k + 1)?;
-            }
-            memory_barrier(rec, full, full);
-        }
-        targets.record_readback(rec)
-    })?;
-    let ticks = timestamps.read_ticks(2 * frames)?;
-    let compute_invocations = match &statistics {
-        Some(stats) => stats
-            .read(frames)?
-            .iter()
-            .map(|c| c.compute_invocations)
-            .collect(),
-        None => Vec::new(),
-    };
-    Ok(TraceOutput {
-        hits: bytemuck::pod_collect_to_vec(targets.hits_back.bytes()?),
-        steps: bytemuck::pod_collect_to_vec(targets.steps_back.bytes()?),
-        visible: bytemuck::pod_collect_to_vec(targets.visible_back.bytes()?),
-        fetches: if count_fetches {
-            bytemuck::pod_collect_to_vec(targets.fetches_back.bytes()?)
-        } else {
-            Vec::new()
-        },
-        frame_ms: ticks
-            .chunks_exact(2)
-            .map(|t| timestamps.ticks_to_ms(t[0], t[1]))
-            .collect(),
-        compute_invocations,
-    })
+    pool.allocate(pass.layout(), &binds)
 }
 
 #[cfg(test)]

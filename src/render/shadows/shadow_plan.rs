@@ -12,7 +12,7 @@ use crate::render::kit::frame_uniforms::{MAX_LIGHTS, MAX_SHADOW_TILES};
 use crate::render::kit::pass::Pass;
 use crate::render::plan::frame_plan::{PassPlan, Plan};
 use crate::render::shader_interface::{SHADOW_FILTER_HARD, SHADOW_FILTER_PCF, SHADOW_FILTER_PCSS};
-use crate::scene::{AlphaMode, Frustum, LightKind, Mesh, Scene};
+use crate::scene::{AlphaMode, Frustum, Light, LightKind, Mesh, Scene};
 
 /// How a shadow map's depths become a visible fraction.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -207,18 +207,18 @@ pub fn plan_shadow_maps(plan: &mut Plan, scene: &Scene, opts: &ShadowOptions) {
     if opts.enabled && plan.lights.iter().any(|l| l.casts_shadows) {
         plan.cast_cells_meshes(scene);
     }
-    let casters: Vec<usize> = plan
-        .draws
-        .iter()
-        .enumerate()
-        .filter(|(_, d)| scene.materials[d.material].alpha_mode != AlphaMode::Blend)
-        .map(|(k, _)| k)
-        .collect();
+    let casters = opaque_casters(plan, scene);
     let Some(bounds) = scene.bounds() else {
         return;
     };
     let pad = relief_pad(scene);
-    let bounds = (bounds.0 - Vec3::splat(pad), bounds.1 + Vec3::splat(pad));
+    let search = CasterSearch {
+        scene,
+        opts,
+        casters: &casters,
+        bounds: (bounds.0 - Vec3::splat(pad), bounds.1 + Vec3::splat(pad)),
+        pad,
+    };
     let mut next_tile = 0u32;
     for (index, light) in plan.lights.clone().iter().enumerate() {
         let what = format!("shadow map of light {index}");
@@ -233,59 +233,63 @@ pub fn plan_shadow_maps(plan: &mut Plan, scene: &Scene, opts: &ShadowOptions) {
             plan.skip(what, "the light casts no shadows");
             continue;
         }
-        let size = light.shadow_map_size.unwrap_or(opts.map_size);
-        let (kind, tiles) = match light.kind {
-            LightKind::Directional => (
-                ShadowMapKind::Cascades,
-                light.shadow_cascades.unwrap_or(opts.cascades).max(1),
-            ),
-            LightKind::Spot { .. } => (ShadowMapKind::Spot, 1),
-            LightKind::Point => (ShadowMapKind::Cube, 6),
-        };
-        // A spot or point light sees a fixed volume: only casters inside it count.
-        let frusta: Vec<Frustum> = match light.kind {
-            LightKind::Directional => Vec::new(),
-            LightKind::Spot { outer_cone, .. } => {
-                let v = spot_view(
-                    light.position,
-                    light.direction,
-                    outer_cone,
-                    light.range,
-                    bounds,
-                    size,
-                );
-                vec![Frustum::from_view_projection(v.view_proj)]
+        match search.map_of_light(plan, index, light, next_tile) {
+            Ok(map) => {
+                next_tile += map.tiles;
+                plan.shadow_maps.push(map);
             }
-            LightKind::Point => point_views(light.position, light.range, bounds, size)
-                .iter()
-                .map(|v| Frustum::from_view_projection(v.view_proj))
-                .collect(),
-        };
-        let seen: Vec<usize> = casters
-            .iter()
-            .copied()
-            .filter(|&k| {
-                let (lo, hi) = mesh_world_bounds(&scene.meshes[plan.draws[k].mesh], pad);
-                frusta.is_empty() || frusta.iter().any(|f| f.may_see_box(lo, hi))
-            })
-            .collect();
+            Err(why) => plan.skip(what, why),
+        }
+    }
+    if !plan.shadow_maps.is_empty() {
+        insert_shadow_pass(plan);
+    }
+}
+
+/// The draws that may cast shadows: every one not blended, by index into the plan's draws.
+fn opaque_casters(plan: &Plan, scene: &Scene) -> Vec<usize> {
+    plan.draws
+        .iter()
+        .enumerate()
+        .filter(|(_, d)| scene.materials[d.material].alpha_mode != AlphaMode::Blend)
+        .map(|(k, _)| k)
+        .collect()
+}
+
+/// What a light's shadow map is planned from.
+struct CasterSearch<'a> {
+    scene: &'a Scene,
+    opts: &'a ShadowOptions,
+    /// The draws that may cast (`opaque_casters`).
+    casters: &'a [usize],
+    /// The scene's bounds, grown by `pad`.
+    bounds: (Vec3, Vec3),
+    /// How far relief may reach below a caster's polygons (`relief_pad`).
+    pad: f32,
+}
+
+impl CasterSearch<'_> {
+    /// The shadow map of `plan`'s light `index`, its views from tile `next_tile` on; or why it
+    /// gets none (no caster in its view, or too many views).
+    fn map_of_light(
+        &self,
+        plan: &Plan,
+        index: usize,
+        light: &Light,
+        next_tile: u32,
+    ) -> Result<ShadowMapPlan, String> {
+        let size = light.shadow_map_size.unwrap_or(self.opts.map_size);
+        let (kind, tiles) = map_kind(light, self.opts);
+        let seen = self.casters_seen(plan, &light_frusta(light, self.bounds, size));
         if seen.is_empty() {
-            plan.skip(
-                what,
-                "no opaque or masked mesh lies in the light's view to cast",
-            );
-            continue;
+            return Err("no opaque or masked mesh lies in the light's view to cast".into());
         }
         if next_tile + tiles > MAX_SHADOW_TILES as u32 {
-            plan.skip(
-                what,
-                format!(
-                    "its {tiles} view(s) would pass the frame's {MAX_SHADOW_TILES} shadow views"
-                ),
-            );
-            continue;
+            return Err(format!(
+                "its {tiles} view(s) would pass the frame's {MAX_SHADOW_TILES} shadow views"
+            ));
         }
-        let filter = opts.filter.unwrap_or(if light.radius > 0.0 {
+        let filter = self.opts.filter.unwrap_or(if light.radius > 0.0 {
             ShadowFilter::Pcss
         } else {
             ShadowFilter::Hard
@@ -296,9 +300,9 @@ pub fn plan_shadow_maps(plan: &mut Plan, scene: &Scene, opts: &ShadowOptions) {
             .count();
         let caster_meshes = seen
             .iter()
-            .map(|&k| scene.meshes[plan.draws[k].mesh].name.clone())
+            .map(|&k| self.scene.meshes[plan.draws[k].mesh].name.clone())
             .collect();
-        plan.shadow_maps.push(ShadowMapPlan {
+        Ok(ShadowMapPlan {
             caster_meshes,
             light: index,
             kind,
@@ -308,39 +312,88 @@ pub fn plan_shadow_maps(plan: &mut Plan, scene: &Scene, opts: &ShadowOptions) {
             filter,
             casters: seen,
             relief_casters,
-        });
-        next_tile += tiles;
+        })
     }
-    if !plan.shadow_maps.is_empty() {
-        let maps: Vec<String> = plan
-            .shadow_maps
+
+    /// The casters some of `frusta` may see (all of them when `frusta` is empty).
+    fn casters_seen(&self, plan: &Plan, frusta: &[Frustum]) -> Vec<usize> {
+        self.casters
             .iter()
-            .map(|m| {
-                format!(
-                    "light {} ({}, {} view(s) of {}^2, {}, {} caster(s), {} displaced)",
-                    m.light,
-                    m.kind.id(),
-                    m.tiles,
-                    m.size,
-                    m.filter,
-                    m.casters.len(),
-                    m.relief_casters
-                )
+            .copied()
+            .filter(|&k| {
+                let (lo, hi) = mesh_world_bounds(&self.scene.meshes[plan.draws[k].mesh], self.pad);
+                frusta.is_empty() || frusta.iter().any(|f| f.may_see_box(lo, hi))
             })
-            .collect();
-        let at = plan
-            .passes
-            .iter()
-            .position(|p| matches!(p.pass, Pass::Cells | Pass::Surface))
-            .unwrap_or(plan.passes.len());
-        plan.passes.insert(
-            at,
-            PassPlan {
-                pass: Pass::ShadowMaps,
-                why: format!("shadow maps: {}", maps.join("; ")),
-            },
-        );
+            .collect()
     }
+}
+
+/// The kind of map `light` gets and its number of views.
+fn map_kind(light: &Light, opts: &ShadowOptions) -> (ShadowMapKind, u32) {
+    match light.kind {
+        LightKind::Directional => (
+            ShadowMapKind::Cascades,
+            light.shadow_cascades.unwrap_or(opts.cascades).max(1),
+        ),
+        LightKind::Spot { .. } => (ShadowMapKind::Spot, 1),
+        LightKind::Point => (ShadowMapKind::Cube, 6),
+    }
+}
+
+/// The frusta of `light`'s views of `size` texels over `bounds`: a spot or point light sees a
+/// fixed volume, so only casters inside it count; none for a directional light.
+fn light_frusta(light: &Light, bounds: (Vec3, Vec3), size: u32) -> Vec<Frustum> {
+    match light.kind {
+        LightKind::Directional => Vec::new(),
+        LightKind::Spot { outer_cone, .. } => {
+            let v = spot_view(
+                light.position,
+                light.direction,
+                outer_cone,
+                light.range,
+                bounds,
+                size,
+            );
+            vec![Frustum::from_view_projection(v.view_proj)]
+        }
+        LightKind::Point => point_views(light.position, light.range, bounds, size)
+            .iter()
+            .map(|v| Frustum::from_view_projection(v.view_proj))
+            .collect(),
+    }
+}
+
+/// Inserts the shadow-map pass before the cells and surface passes, saying which maps it
+/// renders.
+fn insert_shadow_pass(plan: &mut Plan) {
+    let maps: Vec<String> = plan
+        .shadow_maps
+        .iter()
+        .map(|m| {
+            format!(
+                "light {} ({}, {} view(s) of {}^2, {}, {} caster(s), {} displaced)",
+                m.light,
+                m.kind.id(),
+                m.tiles,
+                m.size,
+                m.filter,
+                m.casters.len(),
+                m.relief_casters
+            )
+        })
+        .collect();
+    let at = plan
+        .passes
+        .iter()
+        .position(|p| matches!(p.pass, Pass::Cells | Pass::Surface))
+        .unwrap_or(plan.passes.len());
+    plan.passes.insert(
+        at,
+        PassPlan {
+            pass: Pass::ShadowMaps,
+            why: format!("shadow maps: {}", maps.join("; ")),
+        },
+    );
 }
 
 #[cfg(test)]
