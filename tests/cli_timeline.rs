@@ -144,7 +144,12 @@ fn a_ten_frame_render_traces_every_pass_of_every_frame_on_one_clock() {
             );
         }
     }
-    // A frame's passes run after its submission began, on the calibrated clock or from it.
+    // A frame's passes run after its submission began, on the calibrated clock or from it: at
+    // most the calibration's uncertainty early (a loaded machine can stall the thread between
+    // the calibration's two host readings).
+    let slack = trace["otherData"]["clock_uncertainty_us"]
+        .as_f64()
+        .expect("the clock's uncertainty");
     let submit_of = |frame: u64| {
         events
             .iter()
@@ -154,7 +159,10 @@ fn a_ten_frame_render_traces_every_pass_of_every_frame_on_one_clock() {
     };
     for e in events.iter().filter(|e| e["cat"] == "gpu") {
         let frame = e["args"]["frame"].as_u64().unwrap();
-        assert!(e["ts"].as_f64().unwrap() >= submit_of(frame), "{e}");
+        assert!(
+            e["ts"].as_f64().unwrap() + slack >= submit_of(frame),
+            "{e} (calibration uncertainty {slack} us)"
+        );
     }
     assert!(trace["otherData"]["clock_alignment"].is_string());
 }

@@ -120,6 +120,9 @@ pub fn timeline_trace(header: &TraceHeader, frames: &[TracedFrame]) -> Value {
         "otherData": {
             "device": header.device,
             "clock_alignment": alignment,
+            // How early a GPU span may sit on the host's clock: the calibration's half-window
+            // (0 without one, whose spans sit late, not early).
+            "clock_uncertainty_us": if calibrated { worst.as_secs_f64() * 1e6 } else { 0.0 },
             "frames": frames.len(),
             "other": header.other,
         },
