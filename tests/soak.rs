@@ -74,15 +74,7 @@ fn soak_device(test: &str) -> Option<std::sync::Arc<Context>> {
 
 fn print(samples: &[Sample]) {
     for s in samples {
-        eprintln!(
-            "frame {:>4}: rss {:>7.1} MiB, {} buffers, {} images, {} sets, {:.1} MiB on the device",
-            s.frame,
-            s.rss as f64 / 1048576.0,
-            s.alive.buffers,
-            s.alive.images,
-            s.alive.descriptor_sets,
-            s.alive.allocated_bytes as f64 / 1048576.0
-        );
+        eprintln!("{s}");
     }
 }
 

@@ -16,6 +16,22 @@ pub struct Sample {
     pub alive: LiveObjects,
 }
 
+impl std::fmt::Display for Sample {
+    /// One line: the frame, resident memory, the main live objects and the device's bytes.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "frame {:>6}: resident {:>8.1} MiB, {} buffers, {} images, {} sets, {:.1} MiB on the device",
+            self.frame,
+            self.rss as f64 / 1048576.0,
+            self.alive.buffers,
+            self.alive.images,
+            self.alive.descriptor_sets,
+            self.alive.allocated_bytes as f64 / 1048576.0
+        )
+    }
+}
+
 /// This process's resident set size in bytes (`VmRSS` of `/proc/self/status`), or `None` where
 /// there is no procfs.
 pub fn resident_bytes() -> Option<u64> {

@@ -109,15 +109,7 @@ fn check(args: &SoakArgs) -> anyhow::Result<()> {
 /// Prints the first and last samples and the fitted growth; writes the CSV when asked.
 fn report(args: &SoakArgs, samples: &[Sample]) -> anyhow::Result<()> {
     for s in [samples.first(), samples.last()].into_iter().flatten() {
-        println!(
-            "frame {:>6}: resident {:>8.1} MiB, {} buffers, {} images, {} sets, {:.1} MiB on the device",
-            s.frame,
-            s.rss as f64 / 1048576.0,
-            s.alive.buffers,
-            s.alive.images,
-            s.alive.descriptor_sets,
-            s.alive.allocated_bytes as f64 / 1048576.0
-        );
+        println!("{s}");
     }
     let growth = growth(samples, args.warm_up).unwrap_or_default();
     let moved: Vec<String> = growth

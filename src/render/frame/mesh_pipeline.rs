@@ -243,25 +243,29 @@ fn vertex_layout(shells: bool) -> (Vec<vk::VertexInputAttributeDescription>, u32
             format,
             offset: offset as u32,
         };
+    // A mesh vertex's six attributes, which a shell vertex starts with too.
+    macro_rules! mesh_attributes {
+        ($vertex:ty) => {
+            vec![
+                attribute(LOCATION_POSITION, RGB, offset_of!($vertex, position)),
+                attribute(LOCATION_NORMAL, RGB, offset_of!($vertex, normal)),
+                attribute(LOCATION_UV0, RG, offset_of!($vertex, uv)),
+                attribute(LOCATION_UV1, RG, offset_of!($vertex, uv1)),
+                attribute(LOCATION_TANGENT, RGBA, offset_of!($vertex, tangent)),
+                attribute(LOCATION_COLOR, RGBA, offset_of!($vertex, color)),
+            ]
+        };
+    }
     let mut attributes = if shells {
-        vec![
-            attribute(LOCATION_POSITION, RGB, offset_of!(ShellVertex, position)),
-            attribute(LOCATION_NORMAL, RGB, offset_of!(ShellVertex, normal)),
-            attribute(LOCATION_UV0, RG, offset_of!(ShellVertex, uv)),
-            attribute(LOCATION_UV1, RG, offset_of!(ShellVertex, uv1)),
-            attribute(LOCATION_TANGENT, RGBA, offset_of!(ShellVertex, tangent)),
-            attribute(LOCATION_COLOR, RGBA, offset_of!(ShellVertex, color)),
-            attribute(LOCATION_PRISM, RGBA, offset_of!(ShellVertex, prism)),
-        ]
+        let mut shell = mesh_attributes!(ShellVertex);
+        shell.push(attribute(
+            LOCATION_PRISM,
+            RGBA,
+            offset_of!(ShellVertex, prism),
+        ));
+        shell
     } else {
-        vec![
-            attribute(LOCATION_POSITION, RGB, offset_of!(Vertex, position)),
-            attribute(LOCATION_NORMAL, RGB, offset_of!(Vertex, normal)),
-            attribute(LOCATION_UV0, RG, offset_of!(Vertex, uv)),
-            attribute(LOCATION_UV1, RG, offset_of!(Vertex, uv1)),
-            attribute(LOCATION_TANGENT, RGBA, offset_of!(Vertex, tangent)),
-            attribute(LOCATION_COLOR, RGBA, offset_of!(Vertex, color)),
-        ]
+        mesh_attributes!(Vertex)
     };
     let stride = if shells {
         let arrays = [

@@ -15,7 +15,7 @@ use ash::vk;
 use super::work_counters::WorkCounterBuffer;
 use crate::render::kit::depth_as_colour::{DepthAsColour, DEPTH_COLOUR_FORMAT};
 use crate::render::kit::pass::Pass;
-use crate::render::plan::frame_plan::{DrawPlan, DrawRole, PassPlan, PipelineKey, Plan};
+use crate::render::plan::frame_plan::{DrawPlan, DrawRole, PipelineKey, Plan};
 use crate::render::shader_interface::{BINDING_OCCLUDER_BOUNDS, BINDING_WORK_COUNTS};
 use crate::scene::{AlphaMode, Mesh, Scene};
 use crate::vk::{
@@ -67,19 +67,11 @@ pub fn plan_occluders(plan: &mut Plan, scene: &Scene, on: bool) {
     match why {
         Some(why) => plan.skip(Pass::Occluders.name(), why),
         None => {
-            let at = plan
-                .passes
-                .iter()
-                .position(|p| matches!(p.pass, Pass::Cells | Pass::Surface))
-                .unwrap_or(plan.passes.len());
-            plan.passes.insert(
-                at,
-                PassPlan {
-                    pass: Pass::Occluders,
-                    why: format!(
-                        "{occluding} opaque draw(s) bound what lies behind them, so the {relief} relief draw(s) skip hidden fragments' traces"
-                    ),
-                },
+            plan.insert_before_scene(
+                Pass::Occluders,
+                format!(
+                    "{occluding} opaque draw(s) bound what lies behind them, so the {relief} relief draw(s) skip hidden fragments' traces"
+                ),
             );
         }
     }

@@ -482,6 +482,17 @@ impl Plan {
         }
     }
 
+    /// Adds `pass` before the scene's drawing (the first cells or surface pass), since what it
+    /// makes (shadow maps, occluder bounds) is read there.
+    pub(in crate::render) fn insert_before_scene(&mut self, pass: Pass, why: String) {
+        let at = self
+            .passes
+            .iter()
+            .position(|p| matches!(p.pass, Pass::Cells | Pass::Surface))
+            .unwrap_or(self.passes.len());
+        self.passes.insert(at, PassPlan { pass, why });
+    }
+
     pub(in crate::render) fn skip(&mut self, what: impl Into<String>, why: impl Into<String>) {
         self.skipped.push(Skipped {
             what: what.into(),

@@ -10,7 +10,7 @@ use serde::{Deserialize, Serialize};
 use super::light_views::{point_views, spot_view};
 use crate::render::kit::frame_uniforms::{MAX_LIGHTS, MAX_SHADOW_TILES};
 use crate::render::kit::pass::Pass;
-use crate::render::plan::frame_plan::{PassPlan, Plan};
+use crate::render::plan::frame_plan::Plan;
 use crate::render::shader_interface::{SHADOW_FILTER_HARD, SHADOW_FILTER_PCF, SHADOW_FILTER_PCSS};
 use crate::scene::{AlphaMode, Frustum, Light, LightKind, Mesh, Scene};
 
@@ -382,17 +382,9 @@ fn insert_shadow_pass(plan: &mut Plan) {
             )
         })
         .collect();
-    let at = plan
-        .passes
-        .iter()
-        .position(|p| matches!(p.pass, Pass::Cells | Pass::Surface))
-        .unwrap_or(plan.passes.len());
-    plan.passes.insert(
-        at,
-        PassPlan {
-            pass: Pass::ShadowMaps,
-            why: format!("shadow maps: {}", maps.join("; ")),
-        },
+    plan.insert_before_scene(
+        Pass::ShadowMaps,
+        format!("shadow maps: {}", maps.join("; ")),
     );
 }
 
