@@ -6,6 +6,7 @@ mod draw_bounds;
 pub(in crate::render) mod explain;
 mod frame_environment;
 pub(in crate::render) mod frame_graph;
+pub(in crate::render) mod frame_request;
 mod frame_setup;
 mod frame_slot;
 pub(in crate::render) mod frame_stats;

@@ -14,9 +14,9 @@ use std::time::Instant;
 
 use super::frame_environment::{environment_passes, note_environment};
 use super::frame_graph::{frame_graph, FrameParts};
+pub use super::frame_request::{FrameOutput, FrameRequest};
 use super::frame_setup::plan_frame;
 use super::frame_slot::FrameSlot;
-use super::gbuffer::GBufferChannels;
 use super::height_upload::upload_heights;
 use super::occluders::OccluderTargets;
 use super::record_graph::{FrameWork, RecordingParts};
@@ -26,18 +26,17 @@ use super::single_frame::{BuiltMap, RenderOptions};
 use super::surface_pass::SurfacePass;
 use super::targets::{FrameReadbacks, TargetOptions, Targets};
 use super::tonemap::ToneMapPass;
-use super::work_counters::WorkCounts;
 use crate::heightfield::Heightfield;
 use crate::method::MapKind;
 use crate::render::cells::cells_pass::{BuiltComplex, CellsPass};
 use crate::render::environment::{BackgroundPass, EnvironmentLight};
 use crate::render::heights::height_resources::HeightResources;
 use crate::render::kit::formats::COLOR_FORMAT;
-use crate::render::kit::frame_timeline::{FrameTimeline, HostSpan, HostWork, SubmittedTimeline};
+use crate::render::kit::frame_timeline::{HostSpan, HostWork, SubmittedTimeline};
 use crate::render::kit::frame_uniforms::{frame_camera, FrameUniforms};
 use crate::render::kit::graph::FrameGraph;
 use crate::render::kit::pass::Pass;
-use crate::render::kit::pass_timer::{per_pass, PassTiming, TimedScope};
+use crate::render::kit::pass_timer::{per_pass, TimedScope};
 use crate::render::kit::render_error::RenderError;
 use crate::render::lighting::{
     lighting_pass_for, FrameTracedShadows, LightingPass, TracedShadows, TRACED_SAMPLES_PER_SIDE,
@@ -51,59 +50,6 @@ use crate::vk::{Buffer, Context, Image, Readback, VkError, VkResult};
 
 /// How many frames may be recorded or running at once.
 pub const FRAMES_IN_FLIGHT: usize = 2;
-
-/// What one frame draws: [`FrameRequest::new`] and the `with_*` setters.
-#[derive(Debug, Clone)]
-#[non_exhaustive]
-pub struct FrameRequest {
-    /// The view; the image's aspect ratio comes from the renderer's size.
-    pub camera: Camera,
-    /// Copy the colour image back to the host (for writing it out).
-    pub read_back: bool,
-}
-
-impl FrameRequest {
-    /// A frame seen through `camera`, read back.
-    pub fn new(camera: Camera) -> FrameRequest {
-        FrameRequest {
-            camera,
-            read_back: true,
-        }
-    }
-}
-
-with_setters!(FrameRequest {
-    with_camera => camera: Camera,
-    with_read_back => read_back: bool,
-});
-
-/// A finished frame: its GPU time per pass and, when asked for, its pixels.
-#[derive(Debug, Clone)]
-pub struct FrameOutput {
-    /// 0 for the renderer's first frame.
-    pub index: u64,
-    /// GPU time of each pass the frame recorded.
-    pub timings: Vec<PassTiming>,
-    /// sRGB RGBA8, rows top to bottom.
-    pub rgba: Option<Vec<u8>>,
-    /// Image width in pixels.
-    pub width: u32,
-    /// Image height in pixels.
-    pub height: u32,
-    /// Surface draws skipped because the view could not see their bounds.
-    pub culled_draws: usize,
-    /// With a shadow probe and a read-back, each pixel's depth (rows top to bottom).
-    pub depth: Option<Vec<f32>>,
-    /// With `RenderOptions::keep_radiance` and a read-back, each pixel's linear radiance before
-    /// exposure and tone mapping, RGBA (rows top to bottom).
-    pub radiance: Option<Vec<[f32; 4]>>,
-    /// With `RenderOptions::gbuffer` and a read-back, the surface pass's G-buffer.
-    pub gbuffer: Option<GBufferChannels>,
-    /// What the host and the GPU did for the frame, on the host's clock.
-    pub timeline: FrameTimeline,
-    /// With `RenderOptions::count_work`, the relief fragments traced and their steps per pixel.
-    pub work: Option<WorkCounts>,
-}
 
 /// Everything a scene needs on the device, kept across frames.
 pub struct Renderer {
