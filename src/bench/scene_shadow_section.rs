@@ -162,6 +162,20 @@ impl SectionSizes {
             samples,
         }
     }
+
+    /// The section's probe of `kind`'s scene: its light, the probe size and the reference's
+    /// rays, with default maps, untraced and against the relief's own reference.
+    fn probe_config(&self, kind: ShadowScene) -> SceneShadowConfig {
+        SceneShadowConfig {
+            scene: Some(kind),
+            elevation_deg: ELEVATION_DEG,
+            radius_deg: Some(RADIUS_DEG),
+            width: self.probe[0],
+            height: self.probe[1],
+            samples_per_side: self.samples,
+            ..SceneShadowConfig::default()
+        }
+    }
 }
 
 /// Runs the section; `quick` measures fewer sizes on smaller images.
@@ -217,14 +231,8 @@ fn traced_cell(
     kind: ShadowScene,
 ) -> Result<Option<TracedShadowCell>, SceneShadowError> {
     let config = SceneShadowConfig {
-        scene: Some(kind),
-        elevation_deg: ELEVATION_DEG,
-        radius_deg: Some(RADIUS_DEG),
-        width: run.probe[0],
-        height: run.probe[1],
-        samples_per_side: run.samples,
         traced: true,
-        ..SceneShadowConfig::default()
+        ..run.probe_config(kind)
     };
     let measured = measure_scene_shadows(ctx, &config)?;
     Ok(measured.traced.map(|t| {
@@ -260,15 +268,8 @@ fn map_cell(
         ..ShadowOptions::DEFAULT
     };
     let config = SceneShadowConfig {
-        scene: Some(kind),
-        elevation_deg: ELEVATION_DEG,
-        radius_deg: Some(RADIUS_DEG),
-        width: run.probe[0],
-        height: run.probe[1],
         shadows,
-        samples_per_side: run.samples,
-        flat_reference: false,
-        traced: false,
+        ..run.probe_config(kind)
     };
     let measured = measure_scene_shadows(ctx, &config)?;
     let opts = RenderOptions {
