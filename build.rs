@@ -19,6 +19,11 @@
 //! include "interface.glsl", so the shaders and the library read each fact from the same line;
 //! a push-constant block, uniform block or storage record whose Rust offsets are not where its
 //! std430 or std140 rules put them fails the build (`build/interface_header.rs`).
+//!
+//! The shader library (`src/shader_library/`, `build/shader_library.rs`): its files embedded in
+//! the crate, its generated `relief_ids.glsl`, and the shaders that include it (a check of every
+//! file, and the `shader_library` example's) compiled with an include resolver that knows only
+//! the library's files.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -35,6 +40,13 @@ mod interface_header;
 #[allow(dead_code)]
 #[path = "src/render/shader_interface/mod.rs"]
 mod shader_interface;
+/// The shader library's generated files and its example's shaders.
+#[path = "build/shader_library.rs"]
+mod shader_library;
+/// The shader library's file list, the same file the library compiles.
+#[allow(dead_code)]
+#[path = "src/shader_library/files.rs"]
+mod shader_library_files;
 /// The method table, the same file the library compiles; build.rs reads only part of it.
 #[allow(dead_code)]
 #[path = "src/method/table.rs"]
@@ -270,13 +282,48 @@ fn compile(
     interface: &str,
     v: &Variant,
 ) -> Result<Vec<u32>, String> {
-    let shown = v
+    let mut includes = Includes {
+        root: root.to_owned(),
+        method_file: v.method_file.clone(),
+        interface,
+    };
+    let method = v
+        .method_file
+        .as_ref()
+        .map(|m| format!(" (method {})", m.display()))
+        .unwrap_or_default();
+    let source = Source {
+        key: &format!("{}{method}", v.key),
+        file: &v.file,
+        shown_from: root.parent().unwrap_or(root),
+        stage: v.stage,
+        defines: &v.defines,
+    };
+    compile_source(compiler, &source, &mut includes)
+}
+
+/// One GLSL file to compile, and how its errors name it.
+struct Source<'a> {
+    key: &'a str,
+    file: &'a Path,
+    /// Error messages show the file relative to this folder.
+    shown_from: &'a Path,
+    stage: ShaderStage,
+    defines: &'a [(String, String)],
+}
+
+fn compile_source(
+    compiler: &Compiler,
+    s: &Source,
+    includes: &mut dyn IncludeHandler,
+) -> Result<Vec<u32>, String> {
+    let shown = s
         .file
-        .strip_prefix(root.parent().unwrap_or(root))
-        .unwrap_or(&v.file)
+        .strip_prefix(s.shown_from)
+        .unwrap_or(s.file)
         .display()
         .to_string();
-    let text = std::fs::read_to_string(&v.file).map_err(|e| format!("{shown}: {e}"))?;
+    let text = std::fs::read_to_string(s.file).map_err(|e| format!("{shown}: {e}"))?;
     let source = ShaderSource::from(text);
     let options = CompilerOptions {
         source_language: SourceLanguage::GLSL,
@@ -287,36 +334,20 @@ fn compile(
         version_profile: None,
         messages: glslang::ShaderMessage::DEFAULT,
     };
-    let defines: Vec<(&str, Option<&str>)> = v
+    let defines: Vec<(&str, Option<&str>)> = s
         .defines
         .iter()
         .map(|(k, val)| (k.as_str(), Some(val.as_str())))
         .collect();
-    let mut includes = Includes {
-        root: root.to_owned(),
-        method_file: v.method_file.clone(),
-        interface,
-    };
     let name_errors = |e: glslang::error::GlslangError| {
         // glslang numbers the top-level string 0; say which file that is.
         let text = e
             .to_string()
             .replace("ERROR: 0:", &format!("ERROR: {shown}:"));
-        let method = v
-            .method_file
-            .as_ref()
-            .map(|m| format!(" (method {})", m.display()))
-            .unwrap_or_default();
-        format!("shader {}{method}:\n{text}", v.key)
+        format!("shader {}:\n{text}", s.key)
     };
-    let input = ShaderInput::new(
-        &source,
-        v.stage,
-        &options,
-        Some(&defines),
-        Some(&mut includes),
-    )
-    .map_err(name_errors)?;
+    let input = ShaderInput::new(&source, s.stage, &options, Some(&defines), Some(includes))
+        .map_err(name_errors)?;
     let shader = compiler.create_shader(input).map_err(name_errors)?;
     shader.compile().map_err(name_errors)
 }
@@ -329,6 +360,9 @@ fn main() {
     println!("cargo:rerun-if-changed=shaders");
     println!("cargo:rerun-if-changed=src/method/table.rs");
     println!("cargo:rerun-if-changed=src/render/shader_interface");
+    println!("cargo:rerun-if-changed=src/shader_library/files.rs");
+    println!("cargo:rerun-if-changed=examples/shader_library");
+    println!("cargo:rerun-if-changed={}", shader_library::CHECK_SHADER);
     git_commit::emit(&manifest);
     if let Err(message) = check_table(&root) {
         eprintln!("{message}");
@@ -377,4 +411,8 @@ fn main() {
     }
     table.push_str("];\n");
     std::fs::write(out_dir.join("shaders.rs"), table).expect("OUT_DIR is writable");
+    if let Err(message) = shader_library::build(compiler, &manifest, &out_dir) {
+        eprintln!("{message}");
+        std::process::exit(1);
+    }
 }

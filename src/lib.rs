@@ -16,6 +16,7 @@ pub mod heightfield;
 pub mod method;
 pub mod render;
 pub mod scene;
+pub mod shader_library;
 pub mod shaders;
 pub mod shadow_reference;
 pub mod shells;

@@ -17,11 +17,11 @@
 // Clamp addressing merges everything outside the map into one cell per side (-1 and n).
 vec2 cone_cell_at(Ray ray, float z, vec2 size) {
     vec2 cell = floor(ray_uv(ray, z) * size);
-    return frame.height_info.w > 0.5 ? cell : clamp(cell, vec2(-1.0), size);
+    return HEIGHT_INFO.w > 0.5 ? cell : clamp(cell, vec2(-1.0), size);
 }
 
 bvec2 cone_outside(vec2 cell, vec2 size) {
-    bool clamped = frame.height_info.w < 0.5;
+    bool clamped = HEIGHT_INFO.w < 0.5;
     return bvec2(clamped && (cell.x < 0.0 || cell.x >= size.x), clamped && (cell.y < 0.0 || cell.y >= size.y));
 }
 

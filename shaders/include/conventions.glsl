@@ -4,7 +4,11 @@
 #ifndef CONVENTIONS_GLSL
 #define CONVENTIONS_GLSL
 
+// relief's own shaders read the specialization ids from the interface; the shader library's
+// relief.glsl defines them from the includer's RELIEF_SPEC_ID_BASE instead.
+#ifndef RELIEF_SHADER_LIBRARY
 #include "interface.glsl"
+#endif
 
 // A ray entering the top plane at (origin, 0) going along dir (dir.z > 0), parameterised by
 // depth: p(z) = origin + z * dir.xy / dir.z.

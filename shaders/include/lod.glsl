@@ -44,7 +44,7 @@ float lod_mip_level(vec2 uv) {
 }
 
 void lod_begin(vec2 uv, float eye_distance) {
-    float top = frame.height_info.z - 1.0;
+    float top = HEIGHT_INFO.z - 1.0;
     float level = clamp(lod_mip_level(uv) * LOD_FACTOR + LOD_BIAS, 0.0, top);
     lod_stop = int(floor(level));
     lod_frac = level - floor(level);
@@ -58,7 +58,7 @@ void lod_begin(vec2 uv, float eye_distance) {
 // looking straight down.
 Budget lod_budget(Budget b, Ray ray) {
 #if defined(LOD_MEAN_PYRAMID)
-    uint floor_steps = 2u * uint(frame.height_info.z);
+    uint floor_steps = 2u * uint(HEIGHT_INFO.z);
 #elif defined(LOD_LINEAR_SEARCH)
     uint floor_steps = max(b.max_steps / 4u, 4u);
 #else
@@ -96,7 +96,7 @@ float lod_node_depth(float d_max, vec2 cell, int level, int leaf, float depth_sc
         return d_max;
     }
     vec2 uv = (cell + 0.5) / lod_level_size(level);
-    int above = min(level + 1, int(frame.height_info.z) - 1);
+    int above = min(level + 1, int(HEIGHT_INFO.z) - 1);
     bool mean = uint(level) < LOD_AVERAGE_BELOW;
     float here = mean ? lod_level_depth(uv, level, true, depth_scale) : d_max;
     return mix(here, lod_level_depth(uv, above, mean, depth_scale), lod_frac);

@@ -5,6 +5,14 @@
 #ifndef RELIEF_FRAME_GLSL
 #define RELIEF_FRAME_GLSL
 
+// d(height uv) / d(uv0), given d(uv1) / d(uv0): for relief's materials the height slot's
+// KHR_texture_transform, on texCoord 0 or 1. A shader-library includer that maps uv0 to height uv
+// some other way defines it before including this file; relief.glsl makes it the identity.
+#ifndef RELIEF_HEIGHT_UV_MAP
+#define RELIEF_HEIGHT_UV_MAP(uv1_per_uv0) \
+    (slot_linear(SLOT_HEIGHT) * (slot_set(SLOT_HEIGHT) == 1 ? (uv1_per_uv0) : mat2(1.0)))
+#endif
+
 struct ReliefFrame {
     vec3 t, b, n;        // world unit vectors along +u0, +v0 and out of the surface
     vec2 scale;          // world length of one uv0 unit along t and b
@@ -34,8 +42,7 @@ mat2 safe_inverse(mat2 m) {
 
 // The frame's maps to and from height uv and its depth length, from its scale and uv1_per_uv0.
 void relief_frame_height_maps(inout ReliefFrame f) {
-    mat2 set_map = slot_set(SLOT_HEIGHT) == 1 ? f.uv1_per_uv0 : mat2(1.0);
-    f.to_height = slot_linear(SLOT_HEIGHT) * set_map;
+    f.to_height = RELIEF_HEIGHT_UV_MAP(f.uv1_per_uv0);
     f.from_height = safe_inverse(f.to_height);
     // One height-uv unit spans the mean world length of the two height-uv axes.
     float area = abs(determinant(f.to_height));

@@ -16,7 +16,11 @@
 #ifndef SHADOWS_GLSL
 #define SHADOWS_GLSL
 
+// relief's own shaders read the specialization ids from the interface; the shader library's
+// relief.glsl defines them from the includer's RELIEF_SPEC_ID_BASE instead.
+#ifndef RELIEF_SHADER_LIBRARY
 #include "interface.glsl"
+#endif
 #include "pyramid.glsl"
 
 // One of SHADOW_MODE_NONE, _HARD, _POM_SOFT, _HORIZON, _CONE (interface.glsl).

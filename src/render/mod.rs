@@ -26,7 +26,7 @@ mod maps;
 #[cfg(feature = "bench")]
 mod measure;
 mod plan;
-mod shader_interface;
+pub(crate) mod shader_interface;
 mod shadows;
 mod terrain;
 mod traced;
