@@ -157,8 +157,10 @@ impl Image {
         Ok(view)
     }
 
-    /// The raw handle, for the vk layer's own commands.
-    pub(crate) fn raw(&self) -> vk::Image {
+    /// The raw handle, for the vk layer's own commands and an engine's (the shader-library
+    /// example binds it in its own pipeline): this value still owns it and destroys it once the
+    /// GPU is done with it, so a raw use must end before the last clone goes.
+    pub fn raw(&self) -> vk::Image {
         self.inner.raw
     }
 
@@ -324,8 +326,9 @@ impl ImageView {
         })
     }
 
-    /// The raw handle, for the vk layer's own commands.
-    pub(crate) fn raw(&self) -> vk::ImageView {
+    /// The raw handle, for the vk layer's own commands and an engine's descriptor writes; owned
+    /// as [`Image::raw`]'s is.
+    pub fn raw(&self) -> vk::ImageView {
         self.inner.raw
     }
 
@@ -404,8 +407,9 @@ impl Sampler {
         })
     }
 
-    /// The raw handle, for the vk layer's own descriptor writes.
-    pub(crate) fn raw(&self) -> vk::Sampler {
+    /// The raw handle, for the vk layer's own descriptor writes and an engine's; owned as
+    /// [`Image::raw`]'s is.
+    pub fn raw(&self) -> vk::Sampler {
         self.inner.raw
     }
 

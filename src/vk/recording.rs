@@ -104,8 +104,9 @@ impl<'a> Recording<'a> {
         }
     }
 
-    /// The raw command buffer, for the vk layer's own recording functions.
-    pub(crate) fn raw(&self) -> vk::CommandBuffer {
+    /// The raw command buffer, for the vk layer's own recording functions and an engine's
+    /// commands between them (the shader-library example draws with its own pipeline here).
+    pub fn raw(&self) -> vk::CommandBuffer {
         self.cmd
     }
 
