@@ -28,14 +28,19 @@
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use glslang::include::{IncludeHandler, IncludeResult, IncludeType};
-
+/// glslang compiles the variants, the shader library's check and its example's shaders.
+#[cfg(feature = "compile-shaders")]
+#[path = "build/compile.rs"]
+mod compile;
 /// The git commit and dirty flag that `results.json` records.
 #[path = "build/git_commit.rs"]
 mod git_commit;
 /// "interface.glsl", written from `shader_interface`, and the layouts' check.
 #[path = "build/interface_header.rs"]
 mod interface_header;
+/// SPIR-V made elsewhere (a packaged crate's): read back with its sources' fingerprint checked.
+#[path = "build/prebuilt.rs"]
+mod prebuilt;
 /// The facts shaders and library share, the same files the library compiles.
 #[allow(dead_code)]
 #[path = "src/render/shader_interface/mod.rs"]
@@ -51,56 +56,29 @@ mod shader_library_files;
 #[allow(dead_code)]
 #[path = "src/method/table.rs"]
 mod table;
-use glslang::{
-    Compiler, CompilerOptions, ShaderInput, ShaderSource, ShaderStage, SourceLanguage,
-    SpirvVersion, Target, VulkanVersion,
-};
 
 /// One SPIR-V module to produce.
 struct Variant {
     key: String,
     file: PathBuf,
-    stage: ShaderStage,
+    stage: Stage,
     defines: Vec<(String, String)>,
     method_file: Option<PathBuf>,
 }
 
-/// Resolves `#include` against `shaders/include/`, "method.glsl" to the variant's method and
-/// "interface.glsl" to the header written from `shader_interface`.
-struct Includes<'a> {
-    root: PathBuf,
-    method_file: Option<PathBuf>,
-    interface: &'a str,
+/// A shader's stage, by its file's extension.
+#[derive(Clone, Copy, Debug)]
+enum Stage {
+    Vertex,
+    Fragment,
+    Compute,
 }
 
-impl IncludeHandler for Includes<'_> {
-    fn include(&mut self, _: IncludeType, name: &str, _: &str, _: usize) -> Option<IncludeResult> {
-        if name == "interface.glsl" {
-            return Some(IncludeResult {
-                name: "interface.glsl (src/render/shader_interface)".into(),
-                data: self.interface.to_owned(),
-            });
-        }
-        let path = if name == "method.glsl" {
-            self.method_file.clone()?
-        } else {
-            self.root.join("include").join(name)
-        };
-        let data = std::fs::read_to_string(&path).ok()?;
-        let shown = path
-            .strip_prefix(&self.root)
-            .unwrap_or(&path)
-            .display()
-            .to_string();
-        Some(IncludeResult { name: shown, data })
-    }
-}
-
-fn stage_of(path: &Path) -> Option<ShaderStage> {
+fn stage_of(path: &Path) -> Option<Stage> {
     match path.extension()?.to_str()? {
-        "vert" => Some(ShaderStage::Vertex),
-        "frag" => Some(ShaderStage::Fragment),
-        "comp" => Some(ShaderStage::Compute),
+        "vert" => Some(Stage::Vertex),
+        "frag" => Some(Stage::Fragment),
+        "comp" => Some(Stage::Compute),
         _ => None,
     }
 }
@@ -276,80 +254,19 @@ fn check_table(root: &Path) -> Result<(), String> {
     }
 }
 
-fn compile(
-    compiler: &Compiler,
-    root: &Path,
-    interface: &str,
-    v: &Variant,
-) -> Result<Vec<u32>, String> {
-    let mut includes = Includes {
-        root: root.to_owned(),
-        method_file: v.method_file.clone(),
-        interface,
-    };
-    let method = v
-        .method_file
-        .as_ref()
-        .map(|m| format!(" (method {})", m.display()))
-        .unwrap_or_default();
-    let source = Source {
-        key: &format!("{}{method}", v.key),
-        file: &v.file,
-        shown_from: root.parent().unwrap_or(root),
-        stage: v.stage,
-        defines: &v.defines,
-    };
-    compile_source(compiler, &source, &mut includes)
+/// One SPIR-V module: its file under OUT_DIR, and the variant key the library looks it up by
+/// (none for the example's shaders, which the example includes by file).
+pub struct Module {
+    out_name: String,
+    key: Option<String>,
+    bytes: Vec<u8>,
 }
 
-/// One GLSL file to compile, and how its errors name it.
-struct Source<'a> {
-    key: &'a str,
-    file: &'a Path,
-    /// Error messages show the file relative to this folder.
-    shown_from: &'a Path,
-    stage: ShaderStage,
-    defines: &'a [(String, String)],
-}
-
-fn compile_source(
-    compiler: &Compiler,
-    s: &Source,
-    includes: &mut dyn IncludeHandler,
-) -> Result<Vec<u32>, String> {
-    let shown = s
-        .file
-        .strip_prefix(s.shown_from)
-        .unwrap_or(s.file)
-        .display()
-        .to_string();
-    let text = std::fs::read_to_string(s.file).map_err(|e| format!("{shown}: {e}"))?;
-    let source = ShaderSource::from(text);
-    let options = CompilerOptions {
-        source_language: SourceLanguage::GLSL,
-        target: Target::Vulkan {
-            version: VulkanVersion::Vulkan1_3,
-            spirv_version: SpirvVersion::SPIRV1_6,
-        },
-        version_profile: None,
-        messages: glslang::ShaderMessage::DEFAULT,
-    };
-    let defines: Vec<(&str, Option<&str>)> = s
-        .defines
-        .iter()
-        .map(|(k, val)| (k.as_str(), Some(val.as_str())))
-        .collect();
-    let name_errors = |e: glslang::error::GlslangError| {
-        // glslang numbers the top-level string 0; say which file that is.
-        let text = e
-            .to_string()
-            .replace("ERROR: 0:", &format!("ERROR: {shown}:"));
-        format!("shader {}:\n{text}", s.key)
-    };
-    let input = ShaderInput::new(&source, s.stage, &options, Some(&defines), Some(includes))
-        .map_err(name_errors)?;
-    let shader = compiler.create_shader(input).map_err(name_errors)?;
-    shader.compile().map_err(name_errors)
+/// Exits the build with `message` on stderr: a plain exit keeps cargo's output to the message
+/// (glslang's, for a shader), without a backtrace.
+fn fail(message: &str) -> ! {
+    eprintln!("{message}");
+    std::process::exit(1);
 }
 
 fn main() {
@@ -363,56 +280,82 @@ fn main() {
     println!("cargo:rerun-if-changed=src/shader_library/files.rs");
     println!("cargo:rerun-if-changed=examples/shader_library");
     println!("cargo:rerun-if-changed={}", shader_library::CHECK_SHADER);
+    if cfg!(not(feature = "compile-shaders")) {
+        // Only a build that reads the folder watches it: a missing path would rerun every build.
+        println!("cargo:rerun-if-changed={}", prebuilt::DIR);
+    }
+    println!("cargo:rerun-if-env-changed={}", prebuilt::WRITE_ENV);
     git_commit::emit(&manifest);
     if let Err(message) = check_table(&root) {
-        eprintln!("{message}");
-        std::process::exit(1);
+        fail(&message);
     }
-    let compiler = Compiler::acquire().expect("glslang initialises once per process");
-    let mut table = String::from("// Generated by build.rs: SPIR-V of every shader variant.\n");
-    table.push_str("pub(crate) static SHADERS: &[(&str, &Aligned<[u8]>)] = &[\n");
-    let mut failures = Vec::new();
     let mismatches = interface_header::layout_mismatches();
     if !mismatches.is_empty() {
-        eprintln!(
+        fail(&format!(
             "layouts whose Rust fields are not where GLSL puts them (src/render/shader_interface):\n{}",
             mismatches.join("\n")
-        );
-        std::process::exit(1);
+        ));
     }
     let interface = interface_header::interface_header();
     std::fs::write(out_dir.join("interface.glsl"), &interface).expect("OUT_DIR is writable");
-    for v in variants(&root) {
-        match compile(compiler, &root, &interface, &v) {
-            Ok(words) => {
-                let file = out_dir.join(format!("{}.spv", v.key.replace([':', '.'], "_")));
-                let bytes: Vec<u8> = words.iter().flat_map(|w| w.to_le_bytes()).collect();
-                std::fs::write(&file, bytes).expect("OUT_DIR is writable");
-                let _ = writeln!(
-                    table,
-                    "    ({:?}, &Aligned(*include_bytes!({:?}))),",
-                    v.key, file
-                );
-            }
-            Err(message) => failures.push(message),
+    let ids = shader_library::ids_header().unwrap_or_else(|m| fail(&m));
+    let variants = variants(&root);
+    let fingerprint = prebuilt::fingerprint(&manifest, &[&interface, &ids], &variants);
+    let modules = spirv_modules(&manifest, &interface, &ids, &variants, &fingerprint);
+    let mut table = String::from("// Generated by build.rs: SPIR-V of every shader variant.\n");
+    table.push_str("pub(crate) static SHADERS: &[(&str, &Aligned<[u8]>)] = &[\n");
+    for m in &modules {
+        let file = out_dir.join(&m.out_name);
+        if let Some(parent) = file.parent() {
+            std::fs::create_dir_all(parent).expect("OUT_DIR is writable");
         }
-    }
-    if !failures.is_empty() {
-        for f in &failures {
-            println!("cargo:warning={}", f.lines().next().unwrap_or_default());
+        std::fs::write(&file, &m.bytes).expect("OUT_DIR is writable");
+        if let Some(key) = &m.key {
+            let _ = writeln!(table, "    ({key:?}, &Aligned(*include_bytes!({file:?}))),");
         }
-        // A plain exit keeps cargo's output to glslang's messages, without a backtrace.
-        eprintln!(
-            "{} shader(s) failed to compile:\n\n{}",
-            failures.len(),
-            failures.join("\n\n")
-        );
-        std::process::exit(1);
     }
     table.push_str("];\n");
     std::fs::write(out_dir.join("shaders.rs"), table).expect("OUT_DIR is writable");
-    if let Err(message) = shader_library::build(compiler, &manifest, &out_dir) {
-        eprintln!("{message}");
-        std::process::exit(1);
+    if let Err(message) = shader_library::write_tables(&manifest, &out_dir, &ids) {
+        fail(&message);
     }
+    if let Some(dir) = std::env::var_os(prebuilt::WRITE_ENV) {
+        let dir = PathBuf::from(dir);
+        if let Err(e) = prebuilt::write(&dir, &fingerprint, &modules) {
+            fail(&format!(
+                "writing prebuilt SPIR-V into {}: {e}",
+                dir.display()
+            ));
+        }
+    }
+}
+
+/// Every module, compiled by glslang.
+#[cfg(feature = "compile-shaders")]
+fn spirv_modules(
+    manifest: &Path,
+    interface: &str,
+    ids: &str,
+    variants: &[Variant],
+    _fingerprint: &str,
+) -> Vec<Module> {
+    compile::all(manifest, interface, ids, variants).unwrap_or_else(|m| fail(&m))
+}
+
+/// Every module, from the prebuilt SPIR-V a packaged crate carries, checked to be made from
+/// these very sources.
+#[cfg(not(feature = "compile-shaders"))]
+fn spirv_modules(
+    manifest: &Path,
+    _interface: &str,
+    _ids: &str,
+    variants: &[Variant],
+    fingerprint: &str,
+) -> Vec<Module> {
+    prebuilt::read(manifest, fingerprint, variants).unwrap_or_else(|m| fail(&m))
+}
+
+/// The file under OUT_DIR (and the prebuilt folder) of variant `key`.
+fn variant_file(key: &str) -> String {
+    format!("{}.spv", key.replace([':', '.'], "_"))
 }

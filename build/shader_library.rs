@@ -1,12 +1,11 @@
 //! The shader library (`src/shader_library/`): its generated `relief_ids.glsl`, the table that
-//! embeds its files in the crate, and the example's shaders compiled against those files alone,
-//! so a library file that reaches for relief's own bindings or interface fails the build.
+//! embeds its files in the crate, and which shaders are compiled against those files alone
+//! (`compile.rs` compiles them).
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
-use glslang::include::{IncludeHandler, IncludeResult, IncludeType};
-use glslang::{Compiler, ShaderStage};
+use crate::Stage;
 
 use crate::shader_interface::{SHADOW_MODES, SPEC_IDS};
 use crate::shader_library_files::{method_file_name, CORE_FILES, IDS_FILE, SPEC_CONSTANTS};
@@ -15,11 +14,9 @@ use crate::table::METHODS;
 /// A shader that includes every library file and calls every method, compiled and discarded.
 pub const CHECK_SHADER: &str = "build/shader_library_check.frag";
 /// The example whose shaders are compiled here, and its shader files.
-const EXAMPLE_DIR: &str = "examples/shader_library";
-const EXAMPLE_SHADERS: &[(&str, ShaderStage)] = &[
-    ("quad.vert", ShaderStage::Vertex),
-    ("quad.frag", ShaderStage::Fragment),
-];
+pub const EXAMPLE_DIR: &str = "examples/shader_library";
+pub const EXAMPLE_SHADERS: &[(&str, Stage)] =
+    &[("quad.vert", Stage::Vertex), ("quad.frag", Stage::Fragment)];
 
 /// `relief_ids.glsl`: the library's specialization ids, offset from `RELIEF_SPEC_ID_BASE` by
 /// their ids in relief's own table, and the self-shadow modes.
@@ -44,7 +41,7 @@ pub fn ids_header() -> Result<String, String> {
 }
 
 /// Every library file as (name in the library's folder, path), the generated ids last.
-fn library_files(shaders: &Path, ids: &Path) -> Vec<(String, PathBuf)> {
+pub fn library_files(shaders: &Path, ids: &Path) -> Vec<(String, PathBuf)> {
     let core = CORE_FILES
         .iter()
         .map(|(name, path)| (name.to_string(), shaders.join(path)));
@@ -59,28 +56,12 @@ fn library_files(shaders: &Path, ids: &Path) -> Vec<(String, PathBuf)> {
         .collect()
 }
 
-/// Resolves `#include` among the library's files only.
-struct LibraryIncludes {
-    files: Vec<(String, PathBuf)>,
-}
-
-impl IncludeHandler for LibraryIncludes {
-    fn include(&mut self, _: IncludeType, name: &str, _: &str, _: usize) -> Option<IncludeResult> {
-        let (_, path) = self.files.iter().find(|(n, _)| n == name)?;
-        let data = std::fs::read_to_string(path).ok()?;
-        Some(IncludeResult {
-            name: format!("shader library {name}"),
-            data,
-        })
-    }
-}
-
-/// Writes `relief_ids.glsl` and `shader_library.rs` (the embedded files) into `out_dir` and
-/// compiles the example's shaders into `out_dir/shader_library_example/`.
-pub fn build(compiler: &Compiler, manifest: &Path, out_dir: &Path) -> Result<(), String> {
-    let ids = out_dir.join(IDS_FILE);
-    std::fs::write(&ids, ids_header()?).map_err(|e| e.to_string())?;
-    let files = library_files(&manifest.join("shaders"), &ids);
+/// Writes `relief_ids.glsl` (`ids`) and `shader_library.rs`, the table that embeds the
+/// library's files, into `out_dir`.
+pub fn write_tables(manifest: &Path, out_dir: &Path, ids: &str) -> Result<(), String> {
+    let ids_path = out_dir.join(IDS_FILE);
+    std::fs::write(&ids_path, ids).map_err(|e| e.to_string())?;
+    let files = library_files(&manifest.join("shaders"), &ids_path);
     for (k, (name, _)) in files.iter().enumerate() {
         if files[..k].iter().any(|(earlier, _)| earlier == name) {
             return Err(format!("shader library: two files are named {name}"));
@@ -95,33 +76,5 @@ pub fn build(compiler: &Compiler, manifest: &Path, out_dir: &Path) -> Result<(),
         let _ = writeln!(table, "    ({name:?}, include_str!({path:?})),");
     }
     table.push_str("];\n");
-    std::fs::write(out_dir.join("shader_library.rs"), table).map_err(|e| e.to_string())?;
-
-    let mut includes = LibraryIncludes { files };
-    let check = manifest.join(CHECK_SHADER);
-    let every_file = crate::Source {
-        key: CHECK_SHADER,
-        file: &check,
-        shown_from: manifest,
-        stage: ShaderStage::Fragment,
-        defines: &[],
-    };
-    crate::compile_source(compiler, &every_file, &mut includes)?;
-
-    let spirv_dir = out_dir.join("shader_library_example");
-    std::fs::create_dir_all(&spirv_dir).map_err(|e| e.to_string())?;
-    for (name, stage) in EXAMPLE_SHADERS {
-        let file = manifest.join(EXAMPLE_DIR).join(name);
-        let source = crate::Source {
-            key: &format!("{EXAMPLE_DIR}/{name}"),
-            file: &file,
-            shown_from: manifest,
-            stage: *stage,
-            defines: &[],
-        };
-        let words = crate::compile_source(compiler, &source, &mut includes)?;
-        let bytes: Vec<u8> = words.iter().flat_map(|w| w.to_le_bytes()).collect();
-        std::fs::write(spirv_dir.join(format!("{name}.spv")), bytes).map_err(|e| e.to_string())?;
-    }
-    Ok(())
+    std::fs::write(out_dir.join("shader_library.rs"), table).map_err(|e| e.to_string())
 }

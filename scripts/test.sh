@@ -26,13 +26,26 @@ if (($# == 0)); then
     # record into a command buffer outside a submission nor hand relief::vk a raw Vulkan handle,
     # and the guide's frame render.
     cargo test --doc
-    cargo build --lib --no-default-features
     RUSTDOCFLAGS="-D warnings" cargo doc --no-deps --lib
+    # The SPIR-V the package ships: written by this build, then read back by a build without
+    # glslang, as a dependent with default-features = false builds (its fingerprint checked
+    # against the shader sources), which must not depend on glslang even indirectly.
+    RELIEF_WRITE_PREBUILT_SPIRV="$PWD/prebuilt-spirv" cargo build --lib --quiet
+    cargo build --lib --no-default-features
+    if cargo tree --no-default-features -e normal,build --prefix none | grep -q '^glslang'; then
+        echo "relief test: the library without default features still builds glslang" >&2
+        exit 1
+    fi
     # The crate as it would be published: packaged, then built from the package alone (what a
     # dependent compiles). --allow-dirty lets a working tree with uncommitted edits run it.
     cargo package --allow-dirty --quiet
+    if ! cargo package --list --allow-dirty | grep -qx 'prebuilt-spirv/manifest.txt'; then
+        echo "relief test: the package does not carry prebuilt-spirv/" >&2
+        exit 1
+    fi
     # The package's build shares this target folder and relief's artifact names, and leaves its
     # fingerprints behind: without this, the next `cargo build` here would take the package's
     # binary for an up-to-date build of the working tree.
     cargo clean --package relief --quiet
+    rm -rf prebuilt-spirv
 fi
