@@ -28,6 +28,7 @@ mod measure;
 mod plan;
 pub(crate) mod shader_interface;
 mod shadows;
+mod shells;
 mod terrain;
 mod traced;
 
@@ -42,7 +43,6 @@ pub use frame::gbuffer::GBufferChannels;
 pub use frame::mesh_pipeline::describe as describe_pipeline;
 pub use frame::renderer::{FrameOutput, FrameRequest, Renderer, FRAMES_IN_FLIGHT};
 pub use frame::shadow_probe::{probe_shadows, ShadowProbe};
-pub use frame::shell_draw::BuiltShell;
 pub use frame::single_frame::{render, BuiltMap, Frame, RenderOptions, MAX_SUPERSAMPLE};
 pub use frame::work_counters::{WorkCounts, WorkSummary};
 pub use heights::height_resources::{HeightResources, HeightUpload};
@@ -86,6 +86,7 @@ pub use shadows::shadow_plan::{
     ShadowFilter, ShadowMapKind, ShadowMapPlan, ShadowOptions, DEFAULT_SHADOW_CASCADES,
     DEFAULT_SHADOW_MAP_SIZE,
 };
+pub use shells::shell_upload::BuiltShell;
 #[cfg(feature = "bench")]
 pub use terrain::blended_pyramid_pass::time_on_gpu;
 pub use terrain::blended_pyramid_pass::{build_blended_pyramid_on_gpu, BlendedPyramid};

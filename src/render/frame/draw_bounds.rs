@@ -3,6 +3,7 @@
 
 use glam::{Mat4, Vec3};
 
+use crate::render::kit::mesh_buffers::points_bounds;
 use crate::scene::Vertex;
 
 /// The world-space box around the local box `lo`..`hi` under `transform`.
@@ -24,12 +25,4 @@ pub(super) fn world_bounds(transform: Mat4, lo: Vec3, hi: Vec3) -> (Vec3, Vec3) 
 /// The box around a mesh's vertices, in its own space.
 pub(super) fn mesh_bounds(vertices: &[Vertex]) -> (Vec3, Vec3) {
     points_bounds(vertices.iter().map(|v| Vec3::from(v.position)))
-}
-
-/// The box around `points`.
-pub(super) fn points_bounds(points: impl Iterator<Item = Vec3>) -> (Vec3, Vec3) {
-    points.fold(
-        (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN)),
-        |(lo, hi), p| (lo.min(p), hi.max(p)),
-    )
 }

@@ -7,11 +7,11 @@ use serde::Serialize;
 use serde_json::{json, Value};
 
 use super::mesh_pipeline::describe;
-use super::shell_draw::BuiltShell;
 use super::single_frame::BuiltMap;
 use crate::render::cells::cells_pass::BuiltComplex;
 use crate::render::lighting::deferred_refusal;
 use crate::render::plan::frame_plan::Plan;
+use crate::render::shells::shell_upload::BuiltShell;
 use crate::vk::ObjectCounts;
 
 #[derive(Serialize)]

@@ -4,16 +4,16 @@
 
 use std::sync::Arc;
 
-use ash::vk;
 use glam::{Mat4, Vec3};
 
 use super::draw_bounds::{mesh_bounds, world_bounds};
 use super::material_set::MaterialSets;
 use super::occluders::occludes;
-use super::shell_draw::{upload_shell, BuiltShell};
 use crate::render::kit::draw_push::DrawPush;
+use crate::render::kit::mesh_buffers::mesh_buffers;
 use crate::render::plan::frame_plan::{DrawPlan, DrawRole, PipelineKey, Plan};
 use crate::render::shadows::shadow_plan::relief_pad;
+use crate::render::shells::shell_upload::{upload_shell, BuiltShell};
 use crate::render::terrain::layer_set::LayerSets;
 use crate::scene::{Mesh, Scene};
 use crate::vk::{Buffer, Context, DescriptorSet, VkError, VkResult};
@@ -93,29 +93,6 @@ pub(super) fn mesh_draws(
         draws.push(draw);
     }
     Ok((draws, shells))
-}
-
-/// A draw's vertex buffer (`vertices`, as bytes) and index buffer, named after `name`.
-pub(super) fn mesh_buffers(
-    ctx: &Arc<Context>,
-    vertices: &[u8],
-    indices: &[u32],
-    name: &str,
-) -> VkResult<(Buffer, Buffer)> {
-    Ok((
-        Buffer::with_data(
-            ctx,
-            vertices,
-            vk::BufferUsageFlags::VERTEX_BUFFER,
-            &format!("{name} vertices"),
-        )?,
-        Buffer::with_data(
-            ctx,
-            bytemuck::cast_slice(indices),
-            vk::BufferUsageFlags::INDEX_BUFFER,
-            &format!("{name} indices"),
-        )?,
-    ))
 }
 
 impl MeshDraw {

@@ -21,7 +21,6 @@ pub(in crate::render) mod renderer;
 pub(in crate::render) mod scene_ao;
 pub(in crate::render) mod scene_textures;
 pub(in crate::render) mod shadow_probe;
-pub(in crate::render) mod shell_draw;
 pub(in crate::render) mod single_frame;
 pub(in crate::render) mod surface_pass;
 mod surface_pipelines;

@@ -21,7 +21,6 @@ use super::height_upload::upload_heights;
 use super::occluders::OccluderTargets;
 use super::record_graph::{FrameWork, RecordingParts};
 use super::scene_ao::SceneAo;
-use super::shell_draw::BuiltShell;
 use super::single_frame::{BuiltMap, RenderOptions};
 use super::surface_pass::SurfacePass;
 use super::targets::{FrameReadbacks, TargetOptions, Targets};
@@ -44,6 +43,7 @@ use crate::render::lighting::{
 use crate::render::plan::frame_plan::{HeightKey, Plan};
 use crate::render::shadows::light_views::LightView;
 use crate::render::shadows::shadow_pass::ShadowMaps;
+use crate::render::shells::shell_upload::BuiltShell;
 use crate::render::terrain::layer_paint::LayerPainter;
 use crate::scene::{Camera, Light, Mesh, Scene};
 use crate::vk::{Buffer, Context, Image, Readback, VkError, VkResult};

@@ -15,7 +15,6 @@ use super::mesh_draws::{mesh_draws, MeshDraw};
 use super::occluders::occluder_layout;
 use super::scene_ao::SceneAo;
 use super::scene_textures::SceneTextures;
-use super::shell_draw::BuiltShell;
 use super::surface_pipelines::{
     caster_pipelines, occluder_pipelines, surface_pipelines, PipelineLayouts,
 };
@@ -31,6 +30,7 @@ use crate::render::shader_interface::{
     BINDING_METHOD_MAP, BINDING_OCCLUDER_BOUNDS, BINDING_WORK_COUNTS, SET_OCCLUDERS,
 };
 use crate::render::shadows::shadow_atlas::ShadowAtlas;
+use crate::render::shells::shell_upload::BuiltShell;
 use crate::render::terrain::layer_set::{layer_layout, LayerSets};
 use crate::scene::{Frustum, Mesh, Scene};
 use crate::vk::{

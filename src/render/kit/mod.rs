@@ -1,6 +1,6 @@
 //! The pass kit: what every pass folder shares and imports instead of the frame's orchestrator
 //! (`frame`): the frame's formats and uniform block, the GPU height field, the depth-as-colour
-//! target, the tone curves, pass names and their timestamp scopes, the frame's timeline, and the
+//! target, a mesh's buffers and bounds, the tone curves, pass names and their timestamp scopes, the frame's timeline, and the
 //! graph the frame's passes form.
 
 pub(in crate::render) mod caster_draws;
@@ -12,6 +12,7 @@ pub(in crate::render) mod frame_uniforms;
 pub(in crate::render) mod gpu_heightfield;
 pub(in crate::render) mod graph;
 pub(in crate::render) mod hard_shadow;
+pub(in crate::render) mod mesh_buffers;
 pub(in crate::render) mod pass;
 pub(in crate::render) mod pass_timer;
 pub(in crate::render) mod render_error;

@@ -5,9 +5,8 @@ use std::sync::Arc;
 
 use glam::Vec3;
 
-use super::draw_bounds::points_bounds;
-use super::mesh_draws::mesh_buffers;
 use crate::heightfield::Address;
+use crate::render::kit::mesh_buffers::{mesh_buffers, points_bounds};
 use crate::scene::{MaterialHeights, Mesh, Scene};
 use crate::shells::{ShellMesh, ShellVertex};
 use crate::vk::{Buffer, Context, VkError, VkResult};
@@ -28,7 +27,7 @@ pub struct BuiltShell {
 }
 
 /// A shell on the device: its buffers, its world bounds and its description.
-pub(super) struct ShellUpload {
+pub(in crate::render) struct ShellUpload {
     pub vertices: Buffer,
     pub indices: Buffer,
     pub index_count: u32,
@@ -38,7 +37,7 @@ pub(super) struct ShellUpload {
 
 /// Builds and uploads the prism shell of `mesh`, drawn with relief material `material`; refuses a
 /// shell over [`MAX_SHELL_BYTES`] by the mesh's name.
-pub(super) fn upload_shell(
+pub(in crate::render) fn upload_shell(
     ctx: &Arc<Context>,
     scene: &Scene,
     mesh: &Mesh,
