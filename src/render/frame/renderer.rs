@@ -46,7 +46,7 @@ use crate::render::shadows::shadow_pass::ShadowMaps;
 use crate::render::shells::shell_upload::BuiltShell;
 use crate::render::terrain::layer_paint::LayerPainter;
 use crate::scene::{Camera, Light, Mesh, Scene};
-use crate::vk::{Buffer, Context, Image, Readback, VkError, VkResult};
+use crate::vk::{Buffer, Context, Image, Readback, SubmitSync, VkError, VkResult};
 
 /// How many frames may be recorded or running at once.
 pub const FRAMES_IN_FLIGHT: usize = 2;
@@ -316,6 +316,21 @@ impl Renderer {
     /// Records and submits one frame. If the slot it takes still held an older frame, that frame
     /// is retired first and returned.
     pub fn submit(&mut self, request: &FrameRequest) -> Result<Option<FrameOutput>, RenderError> {
+        self.submit_synced(request, SubmitSync::default())
+    }
+
+    /// As [`Renderer::submit`], with the frame's submission ordered by `sync`: it waits for
+    /// `sync.wait` before its commands reach the stage named there, and signals `sync.signal`
+    /// when it finishes. An engine hands its own semaphores over with
+    /// [`crate::vk::Semaphore::borrowed`]: its submission that waits on the signalled one may then
+    /// read [`Renderer::color_target`] (in `COLOR_ATTACHMENT_OPTIMAL`, written at colour
+    /// attachment output) on any queue, as long as it finishes before this renderer's next
+    /// submission draws into the target again.
+    pub fn submit_synced(
+        &mut self,
+        request: &FrameRequest,
+        sync: SubmitSync<'_>,
+    ) -> Result<Option<FrameOutput>, RenderError> {
         let k = (self.submitted % FRAMES_IN_FLIGHT as u64) as usize;
         let retired = self.retire(k)?;
         let started = Instant::now();
@@ -338,7 +353,7 @@ impl Renderer {
             }
         }
         let render_maps = self.shadows.needs_render(&views);
-        let frame = self.record_frame(k, request, &views, render_maps)?;
+        let frame = self.record_frame(k, request, (&views, render_maps), sync)?;
         let timeline = self.submitted_timeline(started, &frame);
         let slot = &mut self.slots[k];
         slot.timeline = Some(timeline);
@@ -399,8 +414,8 @@ impl Renderer {
         &mut self,
         k: usize,
         request: &FrameRequest,
-        views: &[LightView],
-        render_maps: bool,
+        (views, render_maps): (&[LightView], bool),
+        sync: SubmitSync<'_>,
     ) -> VkResult<RecordedFrame> {
         let aspect = self.width as f32 / self.height as f32;
         let build_pyramids = !self.pyramids_built;
@@ -440,7 +455,7 @@ impl Renderer {
         };
         let timer = &mut slot.timer;
         let mut recorded = None;
-        let culled = slot.commands.submit(|rec| {
+        let culled = slot.commands.submit_synced(sync, |rec| {
             let start = Instant::now();
             let culled = parts.record(rec, timer, work);
             recorded = Some((start, Instant::now()));
