@@ -1,5 +1,6 @@
 //! The examples under `examples/` run and do what they say, at small sizes: the renders write a
-//! PNG of the size asked for that is not blank, the timing example prints both methods with
+//! PNG of the size asked for that is not blank (the shader-library example its library files
+//! too), the timing example prints both methods with
 //! finite error and GPU time, and the viewer presents its frames under Xvfb (SKIPPED without it,
 //! as the window tests are). Each example checks the validation layer itself and fails on errors.
 //!
@@ -138,6 +139,38 @@ fn scene_in_code_renders_its_relief_box() {
         None,
     );
     assert_rendered(&out, 96, 72);
+}
+
+#[test]
+fn shader_library_draws_its_quad_and_writes_the_library() {
+    if common::device("shader_library_draws_its_quad").is_none() {
+        return;
+    }
+    let dir = common::scratch_dir("example_shader_library");
+    let (out, glsl) = (dir.join("quad.png"), dir.join("glsl"));
+    let args = [
+        out.to_str().expect("utf-8 path"),
+        "--size",
+        "96x54",
+        "--glsl",
+        glsl.to_str().expect("utf-8 path"),
+    ];
+    let printed = run("shader_library", &args, None);
+    assert_rendered(&out, 96, 54);
+    assert!(
+        printed.contains("QDM"),
+        "it says which method drew: {printed}"
+    );
+    // The folder an engine's compiler includes from: every file, the entry among them.
+    let written = std::fs::read_dir(&glsl)
+        .expect("the library folder")
+        .count();
+    assert_eq!(written, relief::shader_library::files().count());
+    let entry = std::fs::read_to_string(glsl.join(relief::shader_library::ENTRY)).expect("entry");
+    assert!(
+        entry.contains("RELIEF_HEIGHT_POINT"),
+        "the entry states its contract"
+    );
 }
 
 #[test]
