@@ -213,18 +213,23 @@ fn library_shaders(compiler: &Compiler, manifest: &Path, ids: &str) -> Result<Ve
     };
     compile_source(compiler, &every_file, &mut includes)?;
     let mut modules = Vec::new();
-    for (name, stage) in EXAMPLE_SHADERS {
-        let file = manifest.join(EXAMPLE_DIR).join(name);
+    for shader in EXAMPLE_SHADERS {
+        let file = manifest.join(EXAMPLE_DIR).join(shader.file);
+        let defines: Vec<(String, String)> = shader
+            .define
+            .iter()
+            .map(|d| (d.to_string(), "1".to_owned()))
+            .collect();
         let source = Source {
-            key: &format!("{EXAMPLE_DIR}/{name}"),
+            key: &format!("{EXAMPLE_DIR}/{} ({})", shader.file, shader.spirv),
             file: &file,
             shown_from: manifest,
-            stage: *stage,
-            defines: &[],
+            stage: shader.stage,
+            defines: &defines,
         };
         let words = compile_source(compiler, &source, &mut includes)?;
         modules.push(Module {
-            out_name: format!("shader_library_example/{name}.spv"),
+            out_name: format!("shader_library_example/{}", shader.spirv),
             key: None,
             bytes: to_bytes(&words),
         });

@@ -59,13 +59,16 @@ pub fn fingerprint(manifest: &Path, generated: &[&str], variants: &[Variant]) ->
     sources.extend(
         crate::shader_library::EXAMPLE_SHADERS
             .iter()
-            .map(|(name, _)| example.join(name)),
+            .map(|shader| example.join(shader.file)),
     );
     sources.push(manifest.join(crate::shader_library::CHECK_SHADER));
     for path in sources {
         let relative = path.strip_prefix(manifest).unwrap_or(&path);
         h.add(relative.to_string_lossy().replace('\\', "/").as_bytes());
         h.add(&std::fs::read(&path).unwrap_or_default());
+    }
+    for shader in crate::shader_library::EXAMPLE_SHADERS {
+        h.add(format!("{} {:?}", shader.spirv, shader.define).as_bytes());
     }
     for text in generated {
         h.add(text.as_bytes());

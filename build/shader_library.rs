@@ -15,8 +15,36 @@ use crate::table::METHODS;
 pub const CHECK_SHADER: &str = "build/shader_library_check.frag";
 /// The example whose shaders are compiled here, and its shader files.
 pub const EXAMPLE_DIR: &str = "examples/shader_library";
-pub const EXAMPLE_SHADERS: &[(&str, Stage)] =
-    &[("quad.vert", Stage::Vertex), ("quad.frag", Stage::Fragment)];
+pub const EXAMPLE_SHADERS: &[ExampleShader] = &[
+    ExampleShader {
+        file: "quad.vert",
+        spirv: "quad.vert.spv",
+        stage: Stage::Vertex,
+        define: None,
+    },
+    ExampleShader {
+        file: "quad.frag",
+        spirv: "quad.frag.spv",
+        stage: Stage::Fragment,
+        define: None,
+    },
+    // The engine whose depth is reversed (nearer is larger).
+    ExampleShader {
+        file: "quad.frag",
+        spirv: "quad_reverse_z.frag.spv",
+        stage: Stage::Fragment,
+        define: Some("RELIEF_REVERSE_Z"),
+    },
+];
+
+/// One SPIR-V module of the example: its GLSL file, its SPIR-V file, and a define it is
+/// compiled with.
+pub struct ExampleShader {
+    pub file: &'static str,
+    pub spirv: &'static str,
+    pub stage: Stage,
+    pub define: Option<&'static str>,
+}
 
 /// `relief_ids.glsl`: the library's specialization ids, offset from `RELIEF_SPEC_ID_BASE` by
 /// their ids in relief's own table, and the self-shadow modes.

@@ -4,8 +4,9 @@
 //! What the method computes must agree pixel for pixel: which pixels the quad covers, the hit's
 //! uv, its view depth and the steps QDM took (on lavapipe they agree to float rounding, steps
 //! exactly; the allowances are for GPUs that round an edge pixel or a texel choice another way);
-//! and the image of the hits each side makes passes the golden-image tolerance. Both run under
-//! the validation layer.
+//! and the image of the hits each side makes passes the golden-image tolerance. The example's
+//! depth attachment holds the displaced depth in standard and in reversed depth alike. All of it
+//! runs under the validation layer.
 
 mod common;
 
@@ -30,6 +31,7 @@ fn view() -> quad::QuadView {
         depth_scale: 0.08,
         width: WIDTH,
         height: HEIGHT,
+        reverse_z: false,
     }
 }
 
@@ -137,5 +139,74 @@ fn the_shader_library_example_traces_what_relief_s_renderer_traces() {
         "the hit images differ: mean {mean:.2}, p99 {p99}"
     );
     assert_eq!(example.rgba.len(), pixels * 4);
+    common::assert_no_validation_errors(&ctx);
+}
+
+/// The view depth (distance along the camera's axis) of window depth `d`, standard or reversed.
+fn view_depth(d: f32, reverse_z: bool) -> f64 {
+    let (n, f, d) = (f64::from(quad::NEAR), f64::from(quad::FAR), f64::from(d));
+    if reverse_z {
+        n * f / (n + d * (f - n))
+    } else {
+        n * f / (f - d * (f - n))
+    }
+}
+
+#[test]
+fn the_depth_attachment_holds_the_displaced_depth_in_either_convention() {
+    let test = "the_depth_attachment_holds_the_displaced_depth_in_either_convention";
+    let Some(ctx) = common::device(test) else {
+        return;
+    };
+    let heights = Generator::Fbm.generate(128, 128, 3);
+    let standard = quad::draw_quad(&ctx, &heights, &view()).expect("standard depth");
+    let reversed_view = quad::QuadView {
+        reverse_z: true,
+        ..view()
+    };
+    let reversed = quad::draw_quad(&ctx, &heights, &reversed_view).expect("reversed depth");
+    let (mut covered, mut worst_sum, mut worst_standard, mut worst_reversed) =
+        (0, 0f64, 0f64, 0f64);
+    for k in 0..standard.hits.len() {
+        let hit = standard.hits[k];
+        assert_eq!(
+            hit, reversed.hits[k],
+            "pixel {k}: the convention changed the hit"
+        );
+        if hit[3] <= 0.0 {
+            assert_eq!(
+                (standard.depth[k], reversed.depth[k]),
+                (1.0, 0.0),
+                "pixel {k}: cleared"
+            );
+            continue;
+        }
+        covered += 1;
+        // Swapping the planes of a [0, 1] perspective maps d to 1 - d.
+        worst_sum = worst_sum.max(f64::from(standard.depth[k] + reversed.depth[k] - 1.0).abs());
+        // Both hold the displaced hit's depth, which the fragment also reports as view depth.
+        let view = f64::from(hit[3]);
+        worst_standard =
+            worst_standard.max((view_depth(standard.depth[k], false) - view).abs() / view);
+        worst_reversed =
+            worst_reversed.max((view_depth(reversed.depth[k], true) - view).abs() / view);
+    }
+    eprintln!(
+        "{covered} pixels: |d + d_reversed - 1| <= {worst_sum:.1e}; view depth from the \
+         attachment within {worst_standard:.1e} (standard), {worst_reversed:.1e} (reversed)"
+    );
+    assert!(covered > standard.hits.len() / 3);
+    assert!(
+        worst_sum < 1e-5,
+        "reversed depth is not 1 - d: {worst_sum:e}"
+    );
+    assert!(
+        worst_standard < 1e-3,
+        "standard depth off the hit by {worst_standard:e}"
+    );
+    assert!(
+        worst_reversed < 1e-5,
+        "reversed depth off the hit by {worst_reversed:e}"
+    );
     common::assert_no_validation_errors(&ctx);
 }

@@ -4,7 +4,7 @@
 //! a folder, the way an engine would hand them to its own shader compiler.
 //!
 //! ```sh
-//! cargo run --release --example shader_library -- [OUT.png] [--size WxH] [--glsl DIR]
+//! cargo run --release --example shader_library -- [OUT.png] [--size WxH] [--glsl DIR] [--reverse-z]
 //! ```
 
 mod quad;
@@ -37,12 +37,25 @@ fn main() -> anyhow::Result<()> {
         depth_scale: 0.08,
         width: args.width,
         height: args.height,
+        reverse_z: args.reverse_z,
     };
     let images = quad::draw_quad(&ctx, &heights, &view)?;
     let png =
         image::RgbaImage::from_raw(args.width, args.height, images.rgba).context("frame size")?;
     png.save(&args.out)
         .with_context(|| format!("writing {}", args.out.display()))?;
+    // The depth attachment holds the displaced depth, in the view's convention.
+    let far = if view.reverse_z { 0.0 } else { 1.0 };
+    let drawn = images.depth.iter().filter(|&&d| d != far);
+    let (lo, hi) = drawn.fold((f32::MAX, f32::MIN), |(lo, hi), &d| (lo.min(d), hi.max(d)));
+    println!(
+        "depth attachment ({}): {lo:.6} to {hi:.6} where the quad is",
+        if view.reverse_z {
+            "reversed"
+        } else {
+            "standard"
+        }
+    );
     let steps: f32 = images.hits.iter().map(|h| h[2]).sum();
     let covered = images.hits.iter().filter(|h| h[3] > 0.0).count().max(1);
     println!(
@@ -62,12 +75,14 @@ fn main() -> anyhow::Result<()> {
     Ok(())
 }
 
-/// `[OUT.png] [--size WxH] [--glsl DIR]`: the output defaults to `library_quad.png` at 480x270.
+/// `[OUT.png] [--size WxH] [--glsl DIR] [--reverse-z]`: the output defaults to
+/// `library_quad.png` at 480x270; `--reverse-z` draws with depth reversed (1 near, 0 far).
 struct Args {
     out: PathBuf,
     width: u32,
     height: u32,
     glsl: Option<PathBuf>,
+    reverse_z: bool,
 }
 
 impl Args {
@@ -77,6 +92,7 @@ impl Args {
             width: 480,
             height: 270,
             glsl: None,
+            reverse_z: false,
         };
         let mut words = std::env::args().skip(1);
         while let Some(word) = words.next() {
@@ -86,6 +102,7 @@ impl Args {
                     let (w, h) = text.split_once('x').context("--size is WxH")?;
                     (args.width, args.height) = (w.parse()?, h.parse()?);
                 }
+                "--reverse-z" => args.reverse_z = true,
                 "--glsl" => args.glsl = Some(words.next().context("--glsl needs a folder")?.into()),
                 _ => args.out = PathBuf::from(word),
             }

@@ -28,7 +28,13 @@ layout(set = 0, binding = 1) uniform sampler2D heights_bilinear;
 layout(location = 0) in vec3 in_world;
 layout(location = 1) in vec2 in_uv;
 
+// The displaced depth is never nearer than the polygon's, so early depth tests still hold; in
+// an engine whose depth is reversed (RELIEF_REVERSE_Z) nearer is larger.
+#ifdef RELIEF_REVERSE_Z
+layout(depth_less) out float gl_FragDepth;
+#else
 layout(depth_greater) out float gl_FragDepth;
+#endif
 layout(location = 0) out vec4 out_color;
 // u, v, steps, linear view depth of the hit.
 layout(location = 1) out vec4 out_hit;
@@ -59,7 +65,5 @@ void main() {
     out_color = vec4(colour, 1.0);
     out_hit = vec4(uv, float(hit.steps), dot(world - push.eye.xyz, push.forward.xyz));
 
-    // The displaced depth, never nearer than the polygon's (the layout's promise).
-    vec4 clip = push.view_proj * vec4(world, 1.0);
-    gl_FragDepth = max(gl_FragCoord.z, clamp(clip.z / clip.w, 0.0, 1.0));
+    gl_FragDepth = relief_fragment_depth(push.view_proj * vec4(world, 1.0), gl_FragCoord.z);
 }

@@ -12,8 +12,7 @@ use relief::method::Method;
 use relief::shader_library::{self, DEFAULT_SPEC_ID_BASE};
 use relief::vk::raw as vk;
 use relief::vk::{
-    read_mip, transition_images, upload_mips, ColorTarget, Context, Image, ImageDesc,
-    ImageTransition, Sampler,
+    read_mip, transition_images, upload_mips, Context, Image, ImageDesc, ImageTransition, Sampler,
 };
 
 /// The SPIR-V relief's build compiled from `quad.vert` and `quad.frag` against the shader
@@ -27,6 +26,15 @@ const FRAGMENT: &[u8] = include_bytes!(concat!(
     env!("OUT_DIR"),
     "/shader_library_example/quad.frag.spv"
 ));
+/// `quad.frag` compiled with `RELIEF_REVERSE_Z`, for an engine whose depth is reversed.
+const FRAGMENT_REVERSE_Z: &[u8] = include_bytes!(concat!(
+    env!("OUT_DIR"),
+    "/shader_library_example/quad_reverse_z.frag.spv"
+));
+
+/// The camera's clip planes.
+pub const NEAR: f32 = 0.05;
+pub const FAR: f32 = 50.0;
 
 /// The quad (side `2 * half` in the XZ plane, the map once across it) and the camera.
 pub struct QuadView {
@@ -38,12 +46,19 @@ pub struct QuadView {
     pub depth_scale: f32,
     pub width: u32,
     pub height: u32,
+    /// Depth reversed, as many engines keep it: 1 at the near plane, 0 at the far one.
+    pub reverse_z: bool,
 }
 
 impl QuadView {
     pub fn view_projection(&self) -> Mat4 {
         let aspect = self.width as f32 / self.height as f32;
-        let projection = Mat4::perspective_rh(self.yfov, aspect, 0.05, 50.0);
+        let (near, far) = if self.reverse_z {
+            (FAR, NEAR)
+        } else {
+            (NEAR, FAR)
+        };
+        let projection = Mat4::perspective_rh(self.yfov, aspect, near, far);
         // Vulkan's framebuffer y points down.
         Mat4::from_scale(Vec3::new(1.0, -1.0, 1.0))
             * projection
@@ -51,11 +66,13 @@ impl QuadView {
     }
 }
 
-/// What the pass wrote: sRGB RGBA8 pixels, and per pixel (u, v, steps, view depth) of the hit,
-/// zero where the quad is not.
+/// What the pass wrote: sRGB RGBA8 pixels, per pixel (u, v, steps, view depth) of the hit
+/// (zero where the quad is not), and the depth attachment (the displaced depth, in the view's
+/// convention).
 pub struct QuadImages {
     pub rgba: Vec<u8>,
     pub hits: Vec<[f32; 4]>,
+    pub depth: Vec<f32>,
 }
 
 /// The push constants of both shaders.
@@ -98,7 +115,8 @@ pub fn draw_quad(
     let attach = vk::ImageUsageFlags::COLOR_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC;
     let color = target(COLOR, vk::ImageAspectFlags::COLOR, attach, "library colour")?;
     let hits = target(HIT, vk::ImageAspectFlags::COLOR, attach, "library hits")?;
-    let depth_usage = vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT;
+    let depth_usage =
+        vk::ImageUsageFlags::DEPTH_STENCIL_ATTACHMENT | vk::ImageUsageFlags::TRANSFER_SRC;
     let depth = target(
         DEPTH,
         vk::ImageAspectFlags::DEPTH,
@@ -106,7 +124,7 @@ pub fn draw_quad(
         "library depth",
     )?;
 
-    let pass = RawPass::new(ctx)?;
+    let pass = RawPass::new(ctx, view.reverse_z)?;
     pass.bind_heights(height_image.view().raw(), nearest.raw(), bilinear.raw());
     let forward = (view.target - view.eye).normalize();
     let push = Push {
@@ -131,13 +149,8 @@ pub fn draw_quad(
                 into_attachment(&depth, vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL),
             ],
         );
-        let clear = vk::ClearColorValue { float32: [0.0; 4] };
-        let targets = [&color, &hits].map(|image| ColorTarget {
-            image,
-            resolve: None,
-            clear,
-        });
-        rec.begin_rendering_targets(&targets, Some(&depth), false);
+        let far = if view.reverse_z { 0.0 } else { 1.0 };
+        begin_rendering(rec.raw(), ctx.device(), [&color, &hits], &depth, far);
         pass.draw(rec.raw(), &push);
         rec.end_rendering();
         Ok(())
@@ -145,7 +158,65 @@ pub fn draw_quad(
     let rgba = read_mip(ctx, &color, 0, color_out)?;
     let hit_bytes = read_mip(ctx, &hits, 0, color_out)?;
     let hits = bytemuck::pod_collect_to_vec::<u8, [f32; 4]>(&hit_bytes);
-    Ok(QuadImages { rgba, hits })
+    let depth_bytes = read_mip(ctx, &depth, 0, vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL)?;
+    let depth = bytemuck::pod_collect_to_vec::<u8, f32>(&depth_bytes);
+    Ok(QuadImages { rgba, hits, depth })
+}
+
+/// Begins dynamic rendering into the two colour targets (cleared to zero) and the depth
+/// attachment, cleared to the far plane's depth `far` and kept.
+fn begin_rendering(
+    cmd: vk::CommandBuffer,
+    device: &ash::Device,
+    colors: [&Image; 2],
+    depth: &Image,
+    far: f32,
+) {
+    let extent = vk::Extent2D {
+        width: colors[0].desc().width,
+        height: colors[0].desc().height,
+    };
+    let attachment = |image: &Image, clear| {
+        vk::RenderingAttachmentInfo::default()
+            .image_view(image.view().raw())
+            .load_op(vk::AttachmentLoadOp::CLEAR)
+            .store_op(vk::AttachmentStoreOp::STORE)
+            .clear_value(clear)
+    };
+    let cleared = vk::ClearValue {
+        color: vk::ClearColorValue { float32: [0.0; 4] },
+    };
+    let colors = colors.map(|image| {
+        attachment(image, cleared).image_layout(vk::ImageLayout::COLOR_ATTACHMENT_OPTIMAL)
+    });
+    let far = vk::ClearValue {
+        depth_stencil: vk::ClearDepthStencilValue {
+            depth: far,
+            stencil: 0,
+        },
+    };
+    let depth = attachment(depth, far).image_layout(vk::ImageLayout::DEPTH_ATTACHMENT_OPTIMAL);
+    let area = vk::Rect2D {
+        offset: vk::Offset2D::default(),
+        extent,
+    };
+    let info = vk::RenderingInfo::default()
+        .render_area(area)
+        .layer_count(1)
+        .color_attachments(&colors)
+        .depth_attachment(&depth);
+    let viewport = vk::Viewport {
+        width: extent.width as f32,
+        height: extent.height as f32,
+        max_depth: 1.0,
+        ..Default::default()
+    };
+    // SAFETY: `cmd` is recording; the attachments are alive and in the layouts named.
+    unsafe {
+        device.cmd_begin_rendering(cmd, &info);
+        device.cmd_set_viewport(cmd, 0, &[viewport]);
+        device.cmd_set_scissor(cmd, 0, &[area]);
+    }
 }
 
 /// The height image the library's contract asks for: level 0 the heights, levels 1.. the max
@@ -200,7 +271,7 @@ struct RawPass {
 }
 
 impl RawPass {
-    fn new(ctx: &Context) -> anyhow::Result<RawPass> {
+    fn new(ctx: &Context, reverse_z: bool) -> anyhow::Result<RawPass> {
         let device = ctx.device().clone();
         let module = |spirv: &[u8]| -> anyhow::Result<vk::ShaderModule> {
             let words = ash::util::read_spv(&mut std::io::Cursor::new(spirv))?;
@@ -228,7 +299,11 @@ impl RawPass {
         };
         let bindings = [sampled(0), sampled(1)];
         pass.modules = [module(VERTEX)?, vk::ShaderModule::null()];
-        pass.modules[1] = module(FRAGMENT)?;
+        pass.modules[1] = module(if reverse_z {
+            FRAGMENT_REVERSE_Z
+        } else {
+            FRAGMENT
+        })?;
         // SAFETY (this block): valid create infos on a live device; each handle is stored in the
         // pass as soon as it exists, so Drop destroys exactly what was made.
         unsafe {
@@ -246,7 +321,7 @@ impl RawPass {
                     .push_constant_ranges(&range),
                 None,
             )?;
-            pass.pipeline = pass.create_pipeline()?;
+            pass.pipeline = pass.create_pipeline(reverse_z)?;
             let sizes = [vk::DescriptorPoolSize {
                 ty: vk::DescriptorType::COMBINED_IMAGE_SAMPLER,
                 descriptor_count: 2,
@@ -266,7 +341,7 @@ impl RawPass {
     }
 
     /// QDM with relief's own budget for it, and the cone walk for the sun's self-shadow.
-    fn create_pipeline(&self) -> anyhow::Result<vk::Pipeline> {
+    fn create_pipeline(&self, reverse_z: bool) -> anyhow::Result<vk::Pipeline> {
         let mut constants: Vec<(u32, u32)> =
             shader_library::budget_constants(Method::QDM, DEFAULT_SPEC_ID_BASE).to_vec();
         let shadow_mode = shader_library::spec_constants()
@@ -310,7 +385,11 @@ impl RawPass {
         let depth = vk::PipelineDepthStencilStateCreateInfo::default()
             .depth_test_enable(true)
             .depth_write_enable(true)
-            .depth_compare_op(vk::CompareOp::LESS_OR_EQUAL);
+            .depth_compare_op(if reverse_z {
+                vk::CompareOp::GREATER_OR_EQUAL
+            } else {
+                vk::CompareOp::LESS_OR_EQUAL
+            });
         let blend = [vk::PipelineColorBlendAttachmentState::default()
             .color_write_mask(vk::ColorComponentFlags::RGBA); 2];
         let blending = vk::PipelineColorBlendStateCreateInfo::default().attachments(&blend);

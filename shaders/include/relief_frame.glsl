@@ -96,6 +96,19 @@ bool leaves_clamped_map(vec2 uv_entry, vec2 uv_hit) {
     return inside && left;
 }
 
+// The window depth to write for a hit projected to `clip_hit`, never nearer than the polygon's
+// own (`polygon`, gl_FragCoord.z): the hit lies beyond the polygon along the view ray, and
+// rounding must not break the promise that lets early depth tests run: layout(depth_greater)
+// for standard depth, layout(depth_less) where RELIEF_REVERSE_Z says nearer is larger.
+float relief_fragment_depth(vec4 clip_hit, float polygon) {
+    float d = clamp(clip_hit.z / clip_hit.w, 0.0, 1.0);
+#ifdef RELIEF_REVERSE_Z
+    return min(polygon, d);
+#else
+    return max(polygon, d);
+#endif
+}
+
 // World position of the hit at (uv_hit, depth z) of a ray that entered the polygon at `entry`
 // (world) and uv_entry.
 vec3 relief_hit_world(ReliefFrame f, vec3 entry, vec2 uv_entry, vec2 uv_hit, float z) {

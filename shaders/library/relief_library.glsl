@@ -18,6 +18,9 @@
 //                         relief::shader_library::SPEC_CONSTANTS
 //   RELIEF_HEIGHT_UV_MAP(uv1_per_uv0)  the 2x2 map from uv0 to height uv, for relief_frame.glsl
 //                         (default: height uv is uv0)
+//   RELIEF_REVERSE_Z      depth is reversed (1 near, 0 far): relief_fragment_depth keeps the
+//                         hit's depth from coming nearer by min, not max; declare
+//                         gl_FragDepth depth_less, not depth_greater
 //
 // Then, for example:
 //   #include "relief_library.glsl"

@@ -82,7 +82,7 @@ void main() {
     vec3 world = relief_hit_world(f, in_world, uv_h, uv_hit, z);
 #endif
     vec4 clip = tile.view_proj * vec4(world, 1.0);
-    gl_FragDepth = max(gl_FragCoord.z, clamp(clip.z / clip.w, 0.0, 1.0));
+    gl_FragDepth = relief_fragment_depth(clip, gl_FragCoord.z);
     out_depth = gl_FragDepth;
 #else
     out_depth = gl_FragCoord.z;

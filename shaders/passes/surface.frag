@@ -166,11 +166,9 @@ void shade() {
                                    - f.b * (f.depth_len * g0.y / f.scale.y));
     relief_normal = true;
     vec4 clip = frame.view_proj * vec4(world, 1.0);
-    // The hit lies along the view ray beyond the polygon, so its depth is never nearer; the max
-    // keeps rounding from breaking the depth_greater promise that lets early depth tests run.
-    // A material that keeps its polygon's depth writes that instead.
-    gl_FragDepth = WRITE_DEPTH != 0u ? max(gl_FragCoord.z, clamp(clip.z / clip.w, 0.0, 1.0))
-                                     : gl_FragCoord.z;
+    // Never nearer than the polygon (relief_fragment_depth); a material that keeps its
+    // polygon's depth writes that instead.
+    gl_FragDepth = WRITE_DEPTH != 0u ? relief_fragment_depth(clip, gl_FragCoord.z) : gl_FragCoord.z;
 #endif
 
 #ifdef TERRAIN_LAYERS
