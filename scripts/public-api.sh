@@ -3,7 +3,8 @@
 # reachable from the crate root (rustdoc's all.html, less ash's types re-exported as
 # `relief::vk::raw`), and on their pages the public fields, enum variants, inherent methods and
 # associated constants, and trait methods. Usage: scripts/public-api.sh [cargo doc options], for
-# example `--no-default-features` for what an engine sees.
+# example `--no-default-features --features compile-shaders` for what an engine sees (the
+# feature compiles the shaders in a checkout, which has no prebuilt SPIR-V; it adds no API).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 # Without the default features some of the guide's links have no target; those warnings are
