@@ -680,14 +680,14 @@ impl Context {
             .lock()
             .unwrap_or_else(std::sync::PoisonError::into_inner);
         match self.ownership {
-            // SAFETY: valid device, and relief's is its only queue; the lock keeps submissions
-            // out while we wait.
             Ownership::Relief => {
+                // SAFETY: valid device, and relief's is its only queue; the lock keeps
+                // submissions out while we wait.
                 unsafe { self.device.device_wait_idle() }.named("vkDeviceWaitIdle")
             }
-            // SAFETY: valid queue, held by the lock (the engine promised not to use it
-            // concurrently).
             Ownership::Engine => {
+                // SAFETY: valid queue, held by the lock (the engine promised not to use it
+                // concurrently).
                 unsafe { self.device.queue_wait_idle(*queue) }.named("vkQueueWaitIdle")
             }
         }
