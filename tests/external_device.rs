@@ -492,9 +492,9 @@ fn relief_renders_on_an_engines_device_and_leaves_it_alive() {
 }
 
 #[test]
-fn a_queue_the_device_lacks_is_a_clear_error() {
+fn a_queue_or_physical_device_the_engine_lacks_is_a_clear_error() {
     let _serial = one_at_a_time();
-    let Some(engine) = Engine::new("a_queue_the_device_lacks_is_a_clear_error") else {
+    let Some(engine) = Engine::new("a_queue_or_physical_device_the_engine_lacks") else {
         return;
     };
     let cases = [
@@ -511,6 +511,15 @@ fn a_queue_the_device_lacks_is_a_clear_error() {
             Err(e) => panic!("family {family}, queue {queue}: another error: {e}"),
             Ok(_) => panic!("family {family}, queue {queue}: relief took a queue the device lacks"),
         }
+    }
+    let mut stranger = engine.external(engine.family, 0);
+    stranger.physical = vk::PhysicalDevice::null();
+    // SAFETY: as above; relief asks the instance for its devices and stops there.
+    let made = unsafe { Context::from_external(stranger, &ContextOptions::default()) };
+    match made {
+        Err(VkError::Invalid(why)) => assert!(why.contains("physical"), "{why}"),
+        Err(e) => panic!("a physical device not of the instance: another error: {e}"),
+        Ok(_) => panic!("relief took a physical device not of the instance"),
     }
     engine.use_device();
     let errors = engine.finish();
