@@ -1,6 +1,10 @@
 //! The device context: instance, chosen physical device, logical device, its one queue, the memory
 //! allocator and a command pool. Every other Vulkan object holds an `Arc<Context>`, so the context
 //! is dropped last, and its `Drop` is the one place where teardown order is written out.
+//!
+//! The instance and device are relief's own ([`Context::new`]) or an engine's
+//! ([`Context::from_external`]); both constructors end in the same assembly, and the context
+//! destroys the instance and device only when they are its own (`Ownership`).
 
 use std::mem::ManuallyDrop;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -14,6 +18,7 @@ use gpu_allocator::{AllocationSizes, AllocatorDebugSettings};
 use super::counters::{Created, LiveObjects, ObjectCounters, ObjectCounts};
 use super::deferred::Retirement;
 use super::error::{Named, VkError, VkResult};
+use super::external_device::ExternalDevice;
 use super::faults::{FaultPlan, Faults};
 use super::fence::gpu_timeout_from_env;
 use super::instance::{create_instance, InstanceParts, MessageCounts, Validation};
@@ -57,9 +62,20 @@ with_setters!(ContextOptions {
 /// The environment variable that, set to 0, leaves ray queries off ([`ContextOptions`]).
 pub const RAY_QUERIES_ENV: &str = "RELIEF_RAY_QUERIES";
 
+/// Who destroys a context's instance and device (and the messenger and surface relief made).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Ownership {
+    /// Relief created them ([`Context::new`]): the context's `Drop` destroys them.
+    Relief,
+    /// An engine did ([`Context::from_external`]): relief destroys only what it created on the
+    /// device, and the engine destroys its device and instance after the context is gone.
+    Engine,
+}
+
 /// One Vulkan device, ready to record and submit work.
 pub struct Context {
     parts: ManuallyDrop<InstanceParts>,
+    ownership: Ownership,
     counts: Box<MessageCounts>,
     physical: vk::PhysicalDevice,
     info: DeviceInfo,
@@ -165,6 +181,125 @@ fn lifecycle() -> std::sync::MutexGuard<'static, ()> {
         .unwrap_or_else(std::sync::PoisonError::into_inner)
 }
 
+/// What a context takes from its options besides the device, read before anything is created so
+/// a malformed environment variable fails first.
+struct Settings {
+    gpu_timeout: Duration,
+    faults: FaultPlan,
+}
+
+impl Settings {
+    fn read(options: &ContextOptions) -> VkResult<Settings> {
+        let gpu_timeout = match options.gpu_timeout {
+            Some(t) => t,
+            None => gpu_timeout_from_env()?,
+        };
+        let faults = match options.faults {
+            Some(f) => f,
+            None => Faults::from_env()?,
+        };
+        Ok(Settings {
+            gpu_timeout,
+            faults: FaultPlan::new(faults),
+        })
+    }
+}
+
+/// Whether the options or `RELIEF_RAY_QUERIES=0` leave ray queries off.
+fn ray_queries_off(options: &ContextOptions) -> bool {
+    options.without_ray_queries || std::env::var(RAY_QUERIES_ENV).is_ok_and(|v| v == "0")
+}
+
+/// The instance and device a context is assembled on, and who owns them.
+struct Foundation {
+    parts: InstanceParts,
+    physical: vk::PhysicalDevice,
+    info: DeviceInfo,
+    device: ash::Device,
+    queue_index: u32,
+    /// `VK_EXT_debug_utils` is enabled on the instance: objects get debug names.
+    names_objects: bool,
+    ownership: Ownership,
+}
+
+impl Foundation {
+    /// Destroys the device and the instance's parts if relief owns them; an engine's are left
+    /// to the engine.
+    ///
+    /// # Safety
+    /// Nothing made from the device is alive, and the foundation is not used afterwards. For
+    /// relief's own, the caller holds [`lifecycle`].
+    unsafe fn release(&self) {
+        if self.ownership == Ownership::Relief {
+            // SAFETY: the caller's contract: nothing made from the device is left.
+            unsafe { self.device.destroy_device(None) };
+            destroy_instance_parts(&self.parts);
+        }
+    }
+}
+
+/// Relief's own instance (with `window`'s surface) and device, on the best device the options
+/// accept. The caller holds [`lifecycle`].
+///
+/// # Safety
+/// As [`Context::new_presenting`] when `window` is given.
+unsafe fn create_foundation(
+    options: &ContextOptions,
+    window: Option<&WindowHandles>,
+    counts: &MessageCounts,
+) -> VkResult<Foundation> {
+    let validation = options.validation.unwrap_or_else(Validation::from_env);
+    let extensions = match window {
+        Some(w) => surface_extensions(w)?,
+        None => &[],
+    };
+    let mut parts = create_instance(validation, counts, extensions)?;
+    if let Some(handles) = window {
+        // SAFETY: the caller keeps the window alive; the instance has its extensions.
+        match unsafe { WindowSurface::new(&parts.entry, &parts.instance, handles) } {
+            Ok(surface) => parts.surface = Some(surface),
+            Err(e) => {
+                destroy_instance_parts(&parts);
+                return Err(e);
+            }
+        }
+    }
+    let presents = |pd: vk::PhysicalDevice, info: &DeviceInfo| {
+        parts
+            .surface
+            .as_ref()
+            .is_none_or(|s| s.supports(pd, info.queue_family))
+    };
+    let chosen =
+        choose_physical_device(&parts.instance, options.device_filter.as_deref(), &presents);
+    let (physical, mut info) = match chosen {
+        Ok(pair) => pair,
+        Err(e) => {
+            destroy_instance_parts(&parts);
+            return Err(e);
+        }
+    };
+    // Asked only where the extension is offered: its query is the extension's.
+    info.calibrated_timestamps =
+        info.calibrated_timestamps && device_time_domain(&parts.entry, &parts.instance, physical);
+    info.ray_query &= !ray_queries_off(options);
+    match create_device(&parts, physical, &info) {
+        Ok(device) => Ok(Foundation {
+            names_objects: parts.debug_utils.is_some(),
+            parts,
+            physical,
+            info,
+            device,
+            queue_index: 0,
+            ownership: Ownership::Relief,
+        }),
+        Err(e) => {
+            destroy_instance_parts(&parts);
+            Err(e)
+        }
+    }
+}
+
 impl Context {
     /// Creates the instance, picks a device (discrete > integrated > virtual > CPU, or by name) and
     /// creates the logical device with the features relief uses.
@@ -189,103 +324,131 @@ impl Context {
         unsafe { Self::create(options, Some(window)) }
     }
 
+    /// Wraps an engine's own instance and device: relief creates its allocator, command pool,
+    /// pipeline cache and retirement timeline on the device and submits to the one queue named,
+    /// and destroys only those when the last `Arc` of the context drops. `options` is read as for
+    /// [`Context::new`], except `device_filter` and `validation`, which are the engine's choice.
+    ///
+    /// Checked here, with a [`VkError`] saying what is wrong: the physical device is one of the
+    /// instance's and supports Vulkan 1.3 and every feature relief requires; the queue family
+    /// exists, does graphics and compute and has the queue; the device offers each optional part
+    /// `device` says is enabled. Formats are checked where relief uses them, as on its own device.
+    ///
+    /// Validation: relief has no debug messenger on an engine's instance, so
+    /// [`Context::messages`] stays at zero and [`Context::validation_enabled`] is false; the
+    /// engine's own messenger sees the messages about relief's work.
+    ///
+    /// # Safety
+    /// The engine promises (Vulkan gives no way to ask an instance or device what was enabled):
+    /// - `device.device` was created from `device.instance` (created with `apiVersion` 1.3 or
+    ///   later, from `device.entry`) on `device.physical`, with queue `queue_index` of family
+    ///   `queue_family` among its queues (no creation flags);
+    /// - the device has the features relief requires enabled: `independentBlend`,
+    ///   `timelineSemaphore`, `hostQueryReset`, `dynamicRendering`, `synchronization2` and
+    ///   `shaderDemoteToHelperInvocation`;
+    /// - each optional part that `device` says is enabled (`ray_query`, `calibrated_timestamps`,
+    ///   `pipeline_statistics`, `fragment_stores`, `storage_r16`, `debug_utils`) is enabled, with
+    ///   the extensions and features [`ExternalDevice`] lists for it;
+    /// - the instance and device stay alive, and are not destroyed, until the context and
+    ///   everything made from it (every clone of its `Arc`, renderers, buffers) have dropped;
+    /// - relief's queue is used by relief alone, or the engine synchronises its own use of it
+    ///   with relief's (relief holds its own lock for each submission and wait, which the engine
+    ///   cannot take); and `vkDeviceWaitIdle`, which needs every queue of the device held, is not
+    ///   called while relief may submit. Relief itself waits only on its queue, never on the
+    ///   whole device.
+    pub unsafe fn from_external(
+        device: ExternalDevice,
+        options: &ContextOptions,
+    ) -> VkResult<Arc<Context>> {
+        let settings = Settings::read(options)?;
+        let mut info = device.device_info()?;
+        info.calibrated_timestamps = info.calibrated_timestamps
+            && device_time_domain(&device.entry, &device.instance, device.physical);
+        info.ray_query &= !ray_queries_off(options);
+        let foundation = Foundation {
+            parts: InstanceParts {
+                entry: device.entry,
+                instance: device.instance,
+                debug_utils: None,
+                validation_enabled: false,
+                surface: None,
+            },
+            physical: device.physical,
+            info,
+            device: device.device,
+            queue_index: device.queue_index,
+            names_objects: device.debug_utils,
+            ownership: Ownership::Engine,
+        };
+        Self::build(
+            foundation,
+            Box::default(),
+            settings,
+            options.pipeline_cache.as_deref(),
+        )
+    }
+
     /// # Safety
     /// As [`Context::new_presenting`] when `window` is given.
     unsafe fn create(
         options: &ContextOptions,
         window: Option<&WindowHandles>,
     ) -> VkResult<Arc<Context>> {
-        let gpu_timeout = match options.gpu_timeout {
-            Some(t) => t,
-            None => gpu_timeout_from_env()?,
-        };
-        let faults = match options.faults {
-            Some(f) => f,
-            None => Faults::from_env()?,
-        };
+        let settings = Settings::read(options)?;
         let counts = Box::<MessageCounts>::default();
-        let validation = options.validation.unwrap_or_else(Validation::from_env);
+        // Held until the context is whole: creating it, or on failure destroying it.
         let _lifecycle = lifecycle();
-        let extensions = match window {
-            Some(w) => surface_extensions(w)?,
-            None => &[],
-        };
-        let mut parts = create_instance(validation, &counts, extensions)?;
-        if let Some(handles) = window {
-            // SAFETY: the caller keeps the window alive; the instance has its extensions.
-            match unsafe { WindowSurface::new(&parts.entry, &parts.instance, handles) } {
-                Ok(surface) => parts.surface = Some(surface),
-                Err(e) => {
-                    destroy_instance_parts(&parts);
-                    return Err(e);
-                }
-            }
-        }
-        let presents = |pd: vk::PhysicalDevice, info: &DeviceInfo| {
-            parts
-                .surface
-                .as_ref()
-                .is_none_or(|s| s.supports(pd, info.queue_family))
-        };
-        let chosen =
-            choose_physical_device(&parts.instance, options.device_filter.as_deref(), &presents);
-        let (physical, mut info) = match chosen {
-            Ok(pair) => pair,
-            Err(e) => {
-                destroy_instance_parts(&parts);
-                return Err(e);
-            }
-        };
-        info.calibrated_timestamps &= device_time_domain(&parts, physical);
-        if options.without_ray_queries || std::env::var(RAY_QUERIES_ENV).is_ok_and(|v| v == "0") {
-            info.ray_query = false;
-        }
-        let device = match create_device(&parts, physical, &info) {
-            Ok(device) => device,
-            Err(e) => {
-                destroy_instance_parts(&parts);
-                return Err(e);
-            }
-        };
+        // SAFETY: the caller's contract for the window.
+        let foundation = unsafe { create_foundation(options, window, &counts) }?;
         let cache_data = options.pipeline_cache.as_deref();
-        let owned = match DeviceOwned::new(&parts, (physical, &info), &device, cache_data) {
+        Self::build(foundation, counts, settings, cache_data)
+    }
+
+    /// The assembly both constructors end in: relief's own objects on the device, then the
+    /// context. On failure the foundation is released as its ownership says (for relief's own,
+    /// the caller holds [`lifecycle`]).
+    fn build(
+        foundation: Foundation,
+        counts: Box<MessageCounts>,
+        settings: Settings,
+        cache_data: Option<&[u8]>,
+    ) -> VkResult<Arc<Context>> {
+        let f = &foundation;
+        let owned = match DeviceOwned::new(&f.parts, (f.physical, &f.info), &f.device, cache_data) {
             Ok(owned) => owned,
             Err(e) => {
-                // SAFETY: nothing made from the device is left.
-                unsafe { device.destroy_device(None) };
-                destroy_instance_parts(&parts);
+                // SAFETY: nothing made from the device is left, and nothing else holds it.
+                unsafe { foundation.release() };
                 return Err(e);
             }
         };
-        let plan = FaultPlan::new(faults);
-        let ctx = Self::assemble(
-            parts,
-            counts,
-            (physical, info),
-            device,
-            owned,
-            (gpu_timeout, plan),
-        );
+        let ctx = Self::assemble(foundation, counts, owned, settings);
         ctx.with_pipeline_cache(|raw| ctx.set_name(raw, "pipeline cache"));
         ctx.set_name(ctx.retirement.timeline(), "retirement timeline");
         Ok(ctx)
     }
 
     fn assemble(
-        parts: InstanceParts,
+        foundation: Foundation,
         counts: Box<MessageCounts>,
-        (physical, info): (vk::PhysicalDevice, DeviceInfo),
-        device: ash::Device,
         owned: DeviceOwned,
-        (gpu_timeout, faults): (Duration, FaultPlan),
+        settings: Settings,
     ) -> Arc<Context> {
+        let Foundation {
+            parts,
+            physical,
+            info,
+            device,
+            queue_index,
+            names_objects,
+            ownership,
+        } = foundation;
         let queue_family = info.queue_family;
-        // SAFETY: queue family index and queue 0 were requested at device creation.
-        let queue = unsafe { device.get_device_queue(queue_family, 0) };
-        let debug_device = parts
-            .debug_utils
-            .as_ref()
-            .map(|_| ext::debug_utils::Device::new(&parts.instance, &device));
+        // SAFETY: the queue was requested at device creation (by relief, or as the engine
+        // promised; the index is within the family's count, checked for an engine's device).
+        let queue = unsafe { device.get_device_queue(queue_family, queue_index) };
+        let debug_device =
+            names_objects.then(|| ext::debug_utils::Device::new(&parts.instance, &device));
         let calibration = info
             .calibrated_timestamps
             .then(|| ext::calibrated_timestamps::Device::new(&parts.instance, &device));
@@ -294,6 +457,7 @@ impl Context {
             .then(|| khr::acceleration_structure::Device::new(&parts.instance, &device));
         Arc::new(Context {
             parts: ManuallyDrop::new(parts),
+            ownership,
             counts,
             physical,
             info,
@@ -307,10 +471,10 @@ impl Context {
             command_pool: Mutex::new(owned.pool),
             pipeline_cache: ManuallyDrop::new(RwLock::new(owned.cache)),
             retirement: owned.retirement,
-            gpu_timeout,
+            gpu_timeout: settings.gpu_timeout,
             hung: AtomicBool::new(false),
             created: ObjectCounters::default(),
-            faults,
+            faults: settings.faults,
         })
     }
 
@@ -334,10 +498,13 @@ impl Context {
         &self.info
     }
 
-    /// One line for people: name (driver; Vulkan version; validation on|off).
+    /// One line for people: name (driver; Vulkan version; validation on, off, or the engine's
+    /// on an engine's device).
     pub fn describe(&self) -> String {
         let i = &self.info;
-        let validation = if self.validation_enabled() {
+        let validation = if self.is_external() {
+            "the engine's"
+        } else if self.validation_enabled() {
             "on"
         } else {
             "off"
@@ -350,14 +517,24 @@ impl Context {
         )
     }
 
-    /// Whether the Khronos validation layer is active.
+    /// Whether relief loaded the Khronos validation layer and counts what it reports
+    /// ([`Context::messages`]). False on an engine's device ([`Context::from_external`]): relief
+    /// cannot ask which layers the engine's instance has, and has no messenger there.
     pub fn validation_enabled(&self) -> bool {
         self.parts.validation_enabled
     }
 
-    /// What the validation layer has reported so far.
+    /// What the validation layer has reported so far to relief's debug messenger. On an
+    /// engine's device there is none and the counts stay at zero; the engine's own messenger
+    /// sees the messages about relief's work.
     pub fn messages(&self) -> &MessageCounts {
         &self.counts
+    }
+
+    /// Whether the instance and device are an engine's ([`Context::from_external`]), which
+    /// relief does not destroy.
+    pub fn is_external(&self) -> bool {
+        self.ownership == Ownership::Engine
     }
 
     /// How many objects and allocations this context has created so far.
@@ -489,12 +666,31 @@ impl Context {
     /// Waits for the device to finish all submitted work, then destroys the objects dropped
     /// while it ran.
     pub fn wait_idle(&self) -> VkResult<()> {
-        let queue = self.queue.lock();
-        // SAFETY: valid device; the queue lock keeps submissions out while we wait.
-        let waited = unsafe { self.device.device_wait_idle() }.named("vkDeviceWaitIdle");
-        drop(queue);
+        let waited = self.wait_for_gpu();
         self.retire();
         waited
+    }
+
+    /// Waits until the GPU has finished relief's submissions: the whole device where it is
+    /// relief's, only relief's queue on an engine's device (`vkDeviceWaitIdle` needs every queue
+    /// of the device held, and the engine's are not relief's to hold).
+    fn wait_for_gpu(&self) -> VkResult<()> {
+        let queue = self
+            .queue
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        match self.ownership {
+            Ownership::Relief => {
+                // SAFETY: valid device, and relief's is its only queue; the lock keeps
+                // submissions out while we wait.
+                unsafe { self.device.device_wait_idle() }.named("vkDeviceWaitIdle")
+            }
+            Ownership::Engine => {
+                // SAFETY: valid queue, held by the lock (the engine promised not to use it
+                // concurrently).
+                unsafe { self.device.queue_wait_idle(*queue) }.named("vkQueueWaitIdle")
+            }
+        }
     }
 }
 
@@ -502,25 +698,29 @@ impl Drop for Context {
     fn drop(&mut self) {
         if self.is_hung() {
             // Waiting would block forever and destroying objects still in use is undefined;
-            // leave the device to the process exit.
+            // leave the device (an engine's: relief's objects on it) to the process exit.
             log::warn!("the GPU hung: leaving the Vulkan device undestroyed");
             return;
         }
+        let _ = self.wait_for_gpu();
         // SAFETY: every object made from this device holds an Arc of this context, so all of them
-        // are gone. Order: wait idle, objects still waiting for retirement (their memory goes
-        // back to the allocator), allocator (frees its memory blocks), pipeline cache, pools,
-        // device, messenger, instance.
+        // are gone, and relief's queue is idle. Order: objects still waiting for retirement
+        // (their memory goes back to the allocator), allocator (frees its memory blocks),
+        // pipeline cache, pools; then, only where relief made them, device, messenger, surface
+        // and instance. An engine's are its own to destroy.
         unsafe {
-            let _ = self.device.device_wait_idle();
             self.retirement.drain(self);
             ManuallyDrop::drop(&mut self.allocator);
             ManuallyDrop::drop(&mut self.pipeline_cache);
             if let Ok(pool) = self.command_pool.lock() {
                 self.device.destroy_command_pool(*pool, None);
             }
-            let _lifecycle = lifecycle();
-            self.device.destroy_device(None);
-            destroy_instance_parts(&self.parts);
+            if self.ownership == Ownership::Relief {
+                let _lifecycle = lifecycle();
+                self.device.destroy_device(None);
+                destroy_instance_parts(&self.parts);
+            }
+            // Only the loader's handle and the function tables: nothing is destroyed here.
             ManuallyDrop::drop(&mut self.parts);
         }
     }
@@ -541,8 +741,12 @@ fn destroy_instance_parts(parts: &InstanceParts) {
 
 /// Whether `physical`, which offers `VK_EXT_calibrated_timestamps`, calibrates its own time
 /// domain (the one its timestamp queries count in).
-fn device_time_domain(parts: &InstanceParts, physical: vk::PhysicalDevice) -> bool {
-    let calibrated = ext::calibrated_timestamps::Instance::new(&parts.entry, &parts.instance);
+fn device_time_domain(
+    entry: &ash::Entry,
+    instance: &ash::Instance,
+    physical: vk::PhysicalDevice,
+) -> bool {
+    let calibrated = ext::calibrated_timestamps::Instance::new(entry, instance);
     // SAFETY: valid physical device; the caller has seen it offer the extension.
     let domains = unsafe { calibrated.get_physical_device_calibrateable_time_domains(physical) };
     domains.is_ok_and(|d| d.contains(&vk::TimeDomainKHR::DEVICE))

@@ -2,7 +2,8 @@
 //! pipelines, descriptors, timestamps, transfers, and presentation to a window. Knows nothing of height fields or scenes.
 //!
 //! Ownership: every object holds an `Arc<Context>`; the context is destroyed last, in the one
-//! order written out in its `Drop`.
+//! order written out in its `Drop`. An engine's instance and device, wrapped by
+//! [`Context::from_external`], outlive it: relief destroys only what it created on them.
 //!
 //! Lifetimes on the GPU (the model: deferred destruction retired by a timeline semaphore). Safe
 //! code may drop a [`Buffer`], [`Image`], [`ImageView`], [`Sampler`], [`Pipeline`],
@@ -36,6 +37,7 @@ mod counters;
 mod deferred;
 mod descriptors;
 mod error;
+mod external_device;
 mod faults;
 mod fence;
 mod image;
@@ -61,6 +63,7 @@ pub use context::{Context, ContextOptions, RAY_QUERIES_ENV};
 pub use counters::{LiveObjects, ObjectCounts};
 pub use descriptors::{Bind, DescriptorLayout, DescriptorPool, DescriptorSet};
 pub use error::{VkError, VkResult};
+pub use external_device::ExternalDevice;
 pub use faults::{Faults, FAULTS_ENV};
 pub use fence::{gpu_timeout_from, DEFAULT_GPU_TIMEOUT, GPU_TIMEOUT_ENV};
 pub use image::{Image, ImageDesc, ImageView, Sampler, WholeImage};

@@ -171,8 +171,72 @@ fn version_string(v: u32) -> String {
     )
 }
 
+/// The queue flags relief's one queue needs: it records draws and dispatches into the same
+/// command buffers.
+pub(crate) const QUEUE_FLAGS: vk::QueueFlags =
+    vk::QueueFlags::from_raw(vk::QueueFlags::GRAPHICS.as_raw() | vk::QueueFlags::COMPUTE.as_raw());
+
+/// What `pd` lacks of what relief enables on every device, by its Vulkan name (empty: nothing).
+/// Only support can be asked; whether an engine's device enabled them cannot.
+pub(crate) fn missing_requirements(
+    instance: &ash::Instance,
+    pd: vk::PhysicalDevice,
+) -> Vec<String> {
+    // SAFETY: valid physical device.
+    let api = unsafe { instance.get_physical_device_properties(pd) }.api_version;
+    let mut v13 = vk::PhysicalDeviceVulkan13Features::default();
+    let mut v12 = vk::PhysicalDeviceVulkan12Features::default();
+    let mut feats2 = vk::PhysicalDeviceFeatures2::default()
+        .push_next(&mut v12)
+        .push_next(&mut v13);
+    // SAFETY: valid physical device; the chained structs live across the call.
+    unsafe { instance.get_physical_device_features2(pd, &mut feats2) };
+    let mut missing = Vec::new();
+    if api < vk::API_VERSION_1_3 {
+        missing.push(format!("Vulkan 1.3 (it reports {})", version_string(api)));
+    }
+    // independentBlend: the G-buffer's attachments keep their own write masks (Vulkan's 2022
+    // roadmap profile requires it; lavapipe has it).
+    let features = [
+        ("independentBlend", feats2.features.independent_blend),
+        ("timelineSemaphore", v12.timeline_semaphore),
+        ("hostQueryReset", v12.host_query_reset),
+        ("dynamicRendering", v13.dynamic_rendering),
+        ("synchronization2", v13.synchronization2),
+        (
+            "shaderDemoteToHelperInvocation",
+            v13.shader_demote_to_helper_invocation,
+        ),
+    ];
+    missing.extend(
+        features
+            .iter()
+            .filter(|(_, has)| *has != vk::TRUE)
+            .map(|(name, _)| (*name).to_owned()),
+    );
+    missing
+}
+
 /// Describes a device, or `None` if relief cannot use it.
 fn describe(instance: &ash::Instance, pd: vk::PhysicalDevice) -> Option<(u32, DeviceInfo)> {
+    if !missing_requirements(instance, pd).is_empty() {
+        return None;
+    }
+    // SAFETY: plain query.
+    let families = unsafe { instance.get_physical_device_queue_family_properties(pd) };
+    let family = families
+        .iter()
+        .position(|f| f.queue_flags.contains(QUEUE_FLAGS))?;
+    Some(describe_family(instance, pd, family as u32))
+}
+
+/// What relief knows of `pd` used through queue family `family` (which must exist), with its rank
+/// among device kinds. The optional flags say what the device offers, not what is enabled.
+pub(crate) fn describe_family(
+    instance: &ash::Instance,
+    pd: vk::PhysicalDevice,
+    family: u32,
+) -> (u32, DeviceInfo) {
     let mut driver = vk::PhysicalDeviceDriverProperties::default();
     let mut subgroup = vk::PhysicalDeviceSubgroupProperties::default();
     let mut ids = vk::PhysicalDeviceIDProperties::default();
@@ -183,34 +247,11 @@ fn describe(instance: &ash::Instance, pd: vk::PhysicalDevice) -> Option<(u32, De
     // SAFETY: valid physical device; the chained structs live across the call.
     unsafe { instance.get_physical_device_properties2(pd, &mut props2) };
     let props = props2.properties;
-    let mut v13 = vk::PhysicalDeviceVulkan13Features::default();
-    let mut v12 = vk::PhysicalDeviceVulkan12Features::default();
-    let mut feats2 = vk::PhysicalDeviceFeatures2::default()
-        .push_next(&mut v12)
-        .push_next(&mut v13);
     // SAFETY: as above.
-    unsafe { instance.get_physical_device_features2(pd, &mut feats2) };
-    let storage_r16 = feats2.features.shader_storage_image_extended_formats == vk::TRUE;
-    let pipeline_statistics = feats2.features.pipeline_statistics_query == vk::TRUE;
-    let fragment_stores = feats2.features.fragment_stores_and_atomics == vk::TRUE;
-    // independentBlend: the G-buffer's attachments keep their own write masks (Vulkan's 2022
-    // roadmap profile requires it; lavapipe has it).
-    let usable = props.api_version >= vk::API_VERSION_1_3
-        && feats2.features.independent_blend == vk::TRUE
-        && v13.dynamic_rendering == vk::TRUE
-        && v13.synchronization2 == vk::TRUE
-        && v13.shader_demote_to_helper_invocation == vk::TRUE
-        && v12.host_query_reset == vk::TRUE;
-    if !usable {
-        return None;
-    }
+    let features = unsafe { instance.get_physical_device_features(pd) };
     // SAFETY: plain query.
     let families = unsafe { instance.get_physical_device_queue_family_properties(pd) };
-    let wanted = vk::QueueFlags::GRAPHICS | vk::QueueFlags::COMPUTE;
-    let (family, fprops) = families
-        .iter()
-        .enumerate()
-        .find(|(_, f)| f.queue_flags.contains(wanted))?;
+    let fprops = families[family as usize];
     let (rank, kind) = kind_rank(props.device_type);
     let text = |s: Result<&CStr, _>| {
         s.map(|c: &CStr| c.to_string_lossy().into_owned())
@@ -223,8 +264,8 @@ fn describe(instance: &ash::Instance, pd: vk::PhysicalDevice) -> Option<(u32, De
     let extensions = device_extensions(instance, pd);
     let (ray_query, acceleration_structure) = ray_tracing_support(instance, pd, &extensions);
     let info = DeviceInfo {
-        pipeline_statistics,
-        fragment_stores,
+        pipeline_statistics: features.pipeline_statistics_query == vk::TRUE,
+        fragment_stores: features.fragment_stores_and_atomics == vk::TRUE,
         // The device time domain is checked when the device is made (it needs the entry).
         calibrated_timestamps: offers(&extensions, ash::ext::calibrated_timestamps::NAME),
         device_uuid: hex_uuid(&ids.device_uuid),
@@ -240,9 +281,9 @@ fn describe(instance: &ash::Instance, pd: vk::PhysicalDevice) -> Option<(u32, De
         max_storage_buffer_range: props.limits.max_storage_buffer_range,
         timestamp_period_ns: props.limits.timestamp_period,
         timestamp_valid_bits: fprops.timestamp_valid_bits,
-        queue_family: family as u32,
+        queue_family: family,
         subgroup_size: subgroup.subgroup_size.max(1),
-        storage_r16,
+        storage_r16: features.shader_storage_image_extended_formats == vk::TRUE,
         vendor_id: props.vendor_id,
         device_id: props.device_id,
         pipeline_cache_uuid: props.pipeline_cache_uuid,
@@ -251,7 +292,7 @@ fn describe(instance: &ash::Instance, pd: vk::PhysicalDevice) -> Option<(u32, De
                 & props.limits.framebuffer_depth_sample_counts,
         ),
     };
-    Some((rank, info))
+    (rank, info)
 }
 
 /// Lists every device relief can use, best first.
