@@ -67,12 +67,7 @@ fn main() -> anyhow::Result<()> {
     println!("wrote {}x{} {}", frame.width, frame.height, out.display());
     // Debug builds load the Khronos validation layer (RELIEF_VALIDATION=0 turns it off): what it
     // finds is a bug, so it fails the run.
-    let messages = ctx.messages();
-    anyhow::ensure!(
-        messages.errors() == 0,
-        "the validation layer reported errors: {:?}",
-        messages.kept_messages()
-    );
+    ctx.messages().ensure_none()?;
     Ok(())
 }
 

@@ -66,12 +66,7 @@ fn main() -> anyhow::Result<()> {
         steps / covered as f32
     );
     // Debug builds load the Khronos validation layer when it is installed: what it finds is a bug.
-    let messages = ctx.messages();
-    anyhow::ensure!(
-        messages.errors() == 0,
-        "the validation layer reported errors: {:?}",
-        messages.kept_messages()
-    );
+    ctx.messages().ensure_none()?;
     Ok(())
 }
 

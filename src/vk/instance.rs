@@ -61,6 +61,18 @@ impl MessageCounts {
         self.kept.lock().map(|k| k.clone()).unwrap_or_default()
     }
 
+    /// An error naming the validation errors reported so far, with the first messages, if there
+    /// were any: a program that ran under the layer fails on them, since each is a bug.
+    pub fn ensure_none(&self) -> VkResult<()> {
+        match self.errors() {
+            0 => Ok(()),
+            n => Err(VkError::Invalid(format!(
+                "the validation layer reported {n} error(s): {:?}",
+                self.kept_messages()
+            ))),
+        }
+    }
+
     fn record(&self, severity: vk::DebugUtilsMessageSeverityFlagsEXT, text: &str) {
         let counter = if severity.contains(vk::DebugUtilsMessageSeverityFlagsEXT::ERROR) {
             log::error!("vulkan: {text}");
@@ -222,4 +234,25 @@ unsafe extern "system" fn on_message(
         .unwrap_or_default();
     counts.record(severity, &text);
     vk::FALSE
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ensure_none_fails_on_an_error_and_names_it_but_not_on_a_warning() {
+        let counts = MessageCounts::default();
+        counts.record(vk::DebugUtilsMessageSeverityFlagsEXT::WARNING, "a warning");
+        assert!(counts.ensure_none().is_ok(), "warnings are not errors");
+        counts.record(
+            vk::DebugUtilsMessageSeverityFlagsEXT::ERROR,
+            "VUID-x: broken",
+        );
+        let message = counts.ensure_none().expect_err("one error").to_string();
+        assert!(
+            message.contains("1 error") && message.contains("VUID-x: broken"),
+            "{message}"
+        );
+    }
 }
