@@ -33,6 +33,7 @@ mod buffer;
 mod command_slot;
 mod commands;
 mod context;
+mod context_setup;
 mod counters;
 mod deferred;
 mod descriptors;
